@@ -1,0 +1,74 @@
+# satgnc: `make demo` and `make test` set everything up on a fresh Debian/Ubuntu machine.
+# Idempotent: stamps under build/ and .venv/ make a second run with nothing changed take seconds.
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV ?= .venv
+PY := $(VENV)/bin/python
+BUILD := build/py
+CMAKE := $(VENV)/bin/cmake
+CTEST := $(VENV)/bin/ctest
+GEN := -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja
+PREFIX := $(CURDIR)/build/prefix
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+SOURCES := $(shell find cpp python tests/cpp examples/cpp cmake -type f \
+             -not -name '*.so' -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml
+
+.PHONY: demo test setup install cpp-test py-test example sanitize bench lint format clean
+.DEFAULT_GOAL := test
+
+build/.system-stamp: scripts/setup-system.sh
+	@mkdir -p build
+	bash scripts/setup-system.sh
+	@touch $@
+
+$(VENV)/.stamp: requirements-dev.txt build/.system-stamp
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -r requirements-dev.txt
+	@touch $@
+
+setup: build/.system-stamp $(VENV)/.stamp
+
+# One CMake build serves the Python wheel, the gtest binaries and the installed C++ package.
+build/.install-stamp: $(VENV)/.stamp $(SOURCES)
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation --no-deps \
+	  -C build-dir=$(BUILD) -C cmake.define.SATGNC_BUILD_TESTS=ON -C cmake.define.CMAKE_INSTALL_PREFIX=$(PREFIX) .
+	$(CMAKE) --install $(BUILD) --component satgnc_dev --prefix $(PREFIX) > /dev/null
+	@touch $@
+
+install: build/.install-stamp
+
+cpp-test: install
+	$(CTEST) --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# Flight-style C++ linking only the installed static library (no Python).
+example: install
+	$(CMAKE) -S examples/cpp -B build/examples $(GEN) -DCMAKE_PREFIX_PATH=$(PREFIX) > /dev/null
+	$(CMAKE) --build build/examples -j $(JOBS)
+	@for exe in build/examples/satgnc_example_*; do echo "== $$exe"; $$exe || exit 1; done
+
+py-test: install
+	cd tests/python && ../../$(PY) -m pytest -q -p no:cacheprovider .
+
+test: cpp-test example py-test
+
+demo: install
+	$(VENV)/bin/satgnc reproduce
+
+sanitize: setup
+	$(CMAKE) -S . -B build/asan $(GEN) -DCMAKE_BUILD_TYPE=Debug -DSATGNC_BUILD_PYTHON=OFF \
+	  -DSATGNC_BUILD_TESTS=ON -DSATGNC_SANITIZE=ON > /dev/null
+	$(CMAKE) --build build/asan -j $(JOBS)
+	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 $(CTEST) --test-dir build/asan --output-on-failure -j $(JOBS)
+
+bench: install
+	$(PY) bench/propagation.py
+
+lint: setup
+	$(VENV)/bin/ruff check python tests bench examples
+
+format:
+	clang-format -i $$(find cpp tests/cpp examples/cpp -name '*.hpp' -o -name '*.cpp')
+
+clean:
+	rm -rf build

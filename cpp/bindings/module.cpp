@@ -1,0 +1,21 @@
+// pybind11 entry point: each room registers its own wrappers (no algorithm lives here).
+#include <pybind11/pybind11.h>
+
+namespace satgnc::bindings {
+void init_dynamics(pybind11::module_& m);
+void init_propagation(pybind11::module_& m);
+void init_od(pybind11::module_& m);
+void init_guidance(pybind11::module_& m);
+void init_analysis(pybind11::module_& m);
+}  // namespace satgnc::bindings
+
+PYBIND11_MODULE(_satgnc, m) {
+  m.doc() = "satgnc C++ engine (use the satgnc package, not this module directly)";
+  m.attr("__version__") = SATGNC_VERSION_STRING;
+  namespace b = satgnc::bindings;
+  b::init_dynamics(m);
+  b::init_propagation(m);
+  b::init_od(m);
+  b::init_guidance(m);
+  b::init_analysis(m);
+}

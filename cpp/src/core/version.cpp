@@ -1,0 +1,1 @@
+#include "satgnc/version.hpp"

@@ -1,0 +1,1 @@
+"""satgnc.analysis: see the room's C++ headers under satgnc/analysis."""

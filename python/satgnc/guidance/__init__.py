@@ -1,0 +1,1 @@
+"""satgnc.guidance: see the room's C++ headers under satgnc/guidance."""

@@ -1,0 +1,1 @@
+"""satgnc.od: see the room's C++ headers under satgnc/od."""

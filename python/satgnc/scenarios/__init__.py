@@ -1,0 +1,1 @@
+"""The papers' set-ups as data, each value with its source."""
