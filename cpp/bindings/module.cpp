@@ -4,8 +4,10 @@
 namespace satgnc::bindings {
 void init_dynamics(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
+void init_propagation_analytic(pybind11::module_& m);
 void init_od(pybind11::module_& m);
 void init_guidance(pybind11::module_& m);
+void init_guidance_nonlinear(pybind11::module_& m);
 void init_analysis(pybind11::module_& m);
 }  // namespace satgnc::bindings
 
@@ -15,7 +17,9 @@ PYBIND11_MODULE(_satgnc, m) {
   namespace b = satgnc::bindings;
   b::init_dynamics(m);
   b::init_propagation(m);
+  b::init_propagation_analytic(m);
   b::init_od(m);
   b::init_guidance(m);
+  b::init_guidance_nonlinear(m);
   b::init_analysis(m);
 }

@@ -1,0 +1,57 @@
+#pragma once
+/// @file force_model.hpp
+/// Orbital force model: point-mass gravity plus optional J2 and exponential drag, each with analytic
+/// acceleration Jacobians. Units: km, km/s, s (drag's area/mass and density are converted inside).
+#include <optional>
+
+#include "satgnc/dynamics/types.hpp"
+
+namespace satgnc::dynamics {
+
+/// Earth constants (EGM-96 / WGS-84 values as used by Vallado, "Fundamentals of Astrodynamics and
+/// Applications", 4th ed., Table D-1 / D-3).
+namespace earth {
+inline constexpr double mu = 398600.4418;       ///< gravitational parameter, km^3/s^2 (EGM-96)
+inline constexpr double radius = 6378.1363;     ///< equatorial radius, km (EGM-96)
+inline constexpr double j2 = 1.0826266835e-3;   ///< unnormalized J2 (EGM-96, -C20 * sqrt(5))
+inline constexpr double omega = 7.292115e-5;    ///< rotation rate, rad/s (IERS, mean)
+}  // namespace earth
+
+/// Zonal J2 perturbation of a body with gravitational parameter mu (km^3/s^2) and radius (km).
+struct J2Gravity {
+  double mu = earth::mu;          ///< km^3/s^2
+  double j2 = earth::j2;          ///< dimensionless
+  double radius = earth::radius;  ///< km
+};
+
+/// Exponential atmosphere rho = rho0 exp(-(h - h0) / scale_height), h = |r| - body_radius, with a
+/// co-rotating atmosphere: v_rel = v - omega x r. Acceleration -0.5 Cd (A/m) rho |v_rel| v_rel.
+struct ExponentialDrag {
+  double rho0 = 0.0;              ///< density at h0, kg/m^3
+  double h0 = 0.0;                ///< reference altitude, km
+  double scale_height = 1.0;      ///< km
+  double body_radius = earth::radius;  ///< km
+  double cd = 2.2;                ///< drag coefficient, dimensionless
+  double area = 1.0;              ///< cross-section, m^2
+  double mass = 1.0;              ///< kg
+  Vec3 omega = Vec3(0.0, 0.0, earth::omega);  ///< atmosphere rotation, rad/s (inertial frame)
+};
+
+/// Combined force model. Point-mass gravity is always on; J2 and drag are optional terms.
+struct ForceModel {
+  double mu = earth::mu;                 ///< central-body gravitational parameter, km^3/s^2
+  std::optional<J2Gravity> j2;           ///< J2 term (its mu should equal mu)
+  std::optional<ExponentialDrag> drag;   ///< drag term
+
+  /// Throw std::invalid_argument (naming the field and the rule) on non-positive mu, radius, etc.
+  void validate() const;
+  /// True when every term derives from a potential (no drag): det(STM) = 1 and symplecticity hold.
+  bool conservative() const { return !drag.has_value(); }
+  /// Acceleration a(t, r, v), km/s^2.
+  Vec3 acceleration(double t, const Vec3& r, const Vec3& v) const;
+  /// Acceleration and its Jacobians da/dr (1/s^2) and da/dv (1/s).
+  void acceleration_jacobians(double t, const Vec3& r, const Vec3& v, Vec3& a, Mat3& da_dr,
+                              Mat3& da_dv) const;
+};
+
+}  // namespace satgnc::dynamics
