@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-
 from satgnc import _satgnc
 
 MU = 398600.4418
@@ -26,9 +25,9 @@ def test_kepler_step_stm_matches_finite_differences():
         h = 1e-6 * (np.linalg.norm(X0[:3]) if k < 3 else np.linalg.norm(X0[3:]))
         e = np.zeros(6)
         e[k] = h
-        fd[:, k] = (_satgnc.kepler_step(X0 + e, 2400.0, MU)[0] - _satgnc.kepler_step(X0 - e, 2400.0, MU)[0]) / (
-            2 * h
-        )
+        xp = _satgnc.kepler_step(X0 + e, 2400.0, MU)[0]
+        xm = _satgnc.kepler_step(X0 - e, 2400.0, MU)[0]
+        fd[:, k] = (xp - xm) / (2 * h)
     for i in (0, 3):
         for j in (0, 3):
             blk, ref = stm[i : i + 3, j : j + 3], fd[i : i + 3, j : j + 3]
