@@ -1,7 +1,6 @@
 """Propagate a LEO state with its state transition matrix under J2 and drag (km, km/s, s)."""
 
 import numpy as np
-
 import satgnc
 
 x0 = np.array([6778.137, 0.0, 0.0, 0.0, 4.7302, 6.0354])  # 400 km circular, i = 51.6 deg
