@@ -501,6 +501,7 @@ OdStatus OdSolver::evaluate(const Vec6& x0, Eigen::VectorXd& residuals, Eigen::M
 RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses, const RootSearchSettings& s) {
   core::require_positive(s.distinct_position_km, "settings.distinct_position_km");
   core::require_positive(s.distinct_velocity_kms, "settings.distinct_velocity_kms");
+  core::require_nonnegative(s.distinct_sigma, "settings.distinct_sigma");
   RootSearchResult out;
   out.guess_root.assign(guesses.size(), -1);
   out.guess_status.assign(guesses.size(), OdStatus::max_iterations);
@@ -513,7 +514,13 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
     int found = -1;
     for (std::size_t k = 0; k < out.roots.size(); ++k) {
       const Vec6 d = out.roots[k].x0 - r.x0;
-      if (d.head<3>().norm() < s.distinct_position_km && d.tail<3>().norm() < s.distinct_velocity_kms) {
+      bool same = d.head<3>().norm() < s.distinct_position_km && d.tail<3>().norm() < s.distinct_velocity_kms;
+      if (!same && out.roots[k].covariance.allFinite()) {
+        const Eigen::LDLT<Mat6> ldlt(out.roots[k].covariance);
+        const double m2 = d.dot(ldlt.solve(d));
+        same = std::isfinite(m2) && m2 >= 0.0 && std::sqrt(m2) <= s.distinct_sigma;
+      }
+      if (same) {
         found = static_cast<int>(k);
         break;
       }

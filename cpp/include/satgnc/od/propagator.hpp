@@ -2,8 +2,12 @@
 /// @file propagator.hpp
 /// The small propagation interface the OD solvers run on: fill states and STMs at given times.
 #include <memory>
+#include <vector>
 
+#include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/dynamics/types.hpp"
+#include "satgnc/propagation/cvodes.hpp"
+#include "satgnc/propagation/trajectory.hpp"
 
 namespace satgnc::od {
 
@@ -27,6 +31,20 @@ class KeplerStmPropagator final : public StmPropagator {
 
  private:
   double mu_;
+};
+
+/// Numerical propagation with the CVODES propagator of satgnc::propagation (J2, drag, ...). All
+/// observation times must lie on one side of the epoch (t >= 0 or t <= 0). Allocates only on the
+/// first call with a larger number of times.
+class CvodesStmPropagator final : public StmPropagator {
+ public:
+  explicit CvodesStmPropagator(const dynamics::ForceModel& model, const propagation::CvodesSettings& settings = {});
+  bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) override;
+
+ private:
+  propagation::CvodesPropagator prop_;
+  std::vector<double> t_;
+  propagation::Trajectory out_;
 };
 
 /// The paper's short-arc approximation, eq. (19): states from the wrapped propagator, but the STM

@@ -182,7 +182,10 @@ class OdSolver {
 /// Distinct-root search settings.
 struct RootSearchSettings {
   double distinct_position_km = 1e-3;   ///< two solutions closer than this in position ...
-  double distinct_velocity_kms = 1e-6;  ///< ... and in velocity are the same root
+  double distinct_velocity_kms = 1e-6;  ///< ... and in velocity are the same root, and so are two
+  double distinct_sigma = 1.0;          ///< solutions within this many formal sigmas (Mahalanobis distance
+                                        ///< under the first one's covariance): with ill-conditioned data a
+                                        ///< "root" is a valley whose points the data cannot tell apart
 };
 
 /// One distinct converged solution.
