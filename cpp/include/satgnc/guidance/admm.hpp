@@ -46,14 +46,14 @@ enum class StoppingRule {
 /// Solver settings (plain struct; defaults solve the scenario cases to ~1e-6 relative).
 struct AdmmSettings {
   double rho = 1.0;                ///< initial penalty (> 0)
-  int max_iterations = 4000;       ///< >= 1
+  int max_iterations = 10000;      ///< >= 1
   StoppingRule stopping = StoppingRule::kResiduals;
   double eps_abs = 1e-7;           ///< absolute tolerance on both residuals (>= 0)
   double eps_rel = 1e-6;           ///< relative tolerance (>= 0)
   double paper_eps = 1e-3;         ///< threshold of the paper's rule (> 0)
   double relaxation = 1.6;         ///< over-relaxation alpha in (0, 2); 1 = none (paper)
   bool adaptive_rho = true;        ///< residual balancing (OSQP rule)
-  int adaptive_rho_interval = 10;  ///< iterations between rho checks
+  int adaptive_rho_interval = 25;  ///< iterations between rho checks
   double adaptive_rho_tolerance = 5.0;  ///< refactor only if rho changes by more than this factor
   double rho_min = 1e-6, rho_max = 1e6;
   bool cache_gains = true;         ///< false: full Riccati recursion every iteration (reference)
