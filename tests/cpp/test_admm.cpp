@@ -175,6 +175,7 @@ TEST(Admm, SolveDoesNotAllocate) {
     g_counting = false;
     EXPECT_EQ(g_allocs.load(), 0) << "terminal=" << terminal;
     EXPECT_GT(r.info.iterations + r2.info.iterations, 2);
+    EXPECT_GT(r.info.polish_attempts + r2.info.polish_attempts, 0) << "polish path exercised";
     EXPECT_GT(r.info.rho_updates + r2.info.rho_updates, 0) << "refactorization path exercised";
   }
 }

@@ -96,6 +96,8 @@ class L1Result:
     rho: float
     factorizations: int
     rho_updates: int
+    polished: bool
+    polish_attempts: int
     solve_time: float
 
     @property
@@ -205,7 +207,8 @@ class L1Solver:
             objective=d["objective"], objective_u=d["objective_u"], terminal_miss=d["terminal_miss"],
             primal_residual=d["primal_residual"], dual_residual=d["dual_residual"], eps_primal=d["eps_primal"],
             eps_dual=d["eps_dual"], paper_criterion=d["paper_criterion"], rho=d["rho"],
-            factorizations=d["factorizations"], rho_updates=d["rho_updates"], solve_time=d["solve_time"])
+            factorizations=d["factorizations"], rho_updates=d["rho_updates"], polished=d["polished"],
+            polish_attempts=d["polish_attempts"], solve_time=d["solve_time"])
 
     def warm_start(self, Y, Lambda) -> None:
         """Start the next solve from Y, Lambda (N, nu) each, e.g. a shifted previous solution."""
