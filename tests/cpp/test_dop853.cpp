@@ -56,6 +56,7 @@ constexpr double kPi = 3.14159265358979323846;
 // Test-local point-mass gravity with its Jacobians (the force model proper is tested elsewhere).
 struct PointMass {
   double mu = kMu;
+  void operator()(double, const Vec3& r, const Vec3&, Vec3& a) const { a = -mu / std::pow(r.norm(), 3) * r; }
   void operator()(double, const Vec3& r, const Vec3&, Vec3& a, Mat3& da_dr, Mat3& da_dv) const {
     const double r2 = r.squaredNorm();
     const double rn = std::sqrt(r2);
