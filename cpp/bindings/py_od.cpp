@@ -156,6 +156,7 @@ void init_od(py::module_& m) {
       .def_readwrite("step_tol", &OdSettings::step_tol)
       .def_readwrite("step_sigma_tol", &OdSettings::step_sigma_tol)
       .def_readwrite("residual_tol", &OdSettings::residual_tol)
+      .def_readwrite("cost_tol", &OdSettings::cost_tol)
       .def_readwrite("rank_tol", &OdSettings::rank_tol)
       .def_readwrite("min_radius", &OdSettings::min_radius)
       .def_readwrite("mu", &OdSettings::mu)

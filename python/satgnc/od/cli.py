@@ -75,7 +75,7 @@ def plot_residuals(result, observations, outdir) -> list[pathlib.Path]:
         ax.set(xlabel="t (s)", ylabel=f"{kind} residual ({unit})", title=f"{kind} residuals per iteration")
         ax.set_yscale("symlog", linthresh=1e-3)
         ax.legend(fontsize=7)
-        fig.tight_layout()
+        fig.subplots_adjust(left=0.15, bottom=0.12)
         path = outdir / f"residuals_{kind}.png"
         fig.savefig(path, dpi=100)
         plt.close(fig)
@@ -168,7 +168,7 @@ def register(subparsers) -> None:
     s.add_argument("--method", default="levenberg_marquardt",
                    choices=["levenberg_marquardt", "gauss_newton", "newton", "lm", "gn"])
     s.add_argument("--propagator", default="kepler", choices=["kepler", "cvodes"])
-    s.add_argument("--max-iterations", type=int, default=50)
+    s.add_argument("--max-iterations", type=int, default=200)
     s.add_argument("--sigma-range", type=float, default=1e-3, help="TDM range sigma, km")
     s.add_argument("--sigma-range-rate", type=float, default=1e-6, help="TDM range-rate sigma, km/s")
     s.add_argument("--plots", help="directory for residual plots")
