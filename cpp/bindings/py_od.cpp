@@ -236,6 +236,7 @@ void init_od(py::module_& m) {
       .def_readonly("max_abs_normalized", &Root::max_abs_normalized)
       .def_readonly("condition_number", &Root::condition_number)
       .def_readonly("fits", &Root::fits)
+      .def_readonly("converged", &Root::converged)
       .def_readonly("hits", &Root::hits)
       .def_readonly("first_guess", &Root::first_guess);
   py::class_<RootSearchResult>(m, "RootSearchResult")

@@ -513,7 +513,9 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
     const OdResult& r = solver.solve(guesses[g]);
     out.guess_status[g] = r.status;
     out.guess_iterations[g] = r.iterations;
-    if (r.status != OdStatus::converged) continue;
+    // Converged solutions, and stalled ones that fit (LM creeping along a flat valley).
+    const bool usable = r.status == OdStatus::converged || (r.status == OdStatus::max_iterations && r.fits);
+    if (!usable) continue;
     int found = -1;
     for (std::size_t k = 0; k < out.roots.size(); ++k) {
       const Vec6 d = out.roots[k].x0 - r.x0;
@@ -537,6 +539,7 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
       root.max_abs_normalized = r.max_abs_normalized;
       root.condition_number = r.condition_number;
       root.fits = r.fits;
+      root.converged = r.status == OdStatus::converged;
       root.first_guess = static_cast<int>(g);
       out.roots.push_back(root);
       found = static_cast<int>(out.roots.size()) - 1;
@@ -549,6 +552,7 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
       root.max_abs_normalized = r.max_abs_normalized;
       root.condition_number = r.condition_number;
       root.fits = r.fits;
+      root.converged = r.status == OdStatus::converged;
     }
     ++out.roots[static_cast<std::size_t>(found)].hits;
     out.guess_root[g] = found;

@@ -184,9 +184,9 @@ class OdSolver {
 struct RootSearchSettings {
   double distinct_position_km = 1e-3;   ///< two solutions closer than this in position ...
   double distinct_velocity_kms = 1e-6;  ///< ... and in velocity are the same root, and so are two
-  double distinct_sigma = 1.0;          ///< solutions within this many formal sigmas (Mahalanobis distance
-                                        ///< under the first one's covariance): with ill-conditioned data a
-                                        ///< "root" is a valley whose points the data cannot tell apart
+  double distinct_sigma = 0.1;          ///< solutions within this many formal sigmas (Mahalanobis distance
+                                        ///< under the first one's covariance): stalled LM runs end at slightly
+                                        ///< different points of one flat valley
 };
 
 /// One distinct converged solution.
@@ -198,6 +198,7 @@ struct Root {
   double max_abs_normalized = 0.0;
   double condition_number = 0.0;
   bool fits = false;            ///< fits the data to fit_sigma
+  bool converged = false;       ///< solver status converged (else stalled at max_iterations but fitting)
   int hits = 0;                 ///< guesses that converged to it
   int first_guess = -1;
 };
@@ -213,7 +214,8 @@ struct RootSearchResult {
   bool ambiguous = false;  ///< two or more distinct roots fit the data to measurement precision
 };
 
-/// Solve from every guess with the solver's settings and cluster the converged solutions.
+/// Solve from every guess with the solver's settings and cluster the converged solutions (and the
+/// stalled ones that fit the data).
 /// Allocates (collects roots); not for on-board loops.
 RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
                              const RootSearchSettings& settings = {});
