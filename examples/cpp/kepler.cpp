@@ -1,5 +1,6 @@
 // Flight-style use of the analytic two-body propagator: links only the installed static satgnc core.
 // Propagates Vallado's Example 2-4 state by 40 min with the STM and prints the result.
+#include <Eigen/Dense>  // determinant() lives in Eigen/LU
 #include <cstdio>
 
 #include "satgnc/propagation/kepler.hpp"

@@ -219,6 +219,11 @@ bool TwoSatelliteModel::rk_step(int scheme, double h, const Vec12& x, const Vec3
       continue;
     }
     if (!rhs_jacobians(xs, u, k[i], J, Ju)) return false;
+    if (i == 0) {
+      dk_dx[0] = J;
+      dk_du[0] = Ju;
+      continue;
+    }
     // dxs/dx = I + h sum a_ij dk_j/dx ; dxs/du = h sum a_ij dk_j/du
     Mat12 dxs_dx = Mat12::Identity();
     Mat12x3 dxs_du = Mat12x3::Zero();
@@ -227,8 +232,11 @@ bool TwoSatelliteModel::rk_step(int scheme, double h, const Vec12& x, const Vec3
         dxs_dx += h * tb.a[i][j] * dk_dx[j];
         dxs_du += h * tb.a[i][j] * dk_du[j];
       }
-    dk_dx[i].noalias() = J * dxs_dx;
-    dk_du[i].noalias() = J * dxs_du;
+    // J = [0 0 I 0; 0 0 0 I; * * * *; * * * *]: the top half of J M is the bottom half of M.
+    dk_dx[i].topRows<6>() = dxs_dx.bottomRows<6>();
+    dk_dx[i].bottomRows<6>().noalias() = J.bottomRows<6>().lazyProduct(dxs_dx);
+    dk_du[i].topRows<6>() = dxs_du.bottomRows<6>();
+    dk_du[i].bottomRows<6>().noalias() = J.bottomRows<6>().lazyProduct(dxs_du);
     dk_du[i] += Ju;
   }
   x_next = x;

@@ -5,6 +5,8 @@
 #include <limits>
 #include <string>
 
+#include <Eigen/Cholesky>
+
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -52,6 +54,56 @@ void cholesky_solve_inplace(const MatrixXd& L, Eigen::MatrixBase<Derived>& B) {
 }
 
 double soft(double v, double t) { return v > t ? v - t : (v < -t ? v + t : 0.0); }
+
+// Fixed-size Riccati sweep (stack temporaries, no heap) for the common dimensions.
+template <int NX, int NU>
+bool backward_fixed(int N, const std::vector<MatrixXd>& Av, const std::vector<MatrixXd>& Bv,
+                    std::vector<MatrixXd>& Kv, MatrixXd& dM, const MatrixXd& Qf, const VectorXd& eN,
+                    const MatrixXd& U, const MatrixXd& Lam, const MatrixXd& Y, double w, double rho, double reg,
+                    double& dv1, double& dv2) {
+  using MX = Eigen::Matrix<double, NX, NX>;
+  using MXU = Eigen::Matrix<double, NX, NU>;
+  using MU = Eigen::Matrix<double, NU, NU>;
+  using MUX = Eigen::Matrix<double, NU, NX>;
+  using VX = Eigen::Matrix<double, NX, 1>;
+  using VU = Eigen::Matrix<double, NU, 1>;
+  MX S = Eigen::Map<const MX>(Qf.data());
+  VX s = S * Eigen::Map<const VX>(eN.data());
+  dv1 = 0.0;
+  dv2 = 0.0;
+  for (int k = N - 1; k >= 0; --k) {
+    const Eigen::Map<const MX> A(Av[k].data());
+    const Eigen::Map<const MXU> B(Bv[k].data());
+    const MX SA = S.lazyProduct(A);
+    const MXU SB = S.lazyProduct(B);
+    const VX Qx = A.transpose() * s;
+    VU Qu = B.transpose() * s;
+    Qu += w * (rho * U.col(k) + Lam.col(k) - rho * Y.col(k));
+    const MX Qxx = A.transpose().lazyProduct(SA);
+    MU Quu = B.transpose().lazyProduct(SB);
+    Quu.diagonal().array() += w * rho;
+    const MUX Qux = B.transpose().lazyProduct(SA);
+    MU Qr = Quu;
+    Qr.diagonal().array() += reg;
+    const Eigen::LLT<MU> llt(Qr);
+    if (llt.info() != Eigen::Success) return false;
+    Eigen::Map<MUX> K(Kv[k].data());
+    K = -llt.solve(Qux);
+    const VU d = -llt.solve(Qu);
+    dM.col(k) = d;
+    const VU Quud = Quu * d;
+    dv1 += d.dot(Qu);
+    dv2 += 0.5 * d.dot(Quud);
+    s = Qx + K.transpose() * (Quud + Qu) + Qux.transpose() * d;
+    const MUX T = Quu * K + Qux;
+    MX Sn = Qxx;
+    Sn.noalias() += K.transpose().lazyProduct(T);
+    Sn.noalias() += Qux.transpose().lazyProduct(K);
+    S = 0.5 * (Sn + Sn.transpose());
+    if (!s.allFinite() || !S.allFinite()) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -235,16 +287,26 @@ double IlqrAdmmSolver::subproblem_cost(const MatrixXd& X, const MatrixXd& U) con
 }
 
 bool IlqrAdmmSolver::linearize() {
+  if (jac_valid_) return true;
   for (int k = 0; k < N_; ++k) {
     if (!model_.step(k, res_.X.col(k).data(), res_.U.col(k).data(), Xtmp_.col(k + 1).data(), A_[k].data(),
                      B_[k].data()))
       return false;
   }
+  jac_valid_ = true;
   return true;
 }
 
 bool IlqrAdmmSolver::backward_pass(double reg, double& dv1, double& dv2) {
   const double w = prob_.stage_weight;
+  if (nx_ == 12 && nu_ == 3 || nx_ == 6 && nu_ == 3) {
+    dx_ = res_.X.col(N_) - prob_.x_target;
+    if (nx_ == 12)
+      return backward_fixed<12, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,
+                                   dv1, dv2);
+    return backward_fixed<6, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,
+                                dv1, dv2);
+  }
   S_ = prob_.Qf;
   s_.noalias() = prob_.Qf * (res_.X.col(N_) - prob_.x_target);
   dv1 = 0.0;
@@ -302,11 +364,16 @@ bool IlqrAdmmSolver::forward_pass(double dv1, double dv2, double& J) {
   for (int ls = 0; ls < set_.line_search_iters; ++ls, a *= 0.5) {
     Xn_.col(0) = prob_.x0;
     bool ok = true;
+    // The full step is usually accepted: linearize along it on the way (the gains K_k are already
+    // computed, so A_k, B_k may be overwritten; they are recomputed if this step is rejected).
+    const bool with_jac = ls == 0;
+    jac_valid_ = false;
     for (int k = 0; k < N_ && ok; ++k) {
       dx_ = Xn_.col(k) - res_.X.col(k);
       Un_.col(k) = res_.U.col(k) + a * d_.col(k);
       Un_.col(k).noalias() += K_[k] * dx_;
-      ok = model_.step(k, Xn_.col(k).data(), Un_.col(k).data(), Xn_.col(k + 1).data(), nullptr, nullptr);
+      ok = model_.step(k, Xn_.col(k).data(), Un_.col(k).data(), Xn_.col(k + 1).data(),
+                       with_jac ? A_[k].data() : nullptr, with_jac ? B_[k].data() : nullptr);
     }
     if (!ok) continue;
     const double Jn = subproblem_cost(Xn_, Un_);
@@ -320,6 +387,7 @@ bool IlqrAdmmSolver::forward_pass(double dv1, double dv2, double& J) {
       accept = Jn <= J;  // no predicted decrease: accept only a non-increase
     }
     if (accept) {
+      jac_valid_ = with_jac;
       res_.X.swap(Xn_);
       res_.U.swap(Un_);
       J = Jn;
@@ -330,9 +398,9 @@ bool IlqrAdmmSolver::forward_pass(double dv1, double dv2, double& J) {
 }
 
 int IlqrAdmmSolver::ilqr_step(double& J) {
-  if (!linearize()) return 2;
   double reg = reg_;
   while (true) {
+    if (!linearize()) return 2;
     double dv1 = 0.0, dv2 = 0.0;
     bool ok = backward_pass(reg, dv1, dv2);
     if (ok) {
@@ -376,6 +444,7 @@ IlqrAdmmStatus IlqrAdmmSolver::solve() {
   IlqrAdmmInfo& info = res_.info;
   info = IlqrAdmmInfo();
   reg_ = set_.reg_init;
+  jac_valid_ = false;
   const double w = prob_.stage_weight;
   const double sqrt_n = std::sqrt(static_cast<double>(N_ * nu_));
   const int fail = rollout(res_.U, res_.X);
@@ -452,7 +521,7 @@ IlqrAdmmStatus IlqrAdmmSolver::solve() {
       break;
     }
   }
-  if (status == IlqrAdmmStatus::max_iterations) {
+  if (status == IlqrAdmmStatus::max_iterations && set_.return_best) {
     res_.U.swap(Ubest_);
     res_.Y.swap(Ybest_);
     res_.Lambda.swap(Lbest_);

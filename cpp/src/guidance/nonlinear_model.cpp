@@ -80,8 +80,13 @@ bool TwoSatelliteMap::step(int /*k*/, const double* x, const double* u, double* 
       if (!model_.rk_step(s_.scheme, h, z, us, zn)) return false;
     } else {
       if (!model_.rk_step(s_.scheme, h, z, us, zn, &Ak, &Bk)) return false;
-      Gam = Ak * Gam + Bk;
-      Phi = Ak * Phi;
+      if (i == 0) {
+        Phi = Ak;
+        Gam = Bk;
+      } else {
+        Gam = Ak * Gam + Bk;
+        Phi = Ak * Phi;
+      }
     }
     z = zn;
   }
@@ -91,8 +96,10 @@ bool TwoSatelliteMap::step(int /*k*/, const double* x, const double* u, double* 
     // scaled: A_s = Sx^-1 A Sx, B_s = Sx^-1 B Su
     Eigen::Map<Mat12> a_map(A);
     Eigen::Map<Mat12x3> b_map(B);
-    a_map = sx_.cwiseInverse().asDiagonal() * Phi * sx_.asDiagonal();
-    b_map = sx_.cwiseInverse().asDiagonal() * Gam * su_.asDiagonal();
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 12; ++i) a_map(i, j) = Phi(i, j) * sx_(j) / sx_(i);
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 12; ++i) b_map(i, j) = Gam(i, j) * su_(j) / sx_(i);
   }
   return z.allFinite();
 }

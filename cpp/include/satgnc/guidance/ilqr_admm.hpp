@@ -70,6 +70,7 @@ struct IlqrAdmmSettings {
   int line_search_iters = 20;     ///< backtracking halvings
   double ls_lower = 1e-8;         ///< accept when actual/expected decrease lies in [ls_lower, ls_upper]
   double ls_upper = 10.0;
+  bool return_best = true;        ///< on max_iter, return the iterate with the smallest ||U - Y|| (else the last)
 
   /// Throw std::invalid_argument naming the field on a bad value.
   void validate() const;
@@ -164,6 +165,7 @@ class IlqrAdmmSolver {
   IlqrAdmmResult res_;
   bool warm_ = false;
   double reg_ = 0.0;
+  bool jac_valid_ = false;  // A_, B_ hold the Jacobians along (X, U)
   // workspace
   std::vector<Eigen::MatrixXd> A_, B_, K_;
   Eigen::MatrixXd d_, Xn_, Un_, Yprev_, Xtmp_, Ubest_, Ybest_, Lbest_, Xbest_, V_;
