@@ -15,11 +15,10 @@ import math
 import time
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import least_squares
-
 from satgnc import od
 from satgnc.od import paper
+from scipy.integrate import solve_ivp
+from scipy.optimize import least_squares
 
 MU = od.EARTH_MU
 
@@ -85,8 +84,9 @@ class ScipyOD:
         return J
 
     def solve(self, x0):
-        return least_squares(self.residual, x0, jac=self.jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15,
-                             max_nfev=2000)
+        return least_squares(
+            self.residual, x0, jac=self.jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=2000
+        )
 
 
 def main(argv=None) -> int:
@@ -98,18 +98,24 @@ def main(argv=None) -> int:
     g = paper.truth().copy()
     g[0] += 10.0
     sv = od.six_point_solver(paper.times(), rho, rhodot, st, "doppler", "newton")
-    svlm = od.six_point_solver(paper.times(), rho, rhodot, st, "doppler", "levenberg_marquardt", max_iterations=200)
+    svlm = od.six_point_solver(
+        paper.times(), rho, rhodot, st, "doppler", "levenberg_marquardt", max_iterations=200
+    )
     ref = ScipyOD(paper.times(), rho, rhodot, st)
     r_nr = sv.solve(g)
     r_lm = svlm.solve(g)
     r_sp = ref.solve(g)
-    err = {"satgnc newton": np.linalg.norm(np.asarray(r_nr.x0)[:3] - paper.truth()[:3]),
-           "satgnc LM": np.linalg.norm(np.asarray(r_lm.x0)[:3] - paper.truth()[:3]),
-           "scipy least_squares": np.linalg.norm(r_sp.x[:3] - paper.truth()[:3])}
+    err = {
+        "satgnc newton": np.linalg.norm(np.asarray(r_nr.x0)[:3] - paper.truth()[:3]),
+        "satgnc LM": np.linalg.norm(np.asarray(r_lm.x0)[:3] - paper.truth()[:3]),
+        "scipy least_squares": np.linalg.norm(r_sp.x[:3] - paper.truth()[:3]),
+    }
     mt = 0.2 if args.quick else 1.0
     t_nr = timeit(lambda: sv.solve(g), mt)
     t_lm = timeit(lambda: svlm.solve(g), mt)
-    t_setup = timeit(lambda: od.six_point_solver(paper.times(), rho, rhodot, st, "doppler", "newton").solve(g), mt)
+    t_setup = timeit(
+        lambda: od.six_point_solver(paper.times(), rho, rhodot, st, "doppler", "newton").solve(g), mt
+    )
 
     def sp():
         ref._cache = (None, None)
@@ -118,13 +124,20 @@ def main(argv=None) -> int:
     t_sp = timeit(sp, mt, blocks=3)
     print("six-observation problem (Doppler conditions, guess x1 + 10 km)")
     print(f"{'solver':28s} {'time (ms)':>10s} {'ratio':>8s} {'|dr| (m)':>10s} {'iters/nfev':>10s}")
-    print(f"{'scipy solve_ivp+least_sq':28s} {t_sp * 1e3:10.3f} {1.0:8.1f} {err['scipy least_squares'] * 1e3:10.2e} "
-          f"{r_sp.nfev:10d}")
-    print(f"{'satgnc newton':28s} {t_nr * 1e3:10.3f} {t_sp / t_nr:8.0f} {err['satgnc newton'] * 1e3:10.2e} "
-          f"{r_nr.iterations:10d}")
+    print(
+        f"{'scipy solve_ivp+least_sq':28s} {t_sp * 1e3:10.3f} {1.0:8.1f} "
+        f"{err['scipy least_squares'] * 1e3:10.2e} "
+        f"{r_sp.nfev:10d}"
+    )
+    print(
+        f"{'satgnc newton':28s} {t_nr * 1e3:10.3f} {t_sp / t_nr:8.0f} {err['satgnc newton'] * 1e3:10.2e} "
+        f"{r_nr.iterations:10d}"
+    )
     print(f"{'satgnc newton incl. setup':28s} {t_setup * 1e3:10.3f} {t_sp / t_setup:8.0f}")
-    print(f"{'satgnc LM + polish':28s} {t_lm * 1e3:10.3f} {t_sp / t_lm:8.0f} {err['satgnc LM'] * 1e3:10.2e} "
-          f"{r_lm.iterations:10d}")
+    print(
+        f"{'satgnc LM + polish':28s} {t_lm * 1e3:10.3f} {t_sp / t_lm:8.0f} {err['satgnc LM'] * 1e3:10.2e} "
+        f"{r_lm.iterations:10d}"
+    )
     n = 200 if args.quick else 2000
     guesses = paper.map_box_guesses(n, seed=2024)
     print(f"\nmap: {n} guesses, box truth +-200 km / +-0.2 km/s, six Doppler conditions")
@@ -133,11 +146,16 @@ def main(argv=None) -> int:
         cls = paper.classify(paper.run_map(guesses, m, executor="serial"))
         dt = time.perf_counter() - t0
         fit = np.mean(np.isin(cls, ["truth", "other root"]))
-        print(f"  {m:20s} fitting root {fit:6.1%}  truth {np.mean(cls == 'truth'):6.1%}  diverged "
-              f"{np.mean(cls == 'diverged'):6.1%}  ({dt:.2f} s)")
+        print(
+            f"  {m:20s} fitting root {fit:6.1%}  truth {np.mean(cls == 'truth'):6.1%}  diverged "
+            f"{np.mean(cls == 'diverged'):6.1%}  ({dt:.2f} s)"
+        )
     rs = od.root_search(svlm, guesses[: n // 4])
-    print(f"  root search ({n // 4} guesses, LM): {len(rs.roots)} distinct solutions, {rs.fitting_roots} fitting, "
-          f"ambiguous={rs.ambiguous}")
+    print(
+        f"  root search ({n // 4} guesses, LM): {len(rs.roots)} distinct solutions, "
+        f"{rs.fitting_roots} fitting, "
+        f"ambiguous={rs.ambiguous}"
+    )
     return 0
 
 

@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-
 from satgnc import od
 from satgnc.od import paper
 from satgnc.od.tdm import read_tdm, write_tdm
@@ -68,7 +67,7 @@ def test_batch_two_stations_and_covariance():
     assert np.allclose(P, P.T, rtol=1e-10, atol=0)
     assert np.all(np.linalg.eigvalsh(P) > 0)
     np.testing.assert_allclose(np.diag(r.correlation), 1.0, atol=1e-12)
-    err = (np.asarray(r.x0) - paper.truth())
+    err = np.asarray(r.x0) - paper.truth()
     assert np.all(np.abs(err) < 5 * np.sqrt(np.diag(P)))  # within 5 formal sigma
     assert r.history_residuals.shape == (r.iterations + 1, len(obs))
 
@@ -88,8 +87,14 @@ def test_mixed_conditions_range_and_doppler():
     rho, rhodot = paper.observe()
     g = paper.truth().copy()
     g[0] += 5.0
-    r = od.solve_six_point(paper.times(), rho, rhodot, paper.station(), g,
-                           mode=["range", "doppler", "range", "doppler", "range", "doppler"])
+    r = od.solve_six_point(
+        paper.times(),
+        rho,
+        rhodot,
+        paper.station(),
+        g,
+        mode=["range", "doppler", "range", "doppler", "range", "doppler"],
+    )
     assert r.status == od.OdStatus.converged
     assert np.linalg.norm(r.x0[:3] - paper.truth()[:3]) < 1e-3
 
@@ -101,8 +106,10 @@ def test_statuses_singular_and_diverged():
     r = od.solve_six_point(paper.times(), rho, rhodot, paper.station(), inside)
     assert r.status == od.OdStatus.diverged
     # Six ranges at one instant from six stations: velocity unobservable, rank 3.
-    sts = [od.station_inertial(np.asarray(paper.station().r0) + [100.0 * i, -50.0 * i * i, 30.0 * i])
-           for i in range(6)]
+    sts = [
+        od.station_inertial(np.asarray(paper.station().r0) + [100.0 * i, -50.0 * i * i, 30.0 * i])
+        for i in range(6)
+    ]
     vals = [od.predict("range", paper.truth(), s.state(0.0))[0] for s in sts]
     obs = od.Observations([0.0] * 6, "range", vals, 1e-3, list(range(6)))
     r = od.solve(obs, sts, paper.truth() + 1e-3, method="gauss_newton")
@@ -112,8 +119,9 @@ def test_statuses_singular_and_diverged():
 
 def test_root_search_lists_truth():
     rho, rhodot = paper.observe()
-    sv = od.six_point_solver(paper.times(), rho, rhodot, paper.station(), method="levenberg_marquardt",
-                             max_iterations=200)
+    sv = od.six_point_solver(
+        paper.times(), rho, rhodot, paper.station(), method="levenberg_marquardt", max_iterations=200
+    )
     g = od.box_guesses(paper.truth(), [50, 50, 50, 0.05, 0.05, 0.05], 6, seed=4)
     rs = od.root_search(sv, g)
     assert rs.fitting_roots >= 1
@@ -201,15 +209,27 @@ def test_csv_and_tdm_round_trip(tmp_path):
 
 
 def test_tdm_errors_name_the_line(tmp_path):
-    good = ["CCSDS_TDM_VERS = 2.0", "META_START", "TIME_SYSTEM = UTC", "PARTICIPANT_1 = GZ", "META_STOP",
-            "DATA_START", "RANGE = 1981-080T06:00:00 1321.104", "DATA_STOP"]
+    good = [
+        "CCSDS_TDM_VERS = 2.0",
+        "META_START",
+        "TIME_SYSTEM = UTC",
+        "PARTICIPANT_1 = GZ",
+        "META_STOP",
+        "DATA_START",
+        "RANGE = 1981-080T06:00:00 1321.104",
+        "DATA_STOP",
+    ]
     p = tmp_path / "ok.tdm"
     p.write_text("\n".join(good))
     obs, _, _ = read_tdm(p)
     assert len(obs) == 1
-    for lineno, bad in ((7, "RANGE 1981-080T06:00:00 1321.104"), (7, "RANGE = 1981-080T06:00:00"),
-                        (7, "ANGLE_1 = 1981-080T06:00:00 12.0"), (7, "RANGE = 1981-13-80T06:00:00 1.0"),
-                        (3, "TIME_SYSTEM = TAI")):
+    for lineno, bad in (
+        (7, "RANGE 1981-080T06:00:00 1321.104"),
+        (7, "RANGE = 1981-080T06:00:00"),
+        (7, "ANGLE_1 = 1981-080T06:00:00 12.0"),
+        (7, "RANGE = 1981-13-80T06:00:00 1.0"),
+        (3, "TIME_SYSTEM = TAI"),
+    ):
         lines = list(good)
         lines[lineno - 1] = bad
         p.write_text("\n".join(lines))
@@ -229,13 +249,34 @@ def test_cli_simulate_and_solve(tmp_path, capsys):
         assert main(["od", "simulate", "--out", str(f), "--seed", "1"]) == 0
         guess = ",".join(str(v) for v in paper.truth() + np.array([10, 0, 0, 0, 0, 0]))
         r0 = ",".join(str(v) for v in paper.station_state_table3()[:3])
-        args = ["od", "solve", str(f), "--guess", guess, "--station-inertial", f"STATION:{r0}",
-                "--plots", str(tmp_path / "plots")]
+        args = [
+            "od",
+            "solve",
+            str(f),
+            "--guess",
+            guess,
+            "--station-inertial",
+            f"STATION:{r0}",
+            "--plots",
+            str(tmp_path / "plots"),
+        ]
         if ext == "tdm":
             args += ["--epoch", "1981-03-21T06:00:00"]
         assert main(args) == 0
         out = capsys.readouterr().out
         assert "status      : converged" in out
         assert (tmp_path / "plots" / "residuals_range.png").exists()
-    assert main(["od", "solve", str(tmp_path / "missing.csv"), "--guess", "1,2,3,4,5,6",
-                 "--station-inertial", "1,2,3"]) == 2
+    assert (
+        main(
+            [
+                "od",
+                "solve",
+                str(tmp_path / "missing.csv"),
+                "--guess",
+                "1,2,3,4,5,6",
+                "--station-inertial",
+                "1,2,3",
+            ]
+        )
+        == 2
+    )

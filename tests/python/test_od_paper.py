@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from satgnc import od
 from satgnc.od import paper
 
@@ -29,7 +28,8 @@ def test_table4_disagrees_with_tables_1_and_3_at_t0(consistency):
     d0 = consistency["range_diff_km"][0] * 1e3
     assert 140.0 < d0 < 170.0  # measured 154.4 m, 3000x the rounding
     assert consistency["range_diff_km"][0] == pytest.approx(
-        paper.tables()["table4_observations"]["range_km"][0] - consistency["range_t0_direct_km"], abs=1e-9)
+        paper.tables()["table4_observations"]["range_km"][0] - consistency["range_t0_direct_km"], abs=1e-9
+    )
     # Range-rate: up to ~2.4 m/s against a rounding of 0.005 m/s.
     assert np.max(np.abs(consistency["range_rate_diff_kms"])) * 1e3 > 1.0
 
@@ -138,8 +138,9 @@ def test_fig2_octant_claim_fails():
 
 def test_single_pass_admits_several_fitting_orbits():
     rho, rhodot = paper.observe()
-    sv = od.six_point_solver(paper.times(), rho, rhodot, paper.station(), method="levenberg_marquardt",
-                             max_iterations=300)
+    sv = od.six_point_solver(
+        paper.times(), rho, rhodot, paper.station(), method="levenberg_marquardt", max_iterations=300
+    )
     # A guess ~850 km away (found by the full root search of the report) ends at a state that fits all
     # six conditions to ~1.3 sigma although it is hundreds of km from Table 1.
     d = np.array([-587.78, 150.48, 605.70, -0.5241, 0.3622, 0.8712])

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from satgnc.od import montecarlo, paper
 from satgnc.od.sweep import dask_available, run_chunks, split
 
@@ -38,8 +37,10 @@ def test_dask_local_cluster():
     from dask.distributed import Client, LocalCluster
 
     g = paper.map_box_guesses(8, seed=6)
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cl, \
-            Client(cl) as client:
+    with (
+        LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cl,
+        Client(cl) as client,
+    ):
         d = paper.run_map(g, "levenberg_marquardt", executor="dask", chunks=2, client=client)
     s = paper.run_map(g, "levenberg_marquardt", executor="serial", chunks=2)
     np.testing.assert_allclose(d, s, rtol=0, atol=0)
