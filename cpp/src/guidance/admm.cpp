@@ -422,6 +422,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   const double a = set_.relaxation;
   const double dimU = static_cast<double>(N_) * nu_;
   double best = std::numeric_limits<double>::infinity();
+  double best_prim = 0.0, best_dual = 0.0, best_paper = 0.0;
   AdmmStatus status = AdmmStatus::kMaxIterations;
   int it = 0;
   if (!ok) status = AdmmStatus::kNumericalError;
@@ -477,6 +478,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       const double measure = std::max(prim / eps_p, dual / eps_d);
       if (measure < best) {
         best = measure;
+        best_prim = prim;
+        best_dual = dual;
+        best_paper = info.paper_criterion;
         bX_ = X;
         bU_ = U;
         bY_ = Y;
@@ -519,6 +523,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     U = bU_;
     Y = bY_;
     L = bL_;
+    info.primal_residual = best_prim;  // residuals of the returned (best) iterate
+    info.dual_residual = best_dual;
+    info.paper_criterion = best_paper;
   }
   info.status = status;
   info.iterations = it;
