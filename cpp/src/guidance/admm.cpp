@@ -136,7 +136,7 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
                (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
   if (polish_ok_) {
-    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 4 * nx_;
+    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 8 * nx_;
     fmax_ = std::min(fmax_, N_ * nu_);
     Psi_.setZero(nx_, nx_ * N_);
     Psi_.middleCols((N_ - 1) * nx_, nx_).setIdentity();
@@ -207,6 +207,19 @@ bool AdmmSolver::try_polish() noexcept {
     }
   }
   if (term && F < nx_) return false;  // generic vertex needs nx free entries to meet x_N = x_f
+  if (F > nx_ && prob_.R.size() == 0) {
+    // Without R the reduced problem has at most nx independent free entries (a vertex): keep the
+    // nx largest; the rest are taken as zeros. The optimality check below guards the guess.
+    for (int t = 0; t < nx_; ++t) {
+      int best = t;
+      for (int a = t + 1; a < F; ++a) {
+        const int ja = free_idx_[static_cast<std::size_t>(a)], jb = free_idx_[static_cast<std::size_t>(best)];
+        if (std::abs(Y(ja % nu_, ja / nu_)) > std::abs(Y(jb % nu_, jb / nu_))) best = a;
+      }
+      std::swap(free_idx_[static_cast<std::size_t>(t)], free_idx_[static_cast<std::size_t>(best)]);
+    }
+    F = nx_;
+  }
   rollout(Up_, Xp_);                   // fixed part, x_N^fix in Xp_.col(N)
   const int M = fmax_ + nx_;
   for (int a = 0; a < F; ++a) {

@@ -66,7 +66,7 @@ struct AdmmSettings {
   /// (a certificate: the result is then the exact optimum up to rounding).
   bool polish = true;
   int polish_interval = 10;        ///< >= 1
-  int polish_max_free = 0;         ///< largest free set tried; 0 = 4 nx (capped at N nu)
+  int polish_max_free = 0;         ///< largest free set classified; 0 = 8 nx (capped at N nu)
   double polish_tolerance = 1e-7;  ///< relative tolerance of the optimality check
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
