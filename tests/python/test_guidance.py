@@ -9,7 +9,6 @@ from importlib import resources
 import numpy as np
 import pytest
 import scipy.linalg
-
 from satgnc import guidance as g
 from satgnc.guidance.reference import solve_cvxpy
 from satgnc.scenarios import l1_rendezvous as scen
@@ -57,7 +56,8 @@ def test_paper_rule_without_rescaling_is_slower():
 def test_paper_constrained_iterations_are_not_passes():
     # the 404 passes sum inner augmented-Lagrangian iLQR iterations; satgnc's closed-form prox and
     # exact terminal constraint need one Riccati sweep per ADMM iteration
-    r = g.L1Solver(**scen.linear_problem(SC, "constrained"), settings=scen.paper_settings(SC, "constrained")).solve()
+    kw = scen.linear_problem(SC, "constrained")
+    r = g.L1Solver(**kw, settings=scen.paper_settings(SC, "constrained")).solve()
     assert r.status == "solved_paper_rule"
     assert r.iterations == 83
     assert r.iterations != TABLE1["lqr_passes"][1]
