@@ -1,6 +1,169 @@
-// pybind11 wrappers for the guidance room.
+// pybind11 wrappers for the guidance room (CW model, Riccati step, ADMM solver). No algorithm here.
+#include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "satgnc/dynamics/cw.hpp"
+#include "satgnc/guidance/admm.hpp"
+
+namespace py = pybind11;
 
 namespace satgnc::bindings {
-void init_guidance(pybind11::module_& m) { (void)m; }
+namespace {
+using guidance::AdmmSettings;
+using guidance::AdmmSolver;
+using guidance::AdmmStatus;
+using guidance::LtvProblem;
+
+py::dict result_to_dict(const guidance::AdmmResult& r) {
+  py::dict d;
+  d["X"] = r.X;
+  d["U"] = r.U;
+  d["Y"] = r.Y;
+  d["Lambda"] = r.Lambda;
+  d["X_flown"] = r.X_flown;
+  d["terminal_multiplier"] = r.terminal_multiplier;
+  const auto& i = r.info;
+  d["status"] = static_cast<int>(i.status);
+  d["status_name"] = std::string(guidance::status_message(i.status));
+  d["iterations"] = i.iterations;
+  d["primal_residual"] = i.primal_residual;
+  d["dual_residual"] = i.dual_residual;
+  d["eps_primal"] = i.eps_primal;
+  d["eps_dual"] = i.eps_dual;
+  d["paper_criterion"] = i.paper_criterion;
+  d["objective"] = i.objective;
+  d["objective_u"] = i.objective_u;
+  d["terminal_miss"] = i.terminal_miss;
+  d["rho"] = i.rho;
+  d["factorizations"] = i.factorizations;
+  d["rho_updates"] = i.rho_updates;
+  d["polished"] = i.polished;
+  d["polish_attempts"] = i.polish_attempts;
+  d["solve_time"] = i.solve_time;
+  return d;
+}
+}  // namespace
+
+void init_guidance(py::module_& m) {
+  namespace dyn = satgnc::dynamics;
+  m.def(
+      "cw_matrices",
+      [](double n, double mass) {
+        dyn::CwModel cw(n, mass);
+        return py::make_tuple(Eigen::MatrixXd(cw.A()), Eigen::MatrixXd(cw.B()));
+      },
+      py::arg("n"), py::arg("mass"));
+  m.def(
+      "cw_stm", [](double n, double t) { return Eigen::MatrixXd(dyn::CwModel(n, 1.0).stm(t)); }, py::arg("n"),
+      py::arg("t"));
+  m.def(
+      "cw_discretize",
+      [](double n, double mass, double dt, const std::string& method) {
+        dyn::CwModel cw(n, mass);
+        dyn::CwDiscrete d;
+        if (method == "zoh") {
+          d = dyn::cw_discretize_zoh(cw, dt);
+        } else if (method == "expm") {
+          d = dyn::cw_discretize_expm(cw, dt);
+        } else if (method == "midpoint") {
+          d = dyn::cw_discretize_midpoint(cw, dt);
+        } else {
+          throw std::invalid_argument("method: must be 'zoh', 'expm' or 'midpoint', got '" + method + "'");
+        }
+        return py::make_tuple(Eigen::MatrixXd(d.Ad), Eigen::MatrixXd(d.Bd));
+      },
+      py::arg("n"), py::arg("mass"), py::arg("dt"), py::arg("method") = "zoh");
+
+  py::enum_<guidance::StoppingRule>(m, "StoppingRule")
+      .value("residuals", guidance::StoppingRule::kResiduals)
+      .value("paper", guidance::StoppingRule::kPaper);
+  py::enum_<AdmmStatus>(m, "AdmmStatus")
+      .value("solved", AdmmStatus::kSolved)
+      .value("solved_paper_rule", AdmmStatus::kSolvedPaperRule)
+      .value("max_iterations", AdmmStatus::kMaxIterations)
+      .value("terminal_unreachable", AdmmStatus::kTerminalUnreachable)
+      .value("numerical_error", AdmmStatus::kNumericalError)
+      .value("unsolved", AdmmStatus::kUnsolved);
+  m.def("admm_status_message", [](int s) { return std::string(guidance::status_message(static_cast<AdmmStatus>(s))); });
+
+  py::class_<AdmmSettings>(m, "AdmmSettings")
+      .def(py::init<>())
+      .def_readwrite("rho", &AdmmSettings::rho)
+      .def_readwrite("max_iterations", &AdmmSettings::max_iterations)
+      .def_readwrite("stopping", &AdmmSettings::stopping)
+      .def_readwrite("eps_abs", &AdmmSettings::eps_abs)
+      .def_readwrite("eps_rel", &AdmmSettings::eps_rel)
+      .def_readwrite("paper_eps", &AdmmSettings::paper_eps)
+      .def_readwrite("relaxation", &AdmmSettings::relaxation)
+      .def_readwrite("adaptive_rho", &AdmmSettings::adaptive_rho)
+      .def_readwrite("adaptive_rho_interval", &AdmmSettings::adaptive_rho_interval)
+      .def_readwrite("adaptive_rho_tolerance", &AdmmSettings::adaptive_rho_tolerance)
+      .def_readwrite("rho_min", &AdmmSettings::rho_min)
+      .def_readwrite("rho_max", &AdmmSettings::rho_max)
+      .def_readwrite("cache_gains", &AdmmSettings::cache_gains)
+      .def_readwrite("paper_multiplier_rescale", &AdmmSettings::paper_multiplier_rescale)
+      .def_readwrite("paper_global_rescale_iterations", &AdmmSettings::paper_global_rescale_iterations)
+      .def_readwrite("track_best", &AdmmSettings::track_best)
+      .def_readwrite("polish", &AdmmSettings::polish)
+      .def_readwrite("polish_interval", &AdmmSettings::polish_interval)
+      .def_readwrite("polish_max_free", &AdmmSettings::polish_max_free)
+      .def_readwrite("polish_tolerance", &AdmmSettings::polish_tolerance);
+
+  py::class_<AdmmSolver>(m, "AdmmSolver")
+      .def(py::init([](std::vector<Eigen::MatrixXd> A, std::vector<Eigen::MatrixXd> B,
+                       std::vector<Eigen::VectorXd> c, int horizon, Eigen::VectorXd x0, Eigen::VectorXd xf,
+                       Eigen::MatrixXd Qf, Eigen::MatrixXd Q, Eigen::MatrixXd R, Eigen::VectorXd l1_weights,
+                       double group_l2_weight, Eigen::VectorXd u_lower, Eigen::VectorXd u_upper, double u_norm_max,
+                       bool terminal_equality, const AdmmSettings& settings) {
+             LtvProblem p;
+             p.dynamics.A = std::move(A);
+             p.dynamics.B = std::move(B);
+             p.dynamics.c = std::move(c);
+             p.dynamics.horizon = horizon;
+             p.x0 = x0;
+             p.xf = xf;
+             p.Qf = Qf;
+             p.Q = Q;
+             p.R = R;
+             p.l1_weights = l1_weights;
+             p.group_l2_weight = group_l2_weight;
+             p.u_lower = u_lower;
+             p.u_upper = u_upper;
+             p.u_norm_max = u_norm_max;
+             p.terminal_equality = terminal_equality;
+             return new AdmmSolver(p, settings);
+           }),
+           py::arg("A"), py::arg("B"), py::arg("c"), py::arg("horizon"), py::arg("x0"), py::arg("xf"), py::arg("Qf"),
+           py::arg("Q"), py::arg("R"), py::arg("l1_weights"), py::arg("group_l2_weight"), py::arg("u_lower"),
+           py::arg("u_upper"), py::arg("u_norm_max"), py::arg("terminal_equality"), py::arg("settings"))
+      .def("solve",
+           [](AdmmSolver& s) {
+             const guidance::AdmmResult* r;
+             {
+               py::gil_scoped_release release;
+               r = &s.solve();
+             }
+             return result_to_dict(*r);
+           })
+      .def("solve_time_only",
+           [](AdmmSolver& s, int repeats) {
+             py::gil_scoped_release release;
+             for (int i = 0; i < repeats; ++i) s.solve();
+             return s.result().info.solve_time;
+           })
+      .def("warm_start", &AdmmSolver::warm_start, py::arg("Y"), py::arg("Lambda"))
+      .def("cold_start", &AdmmSolver::cold_start)
+      .def("set_x0", &AdmmSolver::set_x0, py::arg("x0"))
+      .def("set_xf", &AdmmSolver::set_xf, py::arg("xf"))
+      .def("update_settings", &AdmmSolver::update_settings, py::arg("settings"))
+      .def("objective_of", &AdmmSolver::objective_of, py::arg("U"))
+      .def_property_readonly("nx", &AdmmSolver::nx)
+      .def_property_readonly("nu", &AdmmSolver::nu)
+      .def_property_readonly("horizon", &AdmmSolver::horizon);
+}
+
 }  // namespace satgnc::bindings

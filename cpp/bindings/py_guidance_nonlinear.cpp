@@ -1,6 +1,221 @@
-// pybind11 wrappers for the guidance_nonlinear part.
+// pybind11 wrappers for the guidance_nonlinear part (two-satellite model, discrete maps, iLQR-ADMM).
+#include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <stdexcept>
+
+#include "satgnc/dynamics/two_satellite.hpp"
+#include "satgnc/guidance/ilqr_admm.hpp"
+#include "satgnc/guidance/nonlinear_model.hpp"
+
+namespace py = pybind11;
 
 namespace satgnc::bindings {
-void init_guidance_nonlinear(pybind11::module_& m) { (void)m; }
+
+void init_guidance_nonlinear(py::module_& m) {
+  using namespace satgnc::dynamics;
+  using namespace satgnc::guidance;
+
+  py::enum_<ControlFrame>(m, "ControlFrame")
+      .value("inertial", ControlFrame::inertial)
+      .value("target_cw", ControlFrame::target_cw);
+  py::enum_<AtmosphereRotation>(m, "AtmosphereRotation")
+      .value("co_rotating", AtmosphereRotation::co_rotating)
+      .value("published", AtmosphereRotation::published);
+
+  py::class_<TwoSatelliteParams>(m, "TwoSatelliteParams")
+      .def(py::init<>())
+      .def_readwrite("mu", &TwoSatelliteParams::mu)
+      .def_readwrite("j2_on", &TwoSatelliteParams::j2_on)
+      .def_readwrite("j2", &TwoSatelliteParams::j2)
+      .def_readwrite("j2_radius", &TwoSatelliteParams::j2_radius)
+      .def_readwrite("drag_on", &TwoSatelliteParams::drag_on)
+      .def_readwrite("rho0", &TwoSatelliteParams::rho0)
+      .def_readwrite("density_decay", &TwoSatelliteParams::density_decay)
+      .def_readwrite("density_radius", &TwoSatelliteParams::density_radius)
+      .def_readwrite("omega", &TwoSatelliteParams::omega)
+      .def_readwrite("atmosphere", &TwoSatelliteParams::atmosphere)
+      .def_readwrite("mass_chaser", &TwoSatelliteParams::mass_chaser)
+      .def_readwrite("mass_target", &TwoSatelliteParams::mass_target)
+      .def_readwrite("cd_chaser", &TwoSatelliteParams::cd_chaser)
+      .def_readwrite("cd_target", &TwoSatelliteParams::cd_target)
+      .def_readwrite("area_chaser", &TwoSatelliteParams::area_chaser)
+      .def_readwrite("area_target", &TwoSatelliteParams::area_target)
+      .def_readwrite("control_frame", &TwoSatelliteParams::control_frame)
+      .def("validate", &TwoSatelliteParams::validate);
+
+  py::class_<TwoSatelliteModel>(m, "TwoSatelliteModel")
+      .def(py::init<const TwoSatelliteParams&>(), py::arg("params") = TwoSatelliteParams())
+      .def_property_readonly("params", &TwoSatelliteModel::params)
+      .def("rhs",
+           [](const TwoSatelliteModel& s, const Vec12& x, const Vec3& u) {
+             Vec12 f;
+             if (!s.rhs(x, u, f)) throw std::runtime_error("rhs: model evaluation failed (zero radius or non-finite)");
+             return f;
+           }, py::arg("x"), py::arg("u"))
+      .def("rhs_jacobians",
+           [](const TwoSatelliteModel& s, const Vec12& x, const Vec3& u) {
+             Vec12 f;
+             Mat12 A;
+             Mat12x3 B;
+             if (!s.rhs_jacobians(x, u, f, A, B))
+               throw std::runtime_error("rhs_jacobians: model evaluation failed (zero radius or non-finite)");
+             return py::make_tuple(f, A, B);
+           }, py::arg("x"), py::arg("u"))
+      .def("rk_step",
+           [](const TwoSatelliteModel& s, int scheme, double h, const Vec12& x, const Vec3& u, bool jacobians) {
+             if (scheme != 3 && scheme != 4) throw py::value_error("scheme: must be 3 or 4");
+             Vec12 xn;
+             Mat12 A;
+             Mat12x3 B;
+             const bool ok = jacobians ? s.rk_step(scheme, h, x, u, xn, &A, &B) : s.rk_step(scheme, h, x, u, xn);
+             if (!ok) throw std::runtime_error("rk_step: model evaluation failed");
+             if (jacobians) return py::object(py::make_tuple(xn, A, B));
+             return py::object(py::cast(xn));
+           }, py::arg("scheme"), py::arg("h"), py::arg("x"), py::arg("u"), py::arg("jacobians") = false)
+      .def("propagate",
+           [](const TwoSatelliteModel& s, int scheme, const Vec12& x0, double duration, int steps) {
+             if (steps < 1) throw py::value_error("steps: must be >= 1");
+             Vec12 x = x0, xn;
+             for (int i = 0; i < steps; ++i) {
+               if (!s.rk_step(scheme, duration / steps, x, Vec3::Zero(), xn))
+                 throw std::runtime_error("propagate: model failed at step " + std::to_string(i));
+               x = xn;
+             }
+             return x;
+           }, py::arg("scheme"), py::arg("x0"), py::arg("duration"), py::arg("steps"));
+
+  m.def("cw_relative_state", &cw_relative_state, py::arg("x"));
+  m.def("cw_relative_state_published", &cw_relative_state_published, py::arg("x"), py::arg("mu"));
+  m.def("two_satellite_state", &two_satellite_state, py::arg("r_t"), py::arg("v_t"), py::arg("cw"));
+
+  py::class_<DiscreteModel>(m, "DiscreteModel")
+      .def_property_readonly("state_dim", &DiscreteModel::state_dim)
+      .def_property_readonly("control_dim", &DiscreteModel::control_dim)
+      .def("step",
+           [](const DiscreteModel& d, int k, const Eigen::VectorXd& x, const Eigen::VectorXd& u) {
+             if (x.size() != d.state_dim()) throw py::value_error("x: must have state_dim entries");
+             if (u.size() != d.control_dim()) throw py::value_error("u: must have control_dim entries");
+             Eigen::VectorXd xn(d.state_dim());
+             Eigen::MatrixXd A(d.state_dim(), d.state_dim()), B(d.state_dim(), d.control_dim());
+             if (!d.step(k, x.data(), u.data(), xn.data(), A.data(), B.data()))
+               throw std::runtime_error("step: the model failed on interval " + std::to_string(k));
+             return py::make_tuple(xn, A, B);
+           }, py::arg("k"), py::arg("x"), py::arg("u"));
+
+  py::class_<LinearDiscreteModel, DiscreteModel>(m, "LinearDiscreteModel")
+      .def(py::init<std::vector<Eigen::MatrixXd>, std::vector<Eigen::MatrixXd>, std::vector<Eigen::VectorXd>>(),
+           py::arg("A"), py::arg("B"), py::arg("c"));
+
+  py::class_<TwoSatelliteMapSettings>(m, "TwoSatelliteMapSettings")
+      .def(py::init<>())
+      .def_readwrite("dt", &TwoSatelliteMapSettings::dt)
+      .def_readwrite("scheme", &TwoSatelliteMapSettings::scheme)
+      .def_readwrite("substeps", &TwoSatelliteMapSettings::substeps)
+      .def_readwrite("state_scale", &TwoSatelliteMapSettings::state_scale)
+      .def_readwrite("control_scale", &TwoSatelliteMapSettings::control_scale);
+
+  py::class_<TwoSatelliteMap, DiscreteModel>(m, "TwoSatelliteMap")
+      .def(py::init<const TwoSatelliteModel&, const TwoSatelliteMapSettings&>(), py::arg("model"),
+           py::arg("settings"))
+      .def_property_readonly("state_scale", &TwoSatelliteMap::state_scale)
+      .def_property_readonly("control_scale", &TwoSatelliteMap::control_scale);
+
+  py::class_<ReferenceScaling>(m, "ReferenceScaling")
+      .def_readonly("state_scale", &ReferenceScaling::state_scale)
+      .def_readonly("control_scale", &ReferenceScaling::control_scale)
+      .def_readonly("time_scale", &ReferenceScaling::time_scale);
+  m.def("published_scaling", &published_scaling, py::arg("x0"), py::arg("mu"), py::arg("mass_chaser"));
+
+  py::enum_<ControlCost>(m, "ControlCost")
+      .value("l1", ControlCost::l1)
+      .value("l1_box", ControlCost::l1_box)
+      .value("group_l2", ControlCost::group_l2);
+  py::enum_<StopRule>(m, "StopRule").value("residuals", StopRule::residuals).value("paper", StopRule::paper);
+  py::enum_<IlqrAdmmStatus>(m, "IlqrAdmmStatus")
+      .value("solved", IlqrAdmmStatus::solved)
+      .value("max_iterations", IlqrAdmmStatus::max_iterations)
+      .value("propagation_failed", IlqrAdmmStatus::propagation_failed)
+      .value("ilqr_failed", IlqrAdmmStatus::ilqr_failed)
+      .value("not_run", IlqrAdmmStatus::not_run);
+  m.def("ilqr_admm_status_message", [](IlqrAdmmStatus s) { return std::string(status_message(s)); });
+
+  py::class_<NonlinearL1Problem>(m, "NonlinearL1Problem")
+      .def(py::init<>())
+      .def_readwrite("horizon", &NonlinearL1Problem::horizon)
+      .def_readwrite("x0", &NonlinearL1Problem::x0)
+      .def_readwrite("x_target", &NonlinearL1Problem::x_target)
+      .def_readwrite("Qf", &NonlinearL1Problem::Qf)
+      .def_readwrite("alpha", &NonlinearL1Problem::alpha)
+      .def_readwrite("stage_weight", &NonlinearL1Problem::stage_weight)
+      .def_readwrite("cost", &NonlinearL1Problem::cost)
+      .def_readwrite("u_min", &NonlinearL1Problem::u_min)
+      .def_readwrite("u_max", &NonlinearL1Problem::u_max);
+
+  py::class_<IlqrAdmmSettings>(m, "IlqrAdmmSettings")
+      .def(py::init<>())
+      .def_readwrite("rho", &IlqrAdmmSettings::rho)
+      .def_readwrite("max_iter", &IlqrAdmmSettings::max_iter)
+      .def_readwrite("ilqr_iters", &IlqrAdmmSettings::ilqr_iters)
+      .def_readwrite("ilqr_tol", &IlqrAdmmSettings::ilqr_tol)
+      .def_readwrite("stop", &IlqrAdmmSettings::stop)
+      .def_readwrite("eps_paper", &IlqrAdmmSettings::eps_paper)
+      .def_readwrite("eps_abs", &IlqrAdmmSettings::eps_abs)
+      .def_readwrite("eps_rel", &IlqrAdmmSettings::eps_rel)
+      .def_readwrite("paper_multiplier_rescale", &IlqrAdmmSettings::paper_multiplier_rescale)
+      .def_readwrite("adaptive_rho", &IlqrAdmmSettings::adaptive_rho)
+      .def_readwrite("rho_factor", &IlqrAdmmSettings::rho_factor)
+      .def_readwrite("rho_balance", &IlqrAdmmSettings::rho_balance)
+      .def_readwrite("rho_update_every", &IlqrAdmmSettings::rho_update_every)
+      .def_readwrite("reg_init", &IlqrAdmmSettings::reg_init)
+      .def_readwrite("reg_min", &IlqrAdmmSettings::reg_min)
+      .def_readwrite("reg_max", &IlqrAdmmSettings::reg_max)
+      .def_readwrite("reg_factor", &IlqrAdmmSettings::reg_factor)
+      .def_readwrite("line_search_iters", &IlqrAdmmSettings::line_search_iters)
+      .def_readwrite("ls_lower", &IlqrAdmmSettings::ls_lower)
+      .def_readwrite("ls_upper", &IlqrAdmmSettings::ls_upper)
+      .def_readwrite("return_best", &IlqrAdmmSettings::return_best);
+
+  py::class_<IlqrAdmmInfo>(m, "IlqrAdmmInfo")
+      .def_readonly("status", &IlqrAdmmInfo::status)
+      .def_readonly("iterations", &IlqrAdmmInfo::iterations)
+      .def_readonly("ilqr_iterations", &IlqrAdmmInfo::ilqr_iterations)
+      .def_readonly("lqr_passes", &IlqrAdmmInfo::lqr_passes)
+      .def_readonly("primal_residual", &IlqrAdmmInfo::primal_residual)
+      .def_readonly("dual_residual", &IlqrAdmmInfo::dual_residual)
+      .def_readonly("paper_criterion", &IlqrAdmmInfo::paper_criterion)
+      .def_readonly("objective_u", &IlqrAdmmInfo::objective_u)
+      .def_readonly("objective_y", &IlqrAdmmInfo::objective_y)
+      .def_readonly("rho", &IlqrAdmmInfo::rho)
+      .def_readonly("rho_updates", &IlqrAdmmInfo::rho_updates)
+      .def_readonly("failed_interval", &IlqrAdmmInfo::failed_interval)
+      .def_readonly("max_regularization", &IlqrAdmmInfo::max_regularization)
+      .def_property_readonly("message", [](const IlqrAdmmInfo& i) { return std::string(status_message(i.status)); });
+
+  py::class_<IlqrAdmmSolver>(m, "IlqrAdmmSolver")
+      .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const IlqrAdmmSettings&>(), py::arg("model"),
+           py::arg("problem"), py::arg("settings") = IlqrAdmmSettings(), py::keep_alive<1, 2>())
+      .def("set_initial_controls", &IlqrAdmmSolver::set_initial_controls, py::arg("U0"))
+      .def("warm_start", &IlqrAdmmSolver::warm_start, py::arg("U"), py::arg("Y"), py::arg("Lambda"))
+      .def("set_initial_state", &IlqrAdmmSolver::set_initial_state, py::arg("x0"))
+      .def("set_rho", &IlqrAdmmSolver::set_rho, py::arg("rho"))
+      .def("solve", &IlqrAdmmSolver::solve, py::call_guard<py::gil_scoped_release>())
+      .def("true_cost", &IlqrAdmmSolver::true_cost, py::arg("U"))
+      .def("rollout",
+           [](const IlqrAdmmSolver& s, const Eigen::MatrixXd& U) {
+             const auto& r = s.result();
+             if (U.rows() != r.U.rows() || U.cols() != r.U.cols()) throw py::value_error("U: must be nu x N");
+             Eigen::MatrixXd X(r.X.rows(), r.X.cols());
+             const int k = s.rollout(U, X);
+             if (k >= 0) throw std::runtime_error("rollout: the model failed on interval " + std::to_string(k));
+             return X;
+           }, py::arg("U"))
+      .def_property_readonly("X", [](const IlqrAdmmSolver& s) { return s.result().X; })
+      .def_property_readonly("U", [](const IlqrAdmmSolver& s) { return s.result().U; })
+      .def_property_readonly("Y", [](const IlqrAdmmSolver& s) { return s.result().Y; })
+      .def_property_readonly("Lambda", [](const IlqrAdmmSolver& s) { return s.result().Lambda; })
+      .def_property_readonly("info", [](const IlqrAdmmSolver& s) { return s.result().info; });
+}
+
 }  // namespace satgnc::bindings

@@ -2,6 +2,7 @@
 /// @file force_model.hpp
 /// Orbital force model: point-mass gravity plus optional J2 and exponential drag, each with analytic
 /// acceleration Jacobians. Units: km, km/s, s (drag's area/mass and density are converted inside).
+#include <Eigen/Geometry>
 #include <optional>
 
 #include "satgnc/dynamics/types.hpp"
@@ -52,6 +53,33 @@ struct ForceModel {
   /// Acceleration and its Jacobians da/dr (1/s^2) and da/dv (1/s).
   void acceleration_jacobians(double t, const Vec3& r, const Vec3& v, Vec3& a, Mat3& da_dr,
                               Mat3& da_dv) const;
+  /// Potential energy per unit mass V(r) of the gravity terms (a_grav = -grad V), km^2/s^2.
+  double potential(const Vec3& r) const;
+  /// Specific orbital energy |v|^2/2 + V(r), km^2/s^2; conserved when conservative().
+  double energy(const Vec3& r, const Vec3& v) const { return 0.5 * v.squaredNorm() + potential(r); }
 };
+
+// Per-term functions, reusable by other models (e.g. one body of a two-satellite model).
+// They do not validate their arguments (call ForceModel::validate() or check at setup).
+
+/// Point-mass acceleration -mu r/|r|^3 (km/s^2) for mu in km^3/s^2, r in km.
+Vec3 point_mass_acceleration(double mu, const Vec3& r);
+/// Point-mass acceleration and da/dr = -mu/|r|^3 (I - 3 r r^T/|r|^2) (1/s^2).
+void point_mass_jacobian(double mu, const Vec3& r, Vec3& a, Mat3& da_dr);
+
+/// J2 acceleration -(3/2) J2 mu R^2/|r|^5 [x(1-5z^2/r^2), y(1-5z^2/r^2), z(3-5z^2/r^2)], km/s^2.
+Vec3 j2_acceleration(const J2Gravity& g, const Vec3& r);
+/// J2 acceleration and its Jacobian da/dr (1/s^2).
+void j2_jacobian(const J2Gravity& g, const Vec3& r, Vec3& a, Mat3& da_dr);
+/// J2 potential energy per unit mass mu J2 R^2 (3 z^2/r^2 - 1) / (2 r^3), km^2/s^2.
+double j2_potential(const J2Gravity& g, const Vec3& r);
+
+/// Exponential-atmosphere density at radius |r| (km), kg/m^3.
+double exponential_density(const ExponentialDrag& d, double radius_km);
+/// Drag acceleration -0.5 Cd (A/m) rho |v_rel| v_rel with v_rel = v - omega x r, km/s^2.
+Vec3 drag_acceleration(const ExponentialDrag& d, const Vec3& r, const Vec3& v);
+/// Drag acceleration and its Jacobians da/dr (1/s^2, density gradient and co-rotation) and da/dv (1/s).
+void drag_jacobians(const ExponentialDrag& d, const Vec3& r, const Vec3& v, Vec3& a, Mat3& da_dr,
+                    Mat3& da_dv);
 
 }  // namespace satgnc::dynamics

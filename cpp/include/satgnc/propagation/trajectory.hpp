@@ -28,6 +28,9 @@ struct PropagationStats {
   long rhs_evals = 0;       ///< right-hand-side evaluations (state + variational equations)
   long error_test_fails = 0;///< rejected steps
   long nonlin_iters = 0;    ///< corrector iterations (implicit methods; 0 otherwise)
+  long nonlin_conv_fails = 0;  ///< corrector convergence failures (CVODES)
+  long lin_setups = 0;      ///< linear-solver setups (Jacobian evaluations; Newton corrector only)
+  double last_step = 0.0;   ///< size of the last accepted step, s (signed)
 };
 
 /// States (km, km/s) and 6x6 STMs dPhi(t_i, t0) at the requested times t_i (s).

@@ -1,0 +1,181 @@
+#pragma once
+/// @file admm.hpp
+/// Fuel-optimal (L1) guidance by ADMM with a Riccati step (l1_admm_rendezvous.md, Algorithm 1, and
+/// an OSQP-style solver around it: residual stopping, adaptive rho, over-relaxation, warm start,
+/// exact prox of L1 + box and of group-L2 + ball, exact hard terminal state).
+///
+/// Problem (units of the caller; the scenario uses the paper's scaled units or m, m/s, N):
+///   minimize   1/2 (x_N - x_f)' Qf (x_N - x_f) + sum_{k=1}^{N-1} 1/2 (x_k - x_f)' Q (x_k - x_f)
+///            + sum_{k=0}^{N-1} [ 1/2 u_k' R u_k + sum_i w_i |u_{k,i}| + w_g ||u_k||_2 ]
+///   subject to x_{k+1} = A_k x_k + B_k u_k + c_k,  x_0 given,
+///              u_lower <= u_k <= u_upper (per axis),  ||u_k||_2 <= u_norm_max,
+///              x_N = x_f (if terminal_equality).
+/// Splitting: U (dynamics side, Riccati step) = Y (sparse side, closed-form prox); Lambda is the
+/// unscaled multiplier of U - Y = 0. Usage:
+///   AdmmSolver s(problem, settings);  // validates, allocates (throws std::invalid_argument)
+///   const AdmmResult& r = s.solve();  // never throws, never allocates; see r.info.status
+#include <Eigen/Core>
+#include <vector>
+
+#include "satgnc/guidance/riccati.hpp"
+
+namespace satgnc::guidance {
+
+/// Constant problem data (see file comment). Time-invariant A, B: pass one matrix each.
+struct LtvProblem {
+  LtvDynamics dynamics;
+  Eigen::VectorXd x0;          ///< initial state (nx)
+  Eigen::VectorXd xf;          ///< target state (nx); zeros if empty
+  Eigen::MatrixXd Qf;          ///< terminal weight nx x nx, PSD
+  Eigen::MatrixXd Q;           ///< stage state weight nx x nx, PSD, or empty (none)
+  Eigen::MatrixXd R;           ///< stage control weight nu x nu, PSD, or empty (none)
+  Eigen::VectorXd l1_weights;  ///< per-axis L1 weights w_i >= 0 (nu), or empty (none)
+  double group_l2_weight = 0.0;  ///< w_g >= 0: cost of one gimballed engine ||u_k||_2
+  Eigen::VectorXd u_lower;     ///< per-axis lower bounds (nu, may be -inf) or empty
+  Eigen::VectorXd u_upper;     ///< per-axis upper bounds (nu, may be +inf) or empty
+  double u_norm_max = 0.0;     ///< ||u_k||_2 bound (> 0), 0 = none; only with group-L2 / no L1, no box
+  bool terminal_equality = false;  ///< enforce x_N = x_f exactly
+};
+
+/// Stopping rule.
+enum class StoppingRule {
+  kResiduals = 0,  ///< OSQP-like: primal ||U-Y||_inf and dual rho ||Y-Y_prev||_inf residuals
+  kPaper = 1,      ///< published implementation: ||U - Y||_F / (N nu) <= paper_eps
+};
+
+/// Solver settings (plain struct; defaults solve the scenario cases to ~1e-6 relative).
+struct AdmmSettings {
+  double rho = 0.3;                ///< initial penalty (> 0)
+  int max_iterations = 10000;      ///< >= 1
+  StoppingRule stopping = StoppingRule::kResiduals;
+  double eps_abs = 1e-7;           ///< absolute tolerance on both residuals (>= 0)
+  double eps_rel = 1e-6;           ///< relative tolerance (>= 0)
+  double paper_eps = 1e-3;         ///< threshold of the paper's rule (> 0)
+  double relaxation = 1.6;         ///< over-relaxation alpha in (0, 2); 1 = none (paper)
+  bool adaptive_rho = true;        ///< residual balancing (OSQP rule)
+  int adaptive_rho_interval = 25;  ///< iterations between rho checks
+  double adaptive_rho_tolerance = 5.0;  ///< refactor only if rho changes by more than this factor
+  double rho_min = 1e-6, rho_max = 1e6;
+  bool cache_gains = true;         ///< false: full Riccati recursion every iteration (reference)
+  bool paper_multiplier_rescale = false;  ///< after iteration 1 scale row i of Lambda to max |.| = w_i
+  int paper_global_rescale_iterations = 0;  ///< then scale all of Lambda to max |.| = max w up to this iteration
+  bool track_best = true;          ///< keep the best iterate (returned on kMaxIterations)
+  /// Active-set polish (residual rule only; problems without stage Q, group-L2 or ball): every
+  /// polish_interval iterations, fix the zero and saturated entries of Y, solve the reduced KKT
+  /// system for the others exactly and accept it if it satisfies the optimality conditions
+  /// (a certificate: the result is then the exact optimum up to rounding).
+  bool polish = true;
+  int polish_interval = 10;        ///< >= 1
+  int polish_max_free = 0;         ///< largest free set tried; 0 = 4 nx (capped at N nu)
+  double polish_tolerance = 1e-7;  ///< relative tolerance of the optimality check
+  /// Validates ranges (std::invalid_argument naming the field).
+  void validate() const;
+};
+
+/// Solver status; status_message() gives the text.
+enum class AdmmStatus {
+  kSolved = 0,               ///< residual tolerances met
+  kSolvedPaperRule = 1,      ///< the paper's ||U-Y||/dim(U) <= eps met (not a convergence proof)
+  kMaxIterations = 2,        ///< max_iterations reached; best iterate returned
+  kTerminalUnreachable = 3,  ///< hard terminal state outside the reachable set
+  kNumericalError = 4,       ///< non-finite iterate or failed factorization
+  kUnsolved = 5,             ///< solve() not called yet
+};
+const char* status_message(AdmmStatus s) noexcept;
+
+/// Diagnostics of the last solve.
+struct AdmmInfo {
+  AdmmStatus status = AdmmStatus::kUnsolved;
+  int iterations = 0;
+  double primal_residual = 0.0;  ///< ||U - Y||_inf
+  double dual_residual = 0.0;    ///< rho ||Y - Y_prev||_inf
+  double eps_primal = 0.0, eps_dual = 0.0;
+  double paper_criterion = 0.0;  ///< ||U - Y||_F / (N nu)
+  double objective = 0.0;        ///< objective of the flown sparse plan (Y rolled out), with its terminal cost
+  double objective_u = 0.0;      ///< objective of the LQR iterate (X, U)
+  double terminal_miss = 0.0;    ///< ||x_N - x_f||_2 when Y is flown
+  double rho = 0.0;              ///< final penalty
+  int factorizations = 0;        ///< Riccati factorizations in this solve (incl. the setup one if first)
+  int rho_updates = 0;
+  bool polished = false;         ///< the result is a certified active-set polish
+  int polish_attempts = 0;
+  double solve_time = 0.0;       ///< wall time of solve (s)
+};
+
+/// Result (all arrays allocated at setup).
+struct AdmmResult {
+  Eigen::MatrixXd X;       ///< LQR states nx x (N+1)
+  Eigen::MatrixXd U;       ///< LQR controls nu x N
+  Eigen::MatrixXd Y;       ///< sparse controls nu x N (the plan to fly)
+  Eigen::MatrixXd Lambda;  ///< multipliers of U = Y, nu x N (unscaled)
+  Eigen::MatrixXd X_flown; ///< states when Y is flown, nx x (N+1)
+  Eigen::VectorXd terminal_multiplier;  ///< nx (zeros without the terminal constraint)
+  AdmmInfo info;
+};
+
+/// ADMM solver: setup in the constructor, solve() allocation-free and exception-free.
+class AdmmSolver {
+ public:
+  /// Validate (std::invalid_argument "name: rule (hint: ...)") and allocate everything.
+  AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings = AdmmSettings());
+
+  /// Run ADMM from the warm start (if set) or from Y = Lambda = 0. Never throws.
+  const AdmmResult& solve() noexcept;
+
+  /// Next solve starts from these (nu x N each); e.g. the previous result shifted by one step.
+  /// @throws std::invalid_argument on wrong sizes or non-finite values
+  void warm_start(const Eigen::Ref<const Eigen::MatrixXd>& Y, const Eigen::Ref<const Eigen::MatrixXd>& Lambda);
+  /// Drop the warm start (next solve from zeros).
+  void cold_start() noexcept { warm_ = false; }
+  /// Change the initial state (receding horizon); gains are reused. Throws on wrong size / NaN.
+  void set_x0(const Eigen::Ref<const Eigen::VectorXd>& x0);
+  /// Change the target state; gains are reused. Throws on wrong size / NaN.
+  void set_xf(const Eigen::Ref<const Eigen::VectorXd>& xf);
+  /// Replace the settings (validated); a new rho refactors at the next solve.
+  void update_settings(const AdmmSettings& settings);
+
+  const AdmmResult& result() const { return res_; }
+  const AdmmSettings& settings() const { return set_; }
+  const LtvProblem& problem() const { return prob_; }
+  const RiccatiSolver& riccati() const { return ric_; }
+  int nx() const { return nx_; }
+  int nu() const { return nu_; }
+  int horizon() const { return N_; }
+
+  /// Objective of a control sequence (nu x N) flown from x0 (no constraint checks); allocates.
+  double objective_of(const Eigen::Ref<const Eigen::MatrixXd>& U) const;
+
+ private:
+  void prox(Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<Eigen::VectorXd> y, double rho) const noexcept;
+  double control_cost(const Eigen::Ref<const Eigen::VectorXd>& u) const noexcept;
+  double trajectory_objective(const Eigen::Ref<const Eigen::MatrixXd>& X,
+                              const Eigen::Ref<const Eigen::MatrixXd>& U) const noexcept;
+  void rollout(const Eigen::Ref<const Eigen::MatrixXd>& U, Eigen::Ref<Eigen::MatrixXd> X) const noexcept;
+  void update_linear_terms() noexcept;
+  bool try_polish() noexcept;
+
+  LtvProblem prob_;
+  AdmmSettings set_;
+  RiccatiSolver ric_;
+  int nx_ = 0, nu_ = 0, N_ = 0;
+  bool has_box_ = false, has_l1_ = false, has_group_ = false, has_ball_ = false;
+  bool warm_ = false;
+  bool first_solve_ = true;
+  Eigen::VectorXd w_, lo_, hi_;
+  Eigen::MatrixXd q_;     ///< linear state terms nx x (N+1) from Q, Qf and x_f
+  Eigen::MatrixXd r_;     ///< linear control terms nu x N (Lambda - rho Y)
+  Eigen::MatrixXd Yws_, Lws_;  ///< warm start
+  Eigen::MatrixXd bX_, bU_, bY_, bL_;  ///< best iterate
+  Eigen::VectorXd v_, ynew_, uhat_, utmp_;
+  mutable Eigen::VectorXd xtmp_, xtmp2_;  ///< scratch of the const objective evaluation
+  AdmmResult res_;
+  // polish workspace
+  bool polish_ok_ = false;
+  int fmax_ = 0;
+  Eigen::MatrixXd Psi_;         ///< Phi(N, k+1), nx x nx N
+  Eigen::MatrixXd GF_, KKT_, Up_, Xp_, grad_;
+  Eigen::VectorXd rhs_, sol_, pN_;
+  std::vector<int> free_idx_;
+};
+
+}  // namespace satgnc::guidance

@@ -1,0 +1,176 @@
+#pragma once
+/// @file ilqr_admm.hpp
+/// Fuel-optimal (L1) trajectory optimization on nonlinear discrete dynamics by ADMM whose x/u-step is
+/// iterative LQR (Le Cleac'h & Manchester, "Fast solution of optimal control problems with L1 cost",
+/// Algorithm 1 with the LQR step replaced by Gauss-Newton iLQR).
+///
+/// Problem (units are those of the DiscreteModel, e.g. scaled or SI):
+///   minimize  1/2 (x_N - x_f)^T Q_f (x_N - x_f) + w sum_k g(u_k)
+///   s.t.      x_{k+1} = f_k(x_k, u_k),  x_0 given,
+/// with g(u) = sum_i alpha_i |u_i| (L1), L1 plus the box lo <= u <= hi, or alpha_0 ||u||_2 (group),
+/// and w the stage weight (the published implementation uses w = dt: the cost is an integral).
+///
+/// ADMM splits u = y: the x/u-step minimizes the smooth augmented Lagrangian
+///   1/2 (x_N - x_f)^T Q_f (x_N - x_f) + w sum_k [rho/2 |u_k|^2 + (lambda_k - rho y_k)^T u_k]
+/// by iLQR (Gauss-Newton Riccati backward pass with affine terms, Levenberg regularization on Quu,
+/// backtracking line search on that augmented Lagrangian), warm-started at the previous U; the y-step
+/// is the exact prox of g (soft threshold, soft threshold then clip, block soft threshold); then
+/// lambda += rho (U - Y). One iLQR iteration per ADMM iteration reproduces the paper.
+#include <Eigen/Core>
+#include <vector>
+
+#include "satgnc/guidance/nonlinear_model.hpp"
+
+namespace satgnc::guidance {
+
+/// Non-smooth control cost.
+enum class ControlCost {
+  l1 = 0,      ///< sum_i alpha_i |u_i|
+  l1_box = 1,  ///< L1 plus per-axis bounds u_min <= u <= u_max (u_min <= 0 <= u_max)
+  group_l2 = 2 ///< alpha_0 ||u||_2 (one gimballed engine)
+};
+
+/// Problem data (constant). Dimensions: nx, nu of the model, N intervals.
+struct NonlinearL1Problem {
+  int horizon = 0;                ///< N, number of control intervals
+  Eigen::VectorXd x0;             ///< initial state (nx)
+  Eigen::VectorXd x_target;       ///< x_f (nx)
+  Eigen::MatrixXd Qf;             ///< terminal weight (nx x nx, symmetric positive semidefinite)
+  Eigen::VectorXd alpha;          ///< per-axis L1 weights (nu, >= 0); group_l2 uses alpha(0)
+  double stage_weight = 1.0;      ///< w > 0 multiplying the control cost (dt for an integral cost)
+  ControlCost cost = ControlCost::l1;
+  Eigen::VectorXd u_min, u_max;   ///< bounds (nu) for l1_box
+};
+
+/// Stopping rule.
+enum class StopRule {
+  residuals = 0,  ///< primal ||U - Y|| and dual rho ||Y - Y_prev|| with eps_abs / eps_rel (OSQP style)
+  paper = 1,      ///< ||U - Y||_2 / (N nu) <= eps_paper (the published implementation)
+};
+
+/// Solver settings (plain data; defaults documented).
+struct IlqrAdmmSettings {
+  double rho = 0.1;               ///< ADMM penalty (> 0)
+  int max_iter = 4000;            ///< ADMM iterations
+  int ilqr_iters = 1;             ///< iLQR iterations per ADMM iteration (1 = paper)
+  double ilqr_tol = 1e-10;        ///< inner stop: relative decrease of the subproblem cost (ilqr_iters > 1)
+  StopRule stop = StopRule::residuals;
+  double eps_paper = 6e-5;        ///< paper rule threshold
+  double eps_abs = 1e-7;          ///< residual rule, absolute (per sqrt(N nu))
+  double eps_rel = 1e-5;          ///< residual rule, relative
+  bool paper_multiplier_rescale = false;  ///< after iteration 1 scale row i of lambda to max |.| = alpha_i
+  bool adaptive_rho = false;      ///< residual balancing (rho *= or /= rho_factor when residuals differ by mu)
+  double rho_factor = 5.0;        ///< adaptive rho multiplier
+  double rho_balance = 10.0;      ///< adaptive rho triggers when primal/dual ratio exceeds this
+  int rho_update_every = 25;      ///< check residual balance every this many iterations
+  double reg_init = 0.0;          ///< initial Levenberg term on Quu
+  double reg_min = 1e-8;          ///< first nonzero regularization
+  double reg_max = 1e10;          ///< give up (status ilqr_failed) beyond this
+  double reg_factor = 10.0;       ///< regularization growth
+  int line_search_iters = 20;     ///< backtracking halvings
+  double ls_lower = 1e-8;         ///< accept when actual/expected decrease lies in [ls_lower, ls_upper]
+  double ls_upper = 10.0;
+  bool return_best = true;        ///< on max_iter, return the iterate with the smallest ||U - Y|| (else the last)
+
+  /// Throw std::invalid_argument naming the field on a bad value.
+  void validate() const;
+};
+
+/// Outcome.
+enum class IlqrAdmmStatus {
+  solved = 0,           ///< stopping rule met
+  max_iterations,       ///< max_iter reached; the best iterate (smallest primal residual) is returned
+  propagation_failed,   ///< the model failed on interval Info::failed_interval during the initial rollout
+  ilqr_failed,          ///< iLQR could not make progress even at reg_max; last iterate returned
+  not_run,
+};
+
+/// Message table for statuses.
+const char* status_message(IlqrAdmmStatus s);
+
+/// Iteration statistics.
+struct IlqrAdmmInfo {
+  IlqrAdmmStatus status = IlqrAdmmStatus::not_run;
+  int iterations = 0;         ///< ADMM iterations
+  int ilqr_iterations = 0;    ///< total iLQR (backward + forward) iterations
+  int lqr_passes = 0;         ///< the implementation's count: ilqr_iterations + one rollout per ADMM iteration
+  double primal_residual = 0; ///< ||U - Y||_2
+  double dual_residual = 0;   ///< w rho ||Y - Y_prev||_2
+  double paper_criterion = 0; ///< ||U - Y||_2 / (N nu)
+  double objective_u = 0;     ///< true cost at the dense iterate U (rolled out)
+  double objective_y = 0;     ///< true cost at the sparse iterate Y (rolled out; +inf if that fails)
+  double rho = 0;             ///< final rho
+  int rho_updates = 0;
+  int failed_interval = -1;   ///< interval k where the model failed (propagation_failed), else -1
+  double max_regularization = 0;
+};
+
+/// Solution (iterates) and info.
+struct IlqrAdmmResult {
+  Eigen::MatrixXd X;       ///< nx x (N+1), rollout of U
+  Eigen::MatrixXd U;       ///< nu x N, dense (iLQR) iterate
+  Eigen::MatrixXd Y;       ///< nu x N, sparse (prox) iterate
+  Eigen::MatrixXd Lambda;  ///< nu x N, multipliers of u = y
+  IlqrAdmmInfo info;
+};
+
+/// ADMM with an iLQR step. Workspace allocated in the constructor; solve() does not allocate.
+class IlqrAdmmSolver {
+ public:
+  /// Validates and allocates. Throws std::invalid_argument on inconsistent dimensions, non-finite
+  /// data, rho <= 0, negative weights, u_min > u_max or a box excluding 0. The model must outlive
+  /// the solver.
+  IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
+                 const IlqrAdmmSettings& settings = IlqrAdmmSettings());
+
+  /// Initial controls (nu x N) for the next solve; resets Y and Lambda to zero (cold start).
+  void set_initial_controls(const Eigen::Ref<const Eigen::MatrixXd>& U0);
+  /// Warm start from a previous solution (U, Y, Lambda; nu x N each).
+  void warm_start(const Eigen::Ref<const Eigen::MatrixXd>& U, const Eigen::Ref<const Eigen::MatrixXd>& Y,
+                  const Eigen::Ref<const Eigen::MatrixXd>& Lambda);
+  /// Replace x0 (receding horizon). Throws on wrong size or non-finite values.
+  void set_initial_state(const Eigen::Ref<const Eigen::VectorXd>& x0);
+  /// Change rho between solves (> 0).
+  void set_rho(double rho);
+
+  /// Run ADMM. No heap allocation, no exceptions.
+  IlqrAdmmStatus solve();
+
+  const IlqrAdmmResult& result() const { return res_; }
+  const NonlinearL1Problem& problem() const { return prob_; }
+  const IlqrAdmmSettings& settings() const { return set_; }
+
+  /// True (nonlinear) cost of a control sequence: rollout + terminal + control cost (box violation
+  /// is not penalized here). Returns +inf if the rollout fails. Uses workspace buffers (no allocation).
+  double true_cost(const Eigen::Ref<const Eigen::MatrixXd>& U);
+  /// Rollout of U into Xout (nx x (N+1)); returns -1 on success or the failing interval.
+  int rollout(const Eigen::Ref<const Eigen::MatrixXd>& U, Eigen::Ref<Eigen::MatrixXd> Xout) const;
+
+ private:
+  double control_cost(const Eigen::Ref<const Eigen::MatrixXd>& U) const;
+  double terminal_cost(const Eigen::Ref<const Eigen::VectorXd>& xN) const;
+  double subproblem_cost(const Eigen::MatrixXd& X, const Eigen::MatrixXd& U) const;
+  bool linearize();
+  bool backward_pass(double reg, double& dv1, double& dv2);
+  // Forward pass with line search; returns true and updates X, U on acceptance.
+  bool forward_pass(double dv1, double dv2, double& J);
+  int ilqr_step(double& J);  // 0 = progress, 1 = converged (no decrease), 2 = failed
+  void prox(const Eigen::MatrixXd& V, Eigen::MatrixXd& Yout) const;
+
+  const DiscreteModel& model_;
+  NonlinearL1Problem prob_;
+  IlqrAdmmSettings set_;
+  int nx_, nu_, N_;
+  double rho_;
+  IlqrAdmmResult res_;
+  bool warm_ = false;
+  double reg_ = 0.0;
+  bool jac_valid_ = false;  // A_, B_ hold the Jacobians along (X, U)
+  // workspace
+  std::vector<Eigen::MatrixXd> A_, B_, K_;
+  Eigen::MatrixXd d_, Xn_, Un_, Yprev_, Xtmp_, Ubest_, Ybest_, Lbest_, Xbest_, V_;
+  Eigen::MatrixXd S_, Qxx_, Quu_, Qux_, QuuK_, SA_, SB_, L_;
+  Eigen::VectorXd s_, Qx_, Qu_, dx_, tmpx_, tmpu_;
+};
+
+}  // namespace satgnc::guidance

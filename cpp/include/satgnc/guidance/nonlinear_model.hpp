@@ -1,0 +1,92 @@
+#pragma once
+/// @file nonlinear_model.hpp
+/// Discrete dynamics x_{k+1} = f_k(x_k, u_k) with Jacobians, the interface the nonlinear guidance
+/// solvers (iLQR inside ADMM, sequential convex programming) are written against, and its
+/// implementations: linear time-varying, and the two-satellite rendezvous model discretized by an
+/// explicit Runge-Kutta rule (with optional diagonal scaling of state, control and time).
+#include <Eigen/Core>
+#include <vector>
+
+#include "satgnc/dynamics/two_satellite.hpp"
+
+namespace satgnc::guidance {
+
+/// Discrete dynamics with Jacobians. Implementations must not allocate in step() and must return
+/// false (not NaN) when the step fails (model failure, non-finite result).
+class DiscreteModel {
+ public:
+  virtual ~DiscreteModel() = default;
+  /// State dimension nx.
+  virtual int state_dim() const = 0;
+  /// Control dimension nu.
+  virtual int control_dim() const = 0;
+  /// x_next = f_k(x, u) for interval k (0-based). When A and B are non-null they receive the
+  /// Jacobians df/dx (nx x nx) and df/du (nx x nu), column-major. Pointers are to contiguous
+  /// arrays of length nx, nu, nx, nx*nx, nx*nu.
+  virtual bool step(int k, const double* x, const double* u, double* x_next, double* A,
+                    double* B) const = 0;
+};
+
+/// x_{k+1} = A_k x_k + B_k u_k + c_k. A single (A, B, c) is used for every k when one is given.
+class LinearDiscreteModel final : public DiscreteModel {
+ public:
+  /// Throws std::invalid_argument on inconsistent or non-finite data.
+  LinearDiscreteModel(std::vector<Eigen::MatrixXd> A, std::vector<Eigen::MatrixXd> B,
+                      std::vector<Eigen::VectorXd> c);
+  int state_dim() const override { return nx_; }
+  int control_dim() const override { return nu_; }
+  bool step(int k, const double* x, const double* u, double* x_next, double* A, double* B) const override;
+  /// Number of intervals the model was given data for (1 = time-invariant).
+  int intervals() const { return static_cast<int>(A_.size()); }
+
+ private:
+  std::vector<Eigen::MatrixXd> A_, B_;
+  std::vector<Eigen::VectorXd> c_;
+  int nx_ = 0, nu_ = 0;
+};
+
+/// Settings of the two-satellite discrete map.
+struct TwoSatelliteMapSettings {
+  double dt = 6000.0 / 99.0;  ///< interval length, s (SI)
+  int scheme = 3;             ///< 3 = Kutta RK3 (published implementation), 4 = classic RK4
+  int substeps = 1;           ///< RK steps per interval (control held constant)
+  /// Diagonal scaling: the solver sees x_s = x / state_scale and u_s = u / control_scale.
+  /// Empty = no scaling (SI units: m, m/s, N).
+  Eigen::VectorXd state_scale;    ///< 12 entries (m or m/s per unit)
+  Eigen::VectorXd control_scale;  ///< 3 entries (N per unit)
+};
+
+/// The two-satellite model (satgnc/dynamics/two_satellite.hpp) as a DiscreteModel: fixed-step
+/// Runge-Kutta with u held constant over each interval, Jacobians by differentiating the stages.
+class TwoSatelliteMap final : public DiscreteModel {
+ public:
+  /// Throws std::invalid_argument on bad settings (dt <= 0, scheme not 3/4, wrong scale sizes).
+  TwoSatelliteMap(const dynamics::TwoSatelliteModel& model, const TwoSatelliteMapSettings& settings);
+  int state_dim() const override { return 12; }
+  int control_dim() const override { return 3; }
+  bool step(int k, const double* x, const double* u, double* x_next, double* A, double* B) const override;
+  const dynamics::TwoSatelliteModel& model() const { return model_; }
+  const TwoSatelliteMapSettings& settings() const { return s_; }
+  /// Scaling factors (ones when none were given).
+  const dynamics::Vec12& state_scale() const { return sx_; }
+  const Vec3& control_scale() const { return su_; }
+
+ private:
+  dynamics::TwoSatelliteModel model_;
+  TwoSatelliteMapSettings s_;
+  dynamics::Vec12 sx_;
+  Vec3 su_;
+};
+
+/// Reference scaling of the published implementation for the nonlinear cases (l1_scenario.md):
+/// l_ego = max(|d0|, 1) m, l_target = |r_t0|, t_ref = l_target / (3 sqrt(mu / l_target)) s,
+/// velocities l/t_ref, force unit l_ego / t_ref^2 * mass_chaser. Returns (state_scale, control_scale,
+/// time_scale) for x0 (SI 12-state).
+struct ReferenceScaling {
+  Eigen::VectorXd state_scale;    ///< 12
+  Eigen::VectorXd control_scale;  ///< 3, N per unit
+  double time_scale = 1.0;        ///< s per unit
+};
+ReferenceScaling published_scaling(const dynamics::Vec12& x0, double mu, double mass_chaser);
+
+}  // namespace satgnc::guidance

@@ -1,0 +1,158 @@
+// Point-mass, J2 and exponential-drag accelerations with analytic Jacobians (km, km/s, s).
+#include "satgnc/dynamics/force_model.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "satgnc/core/validate.hpp"
+
+namespace satgnc::dynamics {
+
+namespace {
+// Drag uses Cd*A/m in m^2/kg and rho in kg/m^3: their product is 1/m = 1e3/km.
+constexpr double kPerMeterToPerKm = 1.0e3;
+
+Mat3 cross_matrix(const Vec3& w) {
+  Mat3 m;
+  m << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
+  return m;
+}
+}  // namespace
+
+Vec3 point_mass_acceleration(double mu, const Vec3& r) {
+  const double r2 = r.squaredNorm();
+  const double rn = std::sqrt(r2);
+  return (-mu / (r2 * rn)) * r;
+}
+
+void point_mass_jacobian(double mu, const Vec3& r, Vec3& a, Mat3& da_dr) {
+  const double r2 = r.squaredNorm();
+  const double rn = std::sqrt(r2);
+  const double k = mu / (r2 * rn);
+  a = -k * r;
+  da_dr = (3.0 * k / r2) * (r * r.transpose());
+  da_dr.diagonal().array() -= k;
+}
+
+Vec3 j2_acceleration(const J2Gravity& g, const Vec3& r) {
+  const double r2 = r.squaredNorm();
+  const double rn = std::sqrt(r2);
+  const double k = -1.5 * g.j2 * g.mu * g.radius * g.radius / (r2 * r2 * rn);
+  const double s = 5.0 * r.z() * r.z() / r2;
+  return Vec3(k * r.x() * (1.0 - s), k * r.y() * (1.0 - s), k * r.z() * (3.0 - s));
+}
+
+void j2_jacobian(const J2Gravity& g, const Vec3& r, Vec3& a, Mat3& da_dr) {
+  const double r2 = r.squaredNorm();
+  const double rn = std::sqrt(r2);
+  const double k = -1.5 * g.j2 * g.mu * g.radius * g.radius / (r2 * r2 * rn);  // k(r) ~ r^-5
+  const double z = r.z();
+  const double s = 5.0 * z * z / r2;
+  const Vec3 c(1.0, 1.0, 3.0);
+  // a_i = k x_i (c_i - s);  dk/dx_j = -5 k x_j / r^2;  ds/dx_j = 10 z dz_j / r^2 - 2 s x_j / r^2.
+  Vec3 ds = (-2.0 * s / r2) * r;
+  ds.z() += 10.0 * z / r2;
+  for (int i = 0; i < 3; ++i) {
+    const double f = c[i] - s;
+    a[i] = k * r[i] * f;
+    for (int j = 0; j < 3; ++j) {
+      double d = -5.0 * k * r[j] / r2 * r[i] * f - k * r[i] * ds[j];
+      if (i == j) d += k * f;
+      da_dr(i, j) = d;
+    }
+  }
+}
+
+double j2_potential(const J2Gravity& g, const Vec3& r) {
+  const double r2 = r.squaredNorm();
+  const double rn = std::sqrt(r2);
+  return g.mu * g.j2 * g.radius * g.radius * (3.0 * r.z() * r.z() / r2 - 1.0) / (2.0 * r2 * rn);
+}
+
+double exponential_density(const ExponentialDrag& d, double radius_km) {
+  return d.rho0 * std::exp(-(radius_km - d.body_radius - d.h0) / d.scale_height);
+}
+
+Vec3 drag_acceleration(const ExponentialDrag& d, const Vec3& r, const Vec3& v) {
+  const Vec3 w = v - d.omega.cross(r);
+  const double beta = 0.5 * d.cd * d.area / d.mass * exponential_density(d, r.norm()) * kPerMeterToPerKm;
+  return (-beta * w.norm()) * w;
+}
+
+void drag_jacobians(const ExponentialDrag& d, const Vec3& r, const Vec3& v, Vec3& a, Mat3& da_dr,
+                    Mat3& da_dv) {
+  const double rn = r.norm();
+  const Vec3 w = v - d.omega.cross(r);
+  const double wn = w.norm();
+  const double beta = 0.5 * d.cd * d.area / d.mass * exponential_density(d, rn) * kPerMeterToPerKm;
+  a = (-beta * wn) * w;
+  // da/dw = -beta (|w| I + w w^T/|w|), which tends to 0 as w -> 0.
+  Mat3 da_dw = Mat3::Zero();
+  if (wn > 0.0) {
+    da_dw = (-beta / wn) * (w * w.transpose());
+    da_dw.diagonal().array() -= beta * wn;
+  }
+  da_dv = da_dw;
+  // dbeta/dr = -beta/H r/|r|; dw/dr = -[omega]x.
+  da_dr = ((beta * wn / (d.scale_height * rn)) * w) * r.transpose() - da_dw * cross_matrix(d.omega);
+}
+
+void ForceModel::validate() const {
+  using core::require;
+  using core::require_positive;
+  require_positive(mu, "mu");
+  if (j2) {
+    require_positive(j2->mu, "j2.mu");
+    require_positive(j2->radius, "j2.radius");
+    core::require_finite(j2->j2, "j2.j2");
+    require(std::abs(j2->mu - mu) <= 1e-12 * mu, "j2.mu", "must equal the central-body mu",
+            "the J2 term and the point mass describe the same body; set J2Gravity.mu = mu");
+  }
+  if (drag) {
+    const ExponentialDrag& d = *drag;
+    core::require_nonnegative(d.rho0, "drag.rho0");
+    core::require_finite(d.h0, "drag.h0");
+    require_positive(d.scale_height, "drag.scale_height");
+    require_positive(d.body_radius, "drag.body_radius");
+    core::require_nonnegative(d.cd, "drag.cd");
+    core::require_nonnegative(d.area, "drag.area");
+    require_positive(d.mass, "drag.mass");
+    core::require_finite(d.omega, "drag.omega");
+  }
+}
+
+Vec3 ForceModel::acceleration(double /*t*/, const Vec3& r, const Vec3& v) const {
+  Vec3 a = point_mass_acceleration(mu, r);
+  if (j2) a += j2_acceleration(*j2, r);
+  if (drag) a += drag_acceleration(*drag, r, v);
+  return a;
+}
+
+void ForceModel::acceleration_jacobians(double /*t*/, const Vec3& r, const Vec3& v, Vec3& a,
+                                        Mat3& da_dr, Mat3& da_dv) const {
+  point_mass_jacobian(mu, r, a, da_dr);
+  da_dv.setZero();
+  if (j2) {
+    Vec3 aj;
+    Mat3 gj;
+    j2_jacobian(*j2, r, aj, gj);
+    a += aj;
+    da_dr += gj;
+  }
+  if (drag) {
+    Vec3 ad;
+    Mat3 gr, gv;
+    drag_jacobians(*drag, r, v, ad, gr, gv);
+    a += ad;
+    da_dr += gr;
+    da_dv += gv;
+  }
+}
+
+double ForceModel::potential(const Vec3& r) const {
+  double p = -mu / r.norm();
+  if (j2) p += j2_potential(*j2, r);
+  return p;
+}
+
+}  // namespace satgnc::dynamics

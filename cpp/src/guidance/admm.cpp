@@ -1,0 +1,537 @@
+// ADMM with a Riccati step for L1 / group-L2 / box-constrained LTV guidance (see admm.hpp).
+#include "satgnc/guidance/admm.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "satgnc/core/validate.hpp"
+
+namespace satgnc::guidance {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+const char* status_message(AdmmStatus s) noexcept {
+  switch (s) {
+    case AdmmStatus::kSolved:
+      return "solved: residuals within tolerance or certified active-set polish";
+    case AdmmStatus::kSolvedPaperRule:
+      return "stopped by the paper's rule ||U-Y||/dim(U) <= eps (not a convergence certificate)";
+    case AdmmStatus::kMaxIterations:
+      return "maximum iterations reached: best iterate returned, check the residuals";
+    case AdmmStatus::kTerminalUnreachable:
+      return "terminal state unreachable: x_f is outside the reachable set of the dynamics";
+    case AdmmStatus::kNumericalError:
+      return "numerical error: non-finite iterate or failed Riccati factorization";
+    case AdmmStatus::kUnsolved:
+      return "not solved yet";
+  }
+  return "unknown status";
+}
+
+void AdmmSettings::validate() const {
+  using core::require;
+  core::require_positive(rho, "rho");
+  require(max_iterations >= 1, "max_iterations", "must be >= 1");
+  core::require_nonnegative(eps_abs, "eps_abs");
+  core::require_nonnegative(eps_rel, "eps_rel");
+  require(stopping == StoppingRule::kPaper || eps_abs > 0.0 || eps_rel > 0.0, "eps_abs/eps_rel",
+          "at least one must be > 0 with the residual stopping rule");
+  core::require_positive(paper_eps, "paper_eps");
+  require(std::isfinite(relaxation) && relaxation > 0.0 && relaxation < 2.0, "relaxation",
+          "must be in (0, 2)", "1.6 is a good default, 1 disables over-relaxation");
+  require(adaptive_rho_interval >= 1, "adaptive_rho_interval", "must be >= 1");
+  require(std::isfinite(adaptive_rho_tolerance) && adaptive_rho_tolerance >= 1.0, "adaptive_rho_tolerance",
+          "must be >= 1");
+  core::require_positive(rho_min, "rho_min");
+  core::require_positive(rho_max, "rho_max");
+  require(rho_min <= rho_max, "rho_min", "must be <= rho_max");
+  require(polish_interval >= 1, "polish_interval", "must be >= 1");
+  require(polish_max_free >= 0, "polish_max_free", "must be >= 0");
+  core::require_positive(polish_tolerance, "polish_tolerance");
+  require(paper_global_rescale_iterations >= 0, "paper_global_rescale_iterations", "must be >= 0");
+}
+
+AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) : prob_(problem), set_(settings) {
+  using core::require;
+  set_.validate();
+  prob_.dynamics.validate();
+  nx_ = prob_.dynamics.nx();
+  nu_ = prob_.dynamics.nu();
+  N_ = prob_.dynamics.horizon;
+  const std::string snx = std::to_string(nx_), snu = std::to_string(nu_);
+  require(prob_.x0.size() == nx_, "x0", "must have nx = " + snx + " entries");
+  core::require_finite(prob_.x0, "x0");
+  if (prob_.xf.size() == 0) prob_.xf = VectorXd::Zero(nx_);
+  require(prob_.xf.size() == nx_, "xf", "must have nx = " + snx + " entries");
+  core::require_finite(prob_.xf, "xf");
+  if (prob_.l1_weights.size() != 0) {
+    require(prob_.l1_weights.size() == nu_, "l1_weights", "must have nu = " + snu + " entries");
+    core::require_finite(prob_.l1_weights, "l1_weights");
+    require(prob_.l1_weights.minCoeff() >= 0.0, "l1_weights", "must be >= 0", "a fuel weight cannot be negative");
+    w_ = prob_.l1_weights;
+  } else {
+    w_ = VectorXd::Zero(nu_);
+  }
+  has_l1_ = w_.maxCoeff() > 0.0;
+  core::require_nonnegative(prob_.group_l2_weight, "group_l2_weight");
+  has_group_ = prob_.group_l2_weight > 0.0;
+  lo_ = VectorXd::Constant(nu_, -std::numeric_limits<double>::infinity());
+  hi_ = VectorXd::Constant(nu_, std::numeric_limits<double>::infinity());
+  if (prob_.u_lower.size() != 0) {
+    require(prob_.u_lower.size() == nu_, "u_lower", "must have nu = " + snu + " entries");
+    require(!prob_.u_lower.array().isNaN().any() && (prob_.u_lower.array() < std::numeric_limits<double>::infinity()).all(),
+            "u_lower", "must not be NaN or +inf");
+    lo_ = prob_.u_lower;
+  }
+  if (prob_.u_upper.size() != 0) {
+    require(prob_.u_upper.size() == nu_, "u_upper", "must have nu = " + snu + " entries");
+    require(!prob_.u_upper.array().isNaN().any() && (prob_.u_upper.array() > -std::numeric_limits<double>::infinity()).all(),
+            "u_upper", "must not be NaN or -inf");
+    hi_ = prob_.u_upper;
+  }
+  for (int i = 0; i < nu_; ++i) {
+    require(lo_(i) <= hi_(i), "u_lower", "must be <= u_upper (axis " + std::to_string(i) + ")",
+            "lower bound " + std::to_string(lo_(i)) + " above upper bound " + std::to_string(hi_(i)));
+  }
+  has_box_ = (lo_.array() > -std::numeric_limits<double>::infinity()).any() ||
+             (hi_.array() < std::numeric_limits<double>::infinity()).any();
+  core::require_nonnegative(prob_.u_norm_max, "u_norm_max");
+  has_ball_ = prob_.u_norm_max > 0.0;
+  require(!(has_group_ && has_box_), "u_lower/u_upper", "per-axis bounds cannot be combined with group_l2_weight",
+          "a gimballed engine is bounded by u_norm_max");
+  require(!(has_ball_ && (has_l1_ || has_box_)), "u_norm_max",
+          "needs zero l1_weights and no per-axis bounds (no closed-form prox otherwise)");
+  ric_.setup(prob_.dynamics, prob_.Q, prob_.R, prob_.Qf, prob_.terminal_equality);
+  require(ric_.factor(set_.rho), "rho", "Riccati factorization failed", "rho must make R + rho I positive definite");
+  if (prob_.terminal_equality) {
+    require(ric_.terminal_rank() >= 0, "terminal_equality", "internal");
+  }
+  q_.setZero(nx_, N_ + 1);
+  r_.setZero(nu_, N_);
+  update_linear_terms();
+  Yws_.setZero(nu_, N_);
+  Lws_.setZero(nu_, N_);
+  bX_.setZero(nx_, N_ + 1);
+  bU_.setZero(nu_, N_);
+  bY_.setZero(nu_, N_);
+  bL_.setZero(nu_, N_);
+  v_.setZero(nu_);
+  ynew_.setZero(nu_);
+  uhat_.setZero(nu_);
+  utmp_.setZero(nu_);
+  xtmp_.setZero(nx_);
+  xtmp2_.setZero(nx_);
+  res_.X.setZero(nx_, N_ + 1);
+  res_.U.setZero(nu_, N_);
+  res_.Y.setZero(nu_, N_);
+  res_.Lambda.setZero(nu_, N_);
+  res_.X_flown.setZero(nx_, N_ + 1);
+  res_.terminal_multiplier.setZero(nx_);
+  // polish needs Q = 0, plain L1 (+ box straddling zero); see AdmmSettings::polish
+  polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
+               (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
+  if (polish_ok_) {
+    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 4 * nx_;
+    fmax_ = std::min(fmax_, N_ * nu_);
+    Psi_.setZero(nx_, nx_ * N_);
+    Psi_.middleCols((N_ - 1) * nx_, nx_).setIdentity();
+    for (int k = N_ - 1; k >= 1; --k) {
+      Psi_.middleCols((k - 1) * nx_, nx_).noalias() = Psi_.middleCols(k * nx_, nx_) * prob_.dynamics.A_at(k);
+    }
+    GF_.setZero(nx_, fmax_);
+    KKT_.setZero(fmax_ + nx_, fmax_ + nx_);
+    rhs_.setZero(fmax_ + nx_);
+    sol_.setZero(fmax_ + nx_);
+    Up_.setZero(nu_, N_);
+    Xp_.setZero(nx_, N_ + 1);
+    grad_.setZero(nu_, N_);
+    pN_.setZero(nx_);
+    free_idx_.assign(static_cast<std::size_t>(fmax_), 0);
+  }
+}
+
+namespace {
+// Gaussian elimination with partial pivoting, in place (K and r are destroyed); false if singular.
+bool solve_dense_in_place(MatrixXd& K, VectorXd& r, VectorXd& x, int M) noexcept {
+  const double scale = K.cwiseAbs().maxCoeff();
+  if (!(scale > 0.0) || !std::isfinite(scale)) return false;
+  for (int c = 0; c < M; ++c) {
+    int p = c;
+    for (int i = c + 1; i < M; ++i)
+      if (std::abs(K(i, c)) > std::abs(K(p, c))) p = i;
+    if (std::abs(K(p, c)) <= 1e-13 * scale) return false;
+    if (p != c) {
+      K.row(p).swap(K.row(c));
+      std::swap(r(p), r(c));
+    }
+    for (int i = c + 1; i < M; ++i) {
+      const double f = K(i, c) / K(c, c);
+      if (f == 0.0) continue;
+      for (int j = c; j < M; ++j) K(i, j) -= f * K(c, j);
+      r(i) -= f * r(c);
+    }
+  }
+  for (int i = M - 1; i >= 0; --i) {
+    double v = r(i);
+    for (int j = i + 1; j < M; ++j) v -= K(i, j) * x(j);
+    x(i) = v / K(i, i);
+  }
+  return x.allFinite();
+}
+}  // namespace
+
+// Active-set polish: classify the entries of Y (exact zeros of the soft threshold, exact bounds of
+// the clip, the rest free with their sign), solve the reduced problem on the free entries exactly
+// (x_N = x_fix + G_F u_F with G_F = Phi(N, k+1) B_k e_i), and accept only if the optimality
+// conditions hold for every entry. Allocation-free (fixed-size padded KKT).
+bool AdmmSolver::try_polish() noexcept {
+  ++res_.info.polish_attempts;
+  const MatrixXd& Y = res_.Y;
+  const bool term = prob_.terminal_equality;
+  int F = 0;
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double y = Y(i, k);
+      if (y == 0.0 || y == lo_(i) || y == hi_(i)) {
+        Up_(i, k) = y;
+      } else {
+        if (F >= fmax_) return false;
+        free_idx_[static_cast<std::size_t>(F++)] = k * nu_ + i;
+        Up_(i, k) = 0.0;
+      }
+    }
+  }
+  if (term && F < nx_) return false;  // generic vertex needs nx free entries to meet x_N = x_f
+  rollout(Up_, Xp_);                   // fixed part, x_N^fix in Xp_.col(N)
+  const int M = fmax_ + nx_;
+  for (int a = 0; a < F; ++a) {
+    const int k = free_idx_[static_cast<std::size_t>(a)] / nu_, i = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    GF_.col(a).noalias() = Psi_.middleCols(k * nx_, nx_) * prob_.dynamics.B_at(k).col(i);
+  }
+  KKT_.setZero();
+  xtmp_ = Xp_.col(N_) - prob_.xf;
+  for (int a = 0; a < F; ++a) {
+    const int ka = free_idx_[static_cast<std::size_t>(a)] / nu_, ia = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    const double sa = Y(ia, ka) > 0.0 ? 1.0 : -1.0;
+    rhs_(a) = -w_(ia) * sa;
+    if (!term) {
+      xtmp2_.noalias() = prob_.Qf * GF_.col(a);
+      rhs_(a) -= xtmp2_.dot(xtmp_);
+      for (int b = 0; b < F; ++b) KKT_(b, a) = GF_.col(b).dot(xtmp2_);
+    } else {
+      for (int j = 0; j < nx_; ++j) {
+        KKT_(fmax_ + j, a) = GF_(j, a);
+        KKT_(a, fmax_ + j) = GF_(j, a);
+      }
+    }
+    if (prob_.R.size() != 0) {
+      for (int b = 0; b < F; ++b) {
+        const int kb = free_idx_[static_cast<std::size_t>(b)] / nu_, ib = free_idx_[static_cast<std::size_t>(b)] % nu_;
+        if (kb == ka) KKT_(a, b) += prob_.R(ia, ib);
+      }
+    }
+  }
+  for (int a = F; a < fmax_; ++a) {
+    KKT_(a, a) = 1.0;
+    rhs_(a) = 0.0;
+  }
+  for (int j = 0; j < nx_; ++j) {
+    if (term) {
+      rhs_(fmax_ + j) = -xtmp_(j);
+    } else {
+      KKT_(fmax_ + j, fmax_ + j) = 1.0;
+      rhs_(fmax_ + j) = 0.0;
+    }
+  }
+  if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
+  const double tol = set_.polish_tolerance * std::max(1.0, w_.maxCoeff());
+  for (int a = 0; a < F; ++a) {
+    const int k = free_idx_[static_cast<std::size_t>(a)] / nu_, i = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    const double u = sol_(a);
+    const double s = Y(i, k) > 0.0 ? 1.0 : -1.0;
+    if (u * s < 0.0 || u < lo_(i) || u > hi_(i)) return false;
+    Up_(i, k) = u;
+  }
+  rollout(Up_, Xp_);
+  if (term) {
+    pN_ = sol_.tail(nx_);
+  } else {
+    xtmp_ = Xp_.col(N_) - prob_.xf;
+    pN_.noalias() = prob_.Qf * xtmp_;
+  }
+  // gradient of the smooth part: B_k' Phi(N, k+1)' pN + R u_k; check the L1/box optimality conditions
+  for (int k = 0; k < N_; ++k) {
+    xtmp2_.noalias() = Psi_.middleCols(k * nx_, nx_).transpose() * pN_;
+    grad_.col(k).noalias() = prob_.dynamics.B_at(k).transpose() * xtmp2_;
+    if (prob_.R.size() != 0) grad_.col(k).noalias() += prob_.R * Up_.col(k);
+    for (int i = 0; i < nu_; ++i) {
+      const double u = Up_(i, k), gk = grad_(i, k), w = w_(i);
+      if (u == 0.0) {
+        if (std::abs(gk) > w + tol) return false;
+      } else if (u == hi_(i)) {
+        if (gk + w > tol) return false;
+      } else if (u == lo_(i)) {
+        if (gk - w < -tol) return false;
+      } else if (std::abs(gk + (u > 0.0 ? w : -w)) > tol) {
+        return false;
+      }
+    }
+  }
+  res_.U = Up_;
+  res_.Y = Up_;
+  res_.X = Xp_;
+  res_.Lambda = -grad_;
+  if (term) res_.terminal_multiplier = pN_;
+  return true;
+}
+
+void AdmmSolver::update_linear_terms() noexcept {
+  // q_k = -Q x_f (k = 1..N-1), q_N = -Qf x_f
+  q_.setZero();
+  if (prob_.Q.size() != 0) {
+    xtmp_.noalias() = prob_.Q * prob_.xf;
+    for (int k = 1; k < N_; ++k) q_.col(k) = -xtmp_;
+  }
+  q_.col(N_).noalias() = prob_.Qf * prob_.xf;
+  q_.col(N_) *= -1.0;
+}
+
+void AdmmSolver::warm_start(const Eigen::Ref<const MatrixXd>& Y, const Eigen::Ref<const MatrixXd>& Lambda) {
+  core::require(Y.rows() == nu_ && Y.cols() == N_, "Y", "must be nu x N");
+  core::require(Lambda.rows() == nu_ && Lambda.cols() == N_, "Lambda", "must be nu x N");
+  core::require_finite(Y, "Y");
+  core::require_finite(Lambda, "Lambda");
+  Yws_ = Y;
+  Lws_ = Lambda;
+  warm_ = true;
+}
+
+void AdmmSolver::set_x0(const Eigen::Ref<const VectorXd>& x0) {
+  core::require(x0.size() == nx_, "x0", "must have nx entries");
+  core::require_finite(x0, "x0");
+  prob_.x0 = x0;
+}
+
+void AdmmSolver::set_xf(const Eigen::Ref<const VectorXd>& xf) {
+  core::require(xf.size() == nx_, "xf", "must have nx entries");
+  core::require_finite(xf, "xf");
+  prob_.xf = xf;
+  update_linear_terms();
+}
+
+void AdmmSolver::update_settings(const AdmmSettings& settings) {
+  settings.validate();
+  set_ = settings;
+}
+
+void AdmmSolver::prox(Eigen::Ref<const VectorXd> v, Eigen::Ref<VectorXd> y, double rho) const noexcept {
+  if (has_ball_) {
+    const double nv = v.norm();
+    double scale = nv > 0.0 ? std::max(0.0, 1.0 - prob_.group_l2_weight / rho / nv) : 0.0;
+    if (scale * nv > prob_.u_norm_max) scale = prob_.u_norm_max / nv;
+    y = scale * v;
+    return;
+  }
+  for (int i = 0; i < nu_; ++i) {
+    const double t = w_(i) / rho;
+    const double vi = v(i);
+    y(i) = vi > t ? vi - t : (vi < -t ? vi + t : 0.0);
+  }
+  if (has_group_) {
+    const double ny = y.norm();
+    const double scale = ny > 0.0 ? std::max(0.0, 1.0 - prob_.group_l2_weight / rho / ny) : 0.0;
+    y *= scale;
+  }
+  if (has_box_) y = y.cwiseMax(lo_).cwiseMin(hi_);
+}
+
+double AdmmSolver::control_cost(const Eigen::Ref<const VectorXd>& u) const noexcept {
+  double c = w_.dot(u.cwiseAbs());
+  if (has_group_) c += prob_.group_l2_weight * u.norm();
+  if (prob_.R.size() != 0) {
+    double quad = 0.0;
+    for (int i = 0; i < nu_; ++i)
+      for (int j = 0; j < nu_; ++j) quad += u(i) * prob_.R(i, j) * u(j);
+    c += 0.5 * quad;
+  }
+  return c;
+}
+
+double AdmmSolver::trajectory_objective(const Eigen::Ref<const MatrixXd>& X,
+                                        const Eigen::Ref<const MatrixXd>& U) const noexcept {
+  double J = 0.0;
+  xtmp_ = X.col(N_) - prob_.xf;
+  xtmp2_.noalias() = prob_.Qf * xtmp_;
+  J += 0.5 * xtmp_.dot(xtmp2_);
+  if (prob_.Q.size() != 0) {
+    for (int k = 1; k < N_; ++k) {
+      xtmp_ = X.col(k) - prob_.xf;
+      xtmp2_.noalias() = prob_.Q * xtmp_;
+      J += 0.5 * xtmp_.dot(xtmp2_);
+    }
+  }
+  for (int k = 0; k < N_; ++k) J += control_cost(U.col(k));
+  return J;
+}
+
+void AdmmSolver::rollout(const Eigen::Ref<const MatrixXd>& U, Eigen::Ref<MatrixXd> X) const noexcept {
+  const LtvDynamics& d = prob_.dynamics;
+  X.col(0) = prob_.x0;
+  for (int k = 0; k < N_; ++k) {
+    X.col(k + 1).noalias() = d.A_at(k) * X.col(k);
+    X.col(k + 1).noalias() += d.B_at(k) * U.col(k);
+    if (!d.c.empty()) X.col(k + 1) += d.c.size() == 1 ? d.c[0] : d.c[k];
+  }
+}
+
+double AdmmSolver::objective_of(const Eigen::Ref<const MatrixXd>& U) const {
+  core::require(U.rows() == nu_ && U.cols() == N_, "U", "must be nu x N");
+  MatrixXd X(nx_, N_ + 1);
+  rollout(U, X);
+  return trajectory_objective(X, U);
+}
+
+const AdmmResult& AdmmSolver::solve() noexcept {
+  const auto t0 = std::chrono::steady_clock::now();
+  AdmmInfo& info = res_.info;
+  info = AdmmInfo();
+  const int fact0 = ric_.factorizations();
+  double rho = set_.rho;
+  MatrixXd& X = res_.X;
+  MatrixXd& U = res_.U;
+  MatrixXd& Y = res_.Y;
+  MatrixXd& L = res_.Lambda;
+  if (warm_) {
+    Y = Yws_;
+    L = Lws_;
+  } else {
+    Y.setZero();
+    L.setZero();
+  }
+  bool ok = true;
+  if (ric_.rho() != rho || ric_.factorizations() == 0) ok = ric_.factor(rho);
+  if (first_solve_) {
+    info.factorizations = 1;  // the setup factorization serves this solve
+    first_solve_ = false;
+  }
+  const double a = set_.relaxation;
+  const double dimU = static_cast<double>(N_) * nu_;
+  double best = std::numeric_limits<double>::infinity();
+  AdmmStatus status = AdmmStatus::kMaxIterations;
+  int it = 0;
+  if (!ok) status = AdmmStatus::kNumericalError;
+  while (ok && it < set_.max_iterations) {
+    ++it;
+    r_ = L - rho * Y;
+    RiccatiStatus rs = set_.cache_gains ? ric_.solve(prob_.x0, q_, r_, prob_.xf, X, U)
+                                        : ric_.solve_full(rho, prob_.x0, q_, r_, prob_.xf, X, U);
+    if (rs == RiccatiStatus::kTerminalUnreachable) {
+      status = AdmmStatus::kTerminalUnreachable;
+      break;
+    }
+    if (rs != RiccatiStatus::kOk) {
+      status = AdmmStatus::kNumericalError;
+      break;
+    }
+    double prim = 0.0, dual = 0.0, fro2 = 0.0, nU = 0.0, nY = 0.0, nL = 0.0;
+    for (int k = 0; k < N_; ++k) {
+      uhat_ = a * U.col(k) + (1.0 - a) * Y.col(k);
+      v_ = uhat_ + L.col(k) / rho;
+      prox(v_, ynew_, rho);
+      dual = std::max(dual, (ynew_ - Y.col(k)).cwiseAbs().maxCoeff());
+      prim = std::max(prim, (U.col(k) - ynew_).cwiseAbs().maxCoeff());
+      fro2 += (U.col(k) - ynew_).squaredNorm();
+      L.col(k) += rho * (uhat_ - ynew_);
+      Y.col(k) = ynew_;
+      nU = std::max(nU, U.col(k).cwiseAbs().maxCoeff());
+      nY = std::max(nY, ynew_.cwiseAbs().maxCoeff());
+    }
+    dual *= rho;
+    if (set_.paper_multiplier_rescale && it == 1) {
+      for (int i = 0; i < nu_; ++i) {
+        const double mx = L.row(i).cwiseAbs().maxCoeff();
+        if (mx > 0.0) L.row(i) *= w_(i) / mx;
+      }
+    } else if (set_.paper_multiplier_rescale && it <= set_.paper_global_rescale_iterations) {
+      const double mx = L.cwiseAbs().maxCoeff();
+      if (mx > 0.0) L *= w_.maxCoeff() / mx;
+    }
+    nL = L.cwiseAbs().maxCoeff();
+    info.primal_residual = prim;
+    info.dual_residual = dual;
+    info.eps_primal = set_.eps_abs + set_.eps_rel * std::max(nU, nY);
+    info.eps_dual = set_.eps_abs + set_.eps_rel * nL;
+    info.paper_criterion = std::sqrt(fro2) / dimU;
+    if (!std::isfinite(prim) || !std::isfinite(dual) || !std::isfinite(nL)) {
+      status = AdmmStatus::kNumericalError;
+      break;
+    }
+    if (set_.track_best) {
+      const double eps_p = info.eps_primal > 0.0 ? info.eps_primal : 1e-300;
+      const double eps_d = info.eps_dual > 0.0 ? info.eps_dual : 1e-300;
+      const double measure = std::max(prim / eps_p, dual / eps_d);
+      if (measure < best) {
+        best = measure;
+        bX_ = X;
+        bU_ = U;
+        bY_ = Y;
+        bL_ = L;
+      }
+    }
+    if (polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals && it % set_.polish_interval == 0 &&
+        try_polish()) {
+      info.polished = true;
+      status = AdmmStatus::kSolved;
+      break;
+    }
+    if (set_.stopping == StoppingRule::kPaper) {
+      if (info.paper_criterion <= set_.paper_eps) {
+        status = AdmmStatus::kSolvedPaperRule;
+        break;
+      }
+    } else if (prim <= info.eps_primal && dual <= info.eps_dual) {
+      status = AdmmStatus::kSolved;
+      break;
+    }
+    if (set_.adaptive_rho && it % set_.adaptive_rho_interval == 0) {
+      const double pn = prim / std::max(std::max(nU, nY), 1e-300);
+      const double dn = dual / std::max(nL, 1e-300);
+      if (pn > 0.0 && dn > 0.0) {
+        const double rho_new = std::clamp(rho * std::sqrt(pn / dn), set_.rho_min, set_.rho_max);
+        if (rho_new > set_.adaptive_rho_tolerance * rho || rho_new < rho / set_.adaptive_rho_tolerance) {
+          rho = rho_new;
+          ++info.rho_updates;
+          if (!ric_.factor(rho)) {
+            status = AdmmStatus::kNumericalError;
+            break;
+          }
+        }
+      }
+    }
+  }
+  if (status == AdmmStatus::kMaxIterations && set_.track_best && std::isfinite(best)) {
+    X = bX_;
+    U = bU_;
+    Y = bY_;
+    L = bL_;
+  }
+  info.status = status;
+  info.iterations = it;
+  info.rho = rho;
+  info.factorizations += ric_.factorizations() - fact0;
+  if (prob_.terminal_equality && !info.polished) res_.terminal_multiplier = ric_.terminal_multiplier();
+  rollout(Y, res_.X_flown);
+  info.objective = trajectory_objective(res_.X_flown, Y);
+  info.objective_u = trajectory_objective(X, U);
+  xtmp_ = res_.X_flown.col(N_) - prob_.xf;
+  info.terminal_miss = xtmp_.norm();
+  info.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res_;
+}
+
+}  // namespace satgnc::guidance

@@ -1,0 +1,540 @@
+#include "satgnc/guidance/ilqr_admm.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <Eigen/Cholesky>
+
+#include "satgnc/core/validate.hpp"
+
+namespace satgnc::guidance {
+
+using core::require;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+// In-place Cholesky M = L L^T (lower triangle of M overwritten). False if not positive definite.
+bool cholesky_inplace(MatrixXd& M) {
+  const int n = static_cast<int>(M.rows());
+  for (int j = 0; j < n; ++j) {
+    double diag = M(j, j);
+    for (int p = 0; p < j; ++p) diag -= M(j, p) * M(j, p);
+    if (!(diag > 0.0) || !std::isfinite(diag)) return false;
+    const double ljj = std::sqrt(diag);
+    M(j, j) = ljj;
+    for (int i = j + 1; i < n; ++i) {
+      double v = M(i, j);
+      for (int p = 0; p < j; ++p) v -= M(i, p) * M(j, p);
+      M(i, j) = v / ljj;
+    }
+  }
+  return true;
+}
+
+// Solve L L^T X = B in place (B is n x m).
+template <typename Derived>
+void cholesky_solve_inplace(const MatrixXd& L, Eigen::MatrixBase<Derived>& B) {
+  const int n = static_cast<int>(L.rows());
+  for (int c = 0; c < B.cols(); ++c) {
+    for (int i = 0; i < n; ++i) {
+      double v = B(i, c);
+      for (int p = 0; p < i; ++p) v -= L(i, p) * B(p, c);
+      B(i, c) = v / L(i, i);
+    }
+    for (int i = n - 1; i >= 0; --i) {
+      double v = B(i, c);
+      for (int p = i + 1; p < n; ++p) v -= L(p, i) * B(p, c);
+      B(i, c) = v / L(i, i);
+    }
+  }
+}
+
+double soft(double v, double t) { return v > t ? v - t : (v < -t ? v + t : 0.0); }
+
+// Fixed-size Riccati sweep (stack temporaries, no heap) for the common dimensions.
+template <int NX, int NU>
+bool backward_fixed(int N, const std::vector<MatrixXd>& Av, const std::vector<MatrixXd>& Bv,
+                    std::vector<MatrixXd>& Kv, MatrixXd& dM, const MatrixXd& Qf, const VectorXd& eN,
+                    const MatrixXd& U, const MatrixXd& Lam, const MatrixXd& Y, double w, double rho, double reg,
+                    double& dv1, double& dv2) {
+  using MX = Eigen::Matrix<double, NX, NX>;
+  using MXU = Eigen::Matrix<double, NX, NU>;
+  using MU = Eigen::Matrix<double, NU, NU>;
+  using MUX = Eigen::Matrix<double, NU, NX>;
+  using VX = Eigen::Matrix<double, NX, 1>;
+  using VU = Eigen::Matrix<double, NU, 1>;
+  MX S = Eigen::Map<const MX>(Qf.data());
+  VX s = S * Eigen::Map<const VX>(eN.data());
+  dv1 = 0.0;
+  dv2 = 0.0;
+  for (int k = N - 1; k >= 0; --k) {
+    const Eigen::Map<const MX> A(Av[k].data());
+    const Eigen::Map<const MXU> B(Bv[k].data());
+    const MX SA = S.lazyProduct(A);
+    const MXU SB = S.lazyProduct(B);
+    const VX Qx = A.transpose() * s;
+    VU Qu = B.transpose() * s;
+    Qu += w * (rho * U.col(k) + Lam.col(k) - rho * Y.col(k));
+    const MX Qxx = A.transpose().lazyProduct(SA);
+    MU Quu = B.transpose().lazyProduct(SB);
+    Quu.diagonal().array() += w * rho;
+    const MUX Qux = B.transpose().lazyProduct(SA);
+    MU Qr = Quu;
+    Qr.diagonal().array() += reg;
+    const Eigen::LLT<MU> llt(Qr);
+    if (llt.info() != Eigen::Success) return false;
+    Eigen::Map<MUX> K(Kv[k].data());
+    K = -llt.solve(Qux);
+    const VU d = -llt.solve(Qu);
+    dM.col(k) = d;
+    const VU Quud = Quu * d;
+    dv1 += d.dot(Qu);
+    dv2 += 0.5 * d.dot(Quud);
+    s = Qx + K.transpose() * (Quud + Qu) + Qux.transpose() * d;
+    const MUX T = Quu * K + Qux;
+    MX Sn = Qxx;
+    Sn.noalias() += K.transpose().lazyProduct(T);
+    Sn.noalias() += Qux.transpose().lazyProduct(K);
+    S = 0.5 * (Sn + Sn.transpose());
+    if (!s.allFinite() || !S.allFinite()) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+const char* status_message(IlqrAdmmStatus s) {
+  switch (s) {
+    case IlqrAdmmStatus::solved: return "solved: stopping rule met";
+    case IlqrAdmmStatus::max_iterations: return "max_iter reached; best iterate (smallest ||U - Y||) returned";
+    case IlqrAdmmStatus::propagation_failed:
+      return "the dynamics failed during the initial rollout (see failed_interval)";
+    case IlqrAdmmStatus::ilqr_failed: return "iLQR made no progress up to reg_max; last iterate returned";
+    case IlqrAdmmStatus::not_run: return "solve() not called";
+  }
+  return "unknown status";
+}
+
+void IlqrAdmmSettings::validate() const {
+  core::require_positive(rho, "rho");
+  require(max_iter >= 1, "max_iter", "must be >= 1");
+  require(ilqr_iters >= 1, "ilqr_iters", "must be >= 1");
+  core::require_nonnegative(ilqr_tol, "ilqr_tol");
+  core::require_nonnegative(eps_paper, "eps_paper");
+  core::require_nonnegative(eps_abs, "eps_abs");
+  core::require_nonnegative(eps_rel, "eps_rel");
+  require(rho_factor > 1.0 && std::isfinite(rho_factor), "rho_factor", "must be finite and > 1");
+  require(rho_balance > 1.0 && std::isfinite(rho_balance), "rho_balance", "must be finite and > 1");
+  require(rho_update_every >= 1, "rho_update_every", "must be >= 1");
+  core::require_nonnegative(reg_init, "reg_init");
+  core::require_positive(reg_min, "reg_min");
+  require(reg_max >= reg_min && std::isfinite(reg_max), "reg_max", "must be finite and >= reg_min");
+  require(reg_factor > 1.0 && std::isfinite(reg_factor), "reg_factor", "must be finite and > 1");
+  require(line_search_iters >= 1, "line_search_iters", "must be >= 1");
+  require(ls_lower >= 0.0 && ls_upper > ls_lower, "ls_lower/ls_upper", "need 0 <= ls_lower < ls_upper");
+}
+
+IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
+                               const IlqrAdmmSettings& settings)
+    : model_(model), prob_(problem), set_(settings) {
+  set_.validate();
+  nx_ = model.state_dim();
+  nu_ = model.control_dim();
+  N_ = prob_.horizon;
+  require(nx_ >= 1 && nu_ >= 1, "model", "state and control dimensions must be >= 1");
+  require(N_ >= 1, "horizon", "must be >= 1");
+  const std::string nxs = std::to_string(nx_), nus = std::to_string(nu_);
+  require(prob_.x0.size() == nx_, "x0", "must have nx = " + nxs + " entries, got " + std::to_string(prob_.x0.size()));
+  core::require_finite(prob_.x0, "x0");
+  if (prob_.x_target.size() == 0) prob_.x_target = VectorXd::Zero(nx_);
+  require(prob_.x_target.size() == nx_, "x_target", "must have nx = " + nxs + " entries");
+  core::require_finite(prob_.x_target, "x_target");
+  require(prob_.Qf.rows() == nx_ && prob_.Qf.cols() == nx_, "Qf", "must be nx x nx = " + nxs + " x " + nxs);
+  core::require_finite(prob_.Qf, "Qf");
+  require((prob_.Qf - prob_.Qf.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * (1.0 + prob_.Qf.cwiseAbs().maxCoeff()),
+          "Qf", "must be symmetric");
+  require(prob_.alpha.size() == nu_, "alpha", "must have nu = " + nus + " entries");
+  core::require_finite(prob_.alpha, "alpha");
+  require((prob_.alpha.array() >= 0.0).all(), "alpha", "weights must be >= 0");
+  core::require_positive(prob_.stage_weight, "stage_weight");
+  if (prob_.cost == ControlCost::l1_box) {
+    require(prob_.u_min.size() == nu_ && prob_.u_max.size() == nu_, "u_min/u_max", "must have nu = " + nus + " entries");
+    require(!prob_.u_min.hasNaN() && !prob_.u_max.hasNaN(), "u_min/u_max", "must not be NaN");
+    require((prob_.u_min.array() <= prob_.u_max.array()).all(), "u_min/u_max", "need u_min <= u_max");
+    require((prob_.u_min.array() <= 0.0).all() && (prob_.u_max.array() >= 0.0).all(), "u_min/u_max",
+            "the box must contain u = 0 (u_min <= 0 <= u_max)");
+  }
+  rho_ = set_.rho;
+
+  res_.X = MatrixXd::Zero(nx_, N_ + 1);
+  res_.U = MatrixXd::Zero(nu_, N_);
+  res_.Y = MatrixXd::Zero(nu_, N_);
+  res_.Lambda = MatrixXd::Zero(nu_, N_);
+  A_.assign(N_, MatrixXd::Zero(nx_, nx_));
+  B_.assign(N_, MatrixXd::Zero(nx_, nu_));
+  K_.assign(N_, MatrixXd::Zero(nu_, nx_));
+  d_ = MatrixXd::Zero(nu_, N_);
+  Xn_ = MatrixXd::Zero(nx_, N_ + 1);
+  Xtmp_ = Xn_;
+  Xbest_ = Xn_;
+  Un_ = MatrixXd::Zero(nu_, N_);
+  Yprev_ = Un_;
+  Ubest_ = Un_;
+  Ybest_ = Un_;
+  Lbest_ = Un_;
+  V_ = Un_;
+  S_ = MatrixXd::Zero(nx_, nx_);
+  Qxx_ = S_;
+  SA_ = S_;
+  SB_ = MatrixXd::Zero(nx_, nu_);
+  Quu_ = MatrixXd::Zero(nu_, nu_);
+  L_ = Quu_;
+  Qux_ = MatrixXd::Zero(nu_, nx_);
+  QuuK_ = Qux_;
+  s_ = VectorXd::Zero(nx_);
+  Qx_ = s_;
+  dx_ = s_;
+  tmpx_ = s_;
+  Qu_ = VectorXd::Zero(nu_);
+  tmpu_ = Qu_;
+}
+
+void IlqrAdmmSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
+  require(U0.rows() == nu_ && U0.cols() == N_, "U0", "must be nu x N = " + std::to_string(nu_) + " x " + std::to_string(N_));
+  core::require_finite(U0, "U0");
+  res_.U = U0;
+  res_.Y.setZero();
+  res_.Lambda.setZero();
+  warm_ = false;
+}
+
+void IlqrAdmmSolver::warm_start(const Eigen::Ref<const MatrixXd>& U, const Eigen::Ref<const MatrixXd>& Y,
+                                const Eigen::Ref<const MatrixXd>& Lambda) {
+  const std::string dims = "must be nu x N = " + std::to_string(nu_) + " x " + std::to_string(N_);
+  require(U.rows() == nu_ && U.cols() == N_, "U", dims);
+  require(Y.rows() == nu_ && Y.cols() == N_, "Y", dims);
+  require(Lambda.rows() == nu_ && Lambda.cols() == N_, "Lambda", dims);
+  core::require_finite(U, "U");
+  core::require_finite(Y, "Y");
+  core::require_finite(Lambda, "Lambda");
+  res_.U = U;
+  res_.Y = Y;
+  res_.Lambda = Lambda;
+  warm_ = true;
+}
+
+void IlqrAdmmSolver::set_initial_state(const Eigen::Ref<const VectorXd>& x0) {
+  require(x0.size() == nx_, "x0", "must have nx = " + std::to_string(nx_) + " entries");
+  core::require_finite(x0, "x0");
+  prob_.x0 = x0;
+}
+
+void IlqrAdmmSolver::set_rho(double rho) {
+  core::require_positive(rho, "rho");
+  rho_ = rho;
+}
+
+int IlqrAdmmSolver::rollout(const Eigen::Ref<const MatrixXd>& U, Eigen::Ref<MatrixXd> Xout) const {
+  Xout.col(0) = prob_.x0;
+  for (int k = 0; k < N_; ++k) {
+    if (!model_.step(k, Xout.col(k).data(), U.col(k).data(), Xout.col(k + 1).data(), nullptr, nullptr))
+      return k;
+  }
+  return -1;
+}
+
+double IlqrAdmmSolver::terminal_cost(const Eigen::Ref<const VectorXd>& xN) const {
+  // 1/2 e^T Qf e without temporaries
+  double c = 0.0;
+  for (int j = 0; j < nx_; ++j) {
+    const double ej = xN(j) - prob_.x_target(j);
+    if (ej == 0.0) continue;
+    double row = 0.0;
+    for (int i = 0; i < nx_; ++i) row += prob_.Qf(i, j) * (xN(i) - prob_.x_target(i));
+    c += ej * row;
+  }
+  return 0.5 * c;
+}
+
+double IlqrAdmmSolver::control_cost(const Eigen::Ref<const MatrixXd>& U) const {
+  double c = 0.0;
+  if (prob_.cost == ControlCost::group_l2) {
+    for (int k = 0; k < N_; ++k) c += prob_.alpha(0) * U.col(k).norm();
+  } else {
+    for (int k = 0; k < N_; ++k)
+      for (int i = 0; i < nu_; ++i) c += prob_.alpha(i) * std::abs(U(i, k));
+  }
+  return prob_.stage_weight * c;
+}
+
+double IlqrAdmmSolver::true_cost(const Eigen::Ref<const MatrixXd>& U) {
+  if (rollout(U, Xtmp_) >= 0) return std::numeric_limits<double>::infinity();
+  return terminal_cost(Xtmp_.col(N_)) + control_cost(U);
+}
+
+double IlqrAdmmSolver::subproblem_cost(const MatrixXd& X, const MatrixXd& U) const {
+  double c = 0.0;
+  for (int k = 0; k < N_; ++k)
+    for (int i = 0; i < nu_; ++i) {
+      const double u = U(i, k);
+      c += 0.5 * rho_ * u * u + (res_.Lambda(i, k) - rho_ * res_.Y(i, k)) * u;
+    }
+  return terminal_cost(X.col(N_)) + prob_.stage_weight * c;
+}
+
+bool IlqrAdmmSolver::linearize() {
+  if (jac_valid_) return true;
+  for (int k = 0; k < N_; ++k) {
+    if (!model_.step(k, res_.X.col(k).data(), res_.U.col(k).data(), Xtmp_.col(k + 1).data(), A_[k].data(),
+                     B_[k].data()))
+      return false;
+  }
+  jac_valid_ = true;
+  return true;
+}
+
+bool IlqrAdmmSolver::backward_pass(double reg, double& dv1, double& dv2) {
+  const double w = prob_.stage_weight;
+  if (nx_ == 12 && nu_ == 3 || nx_ == 6 && nu_ == 3) {
+    dx_ = res_.X.col(N_) - prob_.x_target;
+    if (nx_ == 12)
+      return backward_fixed<12, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,
+                                   dv1, dv2);
+    return backward_fixed<6, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,
+                                dv1, dv2);
+  }
+  S_ = prob_.Qf;
+  s_.noalias() = prob_.Qf * (res_.X.col(N_) - prob_.x_target);
+  dv1 = 0.0;
+  dv2 = 0.0;
+  for (int k = N_ - 1; k >= 0; --k) {
+    const MatrixXd& A = A_[k];
+    const MatrixXd& B = B_[k];
+    SA_.noalias() = S_ * A;
+    SB_.noalias() = S_ * B;
+    Qx_.noalias() = A.transpose() * s_;
+    Qu_.noalias() = B.transpose() * s_;
+    for (int i = 0; i < nu_; ++i)
+      Qu_(i) += w * (rho_ * res_.U(i, k) + res_.Lambda(i, k) - rho_ * res_.Y(i, k));
+    Qxx_.noalias() = A.transpose() * SA_;
+    Quu_.noalias() = B.transpose() * SB_;
+    Quu_.diagonal().array() += w * rho_;
+    Qux_.noalias() = B.transpose() * SA_;
+    L_ = Quu_;
+    L_.diagonal().array() += reg;
+    if (!cholesky_inplace(L_)) return false;
+    MatrixXd& K = K_[k];
+    K = -Qux_;
+    cholesky_solve_inplace(L_, K);
+    auto d = d_.col(k);
+    d = -Qu_;
+    cholesky_solve_inplace(L_, d);
+    tmpu_.noalias() = Quu_ * d;
+    dv1 += d.dot(Qu_);
+    dv2 += 0.5 * d.dot(tmpu_);
+    // s = Qx + K^T (Quu d + Qu) + Qux^T d
+    tmpu_ += Qu_;
+    s_ = Qx_;
+    s_.noalias() += K.transpose() * tmpu_;
+    s_.noalias() += Qux_.transpose() * d;
+    // S = Qxx + K^T Quu K + K^T Qux + Qux^T K
+    QuuK_.noalias() = Quu_ * K;
+    S_ = Qxx_;
+    S_.noalias() += K.transpose() * QuuK_;
+    S_.noalias() += K.transpose() * Qux_;
+    S_.noalias() += Qux_.transpose() * K;
+    // symmetrize
+    for (int i = 0; i < nx_; ++i)
+      for (int j = i + 1; j < nx_; ++j) {
+        const double v = 0.5 * (S_(i, j) + S_(j, i));
+        S_(i, j) = v;
+        S_(j, i) = v;
+      }
+    if (!s_.allFinite() || !S_.allFinite()) return false;
+  }
+  return true;
+}
+
+bool IlqrAdmmSolver::forward_pass(double dv1, double dv2, double& J) {
+  double a = 1.0;
+  for (int ls = 0; ls < set_.line_search_iters; ++ls, a *= 0.5) {
+    Xn_.col(0) = prob_.x0;
+    bool ok = true;
+    // The full step is usually accepted: linearize along it on the way (the gains K_k are already
+    // computed, so A_k, B_k may be overwritten; they are recomputed if this step is rejected).
+    const bool with_jac = ls == 0;
+    jac_valid_ = false;
+    for (int k = 0; k < N_ && ok; ++k) {
+      dx_ = Xn_.col(k) - res_.X.col(k);
+      Un_.col(k) = res_.U.col(k) + a * d_.col(k);
+      Un_.col(k).noalias() += K_[k] * dx_;
+      ok = model_.step(k, Xn_.col(k).data(), Un_.col(k).data(), Xn_.col(k + 1).data(),
+                       with_jac ? A_[k].data() : nullptr, with_jac ? B_[k].data() : nullptr);
+    }
+    if (!ok) continue;
+    const double Jn = subproblem_cost(Xn_, Un_);
+    if (!std::isfinite(Jn)) continue;
+    const double expected = -a * (dv1 + a * dv2);
+    bool accept;
+    if (expected > 0.0) {
+      const double z = (J - Jn) / expected;
+      accept = z >= set_.ls_lower && z <= set_.ls_upper;
+    } else {
+      accept = Jn <= J;  // no predicted decrease: accept only a non-increase
+    }
+    if (accept) {
+      jac_valid_ = with_jac;
+      res_.X.swap(Xn_);
+      res_.U.swap(Un_);
+      J = Jn;
+      return true;
+    }
+  }
+  return false;
+}
+
+int IlqrAdmmSolver::ilqr_step(double& J) {
+  double reg = reg_;
+  while (true) {
+    if (!linearize()) return 2;
+    double dv1 = 0.0, dv2 = 0.0;
+    bool ok = backward_pass(reg, dv1, dv2);
+    if (ok) {
+      // Converged subproblem: predicted decrease below rounding of J.
+      if (-(dv1 + dv2) <= 1e-15 * (1.0 + std::abs(J))) {
+        reg_ = reg;
+        return 1;
+      }
+      if (forward_pass(dv1, dv2, J)) {
+        res_.info.max_regularization = std::max(res_.info.max_regularization, reg);
+        reg_ = reg / set_.reg_factor;
+        if (reg_ < set_.reg_min) reg_ = set_.reg_init;
+        return 0;
+      }
+    }
+    reg = std::max(reg * set_.reg_factor, set_.reg_min);
+    if (reg > set_.reg_max) return 2;
+  }
+}
+
+void IlqrAdmmSolver::prox(const MatrixXd& V, MatrixXd& Yout) const {
+  const double inv = 1.0 / rho_;
+  if (prob_.cost == ControlCost::group_l2) {
+    const double t = prob_.alpha(0) * inv;
+    for (int k = 0; k < N_; ++k) {
+      const double nrm = V.col(k).norm();
+      const double f = nrm > t ? 1.0 - t / nrm : 0.0;
+      Yout.col(k) = f * V.col(k);
+    }
+    return;
+  }
+  for (int k = 0; k < N_; ++k)
+    for (int i = 0; i < nu_; ++i) {
+      double y = soft(V(i, k), prob_.alpha(i) * inv);
+      if (prob_.cost == ControlCost::l1_box) y = std::min(std::max(y, prob_.u_min(i)), prob_.u_max(i));
+      Yout(i, k) = y;
+    }
+}
+
+IlqrAdmmStatus IlqrAdmmSolver::solve() {
+  IlqrAdmmInfo& info = res_.info;
+  info = IlqrAdmmInfo();
+  reg_ = set_.reg_init;
+  jac_valid_ = false;
+  const double w = prob_.stage_weight;
+  const double sqrt_n = std::sqrt(static_cast<double>(N_ * nu_));
+  const int fail = rollout(res_.U, res_.X);
+  if (fail >= 0) {
+    info.status = IlqrAdmmStatus::propagation_failed;
+    info.failed_interval = fail;
+    info.rho = rho_;
+    return info.status;
+  }
+  double best_primal = std::numeric_limits<double>::infinity();
+  IlqrAdmmStatus status = IlqrAdmmStatus::max_iterations;
+  for (int it = 1; it <= set_.max_iter; ++it) {
+    info.iterations = it;
+    double J = subproblem_cost(res_.X, res_.U);
+    bool failed = false;
+    for (int j = 0; j < set_.ilqr_iters; ++j) {
+      const double J0 = J;
+      const int r = ilqr_step(J);
+      if (r == 2) {
+        failed = true;
+        break;
+      }
+      if (r == 1) break;
+      ++info.ilqr_iterations;
+      if (set_.ilqr_iters > 1 && (J0 - J) <= set_.ilqr_tol * (1.0 + std::abs(J0))) break;
+    }
+    if (failed) {
+      status = IlqrAdmmStatus::ilqr_failed;
+      break;
+    }
+    // y-step and multiplier step
+    Yprev_ = res_.Y;
+    V_ = res_.U + res_.Lambda / rho_;
+    prox(V_, res_.Y);
+    res_.Lambda += rho_ * (res_.U - res_.Y);
+    if (it == 1 && set_.paper_multiplier_rescale) {
+      for (int i = 0; i < nu_; ++i) {
+        const double m = res_.Lambda.row(i).cwiseAbs().maxCoeff();
+        if (m > 0.0) res_.Lambda.row(i) *= prob_.alpha(i) / m;
+      }
+    }
+    const double primal = (res_.U - res_.Y).norm();
+    const double dual = w * rho_ * (res_.Y - Yprev_).norm();
+    info.primal_residual = primal;
+    info.dual_residual = dual;
+    info.paper_criterion = primal / (N_ * nu_);
+    if (primal < best_primal) {
+      best_primal = primal;
+      Ubest_ = res_.U;
+      Ybest_ = res_.Y;
+      Lbest_ = res_.Lambda;
+      Xbest_ = res_.X;
+    }
+    bool done;
+    if (set_.stop == StopRule::paper) {
+      done = info.paper_criterion <= set_.eps_paper;
+    } else {
+      const double eps_p = set_.eps_abs * sqrt_n + set_.eps_rel * std::max(res_.U.norm(), res_.Y.norm());
+      const double eps_d = set_.eps_abs * sqrt_n + set_.eps_rel * w * res_.Lambda.norm();
+      done = primal <= eps_p && dual <= eps_d && it > 1;
+      if (!done && set_.adaptive_rho && it % set_.rho_update_every == 0) {
+        const double rp = primal / std::max(eps_p, 1e-300), rd = dual / std::max(eps_d, 1e-300);
+        if (rp > set_.rho_balance * rd) {
+          rho_ *= set_.rho_factor;
+          ++info.rho_updates;
+        } else if (rd > set_.rho_balance * rp) {
+          rho_ /= set_.rho_factor;
+          ++info.rho_updates;
+        }
+      }
+    }
+    if (done) {
+      status = IlqrAdmmStatus::solved;
+      break;
+    }
+  }
+  if (status == IlqrAdmmStatus::max_iterations && set_.return_best) {
+    res_.U.swap(Ubest_);
+    res_.Y.swap(Ybest_);
+    res_.Lambda.swap(Lbest_);
+    res_.X.swap(Xbest_);
+    info.primal_residual = best_primal;
+    info.paper_criterion = best_primal / (N_ * nu_);
+  }
+  info.status = status;
+  info.rho = rho_;
+  info.lqr_passes = info.ilqr_iterations + info.iterations;
+  info.objective_u = true_cost(res_.U);
+  info.objective_y = true_cost(res_.Y);
+  return status;
+}
+
+}  // namespace satgnc::guidance

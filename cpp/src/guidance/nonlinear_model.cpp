@@ -1,0 +1,125 @@
+#include "satgnc/guidance/nonlinear_model.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "satgnc/core/validate.hpp"
+
+namespace satgnc::guidance {
+
+using core::require;
+
+LinearDiscreteModel::LinearDiscreteModel(std::vector<Eigen::MatrixXd> A, std::vector<Eigen::MatrixXd> B,
+                                         std::vector<Eigen::VectorXd> c)
+    : A_(std::move(A)), B_(std::move(B)), c_(std::move(c)) {
+  require(!A_.empty(), "A", "needs at least one matrix");
+  require(B_.size() == A_.size(), "B", "needs as many matrices as A (" + std::to_string(A_.size()) + ")");
+  require(c_.empty() || c_.size() == A_.size(), "c", "must be empty or have as many vectors as A");
+  nx_ = static_cast<int>(A_[0].rows());
+  nu_ = static_cast<int>(B_[0].cols());
+  require(nx_ > 0 && nu_ > 0, "A/B", "need at least one state and one control");
+  for (size_t k = 0; k < A_.size(); ++k) {
+    const std::string ks = "[" + std::to_string(k) + "]";
+    require(A_[k].rows() == nx_ && A_[k].cols() == nx_, "A" + ks, "must be nx x nx with nx = A[0].rows()");
+    require(B_[k].rows() == nx_ && B_[k].cols() == nu_, "B" + ks, "must be nx x nu");
+    core::require_finite(A_[k], "A" + ks);
+    core::require_finite(B_[k], "B" + ks);
+    if (!c_.empty()) {
+      require(c_[k].size() == nx_, "c" + ks, "must have nx entries");
+      core::require_finite(c_[k], "c" + ks);
+    }
+  }
+}
+
+bool LinearDiscreteModel::step(int k, const double* x, const double* u, double* x_next, double* A,
+                               double* B) const {
+  const int i = A_.size() == 1 ? 0 : k;
+  if (i < 0 || i >= static_cast<int>(A_.size())) return false;
+  Eigen::Map<const Eigen::VectorXd> xv(x, nx_), uv(u, nu_);
+  Eigen::Map<Eigen::VectorXd> xn(x_next, nx_);
+  xn.noalias() = A_[i] * xv;
+  xn.noalias() += B_[i] * uv;
+  if (!c_.empty()) xn += c_[i];
+  if (A != nullptr) Eigen::Map<Eigen::MatrixXd>(A, nx_, nx_) = A_[i];
+  if (B != nullptr) Eigen::Map<Eigen::MatrixXd>(B, nx_, nu_) = B_[i];
+  return xn.allFinite();
+}
+
+TwoSatelliteMap::TwoSatelliteMap(const dynamics::TwoSatelliteModel& model,
+                                 const TwoSatelliteMapSettings& settings)
+    : model_(model), s_(settings) {
+  core::require_positive(s_.dt, "dt");
+  require(s_.scheme == 3 || s_.scheme == 4, "scheme", "must be 3 (Kutta RK3) or 4 (classic RK4)");
+  require(s_.substeps >= 1, "substeps", "must be >= 1");
+  require(s_.state_scale.size() == 0 || s_.state_scale.size() == 12, "state_scale",
+          "must be empty or have 12 entries");
+  require(s_.control_scale.size() == 0 || s_.control_scale.size() == 3, "control_scale",
+          "must be empty or have 3 entries");
+  sx_.setOnes();
+  su_.setOnes();
+  if (s_.state_scale.size() == 12) sx_ = s_.state_scale;
+  if (s_.control_scale.size() == 3) su_ = s_.control_scale;
+  require(sx_.allFinite() && (sx_.array() > 0.0).all(), "state_scale", "entries must be finite and > 0");
+  require(su_.allFinite() && (su_.array() > 0.0).all(), "control_scale", "entries must be finite and > 0");
+}
+
+bool TwoSatelliteMap::step(int /*k*/, const double* x, const double* u, double* x_next, double* A,
+                           double* B) const {
+  using dynamics::Mat12;
+  using dynamics::Mat12x3;
+  using dynamics::Vec12;
+  const Vec12 xs = Eigen::Map<const Vec12>(x).cwiseProduct(sx_);
+  const Vec3 us = Eigen::Map<const Vec3>(u).cwiseProduct(su_);
+  const double h = s_.dt / s_.substeps;
+  Vec12 z = xs, zn;
+  const bool jac = A != nullptr && B != nullptr;
+  Mat12 Phi = Mat12::Identity(), Ak;
+  Mat12x3 Gam = Mat12x3::Zero(), Bk;
+  for (int i = 0; i < s_.substeps; ++i) {
+    if (!jac) {
+      if (!model_.rk_step(s_.scheme, h, z, us, zn)) return false;
+    } else {
+      if (!model_.rk_step(s_.scheme, h, z, us, zn, &Ak, &Bk)) return false;
+      if (i == 0) {
+        Phi = Ak;
+        Gam = Bk;
+      } else {
+        Gam = Ak * Gam + Bk;
+        Phi = Ak * Phi;
+      }
+    }
+    z = zn;
+  }
+  Eigen::Map<Vec12> xn_map(x_next);
+  xn_map = z.cwiseQuotient(sx_);
+  if (jac) {
+    // scaled: A_s = Sx^-1 A Sx, B_s = Sx^-1 B Su
+    Eigen::Map<Mat12> a_map(A);
+    Eigen::Map<Mat12x3> b_map(B);
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 12; ++i) a_map(i, j) = Phi(i, j) * sx_(j) / sx_(i);
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 12; ++i) b_map(i, j) = Gam(i, j) * su_(j) / sx_(i);
+  }
+  return z.allFinite();
+}
+
+ReferenceScaling published_scaling(const dynamics::Vec12& x0, double mu, double mass_chaser) {
+  core::require_finite(x0, "x0");
+  core::require_positive(mu, "mu");
+  core::require_positive(mass_chaser, "mass_chaser");
+  const double l_ego = std::max(x0.head<3>().norm(), 1.0);
+  const double l_t = x0.segment<3>(3).norm();
+  core::require_positive(l_t, "|r_target|");
+  const double v_t = 3.0 * std::sqrt(mu / l_t);
+  const double t_ref = l_t / v_t;
+  const double v_ego = l_ego / t_ref;
+  ReferenceScaling s;
+  s.state_scale.resize(12);
+  s.state_scale << l_ego, l_ego, l_ego, l_t, l_t, l_t, v_ego, v_ego, v_ego, v_t, v_t, v_t;
+  s.control_scale = Eigen::Vector3d::Constant(l_ego / (t_ref * t_ref) * mass_chaser);
+  s.time_scale = t_ref;
+  return s;
+}
+
+}  // namespace satgnc::guidance

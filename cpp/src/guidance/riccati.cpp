@@ -1,0 +1,415 @@
+// Riccati step with cached gains and an exact terminal constraint (see riccati.hpp).
+#include "satgnc/guidance/riccati.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "satgnc/core/validate.hpp"
+
+namespace satgnc::guidance {
+
+using Eigen::Dynamic;
+using Eigen::Index;
+using Eigen::Map;
+using Eigen::Matrix;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+void LtvDynamics::validate() const {
+  using core::require;
+  require(horizon >= 1, "horizon", "must be >= 1, got " + std::to_string(horizon));
+  require(!A.empty() && !B.empty(), "A/B", "must hold 1 (time-invariant) or N matrices",
+          "pass [A] for constant dynamics");
+  require(A.size() == 1 || static_cast<int>(A.size()) == horizon, "A",
+          "must hold 1 or N = " + std::to_string(horizon) + " matrices, got " + std::to_string(A.size()));
+  require(B.size() == 1 || static_cast<int>(B.size()) == horizon, "B",
+          "must hold 1 or N = " + std::to_string(horizon) + " matrices, got " + std::to_string(B.size()));
+  require(c.empty() || c.size() == 1 || static_cast<int>(c.size()) == horizon, "c",
+          "must hold 0, 1 or N vectors, got " + std::to_string(c.size()));
+  const Index n = A[0].rows(), m = B[0].cols();
+  require(n >= 1 && m >= 1, "A/B", "need nx >= 1 and nu >= 1");
+  for (std::size_t k = 0; k < A.size(); ++k) {
+    require(A[k].rows() == n && A[k].cols() == n, "A[" + std::to_string(k) + "]",
+            "must be nx x nx = " + std::to_string(n) + " x " + std::to_string(n),
+            "got " + std::to_string(A[k].rows()) + " x " + std::to_string(A[k].cols()));
+    core::require_finite(A[k], "A[" + std::to_string(k) + "]");
+  }
+  for (std::size_t k = 0; k < B.size(); ++k) {
+    require(B[k].rows() == n && B[k].cols() == m, "B[" + std::to_string(k) + "]",
+            "must be nx x nu = " + std::to_string(n) + " x " + std::to_string(m),
+            "got " + std::to_string(B[k].rows()) + " x " + std::to_string(B[k].cols()));
+    core::require_finite(B[k], "B[" + std::to_string(k) + "]");
+  }
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    require(c[k].size() == n, "c[" + std::to_string(k) + "]", "must have nx = " + std::to_string(n) + " entries");
+    core::require_finite(c[k], "c[" + std::to_string(k) + "]");
+  }
+}
+
+namespace {
+void require_psd(const MatrixXd& M, Index n, const std::string& name, bool allow_empty) {
+  using core::require;
+  if (allow_empty && M.size() == 0) return;
+  require(M.rows() == n && M.cols() == n, name,
+          "must be " + std::to_string(n) + " x " + std::to_string(n) + ", got " + std::to_string(M.rows()) +
+              " x " + std::to_string(M.cols()));
+  core::require_finite(M, name);
+  const double scale = std::max(1.0, M.cwiseAbs().maxCoeff());
+  require((M - M.transpose()).cwiseAbs().maxCoeff() <= 1e-10 * scale, name, "must be symmetric",
+          "pass (M + M') / 2");
+  Eigen::SelfAdjointEigenSolver<MatrixXd> es(M, Eigen::EigenvaluesOnly);
+  require(es.eigenvalues().minCoeff() >= -1e-10 * scale, name, "must be positive semidefinite",
+          "weights are variances' inverses: no negative eigenvalues");
+}
+}  // namespace
+
+void RiccatiSolver::setup(const LtvDynamics& dyn, const MatrixXd& Q, const MatrixXd& R, const MatrixXd& Qf,
+                          bool terminal_equality) {
+  dyn.validate();
+  nx_ = dyn.nx();
+  nu_ = dyn.nu();
+  N_ = dyn.horizon;
+  require_psd(Q, nx_, "Q", true);
+  require_psd(R, nu_, "R", true);
+  require_psd(Qf, nx_, "Qf", false);
+  dyn_ = dyn;
+  Q_ = Q;
+  R_ = R;
+  Qf_ = Qf;
+  terminal_ = terminal_equality;
+  factored_ = false;
+  factorizations_ = 0;
+  const Index n = nx_, m = nu_, N = N_;
+  P_.setZero(n, n * (N + 1));
+  K_.setZero(m, n * N);
+  AclT_.setZero(n, n * N);
+  QuuInv_.setZero(m, m * N);
+  QuuInvBt_.setZero(m, n * N);
+  e_.setZero(n, N);
+  D_.setZero(m, N);
+  K2_.setZero(m, n * N);
+  D2_.setZero(m, N);
+  Inu_ = MatrixXd::Identity(m, m);
+  if (terminal_) {
+    T_.setZero(m, n * N);
+    Z_.setZero(n, n * (N + 1));
+    S_.setZero(n, n);
+    Spinv_.setZero(n, n);
+    eigvec_.setZero(n, n);
+    eigval_.setZero(n);
+  }
+  BtP_.setZero(m, n);
+  Quu_.setZero(m, m);
+  Qux_.setZero(m, n);
+  AtP_.setZero(n, n);
+  tmp_nx_nx_.setZero(n, n);
+  tmp_nu_nu_.setZero(m, m);
+  Pn_.setZero(n, n);
+  W_.setZero(n, n);
+  Wn_.setZero(n, n);
+  llt_ = Eigen::LLT<MatrixXd>(m);
+  p_.setZero(n);
+  w_.setZero(n);
+  tmp_nx_.setZero(n);
+  tmp_nu_.setZero(m);
+  nu_term_.setZero(n);
+  miss_.setZero(n);
+}
+
+bool RiccatiSolver::factor_stage(int k, double rho) noexcept {
+  const Index n = nx_, m = nu_;
+  const MatrixXd& A = dyn_.A_at(k);
+  const MatrixXd& B = dyn_.B_at(k);
+  Pn_ = P_.middleCols((k + 1) * n, n);
+  BtP_.noalias() = B.transpose() * Pn_;
+  if (R_.size() != 0) {
+    Quu_ = R_;
+  } else {
+    Quu_.setZero();
+  }
+  Quu_.diagonal().array() += rho;
+  Quu_.noalias() += BtP_ * B;
+  Qux_.noalias() = BtP_ * A;
+  llt_.compute(Quu_);
+  if (llt_.info() != Eigen::Success) return false;
+  tmp_nu_nu_ = Inu_;
+  llt_.solveInPlace(tmp_nu_nu_);
+  QuuInv_.middleCols(k * m, m) = tmp_nu_nu_;
+  K_.middleCols(k * n, n).noalias() = tmp_nu_nu_ * Qux_;
+  QuuInvBt_.middleCols(k * n, n).noalias() = tmp_nu_nu_ * B.transpose();
+  tmp_nx_nx_ = A;
+  tmp_nx_nx_.noalias() -= B * K_.middleCols(k * n, n);
+  AclT_.middleCols(k * n, n) = tmp_nx_nx_.transpose();
+  // P_k = Q + A'P A - Qux' K (Q acts on x_1..x_{N-1})
+  AtP_.noalias() = A.transpose() * Pn_;
+  if (Q_.size() != 0 && k >= 1) {
+    tmp_nx_nx_ = Q_;
+  } else {
+    tmp_nx_nx_.setZero();
+  }
+  tmp_nx_nx_.noalias() += AtP_ * A;
+  tmp_nx_nx_.noalias() -= Qux_.transpose() * K_.middleCols(k * n, n);
+  AtP_ = tmp_nx_nx_.transpose();
+  tmp_nx_nx_ += AtP_;
+  P_.middleCols(k * n, n) = 0.5 * tmp_nx_nx_;
+  if (!dyn_.c.empty()) {
+    const VectorXd& c = dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k];
+    e_.col(k).noalias() = Pn_ * c;
+  }
+  return true;
+}
+
+bool RiccatiSolver::factor(double rho) noexcept {
+  factored_ = false;
+  if (nx_ == 0 || !(rho >= 0.0) || !std::isfinite(rho)) return false;
+  const Index n = nx_, m = nu_, N = N_;
+  // Under x_N = x_f the terminal cost is constant on the feasible set: dropping it is exact and
+  // avoids the cancellation between a large Qf and the terminal multiplier.
+  if (terminal_) {
+    P_.middleCols(N * n, n).setZero();
+  } else {
+    P_.middleCols(N * n, n) = Qf_;
+  }
+  for (int k = N_ - 1; k >= 0; --k) {
+    if (!factor_stage(k, rho)) return false;
+  }
+  rho_ = rho;
+  ++factorizations_;
+  if (terminal_) {
+    // Responses to a unit terminal multiplier (p_N = e_j), all nx columns at once.
+    W_.setIdentity();  // p_{k+1} for each unit multiplier
+    for (Index k = N - 1; k >= 0; --k) {
+      T_.middleCols(k * n, n).noalias() = QuuInvBt_.middleCols(k * n, n) * W_;  // d_k
+      Wn_.noalias() = AclT_.middleCols(k * n, n) * W_;
+      W_ = Wn_;
+    }
+    Z_.middleCols(0, n).setZero();
+    for (Index k = 0; k < N; ++k) {
+      const MatrixXd& A = dyn_.A_at(static_cast<int>(k));
+      const MatrixXd& B = dyn_.B_at(static_cast<int>(k));
+      // u = -K z - d  (stored over d), z+ = A z + B u
+      tmp_nx_nx_ = Z_.middleCols(k * n, n);
+      T_.middleCols(k * n, n) *= -1.0;
+      T_.middleCols(k * n, n).noalias() -= K_.middleCols(k * n, n) * tmp_nx_nx_;
+      Z_.middleCols((k + 1) * n, n).noalias() = A * tmp_nx_nx_;
+      Z_.middleCols((k + 1) * n, n).noalias() += B * T_.middleCols(k * n, n);
+    }
+    S_ = Z_.middleCols(N * n, n);
+    tmp_nx_nx_ = S_.transpose();
+    tmp_nx_nx_ += S_;
+    tmp_nx_nx_ *= 0.5;
+    jacobi_eigen(tmp_nx_nx_, eigvec_, eigval_);
+    const double lmax = eigval_.cwiseAbs().maxCoeff();
+    rank_ = 0;
+    Spinv_.setZero();
+    for (Index i = 0; i < n; ++i) {
+      if (std::abs(eigval_(i)) > 1e-12 * lmax && lmax > 0.0) {
+        ++rank_;
+        Spinv_.noalias() += (1.0 / eigval_(i)) * eigvec_.col(i) * eigvec_.col(i).transpose();
+      }
+    }
+  }
+  factored_ = true;
+  return true;
+}
+
+template <int NX, int NU>
+void RiccatiSolver::affine_sweep(const Eigen::Ref<const VectorXd>& x0, const Eigen::Ref<const MatrixXd>& q,
+                                 const Eigen::Ref<const MatrixXd>& r, Eigen::Ref<MatrixXd> X,
+                                 Eigen::Ref<MatrixXd> U) noexcept {
+  using VX = Matrix<double, NX, 1>;
+  using VU = Matrix<double, NU, 1>;
+  using MXX = Matrix<double, NX, NX>;
+  using MUX = Matrix<double, NU, NX>;
+  using MUU = Matrix<double, NU, NU>;
+  using MXU = Matrix<double, NX, NU>;
+  const Index n = nx_, m = nu_, N = N_;
+  const bool has_c = !dyn_.c.empty();
+  Map<VX> p(p_.data(), n), w(w_.data(), n);
+  if (terminal_) {
+    p.setZero();
+  } else {
+    p = q.col(N);
+  }
+  for (Index k = N - 1; k >= 0; --k) {
+    if (has_c) {
+      w = p + e_.col(k);
+    } else {
+      w = p;
+    }
+    Map<const VU> rk(r.col(k).data(), m);
+    Map<VU> dk(D_.col(k).data(), m);
+    Map<const MUU> Ginv(QuuInv_.col(k * m).data(), m, m);
+    Map<const MUX> GB(QuuInvBt_.col(k * n).data(), m, n);
+    Map<const MXX> AclT(AclT_.col(k * n).data(), n, n);
+    Map<const MUX> K(K_.col(k * n).data(), m, n);
+    dk.noalias() = Ginv * rk;
+    dk.noalias() += GB * w;
+    p.noalias() = AclT * w;
+    p.noalias() -= K.transpose() * rk;
+    p += q.col(k);
+  }
+  Map<VX> x(tmp_nx_.data(), n);
+  Map<VU> u(tmp_nu_.data(), m);
+  x = x0;
+  X.col(0) = x;
+  for (Index k = 0; k < N; ++k) {
+    Map<const MUX> K(K_.col(k * n).data(), m, n);
+    const MatrixXd& Ad = dyn_.A_at(static_cast<int>(k));
+    const MatrixXd& Bd = dyn_.B_at(static_cast<int>(k));
+    Map<const MXX> A(Ad.data(), n, n);
+    Map<const MXU> B(Bd.data(), n, m);
+    u.noalias() = K * x;
+    u = -u - D_.col(k);
+    U.col(k) = u;
+    Map<VX> xn(X.col(k + 1).data(), n);
+    xn.noalias() = A * x;
+    xn.noalias() += B * u;
+    if (has_c) xn += dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k];
+    x = xn;
+  }
+}
+
+RiccatiStatus RiccatiSolver::apply_terminal(const Eigen::Ref<const VectorXd>& xf, Eigen::Ref<MatrixXd> X,
+                                            Eigen::Ref<MatrixXd> U) noexcept {
+  const Index n = nx_, m = nu_, N = N_;
+  miss_ = xf - X.col(N);
+  const double miss0 = miss_.norm();
+  nu_term_.noalias() = Spinv_ * miss_;
+  for (Index k = 0; k < N; ++k) {
+    U.col(k).noalias() += T_.middleCols(k * n, n) * nu_term_;
+    X.col(k + 1).noalias() += Z_.middleCols((k + 1) * n, n) * nu_term_;
+  }
+  (void)m;
+  if (rank_ < n) {
+    const double after = (xf - X.col(N)).norm();
+    if (after > 1e-6 * std::max(miss0, xf.norm()) && after > 1e-300) return RiccatiStatus::kTerminalUnreachable;
+  }
+  return RiccatiStatus::kOk;
+}
+
+RiccatiStatus RiccatiSolver::solve(const Eigen::Ref<const VectorXd>& x0, const Eigen::Ref<const MatrixXd>& q,
+                                   const Eigen::Ref<const MatrixXd>& r, const Eigen::Ref<const VectorXd>& xf,
+                                   Eigen::Ref<MatrixXd> X, Eigen::Ref<MatrixXd> U) noexcept {
+  if (!factored_) return RiccatiStatus::kNotFactored;
+  if (nx_ == 6 && nu_ == 3) {
+    affine_sweep<6, 3>(x0, q, r, X, U);
+  } else {
+    affine_sweep<Dynamic, Dynamic>(x0, q, r, X, U);
+  }
+  if (terminal_) return apply_terminal(xf, X, U);
+  return RiccatiStatus::kOk;
+}
+
+RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const VectorXd>& x0,
+                                        const Eigen::Ref<const MatrixXd>& q, const Eigen::Ref<const MatrixXd>& r,
+                                        const Eigen::Ref<const VectorXd>& xf, Eigen::Ref<MatrixXd> X,
+                                        Eigen::Ref<MatrixXd> U) noexcept {
+  if (terminal_ && !factored_) return RiccatiStatus::kNotFactored;
+  const Index n = nx_, m = nu_, N = N_;
+  // value function V_k(x) = 1/2 x' P x + p' x, recomputed from scratch (eqs. (12)-(21) of the paper)
+  if (terminal_) {  // see factor()
+    W_.setZero();
+    p_.setZero();
+  } else {
+    W_ = Qf_;  // P_{k+1}
+    p_ = q.col(N);
+  }
+  for (Index k = N - 1; k >= 0; --k) {
+    const MatrixXd& A = dyn_.A_at(static_cast<int>(k));
+    const MatrixXd& B = dyn_.B_at(static_cast<int>(k));
+    w_ = p_;
+    if (!dyn_.c.empty()) w_.noalias() += W_ * (dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k]);
+    BtP_.noalias() = B.transpose() * W_;
+    if (R_.size() != 0) {
+      Quu_ = R_;
+    } else {
+      Quu_.setZero();
+    }
+    Quu_.diagonal().array() += rho;
+    Quu_.noalias() += BtP_ * B;
+    Qux_.noalias() = BtP_ * A;
+    tmp_nu_ = r.col(k);
+    tmp_nu_.noalias() += B.transpose() * w_;  // qu
+    llt_.compute(Quu_);
+    if (llt_.info() != Eigen::Success) return RiccatiStatus::kNotFactored;
+    K2_.middleCols(k * n, n) = Qux_;
+    auto Kk = K2_.middleCols(k * n, n);
+    llt_.solveInPlace(Kk);
+    D2_.col(k) = tmp_nu_;
+    auto dk = D2_.col(k);
+    llt_.solveInPlace(dk);
+    // p_k = q_k + A' w - Qux' d_k ;  P_k = Q + A' P A - Qux' K
+    p_ = q.col(k);
+    p_.noalias() += A.transpose() * w_;
+    p_.noalias() -= Qux_.transpose() * D2_.col(k);
+    AtP_.noalias() = A.transpose() * W_;
+    if (Q_.size() != 0 && k >= 1) {
+      Wn_ = Q_;
+    } else {
+      Wn_.setZero();
+    }
+    Wn_.noalias() += AtP_ * A;
+    Wn_.noalias() -= Qux_.transpose() * K2_.middleCols(k * n, n);
+    W_ = Wn_.transpose();
+    W_ += Wn_;
+    W_ *= 0.5;
+  }
+  tmp_nx_ = x0;
+  X.col(0) = tmp_nx_;
+  for (Index k = 0; k < N; ++k) {
+    const MatrixXd& A = dyn_.A_at(static_cast<int>(k));
+    const MatrixXd& B = dyn_.B_at(static_cast<int>(k));
+    tmp_nu_.noalias() = K2_.middleCols(k * n, n) * tmp_nx_;
+    tmp_nu_ = -tmp_nu_ - D2_.col(k);
+    U.col(k) = tmp_nu_;
+    X.col(k + 1).noalias() = A * tmp_nx_;
+    X.col(k + 1).noalias() += B * tmp_nu_;
+    if (!dyn_.c.empty()) X.col(k + 1) += dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k];
+    tmp_nx_ = X.col(k + 1);
+  }
+  (void)m;
+  if (terminal_) return apply_terminal(xf, X, U);
+  return RiccatiStatus::kOk;
+}
+
+void jacobi_eigen(Eigen::Ref<MatrixXd> S, Eigen::Ref<MatrixXd> V, Eigen::Ref<VectorXd> w) noexcept {
+  const Index n = S.rows();
+  V.setIdentity();
+  for (int sweep = 0; sweep < 100; ++sweep) {
+    double off = 0.0, diag = 0.0;
+    for (Index i = 0; i < n; ++i) {
+      diag += S(i, i) * S(i, i);
+      for (Index j = i + 1; j < n; ++j) off += S(i, j) * S(i, j);
+    }
+    if (off <= 1e-32 * diag || off == 0.0) break;
+    for (Index p = 0; p < n; ++p) {
+      for (Index q = p + 1; q < n; ++q) {
+        const double apq = S(p, q);
+        if (apq == 0.0) continue;
+        const double theta = (S(q, q) - S(p, p)) / (2.0 * apq);
+        const double t = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+        for (Index k = 0; k < n; ++k) {  // columns p, q
+          const double skp = S(k, p), skq = S(k, q);
+          S(k, p) = c * skp - s * skq;
+          S(k, q) = s * skp + c * skq;
+        }
+        for (Index k = 0; k < n; ++k) {  // rows p, q
+          const double spk = S(p, k), sqk = S(q, k);
+          S(p, k) = c * spk - s * sqk;
+          S(q, k) = s * spk + c * sqk;
+        }
+        for (Index k = 0; k < n; ++k) {
+          const double vkp = V(k, p), vkq = V(k, q);
+          V(k, p) = c * vkp - s * vkq;
+          V(k, q) = s * vkp + c * vkq;
+        }
+      }
+    }
+  }
+  w = S.diagonal();
+}
+
+}  // namespace satgnc::guidance

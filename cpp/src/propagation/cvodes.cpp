@@ -1,0 +1,380 @@
+// CVODES propagator: state + variational equations, satgnc N_Vector, block-diagonal Newton solver.
+#include "satgnc/propagation/cvodes.hpp"
+
+#include <cvodes/cvodes.h>
+#include <cvodes/cvodes_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+#include <sunnonlinsol/sunnonlinsol_newton.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "satgnc/core/validate.hpp"
+#include "satgnc/propagation/nvector.hpp"
+
+namespace satgnc::propagation {
+
+namespace {
+constexpr int kStateDim = 6;
+constexpr int kAugDim = 42;
+
+[[noreturn]] void invalid(const std::string& name, const std::string& rule, const std::string& hint = "") {
+  core::require(false, name, rule, hint);
+  throw std::logic_error("unreachable");
+}
+
+std::string fmt(double x) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+}  // namespace
+
+void CvodesSettings::validate() const {
+  if (!(std::isfinite(rtol) && rtol > 0.0))
+    invalid("rtol", "must be finite and > 0, got " + fmt(rtol), "1e-10 is a good start for orbits");
+  if (!(std::isfinite(atol) && atol > 0.0)) invalid("atol", "must be finite and > 0, got " + fmt(atol));
+  const size_t na = atol_components.size();
+  if (!(na == 0 || na == 6 || (na == 42 && with_stm)))
+    invalid("atol_components", "must have 0, 6 or (with_stm) 42 entries, got " + std::to_string(na));
+  for (size_t i = 0; i < na; ++i)
+    if (!(std::isfinite(atol_components[i]) && atol_components[i] > 0.0))
+      invalid("atol_components[" + std::to_string(i) + "]", "must be finite and > 0");
+  if (max_steps <= 0) invalid("max_steps", "must be > 0, got " + std::to_string(max_steps));
+  const int omax = method == CvodesMethod::adams ? 12 : 5;
+  if (max_order < 0 || max_order > omax)
+    invalid("max_order", "must be 0 (default) or 1.." + std::to_string(omax) + " for this method, got " +
+                             std::to_string(max_order));
+  if (!(std::isfinite(initial_step) && initial_step >= 0.0))
+    invalid("initial_step", "must be finite and >= 0 (0: automatic), got " + fmt(initial_step));
+  if (!(std::isfinite(max_step) && max_step >= 0.0))
+    invalid("max_step", "must be finite and >= 0 (0: unbounded), got " + fmt(max_step));
+}
+
+void validate_propagation_input(const Vec6& x0, double t0, const std::vector<double>& times) {
+  // Written without temporaries so that the success path does not allocate.
+  if (!x0.allFinite()) invalid("x0", "must be finite (no NaN or Inf)");
+  if (!(x0.head<3>().squaredNorm() > 0.0))
+    invalid("x0", "position must be nonzero (|r| = 0)", "x0 = [r km, v km/s]");
+  if (!std::isfinite(t0)) invalid("t0", "must be finite");
+  if (times.empty()) invalid("times", "must not be empty");
+  for (size_t i = 0; i < times.size(); ++i)
+    if (!std::isfinite(times[i])) invalid("times", "must be finite, times[" + std::to_string(i) + "] is not");
+  const double dir = times.back() >= t0 ? 1.0 : -1.0;
+  if ((times.front() - t0) * dir < 0.0)
+    invalid("times", "must all lie on one side of t0 (forward or backward), times[0] = " +
+                         fmt(times.front()) + ", t0 = " + fmt(t0));
+  for (size_t i = 1; i < times.size(); ++i)
+    if (!((times[i] - times[i - 1]) * dir > 0.0))
+      invalid("times", "must be strictly monotone (sorted, no duplicates) in the direction of propagation",
+              "times[" + std::to_string(i - 1) + "] = " + fmt(times[i - 1]) + ", times[" +
+                  std::to_string(i) + "] = " + fmt(times[i]));
+}
+
+struct CvodesPropagator::Impl {
+  dynamics::ForceModel model;
+  CvodesSettings settings;
+  int n = kStateDim;
+  SUNContext ctx = nullptr;
+  void* mem = nullptr;
+  N_Vector y = nullptr;
+  N_Vector abstol = nullptr;
+  SUNNonlinearSolver nls = nullptr;
+  SUNLinearSolver ls = nullptr;
+  // Block-diagonal Newton matrix M = I - gamma A(x_pred), shared by the state and every STM column.
+  Eigen::PartialPivLU<Mat6> lu;
+  long lin_setups = 0;
+  double lu_t = 0.0, lu_gamma = 0.0;
+  // Failure bookkeeping (written only on failure).
+  bool rhs_failed = false;
+  double rhs_fail_t = 0.0;
+  std::string cv_message;
+
+  Impl(const dynamics::ForceModel& m, const CvodesSettings& s) : model(m), settings(s) {}
+  ~Impl() {
+    if (mem != nullptr) CVodeFree(&mem);
+    if (nls != nullptr) SUNNonlinSolFree(nls);
+    if (ls != nullptr) SUNLinSolFreeEmpty(ls);
+    if (abstol != nullptr) N_VDestroy(abstol);
+    if (y != nullptr) N_VDestroy(y);
+    if (ctx != nullptr) SUNContext_Free(&ctx);
+  }
+
+  N_Vector new_vector() {
+    return settings.vector == CvodesVector::satgnc ? nvector_new(n, ctx) : N_VNew_Serial(n, ctx);
+  }
+
+  void check(int flag, const char* what) {
+    if (flag < 0) throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
+  }
+
+  static int rhs(realtype t, N_Vector yv, N_Vector ydot, void* user) {
+    auto* p = static_cast<Impl*>(user);
+    const double* yd = N_VGetArrayPointer(yv);
+    double* fd = N_VGetArrayPointer(ydot);
+    const Eigen::Map<const Vec3> r(yd), v(yd + 3);
+    if (!(r.squaredNorm() > 0.0) || !std::isfinite(r.squaredNorm() + v.squaredNorm())) {
+      p->rhs_failed = true;
+      p->rhs_fail_t = t;
+      return 1;  // recoverable: CVODES retries with a smaller step, then reports a failure
+    }
+    Vec3 a;
+    if (p->n == kStateDim) {
+      a = p->model.acceleration(t, r, v);
+    } else {
+      Mat3 g, d;
+      p->model.acceleration_jacobians(t, r, v, a, g, d);
+      const Eigen::Map<const Mat6> phi(yd + 6);
+      Eigen::Map<Mat6> dphi(fd + 6);
+      dphi.topRows<3>() = phi.bottomRows<3>();
+      if (p->model.drag)
+        dphi.bottomRows<3>().noalias() = g * phi.topRows<3>() + d * phi.bottomRows<3>();
+      else
+        dphi.bottomRows<3>().noalias() = g * phi.topRows<3>();
+    }
+    if (!a.allFinite()) {
+      p->rhs_failed = true;
+      p->rhs_fail_t = t;
+      return 1;
+    }
+    fd[0] = yd[3];
+    fd[1] = yd[4];
+    fd[2] = yd[5];
+    fd[3] = a[0];
+    fd[4] = a[1];
+    fd[5] = a[2];
+    return 0;
+  }
+
+  static void error_handler(int /*code*/, const char* /*module*/, const char* /*function*/, char* msg,
+                            void* data) {
+    static_cast<Impl*>(data)->cv_message = msg;
+  }
+
+  // ---- matrix-embedded linear solver: x = M^-1 b block by block (7 blocks with the STM) ----------
+  static SUNLinearSolver_Type ls_type(SUNLinearSolver) { return SUNLINEARSOLVER_MATRIX_EMBEDDED; }
+
+  // CVODES 6.4 never calls setup() on a matrix-embedded solver (it disables lsetup for that type), so
+  // solve() refreshes M = I - gamma A(x_pred) itself whenever the step (t, gamma) changed: modified
+  // Newton with the Jacobian at the predicted state, refreshed every step. The coupling block
+  // d(A Phi)/dx (second derivatives of the force) is neglected; Newton then converges linearly on the
+  // STM part, which costs iterations but not accuracy (the residual is exact).
+  static int ls_solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, realtype) {
+    auto* p = static_cast<Impl*>(s->content);
+    realtype tcur, gamma, rl1;
+    N_Vector ypred, yn, fn, zn1;
+    void* ud;
+    if (CVodeGetNonlinearSystemData(p->mem, &tcur, &ypred, &yn, &fn, &gamma, &rl1, &zn1, &ud) != CV_SUCCESS)
+      return SUNLS_PACKAGE_FAIL_UNREC;
+    if (p->lin_setups == 0 || tcur != p->lu_t || gamma != p->lu_gamma) {
+      const double* yd = N_VGetArrayPointer(ypred);
+      const Eigen::Map<const Vec3> r(yd), v(yd + 3);
+      Vec3 a;
+      Mat3 g, d;
+      p->model.acceleration_jacobians(tcur, r, v, a, g, d);
+      Mat6 m = Mat6::Identity();
+      m.topRightCorner<3, 3>().diagonal().array() -= gamma;
+      m.bottomLeftCorner<3, 3>() = -gamma * g;
+      m.bottomRightCorner<3, 3>() -= gamma * d;
+      if (!m.allFinite()) return SUNLS_PACKAGE_FAIL_REC;
+      p->lu.compute(m);
+      p->lu_t = tcur;
+      p->lu_gamma = gamma;
+      ++p->lin_setups;
+    }
+    const double* bd = N_VGetArrayPointer(b);
+    double* xd = N_VGetArrayPointer(x);
+    for (int k = 0; k < p->n; k += kStateDim) {
+      Eigen::Map<Vec6> xk(xd + k);
+      xk = p->lu.solve(Eigen::Map<const Vec6>(bd + k));
+    }
+    return SUNLS_SUCCESS;
+  }
+
+  void setup() {
+    settings.validate();
+    model.validate();
+    n = settings.with_stm ? kAugDim : kStateDim;
+    if (SUNContext_Create(nullptr, &ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
+    y = new_vector();
+    if (y == nullptr) throw std::runtime_error("N_Vector allocation failed");
+    double* yd = N_VGetArrayPointer(y);
+    for (int i = 0; i < n; ++i) yd[i] = 0.0;
+    yd[0] = 1.0;
+    mem = CVodeCreate(settings.method == CvodesMethod::adams ? CV_ADAMS : CV_BDF, ctx);
+    if (mem == nullptr) throw std::runtime_error("CVodeCreate failed");
+    check(CVodeSetErrHandlerFn(mem, &Impl::error_handler, this), "CVodeSetErrHandlerFn");
+    check(CVodeInit(mem, &Impl::rhs, 0.0, y), "CVodeInit");
+    check(CVodeSetUserData(mem, this), "CVodeSetUserData");
+    if (settings.atol_components.empty()) {
+      check(CVodeSStolerances(mem, settings.rtol, settings.atol), "CVodeSStolerances");
+    } else {
+      abstol = new_vector();
+      if (abstol == nullptr) throw std::runtime_error("N_Vector allocation failed");
+      double* ad = N_VGetArrayPointer(abstol);
+      for (int i = 0; i < n; ++i)
+        ad[i] = i < static_cast<int>(settings.atol_components.size()) ? settings.atol_components[i]
+                                                                       : settings.atol;
+      check(CVodeSVtolerances(mem, settings.rtol, abstol), "CVodeSVtolerances");
+    }
+    if (settings.max_order > 0) check(CVodeSetMaxOrd(mem, settings.max_order), "CVodeSetMaxOrd");
+    if (settings.max_step > 0.0) check(CVodeSetMaxStep(mem, settings.max_step), "CVodeSetMaxStep");
+    CvodesCorrector c = settings.corrector;
+    if (c == CvodesCorrector::automatic) c = CvodesCorrector::newton;  // measured: see docs/propagation.md
+    if (c == CvodesCorrector::fixed_point) {
+      nls = SUNNonlinSol_FixedPoint(y, 0, ctx);
+      if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_FixedPoint failed");
+      check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
+    } else {
+      nls = SUNNonlinSol_Newton(y, ctx);
+      if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_Newton failed");
+      check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
+      ls = SUNLinSolNewEmpty(ctx);
+      if (ls == nullptr) throw std::runtime_error("SUNLinSolNewEmpty failed");
+      ls->content = this;
+      ls->ops->gettype = &Impl::ls_type;
+      ls->ops->solve = &Impl::ls_solve;
+      check(CVodeSetLinearSolver(mem, ls, nullptr), "CVodeSetLinearSolver");
+    }
+  }
+
+  static PropagationStatus map_flag(int flag) {
+    switch (flag) {
+      case CV_TOO_MUCH_WORK:
+        return PropagationStatus::too_much_work;
+      case CV_TOO_MUCH_ACC:
+        return PropagationStatus::too_much_accuracy;
+      case CV_ERR_FAILURE:
+        return PropagationStatus::error_test_failures;
+      case CV_CONV_FAILURE:
+        return PropagationStatus::convergence_failures;
+      case CV_RHSFUNC_FAIL:
+      case CV_FIRST_RHSFUNC_ERR:
+      case CV_REPTD_RHSFUNC_ERR:
+      case CV_UNREC_RHSFUNC_ERR:
+        return PropagationStatus::rhs_failure;
+      default:
+        return PropagationStatus::solver_failure;
+    }
+  }
+
+  void record(Trajectory& out, double t) const {
+    const double* yd = N_VGetArrayPointer(y);
+    out.times.push_back(t);
+    out.states.push_back(Eigen::Map<const Vec6>(yd));
+    if (n == kAugDim) out.stms.push_back(Eigen::Map<const Mat6>(yd + 6));
+  }
+
+  void fill_stats(Trajectory& out) const {
+    PropagationStats& s = out.stats;
+    CVodeGetNumSteps(mem, &s.steps);
+    CVodeGetNumRhsEvals(mem, &s.rhs_evals);
+    CVodeGetNumErrTestFails(mem, &s.error_test_fails);
+    CVodeGetNumNonlinSolvIters(mem, &s.nonlin_iters);
+    CVodeGetNumNonlinSolvConvFails(mem, &s.nonlin_conv_fails);
+    CVodeGetLastStep(mem, &s.last_step);
+    s.lin_setups = lin_setups;
+  }
+
+  void run(const Vec6& x0, double t0, const std::vector<double>& times, Trajectory& out) {
+    validate_propagation_input(x0, t0, times);
+    out.times.clear();
+    out.states.clear();
+    out.stms.clear();
+    out.times.reserve(times.size());
+    out.states.reserve(times.size());
+    if (n == kAugDim) out.stms.reserve(times.size());
+    out.stats = PropagationStats{};
+    out.status = PropagationStatus::success;
+    out.message.clear();
+    out.t_reached = t0;
+    rhs_failed = false;
+    lin_setups = 0;
+
+    double* yd = N_VGetArrayPointer(y);
+    Eigen::Map<Vec6> ystate(yd);
+    ystate = x0;
+    if (n == kAugDim) Eigen::Map<Mat6>(yd + 6).setIdentity();
+    size_t i = 0;
+    if (times[0] == t0) {
+      record(out, t0);
+      ++i;
+    }
+    if (i == times.size()) return;
+
+    const double dir = times.back() > t0 ? 1.0 : -1.0;
+    check(CVodeReInit(mem, t0, y), "CVodeReInit");
+    check(CVodeSetInitStep(mem, dir * settings.initial_step), "CVodeSetInitStep");
+    check(CVodeSetStopTime(mem, times.back()), "CVodeSetStopTime");
+    long used = 0;
+    for (; i < times.size(); ++i) {
+      int flag = CV_TOO_MUCH_WORK;
+      const long remaining = settings.max_steps - used;
+      if (remaining > 0) {
+        CVodeSetMaxNumSteps(mem, remaining);
+        realtype tret = t0;
+        flag = CVode(mem, times[i], y, &tret, CV_NORMAL);
+        CVodeGetNumSteps(mem, &used);
+      }
+      if (flag < 0) {
+        fail(out, flag, times[i], times.size());
+        return;
+      }
+      record(out, times[i]);
+    }
+    out.t_reached = times.back();
+    fill_stats(out);
+  }
+
+  void fail(Trajectory& out, int flag, double target, size_t n_requested) {
+    fill_stats(out);
+    realtype tcur = out.t_reached;
+    if (out.stats.steps > 0) CVodeGetCurrentTime(mem, &tcur);
+    out.t_reached = tcur;
+    out.status = map_flag(flag);
+    if (flag == CV_TOO_MUCH_WORK) cv_message = "max_steps = " + std::to_string(settings.max_steps) +
+                                               " steps taken (" + std::to_string(out.stats.steps) + ")";
+    out.message = std::string("CVODES stopped at t = ") + fmt(tcur) + " s before reaching t = " +
+                  fmt(target) + " s (" + std::to_string(out.times.size()) + " of " +
+                  std::to_string(n_requested) + " outputs returned): " + status_message(out.status);
+    if (rhs_failed) out.message += "; the force model failed at t = " + fmt(rhs_fail_t) + " s";
+    if (!cv_message.empty()) out.message += " [CVODES: " + cv_message + "]";
+    cv_message.clear();
+  }
+};
+
+CvodesPropagator::CvodesPropagator(const dynamics::ForceModel& model, const CvodesSettings& settings)
+    : impl_(std::make_unique<Impl>(model, settings)) {
+  impl_->setup();
+}
+CvodesPropagator::~CvodesPropagator() = default;
+CvodesPropagator::CvodesPropagator(CvodesPropagator&&) noexcept = default;
+CvodesPropagator& CvodesPropagator::operator=(CvodesPropagator&&) noexcept = default;
+
+Trajectory CvodesPropagator::propagate(const Vec6& x0, double t0, const std::vector<double>& times) {
+  Trajectory out;
+  impl_->run(x0, t0, times, out);
+  return out;
+}
+
+void CvodesPropagator::propagate(const Vec6& x0, double t0, const std::vector<double>& times,
+                                 Trajectory& out) {
+  impl_->run(x0, t0, times, out);
+}
+
+const dynamics::ForceModel& CvodesPropagator::model() const { return impl_->model; }
+const CvodesSettings& CvodesPropagator::settings() const { return impl_->settings; }
+
+Trajectory propagate_cvodes(const dynamics::ForceModel& model, const Vec6& x0, double t0,
+                            const std::vector<double>& times, const CvodesSettings& settings) {
+  CvodesPropagator p(model, settings);
+  return p.propagate(x0, t0, times);
+}
+
+}  // namespace satgnc::propagation

@@ -1,0 +1,54 @@
+"""Python bindings of the analytic Kepler propagator (C++ tests hold the numerical checks)."""
+
+import numpy as np
+import pytest
+from satgnc import _satgnc
+
+MU = 398600.4418
+# Vallado, Fundamentals of Astrodynamics and Applications, 4th ed., Example 2-4.
+X0 = np.array([1131.340, -2282.343, 6672.423, -5.64305, 4.30333, 2.42879])
+
+
+def test_kepler_step_vallado_example_2_4():
+    x, stm = _satgnc.kepler_step(X0, 2400.0, MU)
+    assert x.shape == (6,) and stm.shape == (6, 6)
+    # printed to 1e-4 km and 1e-6 km/s: tolerance 2e-4 km, 2e-6 km/s
+    np.testing.assert_allclose(x[:3], [-4219.7527, 4363.0292, -3958.7666], atol=2e-4, rtol=0)
+    np.testing.assert_allclose(x[3:], [3.689866, -1.916735, -6.112511], atol=2e-6, rtol=0)
+    assert abs(np.linalg.det(stm) - 1.0) < 1e-10
+
+
+def test_kepler_step_stm_matches_finite_differences():
+    _, stm = _satgnc.kepler_step(X0, 2400.0, MU)
+    fd = np.empty((6, 6))
+    for k in range(6):
+        h = 1e-6 * (np.linalg.norm(X0[:3]) if k < 3 else np.linalg.norm(X0[3:]))
+        e = np.zeros(6)
+        e[k] = h
+        xp = _satgnc.kepler_step(X0 + e, 2400.0, MU)[0]
+        xm = _satgnc.kepler_step(X0 - e, 2400.0, MU)[0]
+        fd[:, k] = (xp - xm) / (2 * h)
+    for i in (0, 3):
+        for j in (0, 3):
+            blk, ref = stm[i : i + 3, j : j + 3], fd[i : i + 3, j : j + 3]
+            assert np.abs(blk - ref).max() / np.abs(ref).max() < 1e-7
+
+
+@pytest.mark.parametrize(
+    ("x0", "dt", "mu", "name"),
+    [
+        (np.zeros(6), 10.0, MU, "x0"),
+        (np.r_[X0[:5], np.nan], 10.0, MU, "x0"),
+        (X0, np.inf, MU, "dt"),
+        (X0, 10.0, 0.0, "mu"),
+        (X0, 10.0, -1.0, "mu"),
+    ],
+)
+def test_kepler_step_bad_input_names_argument(x0, dt, mu, name):
+    with pytest.raises(ValueError, match=f"^{name}:"):
+        _satgnc.kepler_step(x0, dt, mu)
+
+
+def test_kepler_step_wrong_shape_is_type_error():
+    with pytest.raises(TypeError):
+        _satgnc.kepler_step(np.zeros(5), 10.0, MU)
