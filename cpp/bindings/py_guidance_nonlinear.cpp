@@ -224,8 +224,13 @@ void init_guidance_nonlinear(py::module_& m) {
       .value("inner_failed", ScpStatus::inner_failed)
       .value("line_search_failed", ScpStatus::line_search_failed)
       .value("not_run", ScpStatus::not_run);
+  py::enum_<ScpInner>(m, "ScpInner")
+      .value("ilqr_admm", ScpInner::ilqr_admm)
+      .value("linear_admm", ScpInner::linear_admm);
   py::class_<ScpSettings>(m, "ScpSettings")
       .def(py::init<>())
+      .def_readwrite("inner_solver", &ScpSettings::inner_solver)
+      .def_readwrite("inner_ilqr", &ScpSettings::inner_ilqr)
       .def_readwrite("max_outer", &ScpSettings::max_outer)
       .def_readwrite("tol", &ScpSettings::tol)
       .def_readwrite("armijo", &ScpSettings::armijo)
@@ -240,6 +245,7 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readonly("last_step", &ScpInfo::last_step)
       .def_readonly("failed_interval", &ScpInfo::failed_interval)
       .def_readonly("inner_status", &ScpInfo::inner_status)
+      .def_readonly("inner_ilqr_status", &ScpInfo::inner_ilqr_status)
       .def_property_readonly("message", [](const ScpInfo& i) { return std::string(status_message(i.status)); });
   py::class_<ScpSolver>(m, "ScpSolver")
       .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const ScpSettings&>(), py::arg("model"),

@@ -107,7 +107,7 @@ class Case:
 
 
 def paper_case(constrained: bool = False, x0_si: np.ndarray | None = None, params=None,
-               horizon: int = N, tf: float = TF) -> Case:
+               horizon: int = N, tf: float = TF, substeps: int = 1) -> Case:
     """The published implementation's nonlinear case: RK3 over dt = tf/horizon, scaling
     (time 324.48 s, force 0.42318 N), Qf = 1000 diag(1,1,1,0,0,0,1,1,1,0,0,0), alpha = 1, control
     cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6)."""
@@ -117,6 +117,7 @@ def paper_case(constrained: bool = False, x0_si: np.ndarray | None = None, param
     ms = _c.TwoSatelliteMapSettings()
     ms.dt = tf / horizon
     ms.scheme = 3
+    ms.substeps = substeps
     ms.state_scale = sc.state_scale
     ms.control_scale = sc.control_scale
     dmap = _c.TwoSatelliteMap(model, ms)
@@ -154,17 +155,31 @@ def solve_paper(case: Case, max_iter: int = 300, rho: float | None = None, eps: 
     return sol
 
 
-def solve_scp(case: Case, U0: np.ndarray | None = None, tol: float = 1e-10, eps: float = 1e-9,
-              max_outer: int = 30):
-    """Sequential convex programming (satgnc's linear ADMM on each linearization). Returns the solver."""
+def solve_scp(case: Case, U0: np.ndarray | None = None, tol: float = 1e-10, eps: float = 1e-8,
+              max_outer: int = 30, inner: str = "linear_admm", max_inner: int = 20000):
+    """Sequential convex programming: re-linearize (exact map Jacobians), solve the convex L1
+    subproblem (``inner="ilqr_admm"``: satgnc's iLQR-ADMM on the affine model, which is exact
+    LQR-ADMM there, allocation-free; ``"linear_admm"``: the linear guidance AdmmSolver), line search
+    on the true cost. Returns the solver (``.U``, ``.X``, ``.info``; scaled units)."""
     st = _c.ScpSettings()
     st.tol = tol
     st.max_outer = max_outer
-    inner = _c.AdmmSettings()
-    inner.eps_abs = eps
-    inner.eps_rel = eps
-    inner.max_iterations = 20000
-    st.inner = inner
+    if inner == "ilqr_admm":
+        st.inner_solver = _c.ScpInner.ilqr_admm
+        ii = st.inner_ilqr
+        ii.eps_abs = eps
+        ii.eps_rel = eps
+        ii.max_iter = max_inner
+        st.inner_ilqr = ii
+    elif inner == "linear_admm":
+        st.inner_solver = _c.ScpInner.linear_admm
+        ia = _c.AdmmSettings()
+        ia.eps_abs = eps
+        ia.eps_rel = eps
+        ia.max_iterations = max_inner
+        st.inner = ia
+    else:
+        raise ValueError(f"inner: must be 'ilqr_admm' or 'linear_admm', got {inner!r}")
     sol = _c.ScpSolver(case.dmap, case.problem, st)
     if U0 is not None:
         sol.set_initial_controls(U0)

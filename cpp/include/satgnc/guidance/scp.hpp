@@ -18,13 +18,30 @@
 
 namespace satgnc::guidance {
 
+/// Solver of the convex subproblem.
+enum class ScpInner {
+  ilqr_admm = 0,    ///< IlqrAdmmSolver on the affine model (exact LQR-ADMM there; allocation-free)
+  linear_admm = 1,  ///< guidance/admm.hpp AdmmSolver (rebuilt per outer iteration: allocates)
+};
+
 /// Settings (plain data).
 struct ScpSettings {
+  ScpInner inner_solver = ScpInner::ilqr_admm;
+  IlqrAdmmSettings inner_ilqr = default_inner_ilqr();  ///< for ScpInner::ilqr_admm
+  static IlqrAdmmSettings default_inner_ilqr() {
+    IlqrAdmmSettings s;
+    s.rho = 1.0;
+    s.adaptive_rho = true;
+    s.eps_abs = 1e-8;
+    s.eps_rel = 1e-8;
+    s.max_iter = 20000;
+    return s;
+  }
   int max_outer = 30;             ///< outer (re-linearization) iterations
   double tol = 1e-9;              ///< stop when predicted decrease <= tol * max(1, J)
   double armijo = 1e-4;           ///< sufficient-decrease fraction of the predicted decrease
   int line_search_iters = 30;     ///< halvings of t
-  AdmmSettings inner;             ///< convex subproblem solver settings (defaults: residual rule, adaptive rho)
+  AdmmSettings inner;             ///< for ScpInner::linear_admm (defaults: residual rule, adaptive rho)
   void validate() const;
 };
 
@@ -47,7 +64,8 @@ struct ScpInfo {
   double predicted_decrease = 0.0;  ///< of the last subproblem
   double last_step = 0.0;       ///< accepted t of the last outer iteration
   int failed_interval = -1;
-  AdmmStatus inner_status = AdmmStatus::kUnsolved;
+  AdmmStatus inner_status = AdmmStatus::kUnsolved;          ///< linear_admm inner
+  IlqrAdmmStatus inner_ilqr_status = IlqrAdmmStatus::not_run;  ///< ilqr_admm inner
 };
 
 struct ScpResult {
@@ -57,8 +75,9 @@ struct ScpResult {
   ScpInfo info;
 };
 
-/// Sequential convex programming solver. The inner AdmmSolver is rebuilt on each re-linearization
-/// (guidance/admm.hpp has no in-place dynamics update), so solve() allocates once per outer iteration.
+/// Sequential convex programming solver. With ScpInner::ilqr_admm (default) solve() does not allocate;
+/// with ScpInner::linear_admm the AdmmSolver is rebuilt on each re-linearization (guidance/admm.hpp
+/// has no in-place dynamics update), so solve() allocates once per outer iteration.
 class ScpSolver {
  public:
   /// Validates (std::invalid_argument) with the same rules as IlqrAdmmSolver.
@@ -79,8 +98,10 @@ class ScpSolver {
   const DiscreteModel& model_;
   NonlinearL1Problem prob_;
   ScpSettings set_;
-  IlqrAdmmSolver checker_;  // validation only
+  IlqrAdmmSolver checker_;  // validation; its model is the nonlinear one
   int nx_, nu_, N_;
+  std::unique_ptr<LinearDiscreteModel> lin_;
+  std::unique_ptr<IlqrAdmmSolver> inner_;
   ScpResult res_;
   Eigen::MatrixXd Ytmp_, Utmp_, Xtmp_, Ywarm_, Lwarm_;
   LtvProblem sub_;
