@@ -41,6 +41,8 @@ py::dict result_to_dict(const guidance::AdmmResult& r) {
   d["rho"] = i.rho;
   d["factorizations"] = i.factorizations;
   d["rho_updates"] = i.rho_updates;
+  d["polished"] = i.polished;
+  d["polish_attempts"] = i.polish_attempts;
   d["solve_time"] = i.solve_time;
   return d;
 }
@@ -105,7 +107,11 @@ void init_guidance(py::module_& m) {
       .def_readwrite("cache_gains", &AdmmSettings::cache_gains)
       .def_readwrite("paper_multiplier_rescale", &AdmmSettings::paper_multiplier_rescale)
       .def_readwrite("paper_global_rescale_iterations", &AdmmSettings::paper_global_rescale_iterations)
-      .def_readwrite("track_best", &AdmmSettings::track_best);
+      .def_readwrite("track_best", &AdmmSettings::track_best)
+      .def_readwrite("polish", &AdmmSettings::polish)
+      .def_readwrite("polish_interval", &AdmmSettings::polish_interval)
+      .def_readwrite("polish_max_free", &AdmmSettings::polish_max_free)
+      .def_readwrite("polish_tolerance", &AdmmSettings::polish_tolerance);
 
   py::class_<AdmmSolver>(m, "AdmmSolver")
       .def(py::init([](std::vector<Eigen::MatrixXd> A, std::vector<Eigen::MatrixXd> B,

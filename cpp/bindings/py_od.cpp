@@ -1,6 +1,268 @@
-// pybind11 wrappers for the od room.
+// pybind11 wrappers for the od room (no algorithm here).
+#include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "satgnc/od/measurement.hpp"
+#include "satgnc/od/propagator.hpp"
+#include "satgnc/od/solver.hpp"
+#include "satgnc/od/station.hpp"
+#include "satgnc/od/time.hpp"
+
+namespace py = pybind11;
 
 namespace satgnc::bindings {
-void init_od(pybind11::module_& m) { (void)m; }
+
+namespace {
+using namespace satgnc::od;
+
+// History rows 0..iterations as numpy-friendly matrices.
+Eigen::MatrixXd rows_of(const Eigen::MatrixXd& m, int n) { return m.topRows(n); }
+}  // namespace
+
+void init_od(py::module_& m) {
+  py::class_<Ellipsoid>(m, "Ellipsoid")
+      .def(py::init([](const std::string& name, double a, double f) {
+             // Names must outlive the struct: keep known names, else a static copy pool.
+             static std::vector<std::unique_ptr<std::string>> pool;
+             pool.push_back(std::make_unique<std::string>(name));
+             return Ellipsoid{pool.back()->c_str(), a, f};
+           }),
+           py::arg("name"), py::arg("a"), py::arg("f"))
+      .def_property_readonly("name", [](const Ellipsoid& e) { return std::string(e.name); })
+      .def_readonly("a", &Ellipsoid::a)
+      .def_readonly("f", &Ellipsoid::f)
+      .def("__repr__", [](const Ellipsoid& e) {
+        return "Ellipsoid(" + std::string(e.name) + ", a=" + std::to_string(e.a) + " km, 1/f=" +
+               (e.f > 0 ? std::to_string(1.0 / e.f) : std::string("inf")) + ")";
+      });
+  m.def("od_ellipsoid_by_name", &ellipsoid_by_name, py::arg("name"));
+  m.def("od_geodetic_to_ecef", &geodetic_to_ecef, py::arg("lat_rad"), py::arg("lon_rad"), py::arg("height_km"),
+        py::arg("ellipsoid") = ellipsoids::wgs84);
+  m.def("od_rot_z", &rot_z, py::arg("theta"));
+  m.def("od_julian_date", &julian_date, py::arg("year"), py::arg("month"), py::arg("day"), py::arg("hour"),
+        py::arg("minute"), py::arg("second"));
+  m.def("od_gmst_iau1982", &gmst_iau1982, py::arg("jd_ut1"));
+  m.def("od_gmst_from_utc", &gmst_from_utc, py::arg("jd_utc"), py::arg("ut1_minus_utc_s") = 0.0);
+  m.def("od_implied_rotation_rate", &implied_rotation_rate, py::arg("station_state"));
+
+  py::class_<Station>(m, "Station")
+      .def(py::init<>())
+      .def_readwrite("r0", &Station::r0)
+      .def_readwrite("omega", &Station::omega)
+      .def_static("from_geodetic", &Station::from_geodetic, py::arg("lat_deg"), py::arg("lon_deg"),
+                  py::arg("height_km"), py::arg("jd_utc"), py::arg("ut1_minus_utc_s") = 0.0,
+                  py::arg("ellipsoid") = ellipsoids::wgs84, py::arg("omega") = dynamics::earth::omega)
+      .def_static("from_ecef", &Station::from_ecef, py::arg("ecef"), py::arg("theta0_rad"),
+                  py::arg("omega") = dynamics::earth::omega)
+      .def_static("from_inertial", &Station::from_inertial, py::arg("r0"), py::arg("omega") = dynamics::earth::omega)
+      .def("validate", &Station::validate)
+      .def("state", &Station::state, py::arg("t"))
+      .def("__repr__", [](const Station& s) {
+        return "Station(r0=[" + std::to_string(s.r0(0)) + ", " + std::to_string(s.r0(1)) + ", " +
+               std::to_string(s.r0(2)) + "] km, omega=" + std::to_string(s.omega) + " rad/s)";
+      });
+
+  py::enum_<MeasurementType>(m, "MeasurementType")
+      .value("range", MeasurementType::range)
+      .value("range_rate", MeasurementType::range_rate);
+  m.def("od_parse_measurement_type", &parse_measurement_type, py::arg("text"));
+  py::class_<Measurement>(m, "Measurement")
+      .def(py::init([](double t, MeasurementType type, double value, double sigma, int station) {
+             return Measurement{t, type, value, sigma, station};
+           }),
+           py::arg("t"), py::arg("type"), py::arg("value"), py::arg("sigma"), py::arg("station") = 0)
+      .def_readwrite("t", &Measurement::t)
+      .def_readwrite("type", &Measurement::type)
+      .def_readwrite("value", &Measurement::value)
+      .def_readwrite("sigma", &Measurement::sigma)
+      .def_readwrite("station", &Measurement::station);
+  m.def("od_validate_measurements", &validate_measurements, py::arg("measurements"), py::arg("n_stations"));
+  m.def(
+      "od_predict_measurement",
+      [](MeasurementType type, const Vec6& x, const Vec6& station_state, double min_range) {
+        double v = 0.0;
+        Row6 g;
+        if (!predict_measurement(type, x, station_state, v, &g, min_range))
+          throw std::invalid_argument(
+              "station_state: the satellite is at the station (zero range); range-rate and partials are undefined");
+        return py::make_tuple(v, Eigen::Matrix<double, 6, 1>(g.transpose()));
+      },
+      py::arg("type"), py::arg("x"), py::arg("station_state"), py::arg("min_range") = 1e-6);
+
+  py::class_<StmPropagator, std::shared_ptr<StmPropagator>>(m, "StmPropagator")
+      .def("propagate", [](StmPropagator& p, const Vec6& x0, const std::vector<double>& times) {
+        const int n = static_cast<int>(times.size());
+        std::vector<Vec6> xs(times.size());
+        std::vector<Mat6> ph(times.size());
+        if (!p.propagate(x0, times.data(), n, xs.data(), ph.data()))
+          throw std::invalid_argument("x0: propagation failed");
+        return py::make_tuple(xs, ph);
+      }, py::arg("x0"), py::arg("times"));
+  py::class_<KeplerStmPropagator, StmPropagator, std::shared_ptr<KeplerStmPropagator>>(m, "KeplerStmPropagator")
+      .def(py::init<double>(), py::arg("mu") = dynamics::earth::mu)
+      .def_property_readonly("mu", &KeplerStmPropagator::mu);
+  py::class_<CvodesStmPropagator, StmPropagator, std::shared_ptr<CvodesStmPropagator>>(m, "CvodesStmPropagator")
+      .def(py::init([](double mu, bool j2, double rtol, double atol) {
+             dynamics::ForceModel fm;
+             fm.mu = mu;
+             if (j2) {
+               dynamics::J2Gravity g;
+               g.mu = mu;
+               fm.j2 = g;
+             }
+             propagation::CvodesSettings s;
+             s.rtol = rtol;
+             s.atol = atol;
+             return std::make_shared<CvodesStmPropagator>(fm, s);
+           }),
+           py::arg("mu") = dynamics::earth::mu, py::arg("j2") = false, py::arg("rtol") = 1e-11,
+           py::arg("atol") = 1e-12);
+  py::class_<ShortArcStmPropagator, StmPropagator, std::shared_ptr<ShortArcStmPropagator>>(m, "ShortArcStmPropagator")
+      .def(py::init<std::shared_ptr<StmPropagator>>(), py::arg("inner"));
+
+  py::enum_<OdMethod>(m, "OdMethod")
+      .value("newton", OdMethod::newton)
+      .value("gauss_newton", OdMethod::gauss_newton)
+      .value("levenberg_marquardt", OdMethod::levenberg_marquardt);
+  py::enum_<OdStatus>(m, "OdStatus")
+      .value("converged", OdStatus::converged)
+      .value("max_iterations", OdStatus::max_iterations)
+      .value("singular", OdStatus::singular)
+      .value("diverged", OdStatus::diverged)
+      .value("propagation_failed", OdStatus::propagation_failed)
+      .value("degenerate_geometry", OdStatus::degenerate_geometry);
+  m.def("od_status_message", &od_status_message, py::arg("status"));
+  py::enum_<ConditionType>(m, "ConditionType")
+      .value("range", ConditionType::range)
+      .value("doppler", ConditionType::doppler);
+  py::class_<BoundaryCondition>(m, "BoundaryCondition")
+      .def(py::init([](double t, ConditionType type, double range, double range_rate, double sr, double srr,
+                       int station) { return BoundaryCondition{t, type, range, range_rate, sr, srr, station}; }),
+           py::arg("t"), py::arg("type"), py::arg("range"), py::arg("range_rate") = 0.0,
+           py::arg("sigma_range") = 1e-3, py::arg("sigma_range_rate") = 1e-6, py::arg("station") = 0)
+      .def_readwrite("t", &BoundaryCondition::t)
+      .def_readwrite("type", &BoundaryCondition::type)
+      .def_readwrite("range", &BoundaryCondition::range)
+      .def_readwrite("range_rate", &BoundaryCondition::range_rate)
+      .def_readwrite("sigma_range", &BoundaryCondition::sigma_range)
+      .def_readwrite("sigma_range_rate", &BoundaryCondition::sigma_range_rate)
+      .def_readwrite("station", &BoundaryCondition::station);
+
+  py::class_<OdSettings>(m, "OdSettings")
+      .def(py::init<>())
+      .def_readwrite("method", &OdSettings::method)
+      .def_readwrite("max_iterations", &OdSettings::max_iterations)
+      .def_readwrite("step_tol", &OdSettings::step_tol)
+      .def_readwrite("step_sigma_tol", &OdSettings::step_sigma_tol)
+      .def_readwrite("residual_tol", &OdSettings::residual_tol)
+      .def_readwrite("rank_tol", &OdSettings::rank_tol)
+      .def_readwrite("min_radius", &OdSettings::min_radius)
+      .def_readwrite("mu", &OdSettings::mu)
+      .def_readwrite("fit_sigma", &OdSettings::fit_sigma)
+      .def_readwrite("min_range", &OdSettings::min_range)
+      .def_readwrite("lm_lambda0", &OdSettings::lm_lambda0)
+      .def_readwrite("lm_increase", &OdSettings::lm_increase)
+      .def_readwrite("lm_decrease", &OdSettings::lm_decrease)
+      .def_readwrite("lm_max_rejections", &OdSettings::lm_max_rejections)
+      .def_readwrite("lm_stall_tol", &OdSettings::lm_stall_tol)
+      .def_readwrite("lm_polish_iterations", &OdSettings::lm_polish_iterations)
+      .def("validate", &OdSettings::validate);
+
+  py::class_<OdResult>(m, "OdResult")
+      .def_readonly("status", &OdResult::status)
+      .def_property_readonly("message", [](const OdResult& r) { return std::string(od_status_message(r.status)); })
+      .def_readonly("iterations", &OdResult::iterations)
+      .def_readonly("evaluations", &OdResult::evaluations)
+      .def_readonly("x0", &OdResult::x0)
+      .def_readonly("covariance", &OdResult::covariance)
+      .def_readonly("correlation", &OdResult::correlation)
+      .def_readonly("singular_values", &OdResult::singular_values)
+      .def_readonly("rank", &OdResult::rank)
+      .def_readonly("condition_number", &OdResult::condition_number)
+      .def_readonly("cost", &OdResult::cost)
+      .def_readonly("max_abs_normalized", &OdResult::max_abs_normalized)
+      .def_readonly("fits", &OdResult::fits)
+      .def_readonly("residuals", &OdResult::residuals)
+      .def_readonly("normalized", &OdResult::normalized)
+      .def_readonly("range_residuals", &OdResult::range_residuals)
+      .def_readonly("range_rate_residuals", &OdResult::range_rate_residuals)
+      .def_property_readonly("history_x0", [](const OdResult& r) { return rows_of(r.history_x0, r.iterations + 1); })
+      .def_property_readonly("history_residuals",
+                             [](const OdResult& r) { return rows_of(r.history_residuals, r.iterations + 1); })
+      .def_property_readonly("history_range_residuals",
+                             [](const OdResult& r) { return rows_of(r.history_range_residuals, r.iterations + 1); })
+      .def_property_readonly("history_range_rate_residuals", [](const OdResult& r) {
+        return rows_of(r.history_range_rate_residuals, r.iterations + 1);
+      })
+      .def_property_readonly("history_cost",
+                             [](const OdResult& r) { return Eigen::VectorXd(r.history_cost.head(r.iterations + 1)); })
+      .def_property_readonly("history_lambda", [](const OdResult& r) {
+        return Eigen::VectorXd(r.history_lambda.head(r.iterations + 1));
+      });
+
+  py::class_<OdSolver>(m, "OdSolver")
+      .def_static("from_measurements", &OdSolver::from_measurements, py::arg("stations"), py::arg("measurements"),
+                  py::arg("propagator"), py::arg("settings") = OdSettings{})
+      .def_static("from_conditions", &OdSolver::from_conditions, py::arg("stations"), py::arg("conditions"),
+                  py::arg("propagator"), py::arg("settings") = OdSettings{})
+      .def(
+          "solve", [](OdSolver& s, const Vec6& x0) { return OdResult(s.solve(x0)); }, py::arg("x0"),
+          py::call_guard<py::gil_scoped_release>())
+      .def(
+          "evaluate",
+          [](OdSolver& s, const Vec6& x0) {
+            Eigen::VectorXd r;
+            Eigen::MatrixXd J;
+            const OdStatus st = s.evaluate(x0, r, &J);
+            return py::make_tuple(st, r, J);
+          },
+          py::arg("x0"))
+      .def_property_readonly("rows", &OdSolver::rows)
+      .def_property_readonly("row_sigmas", &OdSolver::row_sigmas)
+      .def_property("settings", &OdSolver::settings, &OdSolver::set_settings);
+
+  py::class_<RootSearchSettings>(m, "RootSearchSettings")
+      .def(py::init<>())
+      .def_readwrite("distinct_position_km", &RootSearchSettings::distinct_position_km)
+      .def_readwrite("distinct_velocity_kms", &RootSearchSettings::distinct_velocity_kms)
+      .def_readwrite("distinct_sigma", &RootSearchSettings::distinct_sigma);
+  py::class_<Root>(m, "Root")
+      .def_readonly("x0", &Root::x0)
+      .def_readonly("covariance", &Root::covariance)
+      .def_readonly("residuals", &Root::residuals)
+      .def_readonly("normalized", &Root::normalized)
+      .def_readonly("max_abs_normalized", &Root::max_abs_normalized)
+      .def_readonly("condition_number", &Root::condition_number)
+      .def_readonly("fits", &Root::fits)
+      .def_readonly("hits", &Root::hits)
+      .def_readonly("first_guess", &Root::first_guess);
+  py::class_<RootSearchResult>(m, "RootSearchResult")
+      .def_readonly("roots", &RootSearchResult::roots)
+      .def_readonly("guess_root", &RootSearchResult::guess_root)
+      .def_readonly("guess_status", &RootSearchResult::guess_status)
+      .def_readonly("guess_iterations", &RootSearchResult::guess_iterations)
+      .def_readonly("fitting_roots", &RootSearchResult::fitting_roots)
+      .def_readonly("ambiguous", &RootSearchResult::ambiguous);
+  m.def(
+      "od_root_search",
+      [](OdSolver& solver, const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>& guesses,
+         const RootSearchSettings& s) {
+        std::vector<Vec6> g(static_cast<std::size_t>(guesses.rows()));
+        for (Eigen::Index i = 0; i < guesses.rows(); ++i) g[static_cast<std::size_t>(i)] = guesses.row(i).transpose();
+        py::gil_scoped_release release;
+        return root_search(solver, g, s);
+      },
+      py::arg("solver"), py::arg("guesses"), py::arg("settings") = RootSearchSettings{});
+  m.def(
+      "od_box_guesses",
+      [](const Vec6& c, const Vec6& hw, int n, std::uint64_t seed) {
+        const auto g = box_guesses(c, hw, n, seed);
+        Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> out(n, 6);
+        for (int i = 0; i < n; ++i) out.row(i) = g[static_cast<std::size_t>(i)].transpose();
+        return out;
+      },
+      py::arg("center"), py::arg("half_width"), py::arg("n"), py::arg("seed"));
+}
+
 }  // namespace satgnc::bindings

@@ -18,7 +18,7 @@ using Eigen::VectorXd;
 const char* status_message(AdmmStatus s) noexcept {
   switch (s) {
     case AdmmStatus::kSolved:
-      return "solved: primal and dual residuals within tolerance";
+      return "solved: residuals within tolerance or certified active-set polish";
     case AdmmStatus::kSolvedPaperRule:
       return "stopped by the paper's rule ||U-Y||/dim(U) <= eps (not a convergence certificate)";
     case AdmmStatus::kMaxIterations:
@@ -50,6 +50,9 @@ void AdmmSettings::validate() const {
   core::require_positive(rho_min, "rho_min");
   core::require_positive(rho_max, "rho_max");
   require(rho_min <= rho_max, "rho_min", "must be <= rho_max");
+  require(polish_interval >= 1, "polish_interval", "must be >= 1");
+  require(polish_max_free >= 0, "polish_max_free", "must be >= 0");
+  core::require_positive(polish_tolerance, "polish_tolerance");
   require(paper_global_rescale_iterations >= 0, "paper_global_rescale_iterations", "must be >= 0");
 }
 
@@ -129,6 +132,162 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   res_.Lambda.setZero(nu_, N_);
   res_.X_flown.setZero(nx_, N_ + 1);
   res_.terminal_multiplier.setZero(nx_);
+  // polish needs Q = 0, plain L1 (+ box straddling zero); see AdmmSettings::polish
+  polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
+               (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
+  if (polish_ok_) {
+    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 4 * nx_;
+    fmax_ = std::min(fmax_, N_ * nu_);
+    Psi_.setZero(nx_, nx_ * N_);
+    Psi_.middleCols((N_ - 1) * nx_, nx_).setIdentity();
+    for (int k = N_ - 1; k >= 1; --k) {
+      Psi_.middleCols((k - 1) * nx_, nx_).noalias() = Psi_.middleCols(k * nx_, nx_) * prob_.dynamics.A_at(k);
+    }
+    GF_.setZero(nx_, fmax_);
+    KKT_.setZero(fmax_ + nx_, fmax_ + nx_);
+    rhs_.setZero(fmax_ + nx_);
+    sol_.setZero(fmax_ + nx_);
+    Up_.setZero(nu_, N_);
+    Xp_.setZero(nx_, N_ + 1);
+    grad_.setZero(nu_, N_);
+    pN_.setZero(nx_);
+    free_idx_.assign(static_cast<std::size_t>(fmax_), 0);
+  }
+}
+
+namespace {
+// Gaussian elimination with partial pivoting, in place (K and r are destroyed); false if singular.
+bool solve_dense_in_place(MatrixXd& K, VectorXd& r, VectorXd& x, int M) noexcept {
+  const double scale = K.cwiseAbs().maxCoeff();
+  if (!(scale > 0.0) || !std::isfinite(scale)) return false;
+  for (int c = 0; c < M; ++c) {
+    int p = c;
+    for (int i = c + 1; i < M; ++i)
+      if (std::abs(K(i, c)) > std::abs(K(p, c))) p = i;
+    if (std::abs(K(p, c)) <= 1e-13 * scale) return false;
+    if (p != c) {
+      K.row(p).swap(K.row(c));
+      std::swap(r(p), r(c));
+    }
+    for (int i = c + 1; i < M; ++i) {
+      const double f = K(i, c) / K(c, c);
+      if (f == 0.0) continue;
+      for (int j = c; j < M; ++j) K(i, j) -= f * K(c, j);
+      r(i) -= f * r(c);
+    }
+  }
+  for (int i = M - 1; i >= 0; --i) {
+    double v = r(i);
+    for (int j = i + 1; j < M; ++j) v -= K(i, j) * x(j);
+    x(i) = v / K(i, i);
+  }
+  return x.allFinite();
+}
+}  // namespace
+
+// Active-set polish: classify the entries of Y (exact zeros of the soft threshold, exact bounds of
+// the clip, the rest free with their sign), solve the reduced problem on the free entries exactly
+// (x_N = x_fix + G_F u_F with G_F = Phi(N, k+1) B_k e_i), and accept only if the optimality
+// conditions hold for every entry. Allocation-free (fixed-size padded KKT).
+bool AdmmSolver::try_polish() noexcept {
+  ++res_.info.polish_attempts;
+  const MatrixXd& Y = res_.Y;
+  const bool term = prob_.terminal_equality;
+  int F = 0;
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double y = Y(i, k);
+      if (y == 0.0 || y == lo_(i) || y == hi_(i)) {
+        Up_(i, k) = y;
+      } else {
+        if (F >= fmax_) return false;
+        free_idx_[static_cast<std::size_t>(F++)] = k * nu_ + i;
+        Up_(i, k) = 0.0;
+      }
+    }
+  }
+  if (term && F < nx_) return false;  // generic vertex needs nx free entries to meet x_N = x_f
+  rollout(Up_, Xp_);                   // fixed part, x_N^fix in Xp_.col(N)
+  const int M = fmax_ + nx_;
+  for (int a = 0; a < F; ++a) {
+    const int k = free_idx_[static_cast<std::size_t>(a)] / nu_, i = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    GF_.col(a).noalias() = Psi_.middleCols(k * nx_, nx_) * prob_.dynamics.B_at(k).col(i);
+  }
+  KKT_.setZero();
+  xtmp_ = Xp_.col(N_) - prob_.xf;
+  for (int a = 0; a < F; ++a) {
+    const int ka = free_idx_[static_cast<std::size_t>(a)] / nu_, ia = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    const double sa = Y(ia, ka) > 0.0 ? 1.0 : -1.0;
+    rhs_(a) = -w_(ia) * sa;
+    if (!term) {
+      xtmp2_.noalias() = prob_.Qf * GF_.col(a);
+      rhs_(a) -= xtmp2_.dot(xtmp_);
+      for (int b = 0; b < F; ++b) KKT_(b, a) = GF_.col(b).dot(xtmp2_);
+    } else {
+      for (int j = 0; j < nx_; ++j) {
+        KKT_(fmax_ + j, a) = GF_(j, a);
+        KKT_(a, fmax_ + j) = GF_(j, a);
+      }
+    }
+    if (prob_.R.size() != 0) {
+      for (int b = 0; b < F; ++b) {
+        const int kb = free_idx_[static_cast<std::size_t>(b)] / nu_, ib = free_idx_[static_cast<std::size_t>(b)] % nu_;
+        if (kb == ka) KKT_(a, b) += prob_.R(ia, ib);
+      }
+    }
+  }
+  for (int a = F; a < fmax_; ++a) {
+    KKT_(a, a) = 1.0;
+    rhs_(a) = 0.0;
+  }
+  for (int j = 0; j < nx_; ++j) {
+    if (term) {
+      rhs_(fmax_ + j) = -xtmp_(j);
+    } else {
+      KKT_(fmax_ + j, fmax_ + j) = 1.0;
+      rhs_(fmax_ + j) = 0.0;
+    }
+  }
+  if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
+  const double tol = set_.polish_tolerance * std::max(1.0, w_.maxCoeff());
+  for (int a = 0; a < F; ++a) {
+    const int k = free_idx_[static_cast<std::size_t>(a)] / nu_, i = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    const double u = sol_(a);
+    const double s = Y(i, k) > 0.0 ? 1.0 : -1.0;
+    if (u * s < 0.0 || u < lo_(i) || u > hi_(i)) return false;
+    Up_(i, k) = u;
+  }
+  rollout(Up_, Xp_);
+  if (term) {
+    pN_ = sol_.tail(nx_);
+  } else {
+    xtmp_ = Xp_.col(N_) - prob_.xf;
+    pN_.noalias() = prob_.Qf * xtmp_;
+  }
+  // gradient of the smooth part: B_k' Phi(N, k+1)' pN + R u_k; check the L1/box optimality conditions
+  for (int k = 0; k < N_; ++k) {
+    xtmp2_.noalias() = Psi_.middleCols(k * nx_, nx_).transpose() * pN_;
+    grad_.col(k).noalias() = prob_.dynamics.B_at(k).transpose() * xtmp2_;
+    if (prob_.R.size() != 0) grad_.col(k).noalias() += prob_.R * Up_.col(k);
+    for (int i = 0; i < nu_; ++i) {
+      const double u = Up_(i, k), gk = grad_(i, k), w = w_(i);
+      if (u == 0.0) {
+        if (std::abs(gk) > w + tol) return false;
+      } else if (u == hi_(i)) {
+        if (gk + w > tol) return false;
+      } else if (u == lo_(i)) {
+        if (gk - w < -tol) return false;
+      } else if (std::abs(gk + (u > 0.0 ? w : -w)) > tol) {
+        return false;
+      }
+    }
+  }
+  res_.U = Up_;
+  res_.Y = Up_;
+  res_.X = Xp_;
+  res_.Lambda = -grad_;
+  if (term) res_.terminal_multiplier = pN_;
+  return true;
 }
 
 void AdmmSolver::update_linear_terms() noexcept {
@@ -324,6 +483,12 @@ const AdmmResult& AdmmSolver::solve() noexcept {
         bL_ = L;
       }
     }
+    if (polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals && it % set_.polish_interval == 0 &&
+        try_polish()) {
+      info.polished = true;
+      status = AdmmStatus::kSolved;
+      break;
+    }
     if (set_.stopping == StoppingRule::kPaper) {
       if (info.paper_criterion <= set_.paper_eps) {
         status = AdmmStatus::kSolvedPaperRule;
@@ -359,7 +524,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   info.iterations = it;
   info.rho = rho;
   info.factorizations += ric_.factorizations() - fact0;
-  if (prob_.terminal_equality) res_.terminal_multiplier = ric_.terminal_multiplier();
+  if (prob_.terminal_equality && !info.polished) res_.terminal_multiplier = ric_.terminal_multiplier();
   rollout(Y, res_.X_flown);
   info.objective = trajectory_objective(res_.X_flown, Y);
   info.objective_u = trajectory_objective(X, U);

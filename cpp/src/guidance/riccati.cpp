@@ -164,7 +164,13 @@ bool RiccatiSolver::factor(double rho) noexcept {
   factored_ = false;
   if (nx_ == 0 || !(rho >= 0.0) || !std::isfinite(rho)) return false;
   const Index n = nx_, m = nu_, N = N_;
-  P_.middleCols(N * n, n) = Qf_;
+  // Under x_N = x_f the terminal cost is constant on the feasible set: dropping it is exact and
+  // avoids the cancellation between a large Qf and the terminal multiplier.
+  if (terminal_) {
+    P_.middleCols(N * n, n).setZero();
+  } else {
+    P_.middleCols(N * n, n) = Qf_;
+  }
   for (int k = N_ - 1; k >= 0; --k) {
     if (!factor_stage(k, rho)) return false;
   }
@@ -221,7 +227,11 @@ void RiccatiSolver::affine_sweep(const Eigen::Ref<const VectorXd>& x0, const Eig
   const Index n = nx_, m = nu_, N = N_;
   const bool has_c = !dyn_.c.empty();
   Map<VX> p(p_.data(), n), w(w_.data(), n);
-  p = q.col(N);
+  if (terminal_) {
+    p.setZero();
+  } else {
+    p = q.col(N);
+  }
   for (Index k = N - 1; k >= 0; --k) {
     if (has_c) {
       w = p + e_.col(k);
@@ -299,8 +309,13 @@ RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const Vecto
   if (terminal_ && !factored_) return RiccatiStatus::kNotFactored;
   const Index n = nx_, m = nu_, N = N_;
   // value function V_k(x) = 1/2 x' P x + p' x, recomputed from scratch (eqs. (12)-(21) of the paper)
-  W_ = Qf_;  // P_{k+1}
-  p_ = q.col(N);
+  if (terminal_) {  // see factor()
+    W_.setZero();
+    p_.setZero();
+  } else {
+    W_ = Qf_;  // P_{k+1}
+    p_ = q.col(N);
+  }
   for (Index k = N - 1; k >= 0; --k) {
     const MatrixXd& A = dyn_.A_at(static_cast<int>(k));
     const MatrixXd& B = dyn_.B_at(static_cast<int>(k));

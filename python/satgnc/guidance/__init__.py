@@ -1,1 +1,234 @@
-"""satgnc.guidance: see the room's C++ headers under satgnc/guidance."""
+"""satgnc.guidance: fuel-optimal (L1) guidance by ADMM with a Riccati step.
+
+Everything is in the caller's units (the rendezvous scenario uses m, m/s, N, kg, s or the published
+implementation's scaled units, see :mod:`satgnc.scenarios.l1_rendezvous`). The C++ solver is
+``satgnc/guidance/admm.hpp``; this module validates numpy input and returns numpy results.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from .. import _satgnc
+
+__all__ = [
+    "AdmmSettings",
+    "L1Result",
+    "L1Solver",
+    "STATUS_NAMES",
+    "cw_discretize",
+    "cw_matrices",
+    "cw_stm",
+    "solve_l1",
+]
+
+AdmmSettings = _satgnc.AdmmSettings
+STATUS_NAMES = {0: "solved", 1: "solved_paper_rule", 2: "max_iterations", 3: "terminal_unreachable",
+                4: "numerical_error", 5: "unsolved"}
+
+
+def _as_array(value: Any, name: str, ndim: int | tuple[int, ...], shape: tuple | None = None) -> np.ndarray:
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name}: must be a numeric array, got {type(value).__name__}")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name}: must be a numeric array ({e})") from None
+    ndims = (ndim,) if isinstance(ndim, int) else ndim
+    if arr.ndim not in ndims:
+        raise ValueError(f"{name}: must have {' or '.join(map(str, ndims))} dimensions, got shape {arr.shape}")
+    if shape is not None and arr.shape != shape:
+        raise ValueError(f"{name}: must have shape {shape}, got {arr.shape}")
+    return arr
+
+
+def _finite(arr: np.ndarray, name: str) -> np.ndarray:
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: must be finite (no NaN or Inf)")
+    return arr
+
+
+def cw_matrices(n: float, mass: float) -> tuple[np.ndarray, np.ndarray]:
+    """Continuous Clohessy-Wiltshire A (6x6), B (6x3) in the paper's frame (y radial, z normal,
+    x = y cross z). ``n`` mean motion (rad/s), ``mass`` chaser mass (kg); u is a force (N)."""
+    return _satgnc.cw_matrices(float(n), float(mass))
+
+
+def cw_stm(n: float, t: float) -> np.ndarray:
+    """Analytic CW state transition matrix over ``t`` seconds (6x6)."""
+    return _satgnc.cw_stm(float(n), float(t))
+
+
+def cw_discretize(n: float, mass: float, dt: float, method: str = "zoh") -> tuple[np.ndarray, np.ndarray]:
+    """Discrete CW (Ad 6x6, Bd 6x3) over ``dt`` s: ``"zoh"`` (analytic STM and input integral),
+    ``"expm"`` (Van Loan matrix exponential) or ``"midpoint"`` (the published implementation's)."""
+    if method not in ("zoh", "expm", "midpoint"):
+        raise ValueError(f"method: must be 'zoh', 'expm' or 'midpoint', got {method!r}")
+    return _satgnc.cw_discretize(float(n), float(mass), float(dt), method)
+
+
+@dataclasses.dataclass
+class L1Result:
+    """Solution of :func:`solve_l1`. Arrays are time-major: X (N+1, nx), U/Y/Lambda (N, nu).
+
+    ``Y`` is the sparse plan to fly; ``X_flown`` its rollout; ``U``/``X`` the LQR iterate."""
+
+    status: str
+    message: str
+    iterations: int
+    X: np.ndarray
+    U: np.ndarray
+    Y: np.ndarray
+    Lambda: np.ndarray
+    X_flown: np.ndarray
+    terminal_multiplier: np.ndarray
+    objective: float
+    objective_u: float
+    terminal_miss: float
+    primal_residual: float
+    dual_residual: float
+    eps_primal: float
+    eps_dual: float
+    paper_criterion: float
+    rho: float
+    factorizations: int
+    rho_updates: int
+    polished: bool
+    polish_attempts: int
+    solve_time: float
+
+    @property
+    def converged(self) -> bool:
+        return self.status == "solved"
+
+
+def _settings(settings: Any) -> Any:
+    if settings is None:
+        return AdmmSettings()
+    if isinstance(settings, AdmmSettings):
+        return settings
+    if isinstance(settings, dict):
+        st = AdmmSettings()
+        for key, val in settings.items():
+            if not hasattr(st, key):
+                raise ValueError(f"settings: unknown key {key!r}")
+            if key == "stopping" and isinstance(val, str):
+                if val not in ("residuals", "paper"):
+                    raise ValueError("settings: stopping must be 'residuals' or 'paper'")
+                val = getattr(_satgnc.StoppingRule, val)
+            setattr(st, key, val)
+        return st
+    raise TypeError(f"settings: must be None, a dict or AdmmSettings, got {type(settings).__name__}")
+
+
+class L1Solver:
+    """Set up once (validation, allocation, Riccati factorization), solve many times.
+
+    Parameters (nx states, nu controls, N = horizon intervals):
+      A: (nx, nx) or (N, nx, nx); B: (nx, nu) or (N, nx, nu); c: None, (nx,) or (N, nx) drift;
+      x0: (nx,); xf: (nx,) target (default 0); Qf: (nx, nx) terminal weight (PSD);
+      Q: stage weight on x_k - xf (k = 1..N-1); R: stage weight on u_k;
+      l1_weights: (nu,) per-axis fuel weights (default ones if no group weight);
+      group_l2_weight: weight of ||u_k||_2 (one gimballed engine);
+      u_lower/u_upper: (nu,) per-axis bounds; u_norm_max: ||u_k||_2 bound (group-L2 only);
+      terminal_equality: enforce x_N = xf exactly; settings: dict or AdmmSettings.
+    """
+
+    def __init__(self, A, B, x0, *, horizon: int | None = None, c=None, xf=None, Qf=None, Q=None, R=None,
+                 l1_weights=None, group_l2_weight: float = 0.0, u_lower=None, u_upper=None,
+                 u_norm_max: float = 0.0, terminal_equality: bool = False, settings=None):
+        A = _finite(_as_array(A, "A", (2, 3)), "A")
+        B = _finite(_as_array(B, "B", (2, 3)), "B")
+        if A.ndim == 3 and horizon is None:
+            horizon = A.shape[0]
+        if B.ndim == 3 and horizon is None:
+            horizon = B.shape[0]
+        if horizon is None:
+            raise ValueError("horizon: required when A and B are time-invariant (2-D)")
+        if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)) or horizon < 1:
+            raise ValueError(f"horizon: must be an integer >= 1, got {horizon!r}")
+        horizon = int(horizon)
+        As = [A] if A.ndim == 2 else list(A)
+        Bs = [B] if B.ndim == 2 else list(B)
+        for name, seq in (("A", As), ("B", Bs)):
+            if len(seq) not in (1, horizon):
+                raise ValueError(f"{name}: must hold 1 or horizon = {horizon} matrices, got {len(seq)}")
+        nx = As[0].shape[0]
+        if As[0].shape != (nx, nx):
+            raise ValueError(f"A: must be square (nx, nx), got {As[0].shape}")
+        if Bs[0].shape[0] != nx:
+            raise ValueError(f"B: must have nx = {nx} rows, got shape {Bs[0].shape}")
+        nu = Bs[0].shape[1]
+        if c is None:
+            cs = []
+        else:
+            c = _finite(_as_array(c, "c", (1, 2)), "c")
+            cs = [c] if c.ndim == 1 else list(c)
+            if cs[0].shape != (nx,):
+                raise ValueError(f"c: must have nx = {nx} entries per step, got {cs[0].shape}")
+        x0 = _finite(_as_array(x0, "x0", 1, (nx,)), "x0")
+        xf = np.zeros(nx) if xf is None else _finite(_as_array(xf, "xf", 1, (nx,)), "xf")
+        Qf = np.zeros((nx, nx)) if Qf is None else _finite(_as_array(Qf, "Qf", 2, (nx, nx)), "Qf")
+        Q = np.zeros((0, 0)) if Q is None else _finite(_as_array(Q, "Q", 2, (nx, nx)), "Q")
+        R = np.zeros((0, 0)) if R is None else _finite(_as_array(R, "R", 2, (nu, nu)), "R")
+        if l1_weights is None:
+            w = np.ones(nu) if group_l2_weight == 0 else np.zeros(0)
+        else:
+            w = _finite(_as_array(l1_weights, "l1_weights", 1, (nu,)), "l1_weights")
+            if np.any(w < 0):
+                raise ValueError("l1_weights: must be >= 0 (a fuel weight cannot be negative)")
+        lo = np.zeros(0) if u_lower is None else _as_array(u_lower, "u_lower", 1, (nu,))
+        hi = np.zeros(0) if u_upper is None else _as_array(u_upper, "u_upper", 1, (nu,))
+        if np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
+            raise ValueError("u_lower/u_upper: must not be NaN")
+        if lo.size and hi.size and np.any(lo > hi):
+            raise ValueError(f"u_lower: must be <= u_upper on every axis (got {lo} > {hi})")
+        if not np.isfinite(group_l2_weight) or group_l2_weight < 0:
+            raise ValueError(f"group_l2_weight: must be finite and >= 0, got {group_l2_weight}")
+        if not np.isfinite(u_norm_max) or u_norm_max < 0:
+            raise ValueError(f"u_norm_max: must be finite and >= 0, got {u_norm_max}")
+        st = _settings(settings)
+        if not (np.isfinite(st.rho) and st.rho > 0):
+            raise ValueError(f"settings.rho: must be finite and > 0, got {st.rho}")
+        self.nx, self.nu, self.horizon = nx, nu, horizon
+        self._solver = _satgnc.AdmmSolver(As, Bs, cs, horizon, x0, xf, Qf, Q, R, w, float(group_l2_weight),
+                                          lo, hi, float(u_norm_max), bool(terminal_equality), st)
+
+    def solve(self) -> L1Result:
+        """Run ADMM (never raises for solver outcomes: check ``result.status``)."""
+        d = self._solver.solve()
+        return L1Result(
+            status=STATUS_NAMES[d["status"]], message=d["status_name"], iterations=d["iterations"],
+            X=d["X"].T.copy(), U=d["U"].T.copy(), Y=d["Y"].T.copy(), Lambda=d["Lambda"].T.copy(),
+            X_flown=d["X_flown"].T.copy(), terminal_multiplier=d["terminal_multiplier"].copy(),
+            objective=d["objective"], objective_u=d["objective_u"], terminal_miss=d["terminal_miss"],
+            primal_residual=d["primal_residual"], dual_residual=d["dual_residual"], eps_primal=d["eps_primal"],
+            eps_dual=d["eps_dual"], paper_criterion=d["paper_criterion"], rho=d["rho"],
+            factorizations=d["factorizations"], rho_updates=d["rho_updates"], polished=d["polished"],
+            polish_attempts=d["polish_attempts"], solve_time=d["solve_time"])
+
+    def warm_start(self, Y, Lambda) -> None:
+        """Start the next solve from Y, Lambda (N, nu) each, e.g. a shifted previous solution."""
+        Y = _finite(_as_array(Y, "Y", 2, (self.horizon, self.nu)), "Y")
+        L = _finite(_as_array(Lambda, "Lambda", 2, (self.horizon, self.nu)), "Lambda")
+        self._solver.warm_start(np.ascontiguousarray(Y.T), np.ascontiguousarray(L.T))
+
+    def set_x0(self, x0) -> None:
+        """New initial state (receding horizon); the Riccati gains are reused."""
+        self._solver.set_x0(_finite(_as_array(x0, "x0", 1, (self.nx,)), "x0"))
+
+    def update_settings(self, settings) -> None:
+        self._solver.update_settings(_settings(settings))
+
+    def objective_of(self, U) -> float:
+        """Objective of flying U (N, nu) from x0."""
+        U = _finite(_as_array(U, "U", 2, (self.horizon, self.nu)), "U")
+        return self._solver.objective_of(np.ascontiguousarray(U.T))
+
+
+def solve_l1(A, B, x0, **kwargs) -> L1Result:
+    """One-shot :class:`L1Solver` set-up and solve (same arguments)."""
+    return L1Solver(A, B, x0, **kwargs).solve()

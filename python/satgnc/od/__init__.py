@@ -1,1 +1,463 @@
-"""satgnc.od: see the room's C++ headers under satgnc/od."""
+"""satgnc.od: orbit determination from range and range-rate of ground stations.
+
+Units: km, km/s, s; angles in degrees at this level unless a name ends in ``_rad``. The epoch t = 0
+of every time is the epoch of the initial state being estimated.
+
+Measurement model: instantaneous range ``|r - R|`` and range-rate ``(r - R).(v - V)/|r - R|`` with
+no light time, aberration or refraction (simulate and fit with the same model).
+
+Main entry points
+-----------------
+- :func:`station_geodetic`, :func:`station_inertial`: stations (GMST IAU-1982 Earth rotation).
+- :func:`predict`: an observable and its partials w.r.t. the satellite state.
+- :class:`Observations`: a table of (t, type, value, sigma, station); :func:`read_csv`,
+  :func:`satgnc.od.tdm.read_tdm`.
+- :func:`solve`: weighted batch least squares (Gauss-Newton or Levenberg-Marquardt).
+- :func:`solve_six_point`: the paper's Newton-Raphson on six implicit boundary conditions.
+- :func:`root_search`: every distinct solution reached from guesses in a box, with an ambiguity flag.
+- :func:`simulate`: seeded synthetic observations (noise, biases, elevation mask).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime as _dt
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from .. import _satgnc as _c
+
+EARTH_MU = 398600.4418  #: km^3/s^2 (EGM-96)
+EARTH_OMEGA = 7.292115e-5  #: rad/s
+EARTH_RADIUS = 6378.1363  #: km
+
+Station = _c.Station
+Ellipsoid = _c.Ellipsoid
+MeasurementType = _c.MeasurementType
+OdStatus = _c.OdStatus
+OdMethod = _c.OdMethod
+OdSettings = _c.OdSettings
+OdResult = _c.OdResult
+OdSolver = _c.OdSolver
+ConditionType = _c.ConditionType
+BoundaryCondition = _c.BoundaryCondition
+KeplerStmPropagator = _c.KeplerStmPropagator
+CvodesStmPropagator = _c.CvodesStmPropagator
+ShortArcStmPropagator = _c.ShortArcStmPropagator
+RootSearchSettings = _c.RootSearchSettings
+
+__all__ = [
+    "EARTH_MU", "EARTH_OMEGA", "EARTH_RADIUS", "Station", "Ellipsoid", "MeasurementType", "OdStatus",
+    "OdMethod", "OdSettings", "OdResult", "OdSolver", "ConditionType", "BoundaryCondition",
+    "KeplerStmPropagator", "CvodesStmPropagator", "ShortArcStmPropagator", "RootSearchSettings",
+    "julian_date", "gmst", "ellipsoid", "geodetic_to_ecef", "station_geodetic", "station_inertial",
+    "implied_rotation_rate", "predict", "make_propagator", "Observations", "read_csv", "solve",
+    "six_point_conditions", "solve_six_point", "root_search", "box_guesses", "simulate", "settings",
+]
+
+_METHODS = {"newton": OdMethod.newton, "gauss_newton": OdMethod.gauss_newton, "gn": OdMethod.gauss_newton,
+            "levenberg_marquardt": OdMethod.levenberg_marquardt, "lm": OdMethod.levenberg_marquardt}
+
+
+# ----------------------------------------------------------------------------- validation helpers
+def _vector(x, n: int, name: str) -> np.ndarray:
+    if isinstance(x, (str, bytes)):
+        raise TypeError(f"{name}: must be a sequence of {n} numbers, got {type(x).__name__}")
+    try:
+        a = np.asarray(x, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name}: must be numeric ({e})") from None
+    if a.shape != (n,):
+        raise ValueError(f"{name}: must have shape ({n},), got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name}: must be finite (no NaN or Inf)")
+    return a
+
+
+def _array1(x, name: str) -> np.ndarray:
+    try:
+        a = np.atleast_1d(np.asarray(x, dtype=float))
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name}: must be numeric ({e})") from None
+    if a.ndim != 1:
+        raise ValueError(f"{name}: must be one-dimensional, got shape {a.shape}")
+    return a
+
+
+def _finite_scalar(x, name: str, positive: bool = False) -> float:
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name}: must be a number, got {type(x).__name__}")
+    v = float(x)
+    if not math.isfinite(v):
+        raise ValueError(f"{name}: must be finite, got {v}")
+    if positive and v <= 0:
+        raise ValueError(f"{name}: must be > 0, got {v}")
+    return v
+
+
+# ----------------------------------------------------------------------------- time and stations
+def julian_date(epoch) -> float:
+    """Julian date of ``epoch``: a :class:`datetime.datetime` (naive = UTC), an ISO-8601 string
+    ('1981-03-21T06:00:00'), or a float Julian date (returned as is)."""
+    if isinstance(epoch, (float, int, np.floating)) and not isinstance(epoch, bool):
+        v = float(epoch)
+        if not math.isfinite(v) or v < 2.4e6 or v > 2.5e6:
+            raise ValueError(f"epoch: a Julian date must be finite and in [2.4e6, 2.5e6], got {v}")
+        return v
+    if isinstance(epoch, str):
+        try:
+            epoch = _dt.datetime.fromisoformat(epoch.strip().replace("Z", "+00:00"))
+        except ValueError:
+            raise ValueError(f"epoch: not an ISO-8601 date-time: {epoch!r}") from None
+    if not isinstance(epoch, _dt.datetime):
+        raise TypeError(f"epoch: must be a datetime, ISO string or Julian date, got {type(epoch).__name__}")
+    if epoch.tzinfo is not None:
+        epoch = epoch.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+    sec = epoch.second + epoch.microsecond * 1e-6
+    return _c.od_julian_date(epoch.year, epoch.month, epoch.day, epoch.hour, epoch.minute, sec)
+
+
+def gmst(epoch, ut1_minus_utc: float = 0.0) -> float:
+    """Greenwich mean sidereal time (IAU-1982), rad in [0, 2 pi), at a UTC epoch (see :func:`julian_date`)."""
+    return _c.od_gmst_from_utc(julian_date(epoch), _finite_scalar(ut1_minus_utc, "ut1_minus_utc"))
+
+
+def ellipsoid(name: str = "WGS-84") -> Ellipsoid:
+    """Named ellipsoid: WGS-84 (default), GRS-80, IAU-1976, Krassovsky or sphere."""
+    if not isinstance(name, str):
+        raise TypeError(f"ellipsoid: must be a name (str), got {type(name).__name__}")
+    return _c.od_ellipsoid_by_name(name)
+
+
+def _as_ellipsoid(e) -> Ellipsoid:
+    return e if isinstance(e, Ellipsoid) else ellipsoid(e)
+
+
+def geodetic_to_ecef(lat_deg: float, lon_deg: float, height_km: float, ellipsoid="WGS-84") -> np.ndarray:
+    """Earth-fixed position (km) of geodetic latitude/longitude (deg) and height (km)."""
+    lat = _finite_scalar(lat_deg, "lat_deg")
+    lon = _finite_scalar(lon_deg, "lon_deg")
+    if abs(lat) > 90:
+        raise ValueError(f"lat_deg: must be within [-90, 90], got {lat}")
+    return np.asarray(_c.od_geodetic_to_ecef(math.radians(lat), math.radians(lon),
+                                             _finite_scalar(height_km, "height_km"), _as_ellipsoid(ellipsoid)))
+
+
+def station_geodetic(lat_deg: float, lon_deg: float, height_km: float, epoch, ut1_minus_utc: float = 0.0,
+                     ellipsoid="WGS-84", omega: float = EARTH_OMEGA) -> Station:
+    """Station at geodetic (deg, deg, km) on the named ellipsoid; inertial position at the UTC
+    ``epoch`` through GMST (IAU-1982), rotating about +z at ``omega`` (rad/s)."""
+    lat = _finite_scalar(lat_deg, "lat_deg")
+    if abs(lat) > 90:
+        raise ValueError(f"lat_deg: must be within [-90, 90], got {lat}")
+    return Station.from_geodetic(lat, _finite_scalar(lon_deg, "lon_deg"), _finite_scalar(height_km, "height_km"),
+                                 julian_date(epoch), _finite_scalar(ut1_minus_utc, "ut1_minus_utc"),
+                                 _as_ellipsoid(ellipsoid), _finite_scalar(omega, "omega"))
+
+
+def station_inertial(r0, omega: float = EARTH_OMEGA) -> Station:
+    """The paper's station: inertial position ``r0`` (km) at t = 0 rotating about +z at ``omega``."""
+    return Station.from_inertial(_vector(r0, 3, "r0"), _finite_scalar(omega, "omega"))
+
+
+def implied_rotation_rate(station_state) -> float:
+    """Rotation rate (rad/s) that makes a printed station state [R, V] satisfy V = omega z x R."""
+    return _c.od_implied_rotation_rate(_vector(station_state, 6, "station_state"))
+
+
+def _mtype(kind) -> MeasurementType:
+    if isinstance(kind, MeasurementType):
+        return kind
+    if not isinstance(kind, str):
+        raise TypeError(f"type: must be 'range' or 'range_rate', got {type(kind).__name__}")
+    try:
+        return _c.od_parse_measurement_type(kind)
+    except ValueError as e:
+        raise ValueError(f"type: {e}") from None
+
+
+def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
+    """Predicted observable (km or km/s) of satellite state ``x`` from ``station_state`` and its
+    partials d h / d x (6,). Raises ValueError when the satellite is at the station."""
+    v, g = _c.od_predict_measurement(_mtype(kind), _vector(x, 6, "x"), _vector(station_state, 6, "station_state"))
+    return float(v), np.asarray(g).ravel()
+
+
+def make_propagator(kind: str = "kepler", mu: float = EARTH_MU, j2: bool = False):
+    """STM propagator: 'kepler' (analytic two-body, default) or 'cvodes' (numerical; ``j2`` optional)."""
+    mu = _finite_scalar(mu, "mu", positive=True)
+    if not isinstance(kind, str):
+        return kind  # already a propagator object
+    if kind == "kepler":
+        if j2:
+            raise ValueError("j2: the Kepler propagator is two-body only (hint: propagator='cvodes')")
+        return KeplerStmPropagator(mu)
+    if kind == "cvodes":
+        return CvodesStmPropagator(mu, bool(j2))
+    raise ValueError(f"propagator: unknown {kind!r} (hint: 'kepler' or 'cvodes')")
+
+
+def settings(method: str = "levenberg_marquardt", **kw) -> OdSettings:
+    """OdSettings from keyword arguments (unknown names raise TypeError naming them)."""
+    s = OdSettings()
+    if isinstance(method, OdMethod):
+        s.method = method
+    elif method in _METHODS:
+        s.method = _METHODS[method]
+    else:
+        raise ValueError(f"method: unknown {method!r} (hint: newton, gauss_newton, levenberg_marquardt)")
+    for k, v in kw.items():
+        if not hasattr(s, k) or k.startswith("_"):
+            raise TypeError(f"settings: unknown setting {k!r}")
+        setattr(s, k, v)
+    s.validate()
+    return s
+
+
+# ----------------------------------------------------------------------------- observations
+@dataclasses.dataclass
+class Observations:
+    """A table of observations: time (s from the epoch), type ('range'/'range_rate'), value (km or
+    km/s), sigma (same unit) and station index."""
+
+    t: np.ndarray
+    type: list
+    value: np.ndarray
+    sigma: np.ndarray
+    station: np.ndarray
+
+    def __post_init__(self):
+        self.t = _array1(self.t, "t")
+        n = self.t.size
+        self.value = _array1(self.value, "value")
+        sig = np.asarray(self.sigma, dtype=float)
+        self.sigma = np.full(n, float(sig)) if sig.ndim == 0 else _array1(sig, "sigma")
+        st = np.asarray(self.station)
+        if st.dtype.kind not in "iu" and not (st.dtype.kind == "f" and np.all(st == np.round(st))):
+            raise TypeError("station: must be integer station indices")
+        self.station = np.full(n, int(st)) if st.ndim == 0 else st.astype(int)
+        kinds = [self.type] * n if isinstance(self.type, (str, MeasurementType)) else list(self.type)
+        self.type = [_mtype(k) for k in kinds]
+        for name in ("value", "sigma", "station"):
+            if getattr(self, name).shape != (n,):
+                raise ValueError(f"{name}: must have the length of t ({n}), got {getattr(self, name).shape}")
+        if len(self.type) != n:
+            raise ValueError(f"type: must have the length of t ({n}), got {len(self.type)}")
+        bad = np.flatnonzero(~np.isfinite(self.sigma) | (self.sigma <= 0))
+        if bad.size:
+            raise ValueError(f"sigma: must be finite and > 0 (row {bad[0]}: {self.sigma[bad[0]]})")
+        bad = np.flatnonzero(~np.isfinite(self.t) | ~np.isfinite(self.value))
+        if bad.size:
+            raise ValueError(f"t/value: must be finite (row {bad[0]})")
+
+    def __len__(self) -> int:
+        return int(self.t.size)
+
+    def measurements(self) -> list:
+        return [_c.Measurement(float(t), k, float(v), float(s), int(st))
+                for t, k, v, s, st in zip(self.t, self.type, self.value, self.sigma, self.station)]
+
+    def select(self, mask) -> Observations:
+        m = np.asarray(mask, dtype=bool)
+        return Observations(self.t[m], [k for k, keep in zip(self.type, m) if keep], self.value[m],
+                            self.sigma[m], self.station[m])
+
+    def type_names(self) -> list[str]:
+        return ["range" if k == MeasurementType.range else "range_rate" for k in self.type]
+
+
+def read_csv(path) -> Observations:
+    """Observations from a CSV file with a header holding ``t,type,value,sigma[,station]`` (t in s
+    from the epoch; type range/range_rate; value and sigma in km or km/s). Errors name the line."""
+    import csv
+    import pathlib
+
+    p = pathlib.Path(path)
+    if not p.exists():
+        raise FileNotFoundError(f"path: {p} does not exist")
+    rows = {"t": [], "type": [], "value": [], "sigma": [], "station": []}
+    with p.open(newline="") as f:
+        reader = csv.reader(line for line in f if not line.lstrip().startswith("#"))
+        header = [h.strip().lower() for h in next(reader, [])]
+        need = ["t", "type", "value", "sigma"]
+        missing = [h for h in need if h not in header]
+        if missing:
+            raise ValueError(f"{p}: header must name {need} (+ optional station), missing {missing}")
+        for lineno, rec in enumerate(reader, start=2):
+            if not rec or all(not c.strip() for c in rec):
+                continue
+            if len(rec) != len(header):
+                raise ValueError(f"{p}:{lineno}: expected {len(header)} fields, got {len(rec)}")
+            d = dict(zip(header, (c.strip() for c in rec)))
+            try:
+                rows["t"].append(float(d["t"]))
+                rows["value"].append(float(d["value"]))
+                rows["sigma"].append(float(d["sigma"]))
+                rows["station"].append(int(d.get("station", "0") or 0))
+                rows["type"].append(_mtype(d["type"]))
+            except ValueError as e:
+                raise ValueError(f"{p}:{lineno}: {e}") from None
+    if not rows["t"]:
+        raise ValueError(f"{p}: no observations")
+    return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])
+
+
+def _stations(stations) -> list:
+    if isinstance(stations, Station):
+        return [stations]
+    st = list(stations)
+    if not st:
+        raise ValueError("stations: need at least one station")
+    for i, s in enumerate(st):
+        if not isinstance(s, Station):
+            raise TypeError(f"stations[{i}]: must be a Station, got {type(s).__name__}")
+    return st
+
+
+def solver(observations: Observations, stations, method: str = "levenberg_marquardt", propagator="kepler",
+           mu: float = EARTH_MU, **kw) -> OdSolver:
+    """Build a reusable batch solver (see :func:`solve`)."""
+    if not isinstance(observations, Observations):
+        raise TypeError(f"observations: must be an Observations table, got {type(observations).__name__}")
+    return OdSolver.from_measurements(_stations(stations), observations.measurements(),
+                                      make_propagator(propagator, mu), settings(method, mu=mu, **kw))
+
+
+def solve(observations: Observations, stations, x0_guess, method: str = "levenberg_marquardt",
+          propagator="kepler", mu: float = EARTH_MU, **kw) -> OdResult:
+    """Weighted batch least squares for the state at t = 0 from any number (>= 6) of observations of
+    one or several stations. ``method``: 'levenberg_marquardt' (default), 'gauss_newton' or
+    'newton' (exactly 6 observations). Extra keywords set :class:`OdSettings` fields. Returns the
+    OdResult (status, x0, covariance, correlation, residual history)."""
+    x0 = _vector(x0_guess, 6, "x0_guess")
+    return solver(observations, stations, method, propagator, mu, **kw).solve(x0)
+
+
+def six_point_conditions(t, rho, rhodot=None, mode="doppler", sigma_range: float = 1e-3,
+                         sigma_range_rate: float = 1e-6, station: int = 0) -> list:
+    """The paper's six implicit conditions: ``mode`` 'doppler' (eq. 11 with the observed range),
+    'range' (eq. 9) or a list of six of them (mixed)."""
+    t = _array1(t, "t")
+    rho = _array1(rho, "rho")
+    if t.size != 6:
+        raise ValueError(f"t: the six-point solver needs exactly 6 observation times, got {t.size}")
+    if rho.shape != t.shape:
+        raise ValueError(f"rho: must have 6 values, got {rho.size}")
+    modes = [mode] * 6 if isinstance(mode, str) else list(mode)
+    if len(modes) != 6:
+        raise ValueError(f"mode: need 6 condition types, got {len(modes)}")
+    types = []
+    for i, md in enumerate(modes):
+        if md not in ("doppler", "range"):
+            raise ValueError(f"mode[{i}]: unknown condition type {md!r} (hint: 'doppler' or 'range')")
+        types.append(ConditionType.doppler if md == "doppler" else ConditionType.range)
+    if any(ty == ConditionType.doppler for ty in types):
+        if rhodot is None:
+            raise ValueError("rhodot: Doppler conditions need the observed range-rates")
+        rhodot = _array1(rhodot, "rhodot")
+        if rhodot.shape != t.shape:
+            raise ValueError(f"rhodot: must have 6 values, got {rhodot.size}")
+    else:
+        rhodot = np.zeros(6)
+    if len(np.unique(t)) != 6 and len({(a, b) for a, b in zip(t, modes)}) != 6:
+        raise ValueError("t: duplicate times for the same condition type")
+    sr = _finite_scalar(sigma_range, "sigma_range", positive=True)
+    srr = _finite_scalar(sigma_range_rate, "sigma_range_rate", positive=True)
+    return [BoundaryCondition(float(t[i]), types[i], float(rho[i]), float(rhodot[i]), sr, srr, int(station))
+            for i in range(6)]
+
+
+def six_point_solver(t, rho, rhodot, station, mode="doppler", method: str = "newton", propagator="kepler",
+                     mu: float = EARTH_MU, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6,
+                     **kw) -> OdSolver:
+    """Reusable solver for the paper's six-point problem (see :func:`solve_six_point`)."""
+    conds = six_point_conditions(t, rho, rhodot, mode, sigma_range, sigma_range_rate)
+    return OdSolver.from_conditions(_stations(station), conds, make_propagator(propagator, mu),
+                                    settings(method, mu=mu, **kw))
+
+
+def solve_six_point(t, rho, rhodot, station, x0_guess, mode="doppler", method: str = "newton",
+                    propagator="kepler", mu: float = EARTH_MU, **kw) -> OdResult:
+    """The paper's Newton-Raphson on six implicit boundary conditions (eqs. 9-18) with the exact STM.
+    ``t`` six times (s), ``rho`` observed ranges (km), ``rhodot`` observed range-rates (km/s)."""
+    x0 = _vector(x0_guess, 6, "x0_guess")
+    return six_point_solver(t, rho, rhodot, station, mode, method, propagator, mu, **kw).solve(x0)
+
+
+def box_guesses(center, half_width, n: int, seed: int = 0) -> np.ndarray:
+    """(n, 6) guesses uniform in ``center +- half_width`` (km, km/s), reproducible from ``seed``."""
+    if not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"n: must be an integer >= 1, got {n!r}")
+    hw = _vector(half_width, 6, "half_width")
+    if np.any(hw < 0):
+        raise ValueError("half_width: must be >= 0")
+    return np.asarray(_c.od_box_guesses(_vector(center, 6, "center"), hw, int(n), int(seed)))
+
+
+def root_search(solver_: OdSolver, guesses, distinct_sigma: float = 1.0, distinct_position_km: float = 1e-3,
+                distinct_velocity_kms: float = 1e-6):
+    """Solve from every guess ((n, 6) array) and list the distinct converged solutions (fitting ones
+    first) with residuals and covariance; ``result.ambiguous`` when two or more fit the data."""
+    if not isinstance(solver_, OdSolver):
+        raise TypeError(f"solver: must be an OdSolver, got {type(solver_).__name__}")
+    g = np.asarray(guesses, dtype=float)
+    if g.ndim != 2 or g.shape[1] != 6 or g.shape[0] < 1:
+        raise ValueError(f"guesses: must have shape (n, 6), got {g.shape}")
+    if not np.all(np.isfinite(g)):
+        raise ValueError("guesses: must be finite")
+    s = RootSearchSettings()
+    s.distinct_sigma = _finite_scalar(distinct_sigma, "distinct_sigma")
+    s.distinct_position_km = _finite_scalar(distinct_position_km, "distinct_position_km", positive=True)
+    s.distinct_velocity_kms = _finite_scalar(distinct_velocity_kms, "distinct_velocity_kms", positive=True)
+    return _c.od_root_search(solver_, np.ascontiguousarray(g), s)
+
+
+# ----------------------------------------------------------------------------- synthetic data
+def elevation_deg(x, station_state) -> float:
+    """Elevation (deg) of the satellite above the station's geocentric horizontal plane."""
+    d = np.asarray(x[:3]) - np.asarray(station_state[:3])
+    up = np.asarray(station_state[:3]) / np.linalg.norm(station_state[:3])
+    return math.degrees(math.asin(float(np.dot(d, up) / np.linalg.norm(d))))
+
+
+def simulate(x0, stations, times, types: Sequence[str] = ("range", "range_rate"), sigma_range: float = 1e-3,
+             sigma_range_rate: float = 1e-6, bias_range: float = 0.0, bias_range_rate: float = 0.0,
+             elevation_mask_deg: float | None = None, seed: int | None = 0, propagator="kepler",
+             mu: float = EARTH_MU) -> Observations:
+    """Synthetic observations of the orbit from ``x0`` (at t = 0) by every station at ``times`` (s):
+    each type in ``types`` per visible time, Gaussian noise (sigmas in km, km/s; seed=None for none),
+    constant biases, and an elevation mask (deg, geocentric horizontal) that drops low passes."""
+    x0 = _vector(x0, 6, "x0")
+    st = _stations(stations)
+    times = _array1(times, "times")
+    if times.size == 0 or not np.all(np.isfinite(times)):
+        raise ValueError("times: must be non-empty and finite")
+    if np.any(np.diff(times) <= 0):
+        raise ValueError("times: must be strictly increasing")
+    sr = _finite_scalar(sigma_range, "sigma_range", positive=True)
+    srr = _finite_scalar(sigma_range_rate, "sigma_range_rate", positive=True)
+    kinds = [_mtype(k) for k in types]
+    prop = make_propagator(propagator, mu)
+    states, _ = prop.propagate(x0, list(times))
+    rng = np.random.default_rng(seed) if seed is not None else None
+    rows = {"t": [], "type": [], "value": [], "sigma": [], "station": []}
+    for i, s in enumerate(st):
+        for tk, xk in zip(times, states):
+            R = s.state(float(tk))
+            if elevation_mask_deg is not None and elevation_deg(xk, R) < float(elevation_mask_deg):
+                continue
+            for k in kinds:
+                v, _ = predict(k, xk, R)
+                sig = sr if k == MeasurementType.range else srr
+                bias = bias_range if k == MeasurementType.range else bias_range_rate
+                noise = rng.normal(0.0, sig) if rng is not None else 0.0
+                rows["t"].append(float(tk))
+                rows["type"].append(k)
+                rows["value"].append(v + bias + noise)
+                rows["sigma"].append(sig)
+                rows["station"].append(i)
+    if not rows["t"]:
+        raise ValueError("elevation_mask_deg: no observation above the mask")
+    return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])

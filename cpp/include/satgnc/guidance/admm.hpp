@@ -45,21 +45,29 @@ enum class StoppingRule {
 
 /// Solver settings (plain struct; defaults solve the scenario cases to ~1e-6 relative).
 struct AdmmSettings {
-  double rho = 1.0;                ///< initial penalty (> 0)
-  int max_iterations = 4000;       ///< >= 1
+  double rho = 0.3;                ///< initial penalty (> 0)
+  int max_iterations = 10000;      ///< >= 1
   StoppingRule stopping = StoppingRule::kResiduals;
   double eps_abs = 1e-7;           ///< absolute tolerance on both residuals (>= 0)
   double eps_rel = 1e-6;           ///< relative tolerance (>= 0)
   double paper_eps = 1e-3;         ///< threshold of the paper's rule (> 0)
   double relaxation = 1.6;         ///< over-relaxation alpha in (0, 2); 1 = none (paper)
   bool adaptive_rho = true;        ///< residual balancing (OSQP rule)
-  int adaptive_rho_interval = 10;  ///< iterations between rho checks
+  int adaptive_rho_interval = 25;  ///< iterations between rho checks
   double adaptive_rho_tolerance = 5.0;  ///< refactor only if rho changes by more than this factor
   double rho_min = 1e-6, rho_max = 1e6;
   bool cache_gains = true;         ///< false: full Riccati recursion every iteration (reference)
   bool paper_multiplier_rescale = false;  ///< after iteration 1 scale row i of Lambda to max |.| = w_i
   int paper_global_rescale_iterations = 0;  ///< then scale all of Lambda to max |.| = max w up to this iteration
   bool track_best = true;          ///< keep the best iterate (returned on kMaxIterations)
+  /// Active-set polish (residual rule only; problems without stage Q, group-L2 or ball): every
+  /// polish_interval iterations, fix the zero and saturated entries of Y, solve the reduced KKT
+  /// system for the others exactly and accept it if it satisfies the optimality conditions
+  /// (a certificate: the result is then the exact optimum up to rounding).
+  bool polish = true;
+  int polish_interval = 10;        ///< >= 1
+  int polish_max_free = 0;         ///< largest free set tried; 0 = 4 nx (capped at N nu)
+  double polish_tolerance = 1e-7;  ///< relative tolerance of the optimality check
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
 };
@@ -89,6 +97,8 @@ struct AdmmInfo {
   double rho = 0.0;              ///< final penalty
   int factorizations = 0;        ///< Riccati factorizations in this solve (incl. the setup one if first)
   int rho_updates = 0;
+  bool polished = false;         ///< the result is a certified active-set polish
+  int polish_attempts = 0;
   double solve_time = 0.0;       ///< wall time of solve (s)
 };
 
@@ -142,6 +152,7 @@ class AdmmSolver {
                               const Eigen::Ref<const Eigen::MatrixXd>& U) const noexcept;
   void rollout(const Eigen::Ref<const Eigen::MatrixXd>& U, Eigen::Ref<Eigen::MatrixXd> X) const noexcept;
   void update_linear_terms() noexcept;
+  bool try_polish() noexcept;
 
   LtvProblem prob_;
   AdmmSettings set_;
@@ -158,6 +169,13 @@ class AdmmSolver {
   Eigen::VectorXd v_, ynew_, uhat_, utmp_;
   mutable Eigen::VectorXd xtmp_, xtmp2_;  ///< scratch of the const objective evaluation
   AdmmResult res_;
+  // polish workspace
+  bool polish_ok_ = false;
+  int fmax_ = 0;
+  Eigen::MatrixXd Psi_;         ///< Phi(N, k+1), nx x nx N
+  Eigen::MatrixXd GF_, KKT_, Up_, Xp_, grad_;
+  Eigen::VectorXd rhs_, sol_, pN_;
+  std::vector<int> free_idx_;
 };
 
 }  // namespace satgnc::guidance

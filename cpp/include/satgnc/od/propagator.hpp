@@ -1,0 +1,61 @@
+#pragma once
+/// @file propagator.hpp
+/// The small propagation interface the OD solvers run on: fill states and STMs at given times.
+#include <memory>
+#include <vector>
+
+#include "satgnc/dynamics/force_model.hpp"
+#include "satgnc/dynamics/types.hpp"
+#include "satgnc/propagation/cvodes.hpp"
+#include "satgnc/propagation/trajectory.hpp"
+
+namespace satgnc::od {
+
+/// States and state transition matrices of one arc from x0 at t = 0.
+class StmPropagator {
+ public:
+  virtual ~StmPropagator() = default;
+  /// Propagate x0 = [r km, v km/s] given at t = 0 to the n ascending times (s; times[0] may be 0 or
+  /// negative), writing states[i] and stms[i] = d x(times[i]) / d x0. Return false on failure.
+  /// Implementations used inside solve() must not allocate.
+  virtual bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) = 0;
+};
+
+/// Two-body propagation with the exact STM (universal-variable Kepler step of satgnc::propagation).
+class KeplerStmPropagator final : public StmPropagator {
+ public:
+  /// mu in km^3/s^2 (> 0).
+  explicit KeplerStmPropagator(double mu);
+  bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) override;
+  double mu() const { return mu_; }
+
+ private:
+  double mu_;
+};
+
+/// Numerical propagation with the CVODES propagator of satgnc::propagation (J2, drag, ...). All
+/// observation times must lie on one side of the epoch (t >= 0 or t <= 0). Allocates only on the
+/// first call with a larger number of times.
+class CvodesStmPropagator final : public StmPropagator {
+ public:
+  explicit CvodesStmPropagator(const dynamics::ForceModel& model, const propagation::CvodesSettings& settings = {});
+  bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) override;
+
+ private:
+  propagation::CvodesPropagator prop_;
+  std::vector<double> t_;
+  propagation::Trajectory out_;
+};
+
+/// The paper's short-arc approximation, eq. (19): states from the wrapped propagator, but the STM
+/// replaced by [[I, t I], [0, I]]. Kept to show that Newton with this STM does not converge.
+class ShortArcStmPropagator final : public StmPropagator {
+ public:
+  explicit ShortArcStmPropagator(std::shared_ptr<StmPropagator> inner);
+  bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) override;
+
+ private:
+  std::shared_ptr<StmPropagator> inner_;
+};
+
+}  // namespace satgnc::od

@@ -1,0 +1,223 @@
+#pragma once
+/// @file solver.hpp
+/// Orbit determination of the initial state x0 = [r km, v km/s] at t = 0 from range / range-rate data.
+///
+/// One engine, three methods (OdSettings::method):
+///  - newton: the paper's six-point Newton-Raphson on six implicit boundary conditions (eqs. 9-18),
+///    or on six observations; the Jacobian is exact (measurement partials chained through the STM);
+///  - gauss_newton: weighted batch least squares for any number (>= 6) of mixed observations from
+///    one or several stations, with the formal covariance (J^T W J)^-1 and correlation;
+///  - levenberg_marquardt: the same cost, globalized (Moré-scaled damping; trial points below the
+///    surface or unbound are rejected instead of ending the run).
+/// Residual rows are either observations (predicted - observed, km or km/s, weight 1/sigma^2) or the
+/// paper's implicit conditions:
+///  - range:   q = |X1 - R1|^2 - rho_j^2                         (km^2),   sigma_q = 2 rho_j sigma_rho
+///  - doppler: q = (X1 - R1)^T (X2 - R2) - rho_j rhodot_j        (km^2/s), with the OBSERVED rho_j
+///             and rhodot_j; sigma_q = sqrt((rho_j s_rhodot)^2 + (rhodot_j s_rho)^2).
+///    dq/dx(t_j) = [2 (X1-R1)^T, 0] for range, [(X2-R2)^T, (X1-R1)^T] for doppler; dq/dx0 = dq/dx Phi.
+/// Linear algebra: QR of the row-normalized [J | r] then a 6x6 SVD of R, so the condition number
+/// (up to ~1e9 here) is not squared; all buffers are sized at construction and solve() does not
+/// allocate (if the propagator does not).
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "satgnc/dynamics/force_model.hpp"
+#include "satgnc/dynamics/types.hpp"
+#include "satgnc/od/measurement.hpp"
+#include "satgnc/od/propagator.hpp"
+#include "satgnc/od/station.hpp"
+
+namespace satgnc::od {
+
+/// Iteration scheme.
+enum class OdMethod { newton = 0, gauss_newton = 1, levenberg_marquardt = 2 };
+
+/// Outcome of a solve (message table: od_status_message).
+enum class OdStatus {
+  converged = 0,        ///< step (or residual) below tolerance
+  max_iterations,       ///< iteration budget exhausted
+  singular,             ///< Jacobian rank < 6 (OdResult::rank holds the numerical rank)
+  diverged,             ///< an iterate left the physical region: |r| < min_radius or unbound (E >= 0)
+  propagation_failed,   ///< the propagator reported a failure
+  degenerate_geometry,  ///< zero range (satellite at the station): range-rate and partials undefined
+};
+
+/// Message for a status.
+const char* od_status_message(OdStatus s);
+
+/// The paper's implicit boundary condition kind (eqs. 9 and 11).
+enum class ConditionType { range = 0, doppler = 1 };
+
+/// One implicit condition at time t (s): observed range (km) and, for doppler, range-rate (km/s),
+/// with their standard deviations (km, km/s; > 0) and the station index.
+struct BoundaryCondition {
+  double t = 0.0;
+  ConditionType type = ConditionType::doppler;
+  double range = 0.0;
+  double range_rate = 0.0;
+  double sigma_range = 1e-3;
+  double sigma_range_rate = 1e-6;
+  int station = 0;
+};
+
+/// Settings (plain struct, defaults documented).
+struct OdSettings {
+  OdMethod method = OdMethod::gauss_newton;
+  int max_iterations = 30;      ///< iterations (accepted steps)
+  double step_tol = 1e-10;      ///< converged when |dx_i| <= step_tol (1 + |x_i|) for all i, or
+  double step_sigma_tol = 1e-6; ///< ... when the step moves the normalized residuals by <= this (|J_n dx|)
+  double residual_tol = 0.0;    ///< also converged when max |normalized residual| <= this (paper's xi); 0 = off
+  double rank_tol = 1e-13;      ///< singular values below rank_tol * s_max count as zero
+  double min_radius = dynamics::earth::radius;  ///< km; any state closer to the centre => diverged
+  double mu = dynamics::earth::mu;              ///< km^3/s^2, for the unbound test (specific energy >= 0)
+  double fit_sigma = 3.0;       ///< a solution fits when every |normalized residual| <= fit_sigma
+  double min_range = 1e-6;      ///< km; smaller predicted range => degenerate_geometry
+  double lm_lambda0 = 1e-3;     ///< initial LM damping (relative to the Moré scaling)
+  double lm_increase = 10.0;    ///< damping factor after a rejected step
+  double lm_decrease = 0.1;     ///< damping factor after a very successful step (gain ratio > 0.75)
+  int lm_max_rejections = 30;   ///< rejected trials in a row before giving up (then max_iterations)
+  double lm_stall_tol = 0.1;    ///< after 3 LM steps each lowering the cost by < this fraction, try a Newton polish
+  int lm_polish_iterations = 10;///< undamped Newton steps tried after LM stops (kept only if they converge lower)
+  /// Throw std::invalid_argument naming the field on a bad value.
+  void validate() const;
+};
+
+/// Result with per-iteration history. History row k holds the iterate after k accepted steps
+/// (row 0 = the guess); rows 0..iterations are valid. Residual rows follow the input order.
+struct OdResult {
+  OdStatus status = OdStatus::max_iterations;
+  int iterations = 0;           ///< accepted steps
+  int evaluations = 0;          ///< propagations (LM counts rejected trials)
+  Vec6 x0 = Vec6::Zero();       ///< final estimate at t = 0
+  Mat6 covariance = Mat6::Zero();   ///< formal (J^T W J)^-1 at x0 (km, km/s); +inf diagonal if rank < 6
+  Mat6 correlation = Mat6::Zero();
+  Vec6 singular_values = Vec6::Zero();  ///< of the row-normalized Jacobian dr/dx0 (km, km/s columns)
+  int rank = 0;                 ///< numerical rank of that Jacobian
+  double condition_number = 0.0;   ///< s_max / s_min (inf if s_min = 0)
+  double cost = 0.0;            ///< 0.5 sum normalized^2
+  double max_abs_normalized = 0.0;  ///< max |residual / sigma|
+  bool fits = false;            ///< max_abs_normalized <= fit_sigma (and the state is physical)
+  Eigen::VectorXd residuals;    ///< raw residual rows (km, km/s, km^2 or km^2/s)
+  Eigen::VectorXd normalized;   ///< residuals / sigma
+  Eigen::VectorXd range_residuals;       ///< predicted - observed range per row, km (NaN if none)
+  Eigen::VectorXd range_rate_residuals;  ///< predicted - observed range-rate per row, km/s (NaN if none)
+  Eigen::MatrixXd history_x0;                    ///< (max_iterations+1) x 6
+  Eigen::MatrixXd history_residuals;             ///< (max_iterations+1) x rows, raw
+  Eigen::MatrixXd history_range_residuals;       ///< km
+  Eigen::MatrixXd history_range_rate_residuals;  ///< km/s
+  Eigen::VectorXd history_cost;                  ///< 0.5 sum normalized^2
+  Eigen::VectorXd history_lambda;                ///< LM damping used for the step into the row (0 otherwise)
+};
+
+/// The solver: constant problem (stations, rows, unique times) + workspace sized once.
+class OdSolver {
+ public:
+  /// Batch problem on observations. Needs >= 6 measurements (exactly 6 for method newton).
+  /// Throws std::invalid_argument naming the argument on bad input.
+  static OdSolver from_measurements(std::vector<Station> stations, const std::vector<Measurement>& meas,
+                                    std::shared_ptr<StmPropagator> propagator, const OdSettings& settings = {});
+  /// The paper's problem on implicit boundary conditions (exactly 6 for method newton, >= 6 otherwise).
+  static OdSolver from_conditions(std::vector<Station> stations, const std::vector<BoundaryCondition>& conds,
+                                  std::shared_ptr<StmPropagator> propagator, const OdSettings& settings = {});
+
+  /// Iterate from the guess x0 (km, km/s); never throws, never allocates (given a non-allocating
+  /// propagator). The returned reference stays valid until the next solve().
+  const OdResult& solve(const Vec6& x0_guess);
+
+  /// Residual rows and, if jac is non-null, their Jacobian w.r.t. x0 (rows x 6, raw units) at x0.
+  /// Returns converged when the evaluation is valid, otherwise the failure status.
+  OdStatus evaluate(const Vec6& x0, Eigen::VectorXd& residuals, Eigen::MatrixXd* jac);
+
+  int rows() const { return static_cast<int>(rows_.size()); }
+  const OdSettings& settings() const { return settings_; }
+  /// Change settings between solves (validated; max_iterations may not exceed the one at setup).
+  void set_settings(const OdSettings& s);
+  const OdResult& result() const { return res_; }
+  /// Row standard deviations (km, km/s, km^2, km^2/s).
+  const Eigen::VectorXd& row_sigmas() const { return sigma_; }
+
+ private:
+  enum class RowKind { obs_range, obs_range_rate, cond_range, cond_doppler };
+  struct Row {
+    RowKind kind;
+    int time_index;
+    int station;
+    double range;       // observed (NaN if none)
+    double range_rate;  // observed (NaN if none)
+  };
+  OdSolver() = default;
+  void setup(std::vector<Station> stations, std::vector<Row> rows, std::vector<double> row_times,
+             Eigen::VectorXd sigma, std::shared_ptr<StmPropagator> propagator, const OdSettings& settings);
+  OdStatus eval_at(const Vec6& x0, bool with_jac);  // fills r_, rn_, jn_, range/rate residuals
+  bool physical(const Vec6& x) const;
+  void factor();                       // QR of [jn_ | rn_] -> R_, c_, SVD
+  void record(int k, double lambda);
+  void finish(const Vec6& x, bool buffers_valid);
+  bool small_step(const Vec6& dx, const Vec6& x) const;
+  bool polish(Vec6& x, bool& buffers_valid);  // uses R_ of the current linearization
+
+  std::vector<Station> stations_;
+  std::vector<Row> rows_;
+  std::vector<double> times_;  // unique ascending
+  Eigen::VectorXd sigma_;
+  std::shared_ptr<StmPropagator> prop_;
+  OdSettings settings_;
+  int max_iter_cap_ = 0;
+  // workspace
+  std::vector<Vec6> states_;
+  std::vector<Mat6> stms_;
+  Eigen::VectorXd r_, rn_, rr_, rrr_;
+  Eigen::MatrixXd jn_;   // rows x 6, normalized
+  Eigen::MatrixXd aug_;  // rows x 7
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
+  Mat6 R_;
+  Vec6 c_;
+  Eigen::JacobiSVD<Mat6> svd_;
+  OdResult res_;
+};
+
+/// Distinct-root search settings.
+struct RootSearchSettings {
+  double distinct_position_km = 1e-3;   ///< two solutions closer than this in position ...
+  double distinct_velocity_kms = 1e-6;  ///< ... and in velocity are the same root, and so are two
+  double distinct_sigma = 1.0;          ///< solutions within this many formal sigmas (Mahalanobis distance
+                                        ///< under the first one's covariance): with ill-conditioned data a
+                                        ///< "root" is a valley whose points the data cannot tell apart
+};
+
+/// One distinct converged solution.
+struct Root {
+  Vec6 x0 = Vec6::Zero();
+  Mat6 covariance = Mat6::Zero();
+  Eigen::VectorXd residuals;    ///< raw rows
+  Eigen::VectorXd normalized;   ///< rows / sigma
+  double max_abs_normalized = 0.0;
+  double condition_number = 0.0;
+  bool fits = false;            ///< fits the data to fit_sigma
+  int hits = 0;                 ///< guesses that converged to it
+  int first_guess = -1;
+};
+
+/// Outcome of a root search: distinct roots (fitting ones first, then by max |normalized residual|),
+/// per-guess status, iterations and root index (-1 when the run did not converge).
+struct RootSearchResult {
+  std::vector<Root> roots;
+  std::vector<int> guess_root;
+  std::vector<OdStatus> guess_status;
+  std::vector<int> guess_iterations;
+  int fitting_roots = 0;
+  bool ambiguous = false;  ///< two or more distinct roots fit the data to measurement precision
+};
+
+/// Solve from every guess with the solver's settings and cluster the converged solutions.
+/// Allocates (collects roots); not for on-board loops.
+RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
+                             const RootSearchSettings& settings = {});
+
+/// n guesses uniform in the box center +- half_width (km, km/s), reproducible from seed.
+std::vector<Vec6> box_guesses(const Vec6& center, const Vec6& half_width, int n, std::uint64_t seed);
+
+}  // namespace satgnc::od

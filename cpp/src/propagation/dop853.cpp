@@ -1,0 +1,56 @@
+// Setup-time validation and status mapping shared by the DOP853 orbital wrappers.
+#include "satgnc/propagation/dop853.hpp"
+
+#include <limits>
+#include <string>
+
+#include "satgnc/core/validate.hpp"
+
+namespace satgnc::propagation {
+
+void dop853_validate_settings(const Dop853Settings& s) {
+  core::require_positive(s.rtol, "rtol");
+  core::require_nonnegative(s.atol, "atol");
+  core::require(s.max_steps > 0, "max_steps", "must be > 0, got " + std::to_string(s.max_steps));
+  core::require_nonnegative(s.h0, "h0");
+  core::require_nonnegative(s.h_max, "h_max");
+  core::require(s.safety > 1e-4 && s.safety < 1.0, "safety", "must lie in (1e-4, 1)");
+  core::require(s.fac_min > 0.0 && s.fac_min <= 1.0, "fac_min", "must lie in (0, 1]");
+  core::require(std::isfinite(s.fac_max) && s.fac_max >= 1.0, "fac_max", "must be finite and >= 1");
+  core::require(s.beta >= 0.0 && s.beta <= 0.2, "beta", "must lie in [0, 0.2]");
+  core::require(s.rtol > 10.0 * std::numeric_limits<double>::epsilon(), "rtol",
+                "must exceed 10 machine epsilons (2.2e-15)", "double precision cannot deliver less");
+}
+
+void dop853_validate_orbit_input(const Vec6& x0, double t0, const std::vector<double>& times) {
+  core::require_finite(x0, "x0");
+  core::require(x0.head<3>().norm() > 0.0, "x0", "position must be non-zero (|r0| = 0)",
+                "gravity is singular at the centre of the body");
+  core::require_finite(t0, "t0");
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    core::require(std::isfinite(times[i]), "times",
+                  "must be finite (no NaN or Inf), entry " + std::to_string(i) + " is not");
+    core::require(i == 0 || times[i] >= times[i - 1], "times",
+                  "must be non-decreasing, entry " + std::to_string(i) + " is smaller than the previous",
+                  "sort the output times; they may lie on either side of t0");
+  }
+}
+
+PropagationStatus dop853_to_propagation_status(Dop853Status s) {
+  switch (s) {
+    case Dop853Status::success:
+      return PropagationStatus::success;
+    case Dop853Status::max_steps:
+      return PropagationStatus::too_much_work;
+    case Dop853Status::step_size_too_small:
+      return PropagationStatus::error_test_failures;
+    case Dop853Status::rhs_failure:
+      return PropagationStatus::rhs_failure;
+    case Dop853Status::invalid_settings:
+    case Dop853Status::invalid_input:
+      return PropagationStatus::solver_failure;
+  }
+  return PropagationStatus::solver_failure;
+}
+
+}  // namespace satgnc::propagation

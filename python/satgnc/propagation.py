@@ -1,0 +1,242 @@
+"""Orbit propagation with the state transition matrix: ``satgnc.propagate``.
+
+Units: km, km/s, s. A state is ``[x, y, z, vx, vy, vz]`` in an inertial frame. The STM
+``Phi(t_i, t0) = d x(t_i) / d x(t0)`` comes from the variational equations (CVODES, Dormand-Prince) or
+in closed form (Kepler).
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Sequence
+
+import numpy as np
+
+from . import _satgnc
+from ._satgnc import (
+    EARTH_MU,
+    ExponentialDrag,
+    ForceModel,
+    J2Gravity,
+    Trajectory,
+)
+
+__all__ = [
+    "propagate",
+    "PropagationError",
+    "Trajectory",
+    "ForceModel",
+    "J2Gravity",
+    "ExponentialDrag",
+    "available_methods",
+]
+
+_CVODES = ("adams", "bdf")
+
+
+class PropagationError(RuntimeError):
+    """The integrator stopped before the last requested time.
+
+    ``trajectory`` holds the outputs reached, ``t_reached`` the last time reached (s) and ``status``
+    the reason (``"too_much_work"``, ``"too_much_accuracy"``, ``"error_test_failures"``,
+    ``"convergence_failures"``, ``"rhs_failure"``, ``"solver_failure"``).
+    """
+
+    def __init__(self, message: str, trajectory: Trajectory):
+        super().__init__(message)
+        self.trajectory = trajectory
+        self.t_reached: float = trajectory.t_reached
+        self.status: str = trajectory.status
+
+
+def available_methods() -> list[str]:
+    """Methods this build provides (``kepler`` and ``dop853`` come with the analytic bindings)."""
+    out = list(_CVODES)
+    if hasattr(_satgnc, "propagate_dop853"):
+        out.append("dop853")
+    if hasattr(_satgnc, "propagate_kepler"):
+        out.append("kepler")
+    return out
+
+
+def _real_array(value, name: str) -> np.ndarray:
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name}: must be an array of real numbers, got {type(value).__name__}")
+    try:
+        arr = np.asarray(value)
+    except Exception as e:  # ragged nested sequences and the like
+        raise ValueError(f"{name}: cannot be read as an array ({e})") from None
+    if arr.dtype == object:
+        raise ValueError(f"{name}: must be a regular array of real numbers (got a ragged or object array)")
+    if np.iscomplexobj(arr):
+        raise TypeError(f"{name}: must be real, got complex dtype {arr.dtype}")
+    if not (np.issubdtype(arr.dtype, np.floating) or np.issubdtype(arr.dtype, np.integer)
+            or arr.dtype == np.bool_):
+        raise TypeError(f"{name}: must be an array of real numbers, got dtype {arr.dtype}")
+    if arr.dtype == np.bool_:
+        raise TypeError(f"{name}: must be an array of real numbers, got dtype bool")
+    return arr.astype(np.float64)
+
+
+def _real_scalar(value, name: str, *, positive: bool = True) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name}: must be a real number, got {type(value).__name__}")
+    v = float(value)
+    if not np.isfinite(v) or (positive and v <= 0.0):
+        raise ValueError(f"{name}: must be finite and > 0, got {value!r}")
+    return v
+
+
+def _force_model(forces, mu: float, mu_given: bool) -> ForceModel:
+    if forces is None:
+        return ForceModel(mu=mu)
+    if isinstance(forces, ForceModel):
+        if mu_given and forces.mu != mu:
+            raise ValueError(f"mu: {mu} conflicts with forces.mu = {forces.mu}; give one of them")
+        forces.validate()
+        return forces
+    terms = [forces] if isinstance(forces, (J2Gravity, ExponentialDrag)) else forces
+    if not isinstance(terms, Sequence) or isinstance(terms, (str, bytes)):
+        raise TypeError("forces: must be None, a ForceModel, a J2Gravity, an ExponentialDrag or a list "
+                        f"of those terms, got {type(forces).__name__}")
+    j2 = drag = None
+    for term in terms:
+        if isinstance(term, J2Gravity):
+            if j2 is not None:
+                raise ValueError("forces: J2Gravity given twice")
+            j2 = term
+        elif isinstance(term, ExponentialDrag):
+            if drag is not None:
+                raise ValueError("forces: ExponentialDrag given twice")
+            drag = term
+        else:
+            raise TypeError(f"forces: unknown term {type(term).__name__}; use J2Gravity or ExponentialDrag")
+    if j2 is not None and j2.mu != mu:
+        if mu_given:
+            raise ValueError(f"forces: J2Gravity.mu = {j2.mu} differs from mu = {mu}")
+        mu = j2.mu
+    return ForceModel(mu=mu, j2=j2, drag=drag)
+
+
+_DEFAULT = object()
+
+
+def propagate(
+    x0,
+    times,
+    *,
+    t0: float | None = None,
+    mu: float = _DEFAULT,  # type: ignore[assignment]
+    forces=None,
+    method: str = "adams",
+    rtol: float = 1e-10,
+    atol=1e-12,
+    with_stm: bool = True,
+    max_steps: int = 500_000,
+) -> Trajectory:
+    """Propagate the state ``x0`` (km, km/s) given at ``t0`` to every time in ``times`` (s).
+
+    Parameters
+    ----------
+    x0 : array_like, shape (6,)
+        Initial state ``[r km, v km/s]`` at ``t0``; finite, ``|r| > 0``.
+    times : array_like, shape (n,)
+        Output times (s), strictly monotone in one direction (forward or backward) and on one side of
+        ``t0``. A time equal to ``t0`` returns ``x0`` and the identity STM.
+    t0 : float, optional
+        Epoch of ``x0`` (s). Default: ``times[0]`` (so the first output is ``x0`` itself).
+    mu : float, optional
+        Central-body gravitational parameter, km^3/s^2 (default Earth, EGM-96 398600.4418).
+    forces : None, ForceModel, J2Gravity, ExponentialDrag or a list of J2Gravity/ExponentialDrag
+        Perturbations on top of point-mass gravity. ``None``: two-body.
+    method : {"adams", "bdf", "dop853", "kepler"}
+        CVODES Adams-Moulton (default; the efficient choice for orbits), CVODES BDF (stiff cases),
+        the fixed-size Dormand-Prince 8(5,3) integrator, or the analytic two-body solution (point mass
+        only). See :func:`available_methods`.
+    rtol, atol : float
+        Relative and absolute tolerances (> 0); ``atol`` may also be 6 values (state) or, for the
+        CVODES methods with the STM, 42 values (state, then the STM column by column).
+    with_stm : bool
+        Also return the 6x6 STMs.
+    max_steps : int
+        Step budget of the whole call (> 0). Exhausting it raises :class:`PropagationError`.
+
+    Returns
+    -------
+    Trajectory
+        ``.times`` (n,), ``.states`` (n, 6), ``.stms`` (n, 6, 6) or None without the STM, ``.stats``
+        (dict: steps, rhs_evals, ...), ``.status`` ("success").
+
+    Raises
+    ------
+    ValueError, TypeError
+        Bad input, naming the argument (non-finite state, ``|r| = 0``, ``mu <= 0``, unsorted or
+        non-finite times, non-positive tolerances, wrong shapes or dtypes).
+    PropagationError
+        The integrator stopped early; the message says the time reached and why, and
+        ``err.trajectory`` holds the outputs reached.
+    """
+    x = _real_array(x0, "x0")
+    if x.shape != (6,):
+        raise ValueError(f"x0: must have shape (6,) = [r km, v km/s], got {x.shape}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError("x0: must be finite (no NaN or Inf)")
+    if not np.any(x[:3] != 0.0):
+        raise ValueError("x0: position must be nonzero (|r| = 0)")
+    t = _real_array(times, "times")
+    if t.ndim == 0:
+        t = t.reshape(1)
+    if t.ndim != 1:
+        raise ValueError(f"times: must be one-dimensional, got shape {t.shape}")
+    if t.size == 0:
+        raise ValueError("times: must not be empty")
+    if not np.all(np.isfinite(t)):
+        raise ValueError("times: must be finite (no NaN or Inf)")
+    d = np.diff(t)
+    if d.size and not (np.all(d > 0) or np.all(d < 0)):
+        raise ValueError("times: must be strictly monotone (sorted, no duplicates), forward or backward")
+    t0f = float(t[0]) if t0 is None else _real_scalar(t0, "t0", positive=False)
+    mu_given = mu is not _DEFAULT
+    muf = _real_scalar(EARTH_MU if not mu_given else mu, "mu")
+    rtolf = _real_scalar(rtol, "rtol")
+    if isinstance(atol, numbers.Real) and not isinstance(atol, bool):
+        atolv: float | list[float] = _real_scalar(atol, "atol")
+    else:
+        a = _real_array(atol, "atol")
+        if a.ndim != 1 or a.size not in (6, 42):
+            raise ValueError(f"atol: must be a scalar or have 6 or 42 entries, got shape {a.shape}")
+        if not np.all(np.isfinite(a) & (a > 0)):
+            raise ValueError("atol: every entry must be finite and > 0")
+        atolv = a.tolist()
+    if not isinstance(with_stm, (bool, np.bool_)):
+        raise TypeError(f"with_stm: must be a bool, got {type(with_stm).__name__}")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral):
+        raise TypeError(f"max_steps: must be an int, got {type(max_steps).__name__}")
+    if max_steps <= 0:
+        raise ValueError(f"max_steps: must be > 0, got {max_steps}")
+    if not isinstance(method, str):
+        raise TypeError(f"method: must be a string, got {type(method).__name__}")
+    methods = available_methods()
+    if method not in methods:
+        raise ValueError(f"method: unknown {method!r}; available in this build: {methods}")
+
+    tl = t.tolist()
+    if method == "kepler":
+        if forces is not None:
+            raise ValueError("forces: method 'kepler' is the analytic two-body solution; use forces=None")
+        traj = _satgnc.propagate_kepler(x, t0f, tl, muf, bool(with_stm))
+    else:
+        model = _force_model(forces, muf, mu_given)
+        if method == "dop853":
+            if not isinstance(atolv, float):
+                raise ValueError("atol: method 'dop853' takes a scalar atol")
+            traj = _satgnc.propagate_dop853(x, t0f, tl, model, rtolf, atolv, bool(with_stm), int(max_steps))
+        else:
+            if isinstance(atolv, list) and len(atolv) == 42 and not with_stm:
+                raise ValueError("atol: 42 entries need with_stm=True (6 without the STM)")
+            prop = _satgnc.CvodesPropagator(model, method=method, rtol=rtolf, atol=atolv,
+                                            with_stm=bool(with_stm), max_steps=int(max_steps))
+            traj = prop.propagate(x, t0f, tl)
+    if not traj.success:
+        raise PropagationError(traj.message, traj)
+    return traj

@@ -1,0 +1,321 @@
+// ADMM L1 guidance: paper reproduction (43 iterations), allocation-free solve, cached-gain vs full
+// Riccati iterates, statuses (unreachable terminal state, max iterations), warm start, bad input.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <random>
+
+#include "satgnc/dynamics/cw.hpp"
+#include "satgnc/guidance/admm.hpp"
+#include "testing.hpp"
+
+// ---- allocation counters for this test binary: operator new always, and malloc itself (which
+// Eigen uses) when not under AddressSanitizer (whose interceptors own malloc).
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocs{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  if (g_counting) ++g_allocs;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+#if !defined(__SANITIZE_ADDRESS__)
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+void* malloc(std::size_t n) {
+  if (g_counting) ++g_allocs;
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t a, std::size_t b) {
+  if (g_counting) ++g_allocs;
+  return __libc_calloc(a, b);
+}
+void* realloc(void* p, std::size_t n) {
+  if (g_counting) ++g_allocs;
+  return __libc_realloc(p, n);
+}
+int posix_memalign(void** p, std::size_t al, std::size_t n) {
+  if (g_counting) ++g_allocs;
+  *p = __libc_memalign(al, n);
+  return *p ? 0 : 12;
+}
+void* aligned_alloc(std::size_t al, std::size_t n) {
+  if (g_counting) ++g_allocs;
+  return __libc_memalign(al, n);
+}
+}
+#endif
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+using namespace satgnc::guidance;
+
+namespace {
+// The linear scenario of l1_scenario.md in the implementation's scaled units.
+struct Scenario {
+  double l_ref, v_ref, t_ref, u_ref, dt, n;
+  VectorXd x0;
+};
+Scenario scenario() {
+  Scenario s;
+  const Eigen::Vector3d p(-9477.311, -1999.979, -43.046), v(-3.477486, 1.007149, -0.090170);
+  s.l_ref = p.norm();
+  s.v_ref = v.norm();
+  s.t_ref = s.l_ref / s.v_ref;
+  s.u_ref = s.l_ref / (s.t_ref * s.t_ref) * 4.6;
+  s.dt = 6000.0 / 99.0 / s.t_ref;
+  s.n = std::sqrt(3.99e14 / std::pow(7231e3, 3)) * s.t_ref;
+  s.x0.resize(6);
+  s.x0 << p / s.l_ref, v / s.v_ref;
+  return s;
+}
+
+// Qf / dt: the implementation multiplies the ADMM penalty by dt inside the LQR step, which is
+// the same as this terminal weight with an unweighted penalty (see docs/guidance.md).
+LtvProblem scenario_problem(bool box, bool terminal) {
+  const Scenario s = scenario();
+  satgnc::dynamics::CwModel cw(s.n, 1.0);
+  const auto d = satgnc::dynamics::cw_discretize_midpoint(cw, s.dt);
+  LtvProblem p;
+  p.dynamics.A = {MatrixXd(d.Ad)};
+  p.dynamics.B = {MatrixXd(d.Bd)};
+  p.dynamics.horizon = 99;
+  p.x0 = s.x0;
+  p.xf = VectorXd::Zero(6);
+  p.Qf = 1000.0 / s.dt * MatrixXd::Identity(6, 6);
+  p.l1_weights = VectorXd::Ones(3);
+  if (box) {
+    p.u_lower = VectorXd::Constant(3, -5e-3 / s.u_ref);
+    p.u_upper = VectorXd::Constant(3, 5e-3 / s.u_ref);
+  }
+  p.terminal_equality = terminal;
+  return p;
+}
+
+AdmmSettings paper_settings(double rho, double eps) {
+  AdmmSettings st;
+  st.rho = rho;
+  st.stopping = StoppingRule::kPaper;
+  st.paper_eps = eps;
+  st.relaxation = 1.0;
+  st.adaptive_rho = false;
+  st.paper_multiplier_rescale = true;
+  return st;
+}
+
+LtvProblem random_problem(int nx, int nu, int N, unsigned seed, bool box, bool terminal) {
+  std::mt19937 g(seed);
+  std::normal_distribution<double> nd;
+  auto rnd = [&](int r, int c) { return MatrixXd(MatrixXd::NullaryExpr(r, c, [&]() { return nd(g); })); };
+  LtvProblem p;
+  for (int k = 0; k < N; ++k) {
+    p.dynamics.A.push_back(MatrixXd::Identity(nx, nx) + 0.1 * rnd(nx, nx));
+    p.dynamics.B.push_back(rnd(nx, nu));
+  }
+  p.dynamics.c = {0.01 * rnd(nx, 1)};
+  p.dynamics.horizon = N;
+  p.x0 = rnd(nx, 1);
+  p.xf = VectorXd::Zero(nx);
+  p.Qf = 100.0 * MatrixXd::Identity(nx, nx);
+  p.Q = 0.1 * MatrixXd::Identity(nx, nx);
+  p.l1_weights = VectorXd::Constant(nu, 1.0);
+  if (box) {
+    p.u_lower = VectorXd::Constant(nu, -0.5);
+    p.u_upper = VectorXd::Constant(nu, 0.5);
+  }
+  p.terminal_equality = terminal;
+  return p;
+}
+}  // namespace
+
+TEST(AdmmPaper, UnconstrainedStopsAfter43Iterations) {
+  // Table 1, linear unconstrained: 86 LQR passes = 43 ADMM iterations (one rollout pass each),
+  // rho = 1e-2, eps = 4.5e-3: an exact integer, so exact equality.
+  AdmmSolver s(scenario_problem(false, false), paper_settings(1e-2, 4.5e-3));
+  const AdmmResult& r = s.solve();
+  EXPECT_EQ(r.info.status, AdmmStatus::kSolvedPaperRule);
+  EXPECT_EQ(r.info.iterations, 43);
+  EXPECT_EQ(2 * r.info.iterations, 86);
+  // flying the sparse iterate Y at that point misses the target by kilometres
+  const double miss_m = r.info.terminal_miss * scenario().l_ref;
+  EXPECT_GT(miss_m, 5000.0);
+}
+
+TEST(AdmmPaper, WithoutRescaleTheRuleNeedsMoreIterations) {
+  AdmmSettings st = paper_settings(1e-2, 4.5e-3);
+  st.paper_multiplier_rescale = false;
+  AdmmSolver s(scenario_problem(false, false), st);
+  EXPECT_GT(s.solve().info.iterations, 43);
+}
+
+TEST(Admm, SolveDoesNotAllocate) {
+  for (bool terminal : {false, true}) {
+    AdmmSettings st;
+    st.max_iterations = 300;  // includes adaptive-rho refactorizations
+    st.adaptive_rho_interval = 10;
+    AdmmSolver s(scenario_problem(true, terminal), st);
+    s.solve();  // warm-up (first-touch)
+    AdmmSolver s2(random_problem(5, 2, 30, 3u, true, terminal), st);  // dynamic-size path
+    g_allocs = 0;
+    g_counting = true;
+    const AdmmResult& r = s.solve();
+    const AdmmResult& r2 = s2.solve();
+    g_counting = false;
+    EXPECT_EQ(g_allocs.load(), 0) << "terminal=" << terminal;
+    EXPECT_GT(r.info.iterations + r2.info.iterations, 2);
+    EXPECT_GT(r.info.polish_attempts + r2.info.polish_attempts, 0) << "polish path exercised";
+    EXPECT_GT(r.info.rho_updates + r2.info.rho_updates, 0) << "refactorization path exercised";
+  }
+}
+
+TEST(Admm, CachedGainsMatchFullRiccatiIterateByIterate) {
+  for (bool terminal : {false, true}) {
+    const LtvProblem p = terminal ? scenario_problem(true, true) : random_problem(4, 2, 25, 11u, true, false);
+    for (int it = 1; it <= 40; ++it) {
+      AdmmSettings st;
+      st.rho = 0.5;
+      st.adaptive_rho = false;
+      st.max_iterations = it;
+      st.track_best = false;
+      st.eps_abs = 0.0;
+      st.eps_rel = 1e-300;
+      AdmmSolver a(p, st);
+      st.cache_gains = false;
+      AdmmSolver b(p, st);
+      const AdmmResult& ra = a.solve();
+      const AdmmResult& rb = b.solve();
+      const double scale = std::max(1.0, ra.U.cwiseAbs().maxCoeff());
+      EXPECT_LE((ra.U - rb.U).cwiseAbs().maxCoeff(), 1e-10 * scale) << "iteration " << it;
+      EXPECT_LE((ra.Y - rb.Y).cwiseAbs().maxCoeff(), 1e-10 * scale) << "iteration " << it;
+      EXPECT_LE((ra.Lambda - rb.Lambda).cwiseAbs().maxCoeff(), 1e-10 * std::max(1.0, ra.Lambda.cwiseAbs().maxCoeff()));
+    }
+  }
+}
+
+TEST(Admm, BoxAndTerminalAreSatisfied) {
+  AdmmSolver s(scenario_problem(true, true));
+  const AdmmResult& r = s.solve();
+  const double ub = 5e-3 / scenario().u_ref;
+  EXPECT_LE(r.Y.cwiseAbs().maxCoeff(), ub * (1 + 1e-15));
+  EXPECT_LE((r.X.col(99)).norm(), 1e-9);  // LQR iterate meets x_N = 0 exactly
+  EXPECT_LT(r.info.terminal_miss * scenario().l_ref, 5.0);  // flown Y: metres (reported)
+}
+
+TEST(Admm, MaxIterationsReturnsBestIterateAndResiduals) {
+  AdmmSettings st;
+  st.max_iterations = 5;
+  AdmmSolver s(scenario_problem(false, false), st);
+  const AdmmResult& r = s.solve();
+  EXPECT_EQ(r.info.status, AdmmStatus::kMaxIterations);
+  EXPECT_EQ(r.info.iterations, 5);
+  EXPECT_GT(r.info.primal_residual, 0.0);
+  EXPECT_GT(r.info.dual_residual, 0.0);
+  EXPECT_TRUE(r.Y.allFinite());
+  EXPECT_TRUE(std::isfinite(r.info.objective));
+  EXPECT_STREQ(status_message(r.info.status),
+               "maximum iterations reached: best iterate returned, check the residuals");
+}
+
+TEST(Admm, UnreachableTerminalStateIsAStatus) {
+  LtvProblem p;
+  MatrixXd A = MatrixXd::Identity(3, 3);
+  A(0, 1) = 0.1;
+  MatrixXd B = MatrixXd::Zero(3, 1);
+  B(1, 0) = 0.1;
+  p.dynamics.A = {A};
+  p.dynamics.B = {B};
+  p.dynamics.horizon = 10;
+  p.x0 = VectorXd::Zero(3);
+  p.xf = VectorXd::Ones(3);  // x2 is neither actuated nor driven
+  p.Qf = MatrixXd::Identity(3, 3);
+  p.l1_weights = VectorXd::Ones(1);
+  p.terminal_equality = true;
+  AdmmSolver s(p);
+  const AdmmResult& r = s.solve();
+  EXPECT_EQ(r.info.status, AdmmStatus::kTerminalUnreachable);
+  EXPECT_TRUE(r.Y.allFinite());
+  EXPECT_TRUE(r.X.allFinite());
+  EXPECT_TRUE(std::isfinite(r.info.objective));
+}
+
+TEST(Admm, WarmStartFromSolutionConvergesQuickly) {
+  AdmmSolver s(random_problem(4, 2, 30, 5u, true, false));
+  const AdmmResult& r = s.solve();
+  ASSERT_EQ(r.info.status, AdmmStatus::kSolved);
+  const int cold = r.info.iterations;
+  const MatrixXd Y = r.Y, L = r.Lambda;
+  s.warm_start(Y, L);
+  const AdmmResult& r2 = s.solve();
+  EXPECT_EQ(r2.info.status, AdmmStatus::kSolved);
+  EXPECT_LT(r2.info.iterations, cold / 5 + 2);
+}
+
+TEST(Admm, BadInputThrowsWithHint) {
+  const LtvProblem good = random_problem(3, 2, 5, 2u, true, false);
+  auto expect_msg = [](const LtvProblem& p, const AdmmSettings& st, const std::string& key) {
+    try {
+      AdmmSolver s(p, st);
+      ADD_FAILURE() << "no throw for " << key;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  AdmmSettings st;
+  LtvProblem p = good;
+  p.dynamics.B[2] = MatrixXd::Zero(3, 3);
+  expect_msg(p, st, "B[2]");
+  p = good;
+  p.x0 = VectorXd::Zero(4);
+  expect_msg(p, st, "x0");
+  p = good;
+  p.x0(1) = std::numeric_limits<double>::infinity();
+  expect_msg(p, st, "x0");
+  p = good;
+  p.dynamics.A[1](0, 0) = std::nan("");
+  expect_msg(p, st, "A[1]");
+  p = good;
+  p.l1_weights(0) = -1.0;
+  expect_msg(p, st, "l1_weights");
+  p = good;
+  p.u_lower(1) = 1.0;
+  expect_msg(p, st, "u_lower");
+  p = good;
+  p.group_l2_weight = 1.0;  // with a box: no exact prox
+  expect_msg(p, st, "group_l2_weight");
+  AdmmSettings bad = st;
+  bad.rho = 0.0;
+  expect_msg(good, bad, "rho");
+  bad = st;
+  bad.rho = -1.0;
+  expect_msg(good, bad, "rho");
+  bad = st;
+  bad.relaxation = 2.0;
+  expect_msg(good, bad, "relaxation");
+  AdmmSolver s(good, st);
+  EXPECT_THROW(s.warm_start(MatrixXd::Zero(2, 4), MatrixXd::Zero(2, 5)), std::invalid_argument);
+  EXPECT_THROW(s.set_x0(VectorXd::Zero(2)), std::invalid_argument);
+}
+
+TEST(Admm, GroupL2WithNormBound) {
+  // one gimballed engine: the plan uses whole-vector burns with ||u|| <= u_norm_max
+  LtvProblem p = random_problem(4, 2, 30, 9u, false, false);
+  p.l1_weights.resize(0);
+  p.group_l2_weight = 1.0;
+  p.u_norm_max = 0.4;
+  AdmmSolver s(p);
+  const AdmmResult& r = s.solve();
+  EXPECT_EQ(r.info.status, AdmmStatus::kSolved);
+  for (int k = 0; k < 30; ++k) EXPECT_LE(r.Y.col(k).norm(), 0.4 * (1 + 1e-12));
+}

@@ -1,0 +1,315 @@
+"""satgnc.propagate: accuracy, STM checks, conservation, N_Vector identity and bad input."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+import satgnc
+from satgnc import _satgnc
+
+MU = satgnc.EARTH_MU
+
+
+def coe_to_state(a, e, inc, raan, argp, nu, mu=MU):
+    p = a * (1 - e * e)
+    r = p / (1 + e * math.cos(nu))
+    rp = np.array([r * math.cos(nu), r * math.sin(nu), 0.0])
+    vp = np.array([-math.sqrt(mu / p) * math.sin(nu), math.sqrt(mu / p) * (e + math.cos(nu)), 0.0])
+
+    def rz(t):
+        return np.array([[math.cos(t), -math.sin(t), 0], [math.sin(t), math.cos(t), 0], [0, 0, 1]])
+
+    def rx(t):
+        return np.array([[1, 0, 0], [0, math.cos(t), -math.sin(t)], [0, math.sin(t), math.cos(t)]])
+
+    R = rz(raan) @ rx(inc) @ rz(argp)
+    return np.concatenate([R @ rp, R @ vp])
+
+
+def kepler_ellipse(x0, dt, mu=MU):
+    """Test-local analytic two-body solution (Kepler's equation, Lagrange f and g)."""
+    r0, v0 = x0[:3], x0[3:]
+    rn0 = np.linalg.norm(r0)
+    a = 1.0 / (2.0 / rn0 - v0 @ v0 / mu)
+    n = math.sqrt(mu / a**3)
+    ecos, esin = 1 - rn0 / a, (r0 @ v0) / math.sqrt(mu * a)
+    e = math.hypot(ecos, esin)
+    E0 = math.atan2(esin, ecos)
+    M = math.remainder(E0 - esin + n * dt, 2 * math.pi)
+    E = M + e * math.sin(M)
+    for _ in range(50):
+        d = (E - e * math.sin(E) - M) / (1 - e * math.cos(E))
+        E -= d
+        if abs(d) < 1e-16:
+            break
+    dE = E - E0
+    f = 1 - a / rn0 * (1 - math.cos(dE))
+    g = (math.sin(dE) - e * (math.sin(E) - math.sin(E0))) / n
+    r = f * r0 + g * v0
+    rn = np.linalg.norm(r)
+    fd = -math.sqrt(mu * a) * math.sin(dE) / (rn * rn0)
+    gd = 1 - a / rn * (1 - math.cos(dE))
+    return np.concatenate([r, fd * r0 + gd * v0])
+
+
+X0 = coe_to_state(7000.0, 0.01, math.radians(51.6), math.radians(30), math.radians(40), math.radians(10))
+PERIOD = 2 * math.pi * math.sqrt(7000.0**3 / MU)
+
+
+def energy(model, x):
+    return model.energy(x[:3], x[3:])
+
+
+# ------------------------------------------------------------------ API shape
+
+
+def test_trajectory_shapes_and_t0_default():
+    tr = satgnc.propagate(X0, [100.0, 1000.0, 7300.0], forces=satgnc.J2Gravity())
+    assert isinstance(tr, satgnc.Trajectory)
+    assert tr.times.shape == (3,)
+    assert tr.states.shape == (3, 6)
+    assert tr.stms.shape == (3, 6, 6)
+    assert tr.status == "success" and tr.success
+    # t0 defaults to times[0]: the first output is x0 itself with the identity STM.
+    np.testing.assert_array_equal(tr.states[0], X0)
+    np.testing.assert_array_equal(tr.stms[0], np.eye(6))
+    assert set(tr.stats) >= {"steps", "rhs_evals", "error_test_fails", "nonlin_iters"}
+    assert tr.stats["steps"] > 50 and tr.stats["rhs_evals"] >= tr.stats["steps"]
+    assert tr.t_reached == 7300.0
+    # Explicit t0 shifts the epoch: same arc as above.
+    tr2 = satgnc.propagate(X0, [900.0, 7200.0], t0=0.0, forces=satgnc.J2Gravity())
+    np.testing.assert_allclose(tr2.states[1], tr.states[2], rtol=0, atol=1e-6)
+
+
+def test_without_stm_returns_none():
+    tr = satgnc.propagate(X0, [0.0, 600.0], with_stm=False)
+    assert tr.stms is None
+    assert tr.states.shape == (2, 6)
+
+
+def test_available_methods_lists_cvodes():
+    m = satgnc.available_methods()
+    assert m[:2] == ["adams", "bdf"]
+
+
+# ------------------------------------------------------------------ accuracy
+
+
+def test_one_day_against_analytic_below_millimetre():
+    times = np.arange(1, 25) * 3600.0
+    tr = satgnc.propagate(X0, times, t0=0.0, rtol=1e-14, atol=1e-12, with_stm=False)
+    ref = np.array([kepler_ellipse(X0, t) for t in times])
+    assert np.max(np.linalg.norm(tr.states[:, :3] - ref[:, :3], axis=1)) < 1e-6  # 1 mm
+    assert np.max(np.linalg.norm(tr.states[:, 3:] - ref[:, 3:], axis=1)) < 1e-9  # 1 um/s
+
+
+def test_vallado_example_2_4():
+    # Vallado, Fundamentals of Astrodynamics and Applications, 4th ed. (2013), Example 2-4 (KEPLER).
+    x0 = np.array([1131.340, -2282.343, 6672.423, -5.64305, 4.30333, 2.42879])
+    tr = satgnc.propagate(x0, [0.0, 2400.0], rtol=1e-13, atol=1e-13)
+    # Printed to 0.1 m and 1 mm/s: half a unit of the last printed digit.
+    np.testing.assert_allclose(tr.states[1, :3], [-4219.7527, 4363.0292, -3958.7666], rtol=0, atol=0.5e-4)
+    np.testing.assert_allclose(tr.states[1, 3:], [3.689866, -1.916735, -6.112511], rtol=0, atol=0.5e-6)
+
+
+def test_curtis_example_3_7():
+    # Curtis, Orbital Mechanics for Engineering Students, 3rd ed. (2014), Example 3.7 (mu = 398600):
+    # printed r = -3297.8 i + 7413.4 j km, v = -8.2977 i - 0.96309 j km/s. Curtis rounds chi, f, g to
+    # 5 digits, so the printed v_y carries a 7e-4 km/s rounding error (exact: -0.963717).
+    x0 = np.array([7000.0, -12124.0, 0.0, 2.6679, 4.6210, 0.0])
+    tr = satgnc.propagate(x0, [0.0, 3600.0], mu=398600.0, rtol=1e-13, atol=1e-13)
+    x = tr.states[1]
+    assert abs(x[0] - -3297.8) < 0.5 and abs(x[1] - 7413.4) < 0.2
+    assert abs(x[3] - -8.2977) < 5e-4 and abs(x[4] - -0.96309) < 1e-3
+
+
+def test_backward_returns_to_start():
+    fwd = satgnc.propagate(X0, [0.0, 7200.0], rtol=1e-13, atol=1e-13, forces=satgnc.J2Gravity())
+    bwd = satgnc.propagate(fwd.states[1], [7200.0, 0.0], rtol=1e-13, atol=1e-13, forces=satgnc.J2Gravity())
+    assert np.linalg.norm(bwd.states[1, :3] - X0[:3]) < 1e-7
+    assert np.linalg.norm(bwd.states[1, 3:] - X0[3:]) < 1e-10
+    assert np.max(np.abs(bwd.stms[1] @ fwd.stms[1] - np.eye(6))) < 1e-6
+
+
+# ------------------------------------------------------------------ STM
+
+
+def nondim_stm_error(phi, ref, x0):
+    """Relative error of D^-1 Phi D, D = diag(|r0| I3, |v0| I3) (entries weighted by physical scale)."""
+    d = np.r_[[np.linalg.norm(x0[:3])] * 3, [np.linalg.norm(x0[3:])] * 3]
+    a, b = phi * d[None, :] / d[:, None], ref * d[None, :] / d[:, None]
+    return np.abs(a - b).max() / np.abs(b).max()
+
+
+def test_stm_matches_central_differences():
+    forces = [satgnc.J2Gravity(), satgnc.ExponentialDrag(rho0=2.789e-13, h0=600.0, scale_height=71.835,
+                                                         area=20.0, mass=100.0)]
+    x0 = coe_to_state(6378.1363 + 450.0, 0.001, math.radians(97), 0.3, 0.2, 0.1)
+    phi = satgnc.propagate(x0, [0.0, 7200.0], forces=forces, rtol=1e-13, atol=1e-13).stms[1]
+
+    def f(x):  # rtol 1e-14: the integrator error enters the differences as noise ~ err / h
+        return satgnc.propagate(x, [0.0, 7200.0], forces=forces, rtol=1e-14, atol=1e-13,
+                                with_stm=False).states[1]
+
+    fd = np.empty((6, 6))
+    for j in range(6):  # 4th-order central differences
+        h = 0.5 if j < 3 else 5e-4
+        e = np.zeros(6)
+        e[j] = h
+        fd[:, j] = (8 * (f(x0 + e) - f(x0 - e)) - (f(x0 + 2 * e) - f(x0 - 2 * e))) / (12 * h)
+    assert nondim_stm_error(phi, fd, x0) < 1e-7
+
+
+def test_stm_composition_det_and_symplectic():
+    j2 = satgnc.J2Gravity()
+    kw = dict(forces=j2, rtol=1e-13, atol=1e-13)
+    a = satgnc.propagate(X0, [0.0, 2000.0, 5000.0], **kw)
+    b = satgnc.propagate(a.states[1], [2000.0, 5000.0], **kw)
+    np.testing.assert_allclose(b.stms[1] @ a.stms[1], a.stms[2], rtol=0, atol=1e-9 * np.abs(a.stms[2]).max())
+    phi = a.stms[2]
+    assert abs(np.linalg.det(phi) - 1) < 1e-8
+    J = np.block([[np.zeros((3, 3)), np.eye(3)], [-np.eye(3), np.zeros((3, 3))]])
+    assert np.max(np.abs(phi.T @ J @ phi - J)) < 1e-9 * np.sum(phi**2)
+
+
+def test_energy_and_hz_conserved_ten_orbits_j2():
+    model = satgnc.ForceModel(j2=satgnc.J2Gravity())
+    times = np.linspace(0, 10 * PERIOD, 101)
+    tr = satgnc.propagate(X0, times, forces=model, rtol=1e-12, atol=1e-14)
+    e = np.array([energy(model, x) for x in tr.states])
+    hz = np.cross(tr.states[:, :3], tr.states[:, 3:])[:, 2]
+    assert np.max(np.abs(e / e[0] - 1)) < 1e-11
+    assert np.max(np.abs(hz / hz[0] - 1)) < 1e-11
+
+
+def test_satgnc_nvector_identical_to_sundials_serial():
+    model = satgnc.ForceModel(j2=satgnc.J2Gravity())
+    times = [600.0 * k for k in range(1, 13)]
+    a = _satgnc.CvodesPropagator(model, vector="satgnc").propagate(X0, 0.0, times)
+    b = _satgnc.CvodesPropagator(model, vector="sundials_serial").propagate(X0, 0.0, times)
+    assert a.stats == b.stats
+    assert np.array_equal(a.states, b.states) and np.array_equal(a.stms, b.stms)
+
+
+def test_force_model_jacobians_match_finite_differences():
+    m = satgnc.ForceModel(j2=satgnc.J2Gravity(), drag=satgnc.ExponentialDrag(
+        rho0=1e-12, h0=500.0, scale_height=60.0, area=10.0, mass=100.0))
+    r, v = np.array([-4502.0, 3870.0, 3420.0]), np.array([-2.1, -5.3, 4.4])
+    a, gr, gv = m.acceleration_jacobians(r, v)
+    fd = np.empty((3, 3))
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = 1e-2
+        fd[:, k] = (m.acceleration(r + e, v) - m.acceleration(r - e, v)) / 2e-2
+    assert np.max(np.abs(gr - fd)) / np.max(np.abs(fd)) < 1e-7
+    np.testing.assert_allclose(a, m.acceleration(r, v), rtol=1e-15)
+    assert gv.shape == (3, 3) and np.all(np.isfinite(gv)) and np.abs(gv).max() > 0
+
+
+# ------------------------------------------------------------------ bad input
+
+
+@pytest.mark.parametrize("x0, exc, text", [
+    ([7000.0, 0, 0, 0, 7.5, float("nan")], ValueError, "x0: must be finite"),
+    ([7000.0, 0, 0, 0, float("inf"), 0], ValueError, "x0: must be finite"),
+    ([0.0, 0, 0, 0, 7.5, 0], ValueError, "x0: position must be nonzero"),
+    ([7000.0, 0, 0, 0, 7.5], ValueError, "x0: must have shape (6,)"),
+    (np.zeros((6, 1)) + 7000.0, ValueError, "x0: must have shape (6,)"),
+    (np.array([7000, 0, 0, 0, 7.5, 0], dtype=complex), TypeError, "x0: must be real"),
+    (["a", "b", "c", "d", "e", "f"], TypeError, "x0: must be an array of real numbers"),
+    ("7000 0 0 0 7.5 0", TypeError, "x0: must be an array of real numbers"),
+    ([[7000.0, 0], [1]], ValueError, "x0:"),
+])
+def test_bad_state(x0, exc, text):
+    with pytest.raises(exc, match=None) as info:
+        satgnc.propagate(x0, [0.0, 10.0])
+    assert text in str(info.value)
+
+
+@pytest.mark.parametrize("times, text", [
+    ([0.0, 20.0, 10.0], "times: must be strictly monotone"),
+    ([0.0, 10.0, 10.0], "times: must be strictly monotone"),
+    ([0.0, float("nan")], "times: must be finite"),
+    ([0.0, float("inf")], "times: must be finite"),
+    ([], "times: must not be empty"),
+    (np.zeros((2, 2)), "times: must be one-dimensional"),
+])
+def test_bad_times(times, text):
+    with pytest.raises(ValueError) as info:
+        satgnc.propagate(X0, times)
+    assert text in str(info.value)
+
+
+def test_times_on_both_sides_of_t0_rejected():
+    with pytest.raises(ValueError, match="times: must all lie on one side of t0"):
+        satgnc.propagate(X0, [-10.0, 10.0], t0=0.0)
+
+
+def test_bad_times_dtype():
+    with pytest.raises(TypeError, match="times: must be real"):
+        satgnc.propagate(X0, np.array([0, 10], dtype=complex))
+    with pytest.raises(TypeError, match="times"):
+        satgnc.propagate(X0, ["0", "10"])
+
+
+@pytest.mark.parametrize("kw, exc, text", [
+    (dict(mu=0.0), ValueError, "mu: must be finite and > 0"),
+    (dict(mu=-398600.0), ValueError, "mu: must be finite and > 0"),
+    (dict(mu=float("nan")), ValueError, "mu: must be finite and > 0"),
+    (dict(mu="earth"), TypeError, "mu: must be a real number"),
+    (dict(rtol=0.0), ValueError, "rtol: must be finite and > 0"),
+    (dict(rtol=-1e-10), ValueError, "rtol: must be finite and > 0"),
+    (dict(atol=0.0), ValueError, "atol: must be finite and > 0"),
+    (dict(atol=[1e-12] * 5), ValueError, "atol: must be a scalar or have 6 or 42 entries"),
+    (dict(atol=[1e-12, 1e-12, 1e-12, -1, 1e-12, 1e-12]), ValueError, "atol: every entry"),
+    (dict(rtol=1j), TypeError, "rtol: must be a real number"),
+    (dict(max_steps=0), ValueError, "max_steps: must be > 0"),
+    (dict(max_steps=1.5), TypeError, "max_steps: must be an int"),
+    (dict(max_steps=True), TypeError, "max_steps: must be an int"),
+    (dict(method="rk4"), ValueError, "method: unknown 'rk4'; available in this build"),
+    (dict(method=3), TypeError, "method: must be a string"),
+    (dict(t0=float("nan")), ValueError, "t0: must be finite"),
+    (dict(forces="j2"), TypeError, "forces: must be None, a ForceModel"),
+    (dict(forces=[satgnc.J2Gravity(), 3]), TypeError, "forces: unknown term int"),
+    (dict(forces=satgnc.J2Gravity(mu=1.0), mu=398600.0), ValueError, "forces: J2Gravity.mu"),
+    (dict(with_stm="yes"), TypeError, "with_stm: must be a bool"),
+])
+def test_bad_arguments(kw, exc, text):
+    with pytest.raises(exc) as info:
+        satgnc.propagate(X0, [0.0, 10.0], **kw)
+    assert text in str(info.value)
+
+
+def test_bad_force_model_parameters():
+    with pytest.raises(ValueError, match="drag.mass: must be finite and > 0"):
+        satgnc.propagate(X0, [0.0, 10.0], forces=satgnc.ExponentialDrag(rho0=1e-12, h0=500, scale_height=60,
+                                                                          mass=0.0))
+    with pytest.raises(ValueError, match="mu: must be finite and > 0"):
+        satgnc.ForceModel(mu=-1.0)
+
+
+def test_too_much_work_raises_with_time_reached_and_partial_trajectory():
+    with pytest.raises(satgnc.PropagationError) as info:
+        satgnc.propagate(X0, [0.0, 10.0, 86400.0], max_steps=30)
+    err = info.value
+    assert isinstance(err, RuntimeError)
+    assert err.status == "too_much_work"
+    assert 10.0 < err.t_reached < 86400.0
+    msg = str(err)
+    m = re.search(r"stopped at t = ([-+0-9.e]+) s", msg)
+    assert m is not None and float(m.group(1)) == err.t_reached
+    assert "too much work" in msg and "max_steps = 30" in msg
+    assert len(err.trajectory) == 2
+    assert np.all(np.isfinite(err.trajectory.states))
+    assert err.trajectory.stms.shape == (2, 6, 6)
+
+
+def test_collision_course_raises():
+    x0 = np.array([7000.0, 0, 0, 0, 0, 0])  # radial free fall reaches r = 0 at ~1.5e3 s
+    with pytest.raises(satgnc.PropagationError) as info:
+        satgnc.propagate(x0, [0.0, 4000.0])
+    assert info.value.t_reached < 4000.0
+    assert "stopped at t = " in str(info.value)
