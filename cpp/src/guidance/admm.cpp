@@ -136,7 +136,7 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
                (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
   if (polish_ok_) {
-    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 4 * nx_;
+    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 8 * nx_;
     fmax_ = std::min(fmax_, N_ * nu_);
     Psi_.setZero(nx_, nx_ * N_);
     Psi_.middleCols((N_ - 1) * nx_, nx_).setIdentity();
@@ -207,6 +207,19 @@ bool AdmmSolver::try_polish() noexcept {
     }
   }
   if (term && F < nx_) return false;  // generic vertex needs nx free entries to meet x_N = x_f
+  if (F > nx_ && prob_.R.size() == 0) {
+    // Without R the reduced problem has at most nx independent free entries (a vertex): keep the
+    // nx largest; the rest are taken as zeros. The optimality check below guards the guess.
+    for (int t = 0; t < nx_; ++t) {
+      int best = t;
+      for (int a = t + 1; a < F; ++a) {
+        const int ja = free_idx_[static_cast<std::size_t>(a)], jb = free_idx_[static_cast<std::size_t>(best)];
+        if (std::abs(Y(ja % nu_, ja / nu_)) > std::abs(Y(jb % nu_, jb / nu_))) best = a;
+      }
+      std::swap(free_idx_[static_cast<std::size_t>(t)], free_idx_[static_cast<std::size_t>(best)]);
+    }
+    F = nx_;
+  }
   rollout(Up_, Xp_);                   // fixed part, x_N^fix in Xp_.col(N)
   const int M = fmax_ + nx_;
   for (int a = 0; a < F; ++a) {
@@ -422,6 +435,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   const double a = set_.relaxation;
   const double dimU = static_cast<double>(N_) * nu_;
   double best = std::numeric_limits<double>::infinity();
+  double best_prim = 0.0, best_dual = 0.0, best_paper = 0.0;
   AdmmStatus status = AdmmStatus::kMaxIterations;
   int it = 0;
   if (!ok) status = AdmmStatus::kNumericalError;
@@ -477,6 +491,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       const double measure = std::max(prim / eps_p, dual / eps_d);
       if (measure < best) {
         best = measure;
+        best_prim = prim;
+        best_dual = dual;
+        best_paper = info.paper_criterion;
         bX_ = X;
         bU_ = U;
         bY_ = Y;
@@ -519,6 +536,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     U = bU_;
     Y = bY_;
     L = bL_;
+    info.primal_residual = best_prim;  // residuals of the returned (best) iterate
+    info.dual_residual = best_dual;
+    info.paper_criterion = best_paper;
   }
   info.status = status;
   info.iterations = it;

@@ -504,8 +504,9 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
 }
 
 /// Integrate the orbital state (and, with_stm, the variational equations dPhi/dt = A(t) Phi with
-/// A = [0 I; da/dr da/dv]) through `times` with DOP853. accel(t, r, v, a, da_dr, da_dv) fills the
-/// acceleration (km/s^2) and its Jacobians; VelocityDependent = false skips the da/dv products.
+/// A = [0 I; da/dr da/dv]) through `times` with DOP853. Accel provides two call forms:
+/// accel(t, r, v, a) fills the acceleration (km/s^2) and accel(t, r, v, a, da_dr, da_dv) also its
+/// Jacobians (1/s^2, 1/s); VelocityDependent = false skips the da/dv products.
 /// times: non-decreasing, either side of t0 (two arcs from t0, backward and forward).
 /// Throws std::invalid_argument naming the argument on bad input; solver failures are reported in
 /// Trajectory::status / message with the states reached so far.
@@ -539,11 +540,14 @@ struct OrbitRhs {
     const Vec3 r = y.template head<3>();
     const Vec3 v = y.template segment<3>(3);
     Vec3 a;
-    Mat3 da_dr, da_dv;
-    accel(t, r, v, a, da_dr, da_dv);
     dy.template head<3>() = v;
-    dy.template segment<3>(3) = a;
-    if constexpr (WithStm) {
+    if constexpr (!WithStm) {
+      accel(t, r, v, a);  // no Jacobians needed without the STM
+      dy.template segment<3>(3) = a;
+    } else {
+      Mat3 da_dr, da_dv;
+      accel(t, r, v, a, da_dr, da_dv);
+      dy.template segment<3>(3) = a;
       // Phi is stored column-major after the state: per column j, rows 0-2 are d r / d x0_j and rows
       // 3-5 d v / d x0_j, so column j of dPhi/dt is [Phi_v,j; da_dr Phi_r,j (+ da_dv Phi_v,j)].
       for (int j = 0; j < 6; ++j) {
