@@ -3,10 +3,9 @@ optimality against an independent local solver (scipy SLSQP), flying the plans, 
 
 import numpy as np
 import pytest
-from scipy.optimize import minimize
-
 from satgnc import _satgnc as _c
 from satgnc.guidance import nonlinear as nl
+from scipy.optimize import minimize
 
 
 @pytest.fixture(scope="module")
@@ -103,7 +102,7 @@ def _slsqp(case):
 
     def fg(v):
         z = v * scale
-        U = (z[: 3 * Nh] - z[3 * Nh:]).reshape(Nh, 3).T
+        U = (z[: 3 * Nh] - z[3 * Nh :]).reshape(Nh, 3).T
         x = np.asarray(pr.x0)
         As, Bs = [], []
         for k in range(Nh):
@@ -121,8 +120,14 @@ def _slsqp(case):
         return J, np.concatenate([g + w, -g + w]) * scale
 
     bounds = [(0, 1.0 if case.constrained else None)] * (6 * Nh)
-    r = minimize(fg, np.zeros(6 * Nh), jac=True, method="SLSQP", bounds=bounds,
-                 options={"ftol": 1e-15, "maxiter": 3000})
+    r = minimize(
+        fg,
+        np.zeros(6 * Nh),
+        jac=True,
+        method="SLSQP",
+        bounds=bounds,
+        options={"ftol": 1e-15, "maxiter": 3000},
+    )
     return r.fun if r.success else float("nan")
 
 
@@ -195,7 +200,9 @@ def test_propagation_failure_status_names_interval(uncons):
     pr = _c.NonlinearL1Problem()
     pr.horizon = 4
     x0 = np.asarray(uncons.problem.x0).copy()
-    x0[0:3] = x0[3:6] * np.asarray(uncons.scaling.state_scale)[3:6] / np.asarray(uncons.scaling.state_scale)[0:3]
+    x0[0:3] = (
+        x0[3:6] * np.asarray(uncons.scaling.state_scale)[3:6] / np.asarray(uncons.scaling.state_scale)[0:3]
+    )
     pr.x0 = x0
     pr.Qf = np.eye(12)
     pr.alpha = np.ones(3)
@@ -229,3 +236,17 @@ def test_mpc_constrained_closed_loop_submetre_with_bounds(cons):
     # open loop, the same nonlinear optimum misses by tens of metres on this truth (J2 unmodelled)
     s = nl.solve_scp(cons, eps=1e-7, tol=1e-8)
     assert nl.miss(nl.fly(cons, cons.to_si(s.U)))[0] > 10.0
+
+
+def test_cli_nonlinear_writes_summary(tmp_path):
+    import json
+
+    from satgnc.guidance import cli
+
+    args = type(
+        "A", (), {"model": "nonlinear", "closed_loop": False, "out": str(tmp_path), "scenario": None}
+    )()
+    assert cli._run(args) == 0
+    summary = json.loads((tmp_path / "nonlinear_summary.json").read_text())
+    assert summary["nonlinear_unconstrained"]["paper_iterations"] == 60
+    assert (tmp_path / "nonlinear_unconstrained.png").exists()
