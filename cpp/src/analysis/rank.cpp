@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstdint>
 #include <sstream>
 
 #include "satgnc/core/validate.hpp"
@@ -80,7 +81,11 @@ Pair prepare(const MatrixXd& A, const MatrixXd& BC, Property p, const RankSettin
     m.C = BC;
     m.B = MatrixXd(n, 0);
   }
-  if (s.units) m = nondimensionalize(m, *s.units);
+  if (s.units) {  // only the units of the channels under test matter
+    Units u = *s.units;
+    (p == Property::controllability ? u.output : u.input).resize(0);
+    m = nondimensionalize(m, u);
+  }
   if (p == Property::controllability) return {m.A, m.B};
   return {m.A.transpose(), m.C.transpose()};
 }
@@ -103,11 +108,9 @@ int count_subtolerance(const MatrixXd& M, double thresh) {
   return c;
 }
 
-void finish(RankReport& r, const std::string& extra_reason = "") {
-  r.margin = r.sigma_r / r.rtol;
+void finish(RankReport& r, double margin) {
+  r.margin = margin >= 0.0 ? margin : r.sigma_r / r.rtol;
   r.gap = r.sigma_next > 0.0 ? r.sigma_r / r.sigma_next : kInf;
-  return;
-  (void)extra_reason;
 }
 
 std::string fmt(double v) {
@@ -119,13 +122,13 @@ std::string fmt(double v) {
 
 // Shared verdict rule: robust iff the smallest accepted relative singular value is >= fuzz * rtol
 // and, for a deficient rank, no nonzero data entry lies below the tolerance.
-void decide(RankReport& r, double fuzz, int subtol_entries) {
-  finish(r);
+void decide(RankReport& r, double fuzz, int subtol_entries, double margin = -1.0) {
+  finish(r, margin);
   r.reason.clear();
   if (r.margin < fuzz) {
     r.verdict = Verdict::not_robustly_decidable;
-    r.reason = "smallest accepted singular value " + fmt(r.sigma_r) + " is within the fuzz band (" +
-               fmt(fuzz) + " x rtol = " + fmt(fuzz * r.rtol) + ")";
+    r.reason = "margin " + fmt(r.margin) + " < fuzz " + fmt(fuzz) +
+               ": an accepted singular value is too close to the tolerance or to its rounding noise";
     return;
   }
   if (r.rank < r.n && subtol_entries > 0) {
@@ -138,18 +141,40 @@ void decide(RankReport& r, double fuzz, int subtol_entries) {
   r.verdict = r.rank == r.n ? Verdict::full_rank : Verdict::rank_deficient;
 }
 
-// Orthogonal U (rows x rows) compressing `block` to its leading r rows, and the rank-revealing
-// values (singular values or |R_ii|), descending.
-void compress(const MatrixXd& block, StairMethod method, MatrixXd& U, VectorXd& values) {
+// Householder reflectors (hv, hc) of an orthogonal H (rows x rows) whose leading columns span the
+// dominant left singular directions of `block` (so H^T block is zero below its rank), and the
+// rank-revealing values (singular values or |R_ii|), descending. O(rows cols^2 + rows cols^2).
+void compress(const MatrixXd& block, StairMethod method, MatrixXd& hv, VectorXd& hc, VectorXd& values) {
+  const Eigen::Index k = std::min(block.rows(), block.cols());
+  if (block.cols() == 1) {
+    // One column: its norm is the singular value and one reflector maps it onto e1.
+    hv.resize(block.rows(), 1);
+    hc.resize(1);
+    values.resize(1);
+    double beta;
+    hv.col(0) = block.col(0);
+    if (block.rows() > 1) {
+      Eigen::VectorXd ess(block.rows() - 1);
+      block.col(0).makeHouseholder(ess, hc(0), beta);
+      hv.col(0).tail(block.rows() - 1) = ess;
+    } else {
+      hc(0) = 0.0;
+      beta = block(0, 0);
+    }
+    values(0) = std::abs(beta);
+    return;
+  }
   if (method == StairMethod::svd) {
-    Eigen::JacobiSVD<MatrixXd> svd(block, Eigen::ComputeFullU);
-    U = svd.matrixU();
+    Eigen::JacobiSVD<MatrixXd> svd(block, Eigen::ComputeThinU);
     values = svd.singularValues();
+    Eigen::HouseholderQR<MatrixXd> qr(svd.matrixU().leftCols(k));
+    hv = qr.matrixQR();
+    hc = qr.hCoeffs();
   } else {
     Eigen::ColPivHouseholderQR<MatrixXd> qr(block);
-    U = qr.householderQ();
-    const Eigen::Index k = std::min(block.rows(), block.cols());
     values = qr.matrixQR().diagonal().head(k).cwiseAbs();
+    hv = qr.matrixQR().leftCols(k);
+    hc = qr.hCoeffs().head(k);
   }
 }
 
@@ -166,44 +191,86 @@ StaircaseReport staircase(const MatrixXd& A_in, const MatrixXd& BC, Property p, 
   rep.method = s.stair == StairMethod::svd ? "staircase-svd" : "staircase-qrcp";
   rep.sigma_r = kInf;
   rep.sigma_next = 0.0;
+  double min_margin = kInf;
 
   const double normA = safe_norm(pr.A), normB = safe_norm(pr.B);
-  MatrixXd Ab = pr.A, Bb = pr.B, Q = MatrixXd::Identity(n, n);
+  // Lane 0 is the data; lanes 1..kLanes-1 are the data plus random perturbations of rounding size
+  // (n eps ||.||_F). All lanes share the stair decisions, so the spread of each stair's singular
+  // values across lanes measures how much rounding the chain of earlier stairs amplifies into it
+  // (the Krylov-chain sensitivity that a fixed tolerance cannot see).
+  constexpr int kLanes = 3;
+  constexpr double kNoise = 10.0;  // a value must exceed kNoise x its measured spread to count
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;  // fixed seed: reproducible reports
+  auto uniform = [&state]() {  // splitmix64 -> [-1, 1): cheap, and the shape does not matter here
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return static_cast<double>(z >> 11) * 0x1.0p-52 - 1.0;
+  };
+  MatrixXd Ab[kLanes], Bb[kLanes];
+  for (int l = 0; l < kLanes; ++l) {
+    Ab[l] = pr.A;
+    Bb[l] = pr.B;
+    if (l == 0) continue;
+    MatrixXd E = MatrixXd::NullaryExpr(n, n, uniform);
+    MatrixXd F = MatrixXd::NullaryExpr(n, m, uniform);
+    Ab[l] += (static_cast<double>(n) * kEps * normA / E.norm()) * E;
+    Bb[l] += (static_cast<double>(n) * kEps * normB / F.norm()) * F;
+  }
+  MatrixXd Q = MatrixXd::Identity(n, n);
   Eigen::Index pos = 0, prev = 0;  // states already in the controllable part; previous stair size
-  MatrixXd U;
-  VectorXd vals;
+  MatrixXd hv[kLanes];
+  VectorXd hc[kLanes], vals[kLanes];
   for (int k = 0; pos < n; ++k) {
     const Eigen::Index rows = n - pos;
-    const MatrixXd block = k == 0 ? Bb : MatrixXd(Ab.block(pos, pos - prev, rows, prev));
     const double norm = k == 0 ? normB : normA;
-    compress(block, s.stair, U, vals);
+    for (int l = 0; l < kLanes; ++l) {
+      const MatrixXd block = k == 0 ? Bb[l] : MatrixXd(Ab[l].block(pos, pos - prev, rows, prev));
+      compress(block, s.stair, hv[l], hc[l], vals[l]);
+    }
     Eigen::Index r = 0;
-    for (Eigen::Index i = 0; i < vals.size(); ++i) {
-      const double rel = vals(i) / norm;
-      if (rel > rep.rtol) {
+    for (Eigen::Index i = 0; i < vals[0].size(); ++i) {
+      double spread = 0.0;
+      for (int l = 1; l < kLanes; ++l) spread = std::max(spread, std::abs(vals[l](i) - vals[0](i)));
+      const double noise = std::max(rep.rtol * norm, kNoise * spread);
+      const double rel = vals[0](i) / norm;
+      if (vals[0](i) > noise && r == i) {
         ++r;
         rep.sigma_r = std::min(rep.sigma_r, rel);
+        min_margin = std::min(min_margin, vals[0](i) / noise);
       } else {
         rep.sigma_next = std::max(rep.sigma_next, rel);
       }
     }
     if (r == 0) break;
-    Ab.bottomRows(rows) = U.transpose() * Ab.bottomRows(rows);
-    Ab.rightCols(rows) = Ab.rightCols(rows) * U;
-    Bb.bottomRows(rows) = U.transpose() * Bb.bottomRows(rows);
-    Q.rightCols(rows) = Q.rightCols(rows) * U;
-    // Exact staircase shape: what lies below the stair is rounding (or rejected) mass.
-    if (k == 0)
-      Bb.bottomRows(rows - r).setZero();
-    else
-      Ab.block(pos + r, pos - prev, rows - r, prev).setZero();
+    for (int l = 0; l < kLanes; ++l) {
+      const Eigen::HouseholderSequence<MatrixXd, VectorXd> H(hv[l], hc[l]);
+      auto Abot = Ab[l].bottomRows(rows);
+      auto Aright = Ab[l].rightCols(rows);
+      auto Bbot = Bb[l].bottomRows(rows);
+      Abot.applyOnTheLeft(H.transpose());
+      Aright.applyOnTheRight(H);
+      Bbot.applyOnTheLeft(H.transpose());
+      if (l == 0) {
+        auto Qright = Q.rightCols(rows);
+        Qright.applyOnTheRight(H);
+      }
+      // Exact staircase shape: what lies below the stair is rounding (or rejected) mass.
+      if (k == 0)
+        Bb[l].bottomRows(rows - r).setZero();
+      else
+        Ab[l].block(pos + r, pos - prev, rows - r, prev).setZero();
+    }
     out.stairs.push_back(static_cast<int>(r));
     prev = r;
     pos += r;
   }
-  // The block below the last stair belongs to the uncontrollable part's coupling: zero it too.
-  if (pos < n && prev > 0) Ab.block(pos, pos - prev, n - pos, prev).setZero();
-  if (pos < n && out.stairs.empty()) Bb.setZero();
+  MatrixXd& A0 = Ab[0];
+  MatrixXd& B0 = Bb[0];
+  // The block below the last stair is the (rejected) coupling into the uncontrollable part.
+  if (pos < n && prev > 0) A0.block(pos, pos - prev, n - pos, prev).setZero();
+  if (pos < n && out.stairs.empty()) B0.setZero();
   rep.rank = static_cast<int>(pos);
   if (!out.stairs.empty())
     for (int j = 1; j <= out.stairs.front(); ++j) {
@@ -212,9 +279,9 @@ StaircaseReport staircase(const MatrixXd& A_in, const MatrixXd& BC, Property p, 
       out.indices.push_back(c);
     }
   out.Q = Q;
-  out.A_staircase = Ab;
-  out.B_staircase = Bb;
-  out.A_uncontrollable = Ab.bottomRightCorner(n - pos, n - pos);
+  out.A_staircase = A0;
+  out.B_staircase = B0;
+  out.A_uncontrollable = A0.bottomRightCorner(n - pos, n - pos);
   if (n - pos > 0) {
     Eigen::EigenSolver<MatrixXd> es(out.A_uncontrollable, false);
     out.uncontrollable_modes = es.eigenvalues();
@@ -222,7 +289,7 @@ StaircaseReport staircase(const MatrixXd& A_in, const MatrixXd& BC, Property p, 
     out.uncontrollable_modes.resize(0);
   }
   const int subtol = count_subtolerance(pr.A, rep.rtol * normA) + count_subtolerance(pr.B, rep.rtol * normB);
-  decide(rep, s.fuzz, subtol);
+  decide(rep, s.fuzz, subtol, min_margin);
   return out;
 }
 
@@ -495,8 +562,6 @@ std::vector<LossRow> loss_table(const MatrixXd& A, const MatrixXd& BC, Property 
     return lex_key(a) < lex_key(b);
   });
   std::vector<LossRow> rows;
-  RankSettings ks = s;
-  ks.rtol = 0.0;  // Kalman column: numpy's default tolerance, for comparison
   for (unsigned mask : masks) {
     LossRow row;
     row.channels = lex_key(mask);
@@ -507,13 +572,24 @@ std::vector<LossRow> loss_table(const MatrixXd& A, const MatrixXd& BC, Property 
       else
         sub.row(static_cast<Eigen::Index>(i)) = BC.row(row.channels[i]);
     }
-    const StaircaseReport st = staircase(A, sub, p, s);
+    RankSettings ss = s;
+    if (s.units) {  // keep the units of the kept channels only
+      Eigen::VectorXd& ch = ctrb ? ss.units->input : ss.units->output;
+      const Eigen::VectorXd all = ch;
+      if (all.size() > 0) {
+        ch.resize(static_cast<Eigen::Index>(row.channels.size()));
+        for (size_t i = 0; i < row.channels.size(); ++i) ch(static_cast<Eigen::Index>(i)) = all(row.channels[i]);
+      }
+    }
+    const StaircaseReport st = staircase(A, sub, p, ss);
     row.rank = st.summary.rank;
     row.verdict = st.summary.verdict;
     row.margin = st.summary.margin;
+    RankSettings ks = ss;
+    ks.rtol = 0.0;  // Kalman column: numpy's default tolerance, for comparison
     const RankReport kr = kalman_rank(A, sub, p, ks);
     row.kalman_rank = kr.rank;
-    const Pair pr = prepare(A, sub, p, s);
+    const Pair pr = prepare(A, sub, p, ss);
     const VectorXd sv = Eigen::BDCSVD<MatrixXd>(kalman_controllability_matrix(pr.A, pr.B)).singularValues();
     row.kalman_ratio = sv(0) > 0.0 ? sv(sv.size() - 1) / sv(0) : 0.0;
     rows.push_back(row);
