@@ -98,7 +98,8 @@ std::vector<Vec6> run6(const Vec6& x0, const std::vector<double>& times, const D
   Dop853<6, TwoBody6> integ(rhs, s);
   std::vector<Vec6> out(times.size());
   const Dop853Info info =
-      integ.solve(0.0, x0, times.data(), times.size(), [&](std::size_t i, double, const Vec6& y) { out[i] = y; });
+      integ.solve(0.0, x0, times.data(), times.size(), [&](std::size_t i, double,
+          const Vec6& y) { out[i] = y; });
   EXPECT_EQ(info.status, Dop853Status::success);
   if (info_out) *info_out = info;
   return out;
@@ -156,7 +157,8 @@ TEST(Dop853, DenseOutputIsSeventhOrder) {
     s.fac_min = 1.0;
     s.fac_max = 1.0;
     std::vector<double> times;
-    for (int j = 0; j < 20; ++j) times.push_back((j + 0.37) * T / 20.0);  // h divides T / 20  // never on a step boundary
+    for (int j = 0; j < 20; ++j) times.push_back((j +
+        0.37) * T / 20.0);  // h divides T / 20  // never on a step boundary
     times.push_back(T);
     const auto xs = run6(x0, times, s);
     errs[i] = 0.0;
@@ -441,7 +443,8 @@ TEST(Dop853ForceModel, PointMassModelEqualsTestLocalGravity) {
   s.rtol = 1e-11;
   s.atol = 1e-11;
   const std::vector<double> times = {-600.0, 3000.0, 7200.0};
-  const auto a = satgnc::propagation::propagate_dop853(satgnc::dynamics::ForceModel{}, x0, 0.0, times, s, true);
+  const auto a = satgnc::propagation::propagate_dop853(satgnc::dynamics::ForceModel{}, x0, 0.0, times, s,
+      true);
   const auto b = propagate_dop853_with<false>(PointMass{}, x0, 0.0, times, s, true);
   ASSERT_EQ(a.status, PropagationStatus::success) << a.message;
   for (std::size_t i = 0; i < times.size(); ++i) {

@@ -77,7 +77,8 @@ struct Dop853Info {
 
 /// Check a Settings struct; returns Dop853Status::success or invalid_settings.
 inline Dop853Status dop853_check_settings(const Dop853Settings& s) {
-  const bool ok = std::isfinite(s.rtol) && s.rtol > 10.0 * std::numeric_limits<double>::epsilon() && std::isfinite(s.atol) && s.atol >= 0.0 &&
+  const bool ok = std::isfinite(s.rtol) && s.rtol > 10.0 * std::numeric_limits<double>::epsilon() &&
+      std::isfinite(s.atol) && s.atol >= 0.0 &&
                   s.max_steps > 0 && std::isfinite(s.h0) && s.h0 >= 0.0 && std::isfinite(s.h_max) &&
                   s.h_max >= 0.0 && s.safety > 1e-4 && s.safety < 1.0 && s.fac_min > 0.0 &&
                   s.fac_min <= 1.0 && std::isfinite(s.fac_max) && s.fac_max >= 1.0 && s.beta >= 0.0 &&
@@ -304,7 +305,8 @@ double Dop853<N, Rhs>::error_norm(double h) const {
                           .inverse()
                           .eval();
   const double err3 = ((bsum_ - bhh1 * k[0] - bhh9 * k[8] - bhh12 * k[11]).array() * inv_sk).square().sum();
-  const double err5 = ((e1 * k[0] + e6 * k[5] + e7 * k[6] + e8 * k[7] + e9 * k[8] + e10 * k[9] + e11 * k[10] + e12 * k[11]).array() * inv_sk).square().sum();
+  const double err5 = ((e1 * k[0] + e6 * k[5] + e7 * k[6] + e8 * k[7] + e9 * k[8] + e10 * k[9] +
+      e11 * k[10] + e12 * k[11]).array() * inv_sk).square().sum();
   double deno = err5 + 0.01 * err3;
   if (deno <= 0.0) deno = 1.0;
   return std::abs(h) * err5 * std::sqrt(1.0 / (N * deno));
@@ -332,16 +334,27 @@ template <int N, class Rhs>
 void Dop853<N, Rhs>::prepare_dense(double t, double h) {
   using namespace dop853_tableau;
   Vec* k = k_;
-    yt_.noalias() = y_ + h * (a14_1 * k[0] + a14_7 * k[6] + a14_8 * k[7] + a14_9 * k[8] + a14_10 * k[9] + a14_11 * k[10] + a14_12 * k[11] + a14_13 * k[12]);
+    yt_.noalias() = y_ + h * (a14_1 * k[0] + a14_7 * k[6] + a14_8 * k[7] + a14_9 * k[8] + a14_10 * k[9] +
+        a14_11 * k[10] + a14_12 * k[11] + a14_13 * k[12]);
     rhs_(t + c14 * h, yt_, k[13]);
-    yt_.noalias() = y_ + h * (a15_1 * k[0] + a15_6 * k[5] + a15_7 * k[6] + a15_8 * k[7] + a15_11 * k[10] + a15_12 * k[11] + a15_13 * k[12] + a15_14 * k[13]);
+    yt_.noalias() = y_ + h * (a15_1 * k[0] + a15_6 * k[5] + a15_7 * k[6] + a15_8 * k[7] + a15_11 * k[10] +
+        a15_12 * k[11] + a15_13 * k[12] + a15_14 * k[13]);
     rhs_(t + c15 * h, yt_, k[14]);
-    yt_.noalias() = y_ + h * (a16_1 * k[0] + a16_6 * k[5] + a16_7 * k[6] + a16_8 * k[7] + a16_9 * k[8] + a16_13 * k[12] + a16_14 * k[13] + a16_15 * k[14]);
+    yt_.noalias() = y_ + h * (a16_1 * k[0] + a16_6 * k[5] + a16_7 * k[6] + a16_8 * k[7] + a16_9 * k[8] +
+        a16_13 * k[12] + a16_14 * k[13] + a16_15 * k[14]);
     rhs_(t + c16 * h, yt_, k[15]);
-    cont_[4].noalias() = h * (d4_1 * k[0] + d4_6 * k[5] + d4_7 * k[6] + d4_8 * k[7] + d4_9 * k[8] + d4_10 * k[9] + d4_11 * k[10] + d4_12 * k[11] + d4_13 * k[12] + d4_14 * k[13] + d4_15 * k[14] + d4_16 * k[15]);
-    cont_[5].noalias() = h * (d5_1 * k[0] + d5_6 * k[5] + d5_7 * k[6] + d5_8 * k[7] + d5_9 * k[8] + d5_10 * k[9] + d5_11 * k[10] + d5_12 * k[11] + d5_13 * k[12] + d5_14 * k[13] + d5_15 * k[14] + d5_16 * k[15]);
-    cont_[6].noalias() = h * (d6_1 * k[0] + d6_6 * k[5] + d6_7 * k[6] + d6_8 * k[7] + d6_9 * k[8] + d6_10 * k[9] + d6_11 * k[10] + d6_12 * k[11] + d6_13 * k[12] + d6_14 * k[13] + d6_15 * k[14] + d6_16 * k[15]);
-    cont_[7].noalias() = h * (d7_1 * k[0] + d7_6 * k[5] + d7_7 * k[6] + d7_8 * k[7] + d7_9 * k[8] + d7_10 * k[9] + d7_11 * k[10] + d7_12 * k[11] + d7_13 * k[12] + d7_14 * k[13] + d7_15 * k[14] + d7_16 * k[15]);
+    cont_[4].noalias() = h * (d4_1 * k[0] + d4_6 * k[5] + d4_7 * k[6] + d4_8 * k[7] + d4_9 * k[8] +
+        d4_10 * k[9] + d4_11 * k[10] + d4_12 * k[11] + d4_13 * k[12] + d4_14 * k[13] + d4_15 * k[14] +
+        d4_16 * k[15]);
+    cont_[5].noalias() = h * (d5_1 * k[0] + d5_6 * k[5] + d5_7 * k[6] + d5_8 * k[7] + d5_9 * k[8] +
+        d5_10 * k[9] + d5_11 * k[10] + d5_12 * k[11] + d5_13 * k[12] + d5_14 * k[13] + d5_15 * k[14] +
+        d5_16 * k[15]);
+    cont_[6].noalias() = h * (d6_1 * k[0] + d6_6 * k[5] + d6_7 * k[6] + d6_8 * k[7] + d6_9 * k[8] +
+        d6_10 * k[9] + d6_11 * k[10] + d6_12 * k[11] + d6_13 * k[12] + d6_14 * k[13] + d6_15 * k[14] +
+        d6_16 * k[15]);
+    cont_[7].noalias() = h * (d7_1 * k[0] + d7_6 * k[5] + d7_7 * k[6] + d7_8 * k[7] + d7_9 * k[8] +
+        d7_10 * k[9] + d7_11 * k[10] + d7_12 * k[11] + d7_13 * k[12] + d7_14 * k[13] + d7_15 * k[14] +
+        d7_16 * k[15]);
 
     nfev_ += 3;
   cont_[0] = y_;
@@ -356,7 +369,8 @@ void Dop853<N, Rhs>::interpolate(double s, Vec& y) const {
   y.noalias() =
       cont_[0] +
       s * (cont_[1] +
-           s1 * (cont_[2] + s * (cont_[3] + s1 * (cont_[4] + s * (cont_[5] + s1 * (cont_[6] + s * cont_[7]))))));
+           s1 * (cont_[2] + s * (cont_[3] + s1 * (cont_[4] + s * (cont_[5] + s1 * (cont_[6] +
+               s * cont_[7]))))));
 }
 
 template <int N, class Rhs>
@@ -439,15 +453,20 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
     rhs_(t + c7 * h, yt_, k[6]);
     yt_.noalias() = y_ + h * (a8_1 * k[0] + a8_4 * k[3] + a8_5 * k[4] + a8_6 * k[5] + a8_7 * k[6]);
     rhs_(t + c8 * h, yt_, k[7]);
-    yt_.noalias() = y_ + h * (a9_1 * k[0] + a9_4 * k[3] + a9_5 * k[4] + a9_6 * k[5] + a9_7 * k[6] + a9_8 * k[7]);
+    yt_.noalias() = y_ + h * (a9_1 * k[0] + a9_4 * k[3] + a9_5 * k[4] + a9_6 * k[5] + a9_7 * k[6] +
+        a9_8 * k[7]);
     rhs_(t + c9 * h, yt_, k[8]);
-    yt_.noalias() = y_ + h * (a10_1 * k[0] + a10_4 * k[3] + a10_5 * k[4] + a10_6 * k[5] + a10_7 * k[6] + a10_8 * k[7] + a10_9 * k[8]);
+    yt_.noalias() = y_ + h * (a10_1 * k[0] + a10_4 * k[3] + a10_5 * k[4] + a10_6 * k[5] + a10_7 * k[6] +
+        a10_8 * k[7] + a10_9 * k[8]);
     rhs_(t + c10 * h, yt_, k[9]);
-    yt_.noalias() = y_ + h * (a11_1 * k[0] + a11_4 * k[3] + a11_5 * k[4] + a11_6 * k[5] + a11_7 * k[6] + a11_8 * k[7] + a11_9 * k[8] + a11_10 * k[9]);
+    yt_.noalias() = y_ + h * (a11_1 * k[0] + a11_4 * k[3] + a11_5 * k[4] + a11_6 * k[5] + a11_7 * k[6] +
+        a11_8 * k[7] + a11_9 * k[8] + a11_10 * k[9]);
     rhs_(t + c11 * h, yt_, k[10]);
-    yt_.noalias() = y_ + h * (a12_1 * k[0] + a12_4 * k[3] + a12_5 * k[4] + a12_6 * k[5] + a12_7 * k[6] + a12_8 * k[7] + a12_9 * k[8] + a12_10 * k[9] + a12_11 * k[10]);
+    yt_.noalias() = y_ + h * (a12_1 * k[0] + a12_4 * k[3] + a12_5 * k[4] + a12_6 * k[5] + a12_7 * k[6] +
+        a12_8 * k[7] + a12_9 * k[8] + a12_10 * k[9] + a12_11 * k[10]);
     rhs_(t + c12 * h, yt_, k[11]);
-    bsum_.noalias() = a13_1 * k[0] + a13_6 * k[5] + a13_7 * k[6] + a13_8 * k[7] + a13_9 * k[8] + a13_10 * k[9] + a13_11 * k[10] + a13_12 * k[11];
+    bsum_.noalias() = a13_1 * k[0] + a13_6 * k[5] + a13_7 * k[6] + a13_8 * k[7] + a13_9 * k[8] +
+        a13_10 * k[9] + a13_11 * k[10] + a13_12 * k[11];
 
     ynew_.noalias() = y_ + h * bsum_;
     nfev_ += 11;
@@ -550,19 +569,27 @@ struct OrbitRhs {
       dy.template segment<3>(3) = a;
       // Phi is stored column-major after the state: per column j, rows 0-2 are d r / d x0_j and rows
       // 3-5 d v / d x0_j, so column j of dPhi/dt is [Phi_v,j; da_dr Phi_r,j (+ da_dv Phi_v,j)].
+      // Scalar code on purpose: Eigen's small-product dispatch costs more than the 9 FMAs per column.
+      const double* G = da_dr.data();  // column-major
+      const double* H = da_dv.data();
       for (int j = 0; j < 6; ++j) {
         const double* pc = y.data() + 6 + 6 * j;
         double* dc = dy.data() + 6 + 6 * j;
-        const Vec3 pr(pc[0], pc[1], pc[2]);
-        const Vec3 pv(pc[3], pc[4], pc[5]);
-        Vec3 acc = da_dr * pr;
-        if constexpr (VelocityDependent) acc.noalias() += da_dv * pv;
-        dc[0] = pv[0];
-        dc[1] = pv[1];
-        dc[2] = pv[2];
-        dc[3] = acc[0];
-        dc[4] = acc[1];
-        dc[5] = acc[2];
+        const double p0 = pc[0], p1 = pc[1], p2 = pc[2], q0 = pc[3], q1 = pc[4], q2 = pc[5];
+        double a0 = G[0] * p0 + G[3] * p1 + G[6] * p2;
+        double a1 = G[1] * p0 + G[4] * p1 + G[7] * p2;
+        double a2 = G[2] * p0 + G[5] * p1 + G[8] * p2;
+        if constexpr (VelocityDependent) {
+          a0 += H[0] * q0 + H[3] * q1 + H[6] * q2;
+          a1 += H[1] * q0 + H[4] * q1 + H[7] * q2;
+          a2 += H[2] * q0 + H[5] * q1 + H[8] * q2;
+        }
+        dc[0] = q0;
+        dc[1] = q1;
+        dc[2] = q2;
+        dc[3] = a0;
+        dc[4] = a1;
+        dc[5] = a2;
       }
     }
   }
@@ -617,9 +644,11 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
     for (std::size_t j = 0; j < m; ++j) ts[j] = times[idx[j]];
     Dop853Info info;
     if (with_stm)
-      detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), ps.data(), info);
+      detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), ps.data(),
+          info);
     else
-      detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), nullptr, info);
+      detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), nullptr,
+          info);
     for (std::size_t j = 0; j < info.outputs; ++j) {
       states[idx[j]] = xs[j];
       if (with_stm) stms[idx[j]] = ps[j];
