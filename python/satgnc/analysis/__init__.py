@@ -328,12 +328,14 @@ def _gramian(d: dict) -> GramianReport:
 
 def controllability_gramian(A, B, T: float) -> GramianReport:
     """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential (T in s)."""
-    return _gramian(_s._controllability_gramian(_matrix(A, "A"), _matrix(B, "B"), _scalar(T, "T", positive=True)))
+    T = _scalar(T, "T", positive=True)
+    return _gramian(_s._controllability_gramian(_matrix(A, "A"), _matrix(B, "B"), T))
 
 
 def observability_gramian(A, C, T: float) -> GramianReport:
     """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential (T in s)."""
-    return _gramian(_s._observability_gramian(_matrix(A, "A"), _matrix(C, "C"), _scalar(T, "T", positive=True)))
+    T = _scalar(T, "T", positive=True)
+    return _gramian(_s._observability_gramian(_matrix(A, "A"), _matrix(C, "C"), T))
 
 
 def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
@@ -421,5 +423,7 @@ def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu
     px, pr = paper_od_state()
     x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
-    return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), _scalar(mu, "mu", positive=True),
-                                     _scalar(t_max, "t_max", positive=True), _scalar(dt, "dt", positive=True)))
+    t_max = _scalar(t_max, "t_max", positive=True)
+    dt = _scalar(dt, "dt", positive=True)
+    mu = _scalar(mu, "mu", positive=True)
+    return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), mu, t_max, dt))
