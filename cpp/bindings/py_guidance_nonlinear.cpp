@@ -8,6 +8,7 @@
 #include "satgnc/dynamics/two_satellite.hpp"
 #include "satgnc/guidance/ilqr_admm.hpp"
 #include "satgnc/guidance/nonlinear_model.hpp"
+#include "satgnc/guidance/scp.hpp"
 
 namespace py = pybind11;
 
@@ -216,6 +217,46 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_property_readonly("Y", [](const IlqrAdmmSolver& s) { return s.result().Y; })
       .def_property_readonly("Lambda", [](const IlqrAdmmSolver& s) { return s.result().Lambda; })
       .def_property_readonly("info", [](const IlqrAdmmSolver& s) { return s.result().info; });
+  py::enum_<ScpStatus>(m, "ScpStatus")
+      .value("solved", ScpStatus::solved)
+      .value("max_outer", ScpStatus::max_outer)
+      .value("propagation_failed", ScpStatus::propagation_failed)
+      .value("inner_failed", ScpStatus::inner_failed)
+      .value("line_search_failed", ScpStatus::line_search_failed)
+      .value("not_run", ScpStatus::not_run);
+  py::enum_<ScpInner>(m, "ScpInner")
+      .value("ilqr_admm", ScpInner::ilqr_admm)
+      .value("linear_admm", ScpInner::linear_admm);
+  py::class_<ScpSettings>(m, "ScpSettings")
+      .def(py::init<>())
+      .def_readwrite("inner_solver", &ScpSettings::inner_solver)
+      .def_readwrite("inner_ilqr", &ScpSettings::inner_ilqr)
+      .def_readwrite("max_outer", &ScpSettings::max_outer)
+      .def_readwrite("tol", &ScpSettings::tol)
+      .def_readwrite("armijo", &ScpSettings::armijo)
+      .def_readwrite("line_search_iters", &ScpSettings::line_search_iters)
+      .def_readwrite("inner", &ScpSettings::inner);
+  py::class_<ScpInfo>(m, "ScpInfo")
+      .def_readonly("status", &ScpInfo::status)
+      .def_readonly("outer_iterations", &ScpInfo::outer_iterations)
+      .def_readonly("inner_iterations", &ScpInfo::inner_iterations)
+      .def_readonly("objective", &ScpInfo::objective)
+      .def_readonly("predicted_decrease", &ScpInfo::predicted_decrease)
+      .def_readonly("last_step", &ScpInfo::last_step)
+      .def_readonly("failed_interval", &ScpInfo::failed_interval)
+      .def_readonly("inner_status", &ScpInfo::inner_status)
+      .def_readonly("inner_ilqr_status", &ScpInfo::inner_ilqr_status)
+      .def_property_readonly("message", [](const ScpInfo& i) { return std::string(status_message(i.status)); });
+  py::class_<ScpSolver>(m, "ScpSolver")
+      .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const ScpSettings&>(), py::arg("model"),
+           py::arg("problem"), py::arg("settings") = ScpSettings(), py::keep_alive<1, 2>())
+      .def("set_initial_controls", &ScpSolver::set_initial_controls, py::arg("U0"))
+      .def("set_initial_state", &ScpSolver::set_initial_state, py::arg("x0"))
+      .def("solve", &ScpSolver::solve, py::call_guard<py::gil_scoped_release>())
+      .def_property_readonly("X", [](const ScpSolver& s) { return s.result().X; })
+      .def_property_readonly("U", [](const ScpSolver& s) { return s.result().U; })
+      .def_property_readonly("Lambda", [](const ScpSolver& s) { return s.result().Lambda; })
+      .def_property_readonly("info", [](const ScpSolver& s) { return s.result().info; });
 }
 
 }  // namespace satgnc::bindings

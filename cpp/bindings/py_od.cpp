@@ -156,6 +156,7 @@ void init_od(py::module_& m) {
       .def_readwrite("step_tol", &OdSettings::step_tol)
       .def_readwrite("step_sigma_tol", &OdSettings::step_sigma_tol)
       .def_readwrite("residual_tol", &OdSettings::residual_tol)
+      .def_readwrite("cost_tol", &OdSettings::cost_tol)
       .def_readwrite("rank_tol", &OdSettings::rank_tol)
       .def_readwrite("min_radius", &OdSettings::min_radius)
       .def_readwrite("mu", &OdSettings::mu)
@@ -235,6 +236,7 @@ void init_od(py::module_& m) {
       .def_readonly("max_abs_normalized", &Root::max_abs_normalized)
       .def_readonly("condition_number", &Root::condition_number)
       .def_readonly("fits", &Root::fits)
+      .def_readonly("converged", &Root::converged)
       .def_readonly("hits", &Root::hits)
       .def_readonly("first_guess", &Root::first_guess);
   py::class_<RootSearchResult>(m, "RootSearchResult")

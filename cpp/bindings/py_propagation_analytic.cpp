@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "satgnc/dynamics/force_model.hpp"
+#include "satgnc/propagation/dop853.hpp"
 #include "satgnc/propagation/kepler.hpp"
 
 namespace py = pybind11;
@@ -25,6 +27,21 @@ void init_propagation_analytic(py::module_& m) {
       },
       py::arg("x0"), py::arg("t0"), py::arg("times"), py::arg("mu"), py::arg("with_stm") = true,
       "Two-body propagation in universal variables with the analytic STM (km, km/s, s, km^3/s^2).");
+
+  m.def(
+      "propagate_dop853",
+      [](const Vec6& x0, double t0, const std::vector<double>& times, const dynamics::ForceModel& force_model,
+         double rtol, double atol, bool with_stm, long max_steps) {
+        propagation::Dop853Settings s;
+        s.rtol = rtol;
+        s.atol = atol;
+        s.max_steps = max_steps;
+        py::gil_scoped_release release;
+        return propagation::propagate_dop853(force_model, x0, t0, times, s, with_stm);
+      },
+      py::arg("x0"), py::arg("t0"), py::arg("times"), py::arg("force_model"), py::arg("rtol") = 1e-10,
+      py::arg("atol") = 1e-12, py::arg("with_stm") = true, py::arg("max_steps") = 100000,
+      "Fixed-size Dormand-Prince 8(5,3) propagation with the variational equations (km, km/s, s).");
 
   m.def(
       "kepler_step",

@@ -14,6 +14,7 @@
 
 #include "kepler_reference.hpp"
 #include "satgnc/propagation/cvodes.hpp"
+#include "satgnc/propagation/kepler.hpp"
 #include "testing.hpp"
 
 // Global operator-new counter: propagate() into a reused Trajectory must not allocate.
@@ -169,6 +170,29 @@ TEST(Cvodes, TwoBodyOneDayAgainstAnalyticBelowMillimetre) {
     EXPECT_GT(tr.stats.steps, 100);
     EXPECT_GT(tr.stats.rhs_evals, tr.stats.steps);
   }
+}
+
+TEST(Cvodes, OneDayAgainstUniversalVariableKeplerWithStm) {
+  // Same bar against satgnc's analytic propagator (kepler room), STM included.
+  const Vec6 x0 = leo();
+  std::vector<double> times;
+  for (int k = 1; k <= 24; ++k) times.push_back(3600.0 * k);
+  prop::CvodesSettings s;
+  s.rtol = 1e-14;
+  s.atol = 1e-12;
+  const prop::Trajectory tr = prop::propagate_cvodes(dyn::ForceModel{}, x0, 0.0, times, s);
+  const prop::Trajectory an = prop::propagate_kepler(x0, 0.0, times, kMu, true);
+  ASSERT_EQ(tr.status, prop::PropagationStatus::success);
+  ASSERT_EQ(an.status, prop::PropagationStatus::success);
+  double dr = 0, dv = 0, dphi = 0;
+  for (size_t k = 0; k < times.size(); ++k) {
+    dr = std::max(dr, (tr.states[k].head<3>() - an.states[k].head<3>()).norm());
+    dv = std::max(dv, (tr.states[k].tail<3>() - an.states[k].tail<3>()).norm());
+    dphi = std::max(dphi, stm_err(tr.stms[k], an.stms[k], x0));
+  }
+  EXPECT_LT(dr, 1e-6);
+  EXPECT_LT(dv, 1e-9);
+  EXPECT_LT(dphi, 1e-7);
 }
 
 TEST(Cvodes, BdfOneDayIsOrdersLessAccurate) {

@@ -90,9 +90,26 @@ def test_without_stm_returns_none():
     assert tr.states.shape == (2, 6)
 
 
-def test_available_methods_lists_cvodes():
+def test_available_methods_lists_cvodes_and_kepler():
     m = satgnc.available_methods()
     assert m[:2] == ["adams", "bdf"]
+    assert "kepler" in m
+
+
+def test_kepler_method_matches_cvodes_one_day():
+    times = np.arange(0, 25) * 3600.0
+    an = satgnc.propagate(X0, times, method="kepler")
+    nu = satgnc.propagate(X0, times, rtol=1e-14, atol=1e-12)
+    assert an.stms.shape == (25, 6, 6)
+    assert np.max(np.linalg.norm(an.states[:, :3] - nu.states[:, :3], axis=1)) < 1e-6
+    assert np.max(np.linalg.norm(an.states[:, 3:] - nu.states[:, 3:], axis=1)) < 1e-9
+    ref = np.array([kepler_ellipse(X0, t) for t in times])
+    assert np.max(np.abs(an.states - ref)) < 1e-7
+
+
+def test_kepler_method_rejects_perturbations():
+    with pytest.raises(ValueError, match="forces: method 'kepler' is the analytic two-body solution"):
+        satgnc.propagate(X0, [0.0, 10.0], method="kepler", forces=satgnc.J2Gravity())
 
 
 # ------------------------------------------------------------------ accuracy

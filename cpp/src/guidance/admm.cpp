@@ -136,7 +136,7 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
                (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
   if (polish_ok_) {
-    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 4 * nx_;
+    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 8 * nx_;
     fmax_ = std::min(fmax_, N_ * nu_);
     Psi_.setZero(nx_, nx_ * N_);
     Psi_.middleCols((N_ - 1) * nx_, nx_).setIdentity();
@@ -207,6 +207,19 @@ bool AdmmSolver::try_polish() noexcept {
     }
   }
   if (term && F < nx_) return false;  // generic vertex needs nx free entries to meet x_N = x_f
+  if (F > nx_ && prob_.R.size() == 0) {
+    // Without R the reduced problem has at most nx independent free entries (a vertex): keep the
+    // nx largest; the rest are taken as zeros. The optimality check below guards the guess.
+    for (int t = 0; t < nx_; ++t) {
+      int best = t;
+      for (int a = t + 1; a < F; ++a) {
+        const int ja = free_idx_[static_cast<std::size_t>(a)], jb = free_idx_[static_cast<std::size_t>(best)];
+        if (std::abs(Y(ja % nu_, ja / nu_)) > std::abs(Y(jb % nu_, jb / nu_))) best = a;
+      }
+      std::swap(free_idx_[static_cast<std::size_t>(t)], free_idx_[static_cast<std::size_t>(best)]);
+    }
+    F = nx_;
+  }
   rollout(Up_, Xp_);                   // fixed part, x_N^fix in Xp_.col(N)
   const int M = fmax_ + nx_;
   for (int a = 0; a < F; ++a) {
@@ -422,6 +435,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   const double a = set_.relaxation;
   const double dimU = static_cast<double>(N_) * nu_;
   double best = std::numeric_limits<double>::infinity();
+  double best_prim = 0.0, best_dual = 0.0, best_paper = 0.0;
   AdmmStatus status = AdmmStatus::kMaxIterations;
   int it = 0;
   if (!ok) status = AdmmStatus::kNumericalError;
@@ -439,17 +453,27 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       break;
     }
     double prim = 0.0, dual = 0.0, fro2 = 0.0, nU = 0.0, nY = 0.0, nL = 0.0;
+    // relaxation, prox, multiplier update and residuals in one pass (plain loops: nu is small)
+    const double inv_rho = 1.0 / rho;
     for (int k = 0; k < N_; ++k) {
-      uhat_ = a * U.col(k) + (1.0 - a) * Y.col(k);
-      v_ = uhat_ + L.col(k) / rho;
+      const double* u = U.col(k).data();
+      double* y = Y.col(k).data();
+      double* l = L.col(k).data();
+      for (int i = 0; i < nu_; ++i) {
+        uhat_(i) = a * u[i] + (1.0 - a) * y[i];
+        v_(i) = uhat_(i) + l[i] * inv_rho;
+      }
       prox(v_, ynew_, rho);
-      dual = std::max(dual, (ynew_ - Y.col(k)).cwiseAbs().maxCoeff());
-      prim = std::max(prim, (U.col(k) - ynew_).cwiseAbs().maxCoeff());
-      fro2 += (U.col(k) - ynew_).squaredNorm();
-      L.col(k) += rho * (uhat_ - ynew_);
-      Y.col(k) = ynew_;
-      nU = std::max(nU, U.col(k).cwiseAbs().maxCoeff());
-      nY = std::max(nY, ynew_.cwiseAbs().maxCoeff());
+      for (int i = 0; i < nu_; ++i) {
+        const double yn = ynew_(i), diff = u[i] - yn;
+        dual = std::max(dual, std::abs(yn - y[i]));
+        prim = std::max(prim, std::abs(diff));
+        fro2 += diff * diff;
+        l[i] += rho * (uhat_(i) - yn);
+        y[i] = yn;
+        nU = std::max(nU, std::abs(u[i]));
+        nY = std::max(nY, std::abs(yn));
+      }
     }
     dual *= rho;
     if (set_.paper_multiplier_rescale && it == 1) {
@@ -477,6 +501,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       const double measure = std::max(prim / eps_p, dual / eps_d);
       if (measure < best) {
         best = measure;
+        best_prim = prim;
+        best_dual = dual;
+        best_paper = info.paper_criterion;
         bX_ = X;
         bU_ = U;
         bY_ = Y;
@@ -519,6 +546,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     U = bU_;
     Y = bY_;
     L = bL_;
+    info.primal_residual = best_prim;  // residuals of the returned (best) iterate
+    info.dual_residual = best_dual;
+    info.paper_criterion = best_paper;
   }
   info.status = status;
   info.iterations = it;

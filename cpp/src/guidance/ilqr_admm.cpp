@@ -416,6 +416,11 @@ int IlqrAdmmSolver::ilqr_step(double& J) {
         return 0;
       }
     }
+    // A tiny predicted decrease that the line search cannot realize is rounding: converged.
+    if (ok && -(dv1 + dv2) <= 1e-10 * (1.0 + std::abs(J))) {
+      reg_ = set_.reg_init;
+      return 1;
+    }
     reg = std::max(reg * set_.reg_factor, set_.reg_min);
     if (reg > set_.reg_max) return 2;
   }

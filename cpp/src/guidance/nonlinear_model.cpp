@@ -45,6 +45,17 @@ bool LinearDiscreteModel::step(int k, const double* x, const double* u, double* 
   return xn.allFinite();
 }
 
+bool LinearDiscreteModel::set(int k, const Eigen::Ref<const Eigen::MatrixXd>& A,
+                              const Eigen::Ref<const Eigen::MatrixXd>& B, const Eigen::Ref<const Eigen::VectorXd>& c) {
+  if (k < 0 || k >= static_cast<int>(A_.size())) return false;
+  if (A.rows() != nx_ || A.cols() != nx_ || B.rows() != nx_ || B.cols() != nu_) return false;
+  if (c_.empty() ? c.size() != 0 : c.size() != nx_) return false;
+  A_[k] = A;
+  B_[k] = B;
+  if (!c_.empty()) c_[k] = c;
+  return true;
+}
+
 TwoSatelliteMap::TwoSatelliteMap(const dynamics::TwoSatelliteModel& model,
                                  const TwoSatelliteMapSettings& settings)
     : model_(model), s_(settings) {

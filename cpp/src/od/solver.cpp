@@ -39,6 +39,7 @@ void OdSettings::validate() const {
   require(max_iterations >= 1 && max_iterations <= 100000, "settings.max_iterations", "must be in 1..100000");
   core::require_nonnegative(step_tol, "settings.step_tol");
   core::require_nonnegative(step_sigma_tol, "settings.step_sigma_tol");
+  core::require_nonnegative(cost_tol, "settings.cost_tol");
   core::require_nonnegative(residual_tol, "settings.residual_tol");
   require(std::isfinite(rank_tol) && rank_tol > 0.0 && rank_tol < 1.0, "settings.rank_tol", "must be in (0, 1)");
   core::require_nonnegative(min_radius, "settings.min_radius");
@@ -286,7 +287,7 @@ void OdSolver::finish(const Vec6& x, bool buffers_valid) {
   res_.range_rate_residuals = rrr_;
   res_.cost = 0.5 * rn_.squaredNorm();
   res_.max_abs_normalized = rn_.cwiseAbs().maxCoeff();
-  res_.fits = res_.max_abs_normalized <= settings_.fit_sigma;
+  res_.fits = std::sqrt(rn_.squaredNorm() / static_cast<double>(rn_.size())) <= settings_.fit_sigma;
   const Vec6 s = res_.singular_values;
   if (res_.rank == 6) {
     const Mat6& V = svd_.matrixV();
@@ -361,7 +362,8 @@ const OdResult& OdSolver::solve(const Vec6& guess) {
       }
       res_.iterations = k;
       record(k, 0.0);
-      if (small_step(dx, x)) {
+      const double c_old = res_.history_cost(k - 1), c_new = res_.history_cost(k);
+      if (small_step(dx, x) || (c_new <= c_old && c_old - c_new <= settings_.cost_tol * c_old)) {
         res_.status = OdStatus::converged;
         break;
       }
@@ -418,7 +420,8 @@ const OdResult& OdSolver::solve(const Vec6& guess) {
     res_.x0 = x;
     res_.iterations = k;
     record(k, lambda);
-    if ((small_step(dx, x) && lambda == 0.0) || rn_.squaredNorm() == 0.0) {
+    const double new_cost = 0.5 * rn_.squaredNorm();
+    if ((small_step(dx, x) && lambda == 0.0) || new_cost == 0.0 || cost - new_cost <= settings_.cost_tol * cost) {
       res_.status = OdStatus::converged;
       gn_converged = true;
       break;
@@ -510,7 +513,9 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
     const OdResult& r = solver.solve(guesses[g]);
     out.guess_status[g] = r.status;
     out.guess_iterations[g] = r.iterations;
-    if (r.status != OdStatus::converged) continue;
+    // Converged solutions, and stalled ones that fit (LM creeping along a flat valley).
+    const bool usable = r.status == OdStatus::converged || (r.status == OdStatus::max_iterations && r.fits);
+    if (!usable) continue;
     int found = -1;
     for (std::size_t k = 0; k < out.roots.size(); ++k) {
       const Vec6 d = out.roots[k].x0 - r.x0;
@@ -534,6 +539,7 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
       root.max_abs_normalized = r.max_abs_normalized;
       root.condition_number = r.condition_number;
       root.fits = r.fits;
+      root.converged = r.status == OdStatus::converged;
       root.first_guess = static_cast<int>(g);
       out.roots.push_back(root);
       found = static_cast<int>(out.roots.size()) - 1;
@@ -546,6 +552,7 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
       root.max_abs_normalized = r.max_abs_normalized;
       root.condition_number = r.condition_number;
       root.fits = r.fits;
+      root.converged = r.status == OdStatus::converged;
     }
     ++out.roots[static_cast<std::size_t>(found)].hits;
     out.guess_root[g] = found;

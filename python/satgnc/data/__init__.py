@@ -9,7 +9,7 @@ import pathlib
 DATA_DIR = pathlib.Path(__file__).resolve().parent
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def paper_tables() -> dict:
     """The papers' printed tables (``paper_tables.json``), keyed by paper."""
     return json.loads((DATA_DIR / "paper_tables.json").read_text())

@@ -39,7 +39,8 @@ def _as_array(value: Any, name: str, ndim: int | tuple[int, ...], shape: tuple |
         raise TypeError(f"{name}: must be a numeric array ({e})") from None
     ndims = (ndim,) if isinstance(ndim, int) else ndim
     if arr.ndim not in ndims:
-        raise ValueError(f"{name}: must have {' or '.join(map(str, ndims))} dimensions, got shape {arr.shape}")
+        want = " or ".join(map(str, ndims))
+        raise ValueError(f"{name}: must have {want} dimensions, got shape {arr.shape}")
     if shape is not None and arr.shape != shape:
         raise ValueError(f"{name}: must have shape {shape}, got {arr.shape}")
     return arr
@@ -205,7 +206,8 @@ class L1Solver:
             X=d["X"].T.copy(), U=d["U"].T.copy(), Y=d["Y"].T.copy(), Lambda=d["Lambda"].T.copy(),
             X_flown=d["X_flown"].T.copy(), terminal_multiplier=d["terminal_multiplier"].copy(),
             objective=d["objective"], objective_u=d["objective_u"], terminal_miss=d["terminal_miss"],
-            primal_residual=d["primal_residual"], dual_residual=d["dual_residual"], eps_primal=d["eps_primal"],
+            primal_residual=d["primal_residual"], dual_residual=d["dual_residual"],
+            eps_primal=d["eps_primal"],
             eps_dual=d["eps_dual"], paper_criterion=d["paper_criterion"], rho=d["rho"],
             factorizations=d["factorizations"], rho_updates=d["rho_updates"], polished=d["polished"],
             polish_attempts=d["polish_attempts"], solve_time=d["solve_time"])

@@ -11,6 +11,10 @@ def _run(args: argparse.Namespace) -> int:
     from ..scenarios import l1_rendezvous as scen
     from . import rendezvous as rv
 
+    if getattr(args, "model", "linear") == "nonlinear":
+        from . import nonlinear
+
+        return nonlinear.run_cli(pathlib.Path(args.out), closed_loop=args.closed_loop)
     sc = scen.load(args.scenario)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -23,7 +27,8 @@ def _run(args: argparse.Namespace) -> int:
         rv.plot_case(sc, run, out / f"{case}.png", f"{case} (converged; dashed: paper-stop U)")
         summary[case] = run.metrics
         m = run.metrics
-        print(f"{case}: {m['conv_status']} in {m['conv_iterations']} iterations, dv = {m['conv_dv']:.4f} m/s, "
+        print(f"{case}: {m['conv_status']} in {m['conv_iterations']} iterations, "
+              f"dv = {m['conv_dv']:.4f} m/s, "
               f"miss = {m['conv_miss_m']:.3f} m; paper rule: {m['paper_iterations']} iterations, "
               f"flown miss {m['paper_miss_flown_Y_m'] / 1000:.2f} km")
     dvq, dvl = rv.plot_fig1(sc, out / "quadratic_vs_l1.png")
@@ -34,9 +39,15 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def register(subparsers) -> None:
-    p = subparsers.add_parser("rendezvous", help="fuel-optimal L1 rendezvous guidance (ADMM) for a scenario file")
+    p = subparsers.add_parser("rendezvous",
+                              help="fuel-optimal L1 rendezvous guidance (ADMM) for a scenario file")
     p.add_argument("--scenario", default=None, help="scenario TOML (default: the packaged Table 1 scenario)")
     p.add_argument("--out", default="satgnc-rendezvous", help="output directory for plots and summary.json")
     p.add_argument("--case", action="append", help="only this case (repeatable)")
-    p.add_argument("--reference", action="store_true", help="also solve with cvxpy + Clarabel and report the gap")
+    p.add_argument("--reference", action="store_true",
+                   help="also solve with cvxpy + Clarabel and report the gap")
+    p.add_argument("--model", choices=["linear", "nonlinear"], default="linear",
+                   help="linear CW cases (default) or the nonlinear two-satellite cases (Table 1)")
+    p.add_argument("--closed-loop", action="store_true",
+                   help="with --model nonlinear: fly the plans on a J2 + drag truth (open loop, MPC)")
     p.set_defaults(func=_run)

@@ -36,7 +36,10 @@ def solve_cvxpy(A, B, x0, *, horizon=None, c=None, xf=None, Qf=None, Q=None, R=N
     if R is not None:
         for k in range(N):
             obj += 0.5 * cp.quad_form(U[k], cp.psd_wrap(np.asarray(R, float)))
-    w = (np.ones(nu) if group_l2_weight == 0 else np.zeros(nu)) if l1_weights is None else np.asarray(l1_weights)
+    if l1_weights is None:
+        w = np.ones(nu) if group_l2_weight == 0 else np.zeros(nu)
+    else:
+        w = np.asarray(l1_weights)
     if np.any(w > 0):
         obj += cp.sum(cp.abs(U) @ w)
     if group_l2_weight > 0:

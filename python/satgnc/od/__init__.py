@@ -49,16 +49,50 @@ ShortArcStmPropagator = _c.ShortArcStmPropagator
 RootSearchSettings = _c.RootSearchSettings
 
 __all__ = [
-    "EARTH_MU", "EARTH_OMEGA", "EARTH_RADIUS", "Station", "Ellipsoid", "MeasurementType", "OdStatus",
-    "OdMethod", "OdSettings", "OdResult", "OdSolver", "ConditionType", "BoundaryCondition",
-    "KeplerStmPropagator", "CvodesStmPropagator", "ShortArcStmPropagator", "RootSearchSettings",
-    "julian_date", "gmst", "ellipsoid", "geodetic_to_ecef", "station_geodetic", "station_inertial",
-    "implied_rotation_rate", "predict", "make_propagator", "Observations", "read_csv", "solve",
-    "six_point_conditions", "solve_six_point", "root_search", "box_guesses", "simulate", "settings",
+    "EARTH_MU",
+    "EARTH_OMEGA",
+    "EARTH_RADIUS",
+    "Station",
+    "Ellipsoid",
+    "MeasurementType",
+    "OdStatus",
+    "OdMethod",
+    "OdSettings",
+    "OdResult",
+    "OdSolver",
+    "ConditionType",
+    "BoundaryCondition",
+    "KeplerStmPropagator",
+    "CvodesStmPropagator",
+    "ShortArcStmPropagator",
+    "RootSearchSettings",
+    "julian_date",
+    "gmst",
+    "ellipsoid",
+    "geodetic_to_ecef",
+    "station_geodetic",
+    "station_inertial",
+    "implied_rotation_rate",
+    "predict",
+    "make_propagator",
+    "Observations",
+    "read_csv",
+    "solve",
+    "six_point_conditions",
+    "solve_six_point",
+    "root_search",
+    "box_guesses",
+    "simulate",
+    "settings",
 ]
 
-_METHODS = {"newton": OdMethod.newton, "gauss_newton": OdMethod.gauss_newton, "gn": OdMethod.gauss_newton,
-            "levenberg_marquardt": OdMethod.levenberg_marquardt, "lm": OdMethod.levenberg_marquardt}
+_METHODS = {
+    "newton": OdMethod.newton,
+    "gauss_newton": OdMethod.gauss_newton,
+    "gn": OdMethod.gauss_newton,
+    "levenberg_marquardt": OdMethod.levenberg_marquardt,
+    "lm": OdMethod.levenberg_marquardt,
+}
 
 
 # ----------------------------------------------------------------------------- validation helpers
@@ -141,20 +175,39 @@ def geodetic_to_ecef(lat_deg: float, lon_deg: float, height_km: float, ellipsoid
     lon = _finite_scalar(lon_deg, "lon_deg")
     if abs(lat) > 90:
         raise ValueError(f"lat_deg: must be within [-90, 90], got {lat}")
-    return np.asarray(_c.od_geodetic_to_ecef(math.radians(lat), math.radians(lon),
-                                             _finite_scalar(height_km, "height_km"), _as_ellipsoid(ellipsoid)))
+    return np.asarray(
+        _c.od_geodetic_to_ecef(
+            math.radians(lat),
+            math.radians(lon),
+            _finite_scalar(height_km, "height_km"),
+            _as_ellipsoid(ellipsoid),
+        )
+    )
 
 
-def station_geodetic(lat_deg: float, lon_deg: float, height_km: float, epoch, ut1_minus_utc: float = 0.0,
-                     ellipsoid="WGS-84", omega: float = EARTH_OMEGA) -> Station:
+def station_geodetic(
+    lat_deg: float,
+    lon_deg: float,
+    height_km: float,
+    epoch,
+    ut1_minus_utc: float = 0.0,
+    ellipsoid="WGS-84",
+    omega: float = EARTH_OMEGA,
+) -> Station:
     """Station at geodetic (deg, deg, km) on the named ellipsoid; inertial position at the UTC
     ``epoch`` through GMST (IAU-1982), rotating about +z at ``omega`` (rad/s)."""
     lat = _finite_scalar(lat_deg, "lat_deg")
     if abs(lat) > 90:
         raise ValueError(f"lat_deg: must be within [-90, 90], got {lat}")
-    return Station.from_geodetic(lat, _finite_scalar(lon_deg, "lon_deg"), _finite_scalar(height_km, "height_km"),
-                                 julian_date(epoch), _finite_scalar(ut1_minus_utc, "ut1_minus_utc"),
-                                 _as_ellipsoid(ellipsoid), _finite_scalar(omega, "omega"))
+    return Station.from_geodetic(
+        lat,
+        _finite_scalar(lon_deg, "lon_deg"),
+        _finite_scalar(height_km, "height_km"),
+        julian_date(epoch),
+        _finite_scalar(ut1_minus_utc, "ut1_minus_utc"),
+        _as_ellipsoid(ellipsoid),
+        _finite_scalar(omega, "omega"),
+    )
 
 
 def station_inertial(r0, omega: float = EARTH_OMEGA) -> Station:
@@ -181,7 +234,9 @@ def _mtype(kind) -> MeasurementType:
 def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
     """Predicted observable (km or km/s) of satellite state ``x`` from ``station_state`` and its
     partials d h / d x (6,). Raises ValueError when the satellite is at the station."""
-    v, g = _c.od_predict_measurement(_mtype(kind), _vector(x, 6, "x"), _vector(station_state, 6, "station_state"))
+    v, g = _c.od_predict_measurement(
+        _mtype(kind), _vector(x, 6, "x"), _vector(station_state, 6, "station_state")
+    )
     return float(v), np.asarray(g).ravel()
 
 
@@ -256,13 +311,20 @@ class Observations:
         return int(self.t.size)
 
     def measurements(self) -> list:
-        return [_c.Measurement(float(t), k, float(v), float(s), int(st))
-                for t, k, v, s, st in zip(self.t, self.type, self.value, self.sigma, self.station)]
+        return [
+            _c.Measurement(float(t), k, float(v), float(s), int(st))
+            for t, k, v, s, st in zip(self.t, self.type, self.value, self.sigma, self.station)
+        ]
 
     def select(self, mask) -> Observations:
         m = np.asarray(mask, dtype=bool)
-        return Observations(self.t[m], [k for k, keep in zip(self.type, m) if keep], self.value[m],
-                            self.sigma[m], self.station[m])
+        return Observations(
+            self.t[m],
+            [k for k, keep in zip(self.type, m) if keep],
+            self.value[m],
+            self.sigma[m],
+            self.station[m],
+        )
 
     def type_names(self) -> list[str]:
         return ["range" if k == MeasurementType.range else "range_rate" for k in self.type]
@@ -316,17 +378,34 @@ def _stations(stations) -> list:
     return st
 
 
-def solver(observations: Observations, stations, method: str = "levenberg_marquardt", propagator="kepler",
-           mu: float = EARTH_MU, **kw) -> OdSolver:
+def solver(
+    observations: Observations,
+    stations,
+    method: str = "levenberg_marquardt",
+    propagator="kepler",
+    mu: float = EARTH_MU,
+    **kw,
+) -> OdSolver:
     """Build a reusable batch solver (see :func:`solve`)."""
     if not isinstance(observations, Observations):
         raise TypeError(f"observations: must be an Observations table, got {type(observations).__name__}")
-    return OdSolver.from_measurements(_stations(stations), observations.measurements(),
-                                      make_propagator(propagator, mu), settings(method, mu=mu, **kw))
+    return OdSolver.from_measurements(
+        _stations(stations),
+        observations.measurements(),
+        make_propagator(propagator, mu),
+        settings(method, mu=mu, **kw),
+    )
 
 
-def solve(observations: Observations, stations, x0_guess, method: str = "levenberg_marquardt",
-          propagator="kepler", mu: float = EARTH_MU, **kw) -> OdResult:
+def solve(
+    observations: Observations,
+    stations,
+    x0_guess,
+    method: str = "levenberg_marquardt",
+    propagator="kepler",
+    mu: float = EARTH_MU,
+    **kw,
+) -> OdResult:
     """Weighted batch least squares for the state at t = 0 from any number (>= 6) of observations of
     one or several stations. ``method``: 'levenberg_marquardt' (default), 'gauss_newton' or
     'newton' (exactly 6 observations). Extra keywords set :class:`OdSettings` fields. Returns the
@@ -335,8 +414,15 @@ def solve(observations: Observations, stations, x0_guess, method: str = "levenbe
     return solver(observations, stations, method, propagator, mu, **kw).solve(x0)
 
 
-def six_point_conditions(t, rho, rhodot=None, mode="doppler", sigma_range: float = 1e-3,
-                         sigma_range_rate: float = 1e-6, station: int = 0) -> list:
+def six_point_conditions(
+    t,
+    rho,
+    rhodot=None,
+    mode="doppler",
+    sigma_range: float = 1e-3,
+    sigma_range_rate: float = 1e-6,
+    station: int = 0,
+) -> list:
     """The paper's six implicit conditions: ``mode`` 'doppler' (eq. 11 with the observed range),
     'range' (eq. 9) or a list of six of them (mixed)."""
     t = _array1(t, "t")
@@ -365,21 +451,44 @@ def six_point_conditions(t, rho, rhodot=None, mode="doppler", sigma_range: float
         raise ValueError("t: duplicate times for the same condition type")
     sr = _finite_scalar(sigma_range, "sigma_range", positive=True)
     srr = _finite_scalar(sigma_range_rate, "sigma_range_rate", positive=True)
-    return [BoundaryCondition(float(t[i]), types[i], float(rho[i]), float(rhodot[i]), sr, srr, int(station))
-            for i in range(6)]
+    return [
+        BoundaryCondition(float(t[i]), types[i], float(rho[i]), float(rhodot[i]), sr, srr, int(station))
+        for i in range(6)
+    ]
 
 
-def six_point_solver(t, rho, rhodot, station, mode="doppler", method: str = "newton", propagator="kepler",
-                     mu: float = EARTH_MU, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6,
-                     **kw) -> OdSolver:
+def six_point_solver(
+    t,
+    rho,
+    rhodot,
+    station,
+    mode="doppler",
+    method: str = "newton",
+    propagator="kepler",
+    mu: float = EARTH_MU,
+    sigma_range: float = 1e-3,
+    sigma_range_rate: float = 1e-6,
+    **kw,
+) -> OdSolver:
     """Reusable solver for the paper's six-point problem (see :func:`solve_six_point`)."""
     conds = six_point_conditions(t, rho, rhodot, mode, sigma_range, sigma_range_rate)
-    return OdSolver.from_conditions(_stations(station), conds, make_propagator(propagator, mu),
-                                    settings(method, mu=mu, **kw))
+    return OdSolver.from_conditions(
+        _stations(station), conds, make_propagator(propagator, mu), settings(method, mu=mu, **kw)
+    )
 
 
-def solve_six_point(t, rho, rhodot, station, x0_guess, mode="doppler", method: str = "newton",
-                    propagator="kepler", mu: float = EARTH_MU, **kw) -> OdResult:
+def solve_six_point(
+    t,
+    rho,
+    rhodot,
+    station,
+    x0_guess,
+    mode="doppler",
+    method: str = "newton",
+    propagator="kepler",
+    mu: float = EARTH_MU,
+    **kw,
+) -> OdResult:
     """The paper's Newton-Raphson on six implicit boundary conditions (eqs. 9-18) with the exact STM.
     ``t`` six times (s), ``rho`` observed ranges (km), ``rhodot`` observed range-rates (km/s)."""
     x0 = _vector(x0_guess, 6, "x0_guess")
@@ -396,8 +505,13 @@ def box_guesses(center, half_width, n: int, seed: int = 0) -> np.ndarray:
     return np.asarray(_c.od_box_guesses(_vector(center, 6, "center"), hw, int(n), int(seed)))
 
 
-def root_search(solver_: OdSolver, guesses, distinct_sigma: float = 1.0, distinct_position_km: float = 1e-3,
-                distinct_velocity_kms: float = 1e-6):
+def root_search(
+    solver_: OdSolver,
+    guesses,
+    distinct_sigma: float = 1.0,
+    distinct_position_km: float = 1e-3,
+    distinct_velocity_kms: float = 1e-6,
+):
     """Solve from every guess ((n, 6) array) and list the distinct converged solutions (fitting ones
     first) with residuals and covariance; ``result.ambiguous`` when two or more fit the data."""
     if not isinstance(solver_, OdSolver):
@@ -422,10 +536,20 @@ def elevation_deg(x, station_state) -> float:
     return math.degrees(math.asin(float(np.dot(d, up) / np.linalg.norm(d))))
 
 
-def simulate(x0, stations, times, types: Sequence[str] = ("range", "range_rate"), sigma_range: float = 1e-3,
-             sigma_range_rate: float = 1e-6, bias_range: float = 0.0, bias_range_rate: float = 0.0,
-             elevation_mask_deg: float | None = None, seed: int | None = 0, propagator="kepler",
-             mu: float = EARTH_MU) -> Observations:
+def simulate(
+    x0,
+    stations,
+    times,
+    types: Sequence[str] = ("range", "range_rate"),
+    sigma_range: float = 1e-3,
+    sigma_range_rate: float = 1e-6,
+    bias_range: float = 0.0,
+    bias_range_rate: float = 0.0,
+    elevation_mask_deg: float | None = None,
+    seed: int | None = 0,
+    propagator="kepler",
+    mu: float = EARTH_MU,
+) -> Observations:
     """Synthetic observations of the orbit from ``x0`` (at t = 0) by every station at ``times`` (s):
     each type in ``types`` per visible time, Gaussian noise (sigmas in km, km/s; seed=None for none),
     constant biases, and an elevation mask (deg, geocentric horizontal) that drops low passes."""

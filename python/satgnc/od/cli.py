@@ -10,7 +10,6 @@ Examples::
 
 from __future__ import annotations
 
-import argparse
 import pathlib
 import sys
 
@@ -75,7 +74,7 @@ def plot_residuals(result, observations, outdir) -> list[pathlib.Path]:
         ax.set(xlabel="t (s)", ylabel=f"{kind} residual ({unit})", title=f"{kind} residuals per iteration")
         ax.set_yscale("symlog", linthresh=1e-3)
         ax.legend(fontsize=7)
-        fig.tight_layout()
+        fig.subplots_adjust(left=0.15, bottom=0.12)
         path = outdir / f"residuals_{kind}.png"
         fig.savefig(path, dpi=100)
         plt.close(fig)
@@ -87,13 +86,15 @@ def summary(result, observations) -> str:
     x = np.asarray(result.x0)
     cov = np.asarray(result.covariance)
     sig = np.sqrt(np.abs(np.diag(cov)))
-    lines = [f"status      : {result.status.name} ({result.message})",
-             f"iterations  : {result.iterations}  (propagations {result.evaluations})",
-             f"observations: {len(observations)}",
-             "state at t=0: " + " ".join(f"{v:.6f}" for v in x) + "  (km, km/s)",
-             "formal sigma: " + " ".join(f"{v:.3e}" for v in sig),
-             f"fits        : {result.fits}  (max |residual|/sigma = {result.max_abs_normalized:.3g})",
-             f"rank        : {result.rank}  condition number {result.condition_number:.3e}"]
+    lines = [
+        f"status      : {result.status.name} ({result.message})",
+        f"iterations  : {result.iterations}  (propagations {result.evaluations})",
+        f"observations: {len(observations)}",
+        "state at t=0: " + " ".join(f"{v:.6f}" for v in x) + "  (km, km/s)",
+        "formal sigma: " + " ".join(f"{v:.3e}" for v in sig),
+        f"fits        : {result.fits}  (max |residual|/sigma = {result.max_abs_normalized:.3g})",
+        f"rank        : {result.rank}  condition number {result.condition_number:.3e}",
+    ]
     names = observations.type_names()
     res = np.asarray(result.residuals)
     for kind, scale, unit in (("range", 1e3, "m"), ("range_rate", 1e3, "m/s")):
@@ -123,7 +124,9 @@ def _solve(args) -> int:
         raise ValueError("--epoch: geodetic stations need the UTC epoch of t = 0")
     st = _stations(args, epoch, names)
     guess = _floats(args.guess, 6, "--guess")
-    r = solve(obs, st, guess, method=args.method, propagator=args.propagator, max_iterations=args.max_iterations)
+    r = solve(
+        obs, st, guess, method=args.method, propagator=args.propagator, max_iterations=args.max_iterations
+    )
     print(summary(r, obs))
     if args.plots:
         for p in plot_residuals(r, obs, args.plots):
@@ -140,8 +143,14 @@ def _simulate(args) -> int:
     x0 = paper.truth() if args.state is None else np.array(_floats(args.state, 6, "--state"))
     st = paper.station()
     t = np.arange(0.0, args.duration + 1e-9, args.step)
-    obs = simulate(x0, st, t, sigma_range=args.sigma_range, sigma_range_rate=args.sigma_range_rate,
-                   seed=None if args.no_noise else args.seed)
+    obs = simulate(
+        x0,
+        st,
+        t,
+        sigma_range=args.sigma_range,
+        sigma_range_rate=args.sigma_range_rate,
+        seed=None if args.no_noise else args.seed,
+    )
     out = pathlib.Path(args.out)
     if out.suffix.lower() == ".tdm":
         write_tdm(out, obs, dt.datetime(1981, 3, 21, 6, 0, 0), ["STATION"])
@@ -165,10 +174,13 @@ def register(subparsers) -> None:
     s.add_argument("--epoch", help="UTC epoch of t = 0 (ISO); TDM default: first observation")
     s.add_argument("--ut1-utc", type=float, default=0.0, help="UT1 - UTC, s")
     s.add_argument("--ellipsoid", default="WGS-84")
-    s.add_argument("--method", default="levenberg_marquardt",
-                   choices=["levenberg_marquardt", "gauss_newton", "newton", "lm", "gn"])
+    s.add_argument(
+        "--method",
+        default="levenberg_marquardt",
+        choices=["levenberg_marquardt", "gauss_newton", "newton", "lm", "gn"],
+    )
     s.add_argument("--propagator", default="kepler", choices=["kepler", "cvodes"])
-    s.add_argument("--max-iterations", type=int, default=50)
+    s.add_argument("--max-iterations", type=int, default=200)
     s.add_argument("--sigma-range", type=float, default=1e-3, help="TDM range sigma, km")
     s.add_argument("--sigma-range-rate", type=float, default=1e-6, help="TDM range-rate sigma, km/s")
     s.add_argument("--plots", help="directory for residual plots")

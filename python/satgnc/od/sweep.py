@@ -28,8 +28,15 @@ def dask_available() -> bool:
     return True
 
 
-def run_chunks(fn: Callable, chunks: Sequence, executor: str = "process", workers: int | None = None,
-               progress: bool = True, label: str = "sweep", client=None) -> list:
+def run_chunks(
+    fn: Callable,
+    chunks: Sequence,
+    executor: str = "process",
+    workers: int | None = None,
+    progress: bool = True,
+    label: str = "sweep",
+    client=None,
+) -> list:
     """Apply ``fn`` to every chunk; results in chunk order. ``workers`` defaults to the CPU count."""
     if executor not in EXECUTORS:
         raise ValueError(f"executor: unknown {executor!r} (hint: one of {EXECUTORS})")
@@ -62,7 +69,9 @@ def run_chunks(fn: Callable, chunks: Sequence, executor: str = "process", worker
 
     own = None
     if client is None:
-        own = LocalCluster(n_workers=workers or 2, threads_per_worker=1, processes=True, dashboard_address=None)
+        own = LocalCluster(
+            n_workers=workers or 2, threads_per_worker=1, processes=True, dashboard_address=None
+        )
         client = Client(own)
     elif isinstance(client, str):
         client = Client(client)
@@ -85,4 +94,4 @@ def split(items: Sequence, n_chunks: int) -> list:
     n = len(items)
     n_chunks = max(1, min(n_chunks, n))
     edges = [round(i * n / n_chunks) for i in range(n_chunks + 1)]
-    return [items[edges[i]:edges[i + 1]] for i in range(n_chunks)]
+    return [items[edges[i] : edges[i + 1]] for i in range(n_chunks)]

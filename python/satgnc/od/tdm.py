@@ -58,16 +58,24 @@ def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, ep
         if not line or line.startswith("COMMENT"):
             continue
         if line in ("META_START", "META_STOP", "DATA_START", "DATA_STOP"):
-            expected = {"META_START": ("header", "after_data"), "META_STOP": ("meta",), "DATA_START": ("after_meta",),
-                        "DATA_STOP": ("data",)}[line]
+            expected = {
+                "META_START": ("header", "after_data"),
+                "META_STOP": ("meta",),
+                "DATA_START": ("after_meta",),
+                "DATA_STOP": ("data",),
+            }[line]
             if state not in expected:
                 raise ValueError(f"{where}: unexpected {line}")
             if line == "META_START" and not seen_version:
                 raise ValueError(f"{where}: CCSDS_TDM_VERS must come first")
             if line == "META_STOP" and station is None:
                 raise ValueError(f"{where}: metadata without PARTICIPANT_1")
-            state = {"META_START": "meta", "META_STOP": "after_meta", "DATA_START": "data",
-                     "DATA_STOP": "after_data"}[line]
+            state = {
+                "META_START": "meta",
+                "META_STOP": "after_meta",
+                "DATA_START": "data",
+                "DATA_STOP": "after_data",
+            }[line]
             if line == "META_START":
                 station = None
             continue
@@ -94,7 +102,9 @@ def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, ep
         if state != "data":
             raise ValueError(f"{where}: keyword {key} outside a META or DATA section")
         if key not in ("RANGE", "DOPPLER_INSTANTANEOUS"):
-            raise ValueError(f"{where}: data keyword {key} not supported (hint: RANGE, DOPPLER_INSTANTANEOUS)")
+            raise ValueError(
+                f"{where}: data keyword {key} not supported (hint: RANGE, DOPPLER_INSTANTANEOUS)"
+            )
         parts = val.split()
         if len(parts) != 2:
             raise ValueError(f"{where}: expected '<epoch> <value>', got {val!r}")
@@ -122,20 +132,38 @@ def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, ep
     return obs, names, epoch
 
 
-def write_tdm(path, observations: Observations, epoch: _dt.datetime, station_names: list[str],
-              originator: str = "satgnc") -> pathlib.Path:
+def write_tdm(
+    path,
+    observations: Observations,
+    epoch: _dt.datetime,
+    station_names: list[str],
+    originator: str = "satgnc",
+) -> pathlib.Path:
     """Write observations (times relative to ``epoch``) as a KVN TDM, one segment per station."""
     p = pathlib.Path(path)
-    lines = ["CCSDS_TDM_VERS = 2.0", f"CREATION_DATE = {_dt.datetime.now(_dt.timezone.utc):%Y-%m-%dT%H:%M:%S}",
-             f"ORIGINATOR = {originator}"]
+    lines = [
+        "CCSDS_TDM_VERS = 2.0",
+        f"CREATION_DATE = {_dt.datetime.now(_dt.timezone.utc):%Y-%m-%dT%H:%M:%S}",
+        f"ORIGINATOR = {originator}",
+    ]
     for i, name in enumerate(station_names):
         sel = observations.station == i
         if not np.any(sel):
             continue
-        lines += ["META_START", "TIME_SYSTEM = UTC", f"PARTICIPANT_1 = {name}", "PARTICIPANT_2 = SATELLITE",
-                  "MODE = SEQUENTIAL", "PATH = 1,2,1", "RANGE_UNITS = km", "META_STOP", "DATA_START"]
-        for t, k, v in zip(observations.t[sel], np.array(observations.type, dtype=object)[sel],
-                           observations.value[sel]):
+        lines += [
+            "META_START",
+            "TIME_SYSTEM = UTC",
+            f"PARTICIPANT_1 = {name}",
+            "PARTICIPANT_2 = SATELLITE",
+            "MODE = SEQUENTIAL",
+            "PATH = 1,2,1",
+            "RANGE_UNITS = km",
+            "META_STOP",
+            "DATA_START",
+        ]
+        for t, k, v in zip(
+            observations.t[sel], np.array(observations.type, dtype=object)[sel], observations.value[sel]
+        ):
             when = epoch + _dt.timedelta(seconds=float(t))
             key = "RANGE" if k == MeasurementType.range else "DOPPLER_INSTANTANEOUS"
             lines.append(f"{key} = {when:%Y-%m-%dT%H:%M:%S.%f} {v:.12e}")

@@ -45,13 +45,13 @@ enum class StoppingRule {
 
 /// Solver settings (plain struct; defaults solve the scenario cases to ~1e-6 relative).
 struct AdmmSettings {
-  double rho = 0.3;                ///< initial penalty (> 0)
+  double rho = 0.2;                ///< initial penalty (> 0)
   int max_iterations = 10000;      ///< >= 1
   StoppingRule stopping = StoppingRule::kResiduals;
   double eps_abs = 1e-7;           ///< absolute tolerance on both residuals (>= 0)
   double eps_rel = 1e-6;           ///< relative tolerance (>= 0)
   double paper_eps = 1e-3;         ///< threshold of the paper's rule (> 0)
-  double relaxation = 1.6;         ///< over-relaxation alpha in (0, 2); 1 = none (paper)
+  double relaxation = 1.8;         ///< over-relaxation alpha in (0, 2); 1 = none (paper)
   bool adaptive_rho = true;        ///< residual balancing (OSQP rule)
   int adaptive_rho_interval = 25;  ///< iterations between rho checks
   double adaptive_rho_tolerance = 5.0;  ///< refactor only if rho changes by more than this factor
@@ -65,8 +65,8 @@ struct AdmmSettings {
   /// system for the others exactly and accept it if it satisfies the optimality conditions
   /// (a certificate: the result is then the exact optimum up to rounding).
   bool polish = true;
-  int polish_interval = 10;        ///< >= 1
-  int polish_max_free = 0;         ///< largest free set tried; 0 = 4 nx (capped at N nu)
+  int polish_interval = 5;         ///< >= 1
+  int polish_max_free = 0;         ///< largest free set classified; 0 = 8 nx (capped at N nu)
   double polish_tolerance = 1e-7;  ///< relative tolerance of the optimality check
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
@@ -122,7 +122,8 @@ class AdmmSolver {
   /// Run ADMM from the warm start (if set) or from Y = Lambda = 0. Never throws.
   const AdmmResult& solve() noexcept;
 
-  /// Next solve starts from these (nu x N each); e.g. the previous result shifted by one step.
+  /// Later solves start from these (nu x N each) until cold_start(); e.g. the previous result
+  /// shifted by one step for receding-horizon use.
   /// @throws std::invalid_argument on wrong sizes or non-finite values
   void warm_start(const Eigen::Ref<const Eigen::MatrixXd>& Y, const Eigen::Ref<const Eigen::MatrixXd>& Lambda);
   /// Drop the warm start (next solve from zeros).

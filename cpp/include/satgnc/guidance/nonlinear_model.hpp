@@ -38,6 +38,10 @@ class LinearDiscreteModel final : public DiscreteModel {
   bool step(int k, const double* x, const double* u, double* x_next, double* A, double* B) const override;
   /// Number of intervals the model was given data for (1 = time-invariant).
   int intervals() const { return static_cast<int>(A_.size()); }
+  /// Overwrite interval k's data in place (no allocation; sizes must match, c only if the model
+  /// was built with c). Returns false on a size mismatch or a bad k.
+  bool set(int k, const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& B,
+           const Eigen::Ref<const Eigen::VectorXd>& c);
 
  private:
   std::vector<Eigen::MatrixXd> A_, B_;

@@ -69,11 +69,12 @@ struct OdSettings {
   int max_iterations = 30;      ///< iterations (accepted steps)
   double step_tol = 1e-10;      ///< converged when |dx_i| <= step_tol (1 + |x_i|) for all i, or
   double step_sigma_tol = 1e-6; ///< ... when the step moves the normalized residuals by <= this (|J_n dx|)
+  double cost_tol = 1e-6;       ///< ... or when an accepted step lowers the cost by <= cost_tol * cost
   double residual_tol = 0.0;    ///< also converged when max |normalized residual| <= this (paper's xi); 0 = off
   double rank_tol = 1e-13;      ///< singular values below rank_tol * s_max count as zero
   double min_radius = dynamics::earth::radius;  ///< km; any state closer to the centre => diverged
   double mu = dynamics::earth::mu;              ///< km^3/s^2, for the unbound test (specific energy >= 0)
-  double fit_sigma = 3.0;       ///< a solution fits when every |normalized residual| <= fit_sigma
+  double fit_sigma = 3.0;       ///< a solution fits when the RMS normalized residual <= fit_sigma
   double min_range = 1e-6;      ///< km; smaller predicted range => degenerate_geometry
   double lm_lambda0 = 1e-3;     ///< initial LM damping (relative to the Moré scaling)
   double lm_increase = 10.0;    ///< damping factor after a rejected step
@@ -99,7 +100,7 @@ struct OdResult {
   double condition_number = 0.0;   ///< s_max / s_min (inf if s_min = 0)
   double cost = 0.0;            ///< 0.5 sum normalized^2
   double max_abs_normalized = 0.0;  ///< max |residual / sigma|
-  bool fits = false;            ///< max_abs_normalized <= fit_sigma (and the state is physical)
+  bool fits = false;            ///< RMS of normalized residuals <= fit_sigma (and the state is physical)
   Eigen::VectorXd residuals;    ///< raw residual rows (km, km/s, km^2 or km^2/s)
   Eigen::VectorXd normalized;   ///< residuals / sigma
   Eigen::VectorXd range_residuals;       ///< predicted - observed range per row, km (NaN if none)
@@ -183,9 +184,9 @@ class OdSolver {
 struct RootSearchSettings {
   double distinct_position_km = 1e-3;   ///< two solutions closer than this in position ...
   double distinct_velocity_kms = 1e-6;  ///< ... and in velocity are the same root, and so are two
-  double distinct_sigma = 1.0;          ///< solutions within this many formal sigmas (Mahalanobis distance
-                                        ///< under the first one's covariance): with ill-conditioned data a
-                                        ///< "root" is a valley whose points the data cannot tell apart
+  double distinct_sigma = 0.1;          ///< solutions within this many formal sigmas (Mahalanobis distance
+                                        ///< under the first one's covariance): stalled LM runs end at slightly
+                                        ///< different points of one flat valley
 };
 
 /// One distinct converged solution.
@@ -197,6 +198,7 @@ struct Root {
   double max_abs_normalized = 0.0;
   double condition_number = 0.0;
   bool fits = false;            ///< fits the data to fit_sigma
+  bool converged = false;       ///< solver status converged (else stalled at max_iterations but fitting)
   int hits = 0;                 ///< guesses that converged to it
   int first_guess = -1;
 };
@@ -212,7 +214,8 @@ struct RootSearchResult {
   bool ambiguous = false;  ///< two or more distinct roots fit the data to measurement precision
 };
 
-/// Solve from every guess with the solver's settings and cluster the converged solutions.
+/// Solve from every guess with the solver's settings and cluster the converged solutions (and the
+/// stalled ones that fit the data).
 /// Allocates (collects roots); not for on-board loops.
 RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
                              const RootSearchSettings& settings = {});

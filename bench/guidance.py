@@ -1,0 +1,131 @@
+"""Benchmark of satgnc's L1 ADMM guidance against cvxpy + Clarabel on the Table 1 linear cases.
+
+Run: .venv/bin/python bench/guidance.py   (single-threaded BLAS; numbers go to docs/guidance.md)
+Measures, in one run: (1) time to 1e-4 relative optimality vs Clarabel (solver time and cvxpy total);
+(2) ADMM iterations to 1e-4 with the defaults (adaptive rho, over-relaxation, polish) vs the fixed
+paper rho; (3) time per cached-gain iteration vs its flop count and this machine's measured flop rate.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+from satgnc import _satgnc  # noqa: E402
+from satgnc.guidance import L1Solver  # noqa: E402
+from satgnc.guidance.reference import solve_cvxpy  # noqa: E402
+from satgnc.scenarios import l1_rendezvous as scen  # noqa: E402
+
+CASES = ("unconstrained", "box", "constrained")
+TARGET = 1e-4
+
+
+def gap(r, ref):
+    return abs(r.objective - ref) / abs(ref)
+
+
+def iterations_to(kw, settings, ref, kmax=20000):
+    """Smallest iteration budget whose returned plan is within TARGET of the optimum (coarse grid, then
+    bisection), or None."""
+    grid = [10, 20, 40, 80, 160, 320, 640, 1280, 2560, 5120, 10240, 20480]
+    lo, hi = 0, None
+    for k in grid:
+        if k > kmax:
+            break
+        if gap(L1Solver(**kw, settings={**settings, "max_iterations": k}).solve(), ref) <= TARGET:
+            hi = k
+            break
+        lo = k
+    if hi is None:
+        return None
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if gap(L1Solver(**kw, settings={**settings, "max_iterations": mid}).solve(), ref) <= TARGET:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+def time_solver(solver, repeats):
+    t0 = time.perf_counter()
+    solver._solver.solve_time_only(repeats)
+    return (time.perf_counter() - t0) / repeats
+
+
+def flops_per_iteration(nx, nu, N):
+    # per stage: d = G^-1 r + (G^-1 B') w; p = Acl' w - K' r + q; w = p + e; u = -K x - d;
+    # x+ = A x + B u; relaxation, prox, multiplier and residuals ~ 26 nu
+    per_stage = 2 * nu * nu + 2 * nu * nx + 2 * nx * nx + 2 * nx * nu + nx + nx + 2 * nu * nx + nu \
+        + 2 * nx * nx + 2 * nx * nu + nx + 26 * nu
+    return per_stage * N
+
+
+def machine_flop_rate():
+    """Single-thread dgemm (n = 600) and small 6x6 mat-vec rates (flop/s)."""
+    a = np.random.default_rng(0).standard_normal((600, 600))
+    a @ a
+    t0 = time.perf_counter()
+    for _ in range(5):
+        a @ a
+    dgemm = 5 * 2 * 600**3 / (time.perf_counter() - t0)
+    return dgemm
+
+
+def main():
+    sc = scen.load()
+    rows = []
+    print(f"satgnc {_satgnc.__version__}; target relative optimality {TARGET:g}")
+    for case in CASES:
+        kw = scen.linear_problem(sc, case)
+        t0 = time.perf_counter()
+        ref, _, _, clarabel_t = solve_cvxpy(**kw)
+        cvxpy_total = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        for _ in range(3):
+            solve_cvxpy(**kw)
+        cvxpy_total = min(cvxpy_total, (time.perf_counter() - t0) / 3)
+        it_default = iterations_to(kw, {}, ref)
+        paper = scen.paper_settings(sc, case)
+        fixed = dict(rho=paper["rho"], relaxation=1.0, adaptive_rho=False, polish=False, eps_abs=1e-12,
+                     eps_rel=1e-12)
+        it_fixed = iterations_to(kw, fixed, ref, kmax=20000)
+        s = L1Solver(**kw, settings={"max_iterations": it_default})
+        t_default = time_solver(s, 20)
+        full = L1Solver(**kw).solve()
+        t_full = time_solver(L1Solver(**kw), 5)
+        rows.append(dict(case=case, ref=ref, clarabel=clarabel_t, cvxpy=cvxpy_total, it_default=it_default,
+                         it_fixed=it_fixed, t_default=t_default, full_it=full.iterations, t_full=t_full,
+                         full_gap=gap(full, ref), polished=full.polished))
+    # per-iteration time: fixed rho, no polish, all iterations run
+    kw = scen.linear_problem(sc, "box")
+    n_it = 4000
+    s = L1Solver(**kw, settings=dict(max_iterations=n_it, adaptive_rho=False, polish=False, eps_abs=0.0,
+                                     eps_rel=1e-300, track_best=False))
+    t_it = time_solver(s, 5) / n_it
+    fl = flops_per_iteration(6, 3, sc.horizon)
+    rate = machine_flop_rate()
+
+    print("\n| case | Clarabel optimum | Clarabel solver time | cvxpy total "
+          "| satgnc iters to 1e-4 (defaults) | satgnc time to 1e-4 | ratio vs Clarabel solver "
+          "| ratio vs cvxpy total | iters to 1e-4 with fixed "
+          "paper rho | satgnc exact (polished) iters / time / gap |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        fixed = "> 20480" if r["it_fixed"] is None else str(r["it_fixed"])
+        print(f"| {r['case']} | {r['ref']:.6f} | {r['clarabel'] * 1e3:.2f} ms | {r['cvxpy'] * 1e3:.1f} ms | "
+              f"{r['it_default']} | {r['t_default'] * 1e3:.3f} ms | {r['clarabel'] / r['t_default']:.1f}x | "
+              f"{r['cvxpy'] / r['t_default']:.1f}x | {fixed} | {r['full_it']} / {r['t_full'] * 1e3:.2f} ms / "
+              f"{r['full_gap']:.1e} ({'certified' if r['polished'] else 'residuals'}) |")
+    print(f"\nper cached-gain iteration (nx = 6, nu = 3, N = {sc.horizon}): {t_it * 1e6:.2f} us, "
+          f"{fl} flops -> {fl / t_it / 1e9:.2f} Gflop/s achieved; single-thread dgemm on this machine "
+          f"{rate / 1e9:.2f} Gflop/s; time / (flops / dgemm rate) = {t_it / (fl / rate):.1f}x")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,456 @@
+"""L1 (fuel-optimal) rendezvous guidance on the nonlinear two-satellite model.
+
+The paper's nonlinear cases (Le Cleac'h & Manchester, Table 1, Figs. 4-5) and the tools around them:
+
+* :func:`drift_state` -- the scenario's 1 h uncontrolled drift (RK4, 9999 steps), 12-state SI vector
+  ``[r_t - r_c, r_t, v_t - v_c, v_t]`` (m, m/s);
+* :func:`paper_case` -- the published implementation's transcription (scaling, RK3 map, weights);
+* :func:`solve_paper` -- ADMM with one iLQR iteration per ADMM iteration and the paper's stopping rule;
+* :func:`solve_scp` -- sequential convex programming to the optimum of the same transcription;
+* :func:`summarize` -- fuel (delta-v), terminal miss, sparsity of a control sequence;
+* :func:`fly` -- propagate a plan on a finer "truth" model (J2 and drag switchable);
+* :func:`mpc` -- receding-horizon re-planning with warm start.
+
+Units: SI (m, m/s, N, kg, s) at this API; the solvers work in the scaled units of :class:`Case`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+
+from satgnc import _satgnc as _c
+
+MU = 3.99e14  #: m^3/s^2, the scenario's gravitational parameter
+R_TARGET = 7231.0e3  #: m, target orbit radius (6731 km + 500 km, the implementation's typo kept)
+MASS = 4.6  #: kg, chaser and target
+TF = 6000.0  #: s, horizon
+N = 99  #: control intervals (100 knot points)
+U_MAX = 5e-3  #: N, per-axis bound of the constrained cases
+QF_MASK = np.array([1, 1, 1, 0, 0, 0, 1, 1, 1, 0, 0, 0], dtype=float)
+
+__all__ = [
+    "Case",
+    "drift_state",
+    "paper_case",
+    "solve_paper",
+    "solve_scp",
+    "summarize",
+    "fly",
+    "mpc",
+    "model_params",
+    "release_state",
+    "linear_cw_plan",
+    "miss",
+    "run_cli",
+]
+
+
+def model_params(published: bool = True, j2: bool = False, drag: bool = True, rho0: float | None = None):
+    """TwoSatelliteParams of the scenario. ``published`` selects the implementation's drag sign
+    (v + omega x r); otherwise the physical co-rotating atmosphere (v - omega x r)."""
+    p = _c.TwoSatelliteParams()
+    p.mu = MU
+    p.atmosphere = _c.AtmosphereRotation.published if published else _c.AtmosphereRotation.co_rotating
+    p.j2_on = bool(j2)
+    p.drag_on = bool(drag)
+    if rho0 is not None:
+        p.rho0 = float(rho0)
+    return p
+
+
+def release_state() -> np.ndarray:
+    """Scenario release: target on a circular equatorial orbit at [R, 0, 0]; target minus chaser
+    [20, 30, 10] m and [0.4, 0.6, -0.1] m/s (ECI)."""
+    vc = np.sqrt(MU / R_TARGET)
+    return np.array([20.0, 30.0, 10.0, R_TARGET, 0, 0, 0.4, 0.6, -0.1, 0, vc, 0])
+
+
+def drift_state(params=None, steps: int = 9999) -> np.ndarray:
+    """12-state after 3600 s of uncontrolled RK4 (the implementation: 10000 nodes = 9999 steps)."""
+    model = _c.TwoSatelliteModel(params if params is not None else model_params())
+    return np.asarray(model.propagate(4, release_state(), 3600.0, steps))
+
+
+@dataclasses.dataclass
+class Case:
+    """One nonlinear case of Table 1 in the implementation's scaled transcription."""
+
+    name: str
+    model: object  #: TwoSatelliteModel
+    dmap: object  #: TwoSatelliteMap (RK3, scaled)
+    problem: object  #: NonlinearL1Problem (scaled)
+    scaling: object  #: ReferenceScaling
+    x0_si: np.ndarray
+    rho: float
+    eps: float
+    constrained: bool
+
+    @property
+    def dt(self) -> float:
+        return TF / N
+
+    def to_si(self, U: np.ndarray) -> np.ndarray:
+        """Scaled controls (3 x N) to newtons."""
+        return np.asarray(U) * np.asarray(self.scaling.control_scale)[:, None]
+
+    def from_si(self, U: np.ndarray) -> np.ndarray:
+        return np.asarray(U) / np.asarray(self.scaling.control_scale)[:, None]
+
+    def rollout_si(self, U_si: np.ndarray) -> np.ndarray:
+        """States (12 x N+1, SI) of the planning model under U_si (newtons)."""
+        x = self.problem.x0.copy()
+        X = [x]
+        U = self.from_si(U_si)
+        for k in range(U.shape[1]):
+            x, _, _ = self.dmap.step(k, x, U[:, k])
+            X.append(x)
+        return np.array(X).T * np.asarray(self.scaling.state_scale)[:, None]
+
+    def cost(self, U_si: np.ndarray) -> float:
+        """True cost (scaled units, as minimized) of U_si on the planning model."""
+        X = self.rollout_si(U_si)
+        e = X[:, -1] / np.asarray(self.scaling.state_scale) - self.problem.x_target
+        u = self.from_si(U_si)
+        return 0.5 * e @ np.asarray(self.problem.Qf) @ e + self.problem.stage_weight * np.abs(u).sum()
+
+
+def paper_case(
+    constrained: bool = False,
+    x0_si: np.ndarray | None = None,
+    params=None,
+    horizon: int = N,
+    tf: float = TF,
+    substeps: int = 1,
+) -> Case:
+    """The published implementation's nonlinear case: RK3 over dt = tf/horizon, scaling
+    (time 324.48 s, force 0.42318 N), Qf = 1000 diag(1,1,1,0,0,0,1,1,1,0,0,0), alpha = 1, control
+    cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6)."""
+    model = _c.TwoSatelliteModel(params if params is not None else model_params())
+    x0 = drift_state() if x0_si is None else np.asarray(x0_si, dtype=float)
+    sc = _c.published_scaling(x0, MU, MASS)
+    ms = _c.TwoSatelliteMapSettings()
+    ms.dt = tf / horizon
+    ms.scheme = 3
+    ms.substeps = substeps
+    ms.state_scale = sc.state_scale
+    ms.control_scale = sc.control_scale
+    dmap = _c.TwoSatelliteMap(model, ms)
+    pr = _c.NonlinearL1Problem()
+    pr.horizon = horizon
+    pr.x0 = x0 / np.asarray(sc.state_scale)
+    pr.x_target = np.zeros(12)
+    pr.Qf = 1000.0 * np.diag(QF_MASK)
+    pr.alpha = np.ones(3)
+    pr.stage_weight = ms.dt / sc.time_scale
+    if constrained:
+        pr.cost = _c.ControlCost.l1_box
+        ub = U_MAX / np.asarray(sc.control_scale)
+        pr.u_min = -ub
+        pr.u_max = ub
+    name = "nonlinear constrained" if constrained else "nonlinear unconstrained"
+    return Case(
+        name,
+        model,
+        dmap,
+        pr,
+        sc,
+        x0,
+        10.0 if constrained else 0.1,
+        5e-6 if constrained else 6e-5,
+        constrained,
+    )
+
+
+def solve_paper(
+    case: Case, max_iter: int = 300, rho: float | None = None, eps: float | None = None, ilqr_iters: int = 1
+):
+    """ADMM + iLQR with the published settings (paper stopping rule, multiplier row rescaling after
+    iteration 1). Returns the solver (``.U``, ``.Y``, ``.X``, ``.info``; scaled units)."""
+    st = _c.IlqrAdmmSettings()
+    st.rho = case.rho if rho is None else rho
+    st.stop = _c.StopRule.paper
+    st.eps_paper = case.eps if eps is None else eps
+    st.paper_multiplier_rescale = True
+    st.max_iter = max_iter
+    st.ilqr_iters = ilqr_iters
+    sol = _c.IlqrAdmmSolver(case.dmap, case.problem, st)
+    sol.set_initial_controls(np.zeros((3, case.problem.horizon)))
+    sol.solve()
+    return sol
+
+
+def solve_scp(
+    case: Case,
+    U0: np.ndarray | None = None,
+    tol: float = 1e-10,
+    eps: float = 1e-8,
+    max_outer: int = 30,
+    inner: str = "linear_admm",
+    max_inner: int = 20000,
+):
+    """Sequential convex programming: re-linearize (exact map Jacobians), solve the convex L1
+    subproblem (``inner="ilqr_admm"``: satgnc's iLQR-ADMM on the affine model, which is exact
+    LQR-ADMM there, allocation-free; ``"linear_admm"``: the linear guidance AdmmSolver), line search
+    on the true cost. Returns the solver (``.U``, ``.X``, ``.info``; scaled units)."""
+    st = _c.ScpSettings()
+    st.tol = tol
+    st.max_outer = max_outer
+    if inner == "ilqr_admm":
+        st.inner_solver = _c.ScpInner.ilqr_admm
+        ii = st.inner_ilqr
+        ii.eps_abs = eps
+        ii.eps_rel = eps
+        ii.max_iter = max_inner
+        st.inner_ilqr = ii
+    elif inner == "linear_admm":
+        st.inner_solver = _c.ScpInner.linear_admm
+        ia = _c.AdmmSettings()
+        ia.eps_abs = eps
+        ia.eps_rel = eps
+        ia.max_iterations = max_inner
+        st.inner = ia
+    else:
+        raise ValueError(f"inner: must be 'ilqr_admm' or 'linear_admm', got {inner!r}")
+    sol = _c.ScpSolver(case.dmap, case.problem, st)
+    if U0 is not None:
+        sol.set_initial_controls(U0)
+    sol.solve()
+    return sol
+
+
+def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
+    """Fuel (delta-v = sum |u| dt / m, m/s, L1 per axis), terminal miss on the planning model (m and
+    m/s), sparsity (fraction of control entries with |u| <= zero_tol * u_max), objective."""
+    U = case.to_si(U_scaled)
+    X = case.rollout_si(U)
+    dv = float(np.abs(U).sum() * case.dt / MASS)
+    thresh = zero_tol * max(np.abs(U).max(), 1e-30)
+    return {
+        "delta_v": dv,
+        "miss_position": float(np.linalg.norm(X[0:3, -1])),
+        "miss_velocity": float(np.linalg.norm(X[6:9, -1])),
+        "sparsity": float(np.mean(np.abs(U) <= thresh)),
+        "nonzero_intervals": int(np.sum(np.abs(U).max(axis=0) > thresh)),
+        "objective": case.cost(U),
+        "u_max": float(np.abs(U).max()),
+    }
+
+
+def fly(case: Case, U_si: np.ndarray, truth_params=None, substeps: int = 60, x0_si=None) -> np.ndarray:
+    """Propagate the 12-state under the piecewise-constant plan U_si (N, in the target's CW frame)
+    on a truth model (default: J2 and drag on, co-rotating atmosphere), with RK4 at dt/substeps.
+    Returns states 12 x (N+1), SI."""
+    p = truth_params if truth_params is not None else model_params(published=False, j2=True, drag=True)
+    truth = _c.TwoSatelliteModel(p)
+    x = np.array(case.x0_si if x0_si is None else x0_si, dtype=float)
+    h = case.dt / substeps
+    X = [x.copy()]
+    for k in range(U_si.shape[1]):
+        for _ in range(substeps):
+            x = np.asarray(truth.rk_step(4, h, x, U_si[:, k]))
+        X.append(x.copy())
+    return np.array(X).T
+
+
+def mpc(
+    case: Case,
+    truth_params=None,
+    planner_params=None,
+    replan_every: int = 3,
+    substeps: int = 20,
+    max_iter: int = 10,
+    min_horizon: int = 1,
+    qf_scale: float = 1e4,
+    rho: float = 1.0,
+    first_max_iter: int = 2000,
+) -> dict:
+    """Receding-horizon flight (shrinking horizon to the fixed final time).
+
+    The first plan is solved to convergence (iLQR-ADMM, residual rule, adaptive rho; not timed as a
+    re-plan). Then every ``replan_every`` intervals the remaining horizon is re-planned from the
+    measured truth state with at most ``max_iter`` warm-started iLQR-ADMM iterations (U, Y, Lambda
+    shifted; one Gauss-Newton step per iteration), and the sparse plan Y -- inside the bounds by
+    construction of the prox -- is flown on the truth model (RK4 at dt/substeps). The terminal weight
+    is ``qf_scale`` times the case's (a soft terminal constraint stiff enough for sub-metre misses).
+    Planner: the case's RK3 map on ``planner_params`` (default: J2 on, drag); truth: J2 and drag on,
+    co-rotating atmosphere. Returns states (12 x N+1, SI), controls (3 x N, N), re-plan solve times (s,
+    thread CPU time) and iterations."""
+    tp = truth_params if truth_params is not None else model_params(published=False, j2=True, drag=True)
+    pp = planner_params if planner_params is not None else model_params(published=False, j2=True, drag=True)
+    truth = _c.TwoSatelliteModel(tp)
+    planner = _c.TwoSatelliteModel(pp)
+    ms = _c.TwoSatelliteMapSettings()
+    ms.dt = case.dt
+    ms.scheme = 3
+    ms.substeps = case.dmap_substeps if hasattr(case, "dmap_substeps") else 1
+    ms.state_scale = case.scaling.state_scale
+    ms.control_scale = case.scaling.control_scale
+    dmap = _c.TwoSatelliteMap(planner, ms)
+    x = np.array(case.x0_si, dtype=float)
+    Nh = case.problem.horizon
+    h = case.dt / substeps
+    sc = np.asarray(case.scaling.state_scale)
+    U_all = np.zeros((3, Nh))
+    X = [x.copy()]
+    times, iters = [], []
+    prev = None  # (U, Y, Lambda) not yet executed, scaled
+    k = 0
+    first = None
+    while k < Nh:
+        rem = Nh - k
+        if prev is None or rem >= min_horizon:
+            pr = _c.NonlinearL1Problem()
+            pr.horizon = rem
+            pr.x0 = x / sc
+            pr.x_target = np.zeros(12)
+            pr.Qf = qf_scale * np.asarray(case.problem.Qf)
+            pr.alpha = case.problem.alpha
+            pr.stage_weight = case.problem.stage_weight
+            pr.cost = case.problem.cost
+            if case.constrained:
+                pr.u_min = case.problem.u_min
+                pr.u_max = case.problem.u_max
+            st = _c.IlqrAdmmSettings()
+            st.rho = rho
+            st.eps_abs = 1e-9
+            st.eps_rel = 1e-9
+            st.return_best = False
+            sol = None
+            if prev is None:
+                st.max_iter = first_max_iter
+                st.adaptive_rho = True
+                sol = _c.IlqrAdmmSolver(dmap, pr, st)
+                sol.set_initial_controls(np.zeros((3, rem)))
+                sol.solve()
+                first = sol.info
+                rho_run = sol.info.rho
+            else:
+                st.max_iter = max_iter
+                st.rho = rho_run
+                sol = _c.IlqrAdmmSolver(dmap, pr, st)
+                sol.warm_start(*prev)
+                t0 = time.thread_time()
+                sol.solve()
+                times.append(time.thread_time() - t0)
+                iters.append(sol.info.iterations)
+            prev = (np.asarray(sol.U), np.asarray(sol.Y), np.asarray(sol.Lambda))
+        nexec = min(replan_every, rem)
+        for j in range(nexec):
+            u = case.to_si(prev[1][:, j : j + 1])[:, 0]
+            U_all[:, k + j] = u
+            for _ in range(substeps):
+                x = np.asarray(truth.rk_step(4, h, x, u))
+            X.append(x.copy())
+        prev = tuple(a[:, nexec:] for a in prev)
+        k += nexec
+    return {
+        "X": np.array(X).T,
+        "U": U_all,
+        "solve_times": np.array(times),
+        "iterations": np.array(iters),
+        "first_plan": first,
+    }
+
+
+def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
+    """The linear-model (Clohessy-Wiltshire, exact zero-order hold) optimum of the same cost, from the
+    same initial relative state (exact CW frame of the target): satgnc's linear ADMM solver, with
+    the nonlinear case's scaling so that Qf and alpha mean the same thing. Returns the plan in newtons
+    (3 x N, target CW frame) and the solver's result dict."""
+    sc = case.scaling
+    x0 = np.asarray(_c.cw_relative_state(case.x0_si))
+    n = np.sqrt(MU / np.linalg.norm(case.x0_si[3:6]) ** 3)
+    Ad, Bd = _c.cw_discretize(n, MASS, case.dt, "zoh")
+    s = np.concatenate([np.asarray(sc.state_scale)[0:3], np.asarray(sc.state_scale)[6:9]])
+    su = np.asarray(sc.control_scale)
+    As = Ad * s[None, :] / s[:, None]
+    Bs = Bd * su[None, :] / s[:, None]
+    st = _c.AdmmSettings()
+    st.eps_abs = eps
+    st.eps_rel = eps
+    st.max_iterations = 100000
+    w = case.problem.stage_weight
+    lo = np.asarray(case.problem.u_min) if case.constrained else np.zeros(0)
+    hi = np.asarray(case.problem.u_max) if case.constrained else np.zeros(0)
+    solver = _c.AdmmSolver(
+        [As],
+        [Bs],
+        [],
+        case.problem.horizon,
+        x0 / s,
+        np.zeros(6),
+        1000.0 * np.eye(6),
+        np.zeros((0, 0)),
+        np.zeros((0, 0)),
+        w * np.ones(3),
+        0.0,
+        lo,
+        hi,
+        0.0,
+        False,
+        st,
+    )
+    r = solver.solve()
+    return {"U": case.to_si(r["Y"]), "result": r, "x0_cw": x0}
+
+
+def miss(X: np.ndarray) -> tuple[float, float]:
+    """Terminal miss (m, m/s) of a 12-state trajectory: |r_t - r_c| and |v_t - v_c| at the end."""
+    return float(np.linalg.norm(X[0:3, -1])), float(np.linalg.norm(X[6:9, -1]))
+
+
+def run_cli(out, closed_loop: bool = False) -> int:
+    """``satgnc rendezvous --model nonlinear [--closed-loop]``: solve both nonlinear cases (paper
+    settings and converged SCP), plot, and with ``closed_loop`` fly them (open loop and MPC) on the
+    J2 + drag truth; writes PNGs and nonlinear_summary.json to ``out``."""
+    import json
+    import pathlib
+
+    from ..report.guidance_nonlinear import _figure, _flight_figure
+
+    out = pathlib.Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    summary = {}
+    for constrained in (False, True):
+        case = paper_case(constrained)
+        paper = solve_paper(case)
+        scp = solve_scp(case, eps=1e-7, tol=1e-8)
+        key = case.name.replace(" ", "_")
+        s_opt = summarize(case, scp.U)
+        summary[key] = {
+            "paper_iterations": paper.info.iterations,
+            "paper_miss_flown_Y_m": summarize(case, paper.Y)["miss_position"],
+            "scp_outer": scp.info.outer_iterations,
+            **{f"opt_{k}": v for k, v in s_opt.items()},
+        }
+        _figure(
+            case,
+            [("optimum (SCP)", case.to_si(scp.U), "-"), ("paper stop, dense U", case.to_si(paper.U), ":")],
+            out / f"{key}.png",
+            case.name,
+        )
+        print(
+            f"{case.name}: paper settings stop after {paper.info.iterations} iterations "
+            f"(sparse plan misses by {summary[key]['paper_miss_flown_Y_m'] / 1000:.2f} km); optimum in "
+            f"{scp.info.outer_iterations} SCP iterations, dv = {s_opt['delta_v']:.4f} m/s, "
+            f"miss = {s_opt['miss_position']:.2f} m"
+        )
+        if closed_loop:
+            lin = linear_cw_plan(case)
+            flights = [
+                ("CW plan, open loop", fly(case, lin["U"])),
+                ("nonlinear plan, open loop", fly(case, case.to_si(scp.U))),
+            ]
+            m = mpc(case)
+            flights.append(("MPC", m["X"]))
+            for label, X in flights:
+                summary[key][f"truth_miss_{label}"] = miss(X)[0]
+                print(f"  {label}: truth miss {miss(X)[0]:.2f} m")
+            summary[key]["mpc_replan_ms_max"] = float(np.max(m["solve_times"]) * 1e3)
+            _flight_figure(case, flights, out / f"{key}_flight.png")
+    (out / "nonlinear_summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    print(f"plots and nonlinear_summary.json written to {out}")
+    return 0

@@ -1,0 +1,252 @@
+"""Nonlinear L1 rendezvous guidance: drift and Table 1 reproduction, discrete-map Jacobians, SCP
+optimality against an independent local solver (scipy SLSQP), flying the plans, bad input."""
+
+import numpy as np
+import pytest
+from satgnc import _satgnc as _c
+from satgnc.guidance import nonlinear as nl
+from scipy.optimize import minimize
+
+
+@pytest.fixture(scope="module")
+def uncons():
+    return nl.paper_case(False)
+
+
+@pytest.fixture(scope="module")
+def cons():
+    return nl.paper_case(True)
+
+
+def test_drift_reproduces_published_relative_state():
+    x = nl.drift_state()
+    cw = np.asarray(_c.cw_relative_state_published(x, nl.MU))
+    expected = [-9477.311, -1999.979, -43.046, -3.477486, 1.007149, -0.090170]
+    # l1_scenario.md prints 1e-3 m and 1e-6 m/s: half a unit of the last digit
+    np.testing.assert_allclose(cw[:3], expected[:3], rtol=0, atol=0.5e-3)
+    np.testing.assert_allclose(cw[3:], expected[3:], rtol=0, atol=0.5e-6)
+
+
+def test_published_scaling_units(uncons):
+    # l1_scenario.md: time unit 324.48 s, force unit 0.42318 N (printed digits)
+    assert abs(uncons.scaling.time_scale - 324.48) <= 0.005
+    assert abs(uncons.scaling.control_scale[0] - 0.42318) <= 0.000005
+
+
+def test_discrete_map_jacobians_match_finite_differences(uncons):
+    x = np.asarray(uncons.problem.x0)
+    u = np.array([0.02, -0.01, 0.005])
+    xn, A, B = uncons.dmap.step(3, x, u)
+    for j in range(12):
+        h = 1e-6 * max(abs(x[j]), 1.0)
+        e = np.zeros(12)
+        e[j] = h
+        col = (uncons.dmap.step(3, x + e, u)[0] - uncons.dmap.step(3, x - e, u)[0]) / (2 * h)
+        assert np.max(np.abs(col - A[:, j])) <= 1e-7 * max(np.max(np.abs(A[:, j])), 1e-300)
+    for j in range(3):
+        e = np.zeros(3)
+        e[j] = 1e-6
+        col = (uncons.dmap.step(3, x, u + e)[0] - uncons.dmap.step(3, x, u - e)[0]) / 2e-6
+        assert np.max(np.abs(col - B[:, j])) <= 1e-7 * np.max(np.abs(B[:, j]))
+
+
+def test_paper_unconstrained_60_iterations_and_kilometre_miss(uncons):
+    sol = nl.solve_paper(uncons)
+    info = sol.info
+    assert info.status == _c.IlqrAdmmStatus.solved
+    assert info.iterations == 60  # Table 1: 120 LQR passes = 2 x 60 ADMM iterations
+    assert info.lqr_passes == 120
+    assert info.paper_criterion <= 6e-5
+    y = nl.summarize(uncons, sol.Y)
+    u = nl.summarize(uncons, sol.U)
+    # the sparse iterate at the paper's stop misses by ~9 km; the dense LQR iterate by metres
+    assert 8000.0 < y["miss_position"] < 10000.0
+    assert u["miss_position"] < 10.0
+    assert u["sparsity"] == 0.0  # the figure's control is the dense iterate, nowhere zero
+
+
+@pytest.mark.parametrize("constrained", [False, True])
+def test_scp_reaches_optimum_in_few_outer_iterations(constrained, uncons, cons):
+    case = cons if constrained else uncons
+    s = nl.solve_scp(case, eps=1e-7, tol=1e-8)
+    assert s.info.status == _c.ScpStatus.solved
+    assert s.info.outer_iterations <= 5
+    paper = nl.solve_paper(case)
+    # the converged objective beats the paper's stopping point (its dense U)
+    assert s.info.objective < paper.info.objective_u
+    summ = nl.summarize(case, s.U)
+    assert summ["miss_position"] < 10.0
+    if constrained:
+        assert summ["u_max"] <= nl.U_MAX * (1 + 1e-12)
+        assert summ["sparsity"] > 0.8  # bang-off-bang
+    else:
+        assert summ["nonzero_intervals"] <= 6  # impulsive: first and last intervals
+        assert summ["sparsity"] > 0.95
+
+
+def _small_case(constrained):
+    # 10 intervals of 600 s, RK3 with 60 s substeps (a single 600 s RK3 step is not a usable map)
+    return nl.paper_case(constrained, horizon=10, substeps=10)
+
+
+def _slsqp(case):
+    """Independent local solver: SLSQP on u = p - m, p, m >= 0 (smooth), gradients by the chain rule
+    through the map's Jacobians."""
+    pr = case.problem
+    Nh, w = pr.horizon, pr.stage_weight
+    Qf = np.asarray(pr.Qf)
+    ub = np.asarray(pr.u_max) if case.constrained else np.full(3, np.inf)
+
+    # variables v = z / scale in [0, 1] (constrained) so that SLSQP sees a well-scaled problem
+    scale = np.tile(ub if case.constrained else np.ones(3), 2 * Nh)
+
+    def fg(v):
+        z = v * scale
+        U = (z[: 3 * Nh] - z[3 * Nh :]).reshape(Nh, 3).T
+        x = np.asarray(pr.x0)
+        As, Bs = [], []
+        for k in range(Nh):
+            x, A, B = case.dmap.step(k, x, U[:, k])
+            As.append(A)
+            Bs.append(B)
+        e = x - np.asarray(pr.x_target)
+        J = 0.5 * e @ Qf @ e + w * z.sum()
+        lam = Qf @ e
+        gU = np.zeros((3, Nh))
+        for k in range(Nh - 1, -1, -1):
+            gU[:, k] = Bs[k].T @ lam
+            lam = As[k].T @ lam
+        g = gU.T.ravel()
+        return J, np.concatenate([g + w, -g + w]) * scale
+
+    bounds = [(0, 1.0 if case.constrained else None)] * (6 * Nh)
+    r = minimize(
+        fg,
+        np.zeros(6 * Nh),
+        jac=True,
+        method="SLSQP",
+        bounds=bounds,
+        options={"ftol": 1e-15, "maxiter": 3000},
+    )
+    return r.fun if r.success else float("nan")
+
+
+@pytest.mark.parametrize("constrained", [False, True])
+def test_scp_matches_independent_slsqp_on_small_horizon(constrained):
+    case = _small_case(constrained)
+    s = nl.solve_scp(case, eps=1e-9, tol=1e-10)
+    assert s.info.status == _c.ScpStatus.solved
+    assert s.info.outer_iterations <= 5
+    j_slsqp = _slsqp(case)
+    # same local optimum from the same (zero) start: objectives within 1e-3 relative
+    assert abs(s.info.objective - j_slsqp) <= 1e-3 * abs(j_slsqp)
+
+
+def test_ilqr_admm_converged_matches_scp_on_small_horizon():
+    case = _small_case(False)
+    s = nl.solve_scp(case, eps=1e-9, tol=1e-10)
+    st = _c.IlqrAdmmSettings()
+    st.rho = 1.0
+    st.eps_abs = 1e-9
+    st.eps_rel = 1e-9
+    st.adaptive_rho = True
+    st.max_iter = 20000
+    sol = _c.IlqrAdmmSolver(case.dmap, case.problem, st)
+    sol.set_initial_controls(np.zeros((3, case.problem.horizon)))
+    sol.solve()
+    assert abs(sol.info.objective_y - s.info.objective) <= 1e-4 * s.info.objective
+
+
+def test_flying_linear_plan_misses_by_hundreds_of_metres(uncons):
+    lin = nl.linear_cw_plan(uncons, eps=1e-8)
+    s = nl.solve_scp(uncons, eps=1e-7, tol=1e-8)
+    m_lin = nl.miss(uncons.rollout_si(lin["U"]))[0]
+    m_nl = nl.miss(uncons.rollout_si(uncons.to_si(s.U)))[0]
+    # issue 6 facts: the CW optimum flown on the nonlinear model misses by ~220 m, the nonlinear
+    # optimum by a few metres (its terminal cost is soft)
+    assert 150.0 < m_lin < 300.0
+    assert m_nl < 10.0
+
+
+def test_bad_input_errors(uncons):
+    pr = _c.NonlinearL1Problem()
+    pr.horizon = 5
+    pr.x0 = np.zeros(11)
+    pr.Qf = np.eye(12)
+    pr.alpha = np.ones(3)
+    with pytest.raises(ValueError, match="x0"):
+        _c.IlqrAdmmSolver(uncons.dmap, pr)
+    pr.x0 = np.asarray(uncons.problem.x0)
+    pr.alpha = np.ones(2)
+    with pytest.raises(ValueError, match="alpha"):
+        _c.IlqrAdmmSolver(uncons.dmap, pr)
+    pr.alpha = np.ones(3)
+    st = _c.IlqrAdmmSettings()
+    st.rho = -1.0
+    with pytest.raises(ValueError, match="rho"):
+        _c.IlqrAdmmSolver(uncons.dmap, pr, st)
+    ms = _c.TwoSatelliteMapSettings()
+    ms.scheme = 5
+    with pytest.raises(ValueError, match="scheme"):
+        _c.TwoSatelliteMap(uncons.model, ms)
+    p = _c.TwoSatelliteParams()
+    p.mass_chaser = 0.0
+    with pytest.raises(ValueError, match="mass_chaser"):
+        _c.TwoSatelliteModel(p)
+
+
+def test_propagation_failure_status_names_interval(uncons):
+    # a chaser sent through the Earth's centre: the relative state equal to r_t makes r_c = 0
+    pr = _c.NonlinearL1Problem()
+    pr.horizon = 4
+    x0 = np.asarray(uncons.problem.x0).copy()
+    x0[0:3] = (
+        x0[3:6] * np.asarray(uncons.scaling.state_scale)[3:6] / np.asarray(uncons.scaling.state_scale)[0:3]
+    )
+    pr.x0 = x0
+    pr.Qf = np.eye(12)
+    pr.alpha = np.ones(3)
+    sol = _c.IlqrAdmmSolver(uncons.dmap, pr)
+    sol.set_initial_controls(np.zeros((3, 4)))
+    assert sol.solve() == _c.IlqrAdmmStatus.propagation_failed
+    assert sol.info.failed_interval == 0
+    assert "failed_interval" in sol.info.message
+    scp = _c.ScpSolver(uncons.dmap, pr)
+    assert scp.solve() == _c.ScpStatus.propagation_failed
+    assert scp.info.failed_interval == 0
+
+
+def test_non_converging_solve_returns_best_iterate(uncons):
+    st = _c.IlqrAdmmSettings()
+    st.max_iter = 5
+    sol = _c.IlqrAdmmSolver(uncons.dmap, uncons.problem, st)
+    sol.set_initial_controls(np.zeros((3, nl.N)))
+    assert sol.solve() == _c.IlqrAdmmStatus.max_iterations
+    assert sol.info.iterations == 5
+    assert np.isclose(sol.info.primal_residual, np.linalg.norm(np.asarray(sol.U) - np.asarray(sol.Y)))
+    assert np.all(np.isfinite(sol.U))
+
+
+def test_mpc_constrained_closed_loop_submetre_with_bounds(cons):
+    m = nl.mpc(cons)  # re-plan every 3 intervals, <= 10 warm-started iterations, truth with J2 + drag
+    mp, _ = nl.miss(m["X"])
+    assert mp < 1.0  # issue 6 goal: closed-loop terminal miss under 1 m
+    assert np.abs(m["U"]).max() <= nl.U_MAX * (1 + 1e-12)  # bounds respected at every step
+    assert np.all(m["iterations"] <= 10)
+    # open loop, the same nonlinear optimum misses by tens of metres on this truth (J2 unmodelled)
+    s = nl.solve_scp(cons, eps=1e-7, tol=1e-8)
+    assert nl.miss(nl.fly(cons, cons.to_si(s.U)))[0] > 10.0
+
+
+def test_cli_nonlinear_writes_summary(tmp_path):
+    import json
+
+    from satgnc.guidance import cli
+
+    args = type(
+        "A", (), {"model": "nonlinear", "closed_loop": False, "out": str(tmp_path), "scenario": None}
+    )()
+    assert cli._run(args) == 0
+    summary = json.loads((tmp_path / "nonlinear_summary.json").read_text())
+    assert summary["nonlinear_unconstrained"]["paper_iterations"] == 60
+    assert (tmp_path / "nonlinear_unconstrained.png").exists()
