@@ -330,3 +330,14 @@ def test_report_section_builds(tmp_path):
 def test_bad_input(call, match, exc):
     with pytest.raises(exc, match=match):
         call()
+
+
+def test_od_linear_model_A_from_stm():
+    h = 1e-3
+    m = an.od_linear_model([100.0 - h, 100.0, 100.0 + h])
+    dphi = (m["stms"][2] - m["stms"][0]) / (2 * h)
+    A_fd = dphi @ np.linalg.inv(m["stms"][1])  # A(t) = dPhi/dt Phi^-1
+    np.testing.assert_allclose(m["A"][1], A_fd, rtol=0, atol=1e-6 * np.abs(m["A"][1]).max())
+    np.testing.assert_allclose(m["transitions"][0] @ m["stms"][0], m["stms"][1], atol=1e-9)
+    with pytest.raises(ValueError, match="times:"):
+        an.od_linear_model([1.0, 0.5])
