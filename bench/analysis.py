@@ -15,7 +15,6 @@ import argparse
 import time
 
 import numpy as np
-
 import satgnc.analysis as an
 
 
@@ -111,13 +110,13 @@ def main() -> None:
     for m in (1, 2, 3):
         A = rng.standard_normal((50, 50))
         B = rng.standard_normal((50, m))
-        t_st = timeit(lambda: an.controllability(A, B))
-        t_np = timeit(lambda: np.linalg.matrix_rank(kalman(A, B)))
+        t_st = timeit(lambda A=A, B=B: an.controllability(A, B))
+        t_np = timeit(lambda A=A, B=B: np.linalg.matrix_rank(kalman(A, B)))
         line = f"  m = {m}: satgnc staircase {1e3 * t_st:.3f}, numpy Kalman + SVD {1e3 * t_np:.3f}"
         try:
             import control
 
-            t_pc = timeit(lambda: np.linalg.matrix_rank(control.ctrb(A, B)))
+            t_pc = timeit(lambda A=A, B=B: np.linalg.matrix_rank(control.ctrb(A, B)))
             line += f", python-control ctrb + matrix_rank {1e3 * t_pc:.3f}"
         except ImportError:
             pass

@@ -7,7 +7,6 @@ import math
 
 import numpy as np
 import pytest
-
 import satgnc.analysis as an
 from satgnc.analysis.paper import PAPER_RANKS, compare
 
@@ -73,7 +72,8 @@ def test_python_control_cross_check(orb):
     s, w = an.orbit(orb)
     A, B, C = an.polar_linear_model(s, w)
     for idx in ([0, 1], [0], [1]):
-        np.testing.assert_allclose(an.kalman_matrix(A, B=B[:, idx]), control.ctrb(A, B[:, idx]), rtol=0, atol=1e-15)
+        K = an.kalman_matrix(A, B=B[:, idx])
+        np.testing.assert_allclose(K, control.ctrb(A, B[:, idx]), rtol=0, atol=1e-15)
         np.testing.assert_allclose(an.kalman_matrix(A, C=C[idx]), control.obsv(A, C[idx]), rtol=0, atol=1e-15)
 
 
@@ -216,7 +216,8 @@ def test_jacobians_vs_fd():
     def rel(t, x, u):
         rho, v = x[:3], x[3:]
         p = R + rho
-        acc = -mu * p / np.linalg.norm(p) ** 3 + mu * R / a**3 - 2 * np.cross(W, v) - np.cross(W, np.cross(W, rho)) + u
+        acc = -mu * p / np.linalg.norm(p) ** 3 + mu * R / a**3
+        acc += -2 * np.cross(W, v) - np.cross(W, np.cross(W, rho)) + u
         return np.concatenate([v, acc])
 
     Afd, Bfd = an.fd_jacobian(rel, 0.0, np.zeros(6), np.zeros(3), x_scale=[100] * 3 + [0.1] * 3)
@@ -322,9 +323,21 @@ def test_report_section_builds(tmp_path):
         (lambda: an.od_gramian("range", [0.0, 0.0]), "times:", ValueError),
         (lambda: an.fd_jacobian(3, 0.0, [1.0], []), "f:", TypeError),
         (lambda: an.cw_model(1e-3, measured=[7]), "measured:", ValueError),
-        (lambda: an.ltv_observability_gramian([np.eye(2)], [np.ones((1, 2))], [-1.0]), "weights:", ValueError),
+        (lambda: an.ltv_observability_gramian([np.eye(2)], [np.ones((1, 2))], [-1.0]), "weights:",
+         ValueError),
     ],
 )
 def test_bad_input(call, match, exc):
     with pytest.raises(exc, match=match):
         call()
+
+
+def test_od_linear_model_A_from_stm():
+    h = 1e-3
+    m = an.od_linear_model([100.0 - h, 100.0, 100.0 + h])
+    dphi = (m["stms"][2] - m["stms"][0]) / (2 * h)
+    A_fd = dphi @ np.linalg.inv(m["stms"][1])  # A(t) = dPhi/dt Phi^-1
+    np.testing.assert_allclose(m["A"][1], A_fd, rtol=0, atol=1e-6 * np.abs(m["A"][1]).max())
+    np.testing.assert_allclose(m["transitions"][0] @ m["stms"][0], m["stms"][1], atol=1e-9)
+    with pytest.raises(ValueError, match="times:"):
+        an.od_linear_model([1.0, 0.5])

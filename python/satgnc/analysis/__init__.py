@@ -29,7 +29,7 @@ __all__ = [
     "staircase", "controllability", "observability", "pbh", "kalman_rank", "kalman_matrix",
     "distance_to_uncontrollability", "loss_table", "format_loss_table", "controllability_gramian",
     "observability_gramian", "ltv_observability_gramian", "minimum_energy", "expm", "fd_jacobian",
-    "linearize", "od_gramian", "visibility_pass",
+    "linearize", "od_gramian", "visibility_pass", "od_linear_model",
 ]
 
 
@@ -328,12 +328,14 @@ def _gramian(d: dict) -> GramianReport:
 
 def controllability_gramian(A, B, T: float) -> GramianReport:
     """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential (T in s)."""
-    return _gramian(_s._controllability_gramian(_matrix(A, "A"), _matrix(B, "B"), _scalar(T, "T", positive=True)))
+    T = _scalar(T, "T", positive=True)
+    return _gramian(_s._controllability_gramian(_matrix(A, "A"), _matrix(B, "B"), T))
 
 
 def observability_gramian(A, C, T: float) -> GramianReport:
     """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential (T in s)."""
-    return _gramian(_s._observability_gramian(_matrix(A, "A"), _matrix(C, "C"), _scalar(T, "T", positive=True)))
+    T = _scalar(T, "T", positive=True)
+    return _gramian(_s._observability_gramian(_matrix(A, "A"), _matrix(C, "C"), T))
 
 
 def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
@@ -421,5 +423,28 @@ def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu
     px, pr = paper_od_state()
     x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
-    return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), _scalar(mu, "mu", positive=True),
-                                     _scalar(t_max, "t_max", positive=True), _scalar(dt, "dt", positive=True)))
+    t_max = _scalar(t_max, "t_max", positive=True)
+    dt = _scalar(dt, "dt", positive=True)
+    mu = _scalar(mu, "mu", positive=True)
+    return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), mu, t_max, dt))
+
+
+def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> dict:
+    """Linear (LTV) model of the OD problem along the two-body orbit of x0 (default Table 1):
+    ``states`` (N x 6), ``stms`` Phi(t_j, t0) (N x 6 x 6, analytic Kepler STM), ``A`` = A(t_j) =
+    d Phi/dt Phi^-1 = [[0, I], [mu/r^3 (3 r r^T/r^2 - I), 0]] (N x 6 x 6), and ``transitions``
+    Phi(t_{j+1}, t_j) = Phi_{j+1} Phi_j^-1 ((N-1) x 6 x 6) for the discrete LTV model."""
+    px, _ = paper_od_state()
+    x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
+    times = _matrix(times, "times", ndim=1)
+    if np.any(np.diff(times) <= 0):
+        raise ValueError("times: must be strictly increasing")
+    mu = _scalar(mu, "mu", positive=True)
+    tr = _s.propagate_kepler(x0, 0.0, list(times), mu, True)
+    states = np.asarray(tr.states)
+    stms = np.asarray(tr.stms)
+    if len(states) != len(times):
+        raise ValueError(f"x0: Kepler propagation stopped early ({tr.message})")
+    A = np.array([_s._two_body_jacobian(x[:3], mu) for x in states])
+    trans = np.array([stms[j + 1] @ np.linalg.inv(stms[j]) for j in range(len(times) - 1)])
+    return {"times": times, "states": states, "stms": stms, "A": A, "transitions": trans}

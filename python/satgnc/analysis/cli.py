@@ -17,7 +17,8 @@ def _rank(args: argparse.Namespace) -> int:
     else:
         A, B, C = cw_model(omega)
         units = cw_units(omega, 1.0, n_outputs=3) if args.units == "dimensionless" else None
-        inputs, outputs = ["ax radial", "ay along-track", "az normal"], ["x radial", "y along-track", "z normal"]
+        inputs = ["ax radial", "ay along-track", "az normal"]
+        outputs = ["x radial", "y along-track", "z normal"]
         head = f"CW (Hill frame x radial, y along-track, z normal), n = {omega:.6g} rad/s, m, m/s"
     n = A.shape[0]
     print(f"# {head}; units: {args.units}")

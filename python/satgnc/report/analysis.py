@@ -18,8 +18,15 @@ def _fmt(x: float) -> str:
 def six_results() -> list[dict]:
     """The paper's six results at omega = 1, LEO and GEO: staircase (physical and dimensionless units),
     PBH, the Kalman matrix's conditioning and numpy.matrix_rank with a loose tolerance."""
-    from ..analysis import (kalman_matrix, observability, controllability, orbit, pbh, polar_linear_model,
-                            polar_units)
+    from ..analysis import (
+        controllability,
+        kalman_matrix,
+        observability,
+        orbit,
+        pbh,
+        polar_linear_model,
+        polar_units,
+    )
     from ..analysis.paper import PAPER_RANKS
 
     rows = []
@@ -57,15 +64,24 @@ def six_results() -> list[dict]:
 
 
 def build(ctx) -> str:
-    from ..analysis import (cw_model, distance_to_uncontrollability, format_loss_table, loss_table, od_gramian,
-                            orbit, polar_linear_model, visibility_pass)
+    from ..analysis import (
+        cw_model,
+        distance_to_uncontrollability,
+        format_loss_table,
+        loss_table,
+        od_gramian,
+        orbit,
+        polar_linear_model,
+        visibility_pass,
+    )
     from ..analysis.paper import compare
 
     out = []
     out.append("The planar polar model r'' = r theta'^2 - k/r^2 + u1, theta'' = -2 theta' r'/r + u2/r is "
                "linearized about r = sigma, theta = omega t (k = sigma^3 omega^2) in the paper's coordinates "
                "x = [r - sigma, r', sigma(theta - omega t), sigma(theta' - omega)]. Derived for general "
-               "sigma, A and B do not depend on sigma in these coordinates (the sigma factors cancel), so the "
+               "sigma, A and B do not depend on sigma in these coordinates (the sigma factors "
+               "cancel), so the "
                "paper's sigma = 1 matrices hold for every circular orbit; in unscaled angle coordinates "
                "A(2,4) = 2 sigma omega, A(4,2) = -2 omega/sigma, B(4,2) = 1/sigma. LEO: 400 km altitude, "
                "GEO: 42164.17 km; omega in rad/s.")
@@ -86,20 +102,25 @@ def build(ctx) -> str:
         if r["np_loose"] != r["paper_rank"]:
             wrong_loose += 1
         out.append(f"| {r['orbit']} | {r['property']} | {r['case']} | {r['paper_rank']} | {r['rank']} "
-                   f"{r['verdict']} ({ok}) | {_fmt(r['margin'])} | {r['rank_dimless']} {r['verdict_dimless']} "
-                   f"({_fmt(r['margin_dimless'])}) | {r['pbh']} | {r['kalman_ratio']:.3g} | {r['np_default']} | "
+                   f"{r['verdict']} ({ok}) | {_fmt(r['margin'])} | {r['rank_dimless']} "
+                   f"{r['verdict_dimless']} "
+                   f"({_fmt(r['margin_dimless'])}) | {r['pbh']} | {r['kalman_ratio']:.3g} | "
+                   f"{r['np_default']} | "
                    f"{r['np_loose']} |")
     out.append("")
     out.append(f"All {len(rows)} staircase ranks equal the paper's. numpy's loose-tolerance rank is wrong in "
-               f"{wrong_loose} of {len(rows)} cases: the tangential-only Kalman matrix has smin/smax = 8.7e-9 at "
-               "LEO and 2.3e-12 at GEO (its columns scale as 1, omega, omega^2, omega^3), while the staircase "
+               f"{wrong_loose} of {len(rows)} cases: the tangential-only Kalman matrix has "
+               f"smin/smax = 8.7e-9 at "
+               "LEO and 2.3e-12 at GEO (its columns scale as 1, omega, omega^2, omega^3), while the "
+               "staircase "
                "judges each stair separately (values 1, 1, 2 omega, 3 omega^2 relative to ||A||) and in "
                "dimensionless units every stair is O(1).")
     out.append("")
     out.append("### The paper's printed intermediate matrices vs the algebra (omega = 2)")
     diffs = compare(2.0)
     bad = {k: v for k, v in diffs.items() if v}
-    out.append(f"{len(diffs)} printed matrices compared entry by entry; {len(diffs) - len(bad)} agree exactly.")
+    out.append(f"{len(diffs)} printed matrices compared entry by entry; {len(diffs) - len(bad)} "
+               f"agree exactly.")
     for name, entries in bad.items():
         for i, j, p, c in entries:
             out.append(f"- `{name}` entry ({i + 1},{j + 1}): printed {p:g}, algebra {c:g} (sign slip: "
@@ -127,8 +148,10 @@ def build(ctx) -> str:
                                  "CW at LEO, relative-position measurements:"))
     out.append("")
     out.append("Along-track thrust alone controls the in-plane motion (radial thrust alone cannot change the "
-               "angular momentum, the linearized combination 2 omega x1 + x4); the out-of-plane pair needs the "
-               "normal axis. Likewise an along-track position measurement observes the in-plane state; radial "
+               "angular momentum, the linearized combination 2 omega x1 + x4); the out-of-plane "
+               "pair needs the "
+               "normal axis. Likewise an along-track position measurement observes the in-plane "
+               "state; radial "
                "alone misses the along-track drift.")
     out.append("")
     out.append("### Distance to uncontrollability")
@@ -159,10 +182,12 @@ def build(ctx) -> str:
             e = g.extra
             wd = " ".join(f"{v:+.2f}" for v in g.weakest)
             out.append(f"| {kind} | {arc} | {len(times)} | {e['sensitivity_condition'] ** 2:.3g} | "
-                       f"{e['jacobi_sensitivity_condition'] ** 2:.3g} | {e['jacobi_sensitivity_condition']:.3g} | "
+                       f"{e['jacobi_sensitivity_condition'] ** 2:.3g} | "
+                       f"{e['jacobi_sensitivity_condition']:.3g} | "
                        f"{np.log10(e['jacobi_sensitivity_condition']):.1f} | [{wd}] |")
     out.append("")
-    out.append("M = [H_1 Phi_1; ...; H_N Phi_N] is the stacked sensitivity (W = M^T M); its condition number is "
+    out.append("M = [H_1 Phi_1; ...; H_N Phi_N] is the stacked sensitivity (W = M^T M); its "
+               "condition number is "
                "computed by SVD without squaring (forming W loses the smallest eigenvalues to rounding). "
                "\"Unit-free\" scales M's columns to unit norm. Six range-only observations over 300 s "
                "determine the six-element state only in exact arithmetic: a Gauss-Newton step loses about "
@@ -172,7 +197,8 @@ def build(ctx) -> str:
         import control  # noqa: F401
 
         out.append("")
-        out.append("python-control cross-check: `control.ctrb` / `control.obsv` equal satgnc's Kalman matrices "
+        out.append("python-control cross-check: `control.ctrb` / `control.obsv` equal satgnc's "
+                   "Kalman matrices "
                    "to rounding for every case above (checked in tests/python/test_analysis.py).")
     except ImportError:  # pragma: no cover
         pass
