@@ -267,6 +267,13 @@ TEST(Dop853, BackwardAndBothSidesOfEpoch) {
     if (times[i] != 0.0) EXPECT_LT(block_rel_err(tr.stms[i], phi), 1e-8) << times[i];
   }
   EXPECT_DOUBLE_EQ(tr.t_reached, 3600.0);
+  // Decreasing request order (as satgnc.propagate allows): same numbers, same order as requested.
+  const std::vector<double> desc(times.rbegin(), times.rend());
+  const auto trd = propagate_dop853_with<false>(PointMass{}, x0, 0.0, desc, s, true);
+  ASSERT_EQ(trd.status, PropagationStatus::success) << trd.message;
+  EXPECT_EQ(trd.times, desc);
+  for (std::size_t i = 0; i < times.size(); ++i) EXPECT_EQ(trd.states[i], tr.states[times.size() - 1 - i]);
+  EXPECT_DOUBLE_EQ(trd.t_reached, -7200.0);
   // Purely backward.
   const auto back = run6(x0, {-1000.0, -5000.0}, s);
   EXPECT_LT((back[1] - kepler(x0, -5000.0)).head<3>().norm(), 1e-6);
@@ -392,7 +399,7 @@ TEST(Dop853BadInput, OrbitalWrapperThrowsNamingTheArgument) {
   expect_throw(inf_v, 0.0, {60.0}, ok, "x0: must be finite");
   expect_throw(good, NAN, {60.0}, ok, "t0: must be finite");
   expect_throw(good, 0.0, {60.0, NAN}, ok, "times: must be finite");
-  expect_throw(good, 0.0, {60.0, 30.0}, ok, "times: must be non-decreasing");
+  expect_throw(good, 0.0, {60.0, 30.0, 90.0}, ok, "times: must be monotone");
   Dop853Settings s = ok;
   s.rtol = 0.0;
   expect_throw(good, 0.0, {60.0}, s, "rtol: must be finite and > 0");

@@ -81,7 +81,11 @@ Pair prepare(const MatrixXd& A, const MatrixXd& BC, Property p, const RankSettin
     m.C = BC;
     m.B = MatrixXd(n, 0);
   }
-  if (s.units) m = nondimensionalize(m, *s.units);
+  if (s.units) {  // only the units of the channels under test matter
+    Units u = *s.units;
+    (p == Property::controllability ? u.output : u.input).resize(0);
+    m = nondimensionalize(m, u);
+  }
   if (p == Property::controllability) return {m.A, m.B};
   return {m.A.transpose(), m.C.transpose()};
 }

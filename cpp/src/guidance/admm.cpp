@@ -453,17 +453,27 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       break;
     }
     double prim = 0.0, dual = 0.0, fro2 = 0.0, nU = 0.0, nY = 0.0, nL = 0.0;
+    // relaxation, prox, multiplier update and residuals in one pass (plain loops: nu is small)
+    const double inv_rho = 1.0 / rho;
     for (int k = 0; k < N_; ++k) {
-      uhat_ = a * U.col(k) + (1.0 - a) * Y.col(k);
-      v_ = uhat_ + L.col(k) / rho;
+      const double* u = U.col(k).data();
+      double* y = Y.col(k).data();
+      double* l = L.col(k).data();
+      for (int i = 0; i < nu_; ++i) {
+        uhat_(i) = a * u[i] + (1.0 - a) * y[i];
+        v_(i) = uhat_(i) + l[i] * inv_rho;
+      }
       prox(v_, ynew_, rho);
-      dual = std::max(dual, (ynew_ - Y.col(k)).cwiseAbs().maxCoeff());
-      prim = std::max(prim, (U.col(k) - ynew_).cwiseAbs().maxCoeff());
-      fro2 += (U.col(k) - ynew_).squaredNorm();
-      L.col(k) += rho * (uhat_ - ynew_);
-      Y.col(k) = ynew_;
-      nU = std::max(nU, U.col(k).cwiseAbs().maxCoeff());
-      nY = std::max(nY, ynew_.cwiseAbs().maxCoeff());
+      for (int i = 0; i < nu_; ++i) {
+        const double yn = ynew_(i), diff = u[i] - yn;
+        dual = std::max(dual, std::abs(yn - y[i]));
+        prim = std::max(prim, std::abs(diff));
+        fro2 += diff * diff;
+        l[i] += rho * (uhat_(i) - yn);
+        y[i] = yn;
+        nU = std::max(nU, std::abs(u[i]));
+        nY = std::max(nY, std::abs(yn));
+      }
     }
     dual *= rho;
     if (set_.paper_multiplier_rescale && it == 1) {

@@ -122,7 +122,8 @@ class AdmmSolver {
   /// Run ADMM from the warm start (if set) or from Y = Lambda = 0. Never throws.
   const AdmmResult& solve() noexcept;
 
-  /// Next solve starts from these (nu x N each); e.g. the previous result shifted by one step.
+  /// Later solves start from these (nu x N each) until cold_start(); e.g. the previous result
+  /// shifted by one step for receding-horizon use.
   /// @throws std::invalid_argument on wrong sizes or non-finite values
   void warm_start(const Eigen::Ref<const Eigen::MatrixXd>& Y, const Eigen::Ref<const Eigen::MatrixXd>& Lambda);
   /// Drop the warm start (next solve from zeros).

@@ -507,7 +507,7 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
 /// A = [0 I; da/dr da/dv]) through `times` with DOP853. Accel provides two call forms:
 /// accel(t, r, v, a) fills the acceleration (km/s^2) and accel(t, r, v, a, da_dr, da_dv) also its
 /// Jacobians (1/s^2, 1/s); VelocityDependent = false skips the da/dv products.
-/// times: non-decreasing, either side of t0 (two arcs from t0, backward and forward).
+/// times: monotone (non-decreasing or non-increasing), either side of t0 (two arcs from t0).
 /// Throws std::invalid_argument naming the argument on bad input; solver failures are reported in
 /// Trajectory::status / message with the states reached so far.
 template <bool VelocityDependent = true, class Accel>
@@ -595,70 +595,62 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
   dop853_validate_orbit_input(x0, t0, times);
   dop853_validate_settings(settings);
   const std::size_t n = times.size();
-  Trajectory tr;
-  tr.t_reached = t0;
+  // Two arcs from t0: times >= t0 forward in increasing order, times < t0 backward in decreasing order.
+  // (Setup-time allocations only; the stepping loop allocates nothing.)
+  std::vector<std::size_t> fwd, bwd;
+  for (std::size_t i = 0; i < n; ++i) (times[i] >= t0 ? fwd : bwd).push_back(i);
+  const bool ascending = n < 2 || times.front() <= times.back();
+  if (!ascending) std::reverse(fwd.begin(), fwd.end());
+  if (ascending) std::reverse(bwd.begin(), bwd.end());
   std::vector<Vec6> states(n);
   std::vector<Mat6> stms(with_stm ? n : 0);
-  // times < t0 run backward from t0 in reverse order; the rest forward.
-  std::size_t nb = 0;
-  while (nb < n && times[nb] < t0) ++nb;
-  std::vector<double> back(times.rbegin() + static_cast<std::ptrdiff_t>(n - nb), times.rend());
-  std::vector<Vec6> back_states(nb);
-  std::vector<Mat6> back_stms(with_stm ? nb : 0);
-  auto arc = [&](const double* ts, std::size_t m, Vec6* xs, Mat6* ps, Dop853Info& info) {
+  std::vector<char> done(n, 0);
+  Trajectory tr;
+  tr.t_reached = t0;
+  bool failed = false;
+  auto arc = [&](const std::vector<std::size_t>& idx, const char* name) {
+    if (idx.empty() || failed) return;
+    const std::size_t m = idx.size();
+    std::vector<double> ts(m);
+    std::vector<Vec6> xs(m);
+    std::vector<Mat6> ps(with_stm ? m : 0);
+    for (std::size_t j = 0; j < m; ++j) ts[j] = times[idx[j]];
+    Dop853Info info;
     if (with_stm)
-      detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts, m, settings, xs, ps, info);
+      detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), ps.data(), info);
     else
-      detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts, m, settings, xs, ps, info);
+      detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), nullptr, info);
+    for (std::size_t j = 0; j < info.outputs; ++j) {
+      states[idx[j]] = xs[j];
+      if (with_stm) stms[idx[j]] = ps[j];
+      done[idx[j]] = 1;
+    }
+    tr.stats.steps += info.steps;
+    tr.stats.rhs_evals += info.rhs_evals;
+    tr.stats.error_test_fails += info.rejected;
+    if (info.steps > 0) tr.stats.last_step = info.h_last;
+    tr.t_reached = info.t_reached;
+    if (info.status != Dop853Status::success) {
+      failed = true;
+      tr.status = dop853_to_propagation_status(info.status);
+      tr.message = std::string("propagate_dop853 (") + name + " arc): " + dop853_status_message(info.status) +
+                   "; reached t = " + std::to_string(info.t_reached) + " s of " + std::to_string(ts.back()) +
+                   " s after " + std::to_string(info.steps) + " steps";
+    }
   };
-  Dop853Info ib, inf;
-  std::size_t first = 0;  // first index delivered (backward arc may stop early)
-  if (nb > 0) {
-    arc(back.data(), nb, back_states.data(), with_stm ? back_stms.data() : nullptr, ib);
-    tr.stats.steps += ib.steps;
-    tr.stats.rhs_evals += ib.rhs_evals;
-    tr.stats.error_test_fails += ib.rejected;
-    // Delivered backward outputs are the last ib.outputs of the requested times < t0.
-    first = nb - ib.outputs;
-    for (std::size_t j = 0; j < ib.outputs; ++j) {
-      states[nb - 1 - j] = back_states[j];
-      if (with_stm) stms[nb - 1 - j] = back_stms[j];
-    }
-    if (ib.status != Dop853Status::success) {
-      tr.status = dop853_to_propagation_status(ib.status);
-      tr.t_reached = ib.t_reached;
-      tr.message = std::string("propagate_dop853 (backward arc): ") + dop853_status_message(ib.status) +
-                   "; reached t = " + std::to_string(ib.t_reached) + " s of " + std::to_string(back[nb - 1]) +
-                   " s after " + std::to_string(ib.steps) + " steps";
-      tr.times.assign(times.begin() + static_cast<std::ptrdiff_t>(first), times.begin() + static_cast<std::ptrdiff_t>(nb));
-      tr.states.assign(states.begin() + static_cast<std::ptrdiff_t>(first), states.begin() + static_cast<std::ptrdiff_t>(nb));
-      if (with_stm) tr.stms.assign(stms.begin() + static_cast<std::ptrdiff_t>(first), stms.begin() + static_cast<std::ptrdiff_t>(nb));
-      return tr;
-    }
-  }
-  std::size_t delivered = nb;
-  if (nb < n) {
-    arc(times.data() + nb, n - nb, states.data() + nb, with_stm ? stms.data() + nb : nullptr, inf);
-    tr.stats.steps += inf.steps;
-    tr.stats.rhs_evals += inf.rhs_evals;
-    tr.stats.error_test_fails += inf.rejected;
-    delivered = nb + inf.outputs;
-    tr.t_reached = inf.t_reached;
-    if (inf.status != Dop853Status::success) {
-      tr.status = dop853_to_propagation_status(inf.status);
-      tr.message = std::string("propagate_dop853: ") + dop853_status_message(inf.status) + "; reached t = " +
-                   std::to_string(inf.t_reached) + " s of " + std::to_string(times.back()) + " s after " +
-                   std::to_string(inf.steps) + " steps";
-    }
+  // Run the arc holding the first requested time first, so a failure keeps a prefix where possible.
+  if (!bwd.empty() && times.front() < t0) {
+    arc(bwd, "backward");
+    arc(fwd, "forward");
   } else {
-    tr.t_reached = times.empty() ? t0 : times.front();
+    arc(fwd, "forward");
+    arc(bwd, "backward");
   }
-  tr.times.assign(times.begin(), times.begin() + static_cast<std::ptrdiff_t>(delivered));
-  states.resize(delivered);
-  tr.states = std::move(states);
-  if (with_stm) {
-    stms.resize(delivered);
-    tr.stms = std::move(stms);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!done[i]) continue;
+    tr.times.push_back(times[i]);
+    tr.states.push_back(states[i]);
+    if (with_stm) tr.stms.push_back(stms[i]);
   }
   return tr;
 }
