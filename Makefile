@@ -62,7 +62,7 @@ sanitize: setup
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 $(CTEST) --test-dir build/asan --output-on-failure -j $(JOBS)
 
 bench: install
-	$(PY) bench/propagation.py
+	@for b in propagation od guidance guidance_nonlinear analysis; do echo "== bench/$$b.py"; $(PY) bench/$$b.py || exit 1; done
 
 lint: setup
 	$(VENV)/bin/ruff check python tests bench examples
