@@ -19,6 +19,9 @@
 
 // Global allocation counter for this test binary (the no-heap proof).
 static std::atomic<long> g_allocations{0};
+// AddressSanitizer owns operator new/malloc (mixing ours with its shared-library callers breaks), so
+// the counters are compiled out there; the release build (make test) proves zero allocations.
+#if !defined(__SANITIZE_ADDRESS__)
 void* operator new(std::size_t n) {
   ++g_allocations;
   if (void* p = std::malloc(n ? n : 1)) return p;
@@ -33,6 +36,7 @@ void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#endif
 
 namespace {
 
@@ -349,7 +353,9 @@ TEST(Dop853, SteppingLoopDoesNotAllocate) {
   EXPECT_LT((out[3] - kepler(leo_state(), 7200.0)).head<3>().norm(), 1e-4);
   // The counter does count: a std::vector allocation is seen.
   std::vector<double> probe(10);
+#if !defined(__SANITIZE_ADDRESS__)
   EXPECT_GT(g_allocations.load(), after);
+#endif
 }
 
 TEST(Dop853BadInput, CoreReturnsStatus) {

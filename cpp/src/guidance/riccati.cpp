@@ -108,7 +108,9 @@ void RiccatiSolver::setup(const LtvDynamics& dyn, const MatrixXd& Q, const Matri
   Pn_.setZero(n, n);
   W_.setZero(n, n);
   Wn_.setZero(n, n);
-  llt_ = Eigen::LLT<MatrixXd>(m);
+  // Factor the identity so that every member of the LLT (its info flag too) is initialised before the
+  // move: Eigen 3.4 leaves m_info uninitialised in LLT(Index), which UBSan reports when moved.
+  llt_ = Eigen::LLT<MatrixXd>(MatrixXd::Identity(m, m));
   p_.setZero(n);
   w_.setZero(n);
   tmp_nx_.setZero(n);
