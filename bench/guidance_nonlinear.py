@@ -16,7 +16,6 @@ import sys
 import time
 
 import numpy as np
-
 from satgnc import _satgnc as _c
 from satgnc.guidance import nonlinear as nl
 
@@ -50,7 +49,9 @@ def cvxpy_scp(case, max_outer=20, tol=1e-10):
         return 0.5 * e @ Qf @ e + w * np.abs(U).sum()
 
     J = true_cost(U)
-    for it in range(max_outer):
+    outer = 0
+    for _ in range(max_outer):
+        outer += 1
         xs = [np.asarray(pr.x0)]
         As, Bs, cs = [], [], []
         for k in range(Nh):
@@ -82,23 +83,44 @@ def cvxpy_scp(case, max_outer=20, tol=1e-10):
             t *= 0.5
         else:
             break
-    return U, J, it + 1
+    return U, J, outer
 
 
 def main(quick=False):
     rows = []
     for constrained in (False, True):
         case = nl.paper_case(constrained)
-        (U_ref, J_ref, outer_ref), t_ref, w_ref = timed(lambda: cvxpy_scp(case), repeats=1)
-        print(f"{case.name}: cvxpy/Clarabel SCP J = {J_ref:.10f} in {outer_ref} outer, {t_ref:.2f} s CPU", flush=True)
-        for eps in ((1e-6,) if quick else (1e-6, 1e-7)):
-            s, t_s, w_s = timed(lambda: nl.solve_scp(case, eps=eps, tol=1e-8), repeats=1 if quick else 3)
+        (U_ref, J_ref, outer_ref), t_ref, w_ref = timed(lambda case=case: cvxpy_scp(case), repeats=1)
+        print(
+            f"{case.name}: cvxpy/Clarabel SCP J = {J_ref:.10f} in {outer_ref} outer, {t_ref:.2f} s CPU",
+            flush=True,
+        )
+        for eps in (1e-6,) if quick else (1e-6, 1e-7):
+            s, t_s, w_s = timed(
+                lambda case=case, eps=eps: nl.solve_scp(case, eps=eps, tol=1e-8), repeats=1 if quick else 3
+            )
             gap = (s.info.objective - J_ref) / J_ref
-            rows.append((case.name, f"satgnc SCP (linear ADMM inner, eps {eps:g})", gap, t_s, w_s,
-                         f"{s.info.outer_iterations} outer / {s.info.inner_iterations} inner"))
-        paper, t_p, w_p = timed(lambda: nl.solve_paper(case), repeats=3 if quick else 10)
-        rows.append((case.name, "iLQR-ADMM paper settings (stops at 60)",
-                     (paper.info.objective_u - J_ref) / J_ref, t_p, w_p, f"{paper.info.iterations} iterations"))
+            rows.append(
+                (
+                    case.name,
+                    f"satgnc SCP (linear ADMM inner, eps {eps:g})",
+                    gap,
+                    t_s,
+                    w_s,
+                    f"{s.info.outer_iterations} outer / {s.info.inner_iterations} inner",
+                )
+            )
+        paper, t_p, w_p = timed(lambda case=case: nl.solve_paper(case), repeats=3 if quick else 10)
+        rows.append(
+            (
+                case.name,
+                "iLQR-ADMM paper settings (stops at 60)",
+                (paper.info.objective_u - J_ref) / J_ref,
+                t_p,
+                w_p,
+                f"{paper.info.iterations} iterations",
+            )
+        )
         if not quick:
             st = _c.IlqrAdmmSettings()
             st.rho = 1.0
@@ -106,19 +128,34 @@ def main(quick=False):
             st.eps_abs = st.eps_rel = 1e-7
             st.max_iter = 30000
 
-            def run():
+            def run(case=case, st=st):
                 sol = _c.IlqrAdmmSolver(case.dmap, case.problem, st)
                 sol.set_initial_controls(np.zeros((3, nl.N)))
                 sol.solve()
                 return sol
 
             sol, t_i, w_i = timed(run, repeats=1)
-            rows.append((case.name, "iLQR-ADMM converged (adaptive rho)", (sol.info.objective_y - J_ref) / J_ref,
-                         t_i, w_i, f"{sol.info.iterations} iterations"))
+            rows.append(
+                (
+                    case.name,
+                    "iLQR-ADMM converged (adaptive rho)",
+                    (sol.info.objective_y - J_ref) / J_ref,
+                    t_i,
+                    w_i,
+                    f"{sol.info.iterations} iterations",
+                )
+            )
         m = nl.mpc(case)
-        rows.append((case.name, "MPC re-plan (<= 10 warm iterations)", float("nan"),
-                     float(np.median(m["solve_times"])), float(np.max(m["solve_times"])),
-                     f"miss {nl.miss(m['X'])[0]:.2f} m, max|u| {np.abs(m['U']).max():.4f} N"))
+        rows.append(
+            (
+                case.name,
+                "MPC re-plan (<= 10 warm iterations)",
+                float("nan"),
+                float(np.median(m["solve_times"])),
+                float(np.max(m["solve_times"])),
+                f"miss {nl.miss(m['X'])[0]:.2f} m, max|u| {np.abs(m['U']).max():.4f} N",
+            )
+        )
     print()
     print("| case | solver | rel. gap to cvxpy/Clarabel SCP | CPU s (median) | wall s | notes |")
     print("|---|---|---|---|---|---|")

@@ -10,6 +10,7 @@
 
 #include "satgnc/analysis/gramian.hpp"
 #include "satgnc/analysis/linearize.hpp"
+#include "satgnc/analysis/od_gramian.hpp"
 #include "satgnc/analysis/rank.hpp"
 #include "satgnc/dynamics/polar.hpp"
 
@@ -285,6 +286,33 @@ void init_analysis(py::module_& m) {
   m.def("_minimum_energy",
         [](const MatrixXd& W, const VectorXd& xf) { return an::minimum_energy(an::analyze_gramian(W), xf); },
         py::arg("W"), py::arg("x_f"));
+  m.def("_od_observability_gramian",
+        [](const Eigen::Matrix<double, 6, 1>& x0, const Eigen::Vector3d& r0, double rate,
+           const std::vector<double>& times, const std::string& kind, double mu) {
+          an::OdMeasurement k;
+          if (kind == "range")
+            k = an::OdMeasurement::range;
+          else if (kind == "range_rate")
+            k = an::OdMeasurement::range_rate;
+          else if (kind == "both")
+            k = an::OdMeasurement::both;
+          else
+            throw std::invalid_argument("kind: must be 'range', 'range_rate' or 'both', got '" + kind + "'");
+          const an::OdGramianReport r = an::od_observability_gramian(x0, an::RotatingStation{r0, rate}, times, k, mu);
+          py::dict d = gramian(r.gramian);
+          d["jacobi_condition"] = r.jacobi_condition;
+          d["singular_values"] = r.singular_values;
+          d["sensitivity_condition"] = r.sensitivity_condition;
+          d["jacobi_sensitivity_condition"] = r.jacobi_sensitivity_condition;
+          d["times"] = r.times;
+          return d;
+        },
+        py::arg("x0"), py::arg("station_r0"), py::arg("rate"), py::arg("times"), py::arg("kind"), py::arg("mu"));
+  m.def("_visibility_pass",
+        [](const Eigen::Matrix<double, 6, 1>& x0, const Eigen::Vector3d& r0, double rate, double mu, double t_max,
+           double dt) { return an::visibility_pass(x0, an::RotatingStation{r0, rate}, mu, t_max, dt); },
+        py::arg("x0"), py::arg("station_r0"), py::arg("rate"), py::arg("mu"), py::arg("t_max") = 3600.0,
+        py::arg("dt") = 10.0);
 }
 
 }  // namespace satgnc::bindings

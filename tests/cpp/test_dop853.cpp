@@ -98,7 +98,8 @@ std::vector<Vec6> run6(const Vec6& x0, const std::vector<double>& times, const D
   Dop853<6, TwoBody6> integ(rhs, s);
   std::vector<Vec6> out(times.size());
   const Dop853Info info =
-      integ.solve(0.0, x0, times.data(), times.size(), [&](std::size_t i, double, const Vec6& y) { out[i] = y; });
+      integ.solve(0.0, x0, times.data(), times.size(), [&](std::size_t i, double,
+          const Vec6& y) { out[i] = y; });
   EXPECT_EQ(info.status, Dop853Status::success);
   if (info_out) *info_out = info;
   return out;
@@ -156,7 +157,8 @@ TEST(Dop853, DenseOutputIsSeventhOrder) {
     s.fac_min = 1.0;
     s.fac_max = 1.0;
     std::vector<double> times;
-    for (int j = 0; j < 20; ++j) times.push_back((j + 0.37) * T / 20.0);  // h divides T / 20  // never on a step boundary
+    for (int j = 0; j < 20; ++j) times.push_back((j +
+        0.37) * T / 20.0);  // h divides T / 20  // never on a step boundary
     times.push_back(T);
     const auto xs = run6(x0, times, s);
     errs[i] = 0.0;
@@ -267,6 +269,13 @@ TEST(Dop853, BackwardAndBothSidesOfEpoch) {
     if (times[i] != 0.0) EXPECT_LT(block_rel_err(tr.stms[i], phi), 1e-8) << times[i];
   }
   EXPECT_DOUBLE_EQ(tr.t_reached, 3600.0);
+  // Decreasing request order (as satgnc.propagate allows): same numbers, same order as requested.
+  const std::vector<double> desc(times.rbegin(), times.rend());
+  const auto trd = propagate_dop853_with<false>(PointMass{}, x0, 0.0, desc, s, true);
+  ASSERT_EQ(trd.status, PropagationStatus::success) << trd.message;
+  EXPECT_EQ(trd.times, desc);
+  for (std::size_t i = 0; i < times.size(); ++i) EXPECT_EQ(trd.states[i], tr.states[times.size() - 1 - i]);
+  EXPECT_DOUBLE_EQ(trd.t_reached, -7200.0);
   // Purely backward.
   const auto back = run6(x0, {-1000.0, -5000.0}, s);
   EXPECT_LT((back[1] - kepler(x0, -5000.0)).head<3>().norm(), 1e-6);
@@ -392,7 +401,7 @@ TEST(Dop853BadInput, OrbitalWrapperThrowsNamingTheArgument) {
   expect_throw(inf_v, 0.0, {60.0}, ok, "x0: must be finite");
   expect_throw(good, NAN, {60.0}, ok, "t0: must be finite");
   expect_throw(good, 0.0, {60.0, NAN}, ok, "times: must be finite");
-  expect_throw(good, 0.0, {60.0, 30.0}, ok, "times: must be non-decreasing");
+  expect_throw(good, 0.0, {60.0, 30.0, 90.0}, ok, "times: must be monotone");
   Dop853Settings s = ok;
   s.rtol = 0.0;
   expect_throw(good, 0.0, {60.0}, s, "rtol: must be finite and > 0");
@@ -434,7 +443,8 @@ TEST(Dop853ForceModel, PointMassModelEqualsTestLocalGravity) {
   s.rtol = 1e-11;
   s.atol = 1e-11;
   const std::vector<double> times = {-600.0, 3000.0, 7200.0};
-  const auto a = satgnc::propagation::propagate_dop853(satgnc::dynamics::ForceModel{}, x0, 0.0, times, s, true);
+  const auto a = satgnc::propagation::propagate_dop853(satgnc::dynamics::ForceModel{}, x0, 0.0, times, s,
+      true);
   const auto b = propagate_dop853_with<false>(PointMass{}, x0, 0.0, times, s, true);
   ASSERT_EQ(a.status, PropagationStatus::success) << a.message;
   for (std::size_t i = 0; i < times.size(); ++i) {

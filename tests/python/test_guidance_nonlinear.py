@@ -3,10 +3,9 @@ optimality against an independent local solver (scipy SLSQP), flying the plans, 
 
 import numpy as np
 import pytest
-from scipy.optimize import minimize
-
 from satgnc import _satgnc as _c
 from satgnc.guidance import nonlinear as nl
+from scipy.optimize import minimize
 
 
 @pytest.fixture(scope="module")
@@ -103,7 +102,7 @@ def _slsqp(case):
 
     def fg(v):
         z = v * scale
-        U = (z[: 3 * Nh] - z[3 * Nh:]).reshape(Nh, 3).T
+        U = (z[: 3 * Nh] - z[3 * Nh :]).reshape(Nh, 3).T
         x = np.asarray(pr.x0)
         As, Bs = [], []
         for k in range(Nh):
@@ -121,8 +120,14 @@ def _slsqp(case):
         return J, np.concatenate([g + w, -g + w]) * scale
 
     bounds = [(0, 1.0 if case.constrained else None)] * (6 * Nh)
-    r = minimize(fg, np.zeros(6 * Nh), jac=True, method="SLSQP", bounds=bounds,
-                 options={"ftol": 1e-15, "maxiter": 3000})
+    r = minimize(
+        fg,
+        np.zeros(6 * Nh),
+        jac=True,
+        method="SLSQP",
+        bounds=bounds,
+        options={"ftol": 1e-15, "maxiter": 3000},
+    )
     return r.fun if r.success else float("nan")
 
 
@@ -195,7 +200,9 @@ def test_propagation_failure_status_names_interval(uncons):
     pr = _c.NonlinearL1Problem()
     pr.horizon = 4
     x0 = np.asarray(uncons.problem.x0).copy()
-    x0[0:3] = x0[3:6] * np.asarray(uncons.scaling.state_scale)[3:6] / np.asarray(uncons.scaling.state_scale)[0:3]
+    x0[0:3] = (
+        x0[3:6] * np.asarray(uncons.scaling.state_scale)[3:6] / np.asarray(uncons.scaling.state_scale)[0:3]
+    )
     pr.x0 = x0
     pr.Qf = np.eye(12)
     pr.alpha = np.ones(3)
@@ -229,3 +236,58 @@ def test_mpc_constrained_closed_loop_submetre_with_bounds(cons):
     # open loop, the same nonlinear optimum misses by tens of metres on this truth (J2 unmodelled)
     s = nl.solve_scp(cons, eps=1e-7, tol=1e-8)
     assert nl.miss(nl.fly(cons, cons.to_si(s.U)))[0] > 10.0
+
+
+def test_cli_nonlinear_writes_summary(tmp_path):
+    import json
+
+    from satgnc.guidance import cli
+
+    args = type(
+        "A", (), {"model": "nonlinear", "closed_loop": False, "out": str(tmp_path), "scenario": None}
+    )()
+    assert cli._run(args) == 0
+    summary = json.loads((tmp_path / "nonlinear_summary.json").read_text())
+    assert summary["nonlinear_unconstrained"]["paper_iterations"] == 60
+    assert (tmp_path / "nonlinear_unconstrained.png").exists()
+
+
+def test_ilqr_admm_on_linear_dynamics_equals_linear_admm_solver():
+    """One Gauss-Newton iLQR step on linear dynamics is the exact LQR step: iterate by iterate the
+    nonlinear solver equals satgnc's linear ADMM solver (same rho, no relaxation, no adaptation)."""
+    from satgnc import guidance as g
+
+    dt, nh, rho, iters = 1.0, 20, 0.7, 25
+    A = np.eye(6)
+    A[:3, 3:] = dt * np.eye(3)
+    B = np.vstack([0.5 * dt**2 * np.eye(3), dt * np.eye(3)])
+    x0 = np.array([10.0, -5.0, 2.0, 0.1, 0.3, -0.2])
+    Qf = 100.0 * np.eye(6)
+    st = g.AdmmSettings()
+    st.rho = rho
+    st.relaxation = 1.0
+    st.adaptive_rho = False
+    st.stopping = _c.StoppingRule.paper
+    st.paper_eps = 1e-300
+    st.max_iterations = iters
+    st.track_best = False
+    ref = g.solve_l1(A, B, x0, horizon=nh, Qf=Qf, l1_weights=np.ones(3), settings=st)
+    pr = _c.NonlinearL1Problem()
+    pr.horizon = nh
+    pr.x0 = x0
+    pr.x_target = np.zeros(6)
+    pr.Qf = Qf
+    pr.alpha = np.ones(3)
+    s2 = _c.IlqrAdmmSettings()
+    s2.rho = rho
+    s2.stop = _c.StopRule.paper
+    s2.eps_paper = 0.0
+    s2.max_iter = iters
+    s2.return_best = False
+    sol = _c.IlqrAdmmSolver(_c.LinearDiscreteModel([A], [B], []), pr, s2)
+    sol.set_initial_controls(np.zeros((3, nh)))
+    sol.solve()
+    assert ref.iterations == iters
+    scale = 1.0 + np.abs(ref.U).max()
+    np.testing.assert_allclose(np.asarray(sol.U).T, ref.U, rtol=0, atol=1e-8 * scale)
+    np.testing.assert_allclose(np.asarray(sol.Y).T, ref.Y, rtol=0, atol=1e-8 * scale)

@@ -280,3 +280,37 @@ def test_cli_simulate_and_solve(tmp_path, capsys):
         )
         == 2
     )
+
+
+def test_simulate_noise_bias_and_elevation_mask():
+    t = np.arange(0, 301, 30.0)
+    clean = od.simulate(paper.truth(), paper.station(), t, seed=None)
+    biased = od.simulate(paper.truth(), paper.station(), t, seed=None, bias_range=0.01, bias_range_rate=1e-4)
+    rng_sel = np.array([k == "range" for k in clean.type_names()])
+    np.testing.assert_allclose(biased.value[rng_sel] - clean.value[rng_sel], 0.01, atol=1e-12)
+    np.testing.assert_allclose(biased.value[~rng_sel] - clean.value[~rng_sel], 1e-4, atol=1e-15)
+    a = od.simulate(paper.truth(), paper.station(), t, seed=5)
+    b = od.simulate(paper.truth(), paper.station(), t, seed=5)
+    np.testing.assert_array_equal(a.value, b.value)  # seeded
+    assert np.std((a.value - clean.value)[rng_sel]) < 3e-3
+    elev = [od.elevation_deg(x, paper.station().state(tk))
+            for x, tk in zip(od.make_propagator().propagate(paper.truth(), list(t))[0], t)]
+    masked = od.simulate(paper.truth(), paper.station(), t, seed=None, elevation_mask_deg=30.0)
+    assert len(masked) == 2 * int(np.sum(np.array(elev) >= 30.0))
+    assert 0 < len(masked) < len(clean)
+    with pytest.raises(ValueError, match="elevation_mask_deg"):
+        od.simulate(paper.truth(), paper.station(), t, elevation_mask_deg=89.9)
+    with pytest.raises(ValueError, match="times"):
+        od.simulate(paper.truth(), paper.station(), [0.0, 0.0, 1.0])
+
+
+def test_ellipsoids_and_ut1():
+    assert od.ellipsoid("grs80").name == "GRS-80"
+    assert od.ellipsoid("Krassovsky").a == pytest.approx(6378.245)
+    with pytest.raises(ValueError, match="ellipsoid"):
+        od.ellipsoid("bessel")
+    g0 = od.gmst("1981-03-21T06:00:00")
+    g1 = od.gmst("1981-03-21T06:00:00", ut1_minus_utc=0.5)
+    assert math.degrees(g1 - g0) * 3600 == pytest.approx(0.5 * 15 * 1.0027379, abs=2e-3)
+    with pytest.raises(ValueError, match="epoch"):
+        od.gmst("21 March 1981")

@@ -107,6 +107,24 @@ def test_kepler_method_matches_cvodes_one_day():
     assert np.max(np.abs(an.states - ref)) < 1e-7
 
 
+def test_dop853_method_matches_cvodes_with_j2():
+    assert "dop853" in satgnc.available_methods()
+    times = [0.0, 3600.0, 7200.0]
+    a = satgnc.propagate(X0, times, method="dop853", forces=satgnc.J2Gravity(), rtol=1e-13, atol=1e-15)
+    b = satgnc.propagate(X0, times, method="adams", forces=satgnc.J2Gravity(), rtol=1e-13, atol=1e-15)
+    assert a.states.shape == (3, 6) and a.stms.shape == (3, 6, 6)
+    assert np.max(np.linalg.norm(a.states[:, :3] - b.states[:, :3], axis=1)) < 1e-6
+    assert nondim_stm_error(a.stms[2], b.stms[2], X0) < 1e-8
+    assert a.stats["steps"] > 0
+
+
+def test_dop853_failure_raises_propagation_error():
+    with pytest.raises(satgnc.PropagationError) as info:
+        satgnc.propagate(X0, [0.0, 86400.0], method="dop853", max_steps=5)
+    assert info.value.t_reached < 86400.0
+    assert info.value.status != "success"
+
+
 def test_kepler_method_rejects_perturbations():
     with pytest.raises(ValueError, match="forces: method 'kepler' is the analytic two-body solution"):
         satgnc.propagate(X0, [0.0, 10.0], method="kepler", forces=satgnc.J2Gravity())

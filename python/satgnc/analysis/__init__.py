@@ -1,1 +1,450 @@
-"""satgnc.analysis: see the room's C++ headers under satgnc/analysis."""
+"""satgnc.analysis: linearization, controllability / observability rank tests, Gramians, loss tables.
+
+Numpy arrays in, report dataclasses (or dicts) out. Every rank test returns a report with the rank,
+the relative tolerance used, the margin (how far the smallest accepted singular value is above the
+tolerance and above its own rounding noise), the gap, the method and a verdict: ``"full rank"``,
+``"rank deficient"`` or ``"not robustly decidable"``. Units: orbits km, km/s, s; CW m, m/s.
+Bad input raises ValueError / TypeError naming the argument.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from .. import _satgnc as _s
+
+MU_EARTH = 398600.4418  # km^3/s^2 (EGM-96)
+EARTH_RATE_PAPER = 7.27e-5  # rad/s: the rotation rate implied by od_newton_raphson.md Table 3
+
+PolarModel = _s.PolarModel
+
+__all__ = [
+    "PolarModel", "RankReport", "StaircaseReport", "PbhReport", "GramianReport", "orbit",
+    "polar_model", "polar_linear_model", "cw_model", "polar_units", "cw_units", "nondimensionalize",
+    "staircase", "controllability", "observability", "pbh", "kalman_rank", "kalman_matrix",
+    "distance_to_uncontrollability", "loss_table", "format_loss_table", "controllability_gramian",
+    "observability_gramian", "ltv_observability_gramian", "minimum_energy", "expm", "fd_jacobian",
+    "linearize", "od_gramian", "visibility_pass", "od_linear_model",
+]
+
+
+# ----------------------------------------------------------------------------- validation helpers
+def _matrix(value, name: str, ndim: int = 2, allow_empty: bool = False) -> np.ndarray:
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name}: must be a real numeric array, got {type(value).__name__}")
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise TypeError(f"{name}: must be a real numeric array ({e})") from None
+    if ndim == 2 and a.ndim == 1 and name in ("B",):
+        a = a.reshape(-1, 1)
+    if ndim == 2 and a.ndim == 1 and name in ("C",):
+        a = a.reshape(1, -1)
+    if a.ndim != ndim:
+        raise ValueError(f"{name}: must be {ndim}-D, got shape {a.shape}")
+    if a.size == 0 and not allow_empty:
+        raise ValueError(f"{name}: must not be empty (shape {a.shape})")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name}: must be finite (no NaN or Inf)")
+    return a
+
+
+def _scalar(value, name: str, positive: bool = False, nonnegative: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name}: must be a real number, got {type(value).__name__}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"{name}: must be finite, got {v}")
+    if positive and v <= 0:
+        raise ValueError(f"{name}: must be > 0, got {v}")
+    if nonnegative and v < 0:
+        raise ValueError(f"{name}: must be >= 0, got {v}")
+    return v
+
+
+def _units(units):
+    if units is None:
+        return None
+    if not isinstance(units, dict) or "time" not in units or "state" not in units:
+        raise TypeError("units: must be a dict with 'time' and 'state' (see polar_units / cw_units)")
+    return units
+
+
+# ----------------------------------------------------------------------------- models
+def orbit(spec) -> tuple[float, float]:
+    """(sigma km, omega rad/s) for ``"one"`` (sigma = omega = 1, the paper's case), ``"leo"`` (400 km
+    altitude), ``"geo"``, a ``"sigma,omega"`` string or a (sigma, omega) pair."""
+    if isinstance(spec, str):
+        key = spec.strip().lower()
+        if key in ("one", "unit", "1"):
+            return 1.0, 1.0
+        if key == "leo":
+            s = 6378.137 + 400.0
+            return s, math.sqrt(MU_EARTH / s**3)
+        if key == "geo":
+            s = 42164.17
+            return s, math.sqrt(MU_EARTH / s**3)
+        parts = key.split(",")
+        if len(parts) != 2:
+            raise ValueError(f"orbit: must be leo, geo, one or 'sigma,omega', got {spec!r}")
+        try:
+            sigma, omega = float(parts[0]), float(parts[1])
+        except ValueError:
+            raise ValueError(f"orbit: 'sigma,omega' must be two numbers, got {spec!r}") from None
+    else:
+        try:
+            sigma, omega = spec
+        except (TypeError, ValueError):
+            raise TypeError(f"orbit: must be a string or a (sigma, omega) pair, got {spec!r}") from None
+    return _scalar(sigma, "sigma", positive=True), _scalar(omega, "omega", positive=True)
+
+
+def polar_model(sigma: float, omega: float) -> PolarModel:
+    """Polar model about the circle r = sigma (km), theta = omega t (rad/s); k = sigma^3 omega^2."""
+    return PolarModel(_scalar(sigma, "sigma", positive=True), _scalar(omega, "omega", positive=True))
+
+
+def polar_linear_model(sigma: float, omega: float, measured: Sequence[int] = (0, 2),
+                       coordinates: str = "scaled") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A, B, C) of the linearized polar model. ``coordinates="scaled"`` is the paper's
+    x = [r - sigma, r', sigma (theta - omega t), sigma (theta' - omega)]; ``"raw"`` drops the sigma
+    factors. C selects the measured states (default radius and angle)."""
+    m = polar_model(sigma, omega)
+    C = np.eye(4)[list(_indices(measured, 4, "measured"))]
+    return m.A(coordinates), m.B(coordinates), C
+
+
+def _indices(idx, n: int, name: str) -> list[int]:
+    out = []
+    for i in idx:
+        if isinstance(i, bool) or not isinstance(i, numbers.Integral):
+            raise TypeError(f"{name}: indices must be integers, got {i!r}")
+        if not 0 <= int(i) < n:
+            raise ValueError(f"{name}: indices must be in [0, {n - 1}], got {i}")
+        out.append(int(i))
+    return out
+
+
+def cw_model(mean_motion: float, measured: Sequence[int] = (0, 1, 2)):
+    """(A, B, C) of Clohessy-Wiltshire in a Hill frame: x radial, y along-track, z orbit normal;
+    state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity."""
+    n = _scalar(mean_motion, "mean_motion", positive=True)
+    return _s._cw_model(n, _indices(measured, 6, "measured"))
+
+
+def polar_units(sigma: float, omega: float, n_outputs: int = 0) -> dict:
+    """Dimensionless units for the polar model: time 1/omega, length sigma."""
+    return _s._polar_units(_scalar(sigma, "sigma", positive=True), _scalar(omega, "omega", positive=True),
+                           int(n_outputs))
+
+
+def cw_units(mean_motion: float, length: float = 1.0, n_outputs: int = 0) -> dict:
+    """Dimensionless units for CW: time 1/n, length ``length`` (m)."""
+    return _s._cw_units(_scalar(mean_motion, "mean_motion", positive=True),
+                        _scalar(length, "length", positive=True), int(n_outputs))
+
+
+def nondimensionalize(A, B, C, units: dict):
+    """(A~, B~, C~) in ``units`` (see :func:`polar_units`)."""
+    A = _matrix(A, "A")
+    B = _matrix(B, "B", allow_empty=True).reshape(A.shape[0], -1) if np.size(B) else np.zeros((A.shape[0], 0))
+    C = _matrix(C, "C", allow_empty=True).reshape(-1, A.shape[0]) if np.size(C) else np.zeros((0, A.shape[0]))
+    return _s._nondimensionalize(A, B, C, _units(units))
+
+
+# ----------------------------------------------------------------------------- reports
+@dataclasses.dataclass
+class RankReport:
+    """Result of a rank test (see the module docstring)."""
+
+    property: str
+    n: int
+    rank: int
+    rtol: float
+    sigma_r: float
+    sigma_next: float
+    margin: float
+    gap: float
+    method: str
+    verdict: str
+    verdict_text: str
+    reason: str
+
+    @property
+    def robust(self) -> bool:
+        return self.verdict != "not robustly decidable"
+
+    @property
+    def full(self) -> bool:
+        return self.verdict == "full rank"
+
+
+_RANK_FIELDS = [f.name for f in dataclasses.fields(RankReport)]
+
+
+@dataclasses.dataclass
+class StaircaseReport(RankReport):
+    """Staircase form: stairs, indices, Q (first ``rank`` columns span the controllable / observable
+    subspace), the staircase matrices, the uncontrollable (unobservable) block and its modes."""
+
+    stairs: list = dataclasses.field(default_factory=list)
+    indices: list = dataclasses.field(default_factory=list)
+    Q: np.ndarray | None = None
+    A_staircase: np.ndarray | None = None
+    B_staircase: np.ndarray | None = None
+    A_uncontrollable: np.ndarray | None = None
+    uncontrollable_modes: np.ndarray | None = None
+
+
+@dataclasses.dataclass
+class PbhReport(RankReport):
+    """PBH per clustered eigenvalue, with stabilizability (CT: Re >= 0 modes; DT: |lambda| >= 1)."""
+
+    modes: list = dataclasses.field(default_factory=list)
+    stabilizable_ct: bool = False
+    stabilizable_dt: bool = False
+    distance_upper_bound: float = 0.0
+
+
+@dataclasses.dataclass
+class GramianReport:
+    """Symmetric PSD Gramian, ascending eigenvalues, condition number, weakest / strongest directions."""
+
+    W: np.ndarray
+    eigenvalues: np.ndarray
+    condition: float
+    weakest: np.ndarray
+    strongest: np.ndarray
+    extra: dict = dataclasses.field(default_factory=dict)
+
+
+def _prop(p: str) -> str:
+    if p not in ("controllability", "observability"):
+        raise ValueError(f"property: must be 'controllability' or 'observability', got {p!r}")
+    return p
+
+
+def _args(A, BC, prop, rtol, fuzz, stair, cluster_rtol, units):
+    prop = _prop(prop)
+    A = _matrix(A, "A")
+    name = "B" if prop == "controllability" else "C"
+    BC = _matrix(BC, name, allow_empty=True)
+    if BC.size == 0:
+        raise ValueError(f"{name}: empty {'input' if name == 'B' else 'output'} set (needs at least one "
+                         f"{'column' if name == 'B' else 'row'})")
+    rtol = 0.0 if rtol is None else _scalar(rtol, "rtol", nonnegative=True)
+    fuzz = _scalar(fuzz, "fuzz")
+    if fuzz <= 1:
+        raise ValueError(f"fuzz: must be > 1, got {fuzz}")
+    if stair not in ("svd", "qrcp"):
+        raise ValueError(f"stair: must be 'svd' or 'qrcp', got {stair!r}")
+    cluster_rtol = _scalar(cluster_rtol, "cluster_rtol", nonnegative=True)
+    return A, BC, prop, rtol, fuzz, stair, cluster_rtol, _units(units)
+
+
+def staircase(A, BC, property: str = "controllability", *, rtol: float | None = None, fuzz: float = 100.0,
+              stair: str = "svd", cluster_rtol: float = 1e-6, units: dict | None = None) -> StaircaseReport:
+    """Orthogonal staircase reduction of (A, B), or of (A^T, C^T) for observability (pass C)."""
+    d = _s._staircase(*_args(A, BC, property, rtol, fuzz, stair, cluster_rtol, units))
+    return StaircaseReport(**d)
+
+
+def controllability(A, B, **kw) -> StaircaseReport:
+    """Staircase controllability test of (A, B); keyword options as :func:`staircase`."""
+    return staircase(A, B, "controllability", **kw)
+
+
+def observability(A, C, **kw) -> StaircaseReport:
+    """Staircase observability test of (A, C) by duality; keyword options as :func:`staircase`."""
+    return staircase(A, C, "observability", **kw)
+
+
+def pbh(A, BC, property: str = "controllability", *, rtol: float | None = None, fuzz: float = 100.0,
+        cluster_rtol: float = 1e-6, units: dict | None = None) -> PbhReport:
+    """PBH test: rank of [A - lambda I, B] per clustered eigenvalue, tolerance rtol ||[A B]||_F."""
+    d = _s._pbh(*_args(A, BC, property, rtol, fuzz, "svd", cluster_rtol, units))
+    return PbhReport(**d)
+
+
+def kalman_rank(A, BC, property: str = "controllability", *, rtol: float | None = None, fuzz: float = 100.0,
+                units: dict | None = None) -> RankReport:
+    """SVD rank of the Kalman matrix, tolerance rtol * sigma_max (default numpy's). Comparison only."""
+    return RankReport(**_s._kalman_rank(*_args(A, BC, property, rtol, fuzz, "svd", 1e-6, units)))
+
+
+def kalman_matrix(A, B=None, C=None) -> np.ndarray:
+    """[B, AB, ..., A^{n-1} B] (pass B) or [C; CA; ...; C A^{n-1}] (pass C). For display."""
+    if (B is None) == (C is None):
+        raise ValueError("B, C: pass exactly one of them")
+    A = _matrix(A, "A")
+    if B is not None:
+        return _s._kalman_controllability_matrix(A, _matrix(B, "B"))
+    return _s._kalman_observability_matrix(A, _matrix(C, "C"))
+
+
+def distance_to_uncontrollability(A, BC, property: str = "controllability", *, max_iter: int = 200,
+                                  cluster_rtol: float = 1e-6) -> dict:
+    """min over complex lambda of sigma_min([A - lambda I, B]): PBH upper bound and Nelder-Mead
+    refinement from every eigenvalue cluster (dict: upper_bound, refined, relative, lambda_*)."""
+    a = _args(A, BC, property, None, 100.0, "svd", cluster_rtol, None)
+    if isinstance(max_iter, bool) or not isinstance(max_iter, numbers.Integral) or max_iter < 0:
+        raise ValueError(f"max_iter: must be an integer >= 0, got {max_iter!r}")
+    return _s._distance_to_uncontrollability(*a, int(max_iter))
+
+
+def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 100.0,
+               units: dict | None = None) -> list[dict]:
+    """Actuator (pass B) or sensor (pass C) loss table: every non-empty subset of the channels, full set
+    first; each row: channels, rank, verdict, margin, kalman_rank (numpy tolerance), kalman_ratio."""
+    if (B is None) == (C is None):
+        raise ValueError("B, C: pass exactly one of them")
+    prop = "controllability" if B is not None else "observability"
+    return _s._loss_table(*_args(A, B if B is not None else C, prop, rtol, fuzz, "svd", 1e-6, units))
+
+
+def format_loss_table(rows: list[dict], names: Sequence[str], n: int, title: str = "") -> str:
+    """Plain-text (Markdown) table of :func:`loss_table` rows with channel ``names``."""
+    lines = [title] if title else []
+    lines += ["| kept | rank | verdict | margin | Kalman rank (numpy tol) | Kalman smin/smax |",
+              "|---|---|---|---|---|---|"]
+    for r in rows:
+        kept = " + ".join(names[i] for i in r["channels"])
+        lines.append(f"| {kept} | {r['rank']}/{n} | {r['verdict_text']} | {r['margin']:.3g} | "
+                     f"{r['kalman_rank']} | {r['kalman_ratio']:.3g} |")
+    return "\n".join(lines)
+
+
+# ----------------------------------------------------------------------------- Gramians
+def _gramian(d: dict) -> GramianReport:
+    base = {k: d[k] for k in ("W", "eigenvalues", "condition", "weakest", "strongest")}
+    extra = {k: v for k, v in d.items() if k not in base}
+    return GramianReport(**base, extra=extra)
+
+
+def controllability_gramian(A, B, T: float) -> GramianReport:
+    """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential (T in s)."""
+    T = _scalar(T, "T", positive=True)
+    return _gramian(_s._controllability_gramian(_matrix(A, "A"), _matrix(B, "B"), T))
+
+
+def observability_gramian(A, C, T: float) -> GramianReport:
+    """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential (T in s)."""
+    T = _scalar(T, "T", positive=True)
+    return _gramian(_s._observability_gramian(_matrix(A, "A"), _matrix(C, "C"), T))
+
+
+def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
+    """W = sum_j w_j Phi_j^T H_j^T H_j Phi_j from transition matrices Phi_j and partials H_j."""
+    stms = [_matrix(p, "stms") for p in stms]
+    H = [_matrix(h, "H") for h in H]
+    w = [] if weights is None else [_scalar(x, "weights", nonnegative=True) for x in weights]
+    return _gramian(_s._ltv_observability_gramian(stms, H, w))
+
+
+def minimum_energy(W, x_f) -> float:
+    """x_f^T W^+ x_f (inf if x_f leaves the range of W)."""
+    return _s._minimum_energy(_matrix(W, "W"), _matrix(x_f, "x_f", ndim=1))
+
+
+def expm(M) -> np.ndarray:
+    """Matrix exponential (scaling and squaring, Pade)."""
+    return _s._expm(_matrix(M, "M"))
+
+
+# ----------------------------------------------------------------------------- linearization
+def fd_jacobian(f: Callable, t: float, x, u, *, rel_step: float = 6.0554544523933395e-06, x_scale=None,
+                u_scale=None):
+    """Central finite-difference Jacobians (A, B) of f(t, x, u); step rel_step * max(|z_j|, scale_j)."""
+    if not callable(f):
+        raise TypeError("f: must be callable f(t, x, u) -> array")
+    x = _matrix(x, "x", ndim=1)
+    u = _matrix(u, "u", ndim=1, allow_empty=True)
+    xs = np.ones(0) if x_scale is None else _matrix(x_scale, "x_scale", ndim=1)
+    us = np.ones(0) if u_scale is None else _matrix(u_scale, "u_scale", ndim=1)
+
+    def g(tt, xx, uu):
+        return np.asarray(f(tt, xx, uu), dtype=float)
+
+    return _s._fd_jacobian(g, _scalar(t, "t"), x, u, _scalar(rel_step, "rel_step", positive=True), xs, us)
+
+
+def linearize(f: Callable, jac: Callable, t: float, x, u, **fd) -> dict:
+    """Analytic Jacobians jac(t, x, u) -> (A, B) checked against :func:`fd_jacobian`: dict with A, B,
+    A_fd, B_fd, rel_err_A, rel_err_B."""
+    if not callable(jac):
+        raise TypeError("jac: must be callable jac(t, x, u) -> (A, B)")
+    A_fd, B_fd = fd_jacobian(f, t, x, u, **fd)
+    A, B = jac(t, np.asarray(x, float), np.asarray(u, float))
+    A = _matrix(A, "jac(A)", allow_empty=True).reshape(A_fd.shape) if np.shape(A) == A_fd.shape else None
+    B = np.asarray(B, float)
+    if A is None or B.shape != B_fd.shape:
+        raise ValueError(f"jac: must return A {A_fd.shape} and B {B_fd.shape}")
+
+    def rel(a, b):
+        return float(np.max(np.abs(a - b)) / max(np.max(np.abs(a)), 1e-300)) if a.size else 0.0
+
+    return {"A": A, "B": B, "A_fd": A_fd, "B_fd": B_fd, "rel_err_A": rel(A, A_fd), "rel_err_B": rel(B, B_fd)}
+
+
+# ----------------------------------------------------------------------------- OD observability
+def paper_od_state() -> tuple[np.ndarray, np.ndarray]:
+    """(x0 [km, km/s] of Table 1, station position R0 [km] of Table 3) of od_newton_raphson.md."""
+    import json
+    import pathlib
+
+    path = pathlib.Path(__file__).resolve().parent.parent / "data" / "paper_tables.json"
+    od = json.loads(path.read_text())["od_newton_raphson"]
+    return np.array(od["table1_true_state"], float), np.array(od["table3_station_state"][:3], float)
+
+
+def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER,
+               mu: float = MU_EARTH) -> GramianReport:
+    """Observability Gramian of single-station ``kind`` tracking ("range", "range_rate", "both") at
+    ``times`` (s from the epoch) of the two-body state x0 (default: Table 1 of od_newton_raphson.md,
+    station Table 3 rotating at 7.27e-5 rad/s). extra: jacobi_condition (unit-free), times."""
+    if kind not in ("range", "range_rate", "both"):
+        raise ValueError(f"kind: must be 'range', 'range_rate' or 'both', got {kind!r}")
+    px, pr = paper_od_state()
+    x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
+    r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
+    times = _matrix(times, "times", ndim=1)
+    return _gramian(_s._od_observability_gramian(x0, r0, _scalar(rate, "rate"), list(times), kind,
+                                                 _scalar(mu, "mu", positive=True)))
+
+
+def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu: float = MU_EARTH,
+                    t_max: float = 3600.0, dt: float = 10.0) -> tuple[float, float]:
+    """(rise, set) times (s) of the pass containing the epoch (elevation above the geocentric horizon)."""
+    px, pr = paper_od_state()
+    x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
+    r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
+    t_max = _scalar(t_max, "t_max", positive=True)
+    dt = _scalar(dt, "dt", positive=True)
+    mu = _scalar(mu, "mu", positive=True)
+    return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), mu, t_max, dt))
+
+
+def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> dict:
+    """Linear (LTV) model of the OD problem along the two-body orbit of x0 (default Table 1):
+    ``states`` (N x 6), ``stms`` Phi(t_j, t0) (N x 6 x 6, analytic Kepler STM), ``A`` = A(t_j) =
+    d Phi/dt Phi^-1 = [[0, I], [mu/r^3 (3 r r^T/r^2 - I), 0]] (N x 6 x 6), and ``transitions``
+    Phi(t_{j+1}, t_j) = Phi_{j+1} Phi_j^-1 ((N-1) x 6 x 6) for the discrete LTV model."""
+    px, _ = paper_od_state()
+    x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
+    times = _matrix(times, "times", ndim=1)
+    if np.any(np.diff(times) <= 0):
+        raise ValueError("times: must be strictly increasing")
+    mu = _scalar(mu, "mu", positive=True)
+    tr = _s.propagate_kepler(x0, 0.0, list(times), mu, True)
+    states = np.asarray(tr.states)
+    stms = np.asarray(tr.stms)
+    if len(states) != len(times):
+        raise ValueError(f"x0: Kepler propagation stopped early ({tr.message})")
+    A = np.array([_s._two_body_jacobian(x[:3], mu) for x in states])
+    trans = np.array([stms[j + 1] @ np.linalg.inv(stms[j]) for j in range(len(times) - 1)])
+    return {"times": times, "states": states, "stms": stms, "A": A, "transitions": trans}

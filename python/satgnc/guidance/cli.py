@@ -11,6 +11,10 @@ def _run(args: argparse.Namespace) -> int:
     from ..scenarios import l1_rendezvous as scen
     from . import rendezvous as rv
 
+    if getattr(args, "model", "linear") == "nonlinear":
+        from . import nonlinear
+
+        return nonlinear.run_cli(pathlib.Path(args.out), closed_loop=args.closed_loop)
     sc = scen.load(args.scenario)
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -42,4 +46,8 @@ def register(subparsers) -> None:
     p.add_argument("--case", action="append", help="only this case (repeatable)")
     p.add_argument("--reference", action="store_true",
                    help="also solve with cvxpy + Clarabel and report the gap")
+    p.add_argument("--model", choices=["linear", "nonlinear"], default="linear",
+                   help="linear CW cases (default) or the nonlinear two-satellite cases (Table 1)")
+    p.add_argument("--closed-loop", action="store_true",
+                   help="with --model nonlinear: fly the plans on a J2 + drag truth (open loop, MPC)")
     p.set_defaults(func=_run)

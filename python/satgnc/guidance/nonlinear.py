@@ -32,8 +32,19 @@ U_MAX = 5e-3  #: N, per-axis bound of the constrained cases
 QF_MASK = np.array([1, 1, 1, 0, 0, 0, 1, 1, 1, 0, 0, 0], dtype=float)
 
 __all__ = [
-    "Case", "drift_state", "paper_case", "solve_paper", "solve_scp", "summarize", "fly", "mpc",
-    "model_params", "release_state",
+    "Case",
+    "drift_state",
+    "paper_case",
+    "solve_paper",
+    "solve_scp",
+    "summarize",
+    "fly",
+    "mpc",
+    "model_params",
+    "release_state",
+    "linear_cw_plan",
+    "miss",
+    "run_cli",
 ]
 
 
@@ -106,8 +117,14 @@ class Case:
         return 0.5 * e @ np.asarray(self.problem.Qf) @ e + self.problem.stage_weight * np.abs(u).sum()
 
 
-def paper_case(constrained: bool = False, x0_si: np.ndarray | None = None, params=None,
-               horizon: int = N, tf: float = TF, substeps: int = 1) -> Case:
+def paper_case(
+    constrained: bool = False,
+    x0_si: np.ndarray | None = None,
+    params=None,
+    horizon: int = N,
+    tf: float = TF,
+    substeps: int = 1,
+) -> Case:
     """The published implementation's nonlinear case: RK3 over dt = tf/horizon, scaling
     (time 324.48 s, force 0.42318 N), Qf = 1000 diag(1,1,1,0,0,0,1,1,1,0,0,0), alpha = 1, control
     cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6)."""
@@ -134,12 +151,22 @@ def paper_case(constrained: bool = False, x0_si: np.ndarray | None = None, param
         pr.u_min = -ub
         pr.u_max = ub
     name = "nonlinear constrained" if constrained else "nonlinear unconstrained"
-    return Case(name, model, dmap, pr, sc, x0, 10.0 if constrained else 0.1,
-                5e-6 if constrained else 6e-5, constrained)
+    return Case(
+        name,
+        model,
+        dmap,
+        pr,
+        sc,
+        x0,
+        10.0 if constrained else 0.1,
+        5e-6 if constrained else 6e-5,
+        constrained,
+    )
 
 
-def solve_paper(case: Case, max_iter: int = 300, rho: float | None = None, eps: float | None = None,
-                ilqr_iters: int = 1):
+def solve_paper(
+    case: Case, max_iter: int = 300, rho: float | None = None, eps: float | None = None, ilqr_iters: int = 1
+):
     """ADMM + iLQR with the published settings (paper stopping rule, multiplier row rescaling after
     iteration 1). Returns the solver (``.U``, ``.Y``, ``.X``, ``.info``; scaled units)."""
     st = _c.IlqrAdmmSettings()
@@ -155,8 +182,15 @@ def solve_paper(case: Case, max_iter: int = 300, rho: float | None = None, eps: 
     return sol
 
 
-def solve_scp(case: Case, U0: np.ndarray | None = None, tol: float = 1e-10, eps: float = 1e-8,
-              max_outer: int = 30, inner: str = "linear_admm", max_inner: int = 20000):
+def solve_scp(
+    case: Case,
+    U0: np.ndarray | None = None,
+    tol: float = 1e-10,
+    eps: float = 1e-8,
+    max_outer: int = 30,
+    inner: str = "linear_admm",
+    max_inner: int = 20000,
+):
     """Sequential convex programming: re-linearize (exact map Jacobians), solve the convex L1
     subproblem (``inner="ilqr_admm"``: satgnc's iLQR-ADMM on the affine model, which is exact
     LQR-ADMM there, allocation-free; ``"linear_admm"``: the linear guidance AdmmSolver), line search
@@ -221,9 +255,18 @@ def fly(case: Case, U_si: np.ndarray, truth_params=None, substeps: int = 60, x0_
     return np.array(X).T
 
 
-def mpc(case: Case, truth_params=None, planner_params=None, replan_every: int = 3, substeps: int = 20,
-        max_iter: int = 10, min_horizon: int = 1, qf_scale: float = 1e4, rho: float = 1.0,
-        first_max_iter: int = 2000) -> dict:
+def mpc(
+    case: Case,
+    truth_params=None,
+    planner_params=None,
+    replan_every: int = 3,
+    substeps: int = 20,
+    max_iter: int = 10,
+    min_horizon: int = 1,
+    qf_scale: float = 1e4,
+    rho: float = 1.0,
+    first_max_iter: int = 2000,
+) -> dict:
     """Receding-horizon flight (shrinking horizon to the fixed final time).
 
     The first plan is solved to convergence (iLQR-ADMM, residual rule, adaptive rho; not timed as a
@@ -296,15 +339,20 @@ def mpc(case: Case, truth_params=None, planner_params=None, replan_every: int = 
             prev = (np.asarray(sol.U), np.asarray(sol.Y), np.asarray(sol.Lambda))
         nexec = min(replan_every, rem)
         for j in range(nexec):
-            u = case.to_si(prev[1][:, j:j + 1])[:, 0]
+            u = case.to_si(prev[1][:, j : j + 1])[:, 0]
             U_all[:, k + j] = u
             for _ in range(substeps):
                 x = np.asarray(truth.rk_step(4, h, x, u))
             X.append(x.copy())
         prev = tuple(a[:, nexec:] for a in prev)
         k += nexec
-    return {"X": np.array(X).T, "U": U_all, "solve_times": np.array(times), "iterations": np.array(iters),
-            "first_plan": first}
+    return {
+        "X": np.array(X).T,
+        "U": U_all,
+        "solve_times": np.array(times),
+        "iterations": np.array(iters),
+        "first_plan": first,
+    }
 
 
 def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
@@ -327,8 +375,24 @@ def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
     w = case.problem.stage_weight
     lo = np.asarray(case.problem.u_min) if case.constrained else np.zeros(0)
     hi = np.asarray(case.problem.u_max) if case.constrained else np.zeros(0)
-    solver = _c.AdmmSolver([As], [Bs], [], case.problem.horizon, x0 / s, np.zeros(6), 1000.0 * np.eye(6),
-                           np.zeros((0, 0)), np.zeros((0, 0)), w * np.ones(3), 0.0, lo, hi, 0.0, False, st)
+    solver = _c.AdmmSolver(
+        [As],
+        [Bs],
+        [],
+        case.problem.horizon,
+        x0 / s,
+        np.zeros(6),
+        1000.0 * np.eye(6),
+        np.zeros((0, 0)),
+        np.zeros((0, 0)),
+        w * np.ones(3),
+        0.0,
+        lo,
+        hi,
+        0.0,
+        False,
+        st,
+    )
     r = solver.solve()
     return {"U": case.to_si(r["Y"]), "result": r, "x0_cw": x0}
 
@@ -336,3 +400,57 @@ def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
 def miss(X: np.ndarray) -> tuple[float, float]:
     """Terminal miss (m, m/s) of a 12-state trajectory: |r_t - r_c| and |v_t - v_c| at the end."""
     return float(np.linalg.norm(X[0:3, -1])), float(np.linalg.norm(X[6:9, -1]))
+
+
+def run_cli(out, closed_loop: bool = False) -> int:
+    """``satgnc rendezvous --model nonlinear [--closed-loop]``: solve both nonlinear cases (paper
+    settings and converged SCP), plot, and with ``closed_loop`` fly them (open loop and MPC) on the
+    J2 + drag truth; writes PNGs and nonlinear_summary.json to ``out``."""
+    import json
+    import pathlib
+
+    from ..report.guidance_nonlinear import _figure, _flight_figure
+
+    out = pathlib.Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    summary = {}
+    for constrained in (False, True):
+        case = paper_case(constrained)
+        paper = solve_paper(case)
+        scp = solve_scp(case, eps=1e-7, tol=1e-8)
+        key = case.name.replace(" ", "_")
+        s_opt = summarize(case, scp.U)
+        summary[key] = {
+            "paper_iterations": paper.info.iterations,
+            "paper_miss_flown_Y_m": summarize(case, paper.Y)["miss_position"],
+            "scp_outer": scp.info.outer_iterations,
+            **{f"opt_{k}": v for k, v in s_opt.items()},
+        }
+        _figure(
+            case,
+            [("optimum (SCP)", case.to_si(scp.U), "-"), ("paper stop, dense U", case.to_si(paper.U), ":")],
+            out / f"{key}.png",
+            case.name,
+        )
+        print(
+            f"{case.name}: paper settings stop after {paper.info.iterations} iterations "
+            f"(sparse plan misses by {summary[key]['paper_miss_flown_Y_m'] / 1000:.2f} km); optimum in "
+            f"{scp.info.outer_iterations} SCP iterations, dv = {s_opt['delta_v']:.4f} m/s, "
+            f"miss = {s_opt['miss_position']:.2f} m"
+        )
+        if closed_loop:
+            lin = linear_cw_plan(case)
+            flights = [
+                ("CW plan, open loop", fly(case, lin["U"])),
+                ("nonlinear plan, open loop", fly(case, case.to_si(scp.U))),
+            ]
+            m = mpc(case)
+            flights.append(("MPC", m["X"]))
+            for label, X in flights:
+                summary[key][f"truth_miss_{label}"] = miss(X)[0]
+                print(f"  {label}: truth miss {miss(X)[0]:.2f} m")
+            summary[key]["mpc_replan_ms_max"] = float(np.max(m["solve_times"]) * 1e3)
+            _flight_figure(case, flights, out / f"{key}_flight.png")
+    (out / "nonlinear_summary.json").write_text(json.dumps(summary, indent=2, default=float))
+    print(f"plots and nonlinear_summary.json written to {out}")
+    return 0

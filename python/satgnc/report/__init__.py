@@ -13,7 +13,7 @@ import time
 
 from .._progress import Progress
 
-SECTIONS = ["propagation", "od", "guidance", "analysis"]
+SECTIONS = ["propagation", "od", "guidance", "guidance_nonlinear", "analysis"]
 
 
 @dataclasses.dataclass

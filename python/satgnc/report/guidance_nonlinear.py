@@ -113,9 +113,12 @@ def build(ctx) -> str:
         s_lin = nl.summarize(case, case.from_si(lin["U"]))
         rows.append((case.name, paper.info, t_paper, scp.info, t_scp, s_u, s_y, s_opt, s_lin))
         fig = ctx.figure_path("fig5_nonlinear_constrained" if constrained else "fig4_nonlinear_unconstrained")
-        _figure(case, [("optimum (SCP)", case.to_si(scp.U), "-"),
-                       ("paper stop, dense U", case.to_si(paper.U), ":")], fig,
-                f"Fig. {5 if constrained else 4}: {case.name}")
+        _figure(
+            case,
+            [("optimum (SCP)", case.to_si(scp.U), "-"), ("paper stop, dense U", case.to_si(paper.U), ":")],
+            fig,
+            f"Fig. {5 if constrained else 4}: {case.name}",
+        )
         figs.append(fig)
         truth = {}
         for label, U in (("CW plan, open loop", lin["U"]), ("nonlinear plan, open loop", case.to_si(scp.U))):
@@ -131,54 +134,78 @@ def build(ctx) -> str:
             }
         flights[case.name] = truth
 
-    out += ["### Table 1, nonlinear columns", "",
-            "| | paper | satgnc, paper settings | converged optimum (SCP) | linear CW optimum flown on the model |",
-            "|---|---|---|---|---|"]
+    out += [
+        "### Table 1, nonlinear columns",
+        "",
+        "| | paper | satgnc, paper settings | converged optimum (SCP) | linear CW optimum, flown |",
+        "|---|---|---|---|---|",
+    ]
     for name, pi, tp, si, ts, s_u, s_y, s_opt, s_lin in rows:
         paper_passes = 206 if "constrained" == name.split()[-1] else 120
-        out.append(f"| **{name}** | {paper_passes} LQR passes | {pi.iterations} ADMM iterations, "
-                   f"{pi.lqr_passes} passes ({tp * 1e3:.0f} ms) | {si.outer_iterations} outer, "
-                   f"{si.inner_iterations} inner ADMM iterations ({ts * 1e3:.0f} ms) | |")
-        out.append(f"| objective | | dense U {s_u['objective']:.5f}; sparse Y {s_y['objective']:.4g} | "
-                   f"{s_opt['objective']:.6f} | {s_lin['objective']:.5f} |")
-        out.append(f"| delta-v, m/s | | U {s_u['delta_v']:.4f}; Y {s_y['delta_v']:.4f} | {s_opt['delta_v']:.4f} | "
-                   f"{s_lin['delta_v']:.4f} |")
-        out.append(f"| terminal miss, m | | U {s_u['miss_position']:.2f}; Y {s_y['miss_position']:.1f} | "
-                   f"{s_opt['miss_position']:.2f} | {s_lin['miss_position']:.1f} |")
-        out.append(f"| zero control entries | | U {s_u['sparsity']:.0%}; Y {s_y['sparsity']:.0%} | "
-                   f"{s_opt['sparsity']:.0%} ({s_opt['nonzero_intervals']} intervals firing) | "
-                   f"{s_lin['sparsity']:.0%} |")
-    out += ["",
-            "Unconstrained: with rho = 0.1, eps = 6e-5 (on ||U - Y||_2 / 297), the multiplier row rescaling "
-            "after iteration 1 and one Gauss-Newton iLQR iteration per ADMM iteration, satgnc stops after "
-            "exactly 60 ADMM iterations = the paper's 120 passes (the implementation counts the rollout "
-            "as a pass). At that point the sparse iterate Y misses the target by ~9 km when flown; the "
-            "figure shows the dense U, which is nowhere zero. SCP reaches the optimum of the same "
-            "transcription in 3-4 re-linearizations; the paper's scheme run on needs tens of thousands "
-            "of iterations (measured: 30000 iterations reach 1e-4 to 1e-7 relative depending on rho).",
-            "",
-            "Constrained: the paper's 206 'passes' count iterations of TrajectoryOptimization.jl's "
-            "augmented-Lagrangian iLQR (box constraints inside the inner solve) and are not ADMM "
-            "iterations; satgnc puts the box in the prox (exact prox of L1 + box), so its iteration "
-            "count at the paper's rho = 10, eps = 5e-6 is not comparable and is reported as measured.",
-            ""]
+        out.append(
+            f"| **{name}** | {paper_passes} LQR passes | {pi.iterations} ADMM iterations, "
+            f"{pi.lqr_passes} passes ({tp * 1e3:.0f} ms) | {si.outer_iterations} outer, "
+            f"{si.inner_iterations} inner ADMM iterations ({ts * 1e3:.0f} ms) | |"
+        )
+        out.append(
+            f"| objective | | dense U {s_u['objective']:.5f}; sparse Y {s_y['objective']:.4g} | "
+            f"{s_opt['objective']:.6f} | {s_lin['objective']:.5f} |"
+        )
+        out.append(
+            f"| delta-v, m/s | | U {s_u['delta_v']:.4f}; Y {s_y['delta_v']:.4f} | {s_opt['delta_v']:.4f} | "
+            f"{s_lin['delta_v']:.4f} |"
+        )
+        out.append(
+            f"| terminal miss, m | | U {s_u['miss_position']:.2f}; Y {s_y['miss_position']:.1f} | "
+            f"{s_opt['miss_position']:.2f} | {s_lin['miss_position']:.1f} |"
+        )
+        out.append(
+            f"| zero control entries | | U {s_u['sparsity']:.0%}; Y {s_y['sparsity']:.0%} | "
+            f"{s_opt['sparsity']:.0%} ({s_opt['nonzero_intervals']} intervals firing) | "
+            f"{s_lin['sparsity']:.0%} |"
+        )
+    out += [
+        "",
+        "Unconstrained: with rho = 0.1, eps = 6e-5 (on ||U - Y||_2 / 297), the multiplier row rescaling "
+        "after iteration 1 and one Gauss-Newton iLQR iteration per ADMM iteration, satgnc stops after "
+        "exactly 60 ADMM iterations = the paper's 120 passes (the implementation counts the rollout "
+        "as a pass). At that point the sparse iterate Y misses the target by ~9 km when flown; the "
+        "figure shows the dense U, which is nowhere zero. SCP reaches the optimum of the same "
+        "transcription in 3-4 re-linearizations; the paper's scheme run on needs tens of thousands "
+        "of iterations (measured: 30000 iterations reach 1e-4 to 1e-7 relative depending on rho).",
+        "",
+        "Constrained: the paper's 206 'passes' count iterations of TrajectoryOptimization.jl's "
+        "augmented-Lagrangian iLQR (box constraints inside the inner solve) and are not ADMM "
+        "iterations; satgnc puts the box in the prox (exact prox of L1 + box), so its iteration "
+        "count at the paper's rho = 10, eps = 5e-6 is not comparable and is reported as measured.",
+        "",
+    ]
     for f in figs:
         out += [f"![{f.stem}](figures/{f.name})", ""]
 
-    out += ["### Flying the plan", "",
-            "Truth: the same two-satellite model with J2 and co-rotating drag on, RK4 at 3 s steps "
-            "(the plans use RK3 at 60.6 s without J2). Terminal miss |r_t - r_c| at t = 6000 s.", "",
-            "| case | plan | miss, m | miss, m/s | delta-v, m/s | max |u|, N |", "|---|---|---|---|---|---|"]
+    out += [
+        "### Flying the plan",
+        "",
+        "Truth: the same two-satellite model with J2 and co-rotating drag on, RK4 at 3 s steps "
+        "(the plans use RK3 at 60.6 s without J2). Terminal miss |r_t - r_c| at t = 6000 s.",
+        "",
+        "| case | plan | miss, m | miss, m/s | delta-v, m/s | max |u|, N |",
+        "|---|---|---|---|---|---|",
+    ]
     for name, tr in flights.items():
         for label, (X, U) in tr.items():
             mp, mv = nl.miss(X)
-            out.append(f"| {name} | {label} | {mp:.2f} | {mv:.4f} | {np.abs(U).sum() * nl.TF / nl.N / nl.MASS:.4f} "
-                       f"| {np.abs(U).max():.4f} |")
+            out.append(
+                f"| {name} | {label} | {mp:.2f} | {mv:.4f} | {np.abs(U).sum() * nl.TF / nl.N / nl.MASS:.4f} "
+                f"| {np.abs(U).max():.4f} |"
+            )
     out.append("")
     for k, v in summary.items():
-        out.append(f"- {k}: {v['replans']} re-plans, CPU time per re-plan median {v['solve_ms_median']:.2f} ms, "
-                   f"max {v['solve_ms_max']:.2f} ms (at most 10 warm-started iLQR-ADMM iterations, Qf x 1e4, "
-                   "planner with J2).")
+        out.append(
+            f"- {k}: {v['replans']} re-plans, CPU time per re-plan median {v['solve_ms_median']:.2f} ms, "
+            f"max {v['solve_ms_max']:.2f} ms (at most 10 warm-started iLQR-ADMM iterations, Qf x 1e4, "
+            "planner with J2)."
+        )
     fpath = ctx.figure_path("nonlinear_flight")
     name0 = next(iter(flights))
     _flight_figure(nl.paper_case(False), [(k, v[0]) for k, v in flights[name0].items()], fpath)

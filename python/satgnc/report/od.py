@@ -261,12 +261,15 @@ def _fig2(p, ctx, quick) -> str:
             f" {np.mean(cls[m] == 'truth'):.0%} | {np.mean(cls[m] == 'other root'):.0%} | {claim} |"
         )
     c = p.consistency()
+    opp = og[flips == 6]
+    below = float(np.mean(np.linalg.norm(opp[:, :3], axis=1) < 6378.1363)) if len(opp) else float("nan")
     lines += [
         "",
         f"Verdict: the mirror 2R - X lies {-c['mirror_altitude_km']:.0f} km below the surface, so no "
-        "guess can converge to it; the octant pattern does not predict convergence. Guesses of the opposite "
-        "octant start below the surface (diverged at iteration 0). Other fitting roots do exist (see the "
-        "root search), but not at the mirror.",
+        "guess can converge to it; the octant pattern does not predict convergence (plain Newton diverges "
+        "from every octant at these distances, including the truth's). "
+        f"{below:.0%} of the opposite-octant guesses already start below the surface. Other fitting roots "
+        "do exist (see the root search), but not at the mirror.",
         "",
     ]
     # Figure: final position error vs initial, by class.

@@ -77,7 +77,8 @@ struct Dop853Info {
 
 /// Check a Settings struct; returns Dop853Status::success or invalid_settings.
 inline Dop853Status dop853_check_settings(const Dop853Settings& s) {
-  const bool ok = std::isfinite(s.rtol) && s.rtol > 10.0 * std::numeric_limits<double>::epsilon() && std::isfinite(s.atol) && s.atol >= 0.0 &&
+  const bool ok = std::isfinite(s.rtol) && s.rtol > 10.0 * std::numeric_limits<double>::epsilon() &&
+      std::isfinite(s.atol) && s.atol >= 0.0 &&
                   s.max_steps > 0 && std::isfinite(s.h0) && s.h0 >= 0.0 && std::isfinite(s.h_max) &&
                   s.h_max >= 0.0 && s.safety > 1e-4 && s.safety < 1.0 && s.fac_min > 0.0 &&
                   s.fac_min <= 1.0 && std::isfinite(s.fac_max) && s.fac_max >= 1.0 && s.beta >= 0.0 &&
@@ -304,7 +305,8 @@ double Dop853<N, Rhs>::error_norm(double h) const {
                           .inverse()
                           .eval();
   const double err3 = ((bsum_ - bhh1 * k[0] - bhh9 * k[8] - bhh12 * k[11]).array() * inv_sk).square().sum();
-  const double err5 = ((e1 * k[0] + e6 * k[5] + e7 * k[6] + e8 * k[7] + e9 * k[8] + e10 * k[9] + e11 * k[10] + e12 * k[11]).array() * inv_sk).square().sum();
+  const double err5 = ((e1 * k[0] + e6 * k[5] + e7 * k[6] + e8 * k[7] + e9 * k[8] + e10 * k[9] +
+      e11 * k[10] + e12 * k[11]).array() * inv_sk).square().sum();
   double deno = err5 + 0.01 * err3;
   if (deno <= 0.0) deno = 1.0;
   return std::abs(h) * err5 * std::sqrt(1.0 / (N * deno));
@@ -332,16 +334,27 @@ template <int N, class Rhs>
 void Dop853<N, Rhs>::prepare_dense(double t, double h) {
   using namespace dop853_tableau;
   Vec* k = k_;
-    yt_.noalias() = y_ + h * (a14_1 * k[0] + a14_7 * k[6] + a14_8 * k[7] + a14_9 * k[8] + a14_10 * k[9] + a14_11 * k[10] + a14_12 * k[11] + a14_13 * k[12]);
+    yt_.noalias() = y_ + h * (a14_1 * k[0] + a14_7 * k[6] + a14_8 * k[7] + a14_9 * k[8] + a14_10 * k[9] +
+        a14_11 * k[10] + a14_12 * k[11] + a14_13 * k[12]);
     rhs_(t + c14 * h, yt_, k[13]);
-    yt_.noalias() = y_ + h * (a15_1 * k[0] + a15_6 * k[5] + a15_7 * k[6] + a15_8 * k[7] + a15_11 * k[10] + a15_12 * k[11] + a15_13 * k[12] + a15_14 * k[13]);
+    yt_.noalias() = y_ + h * (a15_1 * k[0] + a15_6 * k[5] + a15_7 * k[6] + a15_8 * k[7] + a15_11 * k[10] +
+        a15_12 * k[11] + a15_13 * k[12] + a15_14 * k[13]);
     rhs_(t + c15 * h, yt_, k[14]);
-    yt_.noalias() = y_ + h * (a16_1 * k[0] + a16_6 * k[5] + a16_7 * k[6] + a16_8 * k[7] + a16_9 * k[8] + a16_13 * k[12] + a16_14 * k[13] + a16_15 * k[14]);
+    yt_.noalias() = y_ + h * (a16_1 * k[0] + a16_6 * k[5] + a16_7 * k[6] + a16_8 * k[7] + a16_9 * k[8] +
+        a16_13 * k[12] + a16_14 * k[13] + a16_15 * k[14]);
     rhs_(t + c16 * h, yt_, k[15]);
-    cont_[4].noalias() = h * (d4_1 * k[0] + d4_6 * k[5] + d4_7 * k[6] + d4_8 * k[7] + d4_9 * k[8] + d4_10 * k[9] + d4_11 * k[10] + d4_12 * k[11] + d4_13 * k[12] + d4_14 * k[13] + d4_15 * k[14] + d4_16 * k[15]);
-    cont_[5].noalias() = h * (d5_1 * k[0] + d5_6 * k[5] + d5_7 * k[6] + d5_8 * k[7] + d5_9 * k[8] + d5_10 * k[9] + d5_11 * k[10] + d5_12 * k[11] + d5_13 * k[12] + d5_14 * k[13] + d5_15 * k[14] + d5_16 * k[15]);
-    cont_[6].noalias() = h * (d6_1 * k[0] + d6_6 * k[5] + d6_7 * k[6] + d6_8 * k[7] + d6_9 * k[8] + d6_10 * k[9] + d6_11 * k[10] + d6_12 * k[11] + d6_13 * k[12] + d6_14 * k[13] + d6_15 * k[14] + d6_16 * k[15]);
-    cont_[7].noalias() = h * (d7_1 * k[0] + d7_6 * k[5] + d7_7 * k[6] + d7_8 * k[7] + d7_9 * k[8] + d7_10 * k[9] + d7_11 * k[10] + d7_12 * k[11] + d7_13 * k[12] + d7_14 * k[13] + d7_15 * k[14] + d7_16 * k[15]);
+    cont_[4].noalias() = h * (d4_1 * k[0] + d4_6 * k[5] + d4_7 * k[6] + d4_8 * k[7] + d4_9 * k[8] +
+        d4_10 * k[9] + d4_11 * k[10] + d4_12 * k[11] + d4_13 * k[12] + d4_14 * k[13] + d4_15 * k[14] +
+        d4_16 * k[15]);
+    cont_[5].noalias() = h * (d5_1 * k[0] + d5_6 * k[5] + d5_7 * k[6] + d5_8 * k[7] + d5_9 * k[8] +
+        d5_10 * k[9] + d5_11 * k[10] + d5_12 * k[11] + d5_13 * k[12] + d5_14 * k[13] + d5_15 * k[14] +
+        d5_16 * k[15]);
+    cont_[6].noalias() = h * (d6_1 * k[0] + d6_6 * k[5] + d6_7 * k[6] + d6_8 * k[7] + d6_9 * k[8] +
+        d6_10 * k[9] + d6_11 * k[10] + d6_12 * k[11] + d6_13 * k[12] + d6_14 * k[13] + d6_15 * k[14] +
+        d6_16 * k[15]);
+    cont_[7].noalias() = h * (d7_1 * k[0] + d7_6 * k[5] + d7_7 * k[6] + d7_8 * k[7] + d7_9 * k[8] +
+        d7_10 * k[9] + d7_11 * k[10] + d7_12 * k[11] + d7_13 * k[12] + d7_14 * k[13] + d7_15 * k[14] +
+        d7_16 * k[15]);
 
     nfev_ += 3;
   cont_[0] = y_;
@@ -356,7 +369,8 @@ void Dop853<N, Rhs>::interpolate(double s, Vec& y) const {
   y.noalias() =
       cont_[0] +
       s * (cont_[1] +
-           s1 * (cont_[2] + s * (cont_[3] + s1 * (cont_[4] + s * (cont_[5] + s1 * (cont_[6] + s * cont_[7]))))));
+           s1 * (cont_[2] + s * (cont_[3] + s1 * (cont_[4] + s * (cont_[5] + s1 * (cont_[6] +
+               s * cont_[7]))))));
 }
 
 template <int N, class Rhs>
@@ -439,15 +453,20 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
     rhs_(t + c7 * h, yt_, k[6]);
     yt_.noalias() = y_ + h * (a8_1 * k[0] + a8_4 * k[3] + a8_5 * k[4] + a8_6 * k[5] + a8_7 * k[6]);
     rhs_(t + c8 * h, yt_, k[7]);
-    yt_.noalias() = y_ + h * (a9_1 * k[0] + a9_4 * k[3] + a9_5 * k[4] + a9_6 * k[5] + a9_7 * k[6] + a9_8 * k[7]);
+    yt_.noalias() = y_ + h * (a9_1 * k[0] + a9_4 * k[3] + a9_5 * k[4] + a9_6 * k[5] + a9_7 * k[6] +
+        a9_8 * k[7]);
     rhs_(t + c9 * h, yt_, k[8]);
-    yt_.noalias() = y_ + h * (a10_1 * k[0] + a10_4 * k[3] + a10_5 * k[4] + a10_6 * k[5] + a10_7 * k[6] + a10_8 * k[7] + a10_9 * k[8]);
+    yt_.noalias() = y_ + h * (a10_1 * k[0] + a10_4 * k[3] + a10_5 * k[4] + a10_6 * k[5] + a10_7 * k[6] +
+        a10_8 * k[7] + a10_9 * k[8]);
     rhs_(t + c10 * h, yt_, k[9]);
-    yt_.noalias() = y_ + h * (a11_1 * k[0] + a11_4 * k[3] + a11_5 * k[4] + a11_6 * k[5] + a11_7 * k[6] + a11_8 * k[7] + a11_9 * k[8] + a11_10 * k[9]);
+    yt_.noalias() = y_ + h * (a11_1 * k[0] + a11_4 * k[3] + a11_5 * k[4] + a11_6 * k[5] + a11_7 * k[6] +
+        a11_8 * k[7] + a11_9 * k[8] + a11_10 * k[9]);
     rhs_(t + c11 * h, yt_, k[10]);
-    yt_.noalias() = y_ + h * (a12_1 * k[0] + a12_4 * k[3] + a12_5 * k[4] + a12_6 * k[5] + a12_7 * k[6] + a12_8 * k[7] + a12_9 * k[8] + a12_10 * k[9] + a12_11 * k[10]);
+    yt_.noalias() = y_ + h * (a12_1 * k[0] + a12_4 * k[3] + a12_5 * k[4] + a12_6 * k[5] + a12_7 * k[6] +
+        a12_8 * k[7] + a12_9 * k[8] + a12_10 * k[9] + a12_11 * k[10]);
     rhs_(t + c12 * h, yt_, k[11]);
-    bsum_.noalias() = a13_1 * k[0] + a13_6 * k[5] + a13_7 * k[6] + a13_8 * k[7] + a13_9 * k[8] + a13_10 * k[9] + a13_11 * k[10] + a13_12 * k[11];
+    bsum_.noalias() = a13_1 * k[0] + a13_6 * k[5] + a13_7 * k[6] + a13_8 * k[7] + a13_9 * k[8] +
+        a13_10 * k[9] + a13_11 * k[10] + a13_12 * k[11];
 
     ynew_.noalias() = y_ + h * bsum_;
     nfev_ += 11;
@@ -507,7 +526,7 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
 /// A = [0 I; da/dr da/dv]) through `times` with DOP853. Accel provides two call forms:
 /// accel(t, r, v, a) fills the acceleration (km/s^2) and accel(t, r, v, a, da_dr, da_dv) also its
 /// Jacobians (1/s^2, 1/s); VelocityDependent = false skips the da/dv products.
-/// times: non-decreasing, either side of t0 (two arcs from t0, backward and forward).
+/// times: monotone (non-decreasing or non-increasing), either side of t0 (two arcs from t0).
 /// Throws std::invalid_argument naming the argument on bad input; solver failures are reported in
 /// Trajectory::status / message with the states reached so far.
 template <bool VelocityDependent = true, class Accel>
@@ -550,19 +569,27 @@ struct OrbitRhs {
       dy.template segment<3>(3) = a;
       // Phi is stored column-major after the state: per column j, rows 0-2 are d r / d x0_j and rows
       // 3-5 d v / d x0_j, so column j of dPhi/dt is [Phi_v,j; da_dr Phi_r,j (+ da_dv Phi_v,j)].
+      // Scalar code on purpose: Eigen's small-product dispatch costs more than the 9 FMAs per column.
+      const double* G = da_dr.data();  // column-major
+      const double* H = da_dv.data();
       for (int j = 0; j < 6; ++j) {
         const double* pc = y.data() + 6 + 6 * j;
         double* dc = dy.data() + 6 + 6 * j;
-        const Vec3 pr(pc[0], pc[1], pc[2]);
-        const Vec3 pv(pc[3], pc[4], pc[5]);
-        Vec3 acc = da_dr * pr;
-        if constexpr (VelocityDependent) acc.noalias() += da_dv * pv;
-        dc[0] = pv[0];
-        dc[1] = pv[1];
-        dc[2] = pv[2];
-        dc[3] = acc[0];
-        dc[4] = acc[1];
-        dc[5] = acc[2];
+        const double p0 = pc[0], p1 = pc[1], p2 = pc[2], q0 = pc[3], q1 = pc[4], q2 = pc[5];
+        double a0 = G[0] * p0 + G[3] * p1 + G[6] * p2;
+        double a1 = G[1] * p0 + G[4] * p1 + G[7] * p2;
+        double a2 = G[2] * p0 + G[5] * p1 + G[8] * p2;
+        if constexpr (VelocityDependent) {
+          a0 += H[0] * q0 + H[3] * q1 + H[6] * q2;
+          a1 += H[1] * q0 + H[4] * q1 + H[7] * q2;
+          a2 += H[2] * q0 + H[5] * q1 + H[8] * q2;
+        }
+        dc[0] = q0;
+        dc[1] = q1;
+        dc[2] = q2;
+        dc[3] = a0;
+        dc[4] = a1;
+        dc[5] = a2;
       }
     }
   }
@@ -595,70 +622,64 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
   dop853_validate_orbit_input(x0, t0, times);
   dop853_validate_settings(settings);
   const std::size_t n = times.size();
-  Trajectory tr;
-  tr.t_reached = t0;
+  // Two arcs from t0: times >= t0 forward in increasing order, times < t0 backward in decreasing order.
+  // (Setup-time allocations only; the stepping loop allocates nothing.)
+  std::vector<std::size_t> fwd, bwd;
+  for (std::size_t i = 0; i < n; ++i) (times[i] >= t0 ? fwd : bwd).push_back(i);
+  const bool ascending = n < 2 || times.front() <= times.back();
+  if (!ascending) std::reverse(fwd.begin(), fwd.end());
+  if (ascending) std::reverse(bwd.begin(), bwd.end());
   std::vector<Vec6> states(n);
   std::vector<Mat6> stms(with_stm ? n : 0);
-  // times < t0 run backward from t0 in reverse order; the rest forward.
-  std::size_t nb = 0;
-  while (nb < n && times[nb] < t0) ++nb;
-  std::vector<double> back(times.rbegin() + static_cast<std::ptrdiff_t>(n - nb), times.rend());
-  std::vector<Vec6> back_states(nb);
-  std::vector<Mat6> back_stms(with_stm ? nb : 0);
-  auto arc = [&](const double* ts, std::size_t m, Vec6* xs, Mat6* ps, Dop853Info& info) {
+  std::vector<char> done(n, 0);
+  Trajectory tr;
+  tr.t_reached = t0;
+  bool failed = false;
+  auto arc = [&](const std::vector<std::size_t>& idx, const char* name) {
+    if (idx.empty() || failed) return;
+    const std::size_t m = idx.size();
+    std::vector<double> ts(m);
+    std::vector<Vec6> xs(m);
+    std::vector<Mat6> ps(with_stm ? m : 0);
+    for (std::size_t j = 0; j < m; ++j) ts[j] = times[idx[j]];
+    Dop853Info info;
     if (with_stm)
-      detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts, m, settings, xs, ps, info);
+      detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), ps.data(),
+          info);
     else
-      detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts, m, settings, xs, ps, info);
+      detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), nullptr,
+          info);
+    for (std::size_t j = 0; j < info.outputs; ++j) {
+      states[idx[j]] = xs[j];
+      if (with_stm) stms[idx[j]] = ps[j];
+      done[idx[j]] = 1;
+    }
+    tr.stats.steps += info.steps;
+    tr.stats.rhs_evals += info.rhs_evals;
+    tr.stats.error_test_fails += info.rejected;
+    if (info.steps > 0) tr.stats.last_step = info.h_last;
+    tr.t_reached = info.t_reached;
+    if (info.status != Dop853Status::success) {
+      failed = true;
+      tr.status = dop853_to_propagation_status(info.status);
+      tr.message = std::string("propagate_dop853 (") + name + " arc): " + dop853_status_message(info.status) +
+                   "; reached t = " + std::to_string(info.t_reached) + " s of " + std::to_string(ts.back()) +
+                   " s after " + std::to_string(info.steps) + " steps";
+    }
   };
-  Dop853Info ib, inf;
-  std::size_t first = 0;  // first index delivered (backward arc may stop early)
-  if (nb > 0) {
-    arc(back.data(), nb, back_states.data(), with_stm ? back_stms.data() : nullptr, ib);
-    tr.stats.steps += ib.steps;
-    tr.stats.rhs_evals += ib.rhs_evals;
-    tr.stats.error_test_fails += ib.rejected;
-    // Delivered backward outputs are the last ib.outputs of the requested times < t0.
-    first = nb - ib.outputs;
-    for (std::size_t j = 0; j < ib.outputs; ++j) {
-      states[nb - 1 - j] = back_states[j];
-      if (with_stm) stms[nb - 1 - j] = back_stms[j];
-    }
-    if (ib.status != Dop853Status::success) {
-      tr.status = dop853_to_propagation_status(ib.status);
-      tr.t_reached = ib.t_reached;
-      tr.message = std::string("propagate_dop853 (backward arc): ") + dop853_status_message(ib.status) +
-                   "; reached t = " + std::to_string(ib.t_reached) + " s of " + std::to_string(back[nb - 1]) +
-                   " s after " + std::to_string(ib.steps) + " steps";
-      tr.times.assign(times.begin() + static_cast<std::ptrdiff_t>(first), times.begin() + static_cast<std::ptrdiff_t>(nb));
-      tr.states.assign(states.begin() + static_cast<std::ptrdiff_t>(first), states.begin() + static_cast<std::ptrdiff_t>(nb));
-      if (with_stm) tr.stms.assign(stms.begin() + static_cast<std::ptrdiff_t>(first), stms.begin() + static_cast<std::ptrdiff_t>(nb));
-      return tr;
-    }
-  }
-  std::size_t delivered = nb;
-  if (nb < n) {
-    arc(times.data() + nb, n - nb, states.data() + nb, with_stm ? stms.data() + nb : nullptr, inf);
-    tr.stats.steps += inf.steps;
-    tr.stats.rhs_evals += inf.rhs_evals;
-    tr.stats.error_test_fails += inf.rejected;
-    delivered = nb + inf.outputs;
-    tr.t_reached = inf.t_reached;
-    if (inf.status != Dop853Status::success) {
-      tr.status = dop853_to_propagation_status(inf.status);
-      tr.message = std::string("propagate_dop853: ") + dop853_status_message(inf.status) + "; reached t = " +
-                   std::to_string(inf.t_reached) + " s of " + std::to_string(times.back()) + " s after " +
-                   std::to_string(inf.steps) + " steps";
-    }
+  // Run the arc holding the first requested time first, so a failure keeps a prefix where possible.
+  if (!bwd.empty() && times.front() < t0) {
+    arc(bwd, "backward");
+    arc(fwd, "forward");
   } else {
-    tr.t_reached = times.empty() ? t0 : times.front();
+    arc(fwd, "forward");
+    arc(bwd, "backward");
   }
-  tr.times.assign(times.begin(), times.begin() + static_cast<std::ptrdiff_t>(delivered));
-  states.resize(delivered);
-  tr.states = std::move(states);
-  if (with_stm) {
-    stms.resize(delivered);
-    tr.stms = std::move(stms);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!done[i]) continue;
+    tr.times.push_back(times[i]);
+    tr.states.push_back(states[i]);
+    if (with_stm) tr.stms.push_back(stms[i]);
   }
   return tr;
 }

@@ -55,9 +55,10 @@ void stumpff(double psi, double c[6]);
 /// Propagate x0 (epoch t0) to each requested time with kepler_step (each time directly from t0, so
 /// errors do not accumulate).
 /// @param x0 initial state [km, km/s]; @param t0 epoch, s; @param times output times, s,
-///   non-decreasing, any side of t0; @param mu km^3/s^2; @param with_stm also return the STMs.
+///   monotone (increasing or decreasing), any side of t0; @param mu km^3/s^2;
+/// @param with_stm also return the STMs.
 /// @throws std::invalid_argument naming the argument on non-finite x0/t0/times, |r0| = 0, mu <= 0,
-///   decreasing times. A solver failure is reported in Trajectory::status / message (states up to it).
+///   non-monotone times. A solver failure is reported in Trajectory::status / message (states up to it).
 Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>& times, double mu,
                             bool with_stm);
 
