@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 
@@ -116,7 +117,6 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   update_linear_terms();
   Yws_.setZero(nu_, N_);
   Lws_.setZero(nu_, N_);
-  bX_.setZero(nx_, N_ + 1);
   bU_.setZero(nu_, N_);
   bY_.setZero(nu_, N_);
   bL_.setZero(nu_, N_);
@@ -158,7 +158,8 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
 namespace {
 // Gaussian elimination with partial pivoting, in place (K and r are destroyed); false if singular.
 bool solve_dense_in_place(MatrixXd& K, VectorXd& r, VectorXd& x, int M) noexcept {
-  const double scale = K.cwiseAbs().maxCoeff();
+  if (M == 0) return true;
+  const double scale = K.topLeftCorner(M, M).cwiseAbs().maxCoeff();
   if (!(scale > 0.0) || !std::isfinite(scale)) return false;
   for (int c = 0; c < M; ++c) {
     int p = c;
@@ -181,7 +182,7 @@ bool solve_dense_in_place(MatrixXd& K, VectorXd& r, VectorXd& x, int M) noexcept
     for (int j = i + 1; j < M; ++j) v -= K(i, j) * x(j);
     x(i) = v / K(i, i);
   }
-  return x.allFinite();
+  return x.head(M).allFinite();
 }
 }  // namespace
 
@@ -221,12 +222,12 @@ bool AdmmSolver::try_polish() noexcept {
     F = nx_;
   }
   rollout(Up_, Xp_);                   // fixed part, x_N^fix in Xp_.col(N)
-  const int M = fmax_ + nx_;
+  const int M = F + (term ? nx_ : 0);  // compact system: free entries, then the terminal multiplier
   for (int a = 0; a < F; ++a) {
     const int k = free_idx_[static_cast<std::size_t>(a)] / nu_, i = free_idx_[static_cast<std::size_t>(a)] % nu_;
     GF_.col(a).noalias() = Psi_.middleCols(k * nx_, nx_) * prob_.dynamics.B_at(k).col(i);
   }
-  KKT_.setZero();
+  KKT_.topLeftCorner(M, M).setZero();
   xtmp_ = Xp_.col(N_) - prob_.xf;
   for (int a = 0; a < F; ++a) {
     const int ka = free_idx_[static_cast<std::size_t>(a)] / nu_, ia = free_idx_[static_cast<std::size_t>(a)] % nu_;
@@ -238,8 +239,8 @@ bool AdmmSolver::try_polish() noexcept {
       for (int b = 0; b < F; ++b) KKT_(b, a) = GF_.col(b).dot(xtmp2_);
     } else {
       for (int j = 0; j < nx_; ++j) {
-        KKT_(fmax_ + j, a) = GF_(j, a);
-        KKT_(a, fmax_ + j) = GF_(j, a);
+        KKT_(F + j, a) = GF_(j, a);
+        KKT_(a, F + j) = GF_(j, a);
       }
     }
     if (prob_.R.size() != 0) {
@@ -249,17 +250,8 @@ bool AdmmSolver::try_polish() noexcept {
       }
     }
   }
-  for (int a = F; a < fmax_; ++a) {
-    KKT_(a, a) = 1.0;
-    rhs_(a) = 0.0;
-  }
-  for (int j = 0; j < nx_; ++j) {
-    if (term) {
-      rhs_(fmax_ + j) = -xtmp_(j);
-    } else {
-      KKT_(fmax_ + j, fmax_ + j) = 1.0;
-      rhs_(fmax_ + j) = 0.0;
-    }
+  if (term) {
+    for (int j = 0; j < nx_; ++j) rhs_(F + j) = -xtmp_(j);
   }
   if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
   const double tol = set_.polish_tolerance * std::max(1.0, w_.maxCoeff());
@@ -272,7 +264,7 @@ bool AdmmSolver::try_polish() noexcept {
   }
   rollout(Up_, Xp_);
   if (term) {
-    pN_ = sol_.tail(nx_);
+    pN_ = sol_.segment(F, nx_);
   } else {
     xtmp_ = Xp_.col(N_) - prob_.xf;
     pN_.noalias() = prob_.Qf * xtmp_;
@@ -342,27 +334,6 @@ void AdmmSolver::update_settings(const AdmmSettings& settings) {
   set_ = settings;
 }
 
-void AdmmSolver::prox(Eigen::Ref<const VectorXd> v, Eigen::Ref<VectorXd> y, double rho) const noexcept {
-  if (has_ball_) {
-    const double nv = v.norm();
-    double scale = nv > 0.0 ? std::max(0.0, 1.0 - prob_.group_l2_weight / rho / nv) : 0.0;
-    if (scale * nv > prob_.u_norm_max) scale = prob_.u_norm_max / nv;
-    y = scale * v;
-    return;
-  }
-  for (int i = 0; i < nu_; ++i) {
-    const double t = w_(i) / rho;
-    const double vi = v(i);
-    y(i) = vi > t ? vi - t : (vi < -t ? vi + t : 0.0);
-  }
-  if (has_group_) {
-    const double ny = y.norm();
-    const double scale = ny > 0.0 ? std::max(0.0, 1.0 - prob_.group_l2_weight / rho / ny) : 0.0;
-    y *= scale;
-  }
-  if (has_box_) y = y.cwiseMax(lo_).cwiseMin(hi_);
-}
-
 double AdmmSolver::control_cost(const Eigen::Ref<const VectorXd>& u) const noexcept {
   double c = w_.dot(u.cwiseAbs());
   if (has_group_) c += prob_.group_l2_weight * u.norm();
@@ -409,6 +380,87 @@ double AdmmSolver::objective_of(const Eigen::Ref<const MatrixXd>& U) const {
   return trajectory_objective(X, U);
 }
 
+
+namespace {
+// Closed-form prox of w|.|_1 / rho (+ group-L2 w_g ||.||_2 / rho) (+ box or ball) for one stage.
+template <typename V, typename Y>
+inline void prox_stage(const V& v, Y& y, const double* w, const double* lo, const double* hi, double inv_rho,
+                       double wg, double umax, bool l1, bool group, bool box, bool ball) noexcept {
+  const Eigen::Index m = v.size();
+  if (ball) {
+    const double nv = v.norm();
+    double scale = nv > 0.0 ? std::max(0.0, 1.0 - wg * inv_rho / nv) : 0.0;
+    if (scale * nv > umax) scale = umax / nv;
+    y = scale * v;
+    return;
+  }
+  if (l1) {
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const double t = w[i] * inv_rho, vi = v(i);
+      y(i) = vi > t ? vi - t : (vi < -t ? vi + t : 0.0);
+    }
+  } else {
+    y = v;
+  }
+  if (group) {
+    const double ny = y.norm();
+    y *= ny > 0.0 ? std::max(0.0, 1.0 - wg * inv_rho / ny) : 0.0;
+  }
+  if (box) {
+    for (Eigen::Index i = 0; i < m; ++i) y(i) = std::min(std::max(y(i), lo[i]), hi[i]);
+  }
+}
+}  // namespace
+
+template <int NU>
+AdmmSolver::PassStats AdmmSolver::admm_pass(double rho, double a) noexcept {
+  // Relaxation, prox, multiplier update, residuals, next linear term r = Lambda - rho Y and the
+  // active-set signature, in one pass over the stages (fixed-size nu in the (6, 3) instantiation).
+  using VU = Eigen::Matrix<double, NU, 1>;
+  const Eigen::Index m = nu_;
+  PassStats st;
+  const double inv_rho = 1.0 / rho;
+  const double* U = res_.U.data();
+  double* Y = res_.Y.data();
+  double* L = res_.Lambda.data();
+  double* R = r_.data();
+  const double* w = w_.data();
+  const double* lo = lo_.data();
+  const double* hi = hi_.data();
+  const double wg = prob_.group_l2_weight, umax = prob_.u_norm_max;
+  Eigen::Map<VU> uhat(uhat_.data(), m), v(v_.data(), m), yn(ynew_.data(), m);  // preallocated scratch
+  std::uint64_t h = 1469598103934665603ULL;
+  int nfree = 0;
+  for (int k = 0; k < N_; ++k) {
+    Eigen::Map<const VU> u(U + k * m, m);
+    Eigen::Map<VU> y(Y + k * m, m), l(L + k * m, m), rk(R + k * m, m);
+    uhat = a * u + (1.0 - a) * y;
+    v = uhat + inv_rho * l;
+    prox_stage(v, yn, w, lo, hi, inv_rho, wg, umax, has_l1_, has_group_, has_box_, has_ball_);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const double yi = yn(i), diff = u(i) - yi;
+      st.dual = std::max(st.dual, std::abs(yi - y(i)));
+      st.prim = std::max(st.prim, std::abs(diff));
+      st.fro2 += diff * diff;
+      st.nU = std::max(st.nU, std::abs(u(i)));
+      st.nY = std::max(st.nY, std::abs(yi));
+      const double li = l(i) + rho * (uhat(i) - yi);
+      l(i) = li;
+      st.nL = std::max(st.nL, std::abs(li));
+      y(i) = yi;
+      rk(i) = li - rho * yi;
+      // active-set code: 0 zero, 1 lower bound, 2 upper bound, 3 free positive, 4 free negative
+      const unsigned code = yi == 0.0 ? 0u : (yi == lo[i] ? 1u : (yi == hi[i] ? 2u : (yi > 0.0 ? 3u : 4u)));
+      nfree += code >= 3u;
+      h = (h ^ code) * 1099511628211ULL;
+    }
+  }
+  st.dual *= rho;
+  st.signature = h;
+  st.nfree = nfree;
+  return st;
+}
+
 const AdmmResult& AdmmSolver::solve() noexcept {
   const auto t0 = std::chrono::steady_clock::now();
   AdmmInfo& info = res_.info;
@@ -439,9 +491,13 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   AdmmStatus status = AdmmStatus::kMaxIterations;
   int it = 0;
   if (!ok) status = AdmmStatus::kNumericalError;
+  bool r_valid = false;  // r_ = Lambda - rho Y is produced by the previous pass
+  const bool polish_on = polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
+  std::uint64_t prev_sig = 0, tried_sig = 0;
+  bool have_prev = false, have_tried = false;
   while (ok && it < set_.max_iterations) {
     ++it;
-    r_ = L - rho * Y;
+    if (!r_valid) r_ = L - rho * Y;
     RiccatiStatus rs = set_.cache_gains ? ric_.solve(prob_.x0, q_, r_, prob_.xf, X, U)
                                         : ric_.solve_full(rho, prob_.x0, q_, r_, prob_.xf, X, U);
     if (rs == RiccatiStatus::kTerminalUnreachable) {
@@ -452,45 +508,28 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       status = AdmmStatus::kNumericalError;
       break;
     }
-    double prim = 0.0, dual = 0.0, fro2 = 0.0, nU = 0.0, nY = 0.0, nL = 0.0;
-    // relaxation, prox, multiplier update and residuals in one pass (plain loops: nu is small)
-    const double inv_rho = 1.0 / rho;
-    for (int k = 0; k < N_; ++k) {
-      const double* u = U.col(k).data();
-      double* y = Y.col(k).data();
-      double* l = L.col(k).data();
-      for (int i = 0; i < nu_; ++i) {
-        uhat_(i) = a * u[i] + (1.0 - a) * y[i];
-        v_(i) = uhat_(i) + l[i] * inv_rho;
-      }
-      prox(v_, ynew_, rho);
-      for (int i = 0; i < nu_; ++i) {
-        const double yn = ynew_(i), diff = u[i] - yn;
-        dual = std::max(dual, std::abs(yn - y[i]));
-        prim = std::max(prim, std::abs(diff));
-        fro2 += diff * diff;
-        l[i] += rho * (uhat_(i) - yn);
-        y[i] = yn;
-        nU = std::max(nU, std::abs(u[i]));
-        nY = std::max(nY, std::abs(yn));
-      }
-    }
-    dual *= rho;
+    const PassStats st = nu_ == 3 ? admm_pass<3>(rho, a) : admm_pass<Eigen::Dynamic>(rho, a);
+    r_valid = true;
+    const double prim = st.prim, dual = st.dual;
+    double nL = st.nL;
     if (set_.paper_multiplier_rescale && it == 1) {
       for (int i = 0; i < nu_; ++i) {
         const double mx = L.row(i).cwiseAbs().maxCoeff();
         if (mx > 0.0) L.row(i) *= w_(i) / mx;
       }
+      r_valid = false;
+      nL = L.cwiseAbs().maxCoeff();
     } else if (set_.paper_multiplier_rescale && it <= set_.paper_global_rescale_iterations) {
       const double mx = L.cwiseAbs().maxCoeff();
       if (mx > 0.0) L *= w_.maxCoeff() / mx;
+      r_valid = false;
+      nL = L.cwiseAbs().maxCoeff();
     }
-    nL = L.cwiseAbs().maxCoeff();
     info.primal_residual = prim;
     info.dual_residual = dual;
-    info.eps_primal = set_.eps_abs + set_.eps_rel * std::max(nU, nY);
+    info.eps_primal = set_.eps_abs + set_.eps_rel * std::max(st.nU, st.nY);
     info.eps_dual = set_.eps_abs + set_.eps_rel * nL;
-    info.paper_criterion = std::sqrt(fro2) / dimU;
+    info.paper_criterion = std::sqrt(st.fro2) / dimU;
     if (!std::isfinite(prim) || !std::isfinite(dual) || !std::isfinite(nL)) {
       status = AdmmStatus::kNumericalError;
       break;
@@ -499,22 +538,35 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       const double eps_p = info.eps_primal > 0.0 ? info.eps_primal : 1e-300;
       const double eps_d = info.eps_dual > 0.0 ? info.eps_dual : 1e-300;
       const double measure = std::max(prim / eps_p, dual / eps_d);
-      if (measure < best) {
+      if (measure < best) {  // X is recomputed from U at the end
         best = measure;
         best_prim = prim;
         best_dual = dual;
         best_paper = info.paper_criterion;
-        bX_ = X;
         bU_ = U;
         bY_ = Y;
         bL_ = L;
       }
     }
-    if (polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals && it % set_.polish_interval == 0 &&
-        try_polish()) {
-      info.polished = true;
-      status = AdmmStatus::kSolved;
-      break;
+    if (polish_on) {
+      // The polish candidate depends only on the active-set signature of Y (and, when more than nx
+      // entries are free without R, on their magnitudes): try once per new signature as soon as it
+      // repeats, and every polish_interval iterations in the magnitude-dependent case.
+      const bool stable = have_prev && st.signature == prev_sig;
+      const bool fresh = !have_tried || st.signature != tried_sig;
+      const bool by_magnitude = st.nfree > nx_ && prob_.R.size() == 0;
+      const bool attempt = st.nfree <= fmax_ && ((stable && fresh) || (by_magnitude && it % set_.polish_interval == 0));
+      prev_sig = st.signature;
+      have_prev = true;
+      if (attempt) {
+        tried_sig = st.signature;
+        have_tried = true;
+        if (try_polish()) {
+          info.polished = true;
+          status = AdmmStatus::kSolved;
+          break;
+        }
+      }
     }
     if (set_.stopping == StoppingRule::kPaper) {
       if (info.paper_criterion <= set_.paper_eps) {
@@ -526,12 +578,13 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       break;
     }
     if (set_.adaptive_rho && it % set_.adaptive_rho_interval == 0) {
-      const double pn = prim / std::max(std::max(nU, nY), 1e-300);
+      const double pn = prim / std::max(std::max(st.nU, st.nY), 1e-300);
       const double dn = dual / std::max(nL, 1e-300);
       if (pn > 0.0 && dn > 0.0) {
         const double rho_new = std::clamp(rho * std::sqrt(pn / dn), set_.rho_min, set_.rho_max);
         if (rho_new > set_.adaptive_rho_tolerance * rho || rho_new < rho / set_.adaptive_rho_tolerance) {
           rho = rho_new;
+          r_valid = false;
           ++info.rho_updates;
           if (!ric_.factor(rho)) {
             status = AdmmStatus::kNumericalError;
@@ -542,13 +595,13 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     }
   }
   if (status == AdmmStatus::kMaxIterations && set_.track_best && std::isfinite(best)) {
-    X = bX_;
     U = bU_;
     Y = bY_;
     L = bL_;
     info.primal_residual = best_prim;  // residuals of the returned (best) iterate
     info.dual_residual = best_dual;
     info.paper_criterion = best_paper;
+    rollout(U, X);
   }
   info.status = status;
   info.iterations = it;

@@ -48,6 +48,20 @@ void LtvDynamics::validate() const {
 }
 
 namespace {
+// y = M x for a small fixed-size column-major M, summed as a tree (pairs of columns) so the
+// dependency chain of the recursions is log2(n) additions deep instead of n.
+// out = M x + b; out must not alias x.
+template <int NX, typename MM, typename VV, typename VB, typename VO>
+inline void tree_matvec_add(const MM& M, const VV& x, const VB& b, VO& out) noexcept {
+  if constexpr (NX == 6) {
+    out = (((M.col(0) * x(0) + M.col(1) * x(1)) + (M.col(2) * x(2) + M.col(3) * x(3))) +
+           (M.col(4) * x(4) + M.col(5) * x(5))) + b;
+  } else {
+    out.noalias() = M * x;
+    out += b;
+  }
+}
+
 void require_psd(const MatrixXd& M, Index n, const std::string& name, bool allow_empty) {
   using core::require;
   if (allow_empty && M.size() == 0) return;
@@ -84,6 +98,7 @@ void RiccatiSolver::setup(const LtvDynamics& dyn, const MatrixXd& Q, const Matri
   P_.setZero(n, n * (N + 1));
   K_.setZero(m, n * N);
   AclT_.setZero(n, n * N);
+  Acl_.setZero(n, n * N);
   QuuInv_.setZero(m, m * N);
   QuuInvBt_.setZero(m, n * N);
   e_.setZero(n, N);
@@ -142,6 +157,7 @@ bool RiccatiSolver::factor_stage(int k, double rho) noexcept {
   QuuInvBt_.middleCols(k * n, n).noalias() = tmp_nu_nu_ * B.transpose();
   tmp_nx_nx_ = A;
   tmp_nx_nx_.noalias() -= B * K_.middleCols(k * n, n);
+  Acl_.middleCols(k * n, n) = tmp_nx_nx_;
   AclT_.middleCols(k * n, n) = tmp_nx_nx_.transpose();
   // P_k = Q + A'P A - Qux' K (Q acts on x_1..x_{N-1})
   AtP_.noalias() = A.transpose() * Pn_;
@@ -220,6 +236,8 @@ template <int NX, int NU>
 void RiccatiSolver::affine_sweep(const Eigen::Ref<const VectorXd>& x0, const Eigen::Ref<const MatrixXd>& q,
                                  const Eigen::Ref<const MatrixXd>& r, Eigen::Ref<MatrixXd> X,
                                  Eigen::Ref<MatrixXd> U) noexcept {
+  // Hot loop: every operand is a Map of compile-time size (in the (6, 3) instantiation) on the
+  // contiguous cached blocks; no dynamic-size expressions, no temporaries.
   using VX = Matrix<double, NX, 1>;
   using VU = Matrix<double, NU, 1>;
   using MXX = Matrix<double, NX, NX>;
@@ -228,62 +246,89 @@ void RiccatiSolver::affine_sweep(const Eigen::Ref<const VectorXd>& x0, const Eig
   using MXU = Matrix<double, NX, NU>;
   const Index n = nx_, m = nu_, N = N_;
   const bool has_c = !dyn_.c.empty();
-  Map<VX> p(p_.data(), n), w(w_.data(), n);
+  const bool c_const = dyn_.c.size() == 1;
+  const bool ti = dyn_.A.size() == 1 && dyn_.B.size() == 1;
+  const Index qs = q.outerStride(), rs = r.outerStride(), xs = X.outerStride(), us = U.outerStride();
+  const double* qd = q.data();
+  const double* rd = r.data();
+  double* Xd = X.data();
+  double* Ud = U.data();
+  const double* Ginv0 = QuuInv_.data();
+  const double* GB0 = QuuInvBt_.data();
+  const double* AclT0 = AclT_.data();
+  const double* K0 = K_.data();
+  const double* e0 = e_.data();
+  double* D0 = D_.data();
+  // fixed-size locals live on the stack; the dynamic instantiation uses the preallocated members
+  Map<VX> p(p_.data(), n), w(w_.data(), n), x(tmp_nx_.data(), n), xn(miss_.data(), n);
+  Map<VU> u(tmp_nu_.data(), m);
   if (terminal_) {
     p.setZero();
   } else {
-    p = q.col(N);
+    p = Map<const VX>(qd + N * qs, n);
   }
   for (Index k = N - 1; k >= 0; --k) {
     if (has_c) {
-      w = p + e_.col(k);
+      w = p + Map<const VX>(e0 + k * n, n);
     } else {
       w = p;
     }
-    Map<const VU> rk(r.col(k).data(), m);
-    Map<VU> dk(D_.col(k).data(), m);
-    Map<const MUU> Ginv(QuuInv_.col(k * m).data(), m, m);
-    Map<const MUX> GB(QuuInvBt_.col(k * n).data(), m, n);
-    Map<const MXX> AclT(AclT_.col(k * n).data(), n, n);
-    Map<const MUX> K(K_.col(k * n).data(), m, n);
+    Map<const VU> rk(rd + k * rs, m);
+    Map<VU> dk(D0 + k * m, m);
+    Map<const MUU> Ginv(Ginv0 + k * m * m, m, m);
+    Map<const MUX> GB(GB0 + k * m * n, m, n);
+    Map<const MXX> AclT(AclT0 + k * n * n, n, n);
+    Map<const MUX> K(K0 + k * m * n, m, n);
     dk.noalias() = Ginv * rk;
     dk.noalias() += GB * w;
-    p.noalias() = AclT * w;
-    p.noalias() -= K.transpose() * rk;
-    p += q.col(k);
+    // off the dependency chain first, then one tree-summed n x n product on it
+    xn.noalias() = K.transpose() * rk;  // products assigned alone: no temporary in the dynamic path
+    xn = Map<const VX>(qd + k * qs, n) - xn;
+    tree_matvec_add<NX>(AclT, w, xn, p);
   }
-  Map<VX> x(tmp_nx_.data(), n);
-  Map<VU> u(tmp_nu_.data(), m);
+  // forward: u_k = -K_k x_k - d_k and x_{k+1} = (A - B K)_k x_k - B_k d_k + c_k: the chain is one
+  // tree-summed n x n product; the control and the affine part are off it
+  const double* Acl0 = Acl_.data();
   x = x0;
-  X.col(0) = x;
+  Map<VX>(Xd, n) = x;
   for (Index k = 0; k < N; ++k) {
-    Map<const MUX> K(K_.col(k * n).data(), m, n);
-    const MatrixXd& Ad = dyn_.A_at(static_cast<int>(k));
-    const MatrixXd& Bd = dyn_.B_at(static_cast<int>(k));
-    Map<const MXX> A(Ad.data(), n, n);
-    Map<const MXU> B(Bd.data(), n, m);
+    Map<const MUX> K(K0 + k * m * n, m, n);
+    Map<const MXX> Acl(Acl0 + k * n * n, n, n);
+    Map<const MXU> B(ti ? dyn_.B[0].data() : dyn_.B_at(static_cast<int>(k)).data(), n, m);
+    Map<const VU> dk(D0 + k * m, m);
     u.noalias() = K * x;
-    u = -u - D_.col(k);
-    U.col(k) = u;
-    Map<VX> xn(X.col(k + 1).data(), n);
-    xn.noalias() = A * x;
-    xn.noalias() += B * u;
-    if (has_c) xn += dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k];
+    u = -u - dk;
+    Map<VU>(Ud + k * us, m) = u;
+    w.noalias() = B * dk;
+    w = -w;
+    if (has_c) w += Map<const VX>(c_const ? dyn_.c[0].data() : dyn_.c[k].data(), n);
+    tree_matvec_add<NX>(Acl, x, w, xn);
+    Map<VX>(Xd + (k + 1) * xs, n) = xn;
     x = xn;
   }
 }
 
+template <int NX, int NU>
 RiccatiStatus RiccatiSolver::apply_terminal(const Eigen::Ref<const VectorXd>& xf, Eigen::Ref<MatrixXd> X,
                                             Eigen::Ref<MatrixXd> U) noexcept {
+  using VX = Matrix<double, NX, 1>;
+  using VU = Matrix<double, NU, 1>;
+  using MXX = Matrix<double, NX, NX>;
+  using MUX = Matrix<double, NU, NX>;
   const Index n = nx_, m = nu_, N = N_;
-  miss_ = xf - X.col(N);
-  const double miss0 = miss_.norm();
-  nu_term_.noalias() = Spinv_ * miss_;
+  const Index xs = X.outerStride(), us = U.outerStride();
+  Map<VX> miss(miss_.data(), n), nt(nu_term_.data(), n);
+  miss = Map<const VX>(xf.data(), n) - Map<const VX>(X.data() + N * xs, n);
+  const double miss0 = miss.norm();
+  nt.noalias() = Map<const MXX>(Spinv_.data(), n, n) * miss;
+  const double* T0 = T_.data();
+  const double* Z0 = Z_.data();
+  double* Xd = X.data();
+  double* Ud = U.data();
   for (Index k = 0; k < N; ++k) {
-    U.col(k).noalias() += T_.middleCols(k * n, n) * nu_term_;
-    X.col(k + 1).noalias() += Z_.middleCols((k + 1) * n, n) * nu_term_;
+    Map<VU>(Ud + k * us, m).noalias() += Map<const MUX>(T0 + k * m * n, m, n) * nt;
+    Map<VX>(Xd + (k + 1) * xs, n).noalias() += Map<const MXX>(Z0 + (k + 1) * n * n, n, n) * nt;
   }
-  (void)m;
   if (rank_ < n) {
     const double after = (xf - X.col(N)).norm();
     if (after > 1e-6 * std::max(miss0, xf.norm()) && after > 1e-300) return RiccatiStatus::kTerminalUnreachable;
@@ -297,11 +342,10 @@ RiccatiStatus RiccatiSolver::solve(const Eigen::Ref<const VectorXd>& x0, const E
   if (!factored_) return RiccatiStatus::kNotFactored;
   if (nx_ == 6 && nu_ == 3) {
     affine_sweep<6, 3>(x0, q, r, X, U);
-  } else {
-    affine_sweep<Dynamic, Dynamic>(x0, q, r, X, U);
+    return terminal_ ? apply_terminal<6, 3>(xf, X, U) : RiccatiStatus::kOk;
   }
-  if (terminal_) return apply_terminal(xf, X, U);
-  return RiccatiStatus::kOk;
+  affine_sweep<Dynamic, Dynamic>(x0, q, r, X, U);
+  return terminal_ ? apply_terminal<Dynamic, Dynamic>(xf, X, U) : RiccatiStatus::kOk;
 }
 
 RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const VectorXd>& x0,
@@ -372,7 +416,9 @@ RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const Vecto
     tmp_nx_ = X.col(k + 1);
   }
   (void)m;
-  if (terminal_) return apply_terminal(xf, X, U);
+  if (terminal_) {
+    return nx_ == 6 && nu_ == 3 ? apply_terminal<6, 3>(xf, X, U) : apply_terminal<Dynamic, Dynamic>(xf, X, U);
+  }
   return RiccatiStatus::kOk;
 }
 

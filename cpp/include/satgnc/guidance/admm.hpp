@@ -15,6 +15,7 @@
 ///   AdmmSolver s(problem, settings);  // validates, allocates (throws std::invalid_argument)
 ///   const AdmmResult& r = s.solve();  // never throws, never allocates; see r.info.status
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "satgnc/guidance/riccati.hpp"
@@ -147,13 +148,20 @@ class AdmmSolver {
   double objective_of(const Eigen::Ref<const Eigen::MatrixXd>& U) const;
 
  private:
-  void prox(Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<Eigen::VectorXd> y, double rho) const noexcept;
   double control_cost(const Eigen::Ref<const Eigen::VectorXd>& u) const noexcept;
   double trajectory_objective(const Eigen::Ref<const Eigen::MatrixXd>& X,
                               const Eigen::Ref<const Eigen::MatrixXd>& U) const noexcept;
   void rollout(const Eigen::Ref<const Eigen::MatrixXd>& U, Eigen::Ref<Eigen::MatrixXd> X) const noexcept;
   void update_linear_terms() noexcept;
   bool try_polish() noexcept;
+  /// Per-iteration statistics of the fused relaxation / prox / multiplier pass.
+  struct PassStats {
+    double prim = 0.0, dual = 0.0, fro2 = 0.0, nU = 0.0, nY = 0.0, nL = 0.0;
+    std::uint64_t signature = 0;  ///< hash of the active set of Y (zero / bound / free sign)
+    int nfree = 0;
+  };
+  template <int NU>
+  PassStats admm_pass(double rho, double a) noexcept;
 
   LtvProblem prob_;
   AdmmSettings set_;
@@ -166,7 +174,7 @@ class AdmmSolver {
   Eigen::MatrixXd q_;     ///< linear state terms nx x (N+1) from Q, Qf and x_f
   Eigen::MatrixXd r_;     ///< linear control terms nu x N (Lambda - rho Y)
   Eigen::MatrixXd Yws_, Lws_;  ///< warm start
-  Eigen::MatrixXd bX_, bU_, bY_, bL_;  ///< best iterate
+  Eigen::MatrixXd bU_, bY_, bL_;  ///< best iterate (X recomputed from U)
   Eigen::VectorXd v_, ynew_, uhat_, utmp_;
   mutable Eigen::VectorXd xtmp_, xtmp2_;  ///< scratch of the const objective evaluation
   AdmmResult res_;

@@ -96,6 +96,7 @@ class RiccatiSolver {
   void affine_sweep(const Eigen::Ref<const Eigen::VectorXd>& x0, const Eigen::Ref<const Eigen::MatrixXd>& q,
                     const Eigen::Ref<const Eigen::MatrixXd>& r, Eigen::Ref<Eigen::MatrixXd> X,
                     Eigen::Ref<Eigen::MatrixXd> U) noexcept;
+  template <int NX, int NU>
   RiccatiStatus apply_terminal(const Eigen::Ref<const Eigen::VectorXd>& xf, Eigen::Ref<Eigen::MatrixXd> X,
                                Eigen::Ref<Eigen::MatrixXd> U) noexcept;
   bool factor_stage(int k, double rho) noexcept;
@@ -109,8 +110,8 @@ class RiccatiSolver {
   int factorizations_ = 0;
   int rank_ = 0;
 
-  // cached per stage (blocks side by side): P_k, K_k, (A-BK)', Quu^-1, Quu^-1 B', P_{k+1} c_k
-  Eigen::MatrixXd P_, K_, AclT_, QuuInv_, QuuInvBt_, e_;
+  // cached per stage (blocks side by side): P_k, K_k, (A-BK)', A-BK, Quu^-1, Quu^-1 B', P_{k+1} c_k
+  Eigen::MatrixXd P_, K_, AclT_, Acl_, QuuInv_, QuuInvBt_, e_;
   // terminal-constraint responses to a unit multiplier: controls T_k, states Z_k; sensitivity S
   Eigen::MatrixXd T_, Z_, S_, Spinv_, eigvec_;
   Eigen::VectorXd eigval_;
