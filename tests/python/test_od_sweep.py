@@ -32,8 +32,9 @@ def test_map_same_result_serial_and_process():
     np.testing.assert_allclose(a[:, 4:], b[:, 4:], rtol=0, atol=0)
 
 
-@pytest.mark.skipif(not dask_available(), reason="dask.distributed not installed")
 def test_dask_local_cluster():
+    # dask[distributed] is a test requirement (requirements-dev.txt): the Dask executor is always tested.
+    assert dask_available()
     from dask.distributed import Client, LocalCluster
 
     g = paper.map_box_guesses(8, seed=6)
