@@ -181,7 +181,7 @@ bool RiccatiSolver::factor_stage(int k, double rho) noexcept {
 bool RiccatiSolver::factor(double rho) noexcept {
   factored_ = false;
   if (nx_ == 0 || !(rho >= 0.0) || !std::isfinite(rho)) return false;
-  const Index n = nx_, m = nu_, N = N_;
+  const Index n = nx_, N = N_;
   // Under x_N = x_f the terminal cost is constant on the feasible set: dropping it is exact and
   // avoids the cancellation between a large Qf and the terminal multiplier.
   if (terminal_) {
