@@ -111,7 +111,9 @@ void init_guidance(py::module_& m) {
       .def_readwrite("polish", &AdmmSettings::polish)
       .def_readwrite("polish_interval", &AdmmSettings::polish_interval)
       .def_readwrite("polish_max_free", &AdmmSettings::polish_max_free)
-      .def_readwrite("polish_tolerance", &AdmmSettings::polish_tolerance);
+      .def_readwrite("polish_tolerance", &AdmmSettings::polish_tolerance)
+      .def_readwrite("polish_dual", &AdmmSettings::polish_dual)
+      .def_readwrite("polish_swaps", &AdmmSettings::polish_swaps);
 
   py::class_<AdmmSolver>(m, "AdmmSolver")
       .def(py::init([](std::vector<Eigen::MatrixXd> A, std::vector<Eigen::MatrixXd> B,

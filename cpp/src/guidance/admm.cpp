@@ -53,6 +53,7 @@ void AdmmSettings::validate() const {
   require(rho_min <= rho_max, "rho_min", "must be <= rho_max");
   require(polish_interval >= 1, "polish_interval", "must be >= 1");
   require(polish_max_free >= 0, "polish_max_free", "must be >= 0");
+  require(polish_swaps >= 0, "polish_swaps", "must be >= 0");
   core::require_positive(polish_tolerance, "polish_tolerance");
   require(paper_global_rescale_iterations >= 0, "paper_global_rescale_iterations", "must be >= 0");
 }
@@ -132,6 +133,7 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   res_.Lambda.setZero(nu_, N_);
   res_.X_flown.setZero(nx_, N_ + 1);
   res_.terminal_multiplier.setZero(nx_);
+  Gd_.setZero(nu_, N_);
   // polish needs Q = 0, plain L1 (+ box straddling zero); see AdmmSettings::polish
   polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
                (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
@@ -152,6 +154,11 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
     grad_.setZero(nu_, N_);
     pN_.setZero(nx_);
     free_idx_.assign(static_cast<std::size_t>(fmax_), 0);
+    fsign_.assign(static_cast<std::size_t>(fmax_), 0.0);
+    dual_ok_ = prob_.R.size() == 0 && w_.minCoeff() > 0.0 && fmax_ >= nx_;
+    winv_ = w_.cwiseInverse();
+    seld_.assign(static_cast<std::size_t>(nx_ + 1), 0.0);
+    seli_.assign(static_cast<std::size_t>(nx_ + 1), 0);
   }
 }
 
@@ -202,12 +209,19 @@ bool AdmmSolver::try_polish() noexcept {
         Up_(i, k) = y;
       } else {
         if (F >= fmax_) return false;
+        fsign_[static_cast<std::size_t>(F)] = y > 0.0 ? 1.0 : -1.0;
         free_idx_[static_cast<std::size_t>(F++)] = k * nu_ + i;
         Up_(i, k) = 0.0;
       }
     }
   }
   if (term && F < nx_) return false;  // generic vertex needs nx free entries to meet x_N = x_f
+  // rank by closeness of the dual estimate to the free condition |G_i| = w_i, or by |Y| without it
+  const auto rank_score = [&](int j) {
+    const int i = j % nu_, k = j / nu_;
+    if (dual_ok_) return -std::abs(std::abs(Gd_(i, k) * winv_(i)) - 1.0);
+    return std::abs(Y(i, k));
+  };
   if (F > nx_ && prob_.R.size() == 0) {
     // Without R the reduced problem has at most nx independent free entries (a vertex): keep the
     // nx largest; the rest are taken as zeros. The optimality check below guards the guess.
@@ -215,12 +229,138 @@ bool AdmmSolver::try_polish() noexcept {
       int best = t;
       for (int a = t + 1; a < F; ++a) {
         const int ja = free_idx_[static_cast<std::size_t>(a)], jb = free_idx_[static_cast<std::size_t>(best)];
-        if (std::abs(Y(ja % nu_, ja / nu_)) > std::abs(Y(jb % nu_, jb / nu_))) best = a;
+        if (rank_score(ja) > rank_score(jb)) best = a;
       }
       std::swap(free_idx_[static_cast<std::size_t>(t)], free_idx_[static_cast<std::size_t>(best)]);
+      std::swap(fsign_[static_cast<std::size_t>(t)], fsign_[static_cast<std::size_t>(best)]);
     }
     F = nx_;
   }
+  return polish_solve(F);
+}
+
+// Active-set guess from the dual estimate G = -grad f(U) (stored by the ADMM pass; with R = 0 it is
+// B_k' Phi(N, k+1)' p_N, a smooth function of the nx-dimensional terminal costate that converges
+// long before Y's sparsity pattern settles). Optimality of L1 + box: u = 0 iff |G_i| <= w_i, u at a
+// bound iff G_i beyond +-w_i on its side, u free iff |G_i| = w_i. The free set is taken as the
+// entries with |G_i| / w_i closest to 1: nx of them with the terminal constraint (a vertex), else
+// as many (1..nx) as the largest relative jump in that distance says. Builds the candidate in Up_,
+// free_idx_, fsign_ and returns its free count (0: no candidate) and its signature.
+int AdmmSolver::dual_candidate(std::uint64_t& signature) noexcept {
+  const int keep = nx_ + 1;
+  int nk = 0;
+  std::uint64_t h = 1469598103934665603ULL;
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double t = Gd_(i, k) * winv_(i);
+      double u = 0.0;
+      if (t > 1.0 && hi_(i) < std::numeric_limits<double>::infinity()) u = hi_(i);
+      if (t < -1.0 && lo_(i) > -std::numeric_limits<double>::infinity()) u = lo_(i);
+      Up_(i, k) = u;
+      const double d = std::abs(std::abs(t) - 1.0);
+      if (nk < keep || d < seld_[static_cast<std::size_t>(nk - 1)]) {
+        int pos = nk < keep ? nk++ : keep - 1;
+        while (pos > 0 && seld_[static_cast<std::size_t>(pos - 1)] > d) {
+          seld_[static_cast<std::size_t>(pos)] = seld_[static_cast<std::size_t>(pos - 1)];
+          seli_[static_cast<std::size_t>(pos)] = seli_[static_cast<std::size_t>(pos - 1)];
+          --pos;
+        }
+        seld_[static_cast<std::size_t>(pos)] = d;
+        seli_[static_cast<std::size_t>(pos)] = k * nu_ + i;
+      }
+    }
+  }
+  const int F = std::min(nx_, nk);
+  // second guess (smaller free set): where the sorted distances jump most
+  gap_F_ = F;
+  if (!prob_.terminal_equality && nk == keep) {
+    double jump = 0.0;
+    for (int f = 1; f <= nx_; ++f) {
+      const double ratio = seld_[static_cast<std::size_t>(f)] / std::max(seld_[static_cast<std::size_t>(f - 1)], 1e-300);
+      if (ratio > jump) {
+        jump = ratio;
+        gap_F_ = f;
+      }
+    }
+  }
+  for (int a = 0; a < F; ++a) {
+    const int j = seli_[static_cast<std::size_t>(a)];
+    const double t = Gd_(j % nu_, j / nu_);
+    free_idx_[static_cast<std::size_t>(a)] = j;
+    fsign_[static_cast<std::size_t>(a)] = t > 0.0 ? 1.0 : -1.0;
+    Up_(j % nu_, j / nu_) = 0.0;
+  }
+  // signature: fixed values and free entries with signs (order of free_idx_ does not matter)
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double u = Up_(i, k);
+      h = (h ^ (u == 0.0 ? 0u : (u > 0.0 ? 1u : 2u))) * 1099511628211ULL;
+    }
+  }
+  std::uint64_t hf = 0;
+  for (int a = 0; a < F; ++a) {
+    hf += (static_cast<std::uint64_t>(free_idx_[static_cast<std::size_t>(a)]) * 2654435761ULL) ^
+          (fsign_[static_cast<std::size_t>(a)] > 0.0 ? 0x9e3779b97f4a7c15ULL : 0x7f4a7c159e3779b9ULL);
+  }
+  signature = h ^ (hf * 0xff51afd7ed558ccdULL) ^ static_cast<std::uint64_t>(F);
+  return F;
+}
+
+// Local repair of a rejected guess: the dual estimate's free set is usually off by a neighbour in
+// time (the switching function |G_i| / w_i is smooth in k), so free the most violated fixed entry in
+// place of the free entry of the same axis nearest in time (within 2 steps), or in addition if there
+// is room, and solve again; at most polish_swaps times.
+bool AdmmSolver::polish_swaps(int& F) noexcept {
+  for (int sweep = 0; sweep < set_.polish_swaps && (viol_j_ >= 0 || bad_a_ >= 0); ++sweep) {
+    if (bad_a_ >= 0 && !prob_.terminal_equality) {
+      if (F <= 1) return false;
+      // a free entry left its sign or box: fix it there (zero or the bound) and drop it
+      for (int a = 0; a < F; ++a) {
+        const int fa = free_idx_[static_cast<std::size_t>(a)];
+        Up_(fa % nu_, fa / nu_) = 0.0;
+      }
+      const int fb = free_idx_[static_cast<std::size_t>(bad_a_)];
+      Up_(fb % nu_, fb / nu_) = bad_val_;
+      free_idx_[static_cast<std::size_t>(bad_a_)] = free_idx_[static_cast<std::size_t>(F - 1)];
+      fsign_[static_cast<std::size_t>(bad_a_)] = fsign_[static_cast<std::size_t>(F - 1)];
+      --F;
+      ++res_.info.polish_attempts;
+      if (F > 0 && polish_solve(F)) return true;
+      continue;
+    }
+    if (viol_j_ < 0) return false;
+    const int j = viol_j_, kj = j / nu_, ij = j % nu_;
+    int partner = -1, best = 3;
+    for (int a = 0; a < F; ++a) {
+      const int fa = free_idx_[static_cast<std::size_t>(a)];
+      Up_(fa % nu_, fa / nu_) = 0.0;
+      const int dk = std::abs(fa / nu_ - kj);
+      if (fa % nu_ == ij && dk < best) {
+        best = dk;
+        partner = a;
+      }
+    }
+    if (partner < 0) {
+      if (prob_.terminal_equality || F >= std::min(nx_, fmax_)) return false;
+      partner = F++;
+    }
+    free_idx_[static_cast<std::size_t>(partner)] = j;
+    fsign_[static_cast<std::size_t>(partner)] = viol_sign_;
+    Up_(ij, kj) = 0.0;
+    ++res_.info.polish_attempts;
+    if (polish_solve(F)) return true;
+  }
+  return false;
+}
+
+// Reduced KKT solve and optimality certificate for the candidate in Up_ (fixed entries; free ones
+// zero), free_idx_[0..F) and their signs fsign_[0..F).
+bool AdmmSolver::polish_solve(int F) noexcept {
+  const bool term = prob_.terminal_equality;
+  bool fail = false;
+  viol_j_ = -1;
+  bad_a_ = -1;
+  double bad_out = 0.0;
   rollout(Up_, Xp_);                   // fixed part, x_N^fix in Xp_.col(N)
   const int M = F + (term ? nx_ : 0);  // compact system: free entries, then the terminal multiplier
   for (int a = 0; a < F; ++a) {
@@ -231,7 +371,7 @@ bool AdmmSolver::try_polish() noexcept {
   xtmp_ = Xp_.col(N_) - prob_.xf;
   for (int a = 0; a < F; ++a) {
     const int ka = free_idx_[static_cast<std::size_t>(a)] / nu_, ia = free_idx_[static_cast<std::size_t>(a)] % nu_;
-    const double sa = Y(ia, ka) > 0.0 ? 1.0 : -1.0;
+    const double sa = fsign_[static_cast<std::size_t>(a)];
     rhs_(a) = -w_(ia) * sa;
     if (!term) {
       xtmp2_.noalias() = prob_.Qf * GF_.col(a);
@@ -258,8 +398,17 @@ bool AdmmSolver::try_polish() noexcept {
   for (int a = 0; a < F; ++a) {
     const int k = free_idx_[static_cast<std::size_t>(a)] / nu_, i = free_idx_[static_cast<std::size_t>(a)] % nu_;
     const double u = sol_(a);
-    const double s = Y(i, k) > 0.0 ? 1.0 : -1.0;
-    if (u * s < 0.0 || u < lo_(i) || u > hi_(i)) return false;
+    const double s = fsign_[static_cast<std::size_t>(a)];
+    // still evaluated: the violations guide a repair (polish_swaps)
+    const double out = std::max({-u * s, lo_(i) - u, u - hi_(i)});
+    if (out > 0.0) {
+      fail = true;
+      if (out > bad_out) {
+        bad_out = out;
+        bad_a_ = a;
+        bad_val_ = u > hi_(i) ? hi_(i) : (u < lo_(i) ? lo_(i) : 0.0);
+      }
+    }
     Up_(i, k) = u;
   }
   rollout(Up_, Xp_);
@@ -270,23 +419,37 @@ bool AdmmSolver::try_polish() noexcept {
     pN_.noalias() = prob_.Qf * xtmp_;
   }
   // gradient of the smooth part: B_k' Phi(N, k+1)' pN + R u_k; check the L1/box optimality conditions
+  // and remember the most violated fixed entry (the one a swap would free)
+  viol_j_ = -1;
+  double vmax = 0.0;
   for (int k = 0; k < N_; ++k) {
     xtmp2_.noalias() = Psi_.middleCols(k * nx_, nx_).transpose() * pN_;
     grad_.col(k).noalias() = prob_.dynamics.B_at(k).transpose() * xtmp2_;
     if (prob_.R.size() != 0) grad_.col(k).noalias() += prob_.R * Up_.col(k);
     for (int i = 0; i < nu_; ++i) {
       const double u = Up_(i, k), gk = grad_(i, k), w = w_(i);
+      double v;
       if (u == 0.0) {
-        if (std::abs(gk) > w + tol) return false;
+        v = std::abs(gk) - w;
       } else if (u == hi_(i)) {
-        if (gk + w > tol) return false;
+        v = gk + w;
       } else if (u == lo_(i)) {
-        if (gk - w < -tol) return false;
-      } else if (std::abs(gk + (u > 0.0 ? w : -w)) > tol) {
-        return false;
+        v = w - gk;
+      } else {
+        if (std::abs(gk + (u > 0.0 ? w : -w)) > tol) fail = true;
+        continue;
+      }
+      if (v > tol) {
+        fail = true;
+        if (v > vmax) {
+          vmax = v;
+          viol_j_ = k * nu_ + i;
+          viol_sign_ = gk < 0.0 ? 1.0 : -1.0;
+        }
       }
     }
   }
+  if (fail) return false;
   res_.U = Up_;
   res_.Y = Up_;
   res_.X = Xp_;
@@ -424,6 +587,7 @@ AdmmSolver::PassStats AdmmSolver::admm_pass(double rho, double a) noexcept {
   double* Y = res_.Y.data();
   double* L = res_.Lambda.data();
   double* R = r_.data();
+  double* G = Gd_.data();
   const double* w = w_.data();
   const double* lo = lo_.data();
   const double* hi = hi_.data();
@@ -433,7 +597,8 @@ AdmmSolver::PassStats AdmmSolver::admm_pass(double rho, double a) noexcept {
   int nfree = 0;
   for (int k = 0; k < N_; ++k) {
     Eigen::Map<const VU> u(U + k * m, m);
-    Eigen::Map<VU> y(Y + k * m, m), l(L + k * m, m), rk(R + k * m, m);
+    Eigen::Map<VU> y(Y + k * m, m), l(L + k * m, m), rk(R + k * m, m), g(G + k * m, m);
+    g = l + rho * (u - y);  // -grad f(U): the dual estimate of the active-set guess
     uhat = a * u + (1.0 - a) * y;
     v = uhat + inv_rho * l;
     prox_stage(v, yn, w, lo, hi, inv_rho, wg, umax, has_l1_, has_group_, has_box_, has_ball_);
@@ -493,8 +658,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   if (!ok) status = AdmmStatus::kNumericalError;
   bool r_valid = false;  // r_ = Lambda - rho Y is produced by the previous pass
   const bool polish_on = polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
-  std::uint64_t prev_sig = 0, tried_sig = 0;
-  bool have_prev = false, have_tried = false;
+  std::uint64_t prev_sig = 0, tried_sig = 0, prev_dsig = 0, tried_dsig = 0;
+  bool have_prev = false, have_tried = false, have_dprev = false, have_dtried = false;
   while (ok && it < set_.max_iterations) {
     ++it;
     if (!r_valid) r_ = L - rho * Y;
@@ -546,6 +711,24 @@ const AdmmResult& AdmmSolver::solve() noexcept {
         bU_ = U;
         bY_ = Y;
         bL_ = L;
+      }
+    }
+    if (polish_on && dual_ok_ && set_.polish_dual) {
+      std::uint64_t dsig = 0;
+      int F = dual_candidate(dsig);
+      const bool stable = have_dprev && dsig == prev_dsig;
+      const bool fresh = !have_dtried || dsig != tried_dsig;
+      prev_dsig = dsig;
+      have_dprev = true;
+      if (F > 0 && fresh && (stable || it % set_.polish_interval == 0)) {
+        tried_dsig = dsig;
+        have_dtried = true;
+        ++res_.info.polish_attempts;
+        if (polish_solve(F) || polish_swaps(F)) {
+          info.polished = true;
+          status = AdmmStatus::kSolved;
+          break;
+        }
       }
     }
     if (polish_on) {

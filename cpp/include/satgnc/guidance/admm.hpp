@@ -69,6 +69,11 @@ struct AdmmSettings {
   int polish_interval = 5;         ///< >= 1
   int polish_max_free = 0;         ///< largest free set classified; 0 = 8 nx (capped at N nu)
   double polish_tolerance = 1e-7;  ///< relative tolerance of the optimality check
+  /// Also guess the active set from the dual estimate -grad f(U) (L1 weights all > 0, no R): free
+  /// where |grad_i| / w_i is nearest 1, zero / bound on either side; tried when the guess repeats or
+  /// every polish_interval iterations; it identifies the optimum earlier than Y's sparsity pattern.
+  bool polish_dual = true;
+  int polish_swaps = 3;            ///< local repairs of a rejected dual guess (>= 0; one KKT solve each)
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
 };
@@ -140,6 +145,8 @@ class AdmmSolver {
   const AdmmSettings& settings() const { return set_; }
   const LtvProblem& problem() const { return prob_; }
   const RiccatiSolver& riccati() const { return ric_; }
+  /// Dual estimate -grad f(U) of the last iteration (nu x N; used by the active-set polish).
+  const Eigen::MatrixXd& dual_estimate() const { return Gd_; }
   int nx() const { return nx_; }
   int nu() const { return nu_; }
   int horizon() const { return N_; }
@@ -154,6 +161,9 @@ class AdmmSolver {
   void rollout(const Eigen::Ref<const Eigen::MatrixXd>& U, Eigen::Ref<Eigen::MatrixXd> X) const noexcept;
   void update_linear_terms() noexcept;
   bool try_polish() noexcept;
+  int dual_candidate(std::uint64_t& signature) noexcept;
+  bool polish_solve(int F) noexcept;
+  bool polish_swaps(int& F) noexcept;
   /// Per-iteration statistics of the fused relaxation / prox / multiplier pass.
   struct PassStats {
     double prim = 0.0, dual = 0.0, fro2 = 0.0, nU = 0.0, nY = 0.0, nL = 0.0;
@@ -185,6 +195,17 @@ class AdmmSolver {
   Eigen::MatrixXd GF_, KKT_, Up_, Xp_, grad_;
   Eigen::VectorXd rhs_, sol_, pN_;
   std::vector<int> free_idx_;
+  std::vector<double> fsign_;
+  int gap_F_ = 0;               ///< free count of the dual guess by the largest jump in distance
+  int viol_j_ = -1;              ///< most violated fixed entry of the last rejected polish (k nu + i)
+  double viol_sign_ = 0.0;
+  int bad_a_ = -1;               ///< free entry (position) furthest outside its sign / box
+  double bad_val_ = 0.0;         ///< where it is fixed by the repair
+  bool dual_ok_ = false;         ///< all L1 weights > 0: active-set guess from the dual estimate
+  Eigen::MatrixXd Gd_;          ///< dual estimate -grad f(U) = Lambda + rho (U - Y_prev), nu x N
+  Eigen::VectorXd winv_;
+  std::vector<double> seld_;
+  std::vector<int> seli_;
 };
 
 }  // namespace satgnc::guidance
