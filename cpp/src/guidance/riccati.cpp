@@ -103,6 +103,8 @@ void RiccatiSolver::setup(const LtvDynamics& dyn, const MatrixXd& Q, const Matri
   QuuInvBt_.setZero(m, n * N);
   e_.setZero(n, N);
   D_.setZero(m, N);
+  Hbuf_.setZero(n, N);
+  Wbuf_.setZero(n, N);
   K2_.setZero(m, n * N);
   D2_.setZero(m, N);
   Inu_ = MatrixXd::Identity(m, m);
@@ -308,6 +310,68 @@ void RiccatiSolver::affine_sweep(const Eigen::Ref<const VectorXd>& x0, const Eig
   }
 }
 
+// The (6, 3) kernel: every vector is a local fixed-size value (kept in registers, no aliasing with
+// the outputs), and each serial recursion is a loop of one tree-summed 6x6 product plus one add, with
+// everything else moved to independent passes over the stages:
+//   pass 1 (independent): h_k = q_k - K_k' r_k
+//   chain 1 (backward):   w_k = p_{k+1} + e_k (stored),  p_k = Acl_k' w_k + h_k
+//   pass 2 (independent): d_k = Quu_k^-1 r_k + (Quu_k^-1 B_k') w_k,  f_k = c_k - B_k d_k
+//   chain 2 (forward):    x_{k+1} = Acl_k x_k + f_k, then (independent) u_k = -K_k x_k - d_k.
+void RiccatiSolver::affine_sweep_63(const Eigen::Ref<const VectorXd>& x0, const Eigen::Ref<const MatrixXd>& q,
+                                    const Eigen::Ref<const MatrixXd>& r, Eigen::Ref<MatrixXd> X,
+                                    Eigen::Ref<MatrixXd> U) noexcept {
+  using V6 = Matrix<double, 6, 1>;
+  using V3 = Matrix<double, 3, 1>;
+  using M6 = Matrix<double, 6, 6>;
+  using M36 = Matrix<double, 3, 6>;
+  using M33 = Matrix<double, 3, 3>;
+  using M63 = Matrix<double, 6, 3>;
+  const Index N = N_;
+  const bool has_c = !dyn_.c.empty();
+  const bool c_const = dyn_.c.size() == 1;
+  const bool ti = dyn_.B.size() == 1;
+  const Index qs = q.outerStride(), rs = r.outerStride(), xs = X.outerStride(), us = U.outerStride();
+  const double* qd = q.data();
+  const double* rd = r.data();
+  double* Xd = X.data();
+  double* Ud = U.data();
+  const double* K0 = K_.data();
+  const double* AclT0 = AclT_.data();
+  const double* Acl0 = Acl_.data();
+  const double* Ginv0 = QuuInv_.data();
+  const double* GB0 = QuuInvBt_.data();
+  const double* e0 = e_.data();
+  double* H0 = Hbuf_.data();  // h_k, then f_k
+  double* W0 = Wbuf_.data();  // w_k
+  double* D0 = D_.data();
+  const double* c0 = has_c ? dyn_.c[0].data() : nullptr;
+  V6 p = terminal_ ? V6::Zero() : V6(Map<const V6>(qd + N * qs));
+  for (Index k = N - 1; k >= 0; --k) {
+    const V6 w = has_c ? V6(p + Map<const V6>(e0 + 6 * k)) : p;
+    const V3 rk = Map<const V3>(rd + k * rs);
+    const Map<const M6> AT(AclT0 + 36 * k);
+    // off the chain: d_k, f_k = c_k - B_k d_k, h_k = q_k - K_k' r_k
+    const V3 d = Map<const M33>(Ginv0 + 9 * k) * rk + Map<const M36>(GB0 + 18 * k) * w;
+    Map<V3>(D0 + 3 * k) = d;
+    const Map<const M63> B(ti ? dyn_.B[0].data() : dyn_.B[static_cast<std::size_t>(k)].data());
+    V6 f = -(B * d);
+    if (has_c) f += Map<const V6>(c_const ? c0 : dyn_.c[static_cast<std::size_t>(k)].data());
+    Map<V6>(H0 + 6 * k) = f;
+    const V6 h = Map<const V6>(qd + k * qs) - Map<const M36>(K0 + 18 * k).transpose() * rk;
+    p = (((AT.col(0) * w(0) + AT.col(1) * w(1)) + (AT.col(2) * w(2) + AT.col(3) * w(3))) +
+         (AT.col(4) * w(4) + AT.col(5) * w(5))) + h;
+  }
+  V6 x = Map<const V6>(x0.data());
+  Map<V6>(Xd + 0) = x;
+  for (Index k = 0; k < N; ++k) {
+    const Map<const M6> Ac(Acl0 + 36 * k);
+    Map<V3>(Ud + k * us) = -(Map<const M36>(K0 + 18 * k) * x) - Map<const V3>(D0 + 3 * k);
+    x = (((Ac.col(0) * x(0) + Ac.col(1) * x(1)) + (Ac.col(2) * x(2) + Ac.col(3) * x(3))) +
+         (Ac.col(4) * x(4) + Ac.col(5) * x(5))) + Map<const V6>(H0 + 6 * k);
+    Map<V6>(Xd + (k + 1) * xs) = x;
+  }
+}
+
 template <int NX, int NU>
 RiccatiStatus RiccatiSolver::apply_terminal(const Eigen::Ref<const VectorXd>& xf, Eigen::Ref<MatrixXd> X,
                                             Eigen::Ref<MatrixXd> U) noexcept {
@@ -341,7 +405,7 @@ RiccatiStatus RiccatiSolver::solve(const Eigen::Ref<const VectorXd>& x0, const E
                                    Eigen::Ref<MatrixXd> X, Eigen::Ref<MatrixXd> U) noexcept {
   if (!factored_) return RiccatiStatus::kNotFactored;
   if (nx_ == 6 && nu_ == 3) {
-    affine_sweep<6, 3>(x0, q, r, X, U);
+    affine_sweep_63(x0, q, r, X, U);
     return terminal_ ? apply_terminal<6, 3>(xf, X, U) : RiccatiStatus::kOk;
   }
   affine_sweep<Dynamic, Dynamic>(x0, q, r, X, U);

@@ -96,6 +96,9 @@ class RiccatiSolver {
   void affine_sweep(const Eigen::Ref<const Eigen::VectorXd>& x0, const Eigen::Ref<const Eigen::MatrixXd>& q,
                     const Eigen::Ref<const Eigen::MatrixXd>& r, Eigen::Ref<Eigen::MatrixXd> X,
                     Eigen::Ref<Eigen::MatrixXd> U) noexcept;
+  void affine_sweep_63(const Eigen::Ref<const Eigen::VectorXd>& x0, const Eigen::Ref<const Eigen::MatrixXd>& q,
+                       const Eigen::Ref<const Eigen::MatrixXd>& r, Eigen::Ref<Eigen::MatrixXd> X,
+                       Eigen::Ref<Eigen::MatrixXd> U) noexcept;
   template <int NX, int NU>
   RiccatiStatus apply_terminal(const Eigen::Ref<const Eigen::VectorXd>& xf, Eigen::Ref<Eigen::MatrixXd> X,
                                Eigen::Ref<Eigen::MatrixXd> U) noexcept;
@@ -119,6 +122,7 @@ class RiccatiSolver {
   Eigen::MatrixXd BtP_, Quu_, Qux_, AtP_, tmp_nx_nx_, tmp_nu_nu_, Pn_, W_, Wn_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::MatrixXd D_, K2_, D2_, Inu_;
+  Eigen::MatrixXd Hbuf_, Wbuf_;  ///< per-stage off-chain terms of the (6, 3) kernel, nx x N each
   Eigen::VectorXd p_, w_, tmp_nx_, tmp_nu_, nu_term_, miss_;
 };
 
