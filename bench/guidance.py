@@ -70,9 +70,9 @@ def cpu_time_solver(solver, repeats):
 
 def flops_per_iteration(nx, nu, N):
     # per stage: d = G^-1 r + (G^-1 B') w; p = Acl' w - K' r + q; w = p + e; u = -K x - d;
-    # x+ = A x + B u; relaxation, prox, multiplier and residuals ~ 26 nu
+    # x+ = A x + B u; relaxation, prox, multiplier, residuals ~ 26 nu; dual estimate -grad f(U) 3 nu
     per_stage = 2 * nu * nu + 2 * nu * nx + 2 * nx * nx + 2 * nx * nu + nx + nx + 2 * nu * nx + nu \
-        + 2 * nx * nx + 2 * nx * nu + nx + 26 * nu
+        + 2 * nx * nx + 2 * nx * nu + nx + 29 * nu
     return per_stage * N
 
 

@@ -298,6 +298,9 @@ TEST(Admm, BadInputThrowsWithHint) {
   bad.rho = 0.0;
   expect_msg(good, bad, "rho");
   bad = st;
+  bad.polish_swaps = -1;
+  expect_msg(good, bad, "polish_swaps");
+  bad = st;
   bad.rho = -1.0;
   expect_msg(good, bad, "rho");
   bad = st;

@@ -192,6 +192,8 @@ class AdmmSolver {
   bool polish_ok_ = false;
   int fmax_ = 0;
   Eigen::MatrixXd Psi_;         ///< Phi(N, k+1), nx x nx N
+  Eigen::MatrixXd PsiB_;        ///< (Phi(N, k+1) B_k)' stacked, N nu x nx
+  Eigen::VectorXd xN0_;         ///< x_N for U = 0 (set at the start of each solve)
   Eigen::MatrixXd GF_, KKT_, Up_, Xp_, grad_;
   Eigen::VectorXd rhs_, sol_, pN_;
   std::vector<int> free_idx_;
