@@ -205,7 +205,7 @@ bool solve_dense_in_place(MatrixXd& K, VectorXd& r, VectorXd& x, int M) noexcept
 // the clip, the rest free with their sign), solve the reduced problem on the free entries exactly
 // (x_N = x_fix + G_F u_F with G_F = Phi(N, k+1) B_k e_i), and accept only if the optimality
 // conditions hold for every entry. Allocation-free (fixed-size padded KKT).
-bool AdmmSolver::try_polish() noexcept {
+bool AdmmSolver::try_polish(bool rank_by_dual) noexcept {
   ++res_.info.polish_attempts;
   const MatrixXd& Y = res_.Y;
   const bool term = prob_.terminal_equality;
@@ -227,7 +227,7 @@ bool AdmmSolver::try_polish() noexcept {
   // rank by closeness of the dual estimate to the free condition |G_i| = w_i, or by |Y| without it
   const auto rank_score = [&](int j) {
     const int i = j % nu_, k = j / nu_;
-    if (dual_ok_) return -std::abs(std::abs(Gd_(i, k) * winv_(i)) - 1.0);
+    if (rank_by_dual) return -std::abs(std::abs(Gd_(i, k) * winv_(i)) - 1.0);
     return std::abs(Y(i, k));
   };
   if (F > nx_ && prob_.R.size() == 0) {
@@ -780,7 +780,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       if (attempt) {
         tried_sig = st.signature;
         have_tried = true;
-        if (try_polish()) {
+        // with more than nx free entries the kept ones are ranked by |Y|, then by the dual estimate
+        if (try_polish(false) || (dual_ok_ && set_.polish_dual && st.nfree > nx_ && try_polish(true))) {
           info.polished = true;
           status = AdmmStatus::kSolved;
           break;

@@ -160,7 +160,7 @@ class AdmmSolver {
                               const Eigen::Ref<const Eigen::MatrixXd>& U) const noexcept;
   void rollout(const Eigen::Ref<const Eigen::MatrixXd>& U, Eigen::Ref<Eigen::MatrixXd> X) const noexcept;
   void update_linear_terms() noexcept;
-  bool try_polish() noexcept;
+  bool try_polish(bool rank_by_dual) noexcept;
   int dual_candidate(std::uint64_t& signature) noexcept;
   bool polish_solve(int F) noexcept;
   bool polish_swaps(int& F) noexcept;
