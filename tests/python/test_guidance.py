@@ -83,7 +83,7 @@ def test_converged_matches_clarabel(case, references):
 
 @pytest.mark.parametrize("case", ["unconstrained", "box", "constrained"])
 def test_polish_without_dual_guess_still_certifies(case, references):
-    # fallback: the active set of Y alone (slower: 320 / 300 / 369 iterations), same certified optimum
+    # fallback: the active set of Y alone (slower: 345 / 300 / 369 iterations), same certified optimum
     kw = scen.linear_problem(SC, case)
     r = g.L1Solver(**kw, settings={"polish_dual": False}).solve()
     r_dual = g.L1Solver(**kw).solve()
