@@ -617,4 +617,29 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   return res_;
 }
 
+bool AdmmSolver::update_dynamics(const std::vector<MatrixXd>& A, const std::vector<MatrixXd>& B,
+                                 const std::vector<VectorXd>& c) noexcept {
+  LtvDynamics& d = prob_.dynamics;
+  if (A.size() != d.A.size() || B.size() != d.B.size() || c.size() != d.c.size()) return false;
+  const std::size_t n = A.size();
+  if ((n == 1 && N_ > 1) || B.size() != n || (!c.empty() && c.size() != n)) return false;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (A[k].rows() != nx_ || A[k].cols() != nx_ || B[k].rows() != nx_ || B[k].cols() != nu_) return false;
+    if (!c.empty() && c[k].size() != nx_) return false;
+    if (!A[k].allFinite() || !B[k].allFinite() || (!c.empty() && !c[k].allFinite())) return false;
+  }
+  const VectorXd empty;
+  for (std::size_t k = 0; k < n; ++k) {
+    d.A[k] = A[k];
+    d.B[k] = B[k];
+    if (!c.empty()) d.c[k] = c[k];
+    if (!ric_.set_stage_dynamics(static_cast<int>(k), A[k], B[k], c.empty() ? empty : c[k])) return false;
+  }
+  if (polish_ok_) {
+    for (int k = N_ - 1; k >= 1; --k)
+      Psi_.middleCols((k - 1) * nx_, nx_).noalias() = Psi_.middleCols(k * nx_, nx_) * d.A_at(k);
+  }
+  return ric_.factor(set_.rho);
+}
+
 }  // namespace satgnc::guidance
