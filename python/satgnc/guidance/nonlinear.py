@@ -312,6 +312,8 @@ def mpc(
     integrator: str = "cvodes",
     discretization: str | None = None,
     endgame: int = 0,
+    scale_iterations: bool = True,
+    max_iter_cap: int = 120,
 ) -> dict:
     """Receding-horizon flight (shrinking horizon to the fixed final time).
 
@@ -321,7 +323,11 @@ def mpc(
     most ``max_iter`` warm-started iLQR-ADMM iterations (U, Y, Lambda shifted; one Gauss-Newton step
     per iteration), and the sparse plan Y -- inside the bounds by construction of the prox -- is flown
     on the truth model. The terminal weight is ``qf_scale`` times the case's (a soft terminal
-    constraint stiff enough for sub-metre misses).
+    constraint stiff enough for sub-metre misses). With ``scale_iterations`` the iteration budget
+    grows as the horizon shrinks, ``max_iter * N / remaining`` (capped at ``max_iter_cap``), so every
+    re-plan costs about the same as the first full-horizon one (the cost of an iteration is
+    proportional to the horizon); with a fixed budget the short end-game re-plans stop short of
+    convergence and the terminal miss has a ~1 m floor (docs/guidance_nonlinear.md).
     Planner: ``discretization`` (default: the case's) on ``planner_params`` (default: J2 on, drag);
     truth: J2 and drag on, co-rotating atmosphere, integrated by ``integrator`` (``"cvodes"``:
     satgnc's CVODES path re-initialised at each interval; ``"rk4"``: RK4 at dt/substeps). Returns
@@ -376,7 +382,7 @@ def mpc(
                 first = sol.info
                 rho_run = sol.info.rho
             else:
-                st.max_iter = max_iter
+                st.max_iter = min(max_iter_cap, -(-max_iter * Nh // rem)) if scale_iterations else max_iter
                 st.rho = rho_run
                 sol = _c.IlqrAdmmSolver(dmap, pr, st)
                 sol.warm_start(*prev)
