@@ -26,6 +26,11 @@ class DiscreteModel {
   /// arrays of length nx, nu, nx, nx*nx, nx*nu.
   virtual bool step(int k, const double* x, const double* u, double* x_next, double* A,
                     double* B) const = 0;
+  /// Indices (0-based, ascending) of exogenous states t: their next value depends neither on the
+  /// other states nor on the control (df_t/dx_c = 0 and df_t/du = 0 for every k; e.g. the target's
+  /// orbit in the two-satellite model). Solvers may then skip the t-t block of the value function,
+  /// which does not enter the gains. Default: none. Called at solver setup only (may allocate).
+  virtual std::vector<int> exogenous_states() const { return {}; }
 };
 
 /// x_{k+1} = A_k x_k + B_k u_k + c_k. A single (A, B, c) is used for every k when one is given.
@@ -70,6 +75,9 @@ class TwoSatelliteMap final : public DiscreteModel {
   int state_dim() const override { return 12; }
   int control_dim() const override { return 3; }
   bool step(int k, const double* x, const double* u, double* x_next, double* A, double* B) const override;
+  /// The target's position and velocity {3, 4, 5, 9, 10, 11}: it moves independently of the chaser
+  /// and the control.
+  std::vector<int> exogenous_states() const override { return {3, 4, 5, 9, 10, 11}; }
   const dynamics::TwoSatelliteModel& model() const { return model_; }
   const TwoSatelliteMapSettings& settings() const { return s_; }
   /// Scaling factors (ones when none were given).
@@ -81,6 +89,9 @@ class TwoSatelliteMap final : public DiscreteModel {
   TwoSatelliteMapSettings s_;
   dynamics::Vec12 sx_;
   Vec3 su_;
+  dynamics::Vec12 inv_sx_;       // 1 / sx_
+  dynamics::Mat12 a_ratio_;      // sx_(j) / sx_(i): A_s = A .* a_ratio_
+  dynamics::Mat12x3 b_ratio_;    // su_(j) / sx_(i)
 };
 
 /// Settings of the propagated two-satellite map (adaptive DOP853 over each interval).
@@ -132,6 +143,8 @@ class PropagatedTwoSatelliteMap final : public DiscreteModel {
   /// Returns false when the integration fails (non-finite input or derivative, a body below
   /// min_radius, step budget exhausted, step size underflow); last_info() says which.
   bool step(int k, const double* x, const double* u, double* x_next, double* A, double* B) const override;
+  /// The target's position and velocity {3, 4, 5, 9, 10, 11} (as TwoSatelliteMap).
+  std::vector<int> exogenous_states() const override { return {3, 4, 5, 9, 10, 11}; }
   const dynamics::TwoSatelliteModel& model() const { return model_; }
   const PropagatedMapSettings& settings() const { return s_; }
   const dynamics::Vec12& state_scale() const { return sx_; }
