@@ -89,20 +89,17 @@ bool TwoSatelliteMap::step(int /*k*/, const double* x, const double* u, double* 
   const double h = s_.dt / s_.substeps;
   Vec12 z = xs, zn;
   const bool jac = A != nullptr && B != nullptr;
-  Mat12 Phi = Mat12::Identity(), Ak;
-  Mat12x3 Gam = Mat12x3::Zero(), Bk;
+  Mat12 Phi, Ak;  // no initialization needed: the first substep writes them
+  Mat12x3 Gam, Bk;
   for (int i = 0; i < s_.substeps; ++i) {
     if (!jac) {
       if (!model_.rk_step(s_.scheme, h, z, us, zn)) return false;
+    } else if (i == 0) {
+      if (!model_.rk_step(s_.scheme, h, z, us, zn, &Phi, &Gam)) return false;
     } else {
       if (!model_.rk_step(s_.scheme, h, z, us, zn, &Ak, &Bk)) return false;
-      if (i == 0) {
-        Phi = Ak;
-        Gam = Bk;
-      } else {
-        Gam = Ak * Gam + Bk;
-        Phi = Ak * Phi;
-      }
+      Gam = Ak * Gam + Bk;
+      Phi = Ak * Phi;
     }
     z = zn;
   }
