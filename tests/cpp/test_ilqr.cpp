@@ -409,7 +409,13 @@ TEST(IlqrAdmm, ExogenousTargetSweepEqualsFullSweep) {
   IlqrAdmmSolver reduced_solver(map, p, s), full_solver(full, p, s);
   reduced_solver.set_initial_controls(MatrixXd::Zero(3, p.horizon));
   full_solver.set_initial_controls(MatrixXd::Zero(3, p.horizon));
-  reduced_solver.solve();
+  g_mallocs = 0;
+  g_count = true;
+  reduced_solver.solve();  // the reduced sweep and the RK3 map do not allocate either
+  g_count = false;
+#if !defined(__SANITIZE_ADDRESS__)
+  EXPECT_EQ(g_mallocs.load(), 0);
+#endif
   full_solver.solve();
   const auto& a = reduced_solver.result();
   const auto& b = full_solver.result();
