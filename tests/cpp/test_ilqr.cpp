@@ -379,7 +379,8 @@ TEST(IlqrAdmm, ExogenousTargetSweepEqualsFullSweep) {
   const TwoSatelliteModel ts(tp);
   const double mu = tp.mu, R = 6900.0e3;
   Vec12 x0;
-  x0 << 300.0, -200.0, 100.0, R, 0.0, 0.0, 0.3, -0.2, 0.1, 0.0, std::sqrt(mu / R) * 0.7, std::sqrt(mu / R) * 0.7;
+  const double vc = std::sqrt(mu / R) * std::sqrt(0.5);  // inclined 45 degrees
+  x0 << 300.0, -200.0, 100.0, R, 0.0, 0.0, 0.3, -0.2, 0.1, 0.0, vc, vc;
   const ReferenceScaling sc = published_scaling(x0, mu, tp.mass_chaser);
   TwoSatelliteMapSettings ms;
   ms.dt = 60.0;
@@ -435,7 +436,7 @@ TEST(IlqrAdmm, BadExogenousIndicesThrow) {
   const ExogenousOverride bad(lin, {3, 2});
   const ExogenousOverride out(lin, {6});
   const NonlinearL1Problem p = di_problem(10);
-  for (const DiscreteModel* m : {static_cast<const DiscreteModel*>(&bad), static_cast<const DiscreteModel*>(&out)}) {
+  for (const DiscreteModel* m : std::vector<const DiscreteModel*>{&bad, &out}) {
     try {
       IlqrAdmmSolver solver(*m, p);
       ADD_FAILURE() << "no throw";

@@ -210,9 +210,10 @@ TEST(TwoSatellite, StructuredRkJacobianEqualsDenseStageChainRule) {
     int scheme, s;
     double a[4][4], b[4];
   };
-  const Tab tabs[2] = {{3, 3, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {-1, 2, 0, 0}, {0, 0, 0, 0}}, {1 / 6.0, 4 / 6.0, 1 / 6.0, 0}},
-                       {4, 4, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {0, 0.5, 0, 0}, {0, 0, 1, 0}},
-                        {1 / 6.0, 2 / 6.0, 2 / 6.0, 1 / 6.0}}};
+  const Tab tabs[2] = {
+      {3, 3, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {-1, 2, 0, 0}, {0, 0, 0, 0}}, {1 / 6.0, 4 / 6.0, 1 / 6.0, 0}},
+      {4, 4, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {0, 0.5, 0, 0}, {0, 0, 1, 0}},
+       {1 / 6.0, 2 / 6.0, 2 / 6.0, 1 / 6.0}}};
   for (ControlFrame frame : {ControlFrame::target_cw, ControlFrame::inertial}) {
     const TwoSatelliteModel model(heavy_drag_j2_params(frame));
     const Vec12 x = generic_state();
