@@ -64,11 +64,14 @@ sanitize: setup
 bench: install
 	@for b in propagation od guidance guidance_nonlinear analysis; do echo "== bench/$$b.py"; $(PY) bench/$$b.py || exit 1; done
 
+CXX_SOURCES = $$(find cpp tests/cpp examples/cpp bench/cpp -name '*.hpp' -o -name '*.cpp')
+
 lint: setup
 	$(VENV)/bin/ruff check python tests bench examples
+	$(VENV)/bin/clang-format --dry-run --Werror $(CXX_SOURCES)
 
-format:
-	clang-format -i $$(find cpp tests/cpp examples/cpp -name '*.hpp' -o -name '*.cpp')
+format: setup
+	$(VENV)/bin/clang-format -i $(CXX_SOURCES)
 
 clean:
 	rm -rf build

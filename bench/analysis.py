@@ -12,10 +12,10 @@ Usage: python bench/analysis.py [--count N] [--seed S]
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 import satgnc.analysis as an
+from _timing import timeit
 
 
 def planted(rng, n, m, r, ts):
@@ -67,14 +67,6 @@ def plain_staircase(A, B):
         A[:, pos:] = A[:, pos:] @ u
         pos, prev = pos + r, r
     return pos
-
-
-def timeit(f, reps=30):
-    f()
-    t = time.perf_counter()
-    for _ in range(reps):
-        f()
-    return (time.perf_counter() - t) / reps
 
 
 def main() -> None:

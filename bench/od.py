@@ -11,32 +11,16 @@ distinct roots of a root search.
 from __future__ import annotations
 
 import argparse
-import math
 import time
 
 import numpy as np
+from _timing import timeit
 from satgnc import od
 from satgnc.od import paper
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 MU = od.EARTH_MU
-
-
-def timeit(fn, min_time=0.5, blocks=5) -> float:
-    """Fastest block's mean time per call, s (shared machine: the minimum is the robust figure)."""
-    fn()
-    t0 = time.perf_counter()
-    fn()
-    one = max(time.perf_counter() - t0, 1e-7)
-    n = max(1, int(min_time / blocks / one))
-    best = math.inf
-    for _ in range(blocks):
-        t0 = time.perf_counter()
-        for _ in range(n):
-            fn()
-        best = min(best, (time.perf_counter() - t0) / n)
-    return best
 
 
 # ------------------------------------------------------------------ scipy reference

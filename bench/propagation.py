@@ -19,6 +19,7 @@ import time
 
 import numpy as np
 import satgnc
+from _timing import timeit
 from satgnc import _satgnc
 
 MU = satgnc.EARTH_MU
@@ -28,22 +29,6 @@ T_ARC = 7200.0
 # 400 km, e = 0.001, i = 51.6 deg.
 X0 = np.array([6778.137, 0.0, 0.0, 0.0, 4.7302, 6.0354])
 TARGETS = (1e-3, 1e-6)  # final position error, km (1 m, 1 mm)
-
-
-def timeit(fn, min_time=0.3, max_runs=2000, blocks=7) -> float:
-    """Fastest block's mean time per call, s (the machine is shared: the minimum is the robust figure)."""
-    fn()
-    t0 = time.perf_counter()
-    fn()
-    one = max(time.perf_counter() - t0, 1e-7)
-    n = int(max(1, min(max_runs, min_time / blocks / one)))
-    best = math.inf
-    for _ in range(blocks):
-        t0 = time.perf_counter()
-        for _ in range(n):
-            fn()
-        best = min(best, (time.perf_counter() - t0) / n)
-    return best
 
 
 def nondim(phi: np.ndarray) -> np.ndarray:

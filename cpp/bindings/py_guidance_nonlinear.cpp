@@ -9,6 +9,8 @@
 #include "satgnc/guidance/ilqr_admm.hpp"
 #include "satgnc/guidance/nonlinear_model.hpp"
 #include "satgnc/guidance/scp.hpp"
+#include "satgnc/guidance/two_satellite_truth.hpp"
+#include "satgnc/propagation/cvodes_ode.hpp"
 
 namespace py = pybind11;
 
@@ -122,6 +124,69 @@ void init_guidance_nonlinear(py::module_& m) {
            py::arg("settings"))
       .def_property_readonly("state_scale", &TwoSatelliteMap::state_scale)
       .def_property_readonly("control_scale", &TwoSatelliteMap::control_scale);
+
+  py::class_<PropagatedMapSettings>(m, "PropagatedMapSettings")
+      .def(py::init<>())
+      .def_readwrite("dt", &PropagatedMapSettings::dt)
+      .def_readwrite("rtol", &PropagatedMapSettings::rtol)
+      .def_readwrite("atol", &PropagatedMapSettings::atol)
+      .def_readwrite("max_steps", &PropagatedMapSettings::max_steps)
+      .def_readwrite("min_radius", &PropagatedMapSettings::min_radius)
+      .def_readwrite("state_scale", &PropagatedMapSettings::state_scale)
+      .def_readwrite("control_scale", &PropagatedMapSettings::control_scale);
+  py::class_<PropagatedMapInfo>(m, "PropagatedMapInfo")
+      .def_readonly("ok", &PropagatedMapInfo::ok)
+      .def_readonly("interval", &PropagatedMapInfo::interval)
+      .def_readonly("status", &PropagatedMapInfo::status)
+      .def_readonly("steps", &PropagatedMapInfo::steps)
+      .def_readonly("rejected", &PropagatedMapInfo::rejected)
+      .def_readonly("rhs_evals", &PropagatedMapInfo::rhs_evals)
+      .def_readonly("t_reached", &PropagatedMapInfo::t_reached);
+  py::class_<PropagatedTwoSatelliteMap, DiscreteModel>(m, "PropagatedTwoSatelliteMap")
+      .def(py::init<const TwoSatelliteModel&, const PropagatedMapSettings&>(), py::arg("model"),
+           py::arg("settings"))
+      .def_property_readonly("state_scale", &PropagatedTwoSatelliteMap::state_scale)
+      .def_property_readonly("control_scale", &PropagatedTwoSatelliteMap::control_scale)
+      .def_property_readonly("last_info", &PropagatedTwoSatelliteMap::last_info);
+
+  py::class_<propagation::CvodesOdeSettings>(m, "CvodesOdeSettings")
+      .def(py::init<>())
+      .def_readwrite("rtol", &propagation::CvodesOdeSettings::rtol)
+      .def_readwrite("atol", &propagation::CvodesOdeSettings::atol)
+      .def_readwrite("atol_components", &propagation::CvodesOdeSettings::atol_components)
+      .def_readwrite("max_steps", &propagation::CvodesOdeSettings::max_steps)
+      .def_readwrite("max_order", &propagation::CvodesOdeSettings::max_order)
+      .def_readwrite("max_step", &propagation::CvodesOdeSettings::max_step);
+  m.def("default_truth_settings", &default_truth_settings);
+  py::class_<TwoSatelliteTruth>(m, "TwoSatelliteTruth")
+      .def(py::init<const TwoSatelliteModel&, const propagation::CvodesOdeSettings&>(), py::arg("model"),
+           py::arg("settings") = default_truth_settings())
+      .def("step",
+           [](TwoSatelliteTruth& t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt) {
+             if (x.size() != 12) throw py::value_error("x: must have 12 entries [d, r_t, w, v_t] (m, m/s)");
+             if (u.size() != 3) throw py::value_error("u: must have 3 entries (N)");
+             if (!(dt > 0.0)) throw py::value_error("dt: must be > 0 (s)");
+             Eigen::VectorXd y = x;
+             if (t.step(y, u, dt) != propagation::PropagationStatus::success)
+               throw std::runtime_error("TwoSatelliteTruth.step: " + t.message());
+             return y;
+           }, py::arg("x"), py::arg("u"), py::arg("dt"))
+      .def("fly",
+           [](TwoSatelliteTruth& t, const Eigen::VectorXd& x0, const Eigen::MatrixXd& U, double dt) {
+             TruthFlight f;
+             {
+               py::gil_scoped_release rel;
+               f = t.fly(x0, U, dt);
+             }
+             py::dict d;
+             d["X"] = f.X;
+             d["ok"] = f.status == propagation::PropagationStatus::success;
+             d["failed_interval"] = f.failed_interval;
+             d["message"] = f.message;
+             d["steps"] = f.steps;
+             d["rhs_evals"] = f.rhs_evals;
+             return d;
+           }, py::arg("x0"), py::arg("U"), py::arg("dt"));
 
   py::class_<ReferenceScaling>(m, "ReferenceScaling")
       .def_readonly("state_scale", &ReferenceScaling::state_scale)

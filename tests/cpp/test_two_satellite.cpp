@@ -201,3 +201,53 @@ TEST(TwoSatellite, BadInputs) {
   EXPECT_FALSE(model.rhs(x, Vec3::Zero(), f));
   EXPECT_FALSE(model.rk_step(5, 1.0, scenario_release_state(), Vec3::Zero(), f));
 }
+
+TEST(TwoSatellite, StructuredRkJacobianEqualsDenseStageChainRule) {
+  // rk_step differentiates the stages in 3x3 blocks (target autonomous, position rows = velocities).
+  // Reference: the dense chain rule D_i = J(x_i) (I + h sum_j a_ij D_j) with the full 12x12 and 12x3
+  // rhs_jacobians, written out here for Kutta's RK3 and classic RK4.
+  struct Tab {
+    int scheme, s;
+    double a[4][4], b[4];
+  };
+  const Tab tabs[2] = {
+      {3, 3, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {-1, 2, 0, 0}, {0, 0, 0, 0}}, {1 / 6.0, 4 / 6.0, 1 / 6.0, 0}},
+      {4, 4, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {0, 0.5, 0, 0}, {0, 0, 1, 0}},
+       {1 / 6.0, 2 / 6.0, 2 / 6.0, 1 / 6.0}}};
+  for (ControlFrame frame : {ControlFrame::target_cw, ControlFrame::inertial}) {
+    const TwoSatelliteModel model(heavy_drag_j2_params(frame));
+    const Vec12 x = generic_state();
+    const Vec3 u(0.3, -0.2, 0.1);
+    const double h = 6000.0 / 99.0;
+    for (const Tab& t : tabs) {
+      Vec12 k[4], xn;
+      Mat12 D[4], A, Aref = Mat12::Identity();
+      Mat12x3 Du[4], B, Bref = Mat12x3::Zero();
+      for (int i = 0; i < t.s; ++i) {
+        Vec12 xs = x;
+        Mat12 M = Mat12::Identity();
+        Mat12x3 Mu = Mat12x3::Zero();
+        for (int j = 0; j < i; ++j) {
+          xs += h * t.a[i][j] * k[j];
+          M += h * t.a[i][j] * D[j];
+          Mu += h * t.a[i][j] * Du[j];
+        }
+        Mat12 J;
+        Mat12x3 Ju;
+        ASSERT_TRUE(model.rhs_jacobians(xs, u, k[i], J, Ju));
+        D[i] = J * M;
+        Du[i] = J * Mu + Ju;
+        Aref += h * t.b[i] * D[i];
+        Bref += h * t.b[i] * Du[i];
+      }
+      ASSERT_TRUE(model.rk_step(t.scheme, h, x, u, xn, &A, &B));
+      EXPECT_LE((A - Aref).cwiseAbs().maxCoeff(), 1e-14 * Aref.cwiseAbs().maxCoeff()) << t.scheme;
+      EXPECT_LE((B - Bref).cwiseAbs().maxCoeff(), 1e-14 * Bref.cwiseAbs().maxCoeff()) << t.scheme;
+      // the target block does not depend on the chaser or the control: exact zeros
+      for (int r : {3, 4, 5, 9, 10, 11}) {
+        for (int c : {0, 1, 2, 6, 7, 8}) EXPECT_EQ(A(r, c), 0.0);
+        EXPECT_EQ(B.row(r).cwiseAbs().maxCoeff(), 0.0);
+      }
+    }
+  }
+}

@@ -148,10 +148,7 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
     }
     // row k nu + i: (Phi(N, k+1) B_k e_i)', so x_N = x_N(U = 0) + PsiB' vec(U) and grad = PsiB p_N
     PsiB_.setZero(N_ * nu_, nx_);
-    for (int k = 0; k < N_; ++k) {
-      PsiB_.middleRows(k * nu_, nu_).noalias() =
-          (Psi_.middleCols(k * nx_, nx_) * prob_.dynamics.B_at(k)).transpose();
-    }
+    update_psib();
     xN0_.setZero(nx_);
     GF_.setZero(nx_, fmax_);
     KKT_.setZero(fmax_ + nx_, fmax_ + nx_);
@@ -167,6 +164,16 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
     winv_ = w_.cwiseInverse();
     seld_.assign(static_cast<std::size_t>(nx_ + 1), 0.0);
     seli_.assign(static_cast<std::size_t>(nx_ + 1), 0);
+  }
+}
+
+void AdmmSolver::update_psib() noexcept {
+  // row k nu + i of PsiB_ = (Phi(N, k+1) B_k e_i)', through the nx scratch vector (no temporary)
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      xtmp_.noalias() = Psi_.middleCols(k * nx_, nx_) * prob_.dynamics.B_at(k).col(i);
+      PsiB_.row(k * nu_ + i) = xtmp_.transpose();
+    }
   }
 }
 
@@ -835,6 +842,32 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   info.terminal_miss = xtmp_.norm();
   info.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res_;
+}
+
+bool AdmmSolver::update_dynamics(const std::vector<MatrixXd>& A, const std::vector<MatrixXd>& B,
+                                 const std::vector<VectorXd>& c) noexcept {
+  LtvDynamics& d = prob_.dynamics;
+  if (A.size() != d.A.size() || B.size() != d.B.size() || c.size() != d.c.size()) return false;
+  const std::size_t n = A.size();
+  if ((n == 1 && N_ > 1) || B.size() != n || (!c.empty() && c.size() != n)) return false;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (A[k].rows() != nx_ || A[k].cols() != nx_ || B[k].rows() != nx_ || B[k].cols() != nu_) return false;
+    if (!c.empty() && c[k].size() != nx_) return false;
+    if (!A[k].allFinite() || !B[k].allFinite() || (!c.empty() && !c[k].allFinite())) return false;
+  }
+  const VectorXd empty;
+  for (std::size_t k = 0; k < n; ++k) {
+    d.A[k] = A[k];
+    d.B[k] = B[k];
+    if (!c.empty()) d.c[k] = c[k];
+    if (!ric_.set_stage_dynamics(static_cast<int>(k), A[k], B[k], c.empty() ? empty : c[k])) return false;
+  }
+  if (polish_ok_) {
+    for (int k = N_ - 1; k >= 1; --k)
+      Psi_.middleCols((k - 1) * nx_, nx_).noalias() = Psi_.middleCols(k * nx_, nx_) * d.A_at(k);
+    update_psib();
+  }
+  return ric_.factor(set_.rho);
 }
 
 }  // namespace satgnc::guidance

@@ -55,6 +55,37 @@ void cholesky_solve_inplace(const MatrixXd& L, Eigen::MatrixBase<Derived>& B) {
 
 double soft(double v, double t) { return v > t ? v - t : (v < -t ? v + t : 0.0); }
 
+// Cholesky of a small fixed-size SPD matrix and solve L L^T X = R in place; false if not positive
+// definite (plain loops: Eigen's LLT solve with a multi-column right-hand side takes its blocked path).
+template <int NU, typename MU, typename RHS>
+bool small_cholesky_solve(MU& M, RHS& R) {
+  for (int j = 0; j < NU; ++j) {
+    double diag = M(j, j);
+    for (int p = 0; p < j; ++p) diag -= M(j, p) * M(j, p);
+    if (!(diag > 0.0) || !std::isfinite(diag)) return false;
+    const double ljj = std::sqrt(diag);
+    M(j, j) = ljj;
+    for (int i = j + 1; i < NU; ++i) {
+      double v = M(i, j);
+      for (int p = 0; p < j; ++p) v -= M(i, p) * M(j, p);
+      M(i, j) = v / ljj;
+    }
+  }
+  for (int c = 0; c < R.cols(); ++c) {
+    for (int i = 0; i < NU; ++i) {
+      double v = R(i, c);
+      for (int p = 0; p < i; ++p) v -= M(i, p) * R(p, c);
+      R(i, c) = v / M(i, i);
+    }
+    for (int i = NU - 1; i >= 0; --i) {
+      double v = R(i, c);
+      for (int p = i + 1; p < NU; ++p) v -= M(p, i) * R(p, c);
+      R(i, c) = v / M(i, i);
+    }
+  }
+  return true;
+}
+
 // Fixed-size Riccati sweep (stack temporaries, no heap) for the common dimensions.
 template <int NX, int NU>
 bool backward_fixed(int N, const std::vector<MatrixXd>& Av, const std::vector<MatrixXd>& Bv,
@@ -85,11 +116,13 @@ bool backward_fixed(int N, const std::vector<MatrixXd>& Av, const std::vector<Ma
     const MUX Qux = B.transpose().lazyProduct(SA);
     MU Qr = Quu;
     Qr.diagonal().array() += reg;
-    const Eigen::LLT<MU> llt(Qr);
-    if (llt.info() != Eigen::Success) return false;
+    Eigen::Matrix<double, NU, NX + 1> R;  // [Qux Qu], then minus the solutions
+    R.template leftCols<NX>() = Qux;
+    R.col(NX) = Qu;
+    if (!small_cholesky_solve<NU>(Qr, R)) return false;
     Eigen::Map<MUX> K(Kv[k].data());
-    K = -llt.solve(Qux);
-    const VU d = -llt.solve(Qu);
+    K = -R.template leftCols<NX>();
+    const VU d = -R.col(NX);
     dM.col(k) = d;
     const VU Quud = Quu * d;
     dv1 += d.dot(Qu);
@@ -101,6 +134,102 @@ bool backward_fixed(int N, const std::vector<MatrixXd>& Av, const std::vector<Ma
     Sn.noalias() += Qux.transpose().lazyProduct(K);
     S = 0.5 * (Sn + Sn.transpose());
     if (!s.allFinite() || !S.allFinite()) return false;
+  }
+  return true;
+}
+
+// Riccati sweep for a model with exogenous states t (df_t/dx_c = 0, df_t/du = 0), split from the
+// others c. The value function's t-t block enters neither the gains nor the c-blocks, so only
+// S_cc, S_ct and s_c are carried: about a third of the work of the full NX = NC + NT sweep, same
+// gains (to rounding). ci / ti are the state indices of c and t.
+template <int NC, int NT, int NU>
+bool backward_reduced(int N, const int* ci, const int* ti, const std::vector<MatrixXd>& Av,
+                      const std::vector<MatrixXd>& Bv, std::vector<MatrixXd>& Kv, MatrixXd& dM,
+                      const MatrixXd& Qf, const VectorXd& eN, const MatrixXd& U, const MatrixXd& Lam,
+                      const MatrixXd& Y, double w, double rho, double reg, double& dv1, double& dv2) {
+  using MCC = Eigen::Matrix<double, NC, NC>;
+  using MCT = Eigen::Matrix<double, NC, NT>;
+  using MTT = Eigen::Matrix<double, NT, NT>;
+  using MCU = Eigen::Matrix<double, NC, NU>;
+  using MUC = Eigen::Matrix<double, NU, NC>;
+  using MUT = Eigen::Matrix<double, NU, NT>;
+  using MU = Eigen::Matrix<double, NU, NU>;
+  using VC = Eigen::Matrix<double, NC, 1>;
+  using VU = Eigen::Matrix<double, NU, 1>;
+  constexpr int NR = NC + NT + 1;  // right-hand sides of the Quu solve: Qux_c, Qux_t, Qu
+  MCC Scc;
+  MCT Sct;
+  VC sc;
+  for (int i = 0; i < NC; ++i) {
+    double v = 0.0;
+    for (int j = 0; j < NC + NT; ++j) v += Qf(ci[i], j) * eN(j);
+    sc(i) = v;
+    for (int j = 0; j < NC; ++j) Scc(i, j) = Qf(ci[i], ci[j]);
+    for (int j = 0; j < NT; ++j) Sct(i, j) = Qf(ci[i], ti[j]);
+  }
+  MCC Acc;
+  MCT Act;
+  MTT Att;
+  MCU Bc;
+  dv1 = 0.0;
+  dv2 = 0.0;
+  for (int k = N - 1; k >= 0; --k) {
+    const MatrixXd& A = Av[k];
+    const MatrixXd& B = Bv[k];
+    for (int j = 0; j < NC; ++j)
+      for (int i = 0; i < NC; ++i) Acc(i, j) = A(ci[i], ci[j]);
+    for (int j = 0; j < NT; ++j) {
+      for (int i = 0; i < NC; ++i) Act(i, j) = A(ci[i], ti[j]);
+      for (int i = 0; i < NT; ++i) Att(i, j) = A(ti[i], ti[j]);
+    }
+    for (int j = 0; j < NU; ++j)
+      for (int i = 0; i < NC; ++i) Bc(i, j) = B(ci[i], j);
+    // c-rows of S A: (S A)_cc = S_cc A_cc, (S A)_ct = S_cc A_ct + S_ct A_tt
+    const MCC Pc = Scc.lazyProduct(Acc);
+    MCT Pt = Scc.lazyProduct(Act);
+    Pt.noalias() += Sct.lazyProduct(Att);
+    const MCU SBc = Scc.lazyProduct(Bc);
+    MU Quu = Bc.transpose().lazyProduct(SBc);
+    Quu.diagonal().array() += w * rho;
+    Eigen::Matrix<double, NU, NR> R;  // [Qux_c Qux_t Qu], then minus the solutions
+    R.template leftCols<NC>().noalias() = Bc.transpose().lazyProduct(Pc);
+    R.template middleCols<NT>(NC).noalias() = Bc.transpose().lazyProduct(Pt);
+    VU Qu = Bc.transpose() * sc;
+    Qu += w * (rho * U.col(k) + Lam.col(k) - rho * Y.col(k));
+    R.col(NC + NT) = Qu;
+    const MUC Quxc = R.template leftCols<NC>();
+    const MUT Quxt = R.template middleCols<NT>(NC);
+    MU L = Quu;
+    L.diagonal().array() += reg;
+    if (!small_cholesky_solve<NU>(L, R)) return false;
+    const MUC Kc = -R.template leftCols<NC>();
+    const MUT Kt = -R.template middleCols<NT>(NC);
+    const VU d = -R.col(NC + NT);
+    MatrixXd& K = Kv[k];
+    for (int i = 0; i < NC; ++i) K.col(ci[i]) = Kc.col(i);
+    for (int i = 0; i < NT; ++i) K.col(ti[i]) = Kt.col(i);
+    dM.col(k) = d;
+    const VU Quud = Quu * d;
+    dv1 += d.dot(Qu);
+    dv2 += 0.5 * d.dot(Quud);
+    // s_c = Qx_c + K_c^T (Quu d + Qu) + Qux_c^T d, Qx_c = A_cc^T s_c (A_tc = 0)
+    VC sn = Acc.transpose() * sc;
+    sn.noalias() += Kc.transpose() * (Quud + Qu);
+    sn.noalias() += Quxc.transpose() * d;
+    sc = sn;
+    // S_c. = Qxx_c. + K_c^T (Quu K + Qux) + Qux_c^T K, Qxx_c. = A_cc^T (S A)_c.
+    MUC Tc = Quxc;
+    Tc.noalias() += Quu * Kc;
+    MUT Tt = Quxt;
+    Tt.noalias() += Quu * Kt;
+    MCC Sn = Acc.transpose().lazyProduct(Pc);
+    Sn.noalias() += Kc.transpose().lazyProduct(Tc);
+    Sn.noalias() += Quxc.transpose().lazyProduct(Kc);
+    Scc = 0.5 * (Sn + Sn.transpose());
+    Sct.noalias() = Acc.transpose().lazyProduct(Pt);
+    Sct.noalias() += Kc.transpose().lazyProduct(Tt);
+    Sct.noalias() += Quxc.transpose().lazyProduct(Kt);
+    if (!sc.allFinite() || !Scc.allFinite() || !Sct.allFinite()) return false;
   }
   return true;
 }
@@ -169,6 +298,20 @@ IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Prob
             "the box must contain u = 0 (u_min <= 0 <= u_max)");
   }
   rho_ = set_.rho;
+  {
+    std::vector<int> exo = model.exogenous_states();
+    std::vector<bool> is_exo(nx_, false);
+    for (size_t i = 0; i < exo.size(); ++i) {
+      require(exo[i] >= 0 && exo[i] < nx_ && (i == 0 || exo[i] > exo[i - 1]), "model.exogenous_states",
+              "indices must be ascending and in [0, nx)");
+      is_exo[exo[i]] = true;
+    }
+    n_exo_ = static_cast<int>(exo.size());
+    exo_idx_ = exo;
+    endo_idx_.clear();
+    for (int i = 0; i < nx_; ++i)
+      if (!is_exo[i]) endo_idx_.push_back(i);
+  }
 
   res_.X = MatrixXd::Zero(nx_, N_ + 1);
   res_.U = MatrixXd::Zero(nu_, N_);
@@ -299,7 +442,12 @@ bool IlqrAdmmSolver::linearize() {
 
 bool IlqrAdmmSolver::backward_pass(double reg, double& dv1, double& dv2) {
   const double w = prob_.stage_weight;
-  if (nx_ == 12 && nu_ == 3 || nx_ == 6 && nu_ == 3) {
+  if (nx_ == 12 && nu_ == 3 && n_exo_ == 6) {
+    dx_ = res_.X.col(N_) - prob_.x_target;
+    return backward_reduced<6, 6, 3>(N_, endo_idx_.data(), exo_idx_.data(), A_, B_, K_, d_, prob_.Qf, dx_,
+                                     res_.U, res_.Lambda, res_.Y, w, rho_, reg, dv1, dv2);
+  }
+  if ((nx_ == 12 || nx_ == 6) && nu_ == 3) {
     dx_ = res_.X.col(N_) - prob_.x_target;
     if (nx_ == 12)
       return backward_fixed<12, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,

@@ -72,6 +72,11 @@ TwoSatelliteMap::TwoSatelliteMap(const dynamics::TwoSatelliteModel& model,
   if (s_.control_scale.size() == 3) su_ = s_.control_scale;
   require(sx_.allFinite() && (sx_.array() > 0.0).all(), "state_scale", "entries must be finite and > 0");
   require(su_.allFinite() && (su_.array() > 0.0).all(), "control_scale", "entries must be finite and > 0");
+  inv_sx_ = sx_.cwiseInverse();
+  for (int j = 0; j < 12; ++j)
+    for (int i = 0; i < 12; ++i) a_ratio_(i, j) = sx_(j) / sx_(i);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 12; ++i) b_ratio_(i, j) = su_(j) / sx_(i);
 }
 
 bool TwoSatelliteMap::step(int /*k*/, const double* x, const double* u, double* x_next, double* A,
@@ -84,33 +89,28 @@ bool TwoSatelliteMap::step(int /*k*/, const double* x, const double* u, double* 
   const double h = s_.dt / s_.substeps;
   Vec12 z = xs, zn;
   const bool jac = A != nullptr && B != nullptr;
-  Mat12 Phi = Mat12::Identity(), Ak;
-  Mat12x3 Gam = Mat12x3::Zero(), Bk;
+  Mat12 Phi, Ak;  // no initialization needed: the first substep writes them
+  Mat12x3 Gam, Bk;
   for (int i = 0; i < s_.substeps; ++i) {
     if (!jac) {
       if (!model_.rk_step(s_.scheme, h, z, us, zn)) return false;
+    } else if (i == 0) {
+      if (!model_.rk_step(s_.scheme, h, z, us, zn, &Phi, &Gam)) return false;
     } else {
       if (!model_.rk_step(s_.scheme, h, z, us, zn, &Ak, &Bk)) return false;
-      if (i == 0) {
-        Phi = Ak;
-        Gam = Bk;
-      } else {
-        Gam = Ak * Gam + Bk;
-        Phi = Ak * Phi;
-      }
+      Gam = Ak * Gam + Bk;
+      Phi = Ak * Phi;
     }
     z = zn;
   }
   Eigen::Map<Vec12> xn_map(x_next);
-  xn_map = z.cwiseQuotient(sx_);
+  xn_map = z.cwiseProduct(inv_sx_);
   if (jac) {
-    // scaled: A_s = Sx^-1 A Sx, B_s = Sx^-1 B Su
+    // scaled: A_s = Sx^-1 A Sx, B_s = Sx^-1 B Su (ratios precomputed: no division per entry)
     Eigen::Map<Mat12> a_map(A);
     Eigen::Map<Mat12x3> b_map(B);
-    for (int j = 0; j < 12; ++j)
-      for (int i = 0; i < 12; ++i) a_map(i, j) = Phi(i, j) * sx_(j) / sx_(i);
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 12; ++i) b_map(i, j) = Gam(i, j) * su_(j) / sx_(i);
+    a_map = Phi.cwiseProduct(a_ratio_);
+    b_map = Gam.cwiseProduct(b_ratio_);
   }
   return z.allFinite();
 }

@@ -524,4 +524,19 @@ void jacobi_eigen(Eigen::Ref<MatrixXd> S, Eigen::Ref<MatrixXd> V, Eigen::Ref<Vec
   w = S.diagonal();
 }
 
+bool RiccatiSolver::set_stage_dynamics(int k, const Eigen::Ref<const MatrixXd>& A, const Eigen::Ref<const MatrixXd>& B,
+                                       const Eigen::Ref<const VectorXd>& c) noexcept {
+  if (k < 0 || k >= N_) return false;
+  const auto ku = static_cast<std::size_t>(k);
+  if ((dyn_.A.size() == 1 && N_ > 1) || (dyn_.B.size() == 1 && N_ > 1)) return false;
+  if (A.rows() != nx_ || A.cols() != nx_ || B.rows() != nx_ || B.cols() != nu_) return false;
+  if (!A.allFinite() || !B.allFinite() || !c.allFinite()) return false;
+  if (dyn_.c.empty() ? c.size() != 0 : (c.size() != nx_ || (dyn_.c.size() == 1 && N_ > 1))) return false;
+  dyn_.A[ku] = A;
+  dyn_.B[ku] = B;
+  if (!dyn_.c.empty()) dyn_.c[ku] = c;
+  factored_ = false;
+  return true;
+}
+
 }  // namespace satgnc::guidance

@@ -70,6 +70,7 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
       sub_.u_upper = prob_.u_max;
     }
   }
+  if (set_.inner_solver == ScpInner::linear_admm) admm_ = std::make_unique<AdmmSolver>(sub_, set_.inner);
 }
 
 void ScpSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
@@ -87,6 +88,7 @@ void ScpSolver::set_initial_state(const Eigen::Ref<const VectorXd>& x0) {
   prob_.x0 = x0;
   sub_.x0 = x0;
   inner_->set_initial_state(x0);
+  if (admm_) admm_->set_x0(x0);
 }
 
 int ScpSolver::rollout(const MatrixXd& U, MatrixXd& X) const {
@@ -159,9 +161,16 @@ ScpStatus ScpSolver::solve() noexcept {
         J_lin = r.info.objective_y;
         Ysub = &Ywarm_;
       } else {
-        AdmmSolver inner(sub_, set_.inner);
-        if (it > 1) inner.warm_start(Ywarm_, Lwarm_);
-        const AdmmResult& r = inner.solve();
+        if (!admm_->update_dynamics(sub_.dynamics.A, sub_.dynamics.B, sub_.dynamics.c)) {
+          info.status = ScpStatus::inner_failed;
+          info.inner_status = AdmmStatus::kNumericalError;
+          return info.status;
+        }
+        if (it > 1)
+          admm_->warm_start(Ywarm_, Lwarm_);
+        else
+          admm_->cold_start();
+        const AdmmResult& r = admm_->solve();
         info.inner_iterations += r.info.iterations;
         info.inner_status = r.info.status;
         if (r.info.status == AdmmStatus::kNumericalError || !r.Y.allFinite()) {

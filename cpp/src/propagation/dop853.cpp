@@ -23,19 +23,7 @@ void dop853_validate_settings(const Dop853Settings& s) {
 }
 
 void dop853_validate_orbit_input(const Vec6& x0, double t0, const std::vector<double>& times) {
-  core::require_finite(x0, "x0");
-  core::require(x0.head<3>().norm() > 0.0, "x0", "position must be non-zero (|r0| = 0)",
-                "gravity is singular at the centre of the body");
-  core::require_finite(t0, "t0");
-  const bool ascending = times.size() < 2 || times.front() <= times.back();
-  for (std::size_t i = 0; i < times.size(); ++i) {
-    core::require(std::isfinite(times[i]), "times",
-                  "must be finite (no NaN or Inf), entry " + std::to_string(i) + " is not");
-    core::require(i == 0 || (ascending ? times[i] >= times[i - 1] : times[i] <= times[i - 1]), "times",
-                  "must be monotone (sorted increasing or decreasing), entry " + std::to_string(i) +
-                      " breaks the order",
-                  "sort the output times; they may lie on either side of t0");
-  }
+  validate_orbit_arc_input(x0, t0, times, "gravity is singular at the centre of the body");
 }
 
 PropagationStatus dop853_to_propagation_status(Dop853Status s) {

@@ -252,20 +252,8 @@ KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* st
 
 Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>& times, double mu,
                             bool with_stm) {
-  core::require_finite(x0, "x0");
-  core::require(x0.head<3>().norm() > 0.0, "x0", "position must be non-zero (|r0| = 0)",
-                "the two-body problem is singular at the centre of the body");
-  core::require_finite(t0, "t0");
+  validate_orbit_arc_input(x0, t0, times, "the two-body problem is singular at the centre of the body");
   core::require_positive(mu, "mu");
-  const bool ascending = times.size() < 2 || times.front() <= times.back();
-  for (std::size_t i = 0; i < times.size(); ++i) {
-    core::require(std::isfinite(times[i]), "times",
-                  "must be finite (no NaN or Inf), entry " + std::to_string(i) + " is not");
-    core::require(i == 0 || (ascending ? times[i] >= times[i - 1] : times[i] <= times[i - 1]), "times",
-                  "must be monotone (sorted increasing or decreasing), entry " + std::to_string(i) +
-                      " breaks the order",
-                  "sort the output times; they may lie on either side of t0");
-  }
   Trajectory tr;
   tr.times.reserve(times.size());
   tr.states.reserve(times.size());

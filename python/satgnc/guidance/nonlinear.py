@@ -41,6 +41,7 @@ __all__ = [
     "fly",
     "mpc",
     "model_params",
+    "make_map",
     "release_state",
     "linear_cw_plan",
     "miss",
@@ -87,6 +88,7 @@ class Case:
     rho: float
     eps: float
     constrained: bool
+    discretization: str = "rk3"
 
     @property
     def dt(self) -> float:
@@ -117,6 +119,33 @@ class Case:
         return 0.5 * e @ np.asarray(self.problem.Qf) @ e + self.problem.stage_weight * np.abs(u).sum()
 
 
+DISCRETIZATIONS = ("rk3", "rk4", "dop853")
+
+
+def make_map(model, dt: float, scaling, discretization: str = "rk3", substeps: int = 1, rtol: float = 1e-10):
+    """Discrete map of ``model`` over intervals of ``dt`` s with the case's scaling:
+    ``"rk3"`` (the published implementation's Kutta RK3, ``substeps`` per interval), ``"rk4"``
+    (classic RK4), or ``"dop853"`` (the flow itself: adaptive DOP853 on the state, STM and control
+    sensitivity, tolerance ``rtol`` on the scaled variables)."""
+    if discretization not in DISCRETIZATIONS:
+        raise ValueError(f"discretization: must be one of {DISCRETIZATIONS}, got {discretization!r}")
+    if discretization == "dop853":
+        ps = _c.PropagatedMapSettings()
+        ps.dt = dt
+        ps.rtol = rtol
+        ps.atol = rtol
+        ps.state_scale = scaling.state_scale
+        ps.control_scale = scaling.control_scale
+        return _c.PropagatedTwoSatelliteMap(model, ps)
+    ms = _c.TwoSatelliteMapSettings()
+    ms.dt = dt
+    ms.scheme = 3 if discretization == "rk3" else 4
+    ms.substeps = substeps
+    ms.state_scale = scaling.state_scale
+    ms.control_scale = scaling.control_scale
+    return _c.TwoSatelliteMap(model, ms)
+
+
 def paper_case(
     constrained: bool = False,
     x0_si: np.ndarray | None = None,
@@ -124,27 +153,23 @@ def paper_case(
     horizon: int = N,
     tf: float = TF,
     substeps: int = 1,
+    discretization: str = "rk3",
 ) -> Case:
     """The published implementation's nonlinear case: RK3 over dt = tf/horizon, scaling
     (time 324.48 s, force 0.42318 N), Qf = 1000 diag(1,1,1,0,0,0,1,1,1,0,0,0), alpha = 1, control
-    cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6)."""
+    cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6).
+    ``discretization``: ``"rk3"`` (published), ``"rk4"`` or ``"dop853"`` (see :func:`make_map`)."""
     model = _c.TwoSatelliteModel(params if params is not None else model_params())
     x0 = drift_state() if x0_si is None else np.asarray(x0_si, dtype=float)
     sc = _c.published_scaling(x0, MU, MASS)
-    ms = _c.TwoSatelliteMapSettings()
-    ms.dt = tf / horizon
-    ms.scheme = 3
-    ms.substeps = substeps
-    ms.state_scale = sc.state_scale
-    ms.control_scale = sc.control_scale
-    dmap = _c.TwoSatelliteMap(model, ms)
+    dmap = make_map(model, tf / horizon, sc, discretization, substeps)
     pr = _c.NonlinearL1Problem()
     pr.horizon = horizon
     pr.x0 = x0 / np.asarray(sc.state_scale)
     pr.x_target = np.zeros(12)
     pr.Qf = 1000.0 * np.diag(QF_MASK)
     pr.alpha = np.ones(3)
-    pr.stage_weight = ms.dt / sc.time_scale
+    pr.stage_weight = tf / horizon / sc.time_scale
     if constrained:
         pr.cost = _c.ControlCost.l1_box
         ub = U_MAX / np.asarray(sc.control_scale)
@@ -161,6 +186,7 @@ def paper_case(
         10.0 if constrained else 0.1,
         5e-6 if constrained else 6e-5,
         constrained,
+        discretization,
     )
 
 
@@ -239,13 +265,30 @@ def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
     }
 
 
-def fly(case: Case, U_si: np.ndarray, truth_params=None, substeps: int = 60, x0_si=None) -> np.ndarray:
-    """Propagate the 12-state under the piecewise-constant plan U_si (N, in the target's CW frame)
-    on a truth model (default: J2 and drag on, co-rotating atmosphere), with RK4 at dt/substeps.
-    Returns states 12 x (N+1), SI."""
+def fly(
+    case: Case,
+    U_si: np.ndarray,
+    truth_params=None,
+    substeps: int = 60,
+    x0_si=None,
+    integrator: str = "cvodes",
+) -> np.ndarray:
+    """Propagate the 12-state under the piecewise-constant plan U_si (3 x N, N, in the target's CW
+    frame) on a truth model (default: J2 and drag on, co-rotating atmosphere). ``integrator``:
+    ``"cvodes"`` (satgnc's CVODES path, re-initialised at each interval boundary, rtol 1e-11) or
+    ``"rk4"`` (fixed step dt/substeps). Returns states 12 x (N+1), SI; raises RuntimeError naming
+    the interval when the propagation fails."""
     p = truth_params if truth_params is not None else model_params(published=False, j2=True, drag=True)
     truth = _c.TwoSatelliteModel(p)
     x = np.array(case.x0_si if x0_si is None else x0_si, dtype=float)
+    U_si = np.asarray(U_si, dtype=float)
+    if integrator == "cvodes":
+        r = _c.TwoSatelliteTruth(truth).fly(x, U_si, case.dt)
+        if not r["ok"]:
+            raise RuntimeError(f"fly: CVODES truth failed: {r['message']}")
+        return np.asarray(r["X"])
+    if integrator != "rk4":
+        raise ValueError(f"integrator: must be 'cvodes' or 'rk4', got {integrator!r}")
     h = case.dt / substeps
     X = [x.copy()]
     for k in range(U_si.shape[1]):
@@ -266,29 +309,40 @@ def mpc(
     qf_scale: float = 1e4,
     rho: float = 1.0,
     first_max_iter: int = 2000,
+    integrator: str = "cvodes",
+    discretization: str | None = None,
+    endgame: int = 0,
+    scale_iterations: bool = True,
+    max_iter_cap: int = 120,
 ) -> dict:
     """Receding-horizon flight (shrinking horizon to the fixed final time).
 
     The first plan is solved to convergence (iLQR-ADMM, residual rule, adaptive rho; not timed as a
-    re-plan). Then every ``replan_every`` intervals the remaining horizon is re-planned from the
-    measured truth state with at most ``max_iter`` warm-started iLQR-ADMM iterations (U, Y, Lambda
-    shifted; one Gauss-Newton step per iteration), and the sparse plan Y -- inside the bounds by
-    construction of the prox -- is flown on the truth model (RK4 at dt/substeps). The terminal weight
-    is ``qf_scale`` times the case's (a soft terminal constraint stiff enough for sub-metre misses).
-    Planner: the case's RK3 map on ``planner_params`` (default: J2 on, drag); truth: J2 and drag on,
-    co-rotating atmosphere. Returns states (12 x N+1, SI), controls (3 x N, N), re-plan solve times (s,
-    thread CPU time) and iterations."""
+    re-plan). Then every ``replan_every`` intervals -- every interval once at most ``endgame``
+    intervals remain -- the remaining horizon is re-planned from the measured truth state with at
+    most ``max_iter`` warm-started iLQR-ADMM iterations (U, Y, Lambda shifted; one Gauss-Newton step
+    per iteration), and the sparse plan Y -- inside the bounds by construction of the prox -- is flown
+    on the truth model. The terminal weight is ``qf_scale`` times the case's (a soft terminal
+    constraint stiff enough for sub-metre misses). With ``scale_iterations`` the iteration budget
+    grows as the horizon shrinks, ``max_iter * N / remaining`` (capped at ``max_iter_cap``), so every
+    re-plan costs about the same as the first full-horizon one (the cost of an iteration is
+    proportional to the horizon); with a fixed budget the short end-game re-plans stop short of
+    convergence and the terminal miss has a ~1 m floor (docs/guidance_nonlinear.md).
+    Planner: ``discretization`` (default: the case's) on ``planner_params`` (default: J2 on, drag);
+    truth: J2 and drag on, co-rotating atmosphere, integrated by ``integrator`` (``"cvodes"``:
+    satgnc's CVODES path re-initialised at each interval; ``"rk4"``: RK4 at dt/substeps). Returns
+    states (12 x N+1, SI), controls (3 x N, N), re-plan solve times (s, thread CPU time) and
+    iterations."""
+    if integrator not in ("cvodes", "rk4"):
+        raise ValueError(f"integrator: must be 'cvodes' or 'rk4', got {integrator!r}")
+    if replan_every < 1:
+        raise ValueError(f"replan_every: must be >= 1, got {replan_every}")
     tp = truth_params if truth_params is not None else model_params(published=False, j2=True, drag=True)
     pp = planner_params if planner_params is not None else model_params(published=False, j2=True, drag=True)
     truth = _c.TwoSatelliteModel(tp)
+    cv_truth = _c.TwoSatelliteTruth(truth) if integrator == "cvodes" else None
     planner = _c.TwoSatelliteModel(pp)
-    ms = _c.TwoSatelliteMapSettings()
-    ms.dt = case.dt
-    ms.scheme = 3
-    ms.substeps = case.dmap_substeps if hasattr(case, "dmap_substeps") else 1
-    ms.state_scale = case.scaling.state_scale
-    ms.control_scale = case.scaling.control_scale
-    dmap = _c.TwoSatelliteMap(planner, ms)
+    dmap = make_map(planner, case.dt, case.scaling, discretization or case.discretization)
     x = np.array(case.x0_si, dtype=float)
     Nh = case.problem.horizon
     h = case.dt / substeps
@@ -328,7 +382,7 @@ def mpc(
                 first = sol.info
                 rho_run = sol.info.rho
             else:
-                st.max_iter = max_iter
+                st.max_iter = min(max_iter_cap, -(-max_iter * Nh // rem)) if scale_iterations else max_iter
                 st.rho = rho_run
                 sol = _c.IlqrAdmmSolver(dmap, pr, st)
                 sol.warm_start(*prev)
@@ -337,12 +391,15 @@ def mpc(
                 times.append(time.thread_time() - t0)
                 iters.append(sol.info.iterations)
             prev = (np.asarray(sol.U), np.asarray(sol.Y), np.asarray(sol.Lambda))
-        nexec = min(replan_every, rem)
+        nexec = min(1 if rem <= endgame else replan_every, rem)
         for j in range(nexec):
             u = case.to_si(prev[1][:, j : j + 1])[:, 0]
             U_all[:, k + j] = u
-            for _ in range(substeps):
-                x = np.asarray(truth.rk_step(4, h, x, u))
+            if cv_truth is not None:
+                x = np.asarray(cv_truth.step(x, u, case.dt))
+            else:
+                for _ in range(substeps):
+                    x = np.asarray(truth.rk_step(4, h, x, u))
             X.append(x.copy())
         prev = tuple(a[:, nexec:] for a in prev)
         k += nexec

@@ -92,8 +92,17 @@ class TwoSatelliteModel {
   static bool cw_frame(const Vec3& r_t, const Vec3& v_t, Mat3& R);
 
  private:
-  // d(R u)/dr_t and d(R u)/dv_t for the CW control frame.
-  static void cw_frame_derivatives(const Vec3& r_t, const Vec3& v_t, const Vec3& u, Mat3& dRu_dr,
+  // The nonzero 3x3 blocks of df/dx and df/du (rows w' and v_t'; the others are 0 or I).
+  struct JacobianBlocks {
+    Mat3 wd, ww, wr, wv;  // dw'/dd, dw'/dw, dw'/dr_t, dw'/dv_t
+    Mat3 vr, vv;          // dv_t'/dr_t, dv_t'/dv_t
+    Mat3 wu;              // dw'/du
+  };
+  bool rhs_blocks(const Vec12& x, const Vec3& u, Vec12& xdot, JacobianBlocks& J) const;
+  bool rk_step_jacobian(int scheme, double h, const Vec12& x, const Vec3& u, Vec12& x_next, Mat12& A,
+                        Mat12x3& B) const;
+  // cw_frame and d(R u)/dr_t, d(R u)/dv_t for the CW control frame.
+  static bool cw_frame_derivatives(const Vec3& r_t, const Vec3& v_t, const Vec3& u, Mat3& R, Mat3& dRu_dr,
                                    Mat3& dRu_dv);
   TwoSatelliteParams p_;
 };

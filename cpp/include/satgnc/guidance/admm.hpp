@@ -154,6 +154,14 @@ class AdmmSolver {
   /// Objective of a control sequence (nu x N) flown from x0 (no constraint checks); allocates.
   double objective_of(const Eigen::Ref<const Eigen::MatrixXd>& U) const;
 
+  /// Overwrite the dynamics in place (A, B, c with the counts and sizes given at construction:
+  /// N time-varying entries each, c empty if none was given) and refactor the cached Riccati gains
+  /// at settings().rho, without allocation (sequential convex programming re-linearizes this way).
+  /// The warm start is kept. Returns false on mismatched sizes or non-finite data (nothing changed)
+  /// or a failed factorization (solve() then reports kNumericalError).
+  bool update_dynamics(const std::vector<Eigen::MatrixXd>& A, const std::vector<Eigen::MatrixXd>& B,
+                       const std::vector<Eigen::VectorXd>& c) noexcept;
+
  private:
   double control_cost(const Eigen::Ref<const Eigen::VectorXd>& u) const noexcept;
   double trajectory_objective(const Eigen::Ref<const Eigen::MatrixXd>& X,
@@ -164,6 +172,7 @@ class AdmmSolver {
   int dual_candidate(std::uint64_t& signature) noexcept;
   bool polish_solve(int F) noexcept;
   bool polish_swaps(int& F) noexcept;
+  void update_psib() noexcept;
   /// Per-iteration statistics of the fused relaxation / prox / multiplier pass.
   struct PassStats {
     double prim = 0.0, dual = 0.0, fro2 = 0.0, nU = 0.0, nY = 0.0, nL = 0.0;

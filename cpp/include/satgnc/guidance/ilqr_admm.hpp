@@ -166,6 +166,8 @@ class IlqrAdmmSolver {
   bool warm_ = false;
   double reg_ = 0.0;
   bool jac_valid_ = false;  // A_, B_ hold the Jacobians along (X, U)
+  int n_exo_ = 0;           // number of exogenous states (DiscreteModel::exogenous_states)
+  std::vector<int> exo_idx_, endo_idx_;
   // workspace
   std::vector<Eigen::MatrixXd> A_, B_, K_;
   Eigen::MatrixXd d_, Xn_, Un_, Yprev_, Xtmp_, Ubest_, Ybest_, Lbest_, Xbest_, V_;

@@ -91,6 +91,13 @@ class RiccatiSolver {
   /// Rank of the terminal sensitivity (= dimension of the reachable subspace of x_N).
   int terminal_rank() const { return rank_; }
 
+  /// Overwrite the stored dynamics of stage k (A_k nx x nx, B_k nx x nu, c_k nx or empty when no c
+  /// is stored) in place, without allocation; call factor() afterwards. Returns false (nothing
+  /// changed) on a bad k, a size mismatch, non-finite data, or when the stage is shared
+  /// (time-invariant storage with N > 1).
+  bool set_stage_dynamics(int k, const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& B,
+                          const Eigen::Ref<const Eigen::VectorXd>& c) noexcept;
+
  private:
   template <int NX, int NU>
   void affine_sweep(const Eigen::Ref<const Eigen::VectorXd>& x0, const Eigen::Ref<const Eigen::MatrixXd>& q,

@@ -21,7 +21,7 @@ namespace satgnc::guidance {
 /// Solver of the convex subproblem.
 enum class ScpInner {
   ilqr_admm = 0,    ///< IlqrAdmmSolver on the affine model (exact LQR-ADMM there; allocation-free)
-  linear_admm = 1,  ///< guidance/admm.hpp AdmmSolver (rebuilt per outer iteration: allocates)
+  linear_admm = 1,  ///< guidance/admm.hpp AdmmSolver (dynamics updated in place: allocation-free)
 };
 
 /// Settings (plain data).
@@ -75,9 +75,8 @@ struct ScpResult {
   ScpInfo info;
 };
 
-/// Sequential convex programming solver. With ScpInner::ilqr_admm (default) solve() does not allocate;
-/// with ScpInner::linear_admm the AdmmSolver is rebuilt on each re-linearization (guidance/admm.hpp
-/// has no in-place dynamics update), so solve() allocates once per outer iteration.
+/// Sequential convex programming solver. solve() does not allocate with either inner solver (the
+/// linear AdmmSolver is built once and re-linearized with AdmmSolver::update_dynamics).
 class ScpSolver {
  public:
   /// Validates (std::invalid_argument) with the same rules as IlqrAdmmSolver.
@@ -102,6 +101,7 @@ class ScpSolver {
   int nx_, nu_, N_;
   std::unique_ptr<LinearDiscreteModel> lin_;
   std::unique_ptr<IlqrAdmmSolver> inner_;
+  std::unique_ptr<AdmmSolver> admm_;
   ScpResult res_;
   Eigen::MatrixXd Ytmp_, Utmp_, Xtmp_, Ywarm_, Lwarm_;
   LtvProblem sub_;

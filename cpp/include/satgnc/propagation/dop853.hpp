@@ -297,16 +297,16 @@ class Dop853 {
 
 template <int N, class Rhs>
 double Dop853<N, Rhs>::error_norm(double h) const {
-  using namespace dop853_tableau;
+  namespace tb = dop853_tableau;
   const Vec* k = k_;
   // One division per component; the 3rd- and 5th-order estimates are formed component by component.
   const auto inv_sk = (s_.atol + s_.rtol * y_.cwiseAbs().cwiseMax(ynew_.cwiseAbs()).array())
                           .max(std::numeric_limits<double>::min())
                           .inverse()
                           .eval();
-  const double err3 = ((bsum_ - bhh1 * k[0] - bhh9 * k[8] - bhh12 * k[11]).array() * inv_sk).square().sum();
-  const double err5 = ((e1 * k[0] + e6 * k[5] + e7 * k[6] + e8 * k[7] + e9 * k[8] + e10 * k[9] +
-      e11 * k[10] + e12 * k[11]).array() * inv_sk).square().sum();
+  const double err3 = ((bsum_ - tb::bhh1 * k[0] - tb::bhh9 * k[8] - tb::bhh12 * k[11]).array() * inv_sk).square().sum();
+  const double err5 = ((tb::e1 * k[0] + tb::e6 * k[5] + tb::e7 * k[6] + tb::e8 * k[7] + tb::e9 * k[8] + tb::e10 * k[9] +
+      tb::e11 * k[10] + tb::e12 * k[11]).array() * inv_sk).square().sum();
   double deno = err5 + 0.01 * err3;
   if (deno <= 0.0) deno = 1.0;
   return std::abs(h) * err5 * std::sqrt(1.0 / (N * deno));
@@ -332,29 +332,29 @@ double Dop853<N, Rhs>::initial_step(double t, double dir, double h_max) {
 
 template <int N, class Rhs>
 void Dop853<N, Rhs>::prepare_dense(double t, double h) {
-  using namespace dop853_tableau;
+  namespace tb = dop853_tableau;
   Vec* k = k_;
-    yt_.noalias() = y_ + h * (a14_1 * k[0] + a14_7 * k[6] + a14_8 * k[7] + a14_9 * k[8] + a14_10 * k[9] +
-        a14_11 * k[10] + a14_12 * k[11] + a14_13 * k[12]);
-    rhs_(t + c14 * h, yt_, k[13]);
-    yt_.noalias() = y_ + h * (a15_1 * k[0] + a15_6 * k[5] + a15_7 * k[6] + a15_8 * k[7] + a15_11 * k[10] +
-        a15_12 * k[11] + a15_13 * k[12] + a15_14 * k[13]);
-    rhs_(t + c15 * h, yt_, k[14]);
-    yt_.noalias() = y_ + h * (a16_1 * k[0] + a16_6 * k[5] + a16_7 * k[6] + a16_8 * k[7] + a16_9 * k[8] +
-        a16_13 * k[12] + a16_14 * k[13] + a16_15 * k[14]);
-    rhs_(t + c16 * h, yt_, k[15]);
-    cont_[4].noalias() = h * (d4_1 * k[0] + d4_6 * k[5] + d4_7 * k[6] + d4_8 * k[7] + d4_9 * k[8] +
-        d4_10 * k[9] + d4_11 * k[10] + d4_12 * k[11] + d4_13 * k[12] + d4_14 * k[13] + d4_15 * k[14] +
-        d4_16 * k[15]);
-    cont_[5].noalias() = h * (d5_1 * k[0] + d5_6 * k[5] + d5_7 * k[6] + d5_8 * k[7] + d5_9 * k[8] +
-        d5_10 * k[9] + d5_11 * k[10] + d5_12 * k[11] + d5_13 * k[12] + d5_14 * k[13] + d5_15 * k[14] +
-        d5_16 * k[15]);
-    cont_[6].noalias() = h * (d6_1 * k[0] + d6_6 * k[5] + d6_7 * k[6] + d6_8 * k[7] + d6_9 * k[8] +
-        d6_10 * k[9] + d6_11 * k[10] + d6_12 * k[11] + d6_13 * k[12] + d6_14 * k[13] + d6_15 * k[14] +
-        d6_16 * k[15]);
-    cont_[7].noalias() = h * (d7_1 * k[0] + d7_6 * k[5] + d7_7 * k[6] + d7_8 * k[7] + d7_9 * k[8] +
-        d7_10 * k[9] + d7_11 * k[10] + d7_12 * k[11] + d7_13 * k[12] + d7_14 * k[13] + d7_15 * k[14] +
-        d7_16 * k[15]);
+    yt_.noalias() = y_ + h * (tb::a14_1 * k[0] + tb::a14_7 * k[6] + tb::a14_8 * k[7] + tb::a14_9 * k[8] + tb::a14_10 * k[9] +
+        tb::a14_11 * k[10] + tb::a14_12 * k[11] + tb::a14_13 * k[12]);
+    rhs_(t + tb::c14 * h, yt_, k[13]);
+    yt_.noalias() = y_ + h * (tb::a15_1 * k[0] + tb::a15_6 * k[5] + tb::a15_7 * k[6] + tb::a15_8 * k[7] + tb::a15_11 * k[10] +
+        tb::a15_12 * k[11] + tb::a15_13 * k[12] + tb::a15_14 * k[13]);
+    rhs_(t + tb::c15 * h, yt_, k[14]);
+    yt_.noalias() = y_ + h * (tb::a16_1 * k[0] + tb::a16_6 * k[5] + tb::a16_7 * k[6] + tb::a16_8 * k[7] + tb::a16_9 * k[8] +
+        tb::a16_13 * k[12] + tb::a16_14 * k[13] + tb::a16_15 * k[14]);
+    rhs_(t + tb::c16 * h, yt_, k[15]);
+    cont_[4].noalias() = h * (tb::d4_1 * k[0] + tb::d4_6 * k[5] + tb::d4_7 * k[6] + tb::d4_8 * k[7] + tb::d4_9 * k[8] +
+        tb::d4_10 * k[9] + tb::d4_11 * k[10] + tb::d4_12 * k[11] + tb::d4_13 * k[12] + tb::d4_14 * k[13] + tb::d4_15 * k[14] +
+        tb::d4_16 * k[15]);
+    cont_[5].noalias() = h * (tb::d5_1 * k[0] + tb::d5_6 * k[5] + tb::d5_7 * k[6] + tb::d5_8 * k[7] + tb::d5_9 * k[8] +
+        tb::d5_10 * k[9] + tb::d5_11 * k[10] + tb::d5_12 * k[11] + tb::d5_13 * k[12] + tb::d5_14 * k[13] + tb::d5_15 * k[14] +
+        tb::d5_16 * k[15]);
+    cont_[6].noalias() = h * (tb::d6_1 * k[0] + tb::d6_6 * k[5] + tb::d6_7 * k[6] + tb::d6_8 * k[7] + tb::d6_9 * k[8] +
+        tb::d6_10 * k[9] + tb::d6_11 * k[10] + tb::d6_12 * k[11] + tb::d6_13 * k[12] + tb::d6_14 * k[13] + tb::d6_15 * k[14] +
+        tb::d6_16 * k[15]);
+    cont_[7].noalias() = h * (tb::d7_1 * k[0] + tb::d7_6 * k[5] + tb::d7_7 * k[6] + tb::d7_8 * k[7] + tb::d7_9 * k[8] +
+        tb::d7_10 * k[9] + tb::d7_11 * k[10] + tb::d7_12 * k[11] + tb::d7_13 * k[12] + tb::d7_14 * k[13] + tb::d7_15 * k[14] +
+        tb::d7_16 * k[15]);
 
     nfev_ += 3;
   cont_[0] = y_;
@@ -377,7 +377,7 @@ template <int N, class Rhs>
 template <class Output>
 Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, std::size_t n_out,
                                  Output&& out) {
-  using namespace dop853_tableau;
+  namespace tb = dop853_tableau;
   Dop853Info info;
   info.t_reached = t0;
   nfev_ = 0;
@@ -439,34 +439,34 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
     }
     ++nstep;
     info.h_last = h;
-    yt_.noalias() = y_ + h * (a2_1 * k[0]);
-    rhs_(t + c2 * h, yt_, k[1]);
-    yt_.noalias() = y_ + h * (a3_1 * k[0] + a3_2 * k[1]);
-    rhs_(t + c3 * h, yt_, k[2]);
-    yt_.noalias() = y_ + h * (a4_1 * k[0] + a4_3 * k[2]);
-    rhs_(t + c4 * h, yt_, k[3]);
-    yt_.noalias() = y_ + h * (a5_1 * k[0] + a5_3 * k[2] + a5_4 * k[3]);
-    rhs_(t + c5 * h, yt_, k[4]);
-    yt_.noalias() = y_ + h * (a6_1 * k[0] + a6_4 * k[3] + a6_5 * k[4]);
-    rhs_(t + c6 * h, yt_, k[5]);
-    yt_.noalias() = y_ + h * (a7_1 * k[0] + a7_4 * k[3] + a7_5 * k[4] + a7_6 * k[5]);
-    rhs_(t + c7 * h, yt_, k[6]);
-    yt_.noalias() = y_ + h * (a8_1 * k[0] + a8_4 * k[3] + a8_5 * k[4] + a8_6 * k[5] + a8_7 * k[6]);
-    rhs_(t + c8 * h, yt_, k[7]);
-    yt_.noalias() = y_ + h * (a9_1 * k[0] + a9_4 * k[3] + a9_5 * k[4] + a9_6 * k[5] + a9_7 * k[6] +
-        a9_8 * k[7]);
-    rhs_(t + c9 * h, yt_, k[8]);
-    yt_.noalias() = y_ + h * (a10_1 * k[0] + a10_4 * k[3] + a10_5 * k[4] + a10_6 * k[5] + a10_7 * k[6] +
-        a10_8 * k[7] + a10_9 * k[8]);
-    rhs_(t + c10 * h, yt_, k[9]);
-    yt_.noalias() = y_ + h * (a11_1 * k[0] + a11_4 * k[3] + a11_5 * k[4] + a11_6 * k[5] + a11_7 * k[6] +
-        a11_8 * k[7] + a11_9 * k[8] + a11_10 * k[9]);
-    rhs_(t + c11 * h, yt_, k[10]);
-    yt_.noalias() = y_ + h * (a12_1 * k[0] + a12_4 * k[3] + a12_5 * k[4] + a12_6 * k[5] + a12_7 * k[6] +
-        a12_8 * k[7] + a12_9 * k[8] + a12_10 * k[9] + a12_11 * k[10]);
-    rhs_(t + c12 * h, yt_, k[11]);
-    bsum_.noalias() = a13_1 * k[0] + a13_6 * k[5] + a13_7 * k[6] + a13_8 * k[7] + a13_9 * k[8] +
-        a13_10 * k[9] + a13_11 * k[10] + a13_12 * k[11];
+    yt_.noalias() = y_ + h * (tb::a2_1 * k[0]);
+    rhs_(t + tb::c2 * h, yt_, k[1]);
+    yt_.noalias() = y_ + h * (tb::a3_1 * k[0] + tb::a3_2 * k[1]);
+    rhs_(t + tb::c3 * h, yt_, k[2]);
+    yt_.noalias() = y_ + h * (tb::a4_1 * k[0] + tb::a4_3 * k[2]);
+    rhs_(t + tb::c4 * h, yt_, k[3]);
+    yt_.noalias() = y_ + h * (tb::a5_1 * k[0] + tb::a5_3 * k[2] + tb::a5_4 * k[3]);
+    rhs_(t + tb::c5 * h, yt_, k[4]);
+    yt_.noalias() = y_ + h * (tb::a6_1 * k[0] + tb::a6_4 * k[3] + tb::a6_5 * k[4]);
+    rhs_(t + tb::c6 * h, yt_, k[5]);
+    yt_.noalias() = y_ + h * (tb::a7_1 * k[0] + tb::a7_4 * k[3] + tb::a7_5 * k[4] + tb::a7_6 * k[5]);
+    rhs_(t + tb::c7 * h, yt_, k[6]);
+    yt_.noalias() = y_ + h * (tb::a8_1 * k[0] + tb::a8_4 * k[3] + tb::a8_5 * k[4] + tb::a8_6 * k[5] + tb::a8_7 * k[6]);
+    rhs_(t + tb::c8 * h, yt_, k[7]);
+    yt_.noalias() = y_ + h * (tb::a9_1 * k[0] + tb::a9_4 * k[3] + tb::a9_5 * k[4] + tb::a9_6 * k[5] + tb::a9_7 * k[6] +
+        tb::a9_8 * k[7]);
+    rhs_(t + tb::c9 * h, yt_, k[8]);
+    yt_.noalias() = y_ + h * (tb::a10_1 * k[0] + tb::a10_4 * k[3] + tb::a10_5 * k[4] + tb::a10_6 * k[5] + tb::a10_7 * k[6] +
+        tb::a10_8 * k[7] + tb::a10_9 * k[8]);
+    rhs_(t + tb::c10 * h, yt_, k[9]);
+    yt_.noalias() = y_ + h * (tb::a11_1 * k[0] + tb::a11_4 * k[3] + tb::a11_5 * k[4] + tb::a11_6 * k[5] + tb::a11_7 * k[6] +
+        tb::a11_8 * k[7] + tb::a11_9 * k[8] + tb::a11_10 * k[9]);
+    rhs_(t + tb::c11 * h, yt_, k[10]);
+    yt_.noalias() = y_ + h * (tb::a12_1 * k[0] + tb::a12_4 * k[3] + tb::a12_5 * k[4] + tb::a12_6 * k[5] + tb::a12_7 * k[6] +
+        tb::a12_8 * k[7] + tb::a12_9 * k[8] + tb::a12_10 * k[9] + tb::a12_11 * k[10]);
+    rhs_(t + tb::c12 * h, yt_, k[11]);
+    bsum_.noalias() = tb::a13_1 * k[0] + tb::a13_6 * k[5] + tb::a13_7 * k[6] + tb::a13_8 * k[7] + tb::a13_9 * k[8] +
+        tb::a13_10 * k[9] + tb::a13_11 * k[10] + tb::a13_12 * k[11];
 
     ynew_.noalias() = y_ + h * bsum_;
     nfev_ += 11;

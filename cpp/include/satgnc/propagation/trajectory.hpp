@@ -22,6 +22,12 @@ enum class PropagationStatus {
 /// Human-readable message for a status (message table, as OSQP does).
 const char* status_message(PropagationStatus s);
 
+/// Throw std::invalid_argument unless x0 = [r km, v km/s] is finite with |r| > 0, t0 (s) is finite
+/// and the output times (s) are finite and monotone (non-strictly, increasing or decreasing; they
+/// may lie on either side of t0). `singular_hint` says why |r| = 0 is refused by the caller.
+void validate_orbit_arc_input(const Vec6& x0, double t0, const std::vector<double>& times,
+                              const char* singular_hint);
+
 /// Integrator statistics.
 struct PropagationStats {
   long steps = 0;           ///< accepted steps

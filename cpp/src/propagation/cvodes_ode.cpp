@@ -1,0 +1,259 @@
+// Generic N-dimensional CVODES integrator (see cvodes_ode.hpp).
+#include "satgnc/propagation/cvodes_ode.hpp"
+
+#include <cvodes/cvodes.h>
+#include <cvodes/cvodes_ls.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+#include <sunnonlinsol/sunnonlinsol_newton.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+
+#include "satgnc/core/validate.hpp"
+#include "satgnc/propagation/nvector.hpp"
+
+namespace satgnc::propagation {
+
+namespace {
+std::string fmt(double x) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+}  // namespace
+
+void CvodesOdeSettings::validate(int n) const {
+  using core::require;
+  require(std::isfinite(rtol) && rtol > 0.0, "rtol", "must be finite and > 0, got " + fmt(rtol));
+  require(std::isfinite(atol) && atol > 0.0, "atol", "must be finite and > 0, got " + fmt(atol));
+  require(atol_components.empty() || static_cast<int>(atol_components.size()) == n, "atol_components",
+          "must be empty or have n = " + std::to_string(n) + " entries, got " +
+              std::to_string(atol_components.size()));
+  for (size_t i = 0; i < atol_components.size(); ++i)
+    require(std::isfinite(atol_components[i]) && atol_components[i] > 0.0,
+            "atol_components[" + std::to_string(i) + "]", "must be finite and > 0");
+  require(max_steps > 0, "max_steps", "must be > 0, got " + std::to_string(max_steps));
+  const int omax = method == CvodesMethod::adams ? 12 : 5;
+  require(max_order >= 0 && max_order <= omax, "max_order",
+          "must be 0 (default) or 1.." + std::to_string(omax) + " for this method, got " + std::to_string(max_order));
+  require(std::isfinite(max_step) && max_step >= 0.0, "max_step", "must be finite and >= 0 (0: unbounded)");
+}
+
+struct CvodesOde::Impl {
+  int n;
+  Rhs f;
+  Jacobian jac;
+  CvodesOdeSettings settings;
+  SUNContext ctx = nullptr;
+  void* mem = nullptr;
+  N_Vector y = nullptr;
+  N_Vector abstol = nullptr;
+  SUNNonlinearSolver nls = nullptr;
+  SUNLinearSolver ls = nullptr;
+  Eigen::MatrixXd J, M;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+  double lu_t = 0.0, lu_gamma = 0.0;
+  bool lu_valid = false;
+  PropagationStats stats;
+  std::string message;
+  std::string cv_message;
+  double t_reached = 0.0;
+  bool rhs_failed = false;
+  double rhs_fail_t = 0.0;
+
+  Impl(int dim, Rhs rhs, const CvodesOdeSettings& s, Jacobian j)
+      : n(dim), f(std::move(rhs)), jac(std::move(j)), settings(s) {}
+  ~Impl() {
+    if (mem != nullptr) CVodeFree(&mem);
+    if (nls != nullptr) SUNNonlinSolFree(nls);
+    if (ls != nullptr) SUNLinSolFreeEmpty(ls);
+    if (abstol != nullptr) N_VDestroy(abstol);
+    if (y != nullptr) N_VDestroy(y);
+    if (ctx != nullptr) SUNContext_Free(&ctx);
+  }
+
+  void check(int flag, const char* what) {
+    if (flag < 0) throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
+  }
+
+  static int rhs(realtype t, N_Vector yv, N_Vector ydot, void* user) {
+    auto* p = static_cast<Impl*>(user);
+    double* fd = N_VGetArrayPointer(ydot);
+    bool ok = p->f(t, N_VGetArrayPointer(yv), fd);
+    for (int i = 0; ok && i < p->n; ++i) ok = std::isfinite(fd[i]);
+    if (!ok) {
+      p->rhs_failed = true;
+      p->rhs_fail_t = t;
+      return 1;  // recoverable: CVODES retries with a smaller step, then reports a failure
+    }
+    return 0;
+  }
+
+  static void error_handler(int, const char*, const char*, char* msg, void* data) {
+    static_cast<Impl*>(data)->cv_message = msg;
+  }
+
+  static SUNLinearSolver_Type ls_type(SUNLinearSolver) { return SUNLINEARSOLVER_MATRIX_EMBEDDED; }
+
+  // As in CvodesPropagator: CVODES 6.4 does not call setup() on a matrix-embedded solver, so solve()
+  // refreshes M = I - gamma J(y_pred) whenever (t, gamma) changed (modified Newton per step).
+  static int ls_solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, realtype) {
+    auto* p = static_cast<Impl*>(s->content);
+    realtype tcur, gamma, rl1;
+    N_Vector ypred, yn, fn, zn1;
+    void* ud;
+    if (CVodeGetNonlinearSystemData(p->mem, &tcur, &ypred, &yn, &fn, &gamma, &rl1, &zn1, &ud) != CV_SUCCESS)
+      return SUNLS_PACKAGE_FAIL_UNREC;
+    if (!p->lu_valid || tcur != p->lu_t || gamma != p->lu_gamma) {
+      if (!p->jac(tcur, N_VGetArrayPointer(ypred), p->J.data()) || !p->J.allFinite())
+        return SUNLS_PACKAGE_FAIL_REC;
+      p->M.setIdentity();
+      p->M.noalias() -= gamma * p->J;
+      p->lu.compute(p->M);
+      p->lu_t = tcur;
+      p->lu_gamma = gamma;
+      p->lu_valid = true;
+      ++p->stats.lin_setups;
+    }
+    Eigen::Map<Eigen::VectorXd> xv(N_VGetArrayPointer(x), p->n);
+    const Eigen::Map<const Eigen::VectorXd> bv(N_VGetArrayPointer(b), p->n);
+    xv.noalias() = p->lu.solve(bv);
+    return SUNLS_SUCCESS;
+  }
+
+  void setup() {
+    core::require(n >= 1, "n", "must be >= 1");
+    core::require(static_cast<bool>(f), "rhs", "must be a callable");
+    settings.validate(n);
+    if (SUNContext_Create(nullptr, &ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
+    y = nvector_new(n, ctx);
+    if (y == nullptr) throw std::runtime_error("N_Vector allocation failed");
+    double* yd = N_VGetArrayPointer(y);
+    for (int i = 0; i < n; ++i) yd[i] = 0.0;
+    mem = CVodeCreate(settings.method == CvodesMethod::adams ? CV_ADAMS : CV_BDF, ctx);
+    if (mem == nullptr) throw std::runtime_error("CVodeCreate failed");
+    check(CVodeSetErrHandlerFn(mem, &Impl::error_handler, this), "CVodeSetErrHandlerFn");
+    check(CVodeInit(mem, &Impl::rhs, 0.0, y), "CVodeInit");
+    check(CVodeSetUserData(mem, this), "CVodeSetUserData");
+    if (settings.atol_components.empty()) {
+      check(CVodeSStolerances(mem, settings.rtol, settings.atol), "CVodeSStolerances");
+    } else {
+      abstol = nvector_new(n, ctx);
+      if (abstol == nullptr) throw std::runtime_error("N_Vector allocation failed");
+      double* ad = N_VGetArrayPointer(abstol);
+      for (int i = 0; i < n; ++i) ad[i] = settings.atol_components[static_cast<size_t>(i)];
+      check(CVodeSVtolerances(mem, settings.rtol, abstol), "CVodeSVtolerances");
+    }
+    if (settings.max_order > 0) check(CVodeSetMaxOrd(mem, settings.max_order), "CVodeSetMaxOrd");
+    if (settings.max_step > 0.0) check(CVodeSetMaxStep(mem, settings.max_step), "CVodeSetMaxStep");
+    if (!jac) {
+      nls = SUNNonlinSol_FixedPoint(y, 0, ctx);
+      if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_FixedPoint failed");
+      check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
+    } else {
+      J.setZero(n, n);
+      M.setZero(n, n);
+      lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+      nls = SUNNonlinSol_Newton(y, ctx);
+      if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_Newton failed");
+      check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
+      ls = SUNLinSolNewEmpty(ctx);
+      if (ls == nullptr) throw std::runtime_error("SUNLinSolNewEmpty failed");
+      ls->content = this;
+      ls->ops->gettype = &Impl::ls_type;
+      ls->ops->solve = &Impl::ls_solve;
+      check(CVodeSetLinearSolver(mem, ls, nullptr), "CVodeSetLinearSolver");
+    }
+  }
+
+  static PropagationStatus map_flag(int flag) {
+    switch (flag) {
+      case CV_TOO_MUCH_WORK: return PropagationStatus::too_much_work;
+      case CV_TOO_MUCH_ACC: return PropagationStatus::too_much_accuracy;
+      case CV_ERR_FAILURE: return PropagationStatus::error_test_failures;
+      case CV_CONV_FAILURE: return PropagationStatus::convergence_failures;
+      case CV_RHSFUNC_FAIL:
+      case CV_FIRST_RHSFUNC_ERR:
+      case CV_REPTD_RHSFUNC_ERR:
+      case CV_UNREC_RHSFUNC_ERR: return PropagationStatus::rhs_failure;
+      default: return PropagationStatus::solver_failure;
+    }
+  }
+
+  void fill_stats() {
+    CVodeGetNumSteps(mem, &stats.steps);
+    CVodeGetNumRhsEvals(mem, &stats.rhs_evals);
+    CVodeGetNumErrTestFails(mem, &stats.error_test_fails);
+    CVodeGetNumNonlinSolvIters(mem, &stats.nonlin_iters);
+    CVodeGetNumNonlinSolvConvFails(mem, &stats.nonlin_conv_fails);
+    CVodeGetLastStep(mem, &stats.last_step);
+  }
+
+  PropagationStatus integrate(double t0, Eigen::Ref<Eigen::VectorXd> yin, double t1) {
+    stats = PropagationStats{};
+    message.clear();
+    cv_message.clear();
+    rhs_failed = false;
+    lu_valid = false;
+    t_reached = t0;
+    if (yin.size() != n || !yin.allFinite() || !std::isfinite(t0) || !std::isfinite(t1) || t1 == t0) {
+      message = "invalid input: y must have n = " + std::to_string(n) +
+                " finite entries and t0, t1 must be finite and distinct";
+      return PropagationStatus::solver_failure;
+    }
+    Eigen::Map<Eigen::VectorXd> yv(N_VGetArrayPointer(y), n);
+    yv = yin;
+    int flag = CVodeReInit(mem, t0, y);
+    if (flag >= 0) flag = CVodeSetStopTime(mem, t1);
+    if (flag >= 0) flag = CVodeSetMaxNumSteps(mem, settings.max_steps);
+    realtype tret = t0;
+    if (flag >= 0) flag = CVode(mem, t1, y, &tret, CV_NORMAL);
+    fill_stats();
+    t_reached = tret;
+    if (flag < 0) {
+      realtype tcur = t0;
+      if (stats.steps > 0) CVodeGetCurrentTime(mem, &tcur);
+      t_reached = tcur;
+      const PropagationStatus st = map_flag(flag);
+      message = "CVODES stopped at t = " + fmt(tcur) + " before reaching t = " + fmt(t1) + ": " +
+                status_message(st);
+      if (flag == CV_TOO_MUCH_WORK) message += " (max_steps = " + std::to_string(settings.max_steps) + ")";
+      if (rhs_failed) message += "; the right-hand side failed at t = " + fmt(rhs_fail_t);
+      if (!cv_message.empty()) message += " [CVODES: " + cv_message + "]";
+      if (stats.steps > 0) yin = yv;  // last accepted state
+      return st;
+    }
+    yin = yv;
+    return PropagationStatus::success;
+  }
+};
+
+CvodesOde::CvodesOde(int n, Rhs rhs, const CvodesOdeSettings& settings, Jacobian jacobian)
+    : impl_(std::make_unique<Impl>(n, std::move(rhs), settings, std::move(jacobian))) {
+  impl_->setup();
+}
+CvodesOde::~CvodesOde() = default;
+CvodesOde::CvodesOde(CvodesOde&&) noexcept = default;
+CvodesOde& CvodesOde::operator=(CvodesOde&&) noexcept = default;
+
+PropagationStatus CvodesOde::integrate(double t0, Eigen::Ref<Eigen::VectorXd> y, double t1) noexcept {
+  try {
+    return impl_->integrate(t0, y, t1);
+  } catch (...) {
+    impl_->message = "unexpected exception in the right-hand side or Jacobian callback";
+    return PropagationStatus::solver_failure;
+  }
+}
+
+int CvodesOde::dim() const { return impl_->n; }
+const CvodesOdeSettings& CvodesOde::settings() const { return impl_->settings; }
+const PropagationStats& CvodesOde::stats() const { return impl_->stats; }
+const std::string& CvodesOde::message() const { return impl_->message; }
+double CvodesOde::t_reached() const { return impl_->t_reached; }
+
+}  // namespace satgnc::propagation
