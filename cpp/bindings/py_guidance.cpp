@@ -43,6 +43,7 @@ py::dict result_to_dict(const guidance::AdmmResult& r) {
   d["rho_updates"] = i.rho_updates;
   d["polished"] = i.polished;
   d["polish_attempts"] = i.polish_attempts;
+  d["condensed"] = i.condensed;
   d["solve_time"] = i.solve_time;
   return d;
 }
@@ -105,6 +106,7 @@ void init_guidance(py::module_& m) {
       .def_readwrite("rho_min", &AdmmSettings::rho_min)
       .def_readwrite("rho_max", &AdmmSettings::rho_max)
       .def_readwrite("cache_gains", &AdmmSettings::cache_gains)
+      .def_readwrite("condensed", &AdmmSettings::condensed)
       .def_readwrite("paper_multiplier_rescale", &AdmmSettings::paper_multiplier_rescale)
       .def_readwrite("paper_global_rescale_iterations", &AdmmSettings::paper_global_rescale_iterations)
       .def_readwrite("track_best", &AdmmSettings::track_best)

@@ -191,6 +191,7 @@ TEST(Admm, CachedGainsMatchFullRiccatiIterateByIterate) {
       st.track_best = false;
       st.eps_abs = 0.0;
       st.eps_rel = 1e-300;
+      st.condensed = false;  // the cached-gain Riccati step itself (the condensed step has its own test)
       AdmmSolver a(p, st);
       st.cache_gains = false;
       AdmmSolver b(p, st);
@@ -202,6 +203,59 @@ TEST(Admm, CachedGainsMatchFullRiccatiIterateByIterate) {
       EXPECT_LE((ra.Lambda - rb.Lambda).cwiseAbs().maxCoeff(), 1e-10 * std::max(1.0, ra.Lambda.cwiseAbs().maxCoeff()));
     }
   }
+}
+
+TEST(Admm, CondensedStepMatchesRiccatiIterateByIterate) {
+  // No stage state cost: the condensed step (x_N = x_N0 + M U, one nx x nx LU) and the cached-gain
+  // Riccati step solve the same x/u subproblem, so every iterate agrees to rounding.
+  LtvProblem rp = random_problem(4, 2, 25, 11u, true, false);
+  rp.Q = MatrixXd();
+  rp.R = Eigen::Vector2d(0.3, 0.05).asDiagonal();
+  LtvProblem rpt = random_problem(4, 2, 25, 12u, false, true);
+  rpt.Q = MatrixXd();
+  for (const LtvProblem& p : {scenario_problem(true, false), scenario_problem(true, true), rp, rpt}) {
+    for (int it : {1, 2, 7, 40, 120}) {
+      AdmmSettings st;
+      st.rho = 0.5;
+      st.adaptive_rho_interval = 10;  // refactorizations at both sides within the budget
+      st.polish = false;
+      st.max_iterations = it;
+      st.track_best = false;
+      st.eps_abs = 0.0;
+      st.eps_rel = 1e-300;
+      AdmmSolver a(p, st);
+      st.condensed = false;
+      AdmmSolver b(p, st);
+      const AdmmResult& ra = a.solve();
+      const AdmmResult& rb = b.solve();
+      ASSERT_TRUE(ra.info.condensed);
+      ASSERT_FALSE(rb.info.condensed);
+      EXPECT_EQ(ra.info.rho_updates, rb.info.rho_updates);
+      const double su = std::max(1.0, ra.U.cwiseAbs().maxCoeff());
+      const double sx = std::max(1.0, ra.X.cwiseAbs().maxCoeff());
+      EXPECT_LE((ra.U - rb.U).cwiseAbs().maxCoeff(), 1e-10 * su) << "iteration " << it;
+      EXPECT_LE((ra.Y - rb.Y).cwiseAbs().maxCoeff(), 1e-10 * su) << "iteration " << it;
+      EXPECT_LE((ra.X - rb.X).cwiseAbs().maxCoeff(), 1e-10 * sx) << "iteration " << it;
+      EXPECT_LE((ra.Lambda - rb.Lambda).cwiseAbs().maxCoeff(), 1e-10 * std::max(1.0, ra.Lambda.cwiseAbs().maxCoeff()));
+      EXPECT_LE((ra.terminal_multiplier - rb.terminal_multiplier).cwiseAbs().maxCoeff(),
+                1e-9 * std::max(1.0, rb.terminal_multiplier.cwiseAbs().maxCoeff()))
+          << "iteration " << it;
+    }
+  }
+}
+
+TEST(Admm, CondensedStepOnlyWhereItApplies) {
+  AdmmSettings st;
+  st.max_iterations = 5;
+  EXPECT_TRUE(AdmmSolver(scenario_problem(false, false), st).solve().info.condensed);
+  // a stage state cost (Q != 0) needs the Riccati step
+  EXPECT_FALSE(AdmmSolver(random_problem(4, 2, 10, 1u, true, false), st).solve().info.condensed);
+  LtvProblem p = random_problem(4, 2, 10, 1u, true, false);
+  p.Q = MatrixXd();
+  p.R = (MatrixXd(2, 2) << 1.0, 0.2, 0.2, 1.0).finished();  // non-diagonal R
+  EXPECT_FALSE(AdmmSolver(p, st).solve().info.condensed);
+  st.condensed = false;
+  EXPECT_FALSE(AdmmSolver(scenario_problem(false, false), st).solve().info.condensed);
 }
 
 TEST(Admm, BoxAndTerminalAreSatisfied) {
@@ -245,6 +299,7 @@ TEST(Admm, UnreachableTerminalStateIsAStatus) {
   AdmmSolver s(p);
   const AdmmResult& r = s.solve();
   EXPECT_EQ(r.info.status, AdmmStatus::kTerminalUnreachable);
+  EXPECT_FALSE(r.info.condensed);  // the Riccati step reports the unreachable target
   EXPECT_TRUE(r.Y.allFinite());
   EXPECT_TRUE(r.X.allFinite());
   EXPECT_TRUE(std::isfinite(r.info.objective));

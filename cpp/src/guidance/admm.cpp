@@ -138,9 +138,11 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   // polish needs Q = 0, plain L1 (+ box straddling zero); see AdmmSettings::polish
   polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
                (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
-  if (polish_ok_) {
-    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 8 * nx_;
-    fmax_ = std::min(fmax_, N_ * nu_);
+  // condensed step: no stage state cost, and R empty or diagonal (D = R + rho I stays diagonal)
+  cond_ok_ = prob_.Q.size() == 0 &&
+             (prob_.R.size() == 0 || (prob_.R - MatrixXd(prob_.R.diagonal().asDiagonal())).cwiseAbs().maxCoeff() == 0.0);
+  psi_ok_ = polish_ok_ || cond_ok_;
+  if (psi_ok_) {
     Psi_.setZero(nx_, nx_ * N_);
     Psi_.middleCols((N_ - 1) * nx_, nx_).setIdentity();
     for (int k = N_ - 1; k >= 1; --k) {
@@ -148,8 +150,23 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
     }
     // row k nu + i: (Phi(N, k+1) B_k e_i)', so x_N = x_N(U = 0) + PsiB' vec(U) and grad = PsiB p_N
     PsiB_.setZero(N_ * nu_, nx_);
-    update_psib();
     xN0_.setZero(nx_);
+    if (cond_ok_) {
+      Gax_.setZero(nx_, nx_ * nu_);
+      dinv_.setZero(nu_);
+      Sc_.setZero(nx_, nx_);
+      Hc_.setZero(nx_, nx_);
+      cond_lu_ = Eigen::PartialPivLU<MatrixXd>(nx_);
+      cb_.setZero(nx_);
+      ce_.setZero(nx_);
+      cg_.setZero(nx_);
+      Tc_.setZero(nu_, N_);
+    }
+    update_psib();
+  }
+  if (polish_ok_) {
+    fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 8 * nx_;
+    fmax_ = std::min(fmax_, N_ * nu_);
     GF_.setZero(nx_, fmax_);
     KKT_.setZero(fmax_ + nx_, fmax_ + nx_);
     rhs_.setZero(fmax_ + nx_);
@@ -175,6 +192,59 @@ void AdmmSolver::update_psib() noexcept {
       PsiB_.row(k * nu_ + i) = xtmp_.transpose();
     }
   }
+  if (cond_ok_) {
+    // per-axis Gram matrices: H = M D^-1 M' = sum_i dinv_i Gax_i for any rho, without a pass over N
+    Gax_.setZero();
+    for (int k = 0; k < N_; ++k) {
+      for (int i = 0; i < nu_; ++i) {
+        Gax_.middleCols(i * nx_, nx_).noalias() += PsiB_.row(k * nu_ + i).transpose() * PsiB_.row(k * nu_ + i);
+      }
+    }
+    cond_rho_valid_ = false;
+  }
+}
+
+// Condensed LQR step: with D = R + rho I diagonal and no stage state cost, stationarity gives
+// U = -D^-1 (r + M' g) with x_N = x_N0 + M U; g = Qf (x_N - x_f) (soft terminal) or the terminal
+// multiplier (hard). Eliminating U: (I + H Qf) e = b (soft, e = x_N - x_f) or H g = b (hard), with
+// H = M D^-1 M' and b = x_N0 - x_f - M D^-1 r.
+bool AdmmSolver::cond_factor(double rho) noexcept {
+  for (int i = 0; i < nu_; ++i) dinv_(i) = 1.0 / ((prob_.R.size() == 0 ? 0.0 : prob_.R(i, i)) + rho);
+  Hc_.setZero();
+  for (int i = 0; i < nu_; ++i) Hc_ += dinv_(i) * Gax_.middleCols(i * nx_, nx_);
+  if (prob_.terminal_equality) {
+    Sc_ = Hc_;
+  } else {
+    Sc_.noalias() = Hc_ * prob_.Qf;
+    Sc_.diagonal().array() += 1.0;
+  }
+  cond_lu_.compute(Sc_);
+  cond_rho_ = rho;
+  cond_rho_valid_ = true;
+  // pivot ratio as the conditioning test (Eigen's rcond() estimate allocates)
+  const auto piv = cond_lu_.matrixLU().diagonal().cwiseAbs();
+  const double pmax = piv.maxCoeff(), pmin = piv.minCoeff();
+  return std::isfinite(pmax) && pmin > 1e-12 * pmax;
+}
+
+void AdmmSolver::cond_step() noexcept {
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+  for (int k = 0; k < N_; ++k)
+    for (int i = 0; i < nu_; ++i) Tc_(i, k) = dinv_(i) * r_(i, k);
+  Eigen::Map<const VectorXd> t(Tc_.data(), n);
+  cb_ = xN0_ - prob_.xf;
+  cb_.noalias() -= PsiB_.transpose() * t;
+  ce_ = cond_lu_.solve(cb_);
+  if (prob_.terminal_equality) {
+    cg_ = ce_;
+  } else {
+    cg_.noalias() = prob_.Qf * ce_;
+  }
+  MatrixXd& U = res_.U;
+  Eigen::Map<VectorXd> u(U.data(), n);
+  u.noalias() = PsiB_ * cg_;
+  for (int k = 0; k < N_; ++k)
+    for (int i = 0; i < nu_; ++i) U(i, k) = -(Tc_(i, k) + dinv_(i) * U(i, k));
 }
 
 namespace {
@@ -681,13 +751,26 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     Y.setZero();
     L.setZero();
   }
-  if (polish_ok_) {  // x_N of the zero control (x0 and x_f may change between solves)
-    Up_.setZero();
-    rollout(Up_, Xp_);
-    xN0_ = Xp_.col(N_);
+  if (psi_ok_) {  // x_N of the zero control (x0 and x_f may change between solves)
+    const LtvDynamics& d = prob_.dynamics;
+    xN0_ = prob_.x0;
+    for (int k = 0; k < N_; ++k) {
+      xtmp_.noalias() = d.A_at(k) * xN0_;
+      if (!d.c.empty()) xtmp_ += d.c.size() == 1 ? d.c[0] : d.c[k];
+      xN0_ = xtmp_;
+    }
   }
   bool ok = true;
-  if (ric_.rho() != rho || ric_.factorizations() == 0) ok = ric_.factor(rho);
+  // condensed x/u step where it applies (a hard terminal state outside the reachable subspace goes
+  // to the Riccati step, which reports it)
+  bool cond = cond_ok_ && set_.condensed && set_.cache_gains &&
+              !(prob_.terminal_equality && ric_.terminal_rank() < nx_);
+  int cond_facts = 0;
+  if (cond && (!cond_rho_valid_ || cond_rho_ != rho)) {
+    ++cond_facts;
+    cond = cond_factor(rho);  // ill-conditioned: the Riccati step instead
+  }
+  if (!cond && (ric_.rho() != rho || ric_.factorizations() == 0)) ok = ric_.factor(rho);
   if (first_solve_) {
     info.factorizations = 1;  // the setup factorization serves this solve
     first_solve_ = false;
@@ -706,8 +789,12 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   while (ok && it < set_.max_iterations) {
     ++it;
     if (!r_valid) r_ = L - rho * Y;
-    RiccatiStatus rs = set_.cache_gains ? ric_.solve(prob_.x0, q_, r_, prob_.xf, X, U)
-                                        : ric_.solve_full(rho, prob_.x0, q_, r_, prob_.xf, X, U);
+    RiccatiStatus rs = RiccatiStatus::kOk;
+    if (cond)
+      cond_step();
+    else
+      rs = set_.cache_gains ? ric_.solve(prob_.x0, q_, r_, prob_.xf, X, U)
+                            : ric_.solve_full(rho, prob_.x0, q_, r_, prob_.xf, X, U);
     if (rs == RiccatiStatus::kTerminalUnreachable) {
       status = AdmmStatus::kTerminalUnreachable;
       break;
@@ -813,7 +900,11 @@ const AdmmResult& AdmmSolver::solve() noexcept {
           rho = rho_new;
           r_valid = false;
           ++info.rho_updates;
-          if (!ric_.factor(rho)) {
+          if (cond) {
+            ++cond_facts;
+            cond = cond_factor(rho);  // ill-conditioned at this rho: the Riccati step from here on
+          }
+          if (!cond && !ric_.factor(rho)) {
             status = AdmmStatus::kNumericalError;
             break;
           }
@@ -829,12 +920,16 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     info.dual_residual = best_dual;
     info.paper_criterion = best_paper;
     rollout(U, X);
+  } else if (cond && !info.polished) {
+    rollout(U, X);  // the condensed step produces U only
   }
   info.status = status;
   info.iterations = it;
   info.rho = rho;
-  info.factorizations += ric_.factorizations() - fact0;
-  if (prob_.terminal_equality && !info.polished) res_.terminal_multiplier = ric_.terminal_multiplier();
+  info.condensed = cond;
+  info.factorizations += ric_.factorizations() - fact0 + cond_facts;
+  if (prob_.terminal_equality && !info.polished)
+    res_.terminal_multiplier = cond ? cg_ : ric_.terminal_multiplier();
   rollout(Y, res_.X_flown);
   info.objective = trajectory_objective(res_.X_flown, Y);
   info.objective_u = trajectory_objective(X, U);
@@ -862,7 +957,7 @@ bool AdmmSolver::update_dynamics(const std::vector<MatrixXd>& A, const std::vect
     if (!c.empty()) d.c[k] = c[k];
     if (!ric_.set_stage_dynamics(static_cast<int>(k), A[k], B[k], c.empty() ? empty : c[k])) return false;
   }
-  if (polish_ok_) {
+  if (psi_ok_) {
     for (int k = N_ - 1; k >= 1; --k)
       Psi_.middleCols((k - 1) * nx_, nx_).noalias() = Psi_.middleCols(k * nx_, nx_) * d.A_at(k);
     update_psib();

@@ -100,6 +100,7 @@ class L1Result:
     polished: bool
     polish_attempts: int
     solve_time: float
+    condensed: bool = False  # the condensed x/u step was used (AdmmSettings.condensed)
 
     @property
     def converged(self) -> bool:
@@ -210,7 +211,7 @@ class L1Solver:
             eps_primal=d["eps_primal"],
             eps_dual=d["eps_dual"], paper_criterion=d["paper_criterion"], rho=d["rho"],
             factorizations=d["factorizations"], rho_updates=d["rho_updates"], polished=d["polished"],
-            polish_attempts=d["polish_attempts"], solve_time=d["solve_time"])
+            polish_attempts=d["polish_attempts"], solve_time=d["solve_time"], condensed=d["condensed"])
 
     def warm_start(self, Y, Lambda) -> None:
         """Start the next solve from Y, Lambda (N, nu) each, e.g. a shifted previous solution."""
