@@ -76,6 +76,13 @@ def flops_per_iteration(nx, nu, N):
     return per_stage * N
 
 
+def flops_per_condensed_iteration(nx, nu, N):
+    # condensed x/u step: t = D^-1 r; b = x_N0 - x_f - M t; e = LU \\ b; g = Qf e; u = -(t + D^-1 M' g)
+    # (M: nx x N nu); then the same relaxation / prox / multiplier / residual / dual-estimate pass
+    n = N * nu
+    return n + 2 * nx * n + 2 * nx * nx + 2 * nx * nx + 2 * nx * n + 2 * n + 29 * n
+
+
 def machine_flop_rate():
     """Single-thread dgemm (n = 600, OpenBLAS, AVX2/FMA) rate in flop/s: best of 10 by thread CPU time."""
     a = np.random.default_rng(0).standard_normal((600, 600))
@@ -116,11 +123,14 @@ def main():
     # per-iteration time: fixed rho, no polish, all iterations run
     kw = scen.linear_problem(sc, "box")
     n_it = 4000
-    s = L1Solver(**kw, settings=dict(max_iterations=n_it, adaptive_rho=False, polish=False, eps_abs=0.0,
-                                     eps_rel=1e-300, track_best=False))
-    t_it = time_solver(s, 7) / n_it
-    t_it_cpu = cpu_time_solver(s, 7) / n_it
+    per_it = {}
+    for condensed in (False, True):
+        s = L1Solver(**kw, settings=dict(max_iterations=n_it, adaptive_rho=False, polish=False, eps_abs=0.0,
+                                         eps_rel=1e-300, track_best=False, condensed=condensed))
+        per_it[condensed] = (time_solver(s, 7) / n_it, cpu_time_solver(s, 7) / n_it)
+    t_it, t_it_cpu = per_it[False]
     fl = flops_per_iteration(6, 3, sc.horizon)
+    fl_c = flops_per_condensed_iteration(6, 3, sc.horizon)
     rate = machine_flop_rate()
 
     # iterations of the defaults on rescaled problems (terminal weight x 0.1 / x 10, initial state x 0.5)
@@ -149,6 +159,10 @@ def main():
           f"{t_it_cpu * 1e6:.2f} us thread CPU time ({t_it * 1e6:.2f} us best wall), "
           f"{fl / t_it_cpu / 1e9:.2f} Gflop/s achieved; single-thread dgemm on this machine "
           f"{rate / 1e9:.2f} Gflop/s (CPU time); time / (flops / dgemm rate) = {t_it_cpu / (fl / rate):.1f}x")
+    tc, tc_cpu = per_it[True]
+    print(f"per condensed iteration (the default when Q = 0; same iterates, {fl_c} flops): "
+          f"{tc_cpu * 1e6:.2f} us thread CPU time ({tc * 1e6:.2f} us best wall), "
+          f"{fl_c / tc_cpu / 1e9:.2f} Gflop/s achieved; time / (flops / dgemm rate) = {tc_cpu / (fl_c / rate):.1f}x")
 
 
 if __name__ == "__main__":

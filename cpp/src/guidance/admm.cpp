@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -138,6 +139,31 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   // polish needs Q = 0, plain L1 (+ box straddling zero); see AdmmSettings::polish
   polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
                (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
+  flat_ok_ = !has_group_ && !has_ball_;
+  if (flat_ok_) {
+    const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+    wrep_.resize(n);
+    lorep_.resize(n);
+    hirep_.resize(n);
+    sigw_.resize(n);
+    fa_.setZero(n);
+    fb_.setZero(n);
+    winvrep_.resize(n);
+    hifin_.resize(n);
+    lofin_.resize(n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const Eigen::Index i = j % nu_;
+      wrep_(j) = w_(i);
+      lorep_(j) = lo_(i);
+      hirep_(j) = hi_(i);
+      winvrep_(j) = w_(i) > 0.0 ? 1.0 / w_(i) : 0.0;
+      hifin_(j) = std::isfinite(hi_(i)) ? hi_(i) : 0.0;
+      lofin_(j) = std::isfinite(lo_(i)) ? lo_(i) : 0.0;
+      // signature weights in [1, 2): golden-ratio sequence, distinct per position
+      const double f = static_cast<double>(j + 1) * 0.6180339887498949;
+      sigw_(j) = 1.0 + (f - std::floor(f));
+    }
+  }
   // condensed step: no stage state cost, and R empty or diagonal (D = R + rho I stays diagonal)
   cond_ok_ = prob_.Q.size() == 0 &&
              (prob_.R.size() == 0 || (prob_.R - MatrixXd(prob_.R.diagonal().asDiagonal())).cwiseAbs().maxCoeff() == 0.0);
@@ -332,27 +358,38 @@ bool AdmmSolver::try_polish(bool rank_by_dual) noexcept {
 // as many (1..nx) as the largest relative jump in that distance says. Builds the candidate in Up_,
 // free_idx_, fsign_ and returns its free count (0: no candidate) and its signature.
 int AdmmSolver::dual_candidate(std::uint64_t& signature) noexcept {
+  // flat passes (the polish implies plain L1 + box, so the replicated arrays exist); fa_, fb_ are
+  // free scratch once the ADMM pass of this iteration is done
   const int keep = nx_ + 1;
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+  Eigen::ArrayXd& t = fa_;
+  Eigen::ArrayXd& dist = fb_;
+  t = Eigen::Map<const Eigen::ArrayXd>(Gd_.data(), n) * winvrep_;
+  dist = (t.abs() - 1.0).abs();
+  // one pass: the fixed value of each entry, its share of the signature (position-keyed sum:
+  // independent multiplies, a one-cycle add chain; a collision only skips one polish attempt) and
+  // the keep smallest distances |(|t| - 1)| by insertion into a short sorted list
+  constexpr std::uint64_t kKey = 0x9E3779B97F4A7C15ULL;
+  double* up = Up_.data();
   int nk = 0;
+  double thr = std::numeric_limits<double>::infinity();
   std::uint64_t h = 1469598103934665603ULL;
-  for (int k = 0; k < N_; ++k) {
-    for (int i = 0; i < nu_; ++i) {
-      const double t = Gd_(i, k) * winv_(i);
-      double u = 0.0;
-      if (t > 1.0 && hi_(i) < std::numeric_limits<double>::infinity()) u = hi_(i);
-      if (t < -1.0 && lo_(i) > -std::numeric_limits<double>::infinity()) u = lo_(i);
-      Up_(i, k) = u;
-      const double d = std::abs(std::abs(t) - 1.0);
-      if (nk < keep || d < seld_[static_cast<std::size_t>(nk - 1)]) {
-        int pos = nk < keep ? nk++ : keep - 1;
-        while (pos > 0 && seld_[static_cast<std::size_t>(pos - 1)] > d) {
-          seld_[static_cast<std::size_t>(pos)] = seld_[static_cast<std::size_t>(pos - 1)];
-          seli_[static_cast<std::size_t>(pos)] = seli_[static_cast<std::size_t>(pos - 1)];
-          --pos;
-        }
-        seld_[static_cast<std::size_t>(pos)] = d;
-        seli_[static_cast<std::size_t>(pos)] = k * nu_ + i;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double tj = t(j);
+    const double uj = tj > 1.0 ? hifin_(j) : (tj < -1.0 ? lofin_(j) : 0.0);
+    up[j] = uj;
+    h += (uj == 0.0 ? 1u : (uj > 0.0 ? 2u : 3u)) * ((static_cast<std::uint64_t>(j) + 1u) * kKey);
+    const double d = dist(j);
+    if (d < thr) {
+      int pos = nk < keep ? nk++ : keep - 1;
+      while (pos > 0 && seld_[static_cast<std::size_t>(pos - 1)] > d) {
+        seld_[static_cast<std::size_t>(pos)] = seld_[static_cast<std::size_t>(pos - 1)];
+        seli_[static_cast<std::size_t>(pos)] = seli_[static_cast<std::size_t>(pos - 1)];
+        --pos;
       }
+      seld_[static_cast<std::size_t>(pos)] = d;
+      seli_[static_cast<std::size_t>(pos)] = static_cast<int>(j);
+      if (nk == keep) thr = seld_[static_cast<std::size_t>(keep - 1)];
     }
   }
   const int F = std::min(nx_, nk);
@@ -370,18 +407,15 @@ int AdmmSolver::dual_candidate(std::uint64_t& signature) noexcept {
   }
   for (int a = 0; a < F; ++a) {
     const int j = seli_[static_cast<std::size_t>(a)];
-    const double t = Gd_(j % nu_, j / nu_);
     free_idx_[static_cast<std::size_t>(a)] = j;
-    fsign_[static_cast<std::size_t>(a)] = t > 0.0 ? 1.0 : -1.0;
-    Up_(j % nu_, j / nu_) = 0.0;
+    fsign_[static_cast<std::size_t>(a)] = Gd_(j % nu_, j / nu_) > 0.0 ? 1.0 : -1.0;
+    // the entry becomes free (value 0 in Up_): move its share of the signature to code 1
+    const double old = up[j];
+    const std::uint64_t c_old = old == 0.0 ? 1u : (old > 0.0 ? 2u : 3u);
+    h += (1u - c_old) * ((static_cast<std::uint64_t>(j) + 1u) * kKey);  // modulo 2^64, exact
+    up[j] = 0.0;
   }
-  // signature: fixed values and free entries with signs (order of free_idx_ does not matter)
-  for (int k = 0; k < N_; ++k) {
-    for (int i = 0; i < nu_; ++i) {
-      const double u = Up_(i, k);
-      h = (h ^ (u == 0.0 ? 0u : (u > 0.0 ? 1u : 2u))) * 1099511628211ULL;
-    }
-  }
+  // signature: fixed values (above) and free entries with signs (order of free_idx_ does not matter)
   std::uint64_t hf = 0;
   for (int a = 0; a < F; ++a) {
     hf += (static_cast<std::uint64_t>(free_idx_[static_cast<std::size_t>(a)]) * 2654435761ULL) ^
@@ -734,6 +768,45 @@ AdmmSolver::PassStats AdmmSolver::admm_pass(double rho, double a) noexcept {
   return st;
 }
 
+AdmmSolver::PassStats AdmmSolver::admm_pass_flat(double rho, double a, bool fro2) noexcept {
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+  const double inv_rho = 1.0 / rho;
+  Eigen::Map<const Eigen::ArrayXd> u(res_.U.data(), n);
+  Eigen::Map<Eigen::ArrayXd> y(res_.Y.data(), n), l(res_.Lambda.data(), n), r(r_.data(), n), g(Gd_.data(), n);
+  Eigen::ArrayXd& uh = fa_;
+  Eigen::ArrayXd& yn = fb_;
+  PassStats st;
+  g = l + rho * (u - y);  // -grad f(U): the dual estimate of the active-set guess
+  uh = a * u + (1.0 - a) * y;
+  yn = uh + inv_rho * l;
+  // soft threshold (v - clamp(v, -t, t), bitwise equal to the branchy form) then clip to the box
+  yn = (yn - yn.max(-inv_rho * wrep_).min(inv_rho * wrep_)).max(lorep_).min(hirep_);
+  st.dual = rho * (yn - y).abs().maxCoeff();
+  st.prim = (u - yn).abs().maxCoeff();
+  if (fro2) st.fro2 = (u - yn).square().sum();  // only the paper's rule needs it every iteration
+  st.nU = u.abs().maxCoeff();
+  st.nY = yn.abs().maxCoeff();
+  l += rho * (uh - yn);
+  st.nL = l.abs().maxCoeff();
+  y = yn;
+  r = l - rho * yn;
+  // active-set code: 0 zero, 1 lower bound, 2 upper bound, 3 free positive, 4 free negative; the
+  // signature only has to repeat when the active set repeats (a collision skips one polish attempt)
+  double sig = 0.0;
+  int nfree = 0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double yi = yn(j);
+    const double code = yi == 0.0 ? 0.0 : (yi == lorep_(j) ? 1.0 : (yi == hirep_(j) ? 2.0 : (yi > 0.0 ? 3.0 : 4.0)));
+    nfree += code >= 3.0;
+    sig += (code + 1.0) * sigw_(j);
+  }
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &sig, sizeof bits);
+  st.signature = bits;
+  st.nfree = nfree;
+  return st;
+}
+
 const AdmmResult& AdmmSolver::solve() noexcept {
   const auto t0 = std::chrono::steady_clock::now();
   AdmmInfo& info = res_.info;
@@ -783,6 +856,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   int it = 0;
   if (!ok) status = AdmmStatus::kNumericalError;
   bool r_valid = false;  // r_ = Lambda - rho Y is produced by the previous pass
+  const bool paper_rule = set_.stopping == StoppingRule::kPaper;
   const bool polish_on = polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
   std::uint64_t prev_sig = 0, tried_sig = 0, prev_dsig = 0, tried_dsig = 0;
   bool have_prev = false, have_tried = false, have_dprev = false, have_dtried = false;
@@ -803,7 +877,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       status = AdmmStatus::kNumericalError;
       break;
     }
-    const PassStats st = nu_ == 3 ? admm_pass<3>(rho, a) : admm_pass<Eigen::Dynamic>(rho, a);
+    const PassStats st = flat_ok_ ? admm_pass_flat(rho, a, paper_rule)
+                         : (nu_ == 3 ? admm_pass<3>(rho, a) : admm_pass<Eigen::Dynamic>(rho, a));
     r_valid = true;
     const double prim = st.prim, dual = st.dual;
     double nL = st.nL;
@@ -923,6 +998,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   } else if (cond && !info.polished) {
     rollout(U, X);  // the condensed step produces U only
   }
+  if (!paper_rule && flat_ok_) info.paper_criterion = (U - Y).norm() / dimU;  // of the returned iterate
   info.status = status;
   info.iterations = it;
   info.rho = rho;

@@ -192,6 +192,9 @@ class AdmmSolver {
   };
   template <int NU>
   PassStats admm_pass(double rho, double a) noexcept;
+  /// The same pass for L1 (+ box) without group-L2 or ball, as array expressions over all N nu
+  /// entries (vectorized; identical values, the signature is a weighted sum instead of a hash).
+  PassStats admm_pass_flat(double rho, double a, bool fro2) noexcept;
 
   LtvProblem prob_;
   AdmmSettings set_;
@@ -240,6 +243,10 @@ class AdmmSolver {
   Eigen::PartialPivLU<Eigen::MatrixXd> cond_lu_;
   Eigen::VectorXd cb_, ce_, cg_;  ///< right-hand side, terminal error / multiplier, Qf e
   Eigen::MatrixXd Tc_;           ///< D^-1 r, nu x N
+  // flat (vectorized) passes: per-entry weights and bounds replicated over the horizon
+  bool flat_ok_ = false;
+  Eigen::ArrayXd wrep_, lorep_, hirep_, sigw_, fa_, fb_;
+  Eigen::ArrayXd winvrep_, hifin_, lofin_;  ///< 1/w, finite bounds (0 where infinite), N nu
 };
 
 }  // namespace satgnc::guidance
