@@ -162,7 +162,8 @@ def main():
     tc, tc_cpu = per_it[True]
     print(f"per condensed iteration (the default when Q = 0; same iterates, {fl_c} flops): "
           f"{tc_cpu * 1e6:.2f} us thread CPU time ({tc * 1e6:.2f} us best wall), "
-          f"{fl_c / tc_cpu / 1e9:.2f} Gflop/s achieved; time / (flops / dgemm rate) = {tc_cpu / (fl_c / rate):.1f}x")
+          f"{fl_c / tc_cpu / 1e9:.2f} Gflop/s achieved; "
+          f"time / (flops / dgemm rate) = {tc_cpu / (fl_c / rate):.1f}x")
 
 
 if __name__ == "__main__":
