@@ -2,6 +2,7 @@
 #include "satgnc/guidance/admm.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -859,6 +860,10 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   const bool paper_rule = set_.stopping == StoppingRule::kPaper;
   const bool polish_on = polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
   std::uint64_t prev_sig = 0, tried_sig = 0, prev_dsig = 0, tried_dsig = 0;
+  std::array<std::uint64_t, 16> failed{};  // rejected dual guesses of this solve (ring)
+  int n_failed = 0, next_failed = 0;
+  std::array<std::uint64_t, 16> yfailed{};  // rejected Y-pattern candidates (ring)
+  int n_yfailed = 0, next_yfailed = 0;
   bool have_prev = false, have_tried = false, have_dprev = false, have_dtried = false;
   while (ok && it < set_.max_iterations) {
     ++it;
@@ -922,7 +927,10 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       std::uint64_t dsig = 0;
       int F = dual_candidate(dsig);
       const bool stable = have_dprev && dsig == prev_dsig;
-      const bool fresh = !have_dtried || dsig != tried_dsig;
+      // a dual guess (fixed values, free set and signs) determines its polish and repairs, so one
+      // that failed fails again: remember the last few (guesses oscillate between a handful)
+      bool fresh = !have_dtried || dsig != tried_dsig;
+      for (int q = 0; q < n_failed && fresh; ++q) fresh = failed[static_cast<std::size_t>(q)] != dsig;
       prev_dsig = dsig;
       have_dprev = true;
       if (F > 0 && fresh && (stable || it % set_.polish_interval == 0)) {
@@ -934,6 +942,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
           status = AdmmStatus::kSolved;
           break;
         }
+        failed[static_cast<std::size_t>(next_failed)] = dsig;
+        next_failed = (next_failed + 1) % static_cast<int>(failed.size());
+        n_failed = std::min(n_failed + 1, static_cast<int>(failed.size()));
       }
     }
     if (polish_on) {
@@ -941,8 +952,11 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       // entries are free without R, on their magnitudes): try once per new signature as soon as it
       // repeats, and every polish_interval iterations in the magnitude-dependent case.
       const bool stable = have_prev && st.signature == prev_sig;
-      const bool fresh = !have_tried || st.signature != tried_sig;
       const bool by_magnitude = st.nfree > nx_ && prob_.R.size() == 0;
+      bool fresh = !have_tried || st.signature != tried_sig;
+      // without the magnitude ranking the pattern determines the candidate: skip recent failures
+      for (int q = 0; q < n_yfailed && fresh && !by_magnitude; ++q)
+        fresh = yfailed[static_cast<std::size_t>(q)] != st.signature;
       const bool attempt = st.nfree <= fmax_ && ((stable && fresh) || (by_magnitude && it % set_.polish_interval == 0));
       prev_sig = st.signature;
       have_prev = true;
@@ -954,6 +968,11 @@ const AdmmResult& AdmmSolver::solve() noexcept {
           info.polished = true;
           status = AdmmStatus::kSolved;
           break;
+        }
+        if (!by_magnitude) {
+          yfailed[static_cast<std::size_t>(next_yfailed)] = st.signature;
+          next_yfailed = (next_yfailed + 1) % static_cast<int>(yfailed.size());
+          n_yfailed = std::min(n_yfailed + 1, static_cast<int>(yfailed.size()));
         }
       }
     }
