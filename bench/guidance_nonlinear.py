@@ -173,7 +173,8 @@ def main(quick=False):
     print("| case | solver | rel. gap to cvxpy/Clarabel SCP | CPU s (median) | wall s | notes |")
     print("|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r[0]} | {r[1]} | {r[2]:.2e} | {r[3]:.4f} | {r[4]:.4f} | {r[5]} |")
+        gap = "n/a" if r[2] != r[2] else f"{r[2]:.2e}"  # NaN: another transcription, or MPC
+        print(f"| {r[0]} | {r[1]} | {gap} | {r[3]:.4f} | {r[4]:.4f} | {r[5]} |")
     print("\n(MPC rows: CPU time median and max per re-plan in the time columns.)")
 
 
