@@ -81,17 +81,19 @@ void init_dynamics(py::module_& m) {
       .def_readwrite("drag", &ForceModel::drag)
       .def("validate", &ForceModel::validate)
       .def_property_readonly("conservative", &ForceModel::conservative)
-      .def("acceleration", [](const ForceModel& f, const Vec3& r, const Vec3& v,
-                              double t) { return f.acceleration(t, r, v); },
-           py::arg("r"), py::arg("v"), py::arg("t") = 0.0, "Acceleration (km/s^2) at r km, v km/s.")
-      .def("acceleration_jacobians",
-           [](const ForceModel& f, const Vec3& r, const Vec3& v, double t) {
-             Vec3 a;
-             Mat3 gr, gv;
-             f.acceleration_jacobians(t, r, v, a, gr, gv);
-             return py::make_tuple(a, gr, gv);
-           },
-           py::arg("r"), py::arg("v"), py::arg("t") = 0.0, "(a, da/dr 1/s^2, da/dv 1/s).")
+      .def(
+          "acceleration",
+          [](const ForceModel& f, const Vec3& r, const Vec3& v, double t) { return f.acceleration(t, r, v); },
+          py::arg("r"), py::arg("v"), py::arg("t") = 0.0, "Acceleration (km/s^2) at r km, v km/s.")
+      .def(
+          "acceleration_jacobians",
+          [](const ForceModel& f, const Vec3& r, const Vec3& v, double t) {
+            Vec3 a;
+            Mat3 gr, gv;
+            f.acceleration_jacobians(t, r, v, a, gr, gv);
+            return py::make_tuple(a, gr, gv);
+          },
+          py::arg("r"), py::arg("v"), py::arg("t") = 0.0, "(a, da/dr 1/s^2, da/dv 1/s).")
       .def("potential", &ForceModel::potential, py::arg("r"), "Gravity potential energy, km^2/s^2.")
       .def("energy", &ForceModel::energy, py::arg("r"), py::arg("v"), "|v|^2/2 + V(r), km^2/s^2.")
       .def("__repr__", [](const ForceModel& f) {

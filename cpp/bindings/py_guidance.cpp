@@ -89,7 +89,8 @@ void init_guidance(py::module_& m) {
       .value("terminal_unreachable", AdmmStatus::kTerminalUnreachable)
       .value("numerical_error", AdmmStatus::kNumericalError)
       .value("unsolved", AdmmStatus::kUnsolved);
-  m.def("admm_status_message", [](int s) { return std::string(guidance::status_message(static_cast<AdmmStatus>(s))); });
+  m.def("admm_status_message",
+        [](int s) { return std::string(guidance::status_message(static_cast<AdmmStatus>(s))); });
 
   py::class_<AdmmSettings>(m, "AdmmSettings")
       .def(py::init<>())
@@ -121,8 +122,8 @@ void init_guidance(py::module_& m) {
       .def(py::init([](std::vector<Eigen::MatrixXd> A, std::vector<Eigen::MatrixXd> B,
                        std::vector<Eigen::VectorXd> c, int horizon, Eigen::VectorXd x0, Eigen::VectorXd xf,
                        Eigen::MatrixXd Qf, Eigen::MatrixXd Q, Eigen::MatrixXd R, Eigen::VectorXd l1_weights,
-                       double group_l2_weight, Eigen::VectorXd u_lower, Eigen::VectorXd u_upper, double u_norm_max,
-                       bool terminal_equality, const AdmmSettings& settings) {
+                       double group_l2_weight, Eigen::VectorXd u_lower, Eigen::VectorXd u_upper,
+                       double u_norm_max, bool terminal_equality, const AdmmSettings& settings) {
              LtvProblem p;
              p.dynamics.A = std::move(A);
              p.dynamics.B = std::move(B);
@@ -141,9 +142,10 @@ void init_guidance(py::module_& m) {
              p.terminal_equality = terminal_equality;
              return new AdmmSolver(p, settings);
            }),
-           py::arg("A"), py::arg("B"), py::arg("c"), py::arg("horizon"), py::arg("x0"), py::arg("xf"), py::arg("Qf"),
-           py::arg("Q"), py::arg("R"), py::arg("l1_weights"), py::arg("group_l2_weight"), py::arg("u_lower"),
-           py::arg("u_upper"), py::arg("u_norm_max"), py::arg("terminal_equality"), py::arg("settings"))
+           py::arg("A"), py::arg("B"), py::arg("c"), py::arg("horizon"), py::arg("x0"), py::arg("xf"),
+           py::arg("Qf"), py::arg("Q"), py::arg("R"), py::arg("l1_weights"), py::arg("group_l2_weight"),
+           py::arg("u_lower"), py::arg("u_upper"), py::arg("u_norm_max"), py::arg("terminal_equality"),
+           py::arg("settings"))
       .def("solve",
            [](AdmmSolver& s) {
              const guidance::AdmmResult* r;

@@ -51,43 +51,54 @@ void init_guidance_nonlinear(py::module_& m) {
   py::class_<TwoSatelliteModel>(m, "TwoSatelliteModel")
       .def(py::init<const TwoSatelliteParams&>(), py::arg("params") = TwoSatelliteParams())
       .def_property_readonly("params", &TwoSatelliteModel::params)
-      .def("rhs",
-           [](const TwoSatelliteModel& s, const Vec12& x, const Vec3& u) {
-             Vec12 f;
-             if (!s.rhs(x, u, f)) throw std::runtime_error("rhs: model evaluation failed (zero radius or non-finite)");
-             return f;
-           }, py::arg("x"), py::arg("u"))
-      .def("rhs_jacobians",
-           [](const TwoSatelliteModel& s, const Vec12& x, const Vec3& u) {
-             Vec12 f;
-             Mat12 A;
-             Mat12x3 B;
-             if (!s.rhs_jacobians(x, u, f, A, B))
-               throw std::runtime_error("rhs_jacobians: model evaluation failed (zero radius or non-finite)");
-             return py::make_tuple(f, A, B);
-           }, py::arg("x"), py::arg("u"))
-      .def("rk_step",
-           [](const TwoSatelliteModel& s, int scheme, double h, const Vec12& x, const Vec3& u, bool jacobians) {
-             if (scheme != 3 && scheme != 4) throw py::value_error("scheme: must be 3 or 4");
-             Vec12 xn;
-             Mat12 A;
-             Mat12x3 B;
-             const bool ok = jacobians ? s.rk_step(scheme, h, x, u, xn, &A, &B) : s.rk_step(scheme, h, x, u, xn);
-             if (!ok) throw std::runtime_error("rk_step: model evaluation failed");
-             if (jacobians) return py::object(py::make_tuple(xn, A, B));
-             return py::object(py::cast(xn));
-           }, py::arg("scheme"), py::arg("h"), py::arg("x"), py::arg("u"), py::arg("jacobians") = false)
-      .def("propagate",
-           [](const TwoSatelliteModel& s, int scheme, const Vec12& x0, double duration, int steps) {
-             if (steps < 1) throw py::value_error("steps: must be >= 1");
-             Vec12 x = x0, xn;
-             for (int i = 0; i < steps; ++i) {
-               if (!s.rk_step(scheme, duration / steps, x, Vec3::Zero(), xn))
-                 throw std::runtime_error("propagate: model failed at step " + std::to_string(i));
-               x = xn;
-             }
-             return x;
-           }, py::arg("scheme"), py::arg("x0"), py::arg("duration"), py::arg("steps"));
+      .def(
+          "rhs",
+          [](const TwoSatelliteModel& s, const Vec12& x, const Vec3& u) {
+            Vec12 f;
+            if (!s.rhs(x, u, f))
+              throw std::runtime_error("rhs: model evaluation failed (zero radius or non-finite)");
+            return f;
+          },
+          py::arg("x"), py::arg("u"))
+      .def(
+          "rhs_jacobians",
+          [](const TwoSatelliteModel& s, const Vec12& x, const Vec3& u) {
+            Vec12 f;
+            Mat12 A;
+            Mat12x3 B;
+            if (!s.rhs_jacobians(x, u, f, A, B))
+              throw std::runtime_error("rhs_jacobians: model evaluation failed (zero radius or non-finite)");
+            return py::make_tuple(f, A, B);
+          },
+          py::arg("x"), py::arg("u"))
+      .def(
+          "rk_step",
+          [](const TwoSatelliteModel& s, int scheme, double h, const Vec12& x, const Vec3& u,
+             bool jacobians) {
+            if (scheme != 3 && scheme != 4) throw py::value_error("scheme: must be 3 or 4");
+            Vec12 xn;
+            Mat12 A;
+            Mat12x3 B;
+            const bool ok =
+                jacobians ? s.rk_step(scheme, h, x, u, xn, &A, &B) : s.rk_step(scheme, h, x, u, xn);
+            if (!ok) throw std::runtime_error("rk_step: model evaluation failed");
+            if (jacobians) return py::object(py::make_tuple(xn, A, B));
+            return py::object(py::cast(xn));
+          },
+          py::arg("scheme"), py::arg("h"), py::arg("x"), py::arg("u"), py::arg("jacobians") = false)
+      .def(
+          "propagate",
+          [](const TwoSatelliteModel& s, int scheme, const Vec12& x0, double duration, int steps) {
+            if (steps < 1) throw py::value_error("steps: must be >= 1");
+            Vec12 x = x0, xn;
+            for (int i = 0; i < steps; ++i) {
+              if (!s.rk_step(scheme, duration / steps, x, Vec3::Zero(), xn))
+                throw std::runtime_error("propagate: model failed at step " + std::to_string(i));
+              x = xn;
+            }
+            return x;
+          },
+          py::arg("scheme"), py::arg("x0"), py::arg("duration"), py::arg("steps"));
 
   m.def("cw_relative_state", &cw_relative_state, py::arg("x"));
   m.def("cw_relative_state_published", &cw_relative_state_published, py::arg("x"), py::arg("mu"));
@@ -96,19 +107,22 @@ void init_guidance_nonlinear(py::module_& m) {
   py::class_<DiscreteModel>(m, "DiscreteModel")
       .def_property_readonly("state_dim", &DiscreteModel::state_dim)
       .def_property_readonly("control_dim", &DiscreteModel::control_dim)
-      .def("step",
-           [](const DiscreteModel& d, int k, const Eigen::VectorXd& x, const Eigen::VectorXd& u) {
-             if (x.size() != d.state_dim()) throw py::value_error("x: must have state_dim entries");
-             if (u.size() != d.control_dim()) throw py::value_error("u: must have control_dim entries");
-             Eigen::VectorXd xn(d.state_dim());
-             Eigen::MatrixXd A(d.state_dim(), d.state_dim()), B(d.state_dim(), d.control_dim());
-             if (!d.step(k, x.data(), u.data(), xn.data(), A.data(), B.data()))
-               throw std::runtime_error("step: the model failed on interval " + std::to_string(k));
-             return py::make_tuple(xn, A, B);
-           }, py::arg("k"), py::arg("x"), py::arg("u"));
+      .def(
+          "step",
+          [](const DiscreteModel& d, int k, const Eigen::VectorXd& x, const Eigen::VectorXd& u) {
+            if (x.size() != d.state_dim()) throw py::value_error("x: must have state_dim entries");
+            if (u.size() != d.control_dim()) throw py::value_error("u: must have control_dim entries");
+            Eigen::VectorXd xn(d.state_dim());
+            Eigen::MatrixXd A(d.state_dim(), d.state_dim()), B(d.state_dim(), d.control_dim());
+            if (!d.step(k, x.data(), u.data(), xn.data(), A.data(), B.data()))
+              throw std::runtime_error("step: the model failed on interval " + std::to_string(k));
+            return py::make_tuple(xn, A, B);
+          },
+          py::arg("k"), py::arg("x"), py::arg("u"));
 
   py::class_<LinearDiscreteModel, DiscreteModel>(m, "LinearDiscreteModel")
-      .def(py::init<std::vector<Eigen::MatrixXd>, std::vector<Eigen::MatrixXd>, std::vector<Eigen::VectorXd>>(),
+      .def(py::init<std::vector<Eigen::MatrixXd>, std::vector<Eigen::MatrixXd>,
+                    std::vector<Eigen::VectorXd>>(),
            py::arg("A"), py::arg("B"), py::arg("c"));
 
   py::class_<TwoSatelliteMapSettings>(m, "TwoSatelliteMapSettings")
@@ -161,32 +175,36 @@ void init_guidance_nonlinear(py::module_& m) {
   py::class_<TwoSatelliteTruth>(m, "TwoSatelliteTruth")
       .def(py::init<const TwoSatelliteModel&, const propagation::CvodesOdeSettings&>(), py::arg("model"),
            py::arg("settings") = default_truth_settings())
-      .def("step",
-           [](TwoSatelliteTruth& t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt) {
-             if (x.size() != 12) throw py::value_error("x: must have 12 entries [d, r_t, w, v_t] (m, m/s)");
-             if (u.size() != 3) throw py::value_error("u: must have 3 entries (N)");
-             if (!(dt > 0.0)) throw py::value_error("dt: must be > 0 (s)");
-             Eigen::VectorXd y = x;
-             if (t.step(y, u, dt) != propagation::PropagationStatus::success)
-               throw std::runtime_error("TwoSatelliteTruth.step: " + t.message());
-             return y;
-           }, py::arg("x"), py::arg("u"), py::arg("dt"))
-      .def("fly",
-           [](TwoSatelliteTruth& t, const Eigen::VectorXd& x0, const Eigen::MatrixXd& U, double dt) {
-             TruthFlight f;
-             {
-               py::gil_scoped_release rel;
-               f = t.fly(x0, U, dt);
-             }
-             py::dict d;
-             d["X"] = f.X;
-             d["ok"] = f.status == propagation::PropagationStatus::success;
-             d["failed_interval"] = f.failed_interval;
-             d["message"] = f.message;
-             d["steps"] = f.steps;
-             d["rhs_evals"] = f.rhs_evals;
-             return d;
-           }, py::arg("x0"), py::arg("U"), py::arg("dt"));
+      .def(
+          "step",
+          [](TwoSatelliteTruth& t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt) {
+            if (x.size() != 12) throw py::value_error("x: must have 12 entries [d, r_t, w, v_t] (m, m/s)");
+            if (u.size() != 3) throw py::value_error("u: must have 3 entries (N)");
+            if (!(dt > 0.0)) throw py::value_error("dt: must be > 0 (s)");
+            Eigen::VectorXd y = x;
+            if (t.step(y, u, dt) != propagation::PropagationStatus::success)
+              throw std::runtime_error("TwoSatelliteTruth.step: " + t.message());
+            return y;
+          },
+          py::arg("x"), py::arg("u"), py::arg("dt"))
+      .def(
+          "fly",
+          [](TwoSatelliteTruth& t, const Eigen::VectorXd& x0, const Eigen::MatrixXd& U, double dt) {
+            TruthFlight f;
+            {
+              py::gil_scoped_release rel;
+              f = t.fly(x0, U, dt);
+            }
+            py::dict d;
+            d["X"] = f.X;
+            d["ok"] = f.status == propagation::PropagationStatus::success;
+            d["failed_interval"] = f.failed_interval;
+            d["message"] = f.message;
+            d["steps"] = f.steps;
+            d["rhs_evals"] = f.rhs_evals;
+            return d;
+          },
+          py::arg("x0"), py::arg("U"), py::arg("dt"));
 
   py::class_<ReferenceScaling>(m, "ReferenceScaling")
       .def_readonly("state_scale", &ReferenceScaling::state_scale)
@@ -257,26 +275,31 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readonly("rho_updates", &IlqrAdmmInfo::rho_updates)
       .def_readonly("failed_interval", &IlqrAdmmInfo::failed_interval)
       .def_readonly("max_regularization", &IlqrAdmmInfo::max_regularization)
-      .def_property_readonly("message", [](const IlqrAdmmInfo& i) { return std::string(status_message(i.status)); });
+      .def_property_readonly("message",
+                             [](const IlqrAdmmInfo& i) { return std::string(status_message(i.status)); });
 
   py::class_<IlqrAdmmSolver>(m, "IlqrAdmmSolver")
-      .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const IlqrAdmmSettings&>(), py::arg("model"),
-           py::arg("problem"), py::arg("settings") = IlqrAdmmSettings(), py::keep_alive<1, 2>())
+      .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const IlqrAdmmSettings&>(),
+           py::arg("model"), py::arg("problem"), py::arg("settings") = IlqrAdmmSettings(),
+           py::keep_alive<1, 2>())
       .def("set_initial_controls", &IlqrAdmmSolver::set_initial_controls, py::arg("U0"))
       .def("warm_start", &IlqrAdmmSolver::warm_start, py::arg("U"), py::arg("Y"), py::arg("Lambda"))
       .def("set_initial_state", &IlqrAdmmSolver::set_initial_state, py::arg("x0"))
       .def("set_rho", &IlqrAdmmSolver::set_rho, py::arg("rho"))
       .def("solve", &IlqrAdmmSolver::solve, py::call_guard<py::gil_scoped_release>())
       .def("true_cost", &IlqrAdmmSolver::true_cost, py::arg("U"))
-      .def("rollout",
-           [](const IlqrAdmmSolver& s, const Eigen::MatrixXd& U) {
-             const auto& r = s.result();
-             if (U.rows() != r.U.rows() || U.cols() != r.U.cols()) throw py::value_error("U: must be nu x N");
-             Eigen::MatrixXd X(r.X.rows(), r.X.cols());
-             const int k = s.rollout(U, X);
-             if (k >= 0) throw std::runtime_error("rollout: the model failed on interval " + std::to_string(k));
-             return X;
-           }, py::arg("U"))
+      .def(
+          "rollout",
+          [](const IlqrAdmmSolver& s, const Eigen::MatrixXd& U) {
+            const auto& r = s.result();
+            if (U.rows() != r.U.rows() || U.cols() != r.U.cols()) throw py::value_error("U: must be nu x N");
+            Eigen::MatrixXd X(r.X.rows(), r.X.cols());
+            const int k = s.rollout(U, X);
+            if (k >= 0)
+              throw std::runtime_error("rollout: the model failed on interval " + std::to_string(k));
+            return X;
+          },
+          py::arg("U"))
       .def_property_readonly("X", [](const IlqrAdmmSolver& s) { return s.result().X; })
       .def_property_readonly("U", [](const IlqrAdmmSolver& s) { return s.result().U; })
       .def_property_readonly("Y", [](const IlqrAdmmSolver& s) { return s.result().Y; })
@@ -311,7 +334,8 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readonly("failed_interval", &ScpInfo::failed_interval)
       .def_readonly("inner_status", &ScpInfo::inner_status)
       .def_readonly("inner_ilqr_status", &ScpInfo::inner_ilqr_status)
-      .def_property_readonly("message", [](const ScpInfo& i) { return std::string(status_message(i.status)); });
+      .def_property_readonly("message",
+                             [](const ScpInfo& i) { return std::string(status_message(i.status)); });
   py::class_<ScpSolver>(m, "ScpSolver")
       .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const ScpSettings&>(), py::arg("model"),
            py::arg("problem"), py::arg("settings") = ScpSettings(), py::keep_alive<1, 2>())

@@ -33,12 +33,12 @@ void init_od(py::module_& m) {
       .def_readonly("a", &Ellipsoid::a)
       .def_readonly("f", &Ellipsoid::f)
       .def("__repr__", [](const Ellipsoid& e) {
-        return "Ellipsoid(" + std::string(e.name) + ", a=" + std::to_string(e.a) + " km, 1/f=" +
-               (e.f > 0 ? std::to_string(1.0 / e.f) : std::string("inf")) + ")";
+        return "Ellipsoid(" + std::string(e.name) + ", a=" + std::to_string(e.a) +
+               " km, 1/f=" + (e.f > 0 ? std::to_string(1.0 / e.f) : std::string("inf")) + ")";
       });
   m.def("od_ellipsoid_by_name", &ellipsoid_by_name, py::arg("name"));
-  m.def("od_geodetic_to_ecef", &geodetic_to_ecef, py::arg("lat_rad"), py::arg("lon_rad"), py::arg("height_km"),
-        py::arg("ellipsoid") = ellipsoids::wgs84);
+  m.def("od_geodetic_to_ecef", &geodetic_to_ecef, py::arg("lat_rad"), py::arg("lon_rad"),
+        py::arg("height_km"), py::arg("ellipsoid") = ellipsoids::wgs84);
   m.def("od_rot_z", &rot_z, py::arg("theta"));
   m.def("od_julian_date", &julian_date, py::arg("year"), py::arg("month"), py::arg("day"), py::arg("hour"),
         py::arg("minute"), py::arg("second"));
@@ -55,7 +55,8 @@ void init_od(py::module_& m) {
                   py::arg("ellipsoid") = ellipsoids::wgs84, py::arg("omega") = dynamics::earth::omega)
       .def_static("from_ecef", &Station::from_ecef, py::arg("ecef"), py::arg("theta0_rad"),
                   py::arg("omega") = dynamics::earth::omega)
-      .def_static("from_inertial", &Station::from_inertial, py::arg("r0"), py::arg("omega") = dynamics::earth::omega)
+      .def_static("from_inertial", &Station::from_inertial, py::arg("r0"),
+                  py::arg("omega") = dynamics::earth::omega)
       .def("validate", &Station::validate)
       .def("state", &Station::state, py::arg("t"))
       .def("__repr__", [](const Station& s) {
@@ -85,24 +86,30 @@ void init_od(py::module_& m) {
         Row6 g;
         if (!predict_measurement(type, x, station_state, v, &g, min_range))
           throw std::invalid_argument(
-              "station_state: the satellite is at the station (zero range); range-rate and partials are undefined");
+              "station_state: the satellite is at the station (zero range); range-rate and partials are "
+              "undefined");
         return py::make_tuple(v, Eigen::Matrix<double, 6, 1>(g.transpose()));
       },
       py::arg("type"), py::arg("x"), py::arg("station_state"), py::arg("min_range") = 1e-6);
 
   py::class_<StmPropagator, std::shared_ptr<StmPropagator>>(m, "StmPropagator")
-      .def("propagate", [](StmPropagator& p, const Vec6& x0, const std::vector<double>& times) {
-        const int n = static_cast<int>(times.size());
-        std::vector<Vec6> xs(times.size());
-        std::vector<Mat6> ph(times.size());
-        if (!p.propagate(x0, times.data(), n, xs.data(), ph.data()))
-          throw std::invalid_argument("x0: propagation failed");
-        return py::make_tuple(xs, ph);
-      }, py::arg("x0"), py::arg("times"));
-  py::class_<KeplerStmPropagator, StmPropagator, std::shared_ptr<KeplerStmPropagator>>(m, "KeplerStmPropagator")
+      .def(
+          "propagate",
+          [](StmPropagator& p, const Vec6& x0, const std::vector<double>& times) {
+            const int n = static_cast<int>(times.size());
+            std::vector<Vec6> xs(times.size());
+            std::vector<Mat6> ph(times.size());
+            if (!p.propagate(x0, times.data(), n, xs.data(), ph.data()))
+              throw std::invalid_argument("x0: propagation failed");
+            return py::make_tuple(xs, ph);
+          },
+          py::arg("x0"), py::arg("times"));
+  py::class_<KeplerStmPropagator, StmPropagator, std::shared_ptr<KeplerStmPropagator>>(m,
+                                                                                       "KeplerStmPropagator")
       .def(py::init<double>(), py::arg("mu") = dynamics::earth::mu)
       .def_property_readonly("mu", &KeplerStmPropagator::mu);
-  py::class_<CvodesStmPropagator, StmPropagator, std::shared_ptr<CvodesStmPropagator>>(m, "CvodesStmPropagator")
+  py::class_<CvodesStmPropagator, StmPropagator, std::shared_ptr<CvodesStmPropagator>>(m,
+                                                                                       "CvodesStmPropagator")
       .def(py::init([](double mu, bool j2, double rtol, double atol) {
              dynamics::ForceModel fm;
              fm.mu = mu;
@@ -118,7 +125,8 @@ void init_od(py::module_& m) {
            }),
            py::arg("mu") = dynamics::earth::mu, py::arg("j2") = false, py::arg("rtol") = 1e-11,
            py::arg("atol") = 1e-12);
-  py::class_<ShortArcStmPropagator, StmPropagator, std::shared_ptr<ShortArcStmPropagator>>(m, "ShortArcStmPropagator")
+  py::class_<ShortArcStmPropagator, StmPropagator, std::shared_ptr<ShortArcStmPropagator>>(
+      m, "ShortArcStmPropagator")
       .def(py::init<std::shared_ptr<StmPropagator>>(), py::arg("inner"));
 
   py::enum_<OdMethod>(m, "OdMethod")
@@ -137,8 +145,9 @@ void init_od(py::module_& m) {
       .value("range", ConditionType::range)
       .value("doppler", ConditionType::doppler);
   py::class_<BoundaryCondition>(m, "BoundaryCondition")
-      .def(py::init([](double t, ConditionType type, double range, double range_rate, double sr, double srr,
-                       int station) { return BoundaryCondition{t, type, range, range_rate, sr, srr, station}; }),
+      .def(py::init(
+               [](double t, ConditionType type, double range, double range_rate, double sr, double srr,
+                  int station) { return BoundaryCondition{t, type, range, range_rate, sr, srr, station}; }),
            py::arg("t"), py::arg("type"), py::arg("range"), py::arg("range_rate") = 0.0,
            py::arg("sigma_range") = 1e-3, py::arg("sigma_range_rate") = 1e-6, py::arg("station") = 0)
       .def_readwrite("t", &BoundaryCondition::t)
@@ -172,7 +181,8 @@ void init_od(py::module_& m) {
 
   py::class_<OdResult>(m, "OdResult")
       .def_readonly("status", &OdResult::status)
-      .def_property_readonly("message", [](const OdResult& r) { return std::string(od_status_message(r.status)); })
+      .def_property_readonly("message",
+                             [](const OdResult& r) { return std::string(od_status_message(r.status)); })
       .def_readonly("iterations", &OdResult::iterations)
       .def_readonly("evaluations", &OdResult::evaluations)
       .def_readonly("x0", &OdResult::x0)
@@ -188,23 +198,26 @@ void init_od(py::module_& m) {
       .def_readonly("normalized", &OdResult::normalized)
       .def_readonly("range_residuals", &OdResult::range_residuals)
       .def_readonly("range_rate_residuals", &OdResult::range_rate_residuals)
-      .def_property_readonly("history_x0", [](const OdResult& r) { return rows_of(r.history_x0, r.iterations + 1); })
+      .def_property_readonly("history_x0",
+                             [](const OdResult& r) { return rows_of(r.history_x0, r.iterations + 1); })
       .def_property_readonly("history_residuals",
                              [](const OdResult& r) { return rows_of(r.history_residuals, r.iterations + 1); })
-      .def_property_readonly("history_range_residuals",
-                             [](const OdResult& r) { return rows_of(r.history_range_residuals, r.iterations + 1); })
-      .def_property_readonly("history_range_rate_residuals", [](const OdResult& r) {
-        return rows_of(r.history_range_rate_residuals, r.iterations + 1);
-      })
-      .def_property_readonly("history_cost",
-                             [](const OdResult& r) { return Eigen::VectorXd(r.history_cost.head(r.iterations + 1)); })
+      .def_property_readonly(
+          "history_range_residuals",
+          [](const OdResult& r) { return rows_of(r.history_range_residuals, r.iterations + 1); })
+      .def_property_readonly(
+          "history_range_rate_residuals",
+          [](const OdResult& r) { return rows_of(r.history_range_rate_residuals, r.iterations + 1); })
+      .def_property_readonly(
+          "history_cost",
+          [](const OdResult& r) { return Eigen::VectorXd(r.history_cost.head(r.iterations + 1)); })
       .def_property_readonly("history_lambda", [](const OdResult& r) {
         return Eigen::VectorXd(r.history_lambda.head(r.iterations + 1));
       });
 
   py::class_<OdSolver>(m, "OdSolver")
-      .def_static("from_measurements", &OdSolver::from_measurements, py::arg("stations"), py::arg("measurements"),
-                  py::arg("propagator"), py::arg("settings") = OdSettings{})
+      .def_static("from_measurements", &OdSolver::from_measurements, py::arg("stations"),
+                  py::arg("measurements"), py::arg("propagator"), py::arg("settings") = OdSettings{})
       .def_static("from_conditions", &OdSolver::from_conditions, py::arg("stations"), py::arg("conditions"),
                   py::arg("propagator"), py::arg("settings") = OdSettings{})
       .def(
@@ -251,7 +264,8 @@ void init_od(py::module_& m) {
       [](OdSolver& solver, const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>& guesses,
          const RootSearchSettings& s) {
         std::vector<Vec6> g(static_cast<std::size_t>(guesses.rows()));
-        for (Eigen::Index i = 0; i < guesses.rows(); ++i) g[static_cast<std::size_t>(i)] = guesses.row(i).transpose();
+        for (Eigen::Index i = 0; i < guesses.rows(); ++i)
+          g[static_cast<std::size_t>(i)] = guesses.row(i).transpose();
         py::gil_scoped_release release;
         return root_search(solver, g, s);
       },

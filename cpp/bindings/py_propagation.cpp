@@ -19,13 +19,20 @@ using namespace satgnc::propagation;
 
 const char* status_name(PropagationStatus s) {
   switch (s) {
-    case PropagationStatus::success: return "success";
-    case PropagationStatus::too_much_work: return "too_much_work";
-    case PropagationStatus::too_much_accuracy: return "too_much_accuracy";
-    case PropagationStatus::error_test_failures: return "error_test_failures";
-    case PropagationStatus::convergence_failures: return "convergence_failures";
-    case PropagationStatus::rhs_failure: return "rhs_failure";
-    case PropagationStatus::solver_failure: return "solver_failure";
+    case PropagationStatus::success:
+      return "success";
+    case PropagationStatus::too_much_work:
+      return "too_much_work";
+    case PropagationStatus::too_much_accuracy:
+      return "too_much_accuracy";
+    case PropagationStatus::error_test_failures:
+      return "error_test_failures";
+    case PropagationStatus::convergence_failures:
+      return "convergence_failures";
+    case PropagationStatus::rhs_failure:
+      return "rhs_failure";
+    case PropagationStatus::solver_failure:
+      return "solver_failure";
   }
   return "unknown";
 }
@@ -34,16 +41,27 @@ CvodesSettings make_settings(const std::string& method, double rtol, py::object 
                              long max_steps, int max_order, const std::string& corrector,
                              const std::string& vector, double initial_step, double max_step) {
   CvodesSettings s;
-  if (method == "adams") s.method = CvodesMethod::adams;
-  else if (method == "bdf") s.method = CvodesMethod::bdf;
-  else throw std::invalid_argument("method: must be 'adams' or 'bdf' for CVODES, got '" + method + "'");
-  if (corrector == "auto") s.corrector = CvodesCorrector::automatic;
-  else if (corrector == "newton") s.corrector = CvodesCorrector::newton;
-  else if (corrector == "fixed_point") s.corrector = CvodesCorrector::fixed_point;
-  else throw std::invalid_argument("corrector: must be 'auto', 'newton' or 'fixed_point', got '" + corrector + "'");
-  if (vector == "satgnc") s.vector = CvodesVector::satgnc;
-  else if (vector == "sundials_serial") s.vector = CvodesVector::sundials_serial;
-  else throw std::invalid_argument("vector: must be 'satgnc' or 'sundials_serial', got '" + vector + "'");
+  if (method == "adams")
+    s.method = CvodesMethod::adams;
+  else if (method == "bdf")
+    s.method = CvodesMethod::bdf;
+  else
+    throw std::invalid_argument("method: must be 'adams' or 'bdf' for CVODES, got '" + method + "'");
+  if (corrector == "auto")
+    s.corrector = CvodesCorrector::automatic;
+  else if (corrector == "newton")
+    s.corrector = CvodesCorrector::newton;
+  else if (corrector == "fixed_point")
+    s.corrector = CvodesCorrector::fixed_point;
+  else
+    throw std::invalid_argument("corrector: must be 'auto', 'newton' or 'fixed_point', got '" + corrector +
+                                "'");
+  if (vector == "satgnc")
+    s.vector = CvodesVector::satgnc;
+  else if (vector == "sundials_serial")
+    s.vector = CvodesVector::sundials_serial;
+  else
+    throw std::invalid_argument("vector: must be 'satgnc' or 'sundials_serial', got '" + vector + "'");
   s.rtol = rtol;
   if (py::isinstance<py::float_>(atol) || py::isinstance<py::int_>(atol)) {
     s.atol = atol.cast<double>();
@@ -71,42 +89,47 @@ void init_propagation(py::module_& m) {
 
   py::class_<Trajectory>(m, "Trajectory",
                          "States (km, km/s) and STMs at the requested times (s), statistics, status.")
-      .def_property_readonly("times", [](const Trajectory& t) {
-        py::array_t<double> a(static_cast<py::ssize_t>(t.times.size()));
-        std::copy(t.times.begin(), t.times.end(), a.mutable_data());
-        return a;
-      })
-      .def_property_readonly("states", [](const Trajectory& t) {
-        const auto n = static_cast<py::ssize_t>(t.states.size());
-        py::array_t<double> a({n, py::ssize_t(6)});
-        auto r = a.mutable_unchecked<2>();
-        for (py::ssize_t k = 0; k < n; ++k)
-          for (int i = 0; i < 6; ++i) r(k, i) = t.states[k][i];
-        return a;
-      })
-      .def_property_readonly("stms", [](const Trajectory& t) -> py::object {
-        if (t.stms.empty() && !t.states.empty()) return py::none();
-        const auto n = static_cast<py::ssize_t>(t.stms.size());
-        py::array_t<double> a({n, py::ssize_t(6), py::ssize_t(6)});
-        auto r = a.mutable_unchecked<3>();
-        for (py::ssize_t k = 0; k < n; ++k)
-          for (int i = 0; i < 6; ++i)
-            for (int j = 0; j < 6; ++j) r(k, i, j) = t.stms[k](i, j);
-        return std::move(a);
-      })
-      .def_property_readonly("stats", [](const Trajectory& t) {
-        py::dict d;
-        d["steps"] = t.stats.steps;
-        d["rhs_evals"] = t.stats.rhs_evals;
-        d["error_test_fails"] = t.stats.error_test_fails;
-        d["nonlin_iters"] = t.stats.nonlin_iters;
-        d["nonlin_conv_fails"] = t.stats.nonlin_conv_fails;
-        d["lin_setups"] = t.stats.lin_setups;
-        d["last_step"] = t.stats.last_step;
-        return d;
-      })
+      .def_property_readonly("times",
+                             [](const Trajectory& t) {
+                               py::array_t<double> a(static_cast<py::ssize_t>(t.times.size()));
+                               std::copy(t.times.begin(), t.times.end(), a.mutable_data());
+                               return a;
+                             })
+      .def_property_readonly("states",
+                             [](const Trajectory& t) {
+                               const auto n = static_cast<py::ssize_t>(t.states.size());
+                               py::array_t<double> a({n, py::ssize_t(6)});
+                               auto r = a.mutable_unchecked<2>();
+                               for (py::ssize_t k = 0; k < n; ++k)
+                                 for (int i = 0; i < 6; ++i) r(k, i) = t.states[k][i];
+                               return a;
+                             })
+      .def_property_readonly("stms",
+                             [](const Trajectory& t) -> py::object {
+                               if (t.stms.empty() && !t.states.empty()) return py::none();
+                               const auto n = static_cast<py::ssize_t>(t.stms.size());
+                               py::array_t<double> a({n, py::ssize_t(6), py::ssize_t(6)});
+                               auto r = a.mutable_unchecked<3>();
+                               for (py::ssize_t k = 0; k < n; ++k)
+                                 for (int i = 0; i < 6; ++i)
+                                   for (int j = 0; j < 6; ++j) r(k, i, j) = t.stms[k](i, j);
+                               return std::move(a);
+                             })
+      .def_property_readonly("stats",
+                             [](const Trajectory& t) {
+                               py::dict d;
+                               d["steps"] = t.stats.steps;
+                               d["rhs_evals"] = t.stats.rhs_evals;
+                               d["error_test_fails"] = t.stats.error_test_fails;
+                               d["nonlin_iters"] = t.stats.nonlin_iters;
+                               d["nonlin_conv_fails"] = t.stats.nonlin_conv_fails;
+                               d["lin_setups"] = t.stats.lin_setups;
+                               d["last_step"] = t.stats.last_step;
+                               return d;
+                             })
       .def_property_readonly("status", [](const Trajectory& t) { return status_name(t.status); })
-      .def_property_readonly("success", [](const Trajectory& t) { return t.status == PropagationStatus::success; })
+      .def_property_readonly("success",
+                             [](const Trajectory& t) { return t.status == PropagationStatus::success; })
       .def_readonly("t_reached", &Trajectory::t_reached)
       .def_readonly("message", &Trajectory::message)
       .def("__len__", [](const Trajectory& t) { return t.times.size(); })
@@ -134,12 +157,13 @@ void init_propagation(py::module_& m) {
            py::arg("atol") = 1e-12, py::arg("with_stm") = true, py::arg("max_steps") = 500000,
            py::arg("max_order") = 0, py::arg("corrector") = "auto", py::arg("vector") = "satgnc",
            py::arg("initial_step") = 0.0, py::arg("max_step") = 0.0)
-      .def("propagate",
-           [](CvodesPropagator& p, const Vec6& x0, double t0, const std::vector<double>& times) {
-             py::gil_scoped_release release;
-             return p.propagate(x0, t0, times);
-           },
-           py::arg("x0"), py::arg("t0"), py::arg("times"));
+      .def(
+          "propagate",
+          [](CvodesPropagator& p, const Vec6& x0, double t0, const std::vector<double>& times) {
+            py::gil_scoped_release release;
+            return p.propagate(x0, t0, times);
+          },
+          py::arg("x0"), py::arg("t0"), py::arg("times"));
 }
 
 }  // namespace satgnc::bindings

@@ -1,9 +1,9 @@
 // Flight-style use of the analytic two-body propagator: links only the installed static satgnc core.
 // Propagates Vallado's Example 2-4 state by 40 min with the STM and prints the result.
+#include "satgnc/propagation/kepler.hpp"
+
 #include <Eigen/Dense>  // determinant() lives in Eigen/LU
 #include <cstdio>
-
-#include "satgnc/propagation/kepler.hpp"
 
 int main() {
   satgnc::Vec6 x0;
@@ -16,8 +16,7 @@ int main() {
     std::printf("kepler_step failed: %s\n", satgnc::propagation::kepler_status_message(st));
     return 1;
   }
-  std::printf("r = [%.4f, %.4f, %.4f] km\nv = [%.6f, %.6f, %.6f] km/s\n", x(0), x(1), x(2), x(3), x(4),
-              x(5));
+  std::printf("r = [%.4f, %.4f, %.4f] km\nv = [%.6f, %.6f, %.6f] km/s\n", x(0), x(1), x(2), x(3), x(4), x(5));
   std::printf("det(STM) = %.15f, Kepler iterations = %d\n", stm.determinant(), info.iterations);
   return 0;
 }

@@ -39,7 +39,7 @@ int main() {
   for (int k = 0; k < N; ++k) dv += r.Y.col(k).cwiseAbs().sum() * u_ref * (tf / N) / mass;
   const double miss = r.X_flown.col(N).head<3>().norm() * l_ref;
   std::printf("status: %s\niterations: %d (polished: %s)\ndelta-v: %.4f m/s\nterminal miss: %.2f m\n",
-              satgnc::guidance::status_message(r.info.status), r.info.iterations, r.info.polished ? "yes" : "no", dv,
-              miss);
+              satgnc::guidance::status_message(r.info.status), r.info.iterations,
+              r.info.polished ? "yes" : "no", dv, miss);
   return r.info.status == AdmmStatus::kSolved ? 0 : 1;
 }

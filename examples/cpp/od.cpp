@@ -15,7 +15,7 @@ int main() {
   using namespace satgnc::od;
   constexpr double mu = 398600.4418;
   Vec6 truth;
-  truth << 5836.89070, 1265.61600, 3411.49600, 0.31460, 6.94010, -3.11250;  // paper Table 1
+  truth << 5836.89070, 1265.61600, 3411.49600, 0.31460, 6.94010, -3.11250;                   // paper Table 1
   const Station station = Station::from_inertial(Vec3(5463.14996, 2139.12637, 2493.77850));  // Table 3
   auto prop = std::make_shared<KeplerStmPropagator>(mu);
 
@@ -39,8 +39,8 @@ int main() {
   Vec6 guess = truth;
   guess(0) += 10.0;
   const OdResult& r = solver.solve(guess);
-  std::printf("status: %s, iterations: %d, rank %d, cond %.2e\n", od_status_message(r.status), r.iterations, r.rank,
-              r.condition_number);
+  std::printf("status: %s, iterations: %d, rank %d, cond %.2e\n", od_status_message(r.status), r.iterations,
+              r.rank, r.condition_number);
   std::printf("x0 = [%.6f %.6f %.6f] km [%.8f %.8f %.8f] km/s\n", r.x0(0), r.x0(1), r.x0(2), r.x0(3), r.x0(4),
               r.x0(5));
   const double err_m = (r.x0 - truth).head<3>().norm() * 1e3;

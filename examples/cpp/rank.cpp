@@ -1,11 +1,12 @@
 // Flight-style check: is the polar model still controllable / observable after losing a thruster or a
 // sensor, at GEO? Links only the installed static satgnc core; prints the loss table, exits 0 when
 // every verdict matches the paper (4 / 3 / 4 and 4 / 3 / 4).
+#include "satgnc/analysis/rank.hpp"
+
 #include <cmath>
 #include <cstdio>
 
 #include "satgnc/analysis/linearize.hpp"
-#include "satgnc/analysis/rank.hpp"
 #include "satgnc/dynamics/polar.hpp"
 
 int main() {

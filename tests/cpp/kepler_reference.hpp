@@ -13,10 +13,10 @@ inline Vec6 coe_to_state(double mu, double a, double e, double inc, double raan,
   const double r = p / (1 + e * std::cos(nu));
   const Eigen::Vector3d rp(r * std::cos(nu), r * std::sin(nu), 0.0);
   const Eigen::Vector3d vp(-std::sqrt(mu / p) * std::sin(nu), std::sqrt(mu / p) * (e + std::cos(nu)), 0.0);
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(raan, Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(inc, Eigen::Vector3d::UnitX()) *
-                             Eigen::AngleAxisd(argp, Eigen::Vector3d::UnitZ()))
-                                .toRotationMatrix();
+  const Eigen::Matrix3d R =
+      (Eigen::AngleAxisd(raan, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(inc, Eigen::Vector3d::UnitX()) *
+       Eigen::AngleAxisd(argp, Eigen::Vector3d::UnitZ()))
+          .toRotationMatrix();
   Vec6 x;
   x << R * rp, R * vp;
   return x;

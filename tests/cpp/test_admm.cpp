@@ -166,7 +166,7 @@ TEST(Admm, SolveDoesNotAllocate) {
     st.max_iterations = 300;  // includes adaptive-rho refactorizations
     st.adaptive_rho_interval = 10;
     AdmmSolver s(scenario_problem(true, terminal), st);
-    s.solve();  // warm-up (first-touch)
+    s.solve();                                                        // warm-up (first-touch)
     AdmmSolver s2(random_problem(5, 2, 30, 3u, true, terminal), st);  // dynamic-size path
     g_allocs = 0;
     g_counting = true;
@@ -200,7 +200,8 @@ TEST(Admm, CachedGainsMatchFullRiccatiIterateByIterate) {
       const double scale = std::max(1.0, ra.U.cwiseAbs().maxCoeff());
       EXPECT_LE((ra.U - rb.U).cwiseAbs().maxCoeff(), 1e-10 * scale) << "iteration " << it;
       EXPECT_LE((ra.Y - rb.Y).cwiseAbs().maxCoeff(), 1e-10 * scale) << "iteration " << it;
-      EXPECT_LE((ra.Lambda - rb.Lambda).cwiseAbs().maxCoeff(), 1e-10 * std::max(1.0, ra.Lambda.cwiseAbs().maxCoeff()));
+      EXPECT_LE((ra.Lambda - rb.Lambda).cwiseAbs().maxCoeff(),
+                1e-10 * std::max(1.0, ra.Lambda.cwiseAbs().maxCoeff()));
     }
   }
 }
@@ -236,7 +237,8 @@ TEST(Admm, CondensedStepMatchesRiccatiIterateByIterate) {
       EXPECT_LE((ra.U - rb.U).cwiseAbs().maxCoeff(), 1e-10 * su) << "iteration " << it;
       EXPECT_LE((ra.Y - rb.Y).cwiseAbs().maxCoeff(), 1e-10 * su) << "iteration " << it;
       EXPECT_LE((ra.X - rb.X).cwiseAbs().maxCoeff(), 1e-10 * sx) << "iteration " << it;
-      EXPECT_LE((ra.Lambda - rb.Lambda).cwiseAbs().maxCoeff(), 1e-10 * std::max(1.0, ra.Lambda.cwiseAbs().maxCoeff()));
+      EXPECT_LE((ra.Lambda - rb.Lambda).cwiseAbs().maxCoeff(),
+                1e-10 * std::max(1.0, ra.Lambda.cwiseAbs().maxCoeff()));
       EXPECT_LE((ra.terminal_multiplier - rb.terminal_multiplier).cwiseAbs().maxCoeff(),
                 1e-9 * std::max(1.0, rb.terminal_multiplier.cwiseAbs().maxCoeff()))
           << "iteration " << it;
@@ -263,7 +265,7 @@ TEST(Admm, BoxAndTerminalAreSatisfied) {
   const AdmmResult& r = s.solve();
   const double ub = 5e-3 / scenario().u_ref;
   EXPECT_LE(r.Y.cwiseAbs().maxCoeff(), ub * (1 + 1e-15));
-  EXPECT_LE((r.X.col(99)).norm(), 1e-9);  // LQR iterate meets x_N = 0 exactly
+  EXPECT_LE((r.X.col(99)).norm(), 1e-9);                    // LQR iterate meets x_N = 0 exactly
   EXPECT_LT(r.info.terminal_miss * scenario().l_ref, 5.0);  // flown Y: metres (reported)
 }
 

@@ -69,7 +69,8 @@ TEST(AdmmUpdateDynamics, SameResultAsAFreshSolver) {
     EXPECT_EQ(r1.info.iterations, r2.info.iterations) << "variant " << variant;
     EXPECT_LE((r1.Y - r2.Y).cwiseAbs().maxCoeff(), 1e-12) << "variant " << variant;
     EXPECT_LE((r1.X - r2.X).cwiseAbs().maxCoeff(), 1e-12) << "variant " << variant;
-    EXPECT_LE(std::abs(r1.info.objective - r2.info.objective), 1e-12 * std::max(1.0, std::abs(r2.info.objective)));
+    EXPECT_LE(std::abs(r1.info.objective - r2.info.objective),
+              1e-12 * std::max(1.0, std::abs(r2.info.objective)));
   }
 }
 
@@ -92,14 +93,14 @@ TEST(AdmmUpdateDynamics, RejectsMismatchedData) {
   AdmmSolver s(p);
   std::vector<MatrixXd> A = p.dynamics.A, B = p.dynamics.B;
   std::vector<VectorXd> c = p.dynamics.c;
-  EXPECT_FALSE(s.update_dynamics({A[0]}, B, c));                 // wrong count
-  EXPECT_FALSE(s.update_dynamics(A, B, {}));                     // c dropped
+  EXPECT_FALSE(s.update_dynamics({A[0]}, B, c));  // wrong count
+  EXPECT_FALSE(s.update_dynamics(A, B, {}));      // c dropped
   std::vector<MatrixXd> A5 = A;
   A5[3] = MatrixXd::Identity(5, 5);
-  EXPECT_FALSE(s.update_dynamics(A5, B, c));                     // wrong size
+  EXPECT_FALSE(s.update_dynamics(A5, B, c));  // wrong size
   std::vector<MatrixXd> An = A;
   An[2](0, 0) = std::nan("");
-  EXPECT_FALSE(s.update_dynamics(An, B, c));                     // non-finite
+  EXPECT_FALSE(s.update_dynamics(An, B, c));  // non-finite
   // nothing changed: the solve equals a fresh one on the original data
   const AdmmResult r1 = s.solve();
   AdmmSolver fresh(p);

@@ -1,16 +1,15 @@
 // CVODES propagator: accuracy against analytic two-body motion and textbook examples, STM checks,
 // conservation, J2 nodal regression, satgnc N_Vector vs NVECTOR_SERIAL identity, bad input.
+#include <Eigen/LU>
 #include <atomic>
-#include <functional>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <Eigen/LU>
 
 #include "kepler_reference.hpp"
 #include "satgnc/propagation/cvodes.hpp"
@@ -586,8 +585,9 @@ TEST(Cvodes, CollisionCourseFailsWithForceModelStatus) {
 
 TEST(Cvodes, StatusMessagesAreDistinct) {
   using S = prop::PropagationStatus;
-  const std::vector<S> all = {S::success, S::too_much_work, S::too_much_accuracy, S::error_test_failures,
-                              S::convergence_failures, S::rhs_failure, S::solver_failure};
+  const std::vector<S> all = {
+      S::success,     S::too_much_work, S::too_much_accuracy, S::error_test_failures, S::convergence_failures,
+      S::rhs_failure, S::solver_failure};
   for (size_t i = 0; i < all.size(); ++i)
     for (size_t j = i + 1; j < all.size(); ++j)
       EXPECT_STRNE(prop::status_message(all[i]), prop::status_message(all[j]));

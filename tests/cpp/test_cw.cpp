@@ -47,7 +47,10 @@ TEST(Cw, ZohMatchesExpmAndOde) {
   for (int j = 0; j < 9; ++j) {
     Vec6 x0 = Vec6::Zero();
     Vec3 u = Vec3::Zero();
-    if (j < 6) x0(j) = 1.0; else u(j - 6) = 1.0;
+    if (j < 6)
+      x0(j) = 1.0;
+    else
+      u(j - 6) = 1.0;
     const Vec6 x = rk4([&](const Vec6& s) { return cw.rhs(s, u); }, x0, kDt, 2000);
     const Vec6 col = j < 6 ? Vec6(zoh.Ad.col(j)) : Vec6(zoh.Bd.col(j - 6));
     EXPECT_LE((x - col).norm(), 1e-10 * std::max(1.0, col.norm())) << "column " << j;
@@ -117,8 +120,8 @@ TEST(Cw, PaperEq27AsPrintedDiffersFromImplementation) {
   printed(3) = 3 * kN * kN * x(0) + 2 * kN * x(1);
   printed(4) = -2 * kN * x(3);
   printed(5) = -kN * kN * x(2);
-  EXPECT_NEAR(impl(3), 2 * kN * 1.007149, 1e-12);         // 2.069e-3 m/s^2
-  EXPECT_NEAR(printed(3), -4.139, 1e-3);                  // m/s^2: 2000x larger, wrong sign
+  EXPECT_NEAR(impl(3), 2 * kN * 1.007149, 1e-12);  // 2.069e-3 m/s^2
+  EXPECT_NEAR(printed(3), -4.139, 1e-3);           // m/s^2: 2000x larger, wrong sign
   EXPECT_GT(std::abs(printed(3) - impl(3)), 1000 * std::abs(impl(3)));
 }
 

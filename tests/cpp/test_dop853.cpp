@@ -50,8 +50,8 @@ using satgnc::propagation::Dop853Settings;
 using satgnc::propagation::Dop853Status;
 using satgnc::propagation::kepler_step;
 using satgnc::propagation::KeplerStatus;
-using satgnc::propagation::PropagationStatus;
 using satgnc::propagation::propagate_dop853_with;
+using satgnc::propagation::PropagationStatus;
 using satgnc::testing::rel_err;
 
 constexpr double kMu = 398600.4418;
@@ -101,9 +101,8 @@ std::vector<Vec6> run6(const Vec6& x0, const std::vector<double>& times, const D
   TwoBody6 rhs;
   Dop853<6, TwoBody6> integ(rhs, s);
   std::vector<Vec6> out(times.size());
-  const Dop853Info info =
-      integ.solve(0.0, x0, times.data(), times.size(), [&](std::size_t i, double,
-          const Vec6& y) { out[i] = y; });
+  const Dop853Info info = integ.solve(0.0, x0, times.data(), times.size(),
+                                      [&](std::size_t i, double, const Vec6& y) { out[i] = y; });
   EXPECT_EQ(info.status, Dop853Status::success);
   if (info_out) *info_out = info;
   return out;
@@ -161,8 +160,8 @@ TEST(Dop853, DenseOutputIsSeventhOrder) {
     s.fac_min = 1.0;
     s.fac_max = 1.0;
     std::vector<double> times;
-    for (int j = 0; j < 20; ++j) times.push_back((j +
-        0.37) * T / 20.0);  // h divides T / 20  // never on a step boundary
+    for (int j = 0; j < 20; ++j)
+      times.push_back((j + 0.37) * T / 20.0);  // h divides T / 20  // never on a step boundary
     times.push_back(T);
     const auto xs = run6(x0, times, s);
     errs[i] = 0.0;
@@ -341,10 +340,9 @@ TEST(Dop853, SteppingLoopDoesNotAllocate) {
   std::array<Vec6, 4> out;
   const long before = g_allocations.load();
   Eigen::internal::set_is_malloc_allowed(false);
-  const Dop853Info info = integ.solve(0.0, y0, times.data(), times.size(),
-                                      [&](std::size_t i, double, const Eigen::Matrix<double, 42, 1>& y) {
-                                        out[i] = y.head<6>();
-                                      });
+  const Dop853Info info = integ.solve(
+      0.0, y0, times.data(), times.size(),
+      [&](std::size_t i, double, const Eigen::Matrix<double, 42, 1>& y) { out[i] = y.head<6>(); });
   Eigen::internal::set_is_malloc_allowed(true);
   const long after = g_allocations.load();
   EXPECT_EQ(after - before, 0);
@@ -449,8 +447,8 @@ TEST(Dop853ForceModel, PointMassModelEqualsTestLocalGravity) {
   s.rtol = 1e-11;
   s.atol = 1e-11;
   const std::vector<double> times = {-600.0, 3000.0, 7200.0};
-  const auto a = satgnc::propagation::propagate_dop853(satgnc::dynamics::ForceModel{}, x0, 0.0, times, s,
-      true);
+  const auto a =
+      satgnc::propagation::propagate_dop853(satgnc::dynamics::ForceModel{}, x0, 0.0, times, s, true);
   const auto b = propagate_dop853_with<false>(PointMass{}, x0, 0.0, times, s, true);
   ASSERT_EQ(a.status, PropagationStatus::success) << a.message;
   for (std::size_t i = 0; i < times.size(); ++i) {

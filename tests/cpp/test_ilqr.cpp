@@ -319,7 +319,7 @@ TEST(IlqrAdmm, PaperNonlinearUnconstrainedStopsAfter60Iterations) {
     x = xn;
   }
   const ReferenceScaling sc = published_scaling(x, mu, 4.6);
-  EXPECT_NEAR(sc.time_scale, 324.48, 0.005);           // printed to 0.01 s
+  EXPECT_NEAR(sc.time_scale, 324.48, 0.005);            // printed to 0.01 s
   EXPECT_NEAR(sc.control_scale(0), 0.42318, 0.000005);  // printed to 1e-5 N
   TwoSatelliteMapSettings ms;
   ms.dt = 6000.0 / 99.0;
@@ -345,7 +345,7 @@ TEST(IlqrAdmm, PaperNonlinearUnconstrainedStopsAfter60Iterations) {
   IlqrAdmmSolver solver(map, p, s);
   solver.set_initial_controls(MatrixXd::Zero(3, 99));
   EXPECT_EQ(solver.solve(), IlqrAdmmStatus::solved);
-  EXPECT_EQ(solver.result().info.iterations, 60);   // Table 1: 120 LQR passes = 2 x 60
+  EXPECT_EQ(solver.result().info.iterations, 60);  // Table 1: 120 LQR passes = 2 x 60
   EXPECT_EQ(solver.result().info.lqr_passes, 120);
 }
 

@@ -250,8 +250,8 @@ TEST(KeplerTextbook, CurtisExample3_7) {
   // -0.96404). We assert the exact value's distance from the printed one instead of bending the test.
   EXPECT_NEAR(x(4), -0.96309, 1e-3);
   EXPECT_GT(std::abs(x(4) - (-0.96309)), 3e-4);
-  std::printf("[curtis 3.7] chi = %.4f, r = (%.3f, %.3f), v = (%.6f, %.6f)\n", info.chi, x(0), x(1),
-              x(3), x(4));
+  std::printf("[curtis 3.7] chi = %.4f, r = (%.3f, %.3f), v = (%.6f, %.6f)\n", info.chi, x(0), x(1), x(3),
+              x(4));
 }
 
 // Curtis, 3rd ed., Example 3.6: hyperbolic orbit, r0 = 10000 km, v0 = 10 km/s, vr0 = 3.0752 km/s

@@ -46,7 +46,8 @@ TEST(Measurement, ValuesAndDegenerateGeometry) {
   ASSERT_TRUE(predict_measurement(MeasurementType::range, sat(), sta(), rho));
   EXPECT_NEAR(rho, (sat().head<3>() - sta().head<3>()).norm(), 1e-12);
   double v = 42.0;
-  EXPECT_FALSE(predict_measurement(MeasurementType::range_rate, sta(), sta(), v));  // station at the satellite
+  EXPECT_FALSE(
+      predict_measurement(MeasurementType::range_rate, sta(), sta(), v));  // station at the satellite
   EXPECT_EQ(v, 42.0);
 }
 

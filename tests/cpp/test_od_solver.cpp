@@ -48,7 +48,8 @@ void observe(const Vec6& x0, const std::vector<Station>& st, const std::vector<d
   for (std::size_t i = 0; i < t.size(); ++i) {
     double a = 0, b = 0;
     predict_measurement(MeasurementType::range, xs[i], st[static_cast<std::size_t>(station)].state(t[i]), a);
-    predict_measurement(MeasurementType::range_rate, xs[i], st[static_cast<std::size_t>(station)].state(t[i]), b);
+    predict_measurement(MeasurementType::range_rate, xs[i], st[static_cast<std::size_t>(station)].state(t[i]),
+                        b);
     rho.push_back(a);
     rhodot.push_back(b);
   }
@@ -72,8 +73,8 @@ TEST(OdSolver, PaperDopplerNewtonConvergesForAllOffsets) {
     guess(0) += dx1;
     const OdResult& r = solver.solve(guess);
     EXPECT_EQ(r.status, OdStatus::converged) << od_status_message(r.status);
-    EXPECT_LE(r.iterations, 5) << "offset " << dx1;          // the goal: <= 5 iterations
-    EXPECT_LT(std::abs(r.x0(0) - paper_truth()(0)), 1e-4);    // < 10 cm in x1
+    EXPECT_LE(r.iterations, 5) << "offset " << dx1;         // the goal: <= 5 iterations
+    EXPECT_LT(std::abs(r.x0(0) - paper_truth()(0)), 1e-4);  // < 10 cm in x1
     EXPECT_LT((r.x0 - paper_truth()).head<3>().norm(), 1e-4);
     EXPECT_EQ(r.rank, 6);
     EXPECT_GT(r.condition_number, 1e3);
@@ -301,7 +302,8 @@ TEST(OdSolver, KeplerAndCvodesPropagatorsAgreeWithRk4) {
   // Newton on the paper's conditions with the exact Kepler STM: same convergence as with RK4.
   OdSettings s;
   s.method = OdMethod::newton;
-  auto solver = OdSolver::from_conditions({paper_station()}, doppler_conditions(), std::make_shared<KeplerStmPropagator>(kMu), s);
+  auto solver = OdSolver::from_conditions({paper_station()}, doppler_conditions(),
+                                          std::make_shared<KeplerStmPropagator>(kMu), s);
   Vec6 guess = paper_truth();
   guess(0) += 40.0;
   const OdResult& r = solver.solve(guess);

@@ -74,7 +74,8 @@ TEST(Polar, AnalyticJacobiansMatchCentralDifferencesOffReference) {
     };
     for (int trial = 0; trial < 5; ++trial) {
       VectorXd s(4), u(2);
-      s << o.sigma * (1 + 0.1 * U(rng)), 0.1 * o.sigma * o.omega * U(rng), U(rng), o.omega * (1 + 0.2 * U(rng));
+      s << o.sigma * (1 + 0.1 * U(rng)), 0.1 * o.sigma * o.omega * U(rng), U(rng),
+          o.omega * (1 + 0.2 * U(rng));
       u << 0.01 * o.sigma * o.omega * o.omega * U(rng), 0.01 * o.sigma * o.omega * o.omega * U(rng);
       satgnc::analysis::FdSettings fd;
       fd.x_scale = (VectorXd(4) << o.sigma, o.sigma * o.omega, 1.0, o.omega).finished();
@@ -206,9 +207,11 @@ TEST(OdModel, TwoBodyJacobianAndMeasurementPartialsMatchFiniteDifferences) {
     xm(j) -= h;
     Eigen::Matrix<double, 1, 6> dummy;
     const double d1 = (satgnc::analysis::range_partial(xp.head<3>(), R, dummy) -
-                       satgnc::analysis::range_partial(xm.head<3>(), R, dummy)) / (2 * h);
+                       satgnc::analysis::range_partial(xm.head<3>(), R, dummy)) /
+                      (2 * h);
     const double d2 = (satgnc::analysis::range_rate_partial(xp.head<3>(), xp.tail<3>(), R, V, dummy) -
-                       satgnc::analysis::range_rate_partial(xm.head<3>(), xm.tail<3>(), R, V, dummy)) / (2 * h);
+                       satgnc::analysis::range_rate_partial(xm.head<3>(), xm.tail<3>(), R, V, dummy)) /
+                      (2 * h);
     EXPECT_NEAR(H1(j), d1, 1e-8);
     EXPECT_NEAR(H2(j), d2, 1e-8);
   }

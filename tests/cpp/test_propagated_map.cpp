@@ -98,8 +98,10 @@ TEST(PropagatedMap, JacobiansMatchCentralFiniteDifferences) {
   EXPECT_LE(satgnc::testing::rel_err(A, Afd), 1e-7);
   EXPECT_LE(satgnc::testing::rel_err(B, Bfd), 1e-7);
   // column by column as well (small columns are not hidden by the large ones)
-  for (int j = 0; j < 12; ++j) EXPECT_LE(satgnc::testing::rel_err(A.col(j), Afd.col(j)), 1e-6) << "column " << j;
-  for (int j = 0; j < 3; ++j) EXPECT_LE(satgnc::testing::rel_err(B.col(j), Bfd.col(j)), 1e-6) << "column " << j;
+  for (int j = 0; j < 12; ++j)
+    EXPECT_LE(satgnc::testing::rel_err(A.col(j), Afd.col(j)), 1e-6) << "column " << j;
+  for (int j = 0; j < 3; ++j)
+    EXPECT_LE(satgnc::testing::rel_err(B.col(j), Bfd.col(j)), 1e-6) << "column " << j;
 }
 
 TEST(PropagatedMap, AgreesWithFineStepRk4MapToTheTolerance) {

@@ -78,8 +78,8 @@ TEST(Rank, PaperSixResultsAtOmegaOneLeoGeo) {
         EXPECT_EQ(ob.summary.rank, expect[i]);
         EXPECT_EQ(ob.summary.verdict, v) << ob.summary.reason;
       }
-      units.units->input = VectorXd::Constant(static_cast<Eigen::Index>(sets[i].size()),
-                                              o.sigma * o.omega * o.omega);
+      units.units->input =
+          VectorXd::Constant(static_cast<Eigen::Index>(sets[i].size()), o.sigma * o.omega * o.omega);
       const auto cu = staircase(A, cols(B, sets[i]), Property::controllability, units);
       EXPECT_EQ(cu.summary.verdict, v);
       EXPECT_GE(cu.summary.margin, 1e12);  // dimensionless: every stair O(1)
@@ -130,8 +130,8 @@ TEST(Rank, KalmanMatricesMatchPaperPrintedExceptTheCA2Slip) {
     const double w2 = w * w, w3 = w2 * w;
     MatrixXd K(4, 8), K1(4, 4), K2(4, 4), O(8, 4), O1(4, 4), O2(4, 4), A2(4, 4), A3(4, 4);
     // As printed in section 4.1 / 4.2.
-    K << 0, 0, 1, 0, 0, 2 * w, -w2, 0, 1, 0, 0, 2 * w, -w2, 0, 0, -2 * w3, 0, 0, 0, 1, -2 * w, 0, 0,
-        -4 * w2, 0, 1, -2 * w, 0, 0, -4 * w2, 2 * w3, 0;
+    K << 0, 0, 1, 0, 0, 2 * w, -w2, 0, 1, 0, 0, 2 * w, -w2, 0, 0, -2 * w3, 0, 0, 0, 1, -2 * w, 0, 0, -4 * w2,
+        0, 1, -2 * w, 0, 0, -4 * w2, 2 * w3, 0;
     K1 << 0, 1, 0, -w2, 1, 0, -w2, 0, 0, 0, -2 * w, 0, 0, -2 * w, 0, 2 * w3;
     K2 << 0, 0, 2 * w, 0, 0, 2 * w, 0, -2 * w3, 0, 1, 0, -4 * w2, 1, 0, -4 * w2, 0;
     O << 1, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 1, 3 * w2, 0, 0, 2 * w, 0, -2 * w, 0, 0, 0, -w2, 0, 0,
@@ -398,10 +398,14 @@ TEST(Rank, BadInputThrowsNamingTheArgument) {
   s.cluster_rtol = -1;
   EXPECT_EQ(msg([&] { pbh(A, B, Property::controllability, s); }).rfind("cluster_rtol:", 0), 0u);
   EXPECT_EQ(msg([&] { loss_table(A, MatrixXd::Ones(3, 17), Property::controllability); }).rfind("B:", 0), 0u);
-  EXPECT_EQ(msg([&] { staircase(MatrixXd(0, 0), MatrixXd(0, 1), Property::controllability); }).rfind("A:", 0), 0u);
+  EXPECT_EQ(msg([&] { staircase(MatrixXd(0, 0), MatrixXd(0, 1), Property::controllability); }).rfind("A:", 0),
+            0u);
   RankSettings u;
   u.units = Units{1.0, VectorXd::Ones(2), {}, {}};
   EXPECT_EQ(msg([&] { staircase(A, B, Property::controllability, u); }).rfind("units.state:", 0), 0u);
-  EXPECT_EQ(msg([&] { distance_to_uncontrollability(A, B, Property::controllability, {}, -1); }).rfind("max_iter", 0), 0u);
+  EXPECT_EQ(msg([&] {
+              distance_to_uncontrollability(A, B, Property::controllability, {}, -1);
+            }).rfind("max_iter", 0),
+            0u);
   (void)C;
 }

@@ -109,10 +109,11 @@ TEST_P(RiccatiDense, MatchesCondensedKkt) {
   if (terminal) EXPECT_LE((X.col(N) - cs.xf).norm(), 1e-10 * (1.0 + cs.xf.norm()));
 }
 
-INSTANTIATE_TEST_SUITE_P(Sizes, RiccatiDense,
-                         ::testing::Values(std::make_tuple(2, 1, 5, false, false), std::make_tuple(4, 2, 12, true, false),
-                                           std::make_tuple(4, 2, 12, true, true), std::make_tuple(6, 3, 10, false, false),
-                                           std::make_tuple(6, 3, 20, true, true), std::make_tuple(8, 3, 15, true, true)));
+INSTANTIATE_TEST_SUITE_P(
+    Sizes, RiccatiDense,
+    ::testing::Values(std::make_tuple(2, 1, 5, false, false), std::make_tuple(4, 2, 12, true, false),
+                      std::make_tuple(4, 2, 12, true, true), std::make_tuple(6, 3, 10, false, false),
+                      std::make_tuple(6, 3, 20, true, true), std::make_tuple(8, 3, 15, true, true)));
 
 TEST(Riccati, UnreachableTerminalIsStatusNotNan) {
   // x2 is not actuated and has no dynamics: x_N(2) = x0(2) != xf(2)
@@ -131,7 +132,8 @@ TEST(Riccati, UnreachableTerminalIsStatusNotNan) {
   MatrixXd X(3, 7), U(1, 6);
   VectorXd x0 = VectorXd::Zero(3), xf(3);
   xf << 1.0, 0.0, 2.0;
-  EXPECT_EQ(ric.solve(x0, MatrixXd::Zero(3, 7), MatrixXd::Zero(1, 6), xf, X, U), RiccatiStatus::kTerminalUnreachable);
+  EXPECT_EQ(ric.solve(x0, MatrixXd::Zero(3, 7), MatrixXd::Zero(1, 6), xf, X, U),
+            RiccatiStatus::kTerminalUnreachable);
   EXPECT_TRUE(X.allFinite());
   EXPECT_TRUE(U.allFinite());
   // reachable components are still met by the least-squares multiplier

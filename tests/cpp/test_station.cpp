@@ -56,7 +56,8 @@ TEST(Station, GeodeticWgs84) {
 }
 
 TEST(Station, RotationAndVelocity) {
-  const Station s = Station::from_geodetic(23.0 + 10.0 / 60.0, 113.25, 0.15, julian_date(1981, 3, 21, 6, 0, 0.0));
+  const Station s =
+      Station::from_geodetic(23.0 + 10.0 / 60.0, 113.25, 0.15, julian_date(1981, 3, 21, 6, 0, 0.0));
   const Vec6 x0 = s.state(0.0);
   EXPECT_NEAR((x0.tail<3>() - s.omega * Vec3::UnitZ().cross(x0.head<3>())).norm(), 0.0, 1e-15);
   const double h = 1e-3;
@@ -85,7 +86,8 @@ TEST(Station, CurtisExample510RangeRate) {
   // r = 3831 I - 2216 J + 6605 K km, v = 1.504 I - 4.562 J - 0.2920 K km/s (4 significant digits).
   // The rounding (+-0.5 km per component, +-0.5 m/s) allows |d rho| < 0.9 km, |d rhodot| < 2e-3 km/s.
   const Ellipsoid curtis{"Curtis", 6378.0, 0.003353};
-  const Station s = Station::from_ecef(geodetic_to_ecef(60.0 * kDeg, 0.0, 0.0, curtis), 300.0 * kDeg, 7.292115e-5);
+  const Station s =
+      Station::from_ecef(geodetic_to_ecef(60.0 * kDeg, 0.0, 0.0, curtis), 300.0 * kDeg, 7.292115e-5);
   Vec6 x;
   x << 3831.0, -2216.0, 6605.0, 1.504, -4.562, -0.2920;
   double rho = 0, rhodot = 0;

@@ -212,7 +212,9 @@ TEST(TwoSatellite, StructuredRkJacobianEqualsDenseStageChainRule) {
   };
   const Tab tabs[2] = {
       {3, 3, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {-1, 2, 0, 0}, {0, 0, 0, 0}}, {1 / 6.0, 4 / 6.0, 1 / 6.0, 0}},
-      {4, 4, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {0, 0.5, 0, 0}, {0, 0, 1, 0}},
+      {4,
+       4,
+       {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {0, 0.5, 0, 0}, {0, 0, 1, 0}},
        {1 / 6.0, 2 / 6.0, 2 / 6.0, 1 / 6.0}}};
   for (ControlFrame frame : {ControlFrame::target_cw, ControlFrame::inertial}) {
     const TwoSatelliteModel model(heavy_drag_j2_params(frame));

@@ -98,10 +98,13 @@ TEST(CvodesOde, FailuresAreStatusesNotExceptions) {
   // budget
   CvodesOdeSettings s;
   s.max_steps = 3;
-  CvodesOde small(1, [](double, const double* v, double* yd) {
-    yd[0] = std::cos(50.0 * v[0]);
-    return true;
-  }, s);
+  CvodesOde small(
+      1,
+      [](double, const double* v, double* yd) {
+        yd[0] = std::cos(50.0 * v[0]);
+        return true;
+      },
+      s);
   VectorXd z = VectorXd::Zero(1);
   EXPECT_EQ(small.integrate(0.0, z, 100.0), PropagationStatus::too_much_work);
   EXPECT_NE(small.message().find("max_steps"), std::string::npos);
@@ -139,7 +142,8 @@ TEST(TwoSatelliteTruth, AgreesWithFineStepRk4OnAControlledArc) {
   const int N = 20;
   const double dt = 6000.0 / 99.0;
   MatrixXd U(3, N);
-  for (int k = 0; k < N; ++k) U.col(k) << 4e-3 * std::sin(0.3 * k), -3e-3 * ((k % 3) == 0), 2e-3 * ((k % 5) - 2);
+  for (int k = 0; k < N; ++k)
+    U.col(k) << 4e-3 * std::sin(0.3 * k), -3e-3 * ((k % 3) == 0), 2e-3 * ((k % 5) - 2);
   const Vec12 x0 = release_state();
   const TruthFlight fl = truth.fly(x0, U, dt);
   ASSERT_EQ(fl.status, PropagationStatus::success) << fl.message;

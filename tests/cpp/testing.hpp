@@ -22,5 +22,5 @@ double rel_err(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b, dou
 }  // namespace satgnc::testing
 
 /// EXPECT that a and b agree to relative tolerance tol (scalars or Eigen arrays).
-#define SATGNC_EXPECT_REL(a, b, tol) EXPECT_LE(::satgnc::testing::rel_err((a), (b)), (tol)) \
-  << "a = " << (a) << "\nb = " << (b)
+#define SATGNC_EXPECT_REL(a, b, tol) \
+  EXPECT_LE(::satgnc::testing::rel_err((a), (b)), (tol)) << "a = " << (a) << "\nb = " << (b)

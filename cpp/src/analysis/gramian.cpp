@@ -79,11 +79,10 @@ GramianReport observability_gramian(const MatrixXd& A, const MatrixXd& C, double
 GramianReport ltv_observability_gramian(const std::vector<MatrixXd>& stms, const std::vector<MatrixXd>& H,
                                         const std::vector<double>& weights) {
   core::require(!stms.empty(), "stms", "needs at least one transition matrix");
-  core::require(H.size() == stms.size(), "H",
-                "needs one partial per STM (" + std::to_string(stms.size()) + "), got " +
-                    std::to_string(H.size()));
-  core::require(weights.empty() || weights.size() == stms.size(), "weights",
-                "must be empty or one per STM");
+  core::require(
+      H.size() == stms.size(), "H",
+      "needs one partial per STM (" + std::to_string(stms.size()) + "), got " + std::to_string(H.size()));
+  core::require(weights.empty() || weights.size() == stms.size(), "weights", "must be empty or one per STM");
   const Eigen::Index n = stms.front().rows();
   core::require(n > 0, "stms", "must be non-empty square matrices");
   MatrixXd W = MatrixXd::Zero(n, n);

@@ -13,23 +13,23 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 void LinearModel::validate() const {
-  core::require(A.rows() > 0 && A.rows() == A.cols(), "A", "must be square and non-empty, got " +
-                std::to_string(A.rows()) + "x" + std::to_string(A.cols()));
+  core::require(
+      A.rows() > 0 && A.rows() == A.cols(), "A",
+      "must be square and non-empty, got " + std::to_string(A.rows()) + "x" + std::to_string(A.cols()));
   core::require_finite(A, "A");
   core::require(B.size() == 0 || B.rows() == A.rows(), "B",
                 "must have n = " + std::to_string(A.rows()) + " rows, got " + std::to_string(B.rows()));
   core::require_finite(B, "B");
   core::require(C.size() == 0 || C.cols() == A.rows(), "C",
-                "must have n = " + std::to_string(A.rows()) + " columns, got " +
-                    std::to_string(C.cols()));
+                "must have n = " + std::to_string(A.rows()) + " columns, got " + std::to_string(C.cols()));
   core::require_finite(C, "C");
 }
 
 namespace {
 VectorXd scale_or_ones(const VectorXd& v, Eigen::Index size, const std::string& name) {
   if (v.size() == 0) return VectorXd::Ones(size);
-  core::require(v.size() == size, name, "must have " + std::to_string(size) + " entries, got " +
-                std::to_string(v.size()));
+  core::require(v.size() == size, name,
+                "must have " + std::to_string(size) + " entries, got " + std::to_string(v.size()));
   core::require(v.allFinite() && (v.array() > 0).all(), name, "all units must be finite and > 0");
   return v;
 }
@@ -73,8 +73,8 @@ Units cw_units(double n, double length, int n_outputs) {
   return u;
 }
 
-void fd_jacobian(const ModelFn& f, double t, const VectorXd& x, const VectorXd& u, MatrixXd& A,
-                 MatrixXd& B, const FdSettings& fd) {
+void fd_jacobian(const ModelFn& f, double t, const VectorXd& x, const VectorXd& u, MatrixXd& A, MatrixXd& B,
+                 const FdSettings& fd) {
   core::require(static_cast<bool>(f), "f", "must be a callable");
   core::require_finite(x, "x");
   core::require_finite(u, "u");

@@ -2,8 +2,8 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "satgnc/analysis/linearize.hpp"

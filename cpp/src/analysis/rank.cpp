@@ -5,8 +5,8 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 
 #include "satgnc/core/validate.hpp"
@@ -26,9 +26,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 const char* verdict_name(Verdict v) {
   switch (v) {
-    case Verdict::full_rank: return "full rank";
-    case Verdict::rank_deficient: return "rank deficient";
-    case Verdict::not_robustly_decidable: return "not robustly decidable";
+    case Verdict::full_rank:
+      return "full rank";
+    case Verdict::rank_deficient:
+      return "rank deficient";
+    case Verdict::not_robustly_decidable:
+      return "not robustly decidable";
   }
   return "unknown";
 }
@@ -36,9 +39,12 @@ const char* verdict_name(Verdict v) {
 const char* verdict_text(Verdict v, Property p) {
   const bool c = p == Property::controllability;
   switch (v) {
-    case Verdict::full_rank: return c ? "controllable" : "observable";
-    case Verdict::rank_deficient: return c ? "uncontrollable" : "unobservable";
-    case Verdict::not_robustly_decidable: return "not robustly decidable";
+    case Verdict::full_rank:
+      return c ? "controllable" : "observable";
+    case Verdict::rank_deficient:
+      return c ? "uncontrollable" : "unobservable";
+    case Verdict::not_robustly_decidable:
+      return "not robustly decidable";
   }
   return "unknown";
 }
@@ -59,9 +65,9 @@ struct Pair {
 
 Pair prepare(const MatrixXd& A, const MatrixXd& BC, Property p, const RankSettings& s) {
   s.validate();
-  core::require(A.rows() > 0 && A.rows() == A.cols(), "A",
-                "must be square and non-empty, got " + std::to_string(A.rows()) + "x" +
-                    std::to_string(A.cols()));
+  core::require(
+      A.rows() > 0 && A.rows() == A.cols(), "A",
+      "must be square and non-empty, got " + std::to_string(A.rows()) + "x" + std::to_string(A.cols()));
   core::require_finite(A, "A");
   const Eigen::Index n = A.rows();
   LinearModel m;
@@ -199,7 +205,7 @@ StaircaseReport staircase(const MatrixXd& A_in, const MatrixXd& BC, Property p, 
   // values across lanes measures how much rounding the chain of earlier stairs amplifies into it
   // (the Krylov-chain sensitivity that a fixed tolerance cannot see).
   constexpr int kLanes = 2;
-  constexpr double kNoise = 10.0;  // a value must exceed kNoise x its measured spread to count
+  constexpr double kNoise = 10.0;               // a value must exceed kNoise x its measured spread to count
   std::uint64_t state = 0x9E3779B97F4A7C15ull;  // fixed seed: reproducible reports
   auto uniform = [&state]() {  // splitmix64 -> [-1, 1): cheap, and the shape does not matter here
     std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
@@ -393,7 +399,8 @@ PbhReport pbh(const MatrixXd& A_in, const MatrixXd& BC, Property p, const RankSe
       const double rel = best(i) / normAB;
       if (rel <= rep.rtol) ++md.deficiency;
     }
-    for (Eigen::Index i = 0; i < n - md.deficiency; ++i) rep.sigma_r = std::min(rep.sigma_r, best(i) / normAB);
+    for (Eigen::Index i = 0; i < n - md.deficiency; ++i)
+      rep.sigma_r = std::min(rep.sigma_r, best(i) / normAB);
     if (md.deficiency > 0) rep.sigma_next = std::max(rep.sigma_next, best(n - md.deficiency) / normAB);
     md.controllable = md.deficiency == 0;
     md.ct_stable = c.mean.real() < -radius;
@@ -472,8 +479,9 @@ DistanceReport distance_to_uncontrollability(const MatrixXd& A_in, const MatrixX
   AB << pr.A, pr.B;
   const double normAB = safe_norm(AB), normA = pr.A.norm();
   DistanceReport d;
-  d.method = "min over eigenvalue clusters of sigma_min([A - lambda I, B]), then Nelder-Mead over "
-             "(Re lambda, Im lambda) from each cluster";
+  d.method =
+      "min over eigenvalue clusters of sigma_min([A - lambda I, B]), then Nelder-Mead over "
+      "(Re lambda, Im lambda) from each cluster";
   Eigen::EigenSolver<MatrixXd> es(pr.A, false);
   const std::vector<Cluster> clusters = cluster_eigenvalues(es.eigenvalues(), s.cluster_rtol * normA);
   auto f = [&](double x, double y) {
@@ -578,7 +586,8 @@ std::vector<LossRow> loss_table(const MatrixXd& A, const MatrixXd& BC, Property 
       const Eigen::VectorXd all = ch;
       if (all.size() > 0) {
         ch.resize(static_cast<Eigen::Index>(row.channels.size()));
-        for (size_t i = 0; i < row.channels.size(); ++i) ch(static_cast<Eigen::Index>(i)) = all(row.channels[i]);
+        for (size_t i = 0; i < row.channels.size(); ++i)
+          ch(static_cast<Eigen::Index>(i)) = all(row.channels[i]);
       }
     }
     const StaircaseReport st = staircase(A, sub, p, ss);

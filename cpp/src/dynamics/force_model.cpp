@@ -128,8 +128,8 @@ Vec3 ForceModel::acceleration(double /*t*/, const Vec3& r, const Vec3& v) const 
   return a;
 }
 
-void ForceModel::acceleration_jacobians(double /*t*/, const Vec3& r, const Vec3& v, Vec3& a,
-                                        Mat3& da_dr, Mat3& da_dv) const {
+void ForceModel::acceleration_jacobians(double /*t*/, const Vec3& r, const Vec3& v, Vec3& a, Mat3& da_dr,
+                                        Mat3& da_dv) const {
   point_mass_jacobian(mu, r, a, da_dr);
   da_dv.setZero();
   if (j2) {

@@ -42,15 +42,11 @@ void PolarModel::jacobians(double, const State& s, const Input& u, MatA& dfds, M
   dfdu(3, 1) = 1.0 / r;
 }
 
-PolarModel::State PolarModel::reference(double t) const {
-  return State(sigma_, 0.0, omega_ * t, omega_);
-}
+PolarModel::State PolarModel::reference(double t) const { return State(sigma_, 0.0, omega_ * t, omega_); }
 
 namespace {
 // x = T (s - s_ref): the angular pair is multiplied by sigma in the paper's coordinates.
-double angle_scale(double sigma, PolarCoordinates c) {
-  return c == PolarCoordinates::scaled ? sigma : 1.0;
-}
+double angle_scale(double sigma, PolarCoordinates c) { return c == PolarCoordinates::scaled ? sigma : 1.0; }
 }  // namespace
 
 PolarModel::State PolarModel::to_deviation(double t, const State& s, PolarCoordinates c) const {

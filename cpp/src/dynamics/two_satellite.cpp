@@ -21,9 +21,11 @@ struct Tableau {
   double b[4];
 };
 
-constexpr Tableau kRk3 = {3, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {-1.0, 2.0, 0, 0}, {0, 0, 0, 0}},
+constexpr Tableau kRk3 = {3,
+                          {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {-1.0, 2.0, 0, 0}, {0, 0, 0, 0}},
                           {1.0 / 6.0, 4.0 / 6.0, 1.0 / 6.0, 0.0}};
-constexpr Tableau kRk4 = {4, {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {0, 0.5, 0, 0}, {0, 0, 1.0, 0}},
+constexpr Tableau kRk4 = {4,
+                          {{0, 0, 0, 0}, {0.5, 0, 0, 0}, {0, 0.5, 0, 0}, {0, 0, 1.0, 0}},
                           {1.0 / 6.0, 2.0 / 6.0, 2.0 / 6.0, 1.0 / 6.0}};
 
 }  // namespace
@@ -211,8 +213,8 @@ bool TwoSatelliteModel::rhs_blocks(const Vec12& x, const Vec3& u, Vec12& xdot, J
   J.vr = at_r;
   J.vv = at_v;
   J.wu = -R * im;
-  return xdot.allFinite() && J.wd.allFinite() && J.wr.allFinite() && J.ww.allFinite() &&
-         J.wv.allFinite() && J.vr.allFinite() && J.vv.allFinite();
+  return xdot.allFinite() && J.wd.allFinite() && J.wr.allFinite() && J.ww.allFinite() && J.wv.allFinite() &&
+         J.vr.allFinite() && J.vv.allFinite();
 }
 
 bool TwoSatelliteModel::rhs_jacobians(const Vec12& x, const Vec3& u, Vec12& xdot, Mat12& A,

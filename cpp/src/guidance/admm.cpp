@@ -5,8 +5,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <type_traits>
@@ -61,7 +61,8 @@ void AdmmSettings::validate() const {
   require(paper_global_rescale_iterations >= 0, "paper_global_rescale_iterations", "must be >= 0");
 }
 
-AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) : prob_(problem), set_(settings) {
+AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
+    : prob_(problem), set_(settings) {
   using core::require;
   set_.validate();
   prob_.dynamics.validate();
@@ -77,7 +78,8 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   if (prob_.l1_weights.size() != 0) {
     require(prob_.l1_weights.size() == nu_, "l1_weights", "must have nu = " + snu + " entries");
     core::require_finite(prob_.l1_weights, "l1_weights");
-    require(prob_.l1_weights.minCoeff() >= 0.0, "l1_weights", "must be >= 0", "a fuel weight cannot be negative");
+    require(prob_.l1_weights.minCoeff() >= 0.0, "l1_weights", "must be >= 0",
+            "a fuel weight cannot be negative");
     w_ = prob_.l1_weights;
   } else {
     w_ = VectorXd::Zero(nu_);
@@ -89,13 +91,15 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   hi_ = VectorXd::Constant(nu_, std::numeric_limits<double>::infinity());
   if (prob_.u_lower.size() != 0) {
     require(prob_.u_lower.size() == nu_, "u_lower", "must have nu = " + snu + " entries");
-    require(!prob_.u_lower.array().isNaN().any() && (prob_.u_lower.array() < std::numeric_limits<double>::infinity()).all(),
+    require(!prob_.u_lower.array().isNaN().any() &&
+                (prob_.u_lower.array() < std::numeric_limits<double>::infinity()).all(),
             "u_lower", "must not be NaN or +inf");
     lo_ = prob_.u_lower;
   }
   if (prob_.u_upper.size() != 0) {
     require(prob_.u_upper.size() == nu_, "u_upper", "must have nu = " + snu + " entries");
-    require(!prob_.u_upper.array().isNaN().any() && (prob_.u_upper.array() > -std::numeric_limits<double>::infinity()).all(),
+    require(!prob_.u_upper.array().isNaN().any() &&
+                (prob_.u_upper.array() > -std::numeric_limits<double>::infinity()).all(),
             "u_upper", "must not be NaN or -inf");
     hi_ = prob_.u_upper;
   }
@@ -107,12 +111,14 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
              (hi_.array() < std::numeric_limits<double>::infinity()).any();
   core::require_nonnegative(prob_.u_norm_max, "u_norm_max");
   has_ball_ = prob_.u_norm_max > 0.0;
-  require(!(has_group_ && has_box_), "u_lower/u_upper", "per-axis bounds cannot be combined with group_l2_weight",
+  require(!(has_group_ && has_box_), "u_lower/u_upper",
+          "per-axis bounds cannot be combined with group_l2_weight",
           "a gimballed engine is bounded by u_norm_max");
   require(!(has_ball_ && (has_l1_ || has_box_)), "u_norm_max",
           "needs zero l1_weights and no per-axis bounds (no closed-form prox otherwise)");
   ric_.setup(prob_.dynamics, prob_.Q, prob_.R, prob_.Qf, prob_.terminal_equality);
-  require(ric_.factor(set_.rho), "rho", "Riccati factorization failed", "rho must make R + rho I positive definite");
+  require(ric_.factor(set_.rho), "rho", "Riccati factorization failed",
+          "rho must make R + rho I positive definite");
   if (prob_.terminal_equality) {
     require(ric_.terminal_rank() >= 0, "terminal_equality", "internal");
   }
@@ -138,8 +144,8 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   res_.terminal_multiplier.setZero(nx_);
   Gd_.setZero(nu_, N_);
   // polish needs Q = 0, plain L1 (+ box straddling zero); see AdmmSettings::polish
-  polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ &&
-               (lo_.array() < 0.0).all() && (hi_.array() > 0.0).all();
+  polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ && (lo_.array() < 0.0).all() &&
+               (hi_.array() > 0.0).all();
   flat_ok_ = !has_group_ && !has_ball_;
   if (flat_ok_) {
     const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
@@ -167,7 +173,8 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings) 
   }
   // condensed step: no stage state cost, and R empty or diagonal (D = R + rho I stays diagonal)
   cond_ok_ = prob_.Q.size() == 0 &&
-             (prob_.R.size() == 0 || (prob_.R - MatrixXd(prob_.R.diagonal().asDiagonal())).cwiseAbs().maxCoeff() == 0.0);
+             (prob_.R.size() == 0 ||
+              (prob_.R - MatrixXd(prob_.R.diagonal().asDiagonal())).cwiseAbs().maxCoeff() == 0.0);
   psi_ok_ = polish_ok_ || cond_ok_;
   if (psi_ok_) {
     Psi_.setZero(nx_, nx_ * N_);
@@ -224,7 +231,8 @@ void AdmmSolver::update_psib() noexcept {
     Gax_.setZero();
     for (int k = 0; k < N_; ++k) {
       for (int i = 0; i < nu_; ++i) {
-        Gax_.middleCols(i * nx_, nx_).noalias() += PsiB_.row(k * nu_ + i).transpose() * PsiB_.row(k * nu_ + i);
+        Gax_.middleCols(i * nx_, nx_).noalias() +=
+            PsiB_.row(k * nu_ + i).transpose() * PsiB_.row(k * nu_ + i);
       }
     }
     cond_rho_valid_ = false;
@@ -399,7 +407,8 @@ int AdmmSolver::dual_candidate(std::uint64_t& signature) noexcept {
   if (!prob_.terminal_equality && nk == keep) {
     double jump = 0.0;
     for (int f = 1; f <= nx_; ++f) {
-      const double ratio = seld_[static_cast<std::size_t>(f)] / std::max(seld_[static_cast<std::size_t>(f - 1)], 1e-300);
+      const double ratio =
+          seld_[static_cast<std::size_t>(f)] / std::max(seld_[static_cast<std::size_t>(f - 1)], 1e-300);
       if (ratio > jump) {
         jump = ratio;
         gap_F_ = f;
@@ -484,15 +493,17 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   const Eigen::Map<const VectorXd> up(Up_.data(), static_cast<Index>(N_) * nu_);
   xtmp_ = xN0_;
   xtmp_.noalias() += PsiB_.transpose() * up;  // fixed part x_N^fix
-  const int M = F + (term ? nx_ : 0);  // compact system: free entries, then the terminal multiplier
+  const int M = F + (term ? nx_ : 0);         // compact system: free entries, then the terminal multiplier
   for (int a = 0; a < F; ++a) {
-    const int k = free_idx_[static_cast<std::size_t>(a)] / nu_, i = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    const int k = free_idx_[static_cast<std::size_t>(a)] / nu_,
+              i = free_idx_[static_cast<std::size_t>(a)] % nu_;
     GF_.col(a) = PsiB_.row(k * nu_ + i).transpose();
   }
   KKT_.topLeftCorner(M, M).setZero();
   xtmp_ -= prob_.xf;
   for (int a = 0; a < F; ++a) {
-    const int ka = free_idx_[static_cast<std::size_t>(a)] / nu_, ia = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    const int ka = free_idx_[static_cast<std::size_t>(a)] / nu_,
+              ia = free_idx_[static_cast<std::size_t>(a)] % nu_;
     const double sa = fsign_[static_cast<std::size_t>(a)];
     rhs_(a) = -w_(ia) * sa;
     if (!term) {
@@ -507,7 +518,8 @@ bool AdmmSolver::polish_solve(int F) noexcept {
     }
     if (prob_.R.size() != 0) {
       for (int b = 0; b < F; ++b) {
-        const int kb = free_idx_[static_cast<std::size_t>(b)] / nu_, ib = free_idx_[static_cast<std::size_t>(b)] % nu_;
+        const int kb = free_idx_[static_cast<std::size_t>(b)] / nu_,
+                  ib = free_idx_[static_cast<std::size_t>(b)] % nu_;
         if (kb == ka) KKT_(a, b) += prob_.R(ia, ib);
       }
     }
@@ -518,7 +530,8 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
   const double tol = set_.polish_tolerance * std::max(1.0, w_.maxCoeff());
   for (int a = 0; a < F; ++a) {
-    const int k = free_idx_[static_cast<std::size_t>(a)] / nu_, i = free_idx_[static_cast<std::size_t>(a)] % nu_;
+    const int k = free_idx_[static_cast<std::size_t>(a)] / nu_,
+              i = free_idx_[static_cast<std::size_t>(a)] % nu_;
     const double u = sol_(a);
     const double s = fsign_[static_cast<std::size_t>(a)];
     // still evaluated: the violations guide a repair (polish_swaps)
@@ -668,7 +681,6 @@ double AdmmSolver::objective_of(const Eigen::Ref<const MatrixXd>& U) const {
   return trajectory_objective(X, U);
 }
 
-
 namespace {
 // Closed-form prox of w|.|_1 / rho (+ group-L2 w_g ||.||_2 / rho) (+ box or ball) for one stage.
 template <typename V, typename Y>
@@ -797,7 +809,8 @@ AdmmSolver::PassStats AdmmSolver::admm_pass_flat(double rho, double a, bool fro2
   int nfree = 0;
   for (Eigen::Index j = 0; j < n; ++j) {
     const double yi = yn(j);
-    const double code = yi == 0.0 ? 0.0 : (yi == lorep_(j) ? 1.0 : (yi == hirep_(j) ? 2.0 : (yi > 0.0 ? 3.0 : 4.0)));
+    const double code =
+        yi == 0.0 ? 0.0 : (yi == lorep_(j) ? 1.0 : (yi == hirep_(j) ? 2.0 : (yi > 0.0 ? 3.0 : 4.0)));
     nfree += code >= 3.0;
     sig += (code + 1.0) * sigw_(j);
   }
@@ -883,7 +896,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       break;
     }
     const PassStats st = flat_ok_ ? admm_pass_flat(rho, a, paper_rule)
-                         : (nu_ == 3 ? admm_pass<3>(rho, a) : admm_pass<Eigen::Dynamic>(rho, a));
+                                  : (nu_ == 3 ? admm_pass<3>(rho, a) : admm_pass<Eigen::Dynamic>(rho, a));
     r_valid = true;
     const double prim = st.prim, dual = st.dual;
     double nL = st.nL;
@@ -957,7 +970,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       // without the magnitude ranking the pattern determines the candidate: skip recent failures
       for (int q = 0; q < n_yfailed && fresh && !by_magnitude; ++q)
         fresh = yfailed[static_cast<std::size_t>(q)] != st.signature;
-      const bool attempt = st.nfree <= fmax_ && ((stable && fresh) || (by_magnitude && it % set_.polish_interval == 0));
+      const bool attempt =
+          st.nfree <= fmax_ && ((stable && fresh) || (by_magnitude && it % set_.polish_interval == 0));
       prev_sig = st.signature;
       have_prev = true;
       if (attempt) {

@@ -1,11 +1,10 @@
 #include "satgnc/guidance/ilqr_admm.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
-
-#include <Eigen/Cholesky>
 
 #include "satgnc/core/validate.hpp"
 
@@ -90,8 +89,8 @@ bool small_cholesky_solve(MU& M, RHS& R) {
 template <int NX, int NU>
 bool backward_fixed(int N, const std::vector<MatrixXd>& Av, const std::vector<MatrixXd>& Bv,
                     std::vector<MatrixXd>& Kv, MatrixXd& dM, const MatrixXd& Qf, const VectorXd& eN,
-                    const MatrixXd& U, const MatrixXd& Lam, const MatrixXd& Y, double w, double rho, double reg,
-                    double& dv1, double& dv2) {
+                    const MatrixXd& U, const MatrixXd& Lam, const MatrixXd& Y, double w, double rho,
+                    double reg, double& dv1, double& dv2) {
   using MX = Eigen::Matrix<double, NX, NX>;
   using MXU = Eigen::Matrix<double, NX, NU>;
   using MU = Eigen::Matrix<double, NU, NU>;
@@ -238,12 +237,16 @@ bool backward_reduced(int N, const int* ci, const int* ti, const std::vector<Mat
 
 const char* status_message(IlqrAdmmStatus s) {
   switch (s) {
-    case IlqrAdmmStatus::solved: return "solved: stopping rule met";
-    case IlqrAdmmStatus::max_iterations: return "max_iter reached; best iterate (smallest ||U - Y||) returned";
+    case IlqrAdmmStatus::solved:
+      return "solved: stopping rule met";
+    case IlqrAdmmStatus::max_iterations:
+      return "max_iter reached; best iterate (smallest ||U - Y||) returned";
     case IlqrAdmmStatus::propagation_failed:
       return "the dynamics failed during the initial rollout (see failed_interval)";
-    case IlqrAdmmStatus::ilqr_failed: return "iLQR made no progress up to reg_max; last iterate returned";
-    case IlqrAdmmStatus::not_run: return "solve() not called";
+    case IlqrAdmmStatus::ilqr_failed:
+      return "iLQR made no progress up to reg_max; last iterate returned";
+    case IlqrAdmmStatus::not_run:
+      return "solve() not called";
   }
   return "unknown status";
 }
@@ -277,21 +280,24 @@ IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Prob
   require(nx_ >= 1 && nu_ >= 1, "model", "state and control dimensions must be >= 1");
   require(N_ >= 1, "horizon", "must be >= 1");
   const std::string nxs = std::to_string(nx_), nus = std::to_string(nu_);
-  require(prob_.x0.size() == nx_, "x0", "must have nx = " + nxs + " entries, got " + std::to_string(prob_.x0.size()));
+  require(prob_.x0.size() == nx_, "x0",
+          "must have nx = " + nxs + " entries, got " + std::to_string(prob_.x0.size()));
   core::require_finite(prob_.x0, "x0");
   if (prob_.x_target.size() == 0) prob_.x_target = VectorXd::Zero(nx_);
   require(prob_.x_target.size() == nx_, "x_target", "must have nx = " + nxs + " entries");
   core::require_finite(prob_.x_target, "x_target");
   require(prob_.Qf.rows() == nx_ && prob_.Qf.cols() == nx_, "Qf", "must be nx x nx = " + nxs + " x " + nxs);
   core::require_finite(prob_.Qf, "Qf");
-  require((prob_.Qf - prob_.Qf.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * (1.0 + prob_.Qf.cwiseAbs().maxCoeff()),
+  require((prob_.Qf - prob_.Qf.transpose()).cwiseAbs().maxCoeff() <=
+              1e-12 * (1.0 + prob_.Qf.cwiseAbs().maxCoeff()),
           "Qf", "must be symmetric");
   require(prob_.alpha.size() == nu_, "alpha", "must have nu = " + nus + " entries");
   core::require_finite(prob_.alpha, "alpha");
   require((prob_.alpha.array() >= 0.0).all(), "alpha", "weights must be >= 0");
   core::require_positive(prob_.stage_weight, "stage_weight");
   if (prob_.cost == ControlCost::l1_box) {
-    require(prob_.u_min.size() == nu_ && prob_.u_max.size() == nu_, "u_min/u_max", "must have nu = " + nus + " entries");
+    require(prob_.u_min.size() == nu_ && prob_.u_max.size() == nu_, "u_min/u_max",
+            "must have nu = " + nus + " entries");
     require(!prob_.u_min.hasNaN() && !prob_.u_max.hasNaN(), "u_min/u_max", "must not be NaN");
     require((prob_.u_min.array() <= prob_.u_max.array()).all(), "u_min/u_max", "need u_min <= u_max");
     require((prob_.u_min.array() <= 0.0).all() && (prob_.u_max.array() >= 0.0).all(), "u_min/u_max",
@@ -347,7 +353,8 @@ IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Prob
 }
 
 void IlqrAdmmSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
-  require(U0.rows() == nu_ && U0.cols() == N_, "U0", "must be nu x N = " + std::to_string(nu_) + " x " + std::to_string(N_));
+  require(U0.rows() == nu_ && U0.cols() == N_, "U0",
+          "must be nu x N = " + std::to_string(nu_) + " x " + std::to_string(N_));
   core::require_finite(U0, "U0");
   res_.U = U0;
   res_.Y.setZero();
@@ -450,8 +457,8 @@ bool IlqrAdmmSolver::backward_pass(double reg, double& dv1, double& dv2) {
   if ((nx_ == 12 || nx_ == 6) && nu_ == 3) {
     dx_ = res_.X.col(N_) - prob_.x_target;
     if (nx_ == 12)
-      return backward_fixed<12, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,
-                                   dv1, dv2);
+      return backward_fixed<12, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_,
+                                   reg, dv1, dv2);
     return backward_fixed<6, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,
                                 dv1, dv2);
   }

@@ -46,7 +46,8 @@ bool LinearDiscreteModel::step(int k, const double* x, const double* u, double* 
 }
 
 bool LinearDiscreteModel::set(int k, const Eigen::Ref<const Eigen::MatrixXd>& A,
-                              const Eigen::Ref<const Eigen::MatrixXd>& B, const Eigen::Ref<const Eigen::VectorXd>& c) {
+                              const Eigen::Ref<const Eigen::MatrixXd>& B,
+                              const Eigen::Ref<const Eigen::VectorXd>& c) {
   if (k < 0 || k >= static_cast<int>(A_.size())) return false;
   if (A.rows() != nx_ || A.cols() != nx_ || B.rows() != nx_ || B.cols() != nu_) return false;
   if (c_.empty() ? c.size() != 0 : c.size() != nx_) return false;

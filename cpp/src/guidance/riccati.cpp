@@ -42,7 +42,8 @@ void LtvDynamics::validate() const {
     core::require_finite(B[k], "B[" + std::to_string(k) + "]");
   }
   for (std::size_t k = 0; k < c.size(); ++k) {
-    require(c[k].size() == n, "c[" + std::to_string(k) + "]", "must have nx = " + std::to_string(n) + " entries");
+    require(c[k].size() == n, "c[" + std::to_string(k) + "]",
+            "must have nx = " + std::to_string(n) + " entries");
     core::require_finite(c[k], "c[" + std::to_string(k) + "]");
   }
 }
@@ -55,7 +56,8 @@ template <int NX, typename MM, typename VV, typename VB, typename VO>
 inline void tree_matvec_add(const MM& M, const VV& x, const VB& b, VO& out) noexcept {
   if constexpr (NX == 6) {
     out = (((M.col(0) * x(0) + M.col(1) * x(1)) + (M.col(2) * x(2) + M.col(3) * x(3))) +
-           (M.col(4) * x(4) + M.col(5) * x(5))) + b;
+           (M.col(4) * x(4) + M.col(5) * x(5))) +
+          b;
   } else {
     out.noalias() = M * x;
     out += b;
@@ -359,7 +361,8 @@ void RiccatiSolver::affine_sweep_63(const Eigen::Ref<const VectorXd>& x0, const 
     Map<V6>(H0 + 6 * k) = f;
     const V6 h = Map<const V6>(qd + k * qs) - Map<const M36>(K0 + 18 * k).transpose() * rk;
     p = (((AT.col(0) * w(0) + AT.col(1) * w(1)) + (AT.col(2) * w(2) + AT.col(3) * w(3))) +
-         (AT.col(4) * w(4) + AT.col(5) * w(5))) + h;
+         (AT.col(4) * w(4) + AT.col(5) * w(5))) +
+        h;
   }
   V6 x = Map<const V6>(x0.data());
   Map<V6>(Xd + 0) = x;
@@ -367,7 +370,8 @@ void RiccatiSolver::affine_sweep_63(const Eigen::Ref<const VectorXd>& x0, const 
     const Map<const M6> Ac(Acl0 + 36 * k);
     Map<V3>(Ud + k * us) = -(Map<const M36>(K0 + 18 * k) * x) - Map<const V3>(D0 + 3 * k);
     x = (((Ac.col(0) * x(0) + Ac.col(1) * x(1)) + (Ac.col(2) * x(2) + Ac.col(3) * x(3))) +
-         (Ac.col(4) * x(4) + Ac.col(5) * x(5))) + Map<const V6>(H0 + 6 * k);
+         (Ac.col(4) * x(4) + Ac.col(5) * x(5))) +
+        Map<const V6>(H0 + 6 * k);
     Map<V6>(Xd + (k + 1) * xs) = x;
   }
 }
@@ -395,7 +399,8 @@ RiccatiStatus RiccatiSolver::apply_terminal(const Eigen::Ref<const VectorXd>& xf
   }
   if (rank_ < n) {
     const double after = (xf - X.col(N)).norm();
-    if (after > 1e-6 * std::max(miss0, xf.norm()) && after > 1e-300) return RiccatiStatus::kTerminalUnreachable;
+    if (after > 1e-6 * std::max(miss0, xf.norm()) && after > 1e-300)
+      return RiccatiStatus::kTerminalUnreachable;
   }
   return RiccatiStatus::kOk;
 }
@@ -413,7 +418,8 @@ RiccatiStatus RiccatiSolver::solve(const Eigen::Ref<const VectorXd>& x0, const E
 }
 
 RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const VectorXd>& x0,
-                                        const Eigen::Ref<const MatrixXd>& q, const Eigen::Ref<const MatrixXd>& r,
+                                        const Eigen::Ref<const MatrixXd>& q,
+                                        const Eigen::Ref<const MatrixXd>& r,
                                         const Eigen::Ref<const VectorXd>& xf, Eigen::Ref<MatrixXd> X,
                                         Eigen::Ref<MatrixXd> U) noexcept {
   if (terminal_ && !factored_) return RiccatiStatus::kNotFactored;
@@ -524,7 +530,8 @@ void jacobi_eigen(Eigen::Ref<MatrixXd> S, Eigen::Ref<MatrixXd> V, Eigen::Ref<Vec
   w = S.diagonal();
 }
 
-bool RiccatiSolver::set_stage_dynamics(int k, const Eigen::Ref<const MatrixXd>& A, const Eigen::Ref<const MatrixXd>& B,
+bool RiccatiSolver::set_stage_dynamics(int k, const Eigen::Ref<const MatrixXd>& A,
+                                       const Eigen::Ref<const MatrixXd>& B,
                                        const Eigen::Ref<const VectorXd>& c) noexcept {
   if (k < 0 || k >= N_) return false;
   const auto ku = static_cast<std::size_t>(k);

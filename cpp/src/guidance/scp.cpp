@@ -13,12 +13,18 @@ using Eigen::VectorXd;
 
 const char* status_message(ScpStatus s) {
   switch (s) {
-    case ScpStatus::solved: return "solved: predicted decrease of the convex model below tol";
-    case ScpStatus::max_outer: return "max_outer reached";
-    case ScpStatus::propagation_failed: return "the dynamics failed (see failed_interval)";
-    case ScpStatus::inner_failed: return "the convex subproblem solver failed (see inner_status)";
-    case ScpStatus::line_search_failed: return "no step decreased the true cost; current iterate returned";
-    case ScpStatus::not_run: return "solve() not called";
+    case ScpStatus::solved:
+      return "solved: predicted decrease of the convex model below tol";
+    case ScpStatus::max_outer:
+      return "max_outer reached";
+    case ScpStatus::propagation_failed:
+      return "the dynamics failed (see failed_interval)";
+    case ScpStatus::inner_failed:
+      return "the convex subproblem solver failed (see inner_status)";
+    case ScpStatus::line_search_failed:
+      return "no step decreased the true cost; current iterate returned";
+    case ScpStatus::not_run:
+      return "solve() not called";
   }
   return "unknown status";
 }
@@ -31,7 +37,8 @@ void ScpSettings::validate() const {
   inner.validate();
 }
 
-ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& problem, const ScpSettings& settings)
+ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
+                     const ScpSettings& settings)
     : model_(model), prob_(problem), set_(settings), checker_(model, problem) {
   set_.validate();
   set_.inner_ilqr.validate();
@@ -137,7 +144,8 @@ ScpStatus ScpSolver::solve() noexcept {
           info.failed_interval = k;
           return info.status;
         }
-        sub_.dynamics.c[k] = Xtmp_.col(k + 1) - sub_.dynamics.A[k] * res_.X.col(k) - sub_.dynamics.B[k] * res_.U.col(k);
+        sub_.dynamics.c[k] =
+            Xtmp_.col(k + 1) - sub_.dynamics.A[k] * res_.X.col(k) - sub_.dynamics.B[k] * res_.U.col(k);
       }
       const MatrixXd* Ysub;
       double J_lin;
@@ -152,7 +160,8 @@ ScpStatus ScpSolver::solve() noexcept {
         const IlqrAdmmResult& r = inner_->result();
         info.inner_iterations += r.info.iterations;
         info.inner_ilqr_status = st;
-        if (st == IlqrAdmmStatus::propagation_failed || st == IlqrAdmmStatus::ilqr_failed || !r.Y.allFinite()) {
+        if (st == IlqrAdmmStatus::propagation_failed || st == IlqrAdmmStatus::ilqr_failed ||
+            !r.Y.allFinite()) {
           info.status = ScpStatus::inner_failed;
           return info.status;
         }
@@ -209,7 +218,8 @@ ScpStatus ScpSolver::solve() noexcept {
       info.last_step = accepted ? t : 0.0;
       if (!accepted) {
         // A predicted decrease at the inner solver's accuracy that cannot be realized: converged.
-        info.status = pred <= 1e-7 * std::max(1.0, std::abs(J)) ? ScpStatus::solved : ScpStatus::line_search_failed;
+        info.status =
+            pred <= 1e-7 * std::max(1.0, std::abs(J)) ? ScpStatus::solved : ScpStatus::line_search_failed;
         break;
       }
     }

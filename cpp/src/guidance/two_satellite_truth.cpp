@@ -62,8 +62,8 @@ TwoSatelliteTruth::~TwoSatelliteTruth() = default;
 TwoSatelliteTruth::TwoSatelliteTruth(TwoSatelliteTruth&&) noexcept = default;
 TwoSatelliteTruth& TwoSatelliteTruth::operator=(TwoSatelliteTruth&&) noexcept = default;
 
-PropagationStatus TwoSatelliteTruth::step(Eigen::Ref<Eigen::VectorXd> x, const Eigen::Ref<const Eigen::VectorXd>& u,
-                                          double dt) noexcept {
+PropagationStatus TwoSatelliteTruth::step(Eigen::Ref<Eigen::VectorXd> x,
+                                          const Eigen::Ref<const Eigen::VectorXd>& u, double dt) noexcept {
   impl_->message.clear();
   if (x.size() != 12 || u.size() != 3 || !u.allFinite() || !(std::isfinite(dt) && dt > 0.0)) {
     impl_->message = "invalid input: x needs 12 entries, u 3 finite entries, dt > 0";

@@ -10,7 +10,8 @@ KeplerStmPropagator::KeplerStmPropagator(double mu) : mu_(mu) { core::require_po
 
 bool KeplerStmPropagator::propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) {
   for (int i = 0; i < n; ++i)
-    if (propagation::kepler_step(x0, times[i], mu_, states[i], &stms[i]) != propagation::KeplerStatus::success)
+    if (propagation::kepler_step(x0, times[i], mu_, states[i], &stms[i]) !=
+        propagation::KeplerStatus::success)
       return false;
   return true;
 }
@@ -31,8 +32,8 @@ bool CvodesStmPropagator::propagate(const Vec6& x0, const double* times, int n, 
   } catch (const std::exception&) {
     return false;
   }
-  if (out_.status != propagation::PropagationStatus::success || out_.states.size() != static_cast<std::size_t>(n) ||
-      out_.stms.size() != static_cast<std::size_t>(n))
+  if (out_.status != propagation::PropagationStatus::success ||
+      out_.states.size() != static_cast<std::size_t>(n) || out_.stms.size() != static_cast<std::size_t>(n))
     return false;
   for (int i = 0; i < n; ++i) {
     states[i] = out_.states[static_cast<std::size_t>(i)];

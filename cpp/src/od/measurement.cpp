@@ -26,8 +26,7 @@ MeasurementType parse_measurement_type(const std::string& text) {
   if (n == "range" || n == "rho") return MeasurementType::range;
   if (n == "rangerate" || n == "doppler" || n == "rhodot" || n == "dopplerinstantaneous")
     return MeasurementType::range_rate;
-  throw std::invalid_argument("type: unknown measurement type '" + text +
-                              "' (hint: range or range_rate)");
+  throw std::invalid_argument("type: unknown measurement type '" + text + "' (hint: range or range_rate)");
 }
 
 bool predict_measurement(MeasurementType type, const Vec6& x, const Vec6& R, double& value, Row6* dh_dx,

@@ -4,7 +4,8 @@
 
 namespace satgnc::od {
 
-ShortArcStmPropagator::ShortArcStmPropagator(std::shared_ptr<StmPropagator> inner) : inner_(std::move(inner)) {
+ShortArcStmPropagator::ShortArcStmPropagator(std::shared_ptr<StmPropagator> inner)
+    : inner_(std::move(inner)) {
   core::require(inner_ != nullptr, "inner", "must not be null");
 }
 

@@ -41,7 +41,8 @@ void OdSettings::validate() const {
   core::require_nonnegative(step_sigma_tol, "settings.step_sigma_tol");
   core::require_nonnegative(cost_tol, "settings.cost_tol");
   core::require_nonnegative(residual_tol, "settings.residual_tol");
-  require(std::isfinite(rank_tol) && rank_tol > 0.0 && rank_tol < 1.0, "settings.rank_tol", "must be in (0, 1)");
+  require(std::isfinite(rank_tol) && rank_tol > 0.0 && rank_tol < 1.0, "settings.rank_tol",
+          "must be in (0, 1)");
   core::require_nonnegative(min_radius, "settings.min_radius");
   core::require_positive(mu, "settings.mu");
   core::require_positive(fit_sigma, "settings.fit_sigma");
@@ -65,9 +66,10 @@ OdSolver OdSolver::from_measurements(std::vector<Station> stations, const std::v
   validate_measurements(meas, static_cast<int>(stations.size()));
   settings.validate();
   if (settings.method == OdMethod::newton)
-    core::require(meas.size() == 6, "measurements",
-                  "the six-point Newton-Raphson needs exactly 6 observations, got " + std::to_string(meas.size()),
-                  "use gauss_newton or levenberg_marquardt for more");
+    core::require(
+        meas.size() == 6, "measurements",
+        "the six-point Newton-Raphson needs exactly 6 observations, got " + std::to_string(meas.size()),
+        "use gauss_newton or levenberg_marquardt for more");
   else
     core::require(meas.size() >= 6, "measurements",
                   "need at least 6 observations for 6 unknowns, got " + std::to_string(meas.size()));
@@ -83,7 +85,8 @@ OdSolver OdSolver::from_measurements(std::vector<Station> stations, const std::v
     sigma(static_cast<Eigen::Index>(i)) = m.sigma;
   }
   OdSolver s;
-  s.setup(std::move(stations), std::move(rows), std::move(t), std::move(sigma), std::move(propagator), settings);
+  s.setup(std::move(stations), std::move(rows), std::move(t), std::move(sigma), std::move(propagator),
+          settings);
   return s;
 }
 
@@ -111,7 +114,8 @@ OdSolver OdSolver::from_conditions(std::vector<Station> stations, const std::vec
             "unknown condition type (hint: range or doppler)");
     require(std::isfinite(c.range) && c.range > 0.0, p + ".range", "must be finite and > 0 km",
             "a zero range puts the station at the satellite");
-    require(std::isfinite(c.sigma_range) && c.sigma_range > 0.0, p + ".sigma_range", "must be finite and > 0");
+    require(std::isfinite(c.sigma_range) && c.sigma_range > 0.0, p + ".sigma_range",
+            "must be finite and > 0");
     require(c.station >= 0 && c.station < ns, p + ".station", "index out of range");
     double sig = 2.0 * c.range * c.sigma_range;
     if (c.type == ConditionType::doppler) {
@@ -124,13 +128,14 @@ OdSolver OdSolver::from_conditions(std::vector<Station> stations, const std::vec
       require(!(conds[k].t == c.t && conds[k].type == c.type && conds[k].station == c.station), p + ".t",
               "duplicate time " + std::to_string(c.t) + " s (same type and station as conditions[" +
                   std::to_string(k) + "])");
-    rows.push_back({c.type == ConditionType::range ? RowKind::cond_range : RowKind::cond_doppler, 0, c.station,
-                    c.range, c.type == ConditionType::doppler ? c.range_rate : kNaN});
+    rows.push_back({c.type == ConditionType::range ? RowKind::cond_range : RowKind::cond_doppler, 0,
+                    c.station, c.range, c.type == ConditionType::doppler ? c.range_rate : kNaN});
     t.push_back(c.t);
     sigma(static_cast<Eigen::Index>(i)) = sig;
   }
   OdSolver s;
-  s.setup(std::move(stations), std::move(rows), std::move(t), std::move(sigma), std::move(propagator), settings);
+  s.setup(std::move(stations), std::move(rows), std::move(t), std::move(sigma), std::move(propagator),
+          settings);
   return s;
 }
 
@@ -147,8 +152,8 @@ void OdSolver::setup(std::vector<Station> stations, std::vector<Row> rows, std::
   std::sort(times_.begin(), times_.end());
   times_.erase(std::unique(times_.begin(), times_.end()), times_.end());
   for (std::size_t i = 0; i < rows.size(); ++i)
-    rows[i].time_index = static_cast<int>(std::lower_bound(times_.begin(), times_.end(), row_times[i]) -
-                                          times_.begin());
+    rows[i].time_index =
+        static_cast<int>(std::lower_bound(times_.begin(), times_.end(), row_times[i]) - times_.begin());
   rows_ = std::move(rows);
   const Eigen::Index m = static_cast<Eigen::Index>(rows_.size());
   const Eigen::Index h = max_iter_cap_ + 1;
@@ -193,7 +198,8 @@ OdStatus OdSolver::eval_at(const Vec6& x0, bool with_jac) {
   ++res_.evaluations;
   if (!physical(x0)) return OdStatus::diverged;
   const int nt = static_cast<int>(times_.size());
-  if (!prop_->propagate(x0, times_.data(), nt, states_.data(), stms_.data())) return OdStatus::propagation_failed;
+  if (!prop_->propagate(x0, times_.data(), nt, states_.data(), stms_.data()))
+    return OdStatus::propagation_failed;
   for (int i = 0; i < nt; ++i)
     if (!physical(states_[static_cast<std::size_t>(i)])) return OdStatus::diverged;
   Row6 g;
@@ -201,7 +207,8 @@ OdStatus OdSolver::eval_at(const Vec6& x0, bool with_jac) {
     const Row& row = rows_[k];
     const Eigen::Index ki = static_cast<Eigen::Index>(k);
     const Vec6& x = states_[static_cast<std::size_t>(row.time_index)];
-    const Vec6 R = stations_[static_cast<std::size_t>(row.station)].state(times_[static_cast<std::size_t>(row.time_index)]);
+    const Vec6 R = stations_[static_cast<std::size_t>(row.station)].state(
+        times_[static_cast<std::size_t>(row.time_index)]);
     const Vec3 d = x.head<3>() - R.head<3>();
     const Vec3 dv = x.tail<3>() - R.tail<3>();
     const double rho = d.norm();
@@ -350,7 +357,8 @@ const OdResult& OdSolver::solve(const Vec6& guess) {
         res_.status = OdStatus::singular;
         break;
       }
-      dx.noalias() = -(svd_.matrixV() * (svd_.matrixU().transpose() * c_).cwiseQuotient(res_.singular_values));
+      dx.noalias() =
+          -(svd_.matrixV() * (svd_.matrixU().transpose() * c_).cwiseQuotient(res_.singular_values));
       x += dx;
       res_.x0 = x;
       st = eval_at(x, true);
@@ -421,7 +429,8 @@ const OdResult& OdSolver::solve(const Vec6& guess) {
     res_.iterations = k;
     record(k, lambda);
     const double new_cost = 0.5 * rn_.squaredNorm();
-    if ((small_step(dx, x) && lambda == 0.0) || new_cost == 0.0 || cost - new_cost <= settings_.cost_tol * cost) {
+    if ((small_step(dx, x) && lambda == 0.0) || new_cost == 0.0 ||
+        cost - new_cost <= settings_.cost_tol * cost) {
       res_.status = OdStatus::converged;
       gn_converged = true;
       break;
@@ -501,7 +510,8 @@ OdStatus OdSolver::evaluate(const Vec6& x0, Eigen::VectorXd& residuals, Eigen::M
   return st;
 }
 
-RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses, const RootSearchSettings& s) {
+RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
+                             const RootSearchSettings& s) {
   core::require_positive(s.distinct_position_km, "settings.distinct_position_km");
   core::require_positive(s.distinct_velocity_kms, "settings.distinct_velocity_kms");
   core::require_nonnegative(s.distinct_sigma, "settings.distinct_sigma");

@@ -26,8 +26,7 @@ double gmst_iau1982(double jd_ut1) {
   constexpr double kTwoPi = 6.283185307179586476925;
   const double t = (jd_ut1 - 2451545.0) / 36525.0;
   // Seconds of sidereal time; 876600 h = 3155760000 s per century, plus the IAU-1982 polynomial.
-  double sec = 67310.54841 + (876600.0 * 3600.0 + 8640184.812866) * t + 0.093104 * t * t -
-               6.2e-6 * t * t * t;
+  double sec = 67310.54841 + (876600.0 * 3600.0 + 8640184.812866) * t + 0.093104 * t * t - 6.2e-6 * t * t * t;
   double rad = std::fmod(sec * kTwoPi / 86400.0, kTwoPi);
   if (rad < 0.0) rad += kTwoPi;
   return rad;

@@ -73,8 +73,8 @@ void validate_propagation_input(const Vec6& x0, double t0, const std::vector<dou
   for (size_t i = 1; i < times.size(); ++i)
     if (!((times[i] - times[i - 1]) * dir > 0.0))
       invalid("times", "must be strictly monotone (sorted, no duplicates) in the direction of propagation",
-              "times[" + std::to_string(i - 1) + "] = " + fmt(times[i - 1]) + ", times[" +
-                  std::to_string(i) + "] = " + fmt(times[i]));
+              "times[" + std::to_string(i - 1) + "] = " + fmt(times[i - 1]) + ", times[" + std::to_string(i) +
+                  "] = " + fmt(times[i]));
 }
 
 struct CvodesPropagator::Impl {
@@ -111,7 +111,8 @@ struct CvodesPropagator::Impl {
   }
 
   void check(int flag, const char* what) {
-    if (flag < 0) throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
+    if (flag < 0)
+      throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
   }
 
   static int rhs(realtype t, N_Vector yv, N_Vector ydot, void* user) {
@@ -220,7 +221,7 @@ struct CvodesPropagator::Impl {
       double* ad = N_VGetArrayPointer(abstol);
       for (int i = 0; i < n; ++i)
         ad[i] = i < static_cast<int>(settings.atol_components.size()) ? settings.atol_components[i]
-                                                                       : settings.atol;
+                                                                      : settings.atol;
       check(CVodeSVtolerances(mem, settings.rtol, abstol), "CVodeSVtolerances");
     }
     if (settings.max_order > 0) check(CVodeSetMaxOrd(mem, settings.max_order), "CVodeSetMaxOrd");
@@ -338,11 +339,12 @@ struct CvodesPropagator::Impl {
     if (out.stats.steps > 0) CVodeGetCurrentTime(mem, &tcur);
     out.t_reached = tcur;
     out.status = map_flag(flag);
-    if (flag == CV_TOO_MUCH_WORK) cv_message = "max_steps = " + std::to_string(settings.max_steps) +
-                                               " steps taken (" + std::to_string(out.stats.steps) + ")";
-    out.message = std::string("CVODES stopped at t = ") + fmt(tcur) + " s before reaching t = " +
-                  fmt(target) + " s (" + std::to_string(out.times.size()) + " of " +
-                  std::to_string(n_requested) + " outputs returned): " + status_message(out.status);
+    if (flag == CV_TOO_MUCH_WORK)
+      cv_message = "max_steps = " + std::to_string(settings.max_steps) + " steps taken (" +
+                   std::to_string(out.stats.steps) + ")";
+    out.message = std::string("CVODES stopped at t = ") + fmt(tcur) +
+                  " s before reaching t = " + fmt(target) + " s (" + std::to_string(out.times.size()) +
+                  " of " + std::to_string(n_requested) + " outputs returned): " + status_message(out.status);
     if (rhs_failed) out.message += "; the force model failed at t = " + fmt(rhs_fail_t) + " s";
     if (!cv_message.empty()) out.message += " [CVODES: " + cv_message + "]";
     cv_message.clear();

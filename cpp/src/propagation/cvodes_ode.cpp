@@ -40,7 +40,8 @@ void CvodesOdeSettings::validate(int n) const {
   require(max_steps > 0, "max_steps", "must be > 0, got " + std::to_string(max_steps));
   const int omax = method == CvodesMethod::adams ? 12 : 5;
   require(max_order >= 0 && max_order <= omax, "max_order",
-          "must be 0 (default) or 1.." + std::to_string(omax) + " for this method, got " + std::to_string(max_order));
+          "must be 0 (default) or 1.." + std::to_string(omax) + " for this method, got " +
+              std::to_string(max_order));
   require(std::isfinite(max_step) && max_step >= 0.0, "max_step", "must be finite and >= 0 (0: unbounded)");
 }
 
@@ -78,7 +79,8 @@ struct CvodesOde::Impl {
   }
 
   void check(int flag, const char* what) {
-    if (flag < 0) throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
+    if (flag < 0)
+      throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
   }
 
   static int rhs(realtype t, N_Vector yv, N_Vector ydot, void* user) {
@@ -173,15 +175,21 @@ struct CvodesOde::Impl {
 
   static PropagationStatus map_flag(int flag) {
     switch (flag) {
-      case CV_TOO_MUCH_WORK: return PropagationStatus::too_much_work;
-      case CV_TOO_MUCH_ACC: return PropagationStatus::too_much_accuracy;
-      case CV_ERR_FAILURE: return PropagationStatus::error_test_failures;
-      case CV_CONV_FAILURE: return PropagationStatus::convergence_failures;
+      case CV_TOO_MUCH_WORK:
+        return PropagationStatus::too_much_work;
+      case CV_TOO_MUCH_ACC:
+        return PropagationStatus::too_much_accuracy;
+      case CV_ERR_FAILURE:
+        return PropagationStatus::error_test_failures;
+      case CV_CONV_FAILURE:
+        return PropagationStatus::convergence_failures;
       case CV_RHSFUNC_FAIL:
       case CV_FIRST_RHSFUNC_ERR:
       case CV_REPTD_RHSFUNC_ERR:
-      case CV_UNREC_RHSFUNC_ERR: return PropagationStatus::rhs_failure;
-      default: return PropagationStatus::solver_failure;
+      case CV_UNREC_RHSFUNC_ERR:
+        return PropagationStatus::rhs_failure;
+      default:
+        return PropagationStatus::solver_failure;
     }
   }
 

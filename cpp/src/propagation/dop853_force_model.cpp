@@ -1,8 +1,8 @@
 // DOP853 propagation with the satgnc ForceModel (point mass + optional J2 and drag).
+#include <cmath>
+
 #include "satgnc/core/validate.hpp"
 #include "satgnc/propagation/dop853.hpp"
-
-#include <cmath>
 
 namespace satgnc::propagation {
 
@@ -38,8 +38,7 @@ struct PointMassAccel {
 }  // namespace
 
 Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6& x0, double t0,
-                            const std::vector<double>& times, const Dop853Settings& settings,
-                            bool with_stm) {
+                            const std::vector<double>& times, const Dop853Settings& settings, bool with_stm) {
   force_model.validate();
   if (!force_model.j2 && !force_model.drag)
     return propagate_dop853_with<false>(PointMassAccel{force_model.mu}, x0, t0, times, settings, with_stm);

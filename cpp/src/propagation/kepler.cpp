@@ -146,7 +146,10 @@ KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* st
     if (!std::isfinite(F) || !std::isfinite(Fp)) {
       // Past the solution (hyperbolic growth): shrink towards the bracket side known to be short.
       overflowed = true;
-      if (dt > 0.0) hi = chi; else lo = chi;
+      if (dt > 0.0)
+        hi = chi;
+      else
+        lo = chi;
       chi = (std::isfinite(lo) && std::isfinite(hi)) ? 0.5 * (lo + hi) : 0.5 * chi;
       continue;
     }
@@ -155,7 +158,10 @@ KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* st
       converged = true;
       break;
     }
-    if (F < 0.0) lo = std::max(lo, chi); else hi = std::min(hi, chi);
+    if (F < 0.0)
+      lo = std::max(lo, chi);
+    else
+      hi = std::min(hi, chi);
     const double Fpp = s0 * U0 + beta * U1;
     constexpr double n = 5.0;
     const double disc = (n - 1.0) * (n - 1.0) * Fp * Fp - n * (n - 1.0) * F * Fpp;
@@ -215,7 +221,7 @@ KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* st
   dchi[S] = -U2 / r;
   dchi[A] = -(r0 * Ua[1] + s0 * Ua[2] + Ua[3]) / r;
   const double dUdchi[3] = {-alpha * U1, U0, U1};  // dU0, dU1, dU2 / dchi
-  double DU[3][3];                                  // DU[n][j] total derivative of U_n w.r.t. p_j
+  double DU[3][3];                                 // DU[n][j] total derivative of U_n w.r.t. p_j
   for (int n = 0; n < 3; ++n)
     for (int j = 0; j < 3; ++j) DU[n][j] = dUdchi[n] * dchi[j] + (j == A ? Ua[n] : 0.0);
   double Df[3], Dg[3], Dfd[3], Dgd[3];
@@ -267,8 +273,8 @@ Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>
     tr.stats.nonlin_iters += info.iterations;
     if (st != KeplerStatus::success) {
       tr.status = PropagationStatus::convergence_failures;
-      tr.message = std::string("propagate_kepler: ") + kepler_status_message(st) + " at t = " +
-                   std::to_string(t) + " s (dt = " + std::to_string(t - t0) + " s)";
+      tr.message = std::string("propagate_kepler: ") + kepler_status_message(st) +
+                   " at t = " + std::to_string(t) + " s (dt = " + std::to_string(t - t0) + " s)";
       return tr;
     }
     tr.stats.steps += 1;

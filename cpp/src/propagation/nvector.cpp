@@ -276,8 +276,8 @@ booleantype constr_mask(N_Vector c, N_Vector x, N_Vector m) {
   for (sunindextype i = 0; i < n; ++i) {
     md[i] = 0.0;
     if (cd[i] == 0.0) continue;
-    const bool test = (std::fabs(cd[i]) > 1.5 && xd[i] * cd[i] <= 0.0) ||
-                      (std::fabs(cd[i]) > 0.5 && xd[i] * cd[i] < 0.0);
+    const bool test =
+        (std::fabs(cd[i]) > 1.5 && xd[i] * cd[i] <= 0.0) || (std::fabs(cd[i]) > 0.5 && xd[i] * cd[i] < 0.0);
     if (test) temp = md[i] = 1.0;
   }
   return temp == 1.0 ? SUNFALSE : SUNTRUE;

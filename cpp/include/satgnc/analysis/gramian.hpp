@@ -13,11 +13,11 @@ Eigen::MatrixXd expm(const Eigen::MatrixXd& M);
 
 /// A symmetric positive semidefinite Gramian and what it says.
 struct GramianReport {
-  Eigen::MatrixXd W;               ///< n x n Gramian (units: state^2 per input^2 s, or per output^2)
-  Eigen::VectorXd eigenvalues;     ///< ascending
-  double condition = 0.0;          ///< lambda_max / lambda_min (inf when lambda_min <= 0)
-  Eigen::VectorXd weakest;         ///< unit eigenvector of lambda_min: hardest to reach / observe
-  Eigen::VectorXd strongest;       ///< unit eigenvector of lambda_max
+  Eigen::MatrixXd W;            ///< n x n Gramian (units: state^2 per input^2 s, or per output^2)
+  Eigen::VectorXd eigenvalues;  ///< ascending
+  double condition = 0.0;       ///< lambda_max / lambda_min (inf when lambda_min <= 0)
+  Eigen::VectorXd weakest;      ///< unit eigenvector of lambda_min: hardest to reach / observe
+  Eigen::VectorXd strongest;    ///< unit eigenvector of lambda_max
 };
 
 /// Controllability Gramian W_c(T) = int_0^T e^{A t} B B^T e^{A^T t} dt, horizon T > 0 (s), via

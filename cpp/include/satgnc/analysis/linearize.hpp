@@ -25,10 +25,10 @@ struct LinearModel {
 /// y = diag(output) y~. Then A~ = time Dx^-1 A Dx, B~ = time Dx^-1 B Du, C~ = Dy^-1 C Dx.
 /// Empty input / output vectors mean unit scales.
 struct Units {
-  double time = 1.0;        ///< s per dimensionless time unit (e.g. 1 / omega)
-  Eigen::VectorXd state;    ///< unit of each state component (size n)
-  Eigen::VectorXd input;    ///< unit of each input (size m or empty)
-  Eigen::VectorXd output;   ///< unit of each output (size p or empty)
+  double time = 1.0;       ///< s per dimensionless time unit (e.g. 1 / omega)
+  Eigen::VectorXd state;   ///< unit of each state component (size n)
+  Eigen::VectorXd input;   ///< unit of each input (size m or empty)
+  Eigen::VectorXd output;  ///< unit of each output (size p or empty)
 };
 
 /// The model in the units `u` (validated: positive finite scales of matching sizes).
@@ -41,8 +41,7 @@ Units polar_units(double sigma, double omega, int n_outputs = 0);
 Units cw_units(double mean_motion, double length, int n_outputs = 0);
 
 /// x' = f(t, x, u) with x in R^n, u in R^m.
-using ModelFn =
-    std::function<Eigen::VectorXd(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u)>;
+using ModelFn = std::function<Eigen::VectorXd(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u)>;
 /// Analytic Jacobians A = df/dx (n x n), B = df/du (n x m), written into A and B.
 using JacobianFn = std::function<void(double t, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                       Eigen::MatrixXd& A, Eigen::MatrixXd& B)>;
@@ -50,8 +49,8 @@ using JacobianFn = std::function<void(double t, const Eigen::VectorXd& x, const 
 /// Central finite-difference settings. Step for component j: rel_step * max(|z_j|, scale_j).
 struct FdSettings {
   double rel_step = 6.0554544523933395e-06;  ///< cbrt(machine epsilon): optimal for central FD
-  Eigen::VectorXd x_scale;  ///< typical magnitude of each state (empty: 1)
-  Eigen::VectorXd u_scale;  ///< typical magnitude of each input (empty: 1)
+  Eigen::VectorXd x_scale;                   ///< typical magnitude of each state (empty: 1)
+  Eigen::VectorXd u_scale;                   ///< typical magnitude of each input (empty: 1)
 };
 
 /// Central finite-difference Jacobians of f at (t, x, u); A is n x n, B is n x m.
@@ -60,10 +59,10 @@ void fd_jacobian(const ModelFn& f, double t, const Eigen::VectorXd& x, const Eig
 
 /// Linearization with its finite-difference check.
 struct Linearization {
-  Eigen::MatrixXd A, B;          ///< analytic Jacobians
-  Eigen::MatrixXd A_fd, B_fd;    ///< central finite differences
-  double rel_err_A = 0.0;        ///< max |A - A_fd| / max(max|A|, tiny)
-  double rel_err_B = 0.0;        ///< same for B
+  Eigen::MatrixXd A, B;        ///< analytic Jacobians
+  Eigen::MatrixXd A_fd, B_fd;  ///< central finite differences
+  double rel_err_A = 0.0;      ///< max |A - A_fd| / max(max|A|, tiny)
+  double rel_err_B = 0.0;      ///< same for B
 };
 
 /// Linearize f about (t, x, u) with the analytic jac and check it against central differences.
@@ -88,8 +87,7 @@ Eigen::Matrix<double, 6, 6> two_body_jacobian(const Eigen::Vector3d& r, double m
 
 /// Range rho = |r - R| (km) and its partial d rho / d[r v] (1 x 6). Computed here for the Gramian
 /// analysis; satgnc/od owns the measurement models used by the estimators.
-double range_partial(const Eigen::Vector3d& r, const Eigen::Vector3d& R,
-                     Eigen::Matrix<double, 1, 6>& H);
+double range_partial(const Eigen::Vector3d& r, const Eigen::Vector3d& R, Eigen::Matrix<double, 1, 6>& H);
 /// Range rate rho' = (r - R).(v - V) / rho (km/s) and its partial d rho' / d[r v] (1 x 6).
 double range_rate_partial(const Eigen::Vector3d& r, const Eigen::Vector3d& v, const Eigen::Vector3d& R,
                           const Eigen::Vector3d& V, Eigen::Matrix<double, 1, 6>& H);

@@ -18,8 +18,8 @@ enum class OdMeasurement { range = 0, range_rate, both };
 
 /// Station on a sphere rotating about +z: R(t) = Rz(rate t) R0 (km), V(t) = rate z x R(t) (km/s).
 struct RotatingStation {
-  Vec3 r0;               ///< position at t = 0, km (inertial)
-  double rate = 7.27e-5; ///< rotation rate, rad/s (the paper's Table 3 station velocity implies 7.27e-5)
+  Vec3 r0;                ///< position at t = 0, km (inertial)
+  double rate = 7.27e-5;  ///< rotation rate, rad/s (the paper's Table 3 station velocity implies 7.27e-5)
   Vec3 position(double t) const;
   Vec3 velocity(double t) const;
 };
@@ -33,15 +33,14 @@ struct OdGramianReport {
   Eigen::VectorXd singular_values;
   double sensitivity_condition = 0;         ///< sigma_max / sigma_min of M (= sqrt(cond W))
   double jacobi_sensitivity_condition = 0;  ///< the same after scaling M's columns to unit norm
-  std::vector<double> times;    ///< observation times, s
+  std::vector<double> times;                ///< observation times, s
 };
 
 /// Observability Gramian of x0 = [r km, v km/s] at t = 0 from `kind` measurements at `times` (s),
 /// two-body dynamics with mu (km^3/s^2). Throws std::invalid_argument on bad input or if the Kepler
 /// propagation fails.
 OdGramianReport od_observability_gramian(const Vec6& x0, const RotatingStation& station,
-                                         const std::vector<double>& times, OdMeasurement kind,
-                                         double mu);
+                                         const std::vector<double>& times, OdMeasurement kind, double mu);
 
 /// Elevation (rad) of the satellite above the station's geocentric horizon at time t.
 double elevation(const Vec6& x0, const RotatingStation& station, double t, double mu);

@@ -69,7 +69,7 @@ struct RankReport {
   double gap = 0.0;         ///< sigma_r / sigma_next (inf when sigma_next = 0)
   std::string method;       ///< "staircase-svd", "staircase-qrcp", "pbh", "kalman-svd"
   Verdict verdict = Verdict::not_robustly_decidable;
-  std::string reason;       ///< why the verdict is not robust (empty when it is)
+  std::string reason;  ///< why the verdict is not robust (empty when it is)
 };
 
 /// Staircase (controllability / observability) form and what it reveals.
@@ -81,9 +81,9 @@ struct StaircaseReport {
   /// Observability: the first `rank` columns span the row space of the observability matrix, the
   /// remaining columns the unobservable subspace.
   Eigen::MatrixXd Q;
-  Eigen::MatrixXd A_staircase;  ///< Q^T A Q (observability: Q^T A^T Q, the dual)
-  Eigen::MatrixXd B_staircase;  ///< Q^T B (observability: Q^T C^T)
-  Eigen::MatrixXd A_uncontrollable;  ///< trailing (n - rank) block (unobservable block if dual)
+  Eigen::MatrixXd A_staircase;            ///< Q^T A Q (observability: Q^T A^T Q, the dual)
+  Eigen::MatrixXd B_staircase;            ///< Q^T B (observability: Q^T C^T)
+  Eigen::MatrixXd A_uncontrollable;       ///< trailing (n - rank) block (unobservable block if dual)
   Eigen::VectorXcd uncontrollable_modes;  ///< its eigenvalues (unobservable modes if dual)
 };
 
@@ -106,16 +106,15 @@ struct PbhMode {
 
 /// PBH test per eigenvalue.
 struct PbhReport {
-  RankReport summary;             ///< rank = n - sum of deficiencies
+  RankReport summary;  ///< rank = n - sum of deficiencies
   std::vector<PbhMode> modes;
-  bool stabilizable_ct = false;   ///< every mode with Re >= 0 controllable (detectable for the dual)
-  bool stabilizable_dt = false;   ///< every mode with |lambda| >= 1 controllable
+  bool stabilizable_ct = false;       ///< every mode with Re >= 0 controllable (detectable for the dual)
+  bool stabilizable_dt = false;       ///< every mode with |lambda| >= 1 controllable
   double distance_upper_bound = 0.0;  ///< min over eigenvalues of sigma_min([A - lambda I, B]) (abs)
 };
 
 /// PBH: rank of [A - lambda I, B] for every eigenvalue cluster, tolerance rtol ||[A B]||_F.
-PbhReport pbh(const Eigen::MatrixXd& A, const Eigen::MatrixXd& BC, Property p,
-              const RankSettings& s = {});
+PbhReport pbh(const Eigen::MatrixXd& A, const Eigen::MatrixXd& BC, Property p, const RankSettings& s = {});
 
 /// Kalman matrix [B, AB, ..., A^{n-1} B] (n x nm), for display and the paper comparison.
 Eigen::MatrixXd kalman_controllability_matrix(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B);

@@ -32,8 +32,7 @@ inline void require_finite(double value, const std::string& name) {
 
 /// Throw unless value is finite and > 0.
 inline void require_positive(double value, const std::string& name) {
-  require(std::isfinite(value) && value > 0.0, name,
-          "must be finite and > 0, got " + std::to_string(value));
+  require(std::isfinite(value) && value > 0.0, name, "must be finite and > 0, got " + std::to_string(value));
 }
 
 /// Throw unless value is finite and >= 0.

@@ -12,10 +12,10 @@ namespace satgnc::dynamics {
 /// Earth constants (EGM-96 / WGS-84 values as used by Vallado, "Fundamentals of Astrodynamics and
 /// Applications", 4th ed., Table D-1 / D-3).
 namespace earth {
-inline constexpr double mu = 398600.4418;       ///< gravitational parameter, km^3/s^2 (EGM-96)
-inline constexpr double radius = 6378.1363;     ///< equatorial radius, km (EGM-96)
-inline constexpr double j2 = 1.0826266835e-3;   ///< unnormalized J2 (EGM-96, -C20 * sqrt(5))
-inline constexpr double omega = 7.292115e-5;    ///< rotation rate, rad/s (IERS, mean)
+inline constexpr double mu = 398600.4418;      ///< gravitational parameter, km^3/s^2 (EGM-96)
+inline constexpr double radius = 6378.1363;    ///< equatorial radius, km (EGM-96)
+inline constexpr double j2 = 1.0826266835e-3;  ///< unnormalized J2 (EGM-96, -C20 * sqrt(5))
+inline constexpr double omega = 7.292115e-5;   ///< rotation rate, rad/s (IERS, mean)
 }  // namespace earth
 
 /// Zonal J2 perturbation of a body with gravitational parameter mu (km^3/s^2) and radius (km).
@@ -28,21 +28,21 @@ struct J2Gravity {
 /// Exponential atmosphere rho = rho0 exp(-(h - h0) / scale_height), h = |r| - body_radius, with a
 /// co-rotating atmosphere: v_rel = v - omega x r. Acceleration -0.5 Cd (A/m) rho |v_rel| v_rel.
 struct ExponentialDrag {
-  double rho0 = 0.0;              ///< density at h0, kg/m^3
-  double h0 = 0.0;                ///< reference altitude, km
-  double scale_height = 1.0;      ///< km
-  double body_radius = earth::radius;  ///< km
-  double cd = 2.2;                ///< drag coefficient, dimensionless
-  double area = 1.0;              ///< cross-section, m^2
-  double mass = 1.0;              ///< kg
+  double rho0 = 0.0;                          ///< density at h0, kg/m^3
+  double h0 = 0.0;                            ///< reference altitude, km
+  double scale_height = 1.0;                  ///< km
+  double body_radius = earth::radius;         ///< km
+  double cd = 2.2;                            ///< drag coefficient, dimensionless
+  double area = 1.0;                          ///< cross-section, m^2
+  double mass = 1.0;                          ///< kg
   Vec3 omega = Vec3(0.0, 0.0, earth::omega);  ///< atmosphere rotation, rad/s (inertial frame)
 };
 
 /// Combined force model. Point-mass gravity is always on; J2 and drag are optional terms.
 struct ForceModel {
-  double mu = earth::mu;                 ///< central-body gravitational parameter, km^3/s^2
-  std::optional<J2Gravity> j2;           ///< J2 term (its mu should equal mu)
-  std::optional<ExponentialDrag> drag;   ///< drag term
+  double mu = earth::mu;                ///< central-body gravitational parameter, km^3/s^2
+  std::optional<J2Gravity> j2;          ///< J2 term (its mu should equal mu)
+  std::optional<ExponentialDrag> drag;  ///< drag term
 
   /// Throw std::invalid_argument (naming the field and the rule) on non-positive mu, radius, etc.
   void validate() const;

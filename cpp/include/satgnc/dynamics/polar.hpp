@@ -24,8 +24,8 @@ enum class PolarCoordinates {
 /// Polar model about the circular orbit of radius sigma (km) and rate omega (rad/s).
 class PolarModel {
  public:
-  using State = Eigen::Vector4d;                 ///< [r km, r' km/s, theta rad, theta' rad/s]
-  using Input = Eigen::Vector2d;                 ///< [u1 radial, u2 tangential] km/s^2
+  using State = Eigen::Vector4d;  ///< [r km, r' km/s, theta rad, theta' rad/s]
+  using Input = Eigen::Vector2d;  ///< [u1 radial, u2 tangential] km/s^2
   using MatA = Eigen::Matrix4d;
   using MatB = Eigen::Matrix<double, 4, 2>;
 
@@ -34,8 +34,8 @@ class PolarModel {
   /// Circular orbit of radius sigma (km) about a body of gravitational parameter mu (km^3/s^2).
   static PolarModel from_mu(double sigma, double mu);
 
-  double sigma() const { return sigma_; }  ///< km
-  double omega() const { return omega_; }  ///< rad/s
+  double sigma() const { return sigma_; }                                  ///< km
+  double omega() const { return omega_; }                                  ///< rad/s
   double k() const { return sigma_ * sigma_ * sigma_ * omega_ * omega_; }  ///< km^3/s^2
 
   /// Nonlinear right-hand side ds/dt (eqs. 3-4). r must be nonzero (returns NaN-free only for r != 0).

@@ -24,8 +24,8 @@ using Mat12x3 = Eigen::Matrix<double, 12, 3>;
 
 /// Frame in which the control force u is given.
 enum class ControlFrame {
-  inertial = 0,  ///< u is the inertial (ECI) force on the chaser
-  target_cw = 1, ///< u in the target's CW frame [e_x, e_y, e_z] (radial e_y, normal e_z)
+  inertial = 0,   ///< u is the inertial (ECI) force on the chaser
+  target_cw = 1,  ///< u in the target's CW frame [e_x, e_y, e_z] (radial e_y, normal e_z)
 };
 
 /// Sign of the atmosphere rotation in the drag's relative velocity.
@@ -51,12 +51,12 @@ struct TwoSatelliteParams {
   double density_radius = 6731.0e3;  ///< h = |r| - density_radius, m (the implementation's 6731 km)
   Vec3 omega = Vec3(0.0, 0.0, 2.0 * 3.14159265358979323846 / 86164.0);  ///< Earth rate, rad/s
   AtmosphereRotation atmosphere = AtmosphereRotation::co_rotating;
-  double mass_chaser = 4.6;          ///< kg
-  double mass_target = 4.6;          ///< kg
-  double cd_chaser = 1.0;            ///< drag coefficient
-  double cd_target = 1.0;            ///< drag coefficient
-  double area_chaser = 0.01;         ///< m^2
-  double area_target = 0.01;         ///< m^2
+  double mass_chaser = 4.6;   ///< kg
+  double mass_target = 4.6;   ///< kg
+  double cd_chaser = 1.0;     ///< drag coefficient
+  double cd_target = 1.0;     ///< drag coefficient
+  double area_chaser = 0.01;  ///< m^2
+  double area_target = 0.01;  ///< m^2
   ControlFrame control_frame = ControlFrame::target_cw;
 
   /// Throw std::invalid_argument naming the field on non-positive mu, masses, areas, etc.

@@ -26,16 +26,16 @@ namespace satgnc::guidance {
 /// Constant problem data (see file comment). Time-invariant A, B: pass one matrix each.
 struct LtvProblem {
   LtvDynamics dynamics;
-  Eigen::VectorXd x0;          ///< initial state (nx)
-  Eigen::VectorXd xf;          ///< target state (nx); zeros if empty
-  Eigen::MatrixXd Qf;          ///< terminal weight nx x nx, PSD
-  Eigen::MatrixXd Q;           ///< stage state weight nx x nx, PSD, or empty (none)
-  Eigen::MatrixXd R;           ///< stage control weight nu x nu, PSD, or empty (none)
-  Eigen::VectorXd l1_weights;  ///< per-axis L1 weights w_i >= 0 (nu), or empty (none)
-  double group_l2_weight = 0.0;  ///< w_g >= 0: cost of one gimballed engine ||u_k||_2
-  Eigen::VectorXd u_lower;     ///< per-axis lower bounds (nu, may be -inf) or empty
-  Eigen::VectorXd u_upper;     ///< per-axis upper bounds (nu, may be +inf) or empty
-  double u_norm_max = 0.0;     ///< ||u_k||_2 bound (> 0), 0 = none; only with group-L2 / no L1, no box
+  Eigen::VectorXd x0;              ///< initial state (nx)
+  Eigen::VectorXd xf;              ///< target state (nx); zeros if empty
+  Eigen::MatrixXd Qf;              ///< terminal weight nx x nx, PSD
+  Eigen::MatrixXd Q;               ///< stage state weight nx x nx, PSD, or empty (none)
+  Eigen::MatrixXd R;               ///< stage control weight nu x nu, PSD, or empty (none)
+  Eigen::VectorXd l1_weights;      ///< per-axis L1 weights w_i >= 0 (nu), or empty (none)
+  double group_l2_weight = 0.0;    ///< w_g >= 0: cost of one gimballed engine ||u_k||_2
+  Eigen::VectorXd u_lower;         ///< per-axis lower bounds (nu, may be -inf) or empty
+  Eigen::VectorXd u_upper;         ///< per-axis upper bounds (nu, may be +inf) or empty
+  double u_norm_max = 0.0;         ///< ||u_k||_2 bound (> 0), 0 = none; only with group-L2 / no L1, no box
   bool terminal_equality = false;  ///< enforce x_N = x_f exactly
 };
 
@@ -47,18 +47,18 @@ enum class StoppingRule {
 
 /// Solver settings (plain struct; defaults solve the scenario cases to ~1e-6 relative).
 struct AdmmSettings {
-  double rho = 0.2;                ///< initial penalty (> 0)
-  int max_iterations = 10000;      ///< >= 1
+  double rho = 0.2;            ///< initial penalty (> 0)
+  int max_iterations = 10000;  ///< >= 1
   StoppingRule stopping = StoppingRule::kResiduals;
-  double eps_abs = 1e-7;           ///< absolute tolerance on both residuals (>= 0)
-  double eps_rel = 1e-6;           ///< relative tolerance (>= 0)
-  double paper_eps = 1e-3;         ///< threshold of the paper's rule (> 0)
-  double relaxation = 1.8;         ///< over-relaxation alpha in (0, 2); 1 = none (paper)
-  bool adaptive_rho = true;        ///< residual balancing (OSQP rule)
-  int adaptive_rho_interval = 25;  ///< iterations between rho checks
+  double eps_abs = 1e-7;                ///< absolute tolerance on both residuals (>= 0)
+  double eps_rel = 1e-6;                ///< relative tolerance (>= 0)
+  double paper_eps = 1e-3;              ///< threshold of the paper's rule (> 0)
+  double relaxation = 1.8;              ///< over-relaxation alpha in (0, 2); 1 = none (paper)
+  bool adaptive_rho = true;             ///< residual balancing (OSQP rule)
+  int adaptive_rho_interval = 25;       ///< iterations between rho checks
   double adaptive_rho_tolerance = 5.0;  ///< refactor only if rho changes by more than this factor
   double rho_min = 1e-6, rho_max = 1e6;
-  bool cache_gains = true;         ///< false: full Riccati recursion every iteration (reference)
+  bool cache_gains = true;  ///< false: full Riccati recursion every iteration (reference)
   /// Condensed x/u step when the problem has no stage state cost (Q = 0) and R is empty or
   /// diagonal: x_N = x_N(U = 0) + M vec(U) with M = [Phi(N, k+1) B_k]_k, so the LQR step is two
   /// products with the stored nx x N nu matrix M and one cached nx x nx LU (refactored with rho).
@@ -67,8 +67,9 @@ struct AdmmSettings {
   /// and for a hard terminal state outside the reachable subspace (the Riccati step reports that).
   bool condensed = true;
   bool paper_multiplier_rescale = false;  ///< after iteration 1 scale row i of Lambda to max |.| = w_i
-  int paper_global_rescale_iterations = 0;  ///< then scale all of Lambda to max |.| = max w up to this iteration
-  bool track_best = true;          ///< keep the best iterate (returned on kMaxIterations)
+  int paper_global_rescale_iterations =
+      0;                   ///< then scale all of Lambda to max |.| = max w up to this iteration
+  bool track_best = true;  ///< keep the best iterate (returned on kMaxIterations)
   /// Active-set polish (residual rule only; problems without stage Q, group-L2 or ball): every
   /// polish_interval iterations, fix the zero and saturated entries of Y, solve the reduced KKT
   /// system for the others exactly and accept it if it satisfies the optimality conditions
@@ -81,7 +82,7 @@ struct AdmmSettings {
   /// where |grad_i| / w_i is nearest 1, zero / bound on either side; tried when the guess repeats or
   /// every polish_interval iterations; it identifies the optimum earlier than Y's sparsity pattern.
   bool polish_dual = true;
-  int polish_swaps = 3;            ///< local repairs of a rejected dual guess (>= 0; one KKT solve each)
+  int polish_swaps = 3;  ///< local repairs of a rejected dual guess (>= 0; one KKT solve each)
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
 };
@@ -105,25 +106,25 @@ struct AdmmInfo {
   double dual_residual = 0.0;    ///< rho ||Y - Y_prev||_inf
   double eps_primal = 0.0, eps_dual = 0.0;
   double paper_criterion = 0.0;  ///< ||U - Y||_F / (N nu)
-  double objective = 0.0;        ///< objective of the flown sparse plan (Y rolled out), with its terminal cost
-  double objective_u = 0.0;      ///< objective of the LQR iterate (X, U)
-  double terminal_miss = 0.0;    ///< ||x_N - x_f||_2 when Y is flown
-  double rho = 0.0;              ///< final penalty
-  int factorizations = 0;        ///< Riccati factorizations in this solve (incl. the setup one if first)
+  double objective = 0.0;      ///< objective of the flown sparse plan (Y rolled out), with its terminal cost
+  double objective_u = 0.0;    ///< objective of the LQR iterate (X, U)
+  double terminal_miss = 0.0;  ///< ||x_N - x_f||_2 when Y is flown
+  double rho = 0.0;            ///< final penalty
+  int factorizations = 0;      ///< Riccati factorizations in this solve (incl. the setup one if first)
   int rho_updates = 0;
-  bool polished = false;         ///< the result is a certified active-set polish
+  bool polished = false;  ///< the result is a certified active-set polish
   int polish_attempts = 0;
-  bool condensed = false;        ///< the condensed x/u step was used (AdmmSettings::condensed)
-  double solve_time = 0.0;       ///< wall time of solve (s)
+  bool condensed = false;   ///< the condensed x/u step was used (AdmmSettings::condensed)
+  double solve_time = 0.0;  ///< wall time of solve (s)
 };
 
 /// Result (all arrays allocated at setup).
 struct AdmmResult {
-  Eigen::MatrixXd X;       ///< LQR states nx x (N+1)
-  Eigen::MatrixXd U;       ///< LQR controls nu x N
-  Eigen::MatrixXd Y;       ///< sparse controls nu x N (the plan to fly)
-  Eigen::MatrixXd Lambda;  ///< multipliers of U = Y, nu x N (unscaled)
-  Eigen::MatrixXd X_flown; ///< states when Y is flown, nx x (N+1)
+  Eigen::MatrixXd X;                    ///< LQR states nx x (N+1)
+  Eigen::MatrixXd U;                    ///< LQR controls nu x N
+  Eigen::MatrixXd Y;                    ///< sparse controls nu x N (the plan to fly)
+  Eigen::MatrixXd Lambda;               ///< multipliers of U = Y, nu x N (unscaled)
+  Eigen::MatrixXd X_flown;              ///< states when Y is flown, nx x (N+1)
   Eigen::VectorXd terminal_multiplier;  ///< nx (zeros without the terminal constraint)
   AdmmInfo info;
 };
@@ -140,7 +141,8 @@ class AdmmSolver {
   /// Later solves start from these (nu x N each) until cold_start(); e.g. the previous result
   /// shifted by one step for receding-horizon use.
   /// @throws std::invalid_argument on wrong sizes or non-finite values
-  void warm_start(const Eigen::Ref<const Eigen::MatrixXd>& Y, const Eigen::Ref<const Eigen::MatrixXd>& Lambda);
+  void warm_start(const Eigen::Ref<const Eigen::MatrixXd>& Y,
+                  const Eigen::Ref<const Eigen::MatrixXd>& Lambda);
   /// Drop the warm start (next solve from zeros).
   void cold_start() noexcept { warm_ = false; }
   /// Change the initial state (receding horizon); gains are reused. Throws on wrong size / NaN.
@@ -204,9 +206,9 @@ class AdmmSolver {
   bool warm_ = false;
   bool first_solve_ = true;
   Eigen::VectorXd w_, lo_, hi_;
-  Eigen::MatrixXd q_;     ///< linear state terms nx x (N+1) from Q, Qf and x_f
-  Eigen::MatrixXd r_;     ///< linear control terms nu x N (Lambda - rho Y)
-  Eigen::MatrixXd Yws_, Lws_;  ///< warm start
+  Eigen::MatrixXd q_;             ///< linear state terms nx x (N+1) from Q, Qf and x_f
+  Eigen::MatrixXd r_;             ///< linear control terms nu x N (Lambda - rho Y)
+  Eigen::MatrixXd Yws_, Lws_;     ///< warm start
   Eigen::MatrixXd bU_, bY_, bL_;  ///< best iterate (X recomputed from U)
   Eigen::VectorXd v_, ynew_, uhat_, utmp_;
   mutable Eigen::VectorXd xtmp_, xtmp2_;  ///< scratch of the const objective evaluation
@@ -214,35 +216,35 @@ class AdmmSolver {
   // polish workspace
   bool polish_ok_ = false;
   int fmax_ = 0;
-  Eigen::MatrixXd Psi_;         ///< Phi(N, k+1), nx x nx N
-  Eigen::MatrixXd PsiB_;        ///< (Phi(N, k+1) B_k)' stacked, N nu x nx
-  Eigen::VectorXd xN0_;         ///< x_N for U = 0 (set at the start of each solve)
+  Eigen::MatrixXd Psi_;   ///< Phi(N, k+1), nx x nx N
+  Eigen::MatrixXd PsiB_;  ///< (Phi(N, k+1) B_k)' stacked, N nu x nx
+  Eigen::VectorXd xN0_;   ///< x_N for U = 0 (set at the start of each solve)
   Eigen::MatrixXd GF_, KKT_, Up_, Xp_, grad_;
   Eigen::VectorXd rhs_, sol_, pN_;
   std::vector<int> free_idx_;
   std::vector<double> fsign_;
-  int gap_F_ = 0;               ///< free count of the dual guess by the largest jump in distance
-  int viol_j_ = -1;              ///< most violated fixed entry of the last rejected polish (k nu + i)
+  int gap_F_ = 0;    ///< free count of the dual guess by the largest jump in distance
+  int viol_j_ = -1;  ///< most violated fixed entry of the last rejected polish (k nu + i)
   double viol_sign_ = 0.0;
-  int bad_a_ = -1;               ///< free entry (position) furthest outside its sign / box
-  double bad_val_ = 0.0;         ///< where it is fixed by the repair
-  bool dual_ok_ = false;         ///< all L1 weights > 0: active-set guess from the dual estimate
-  Eigen::MatrixXd Gd_;          ///< dual estimate -grad f(U) = Lambda + rho (U - Y_prev), nu x N
+  int bad_a_ = -1;        ///< free entry (position) furthest outside its sign / box
+  double bad_val_ = 0.0;  ///< where it is fixed by the repair
+  bool dual_ok_ = false;  ///< all L1 weights > 0: active-set guess from the dual estimate
+  Eigen::MatrixXd Gd_;    ///< dual estimate -grad f(U) = Lambda + rho (U - Y_prev), nu x N
   Eigen::VectorXd winv_;
   std::vector<double> seld_;
   std::vector<int> seli_;
   // condensed x/u step (AdmmSettings::condensed)
-  bool cond_ok_ = false;         ///< Q = 0 and R empty or diagonal: M = PsiB_' is stored
-  bool psi_ok_ = false;          ///< Psi_, PsiB_, xN0_ are allocated (polish or condensed step)
-  Eigen::VectorXd dinv_;         ///< diagonal of (R + rho I)^-1, nu
-  Eigen::MatrixXd Gax_;          ///< per-axis Gram matrices sum_k m_ki m_ki', nx x nx nu
-  Eigen::MatrixXd Hc_;           ///< H = M D^-1 M', nx x nx
-  Eigen::MatrixXd Sc_;           ///< I + H Qf (soft terminal) or H (hard), factored by cond_lu_
-  double cond_rho_ = 0.0;        ///< rho of the current condensed factorization
+  bool cond_ok_ = false;   ///< Q = 0 and R empty or diagonal: M = PsiB_' is stored
+  bool psi_ok_ = false;    ///< Psi_, PsiB_, xN0_ are allocated (polish or condensed step)
+  Eigen::VectorXd dinv_;   ///< diagonal of (R + rho I)^-1, nu
+  Eigen::MatrixXd Gax_;    ///< per-axis Gram matrices sum_k m_ki m_ki', nx x nx nu
+  Eigen::MatrixXd Hc_;     ///< H = M D^-1 M', nx x nx
+  Eigen::MatrixXd Sc_;     ///< I + H Qf (soft terminal) or H (hard), factored by cond_lu_
+  double cond_rho_ = 0.0;  ///< rho of the current condensed factorization
   bool cond_rho_valid_ = false;
   Eigen::PartialPivLU<Eigen::MatrixXd> cond_lu_;
   Eigen::VectorXd cb_, ce_, cg_;  ///< right-hand side, terminal error / multiplier, Qf e
-  Eigen::MatrixXd Tc_;           ///< D^-1 r, nu x N
+  Eigen::MatrixXd Tc_;            ///< D^-1 r, nu x N
   // flat (vectorized) passes: per-entry weights and bounds replicated over the horizon
   bool flat_ok_ = false;
   Eigen::ArrayXd wrep_, lorep_, hirep_, sigw_, fa_, fb_;

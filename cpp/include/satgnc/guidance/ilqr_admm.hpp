@@ -25,21 +25,21 @@ namespace satgnc::guidance {
 
 /// Non-smooth control cost.
 enum class ControlCost {
-  l1 = 0,      ///< sum_i alpha_i |u_i|
-  l1_box = 1,  ///< L1 plus per-axis bounds u_min <= u <= u_max (u_min <= 0 <= u_max)
-  group_l2 = 2 ///< alpha_0 ||u||_2 (one gimballed engine)
+  l1 = 0,       ///< sum_i alpha_i |u_i|
+  l1_box = 1,   ///< L1 plus per-axis bounds u_min <= u <= u_max (u_min <= 0 <= u_max)
+  group_l2 = 2  ///< alpha_0 ||u||_2 (one gimballed engine)
 };
 
 /// Problem data (constant). Dimensions: nx, nu of the model, N intervals.
 struct NonlinearL1Problem {
-  int horizon = 0;                ///< N, number of control intervals
-  Eigen::VectorXd x0;             ///< initial state (nx)
-  Eigen::VectorXd x_target;       ///< x_f (nx)
-  Eigen::MatrixXd Qf;             ///< terminal weight (nx x nx, symmetric positive semidefinite)
-  Eigen::VectorXd alpha;          ///< per-axis L1 weights (nu, >= 0); group_l2 uses alpha(0)
-  double stage_weight = 1.0;      ///< w > 0 multiplying the control cost (dt for an integral cost)
+  int horizon = 0;            ///< N, number of control intervals
+  Eigen::VectorXd x0;         ///< initial state (nx)
+  Eigen::VectorXd x_target;   ///< x_f (nx)
+  Eigen::MatrixXd Qf;         ///< terminal weight (nx x nx, symmetric positive semidefinite)
+  Eigen::VectorXd alpha;      ///< per-axis L1 weights (nu, >= 0); group_l2 uses alpha(0)
+  double stage_weight = 1.0;  ///< w > 0 multiplying the control cost (dt for an integral cost)
   ControlCost cost = ControlCost::l1;
-  Eigen::VectorXd u_min, u_max;   ///< bounds (nu) for l1_box
+  Eigen::VectorXd u_min, u_max;  ///< bounds (nu) for l1_box
 };
 
 /// Stopping rule.
@@ -50,27 +50,27 @@ enum class StopRule {
 
 /// Solver settings (plain data; defaults documented).
 struct IlqrAdmmSettings {
-  double rho = 0.1;               ///< ADMM penalty (> 0)
-  int max_iter = 4000;            ///< ADMM iterations
-  int ilqr_iters = 1;             ///< iLQR iterations per ADMM iteration (1 = paper)
-  double ilqr_tol = 1e-10;        ///< inner stop: relative decrease of the subproblem cost (ilqr_iters > 1)
+  double rho = 0.1;         ///< ADMM penalty (> 0)
+  int max_iter = 4000;      ///< ADMM iterations
+  int ilqr_iters = 1;       ///< iLQR iterations per ADMM iteration (1 = paper)
+  double ilqr_tol = 1e-10;  ///< inner stop: relative decrease of the subproblem cost (ilqr_iters > 1)
   StopRule stop = StopRule::residuals;
-  double eps_paper = 6e-5;        ///< paper rule threshold
-  double eps_abs = 1e-7;          ///< residual rule, absolute (per sqrt(N nu))
-  double eps_rel = 1e-5;          ///< residual rule, relative
+  double eps_paper = 6e-5;                ///< paper rule threshold
+  double eps_abs = 1e-7;                  ///< residual rule, absolute (per sqrt(N nu))
+  double eps_rel = 1e-5;                  ///< residual rule, relative
   bool paper_multiplier_rescale = false;  ///< after iteration 1 scale row i of lambda to max |.| = alpha_i
-  bool adaptive_rho = false;      ///< residual balancing (rho *= or /= rho_factor when residuals differ by mu)
-  double rho_factor = 5.0;        ///< adaptive rho multiplier
-  double rho_balance = 10.0;      ///< adaptive rho triggers when primal/dual ratio exceeds this
-  int rho_update_every = 25;      ///< check residual balance every this many iterations
-  double reg_init = 0.0;          ///< initial Levenberg term on Quu
-  double reg_min = 1e-8;          ///< first nonzero regularization
-  double reg_max = 1e10;          ///< give up (status ilqr_failed) beyond this
-  double reg_factor = 10.0;       ///< regularization growth
-  int line_search_iters = 20;     ///< backtracking halvings
-  double ls_lower = 1e-8;         ///< accept when actual/expected decrease lies in [ls_lower, ls_upper]
+  bool adaptive_rho = false;   ///< residual balancing (rho *= or /= rho_factor when residuals differ by mu)
+  double rho_factor = 5.0;     ///< adaptive rho multiplier
+  double rho_balance = 10.0;   ///< adaptive rho triggers when primal/dual ratio exceeds this
+  int rho_update_every = 25;   ///< check residual balance every this many iterations
+  double reg_init = 0.0;       ///< initial Levenberg term on Quu
+  double reg_min = 1e-8;       ///< first nonzero regularization
+  double reg_max = 1e10;       ///< give up (status ilqr_failed) beyond this
+  double reg_factor = 10.0;    ///< regularization growth
+  int line_search_iters = 20;  ///< backtracking halvings
+  double ls_lower = 1e-8;      ///< accept when actual/expected decrease lies in [ls_lower, ls_upper]
   double ls_upper = 10.0;
-  bool return_best = true;        ///< on max_iter, return the iterate with the smallest ||U - Y|| (else the last)
+  bool return_best = true;  ///< on max_iter, return the iterate with the smallest ||U - Y|| (else the last)
 
   /// Throw std::invalid_argument naming the field on a bad value.
   void validate() const;
@@ -78,10 +78,10 @@ struct IlqrAdmmSettings {
 
 /// Outcome.
 enum class IlqrAdmmStatus {
-  solved = 0,           ///< stopping rule met
-  max_iterations,       ///< max_iter reached; the best iterate (smallest primal residual) is returned
-  propagation_failed,   ///< the model failed on interval Info::failed_interval during the initial rollout
-  ilqr_failed,          ///< iLQR could not make progress even at reg_max; last iterate returned
+  solved = 0,          ///< stopping rule met
+  max_iterations,      ///< max_iter reached; the best iterate (smallest primal residual) is returned
+  propagation_failed,  ///< the model failed on interval Info::failed_interval during the initial rollout
+  ilqr_failed,         ///< iLQR could not make progress even at reg_max; last iterate returned
   not_run,
 };
 
@@ -91,17 +91,17 @@ const char* status_message(IlqrAdmmStatus s);
 /// Iteration statistics.
 struct IlqrAdmmInfo {
   IlqrAdmmStatus status = IlqrAdmmStatus::not_run;
-  int iterations = 0;         ///< ADMM iterations
-  int ilqr_iterations = 0;    ///< total iLQR (backward + forward) iterations
-  int lqr_passes = 0;         ///< the implementation's count: ilqr_iterations + one rollout per ADMM iteration
-  double primal_residual = 0; ///< ||U - Y||_2
-  double dual_residual = 0;   ///< w rho ||Y - Y_prev||_2
-  double paper_criterion = 0; ///< ||U - Y||_2 / (N nu)
-  double objective_u = 0;     ///< true cost at the dense iterate U (rolled out)
-  double objective_y = 0;     ///< true cost at the sparse iterate Y (rolled out; +inf if that fails)
-  double rho = 0;             ///< final rho
+  int iterations = 0;       ///< ADMM iterations
+  int ilqr_iterations = 0;  ///< total iLQR (backward + forward) iterations
+  int lqr_passes = 0;       ///< the implementation's count: ilqr_iterations + one rollout per ADMM iteration
+  double primal_residual = 0;  ///< ||U - Y||_2
+  double dual_residual = 0;    ///< w rho ||Y - Y_prev||_2
+  double paper_criterion = 0;  ///< ||U - Y||_2 / (N nu)
+  double objective_u = 0;      ///< true cost at the dense iterate U (rolled out)
+  double objective_y = 0;      ///< true cost at the sparse iterate Y (rolled out; +inf if that fails)
+  double rho = 0;              ///< final rho
   int rho_updates = 0;
-  int failed_interval = -1;   ///< interval k where the model failed (propagation_failed), else -1
+  int failed_interval = -1;  ///< interval k where the model failed (propagation_failed), else -1
   double max_regularization = 0;
 };
 

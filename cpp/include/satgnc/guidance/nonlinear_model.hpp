@@ -24,8 +24,7 @@ class DiscreteModel {
   /// x_next = f_k(x, u) for interval k (0-based). When A and B are non-null they receive the
   /// Jacobians df/dx (nx x nx) and df/du (nx x nu), column-major. Pointers are to contiguous
   /// arrays of length nx, nu, nx, nx*nx, nx*nu.
-  virtual bool step(int k, const double* x, const double* u, double* x_next, double* A,
-                    double* B) const = 0;
+  virtual bool step(int k, const double* x, const double* u, double* x_next, double* A, double* B) const = 0;
   /// Indices (0-based, ascending) of exogenous states t: their next value depends neither on the
   /// other states nor on the control (df_t/dx_c = 0 and df_t/du = 0 for every k; e.g. the target's
   /// orbit in the two-satellite model). Solvers may then skip the t-t block of the value function,
@@ -89,9 +88,9 @@ class TwoSatelliteMap final : public DiscreteModel {
   TwoSatelliteMapSettings s_;
   dynamics::Vec12 sx_;
   Vec3 su_;
-  dynamics::Vec12 inv_sx_;       // 1 / sx_
-  dynamics::Mat12 a_ratio_;      // sx_(j) / sx_(i): A_s = A .* a_ratio_
-  dynamics::Mat12x3 b_ratio_;    // su_(j) / sx_(i)
+  dynamics::Vec12 inv_sx_;     // 1 / sx_
+  dynamics::Mat12 a_ratio_;    // sx_(j) / sx_(i): A_s = A .* a_ratio_
+  dynamics::Mat12x3 b_ratio_;  // su_(j) / sx_(i)
 };
 
 /// Settings of the propagated two-satellite map (adaptive DOP853 over each interval).
@@ -112,12 +111,12 @@ struct PropagatedMapSettings {
 /// Outcome of the last PropagatedTwoSatelliteMap::step() call (diagnostics).
 struct PropagatedMapInfo {
   bool ok = true;
-  int interval = -1;      ///< k of the last call
-  int status = 0;         ///< propagation::Dop853Status as int (0 = success)
-  long steps = 0;         ///< accepted DOP853 steps
-  long rejected = 0;      ///< rejected steps
-  long rhs_evals = 0;     ///< right-hand-side evaluations
-  double t_reached = 0.0; ///< s from the start of the interval
+  int interval = -1;       ///< k of the last call
+  int status = 0;          ///< propagation::Dop853Status as int (0 = success)
+  long steps = 0;          ///< accepted DOP853 steps
+  long rejected = 0;       ///< rejected steps
+  long rhs_evals = 0;      ///< right-hand-side evaluations
+  double t_reached = 0.0;  ///< s from the start of the interval
 };
 
 /// The two-satellite model as a DiscreteModel whose map and Jacobians come from integrating, over

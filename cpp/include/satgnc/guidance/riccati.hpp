@@ -10,8 +10,8 @@
 ///   subject to x_{k+1} = A_k x_k + B_k u_k + c_k,  x_0 given,  [x_N = x_f if terminal_equality].
 /// Units are those of the caller (the guidance room uses m, m/s, N or a scaled set).
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <vector>
 
 namespace satgnc::guidance {
@@ -35,9 +35,9 @@ struct LtvDynamics {
 
 /// Outcome of one Riccati solve.
 enum class RiccatiStatus {
-  kOk = 0,                  ///< solved (and x_N = x_f when the terminal constraint is on)
-  kTerminalUnreachable = 1, ///< x_f is outside the reachable set; least-squares multiplier used
-  kNotFactored = 2,         ///< factor() was not called or failed
+  kOk = 0,                   ///< solved (and x_N = x_f when the terminal constraint is on)
+  kTerminalUnreachable = 1,  ///< x_f is outside the reachable set; least-squares multiplier used
+  kNotFactored = 2,          ///< factor() was not called or failed
 };
 
 /// Riccati recursion with cached gains. setup() allocates; factor() and solve() do not.
@@ -74,7 +74,8 @@ class RiccatiSolver {
   /// Reference path: the full textbook recursion (value function and affine terms together, stage
   /// Hessians refactored) for the same problem; used to check solve(). No allocation.
   RiccatiStatus solve_full(double rho, const Eigen::Ref<const Eigen::VectorXd>& x0,
-                           const Eigen::Ref<const Eigen::MatrixXd>& q, const Eigen::Ref<const Eigen::MatrixXd>& r,
+                           const Eigen::Ref<const Eigen::MatrixXd>& q,
+                           const Eigen::Ref<const Eigen::MatrixXd>& r,
                            const Eigen::Ref<const Eigen::VectorXd>& xf, Eigen::Ref<Eigen::MatrixXd> X,
                            Eigen::Ref<Eigen::MatrixXd> U) noexcept;
 
@@ -95,7 +96,8 @@ class RiccatiSolver {
   /// is stored) in place, without allocation; call factor() afterwards. Returns false (nothing
   /// changed) on a bad k, a size mismatch, non-finite data, or when the stage is shared
   /// (time-invariant storage with N > 1).
-  bool set_stage_dynamics(int k, const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& B,
+  bool set_stage_dynamics(int k, const Eigen::Ref<const Eigen::MatrixXd>& A,
+                          const Eigen::Ref<const Eigen::MatrixXd>& B,
                           const Eigen::Ref<const Eigen::VectorXd>& c) noexcept;
 
  private:
@@ -103,9 +105,9 @@ class RiccatiSolver {
   void affine_sweep(const Eigen::Ref<const Eigen::VectorXd>& x0, const Eigen::Ref<const Eigen::MatrixXd>& q,
                     const Eigen::Ref<const Eigen::MatrixXd>& r, Eigen::Ref<Eigen::MatrixXd> X,
                     Eigen::Ref<Eigen::MatrixXd> U) noexcept;
-  void affine_sweep_63(const Eigen::Ref<const Eigen::VectorXd>& x0, const Eigen::Ref<const Eigen::MatrixXd>& q,
-                       const Eigen::Ref<const Eigen::MatrixXd>& r, Eigen::Ref<Eigen::MatrixXd> X,
-                       Eigen::Ref<Eigen::MatrixXd> U) noexcept;
+  void affine_sweep_63(const Eigen::Ref<const Eigen::VectorXd>& x0,
+                       const Eigen::Ref<const Eigen::MatrixXd>& q, const Eigen::Ref<const Eigen::MatrixXd>& r,
+                       Eigen::Ref<Eigen::MatrixXd> X, Eigen::Ref<Eigen::MatrixXd> U) noexcept;
   template <int NX, int NU>
   RiccatiStatus apply_terminal(const Eigen::Ref<const Eigen::VectorXd>& xf, Eigen::Ref<Eigen::MatrixXd> X,
                                Eigen::Ref<Eigen::MatrixXd> U) noexcept;

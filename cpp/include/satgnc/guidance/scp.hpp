@@ -37,11 +37,11 @@ struct ScpSettings {
     s.max_iter = 20000;
     return s;
   }
-  int max_outer = 30;             ///< outer (re-linearization) iterations
-  double tol = 1e-9;              ///< stop when predicted decrease <= tol * max(1, J)
-  double armijo = 1e-4;           ///< sufficient-decrease fraction of the predicted decrease
-  int line_search_iters = 30;     ///< halvings of t
-  AdmmSettings inner;             ///< for ScpInner::linear_admm (defaults: residual rule, adaptive rho)
+  int max_outer = 30;          ///< outer (re-linearization) iterations
+  double tol = 1e-9;           ///< stop when predicted decrease <= tol * max(1, J)
+  double armijo = 1e-4;        ///< sufficient-decrease fraction of the predicted decrease
+  int line_search_iters = 30;  ///< halvings of t
+  AdmmSettings inner;          ///< for ScpInner::linear_admm (defaults: residual rule, adaptive rho)
   void validate() const;
 };
 
@@ -59,18 +59,18 @@ const char* status_message(ScpStatus s);
 struct ScpInfo {
   ScpStatus status = ScpStatus::not_run;
   int outer_iterations = 0;
-  int inner_iterations = 0;     ///< total ADMM iterations over all subproblems
-  double objective = 0.0;       ///< true cost of U (rolled out on the model)
+  int inner_iterations = 0;         ///< total ADMM iterations over all subproblems
+  double objective = 0.0;           ///< true cost of U (rolled out on the model)
   double predicted_decrease = 0.0;  ///< of the last subproblem
-  double last_step = 0.0;       ///< accepted t of the last outer iteration
+  double last_step = 0.0;           ///< accepted t of the last outer iteration
   int failed_interval = -1;
-  AdmmStatus inner_status = AdmmStatus::kUnsolved;          ///< linear_admm inner
+  AdmmStatus inner_status = AdmmStatus::kUnsolved;             ///< linear_admm inner
   IlqrAdmmStatus inner_ilqr_status = IlqrAdmmStatus::not_run;  ///< ilqr_admm inner
 };
 
 struct ScpResult {
-  Eigen::MatrixXd X;  ///< nx x (N+1), rollout of U on the model
-  Eigen::MatrixXd U;  ///< nu x N
+  Eigen::MatrixXd X;       ///< nx x (N+1), rollout of U on the model
+  Eigen::MatrixXd U;       ///< nu x N
   Eigen::MatrixXd Lambda;  ///< multipliers of the last subproblem
   ScpInfo info;
 };
@@ -80,7 +80,8 @@ struct ScpResult {
 class ScpSolver {
  public:
   /// Validates (std::invalid_argument) with the same rules as IlqrAdmmSolver.
-  ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& problem, const ScpSettings& settings = ScpSettings());
+  ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
+            const ScpSettings& settings = ScpSettings());
   /// Initial control guess (nu x N); default zeros.
   void set_initial_controls(const Eigen::Ref<const Eigen::MatrixXd>& U0);
   /// Initial state (receding horizon).

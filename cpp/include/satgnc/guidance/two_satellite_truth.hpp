@@ -42,8 +42,8 @@ class TwoSatelliteTruth {
 
   /// Propagate x (12, SI) over [0, dt] s with the constant force u (3, N): x is overwritten.
   /// Never throws; non-finite input or a model failure returns a status (message() says why).
-  propagation::PropagationStatus step(Eigen::Ref<Eigen::VectorXd> x, const Eigen::Ref<const Eigen::VectorXd>& u,
-                                      double dt) noexcept;
+  propagation::PropagationStatus step(Eigen::Ref<Eigen::VectorXd> x,
+                                      const Eigen::Ref<const Eigen::VectorXd>& u, double dt) noexcept;
   /// Fly the plan U (3 x N, N, piecewise constant over intervals of dt s) from x0 (12, SI).
   /// Throws std::invalid_argument on wrong shapes or dt <= 0; failures are in the result.
   TruthFlight fly(const Eigen::Ref<const Eigen::VectorXd>& x0, const Eigen::Ref<const Eigen::MatrixXd>& U,

@@ -38,7 +38,8 @@ class KeplerStmPropagator final : public StmPropagator {
 /// first call with a larger number of times.
 class CvodesStmPropagator final : public StmPropagator {
  public:
-  explicit CvodesStmPropagator(const dynamics::ForceModel& model, const propagation::CvodesSettings& settings = {});
+  explicit CvodesStmPropagator(const dynamics::ForceModel& model,
+                               const propagation::CvodesSettings& settings = {});
   bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) override;
 
  private:

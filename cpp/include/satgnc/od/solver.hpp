@@ -18,11 +18,10 @@
 /// Linear algebra: QR of the row-normalized [J | r] then a 6x6 SVD of R, so the condition number
 /// (up to ~1e9 here) is not squared; all buffers are sized at construction and solve() does not
 /// allocate (if the propagator does not).
+#include <Eigen/Dense>
 #include <cstdint>
 #include <memory>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/dynamics/types.hpp"
@@ -66,22 +65,24 @@ struct BoundaryCondition {
 /// Settings (plain struct, defaults documented).
 struct OdSettings {
   OdMethod method = OdMethod::gauss_newton;
-  int max_iterations = 30;      ///< iterations (accepted steps)
-  double step_tol = 1e-10;      ///< converged when |dx_i| <= step_tol (1 + |x_i|) for all i, or
-  double step_sigma_tol = 1e-6; ///< ... when the step moves the normalized residuals by <= this (|J_n dx|)
-  double cost_tol = 1e-6;       ///< ... or when an accepted step lowers the cost by <= cost_tol * cost
-  double residual_tol = 0.0;    ///< also converged when max |normalized residual| <= this (paper's xi); 0 = off
-  double rank_tol = 1e-13;      ///< singular values below rank_tol * s_max count as zero
+  int max_iterations = 30;       ///< iterations (accepted steps)
+  double step_tol = 1e-10;       ///< converged when |dx_i| <= step_tol (1 + |x_i|) for all i, or
+  double step_sigma_tol = 1e-6;  ///< ... when the step moves the normalized residuals by <= this (|J_n dx|)
+  double cost_tol = 1e-6;        ///< ... or when an accepted step lowers the cost by <= cost_tol * cost
+  double residual_tol = 0.0;  ///< also converged when max |normalized residual| <= this (paper's xi); 0 = off
+  double rank_tol = 1e-13;    ///< singular values below rank_tol * s_max count as zero
   double min_radius = dynamics::earth::radius;  ///< km; any state closer to the centre => diverged
   double mu = dynamics::earth::mu;              ///< km^3/s^2, for the unbound test (specific energy >= 0)
-  double fit_sigma = 3.0;       ///< a solution fits when the RMS normalized residual <= fit_sigma
-  double min_range = 1e-6;      ///< km; smaller predicted range => degenerate_geometry
-  double lm_lambda0 = 1e-3;     ///< initial LM damping (relative to the Moré scaling)
-  double lm_increase = 10.0;    ///< damping factor after a rejected step
-  double lm_decrease = 0.1;     ///< damping factor after a very successful step (gain ratio > 0.75)
-  int lm_max_rejections = 30;   ///< rejected trials in a row before giving up (then max_iterations)
-  double lm_stall_tol = 0.1;    ///< after 3 LM steps each lowering the cost by < this fraction, try a Newton polish
-  int lm_polish_iterations = 10;///< undamped Newton steps tried after LM stops (kept only if they converge lower)
+  double fit_sigma = 3.0;      ///< a solution fits when the RMS normalized residual <= fit_sigma
+  double min_range = 1e-6;     ///< km; smaller predicted range => degenerate_geometry
+  double lm_lambda0 = 1e-3;    ///< initial LM damping (relative to the Moré scaling)
+  double lm_increase = 10.0;   ///< damping factor after a rejected step
+  double lm_decrease = 0.1;    ///< damping factor after a very successful step (gain ratio > 0.75)
+  int lm_max_rejections = 30;  ///< rejected trials in a row before giving up (then max_iterations)
+  double lm_stall_tol =
+      0.1;  ///< after 3 LM steps each lowering the cost by < this fraction, try a Newton polish
+  int lm_polish_iterations =
+      10;  ///< undamped Newton steps tried after LM stops (kept only if they converge lower)
   /// Throw std::invalid_argument naming the field on a bad value.
   void validate() const;
 };
@@ -90,24 +91,24 @@ struct OdSettings {
 /// (row 0 = the guess); rows 0..iterations are valid. Residual rows follow the input order.
 struct OdResult {
   OdStatus status = OdStatus::max_iterations;
-  int iterations = 0;           ///< accepted steps
-  int evaluations = 0;          ///< propagations (LM counts rejected trials)
-  Vec6 x0 = Vec6::Zero();       ///< final estimate at t = 0
-  Mat6 covariance = Mat6::Zero();   ///< formal (J^T W J)^-1 at x0 (km, km/s); +inf diagonal if rank < 6
+  int iterations = 0;              ///< accepted steps
+  int evaluations = 0;             ///< propagations (LM counts rejected trials)
+  Vec6 x0 = Vec6::Zero();          ///< final estimate at t = 0
+  Mat6 covariance = Mat6::Zero();  ///< formal (J^T W J)^-1 at x0 (km, km/s); +inf diagonal if rank < 6
   Mat6 correlation = Mat6::Zero();
   Vec6 singular_values = Vec6::Zero();  ///< of the row-normalized Jacobian dr/dx0 (km, km/s columns)
-  int rank = 0;                 ///< numerical rank of that Jacobian
-  double condition_number = 0.0;   ///< s_max / s_min (inf if s_min = 0)
-  double cost = 0.0;            ///< 0.5 sum normalized^2
-  double max_abs_normalized = 0.0;  ///< max |residual / sigma|
-  bool fits = false;            ///< RMS of normalized residuals <= fit_sigma (and the state is physical)
-  Eigen::VectorXd residuals;    ///< raw residual rows (km, km/s, km^2 or km^2/s)
-  Eigen::VectorXd normalized;   ///< residuals / sigma
-  Eigen::VectorXd range_residuals;       ///< predicted - observed range per row, km (NaN if none)
-  Eigen::VectorXd range_rate_residuals;  ///< predicted - observed range-rate per row, km/s (NaN if none)
-  Eigen::MatrixXd history_x0;                    ///< (max_iterations+1) x 6
-  Eigen::MatrixXd history_residuals;             ///< (max_iterations+1) x rows, raw
-  Eigen::MatrixXd history_range_residuals;       ///< km
+  int rank = 0;                         ///< numerical rank of that Jacobian
+  double condition_number = 0.0;        ///< s_max / s_min (inf if s_min = 0)
+  double cost = 0.0;                    ///< 0.5 sum normalized^2
+  double max_abs_normalized = 0.0;      ///< max |residual / sigma|
+  bool fits = false;                ///< RMS of normalized residuals <= fit_sigma (and the state is physical)
+  Eigen::VectorXd residuals;        ///< raw residual rows (km, km/s, km^2 or km^2/s)
+  Eigen::VectorXd normalized;       ///< residuals / sigma
+  Eigen::VectorXd range_residuals;  ///< predicted - observed range per row, km (NaN if none)
+  Eigen::VectorXd range_rate_residuals;     ///< predicted - observed range-rate per row, km/s (NaN if none)
+  Eigen::MatrixXd history_x0;               ///< (max_iterations+1) x 6
+  Eigen::MatrixXd history_residuals;        ///< (max_iterations+1) x rows, raw
+  Eigen::MatrixXd history_range_residuals;  ///< km
   Eigen::MatrixXd history_range_rate_residuals;  ///< km/s
   Eigen::VectorXd history_cost;                  ///< 0.5 sum normalized^2
   Eigen::VectorXd history_lambda;                ///< LM damping used for the step into the row (0 otherwise)
@@ -119,7 +120,8 @@ class OdSolver {
   /// Batch problem on observations. Needs >= 6 measurements (exactly 6 for method newton).
   /// Throws std::invalid_argument naming the argument on bad input.
   static OdSolver from_measurements(std::vector<Station> stations, const std::vector<Measurement>& meas,
-                                    std::shared_ptr<StmPropagator> propagator, const OdSettings& settings = {});
+                                    std::shared_ptr<StmPropagator> propagator,
+                                    const OdSettings& settings = {});
   /// The paper's problem on implicit boundary conditions (exactly 6 for method newton, >= 6 otherwise).
   static OdSolver from_conditions(std::vector<Station> stations, const std::vector<BoundaryCondition>& conds,
                                   std::shared_ptr<StmPropagator> propagator, const OdSettings& settings = {});
@@ -154,7 +156,7 @@ class OdSolver {
              Eigen::VectorXd sigma, std::shared_ptr<StmPropagator> propagator, const OdSettings& settings);
   OdStatus eval_at(const Vec6& x0, bool with_jac);  // fills r_, rn_, jn_, range/rate residuals
   bool physical(const Vec6& x) const;
-  void factor();                       // QR of [jn_ | rn_] -> R_, c_, SVD
+  void factor();  // QR of [jn_ | rn_] -> R_, c_, SVD
   void record(int k, double lambda);
   void finish(const Vec6& x, bool buffers_valid);
   bool small_step(const Vec6& dx, const Vec6& x) const;
@@ -185,21 +187,21 @@ struct RootSearchSettings {
   double distinct_position_km = 1e-3;   ///< two solutions closer than this in position ...
   double distinct_velocity_kms = 1e-6;  ///< ... and in velocity are the same root, and so are two
   double distinct_sigma = 0.1;          ///< solutions within this many formal sigmas (Mahalanobis distance
-                                        ///< under the first one's covariance): stalled LM runs end at slightly
-                                        ///< different points of one flat valley
+                                ///< under the first one's covariance): stalled LM runs end at slightly
+                                ///< different points of one flat valley
 };
 
 /// One distinct converged solution.
 struct Root {
   Vec6 x0 = Vec6::Zero();
   Mat6 covariance = Mat6::Zero();
-  Eigen::VectorXd residuals;    ///< raw rows
-  Eigen::VectorXd normalized;   ///< rows / sigma
+  Eigen::VectorXd residuals;   ///< raw rows
+  Eigen::VectorXd normalized;  ///< rows / sigma
   double max_abs_normalized = 0.0;
   double condition_number = 0.0;
-  bool fits = false;            ///< fits the data to fit_sigma
-  bool converged = false;       ///< solver status converged (else stalled at max_iterations but fitting)
-  int hits = 0;                 ///< guesses that converged to it
+  bool fits = false;       ///< fits the data to fit_sigma
+  bool converged = false;  ///< solver status converged (else stalled at max_iterations but fitting)
+  int hits = 0;            ///< guesses that converged to it
   int first_guess = -1;
 };
 

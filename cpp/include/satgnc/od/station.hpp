@@ -33,15 +33,16 @@ inline constexpr Ellipsoid sphere{"sphere", 6378.137, 0.0};
 Ellipsoid ellipsoid_by_name(const std::string& name);
 
 /// Earth-fixed position (km) of geodetic latitude/longitude (rad) and height above the ellipsoid (km).
-Vec3 geodetic_to_ecef(double lat_rad, double lon_rad, double height_km, const Ellipsoid& ell = ellipsoids::wgs84);
+Vec3 geodetic_to_ecef(double lat_rad, double lon_rad, double height_km,
+                      const Ellipsoid& ell = ellipsoids::wgs84);
 
 /// Rotation about +z by angle (rad): x_inertial = rot_z(theta) * x_fixed.
 Mat3 rot_z(double theta);
 
 /// A tracking station: inertial position r0 (km) at t = 0 rotating about +z at omega (rad/s).
 struct Station {
-  Vec3 r0 = Vec3::Zero();                  ///< inertial position at the epoch t = 0, km
-  double omega = dynamics::earth::omega;   ///< rotation rate about inertial +z, rad/s
+  Vec3 r0 = Vec3::Zero();                 ///< inertial position at the epoch t = 0, km
+  double omega = dynamics::earth::omega;  ///< rotation rate about inertial +z, rad/s
 
   /// Station from geodetic coordinates (deg, deg, km) at the UTC epoch jd_utc (Julian date):
   /// r0 = rot_z(GMST(jd_utc + dut1)) * ecef. Throws std::invalid_argument on bad input.

@@ -48,9 +48,9 @@ struct CvodesSettings {
   /// Optional per-component absolute tolerances: empty (use atol), 6 values (state; the STM entries
   /// keep atol) or 42 values (state then the STM column by column). All > 0.
   std::vector<double> atol_components;
-  long max_steps = 500000;  ///< total step budget of one propagate() call (> 0)
-  int max_order = 0;        ///< 0: method default (Adams 12, BDF 5); else 1..12 (Adams), 1..5 (BDF)
-  bool with_stm = true;     ///< integrate the 36 variational equations as well
+  long max_steps = 500000;    ///< total step budget of one propagate() call (> 0)
+  int max_order = 0;          ///< 0: method default (Adams 12, BDF 5); else 1..12 (Adams), 1..5 (BDF)
+  bool with_stm = true;       ///< integrate the 36 variational equations as well
   double initial_step = 0.0;  ///< |h0| in s; 0 lets CVODES estimate it
   double max_step = 0.0;      ///< |h| upper bound in s; 0 means unbounded
 

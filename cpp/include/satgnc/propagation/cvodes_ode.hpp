@@ -25,9 +25,9 @@ struct CvodesOdeSettings {
   double atol = 1e-10;  ///< scalar absolute tolerance (> 0), units of y
   /// Optional per-component absolute tolerances (empty or n entries, all > 0).
   std::vector<double> atol_components;
-  long max_steps = 100000;   ///< step budget of one integrate() call (> 0)
-  int max_order = 0;         ///< 0: method default; else 1..12 (Adams), 1..5 (BDF)
-  double max_step = 0.0;     ///< |h| upper bound; 0 = unbounded
+  long max_steps = 100000;  ///< step budget of one integrate() call (> 0)
+  int max_order = 0;        ///< 0: method default; else 1..12 (Adams), 1..5 (BDF)
+  double max_step = 0.0;    ///< |h| upper bound; 0 = unbounded
   /// Throw std::invalid_argument naming the field (n: system dimension).
   void validate(int n) const;
 };

@@ -22,15 +22,15 @@ namespace satgnc::propagation {
 
 /// Integrator settings (plain struct; defaults as in Hairer's DOP853 unless noted).
 struct Dop853Settings {
-  double rtol = 1e-10;     ///< relative tolerance (> 10 machine epsilons, as in Hairer's code)
-  double atol = 1e-12;     ///< absolute tolerance (>= 0), units of the state
-  long max_steps = 100000; ///< step budget (accepted + rejected), > 0
-  double h0 = 0.0;         ///< initial |step|; 0 selects it automatically (Hairer's HINIT)
-  double h_max = 0.0;      ///< largest |step|; 0 means |t_end - t0|
-  double safety = 0.9;     ///< safety factor of the step-size controller, in (1e-4, 1)
-  double fac_min = 0.333;  ///< smallest step-size ratio h_new / h per step, in (0, 1]
-  double fac_max = 6.0;    ///< largest step-size ratio h_new / h per step, >= 1
-  double beta = 0.0;       ///< PI-control (Lund) stabilisation, in [0, 0.2]
+  double rtol = 1e-10;      ///< relative tolerance (> 10 machine epsilons, as in Hairer's code)
+  double atol = 1e-12;      ///< absolute tolerance (>= 0), units of the state
+  long max_steps = 100000;  ///< step budget (accepted + rejected), > 0
+  double h0 = 0.0;          ///< initial |step|; 0 selects it automatically (Hairer's HINIT)
+  double h_max = 0.0;       ///< largest |step|; 0 means |t_end - t0|
+  double safety = 0.9;      ///< safety factor of the step-size controller, in (1e-4, 1)
+  double fac_min = 0.333;   ///< smallest step-size ratio h_new / h per step, in (0, 1]
+  double fac_max = 6.0;     ///< largest step-size ratio h_new / h per step, >= 1
+  double beta = 0.0;        ///< PI-control (Lund) stabilisation, in [0, 0.2]
 };
 
 /// Outcome of Dop853::solve.
@@ -67,22 +67,21 @@ inline const char* dop853_status_message(Dop853Status s) {
 /// Statistics and status of one solve.
 struct Dop853Info {
   Dop853Status status = Dop853Status::success;
-  long steps = 0;      ///< accepted steps
-  long rejected = 0;   ///< rejected steps
-  long rhs_evals = 0;  ///< right-hand-side evaluations
-  double t_reached = 0.0;  ///< last accepted time
-  double h_last = 0.0;     ///< last step size attempted
-  std::size_t outputs = 0; ///< number of output times delivered
+  long steps = 0;           ///< accepted steps
+  long rejected = 0;        ///< rejected steps
+  long rhs_evals = 0;       ///< right-hand-side evaluations
+  double t_reached = 0.0;   ///< last accepted time
+  double h_last = 0.0;      ///< last step size attempted
+  std::size_t outputs = 0;  ///< number of output times delivered
 };
 
 /// Check a Settings struct; returns Dop853Status::success or invalid_settings.
 inline Dop853Status dop853_check_settings(const Dop853Settings& s) {
   const bool ok = std::isfinite(s.rtol) && s.rtol > 10.0 * std::numeric_limits<double>::epsilon() &&
-      std::isfinite(s.atol) && s.atol >= 0.0 &&
-                  s.max_steps > 0 && std::isfinite(s.h0) && s.h0 >= 0.0 && std::isfinite(s.h_max) &&
-                  s.h_max >= 0.0 && s.safety > 1e-4 && s.safety < 1.0 && s.fac_min > 0.0 &&
-                  s.fac_min <= 1.0 && std::isfinite(s.fac_max) && s.fac_max >= 1.0 && s.beta >= 0.0 &&
-                  s.beta <= 0.2;
+                  std::isfinite(s.atol) && s.atol >= 0.0 && s.max_steps > 0 && std::isfinite(s.h0) &&
+                  s.h0 >= 0.0 && std::isfinite(s.h_max) && s.h_max >= 0.0 && s.safety > 1e-4 &&
+                  s.safety < 1.0 && s.fac_min > 0.0 && s.fac_min <= 1.0 && std::isfinite(s.fac_max) &&
+                  s.fac_max >= 1.0 && s.beta >= 0.0 && s.beta <= 0.2;
   return ok ? Dop853Status::success : Dop853Status::invalid_settings;
 }
 
@@ -304,9 +303,14 @@ double Dop853<N, Rhs>::error_norm(double h) const {
                           .max(std::numeric_limits<double>::min())
                           .inverse()
                           .eval();
-  const double err3 = ((bsum_ - tb::bhh1 * k[0] - tb::bhh9 * k[8] - tb::bhh12 * k[11]).array() * inv_sk).square().sum();
-  const double err5 = ((tb::e1 * k[0] + tb::e6 * k[5] + tb::e7 * k[6] + tb::e8 * k[7] + tb::e9 * k[8] + tb::e10 * k[9] +
-      tb::e11 * k[10] + tb::e12 * k[11]).array() * inv_sk).square().sum();
+  const double err3 =
+      ((bsum_ - tb::bhh1 * k[0] - tb::bhh9 * k[8] - tb::bhh12 * k[11]).array() * inv_sk).square().sum();
+  const double err5 = ((tb::e1 * k[0] + tb::e6 * k[5] + tb::e7 * k[6] + tb::e8 * k[7] + tb::e9 * k[8] +
+                        tb::e10 * k[9] + tb::e11 * k[10] + tb::e12 * k[11])
+                           .array() *
+                       inv_sk)
+                          .square()
+                          .sum();
   double deno = err5 + 0.01 * err3;
   if (deno <= 0.0) deno = 1.0;
   return std::abs(h) * err5 * std::sqrt(1.0 / (N * deno));
@@ -334,29 +338,30 @@ template <int N, class Rhs>
 void Dop853<N, Rhs>::prepare_dense(double t, double h) {
   namespace tb = dop853_tableau;
   Vec* k = k_;
-    yt_.noalias() = y_ + h * (tb::a14_1 * k[0] + tb::a14_7 * k[6] + tb::a14_8 * k[7] + tb::a14_9 * k[8] + tb::a14_10 * k[9] +
-        tb::a14_11 * k[10] + tb::a14_12 * k[11] + tb::a14_13 * k[12]);
-    rhs_(t + tb::c14 * h, yt_, k[13]);
-    yt_.noalias() = y_ + h * (tb::a15_1 * k[0] + tb::a15_6 * k[5] + tb::a15_7 * k[6] + tb::a15_8 * k[7] + tb::a15_11 * k[10] +
-        tb::a15_12 * k[11] + tb::a15_13 * k[12] + tb::a15_14 * k[13]);
-    rhs_(t + tb::c15 * h, yt_, k[14]);
-    yt_.noalias() = y_ + h * (tb::a16_1 * k[0] + tb::a16_6 * k[5] + tb::a16_7 * k[6] + tb::a16_8 * k[7] + tb::a16_9 * k[8] +
-        tb::a16_13 * k[12] + tb::a16_14 * k[13] + tb::a16_15 * k[14]);
-    rhs_(t + tb::c16 * h, yt_, k[15]);
-    cont_[4].noalias() = h * (tb::d4_1 * k[0] + tb::d4_6 * k[5] + tb::d4_7 * k[6] + tb::d4_8 * k[7] + tb::d4_9 * k[8] +
-        tb::d4_10 * k[9] + tb::d4_11 * k[10] + tb::d4_12 * k[11] + tb::d4_13 * k[12] + tb::d4_14 * k[13] + tb::d4_15 * k[14] +
-        tb::d4_16 * k[15]);
-    cont_[5].noalias() = h * (tb::d5_1 * k[0] + tb::d5_6 * k[5] + tb::d5_7 * k[6] + tb::d5_8 * k[7] + tb::d5_9 * k[8] +
-        tb::d5_10 * k[9] + tb::d5_11 * k[10] + tb::d5_12 * k[11] + tb::d5_13 * k[12] + tb::d5_14 * k[13] + tb::d5_15 * k[14] +
-        tb::d5_16 * k[15]);
-    cont_[6].noalias() = h * (tb::d6_1 * k[0] + tb::d6_6 * k[5] + tb::d6_7 * k[6] + tb::d6_8 * k[7] + tb::d6_9 * k[8] +
-        tb::d6_10 * k[9] + tb::d6_11 * k[10] + tb::d6_12 * k[11] + tb::d6_13 * k[12] + tb::d6_14 * k[13] + tb::d6_15 * k[14] +
-        tb::d6_16 * k[15]);
-    cont_[7].noalias() = h * (tb::d7_1 * k[0] + tb::d7_6 * k[5] + tb::d7_7 * k[6] + tb::d7_8 * k[7] + tb::d7_9 * k[8] +
-        tb::d7_10 * k[9] + tb::d7_11 * k[10] + tb::d7_12 * k[11] + tb::d7_13 * k[12] + tb::d7_14 * k[13] + tb::d7_15 * k[14] +
-        tb::d7_16 * k[15]);
+  yt_.noalias() = y_ + h * (tb::a14_1 * k[0] + tb::a14_7 * k[6] + tb::a14_8 * k[7] + tb::a14_9 * k[8] +
+                            tb::a14_10 * k[9] + tb::a14_11 * k[10] + tb::a14_12 * k[11] + tb::a14_13 * k[12]);
+  rhs_(t + tb::c14 * h, yt_, k[13]);
+  yt_.noalias() =
+      y_ + h * (tb::a15_1 * k[0] + tb::a15_6 * k[5] + tb::a15_7 * k[6] + tb::a15_8 * k[7] +
+                tb::a15_11 * k[10] + tb::a15_12 * k[11] + tb::a15_13 * k[12] + tb::a15_14 * k[13]);
+  rhs_(t + tb::c15 * h, yt_, k[14]);
+  yt_.noalias() = y_ + h * (tb::a16_1 * k[0] + tb::a16_6 * k[5] + tb::a16_7 * k[6] + tb::a16_8 * k[7] +
+                            tb::a16_9 * k[8] + tb::a16_13 * k[12] + tb::a16_14 * k[13] + tb::a16_15 * k[14]);
+  rhs_(t + tb::c16 * h, yt_, k[15]);
+  cont_[4].noalias() = h * (tb::d4_1 * k[0] + tb::d4_6 * k[5] + tb::d4_7 * k[6] + tb::d4_8 * k[7] +
+                            tb::d4_9 * k[8] + tb::d4_10 * k[9] + tb::d4_11 * k[10] + tb::d4_12 * k[11] +
+                            tb::d4_13 * k[12] + tb::d4_14 * k[13] + tb::d4_15 * k[14] + tb::d4_16 * k[15]);
+  cont_[5].noalias() = h * (tb::d5_1 * k[0] + tb::d5_6 * k[5] + tb::d5_7 * k[6] + tb::d5_8 * k[7] +
+                            tb::d5_9 * k[8] + tb::d5_10 * k[9] + tb::d5_11 * k[10] + tb::d5_12 * k[11] +
+                            tb::d5_13 * k[12] + tb::d5_14 * k[13] + tb::d5_15 * k[14] + tb::d5_16 * k[15]);
+  cont_[6].noalias() = h * (tb::d6_1 * k[0] + tb::d6_6 * k[5] + tb::d6_7 * k[6] + tb::d6_8 * k[7] +
+                            tb::d6_9 * k[8] + tb::d6_10 * k[9] + tb::d6_11 * k[10] + tb::d6_12 * k[11] +
+                            tb::d6_13 * k[12] + tb::d6_14 * k[13] + tb::d6_15 * k[14] + tb::d6_16 * k[15]);
+  cont_[7].noalias() = h * (tb::d7_1 * k[0] + tb::d7_6 * k[5] + tb::d7_7 * k[6] + tb::d7_8 * k[7] +
+                            tb::d7_9 * k[8] + tb::d7_10 * k[9] + tb::d7_11 * k[10] + tb::d7_12 * k[11] +
+                            tb::d7_13 * k[12] + tb::d7_14 * k[13] + tb::d7_15 * k[14] + tb::d7_16 * k[15]);
 
-    nfev_ += 3;
+  nfev_ += 3;
   cont_[0] = y_;
   cont_[1] = ynew_ - y_;
   cont_[2] = h * k[0] - cont_[1];
@@ -369,8 +374,8 @@ void Dop853<N, Rhs>::interpolate(double s, Vec& y) const {
   y.noalias() =
       cont_[0] +
       s * (cont_[1] +
-           s1 * (cont_[2] + s * (cont_[3] + s1 * (cont_[4] + s * (cont_[5] + s1 * (cont_[6] +
-               s * cont_[7]))))));
+           s1 * (cont_[2] +
+                 s * (cont_[3] + s1 * (cont_[4] + s * (cont_[5] + s1 * (cont_[6] + s * cont_[7]))))));
 }
 
 template <int N, class Rhs>
@@ -451,22 +456,24 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
     rhs_(t + tb::c6 * h, yt_, k[5]);
     yt_.noalias() = y_ + h * (tb::a7_1 * k[0] + tb::a7_4 * k[3] + tb::a7_5 * k[4] + tb::a7_6 * k[5]);
     rhs_(t + tb::c7 * h, yt_, k[6]);
-    yt_.noalias() = y_ + h * (tb::a8_1 * k[0] + tb::a8_4 * k[3] + tb::a8_5 * k[4] + tb::a8_6 * k[5] + tb::a8_7 * k[6]);
+    yt_.noalias() =
+        y_ + h * (tb::a8_1 * k[0] + tb::a8_4 * k[3] + tb::a8_5 * k[4] + tb::a8_6 * k[5] + tb::a8_7 * k[6]);
     rhs_(t + tb::c8 * h, yt_, k[7]);
-    yt_.noalias() = y_ + h * (tb::a9_1 * k[0] + tb::a9_4 * k[3] + tb::a9_5 * k[4] + tb::a9_6 * k[5] + tb::a9_7 * k[6] +
-        tb::a9_8 * k[7]);
+    yt_.noalias() = y_ + h * (tb::a9_1 * k[0] + tb::a9_4 * k[3] + tb::a9_5 * k[4] + tb::a9_6 * k[5] +
+                              tb::a9_7 * k[6] + tb::a9_8 * k[7]);
     rhs_(t + tb::c9 * h, yt_, k[8]);
-    yt_.noalias() = y_ + h * (tb::a10_1 * k[0] + tb::a10_4 * k[3] + tb::a10_5 * k[4] + tb::a10_6 * k[5] + tb::a10_7 * k[6] +
-        tb::a10_8 * k[7] + tb::a10_9 * k[8]);
+    yt_.noalias() = y_ + h * (tb::a10_1 * k[0] + tb::a10_4 * k[3] + tb::a10_5 * k[4] + tb::a10_6 * k[5] +
+                              tb::a10_7 * k[6] + tb::a10_8 * k[7] + tb::a10_9 * k[8]);
     rhs_(t + tb::c10 * h, yt_, k[9]);
-    yt_.noalias() = y_ + h * (tb::a11_1 * k[0] + tb::a11_4 * k[3] + tb::a11_5 * k[4] + tb::a11_6 * k[5] + tb::a11_7 * k[6] +
-        tb::a11_8 * k[7] + tb::a11_9 * k[8] + tb::a11_10 * k[9]);
+    yt_.noalias() = y_ + h * (tb::a11_1 * k[0] + tb::a11_4 * k[3] + tb::a11_5 * k[4] + tb::a11_6 * k[5] +
+                              tb::a11_7 * k[6] + tb::a11_8 * k[7] + tb::a11_9 * k[8] + tb::a11_10 * k[9]);
     rhs_(t + tb::c11 * h, yt_, k[10]);
-    yt_.noalias() = y_ + h * (tb::a12_1 * k[0] + tb::a12_4 * k[3] + tb::a12_5 * k[4] + tb::a12_6 * k[5] + tb::a12_7 * k[6] +
-        tb::a12_8 * k[7] + tb::a12_9 * k[8] + tb::a12_10 * k[9] + tb::a12_11 * k[10]);
+    yt_.noalias() = y_ + h * (tb::a12_1 * k[0] + tb::a12_4 * k[3] + tb::a12_5 * k[4] + tb::a12_6 * k[5] +
+                              tb::a12_7 * k[6] + tb::a12_8 * k[7] + tb::a12_9 * k[8] + tb::a12_10 * k[9] +
+                              tb::a12_11 * k[10]);
     rhs_(t + tb::c12 * h, yt_, k[11]);
-    bsum_.noalias() = tb::a13_1 * k[0] + tb::a13_6 * k[5] + tb::a13_7 * k[6] + tb::a13_8 * k[7] + tb::a13_9 * k[8] +
-        tb::a13_10 * k[9] + tb::a13_11 * k[10] + tb::a13_12 * k[11];
+    bsum_.noalias() = tb::a13_1 * k[0] + tb::a13_6 * k[5] + tb::a13_7 * k[6] + tb::a13_8 * k[7] +
+                      tb::a13_9 * k[8] + tb::a13_10 * k[9] + tb::a13_11 * k[10] + tb::a13_12 * k[11];
 
     ynew_.noalias() = y_ + h * bsum_;
     nfev_ += 11;
@@ -538,8 +545,7 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
 /// @throws std::invalid_argument naming the argument: non-finite x0/t0/times, |r0| = 0, decreasing
 ///   times, invalid settings (rtol <= 0, ...), invalid force model.
 Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6& x0, double t0,
-                            const std::vector<double>& times, const Dop853Settings& settings,
-                            bool with_stm);
+                            const std::vector<double>& times, const Dop853Settings& settings, bool with_stm);
 
 /// Throw std::invalid_argument naming the first invalid field of a Dop853Settings.
 void dop853_validate_settings(const Dop853Settings& settings);
@@ -645,10 +651,10 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
     Dop853Info info;
     if (with_stm)
       detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), ps.data(),
-          info);
+                                               info);
     else
       detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), nullptr,
-          info);
+                                                info);
     for (std::size_t j = 0; j < info.outputs; ++j) {
       states[idx[j]] = xs[j];
       if (with_stm) stms[idx[j]] = ps[j];

@@ -45,8 +45,8 @@ struct KeplerInfo {
 /// @param info optional diagnostics
 /// @param max_iterations iteration budget of the Kepler solver (tests lower it to force a failure)
 /// @return KeplerStatus::success, or why x is not valid. Allocates nothing; throws nothing.
-KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* stm,
-                         KeplerInfo* info = nullptr, int max_iterations = KeplerLimits::max_iterations);
+KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* stm, KeplerInfo* info = nullptr,
+                         int max_iterations = KeplerLimits::max_iterations);
 
 /// Stumpff functions c_k(psi), k = 0..5, with c_k(psi) = sum_j (-psi)^j / (k + 2j)!.
 /// Series for |psi| < 1, closed forms (trigonometric or hyperbolic) elsewhere.

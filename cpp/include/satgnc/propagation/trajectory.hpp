@@ -11,12 +11,12 @@ namespace satgnc::propagation {
 /// Outcome of a propagation. Anything but success means the arc ended early at Trajectory::t_reached.
 enum class PropagationStatus {
   success = 0,
-  too_much_work,        ///< step budget (Settings::max_steps) exhausted
-  too_much_accuracy,    ///< tolerances below what double precision can deliver
-  error_test_failures,  ///< repeated local error test failures (step size collapsed)
-  convergence_failures, ///< corrector did not converge repeatedly
-  rhs_failure,          ///< the force model failed (e.g. |r| reached 0, non-finite acceleration)
-  solver_failure,       ///< any other integrator failure
+  too_much_work,         ///< step budget (Settings::max_steps) exhausted
+  too_much_accuracy,     ///< tolerances below what double precision can deliver
+  error_test_failures,   ///< repeated local error test failures (step size collapsed)
+  convergence_failures,  ///< corrector did not converge repeatedly
+  rhs_failure,           ///< the force model failed (e.g. |r| reached 0, non-finite acceleration)
+  solver_failure,        ///< any other integrator failure
 };
 
 /// Human-readable message for a status (message table, as OSQP does).
@@ -30,13 +30,13 @@ void validate_orbit_arc_input(const Vec6& x0, double t0, const std::vector<doubl
 
 /// Integrator statistics.
 struct PropagationStats {
-  long steps = 0;           ///< accepted steps
-  long rhs_evals = 0;       ///< right-hand-side evaluations (state + variational equations)
-  long error_test_fails = 0;///< rejected steps
-  long nonlin_iters = 0;    ///< corrector iterations (implicit methods; 0 otherwise)
+  long steps = 0;              ///< accepted steps
+  long rhs_evals = 0;          ///< right-hand-side evaluations (state + variational equations)
+  long error_test_fails = 0;   ///< rejected steps
+  long nonlin_iters = 0;       ///< corrector iterations (implicit methods; 0 otherwise)
   long nonlin_conv_fails = 0;  ///< corrector convergence failures (CVODES)
-  long lin_setups = 0;      ///< linear-solver setups (Jacobian evaluations; Newton corrector only)
-  double last_step = 0.0;   ///< size of the last accepted step, s (signed)
+  long lin_setups = 0;         ///< linear-solver setups (Jacobian evaluations; Newton corrector only)
+  double last_step = 0.0;      ///< size of the last accepted step, s (signed)
 };
 
 /// States (km, km/s) and 6x6 STMs dPhi(t_i, t0) at the requested times t_i (s).
@@ -46,8 +46,8 @@ struct Trajectory {
   std::vector<Mat6> stms;     ///< d x(t_i) / d x(t0); empty when the STM was not requested
   PropagationStats stats;
   PropagationStatus status = PropagationStatus::success;
-  double t_reached = 0.0;     ///< last time the integrator reached, s
-  std::string message;        ///< why it stopped, when status != success
+  double t_reached = 0.0;  ///< last time the integrator reached, s
+  std::string message;     ///< why it stopped, when status != success
 };
 
 }  // namespace satgnc::propagation
