@@ -166,6 +166,7 @@ void init_guidance(py::module_& m) {
       .def("set_x0", &AdmmSolver::set_x0, py::arg("x0"))
       .def("set_xf", &AdmmSolver::set_xf, py::arg("xf"))
       .def("update_settings", &AdmmSolver::update_settings, py::arg("settings"))
+      .def("update_dynamics", &AdmmSolver::update_dynamics, py::arg("A"), py::arg("B"), py::arg("c"))
       .def("objective_of", &AdmmSolver::objective_of, py::arg("U"))
       .def_property_readonly("nx", &AdmmSolver::nx)
       .def_property_readonly("nu", &AdmmSolver::nu)

@@ -128,6 +128,57 @@ def test_random_ltv_matches_clarabel(seed, nx, nu, N, box, terminal, tv):
     assert abs(r.objective - ref_obj) / abs(ref_obj) <= 1e-4
 
 
+@pytest.mark.parametrize("seed,box,terminal", [(11, False, False), (12, True, False), (13, True, True)])
+def test_random_ltv_condensed_step_matches_clarabel(seed, box, terminal):
+    # no stage state cost and a diagonal R: the condensed x/u step runs (x_N = x_N0 + M U)
+    rng = np.random.default_rng(seed)
+    kw = _random_problem(rng, 4, 2, 25, box, terminal, True)
+    kw["Q"] = None
+    kw["R"] = np.diag([0.2, 0.05])
+    r = g.L1Solver(**kw, settings=dict(eps_abs=1e-8, eps_rel=1e-8)).solve()
+    ref_obj, _, _, _ = solve_cvxpy(**{**kw, "Q": None})
+    assert r.condensed
+    assert r.status == "solved"
+    assert abs(r.objective - ref_obj) / abs(ref_obj) <= 1e-4  # rel. optimality goal of the issue
+
+
+def test_update_dynamics_equals_a_fresh_solver():
+    rng = np.random.default_rng(21)
+    kw1 = _random_problem(rng, 4, 2, 20, True, False, True)
+    kw1["c"] = 0.01 * rng.standard_normal((20, 4))
+    kw2 = _random_problem(rng, 4, 2, 20, True, False, True)
+    kw2["c"] = 0.01 * rng.standard_normal((20, 4))
+    kw2 = {**kw1, "A": kw2["A"], "B": kw2["B"], "c": kw2["c"]}
+    for Q in (kw1["Q"], None):  # Riccati step and condensed step
+        s = g.L1Solver(**{**kw1, "Q": Q})
+        s.solve()
+        s.update_dynamics(kw2["A"], kw2["B"], kw2["c"])
+        s.warm_start(np.zeros((20, 2)), np.zeros((20, 2)))  # same start as the fresh solver
+        r = s.solve()
+        f = g.L1Solver(**{**kw2, "Q": Q}).solve()
+        assert r.iterations == f.iterations
+        assert np.abs(r.Y - f.Y).max() <= 1e-9 * max(1.0, np.abs(f.Y).max())
+        assert abs(r.objective - f.objective) <= 1e-9 * abs(f.objective)
+
+
+def test_update_dynamics_bad_input():
+    rng = np.random.default_rng(22)
+    kw = _random_problem(rng, 3, 2, 10, False, False, False)  # time-invariant storage
+    with pytest.raises(ValueError, match="A, B: update_dynamics needs a solver built with horizon"):
+        g.L1Solver(**kw).update_dynamics(np.zeros((10, 3, 3)), np.zeros((10, 3, 2)))
+    kw = _random_problem(rng, 3, 2, 10, False, False, True)
+    kw["c"] = None
+    s = g.L1Solver(**kw)
+    with pytest.raises(ValueError, match="c: the solver was built without c"):
+        s.update_dynamics(kw["A"], kw["B"], np.zeros((10, 3)))
+    with pytest.raises(ValueError, match="A: "):
+        s.update_dynamics(kw["A"][:, :2], kw["B"])
+    bad = kw["B"].copy()
+    bad[3, 0, 0] = np.nan
+    with pytest.raises(ValueError, match="B: "):
+        s.update_dynamics(kw["A"], bad)
+
+
 def test_group_l2_matches_clarabel():
     rng = np.random.default_rng(7)
     kw = _random_problem(rng, 4, 3, 20, False, False, False)

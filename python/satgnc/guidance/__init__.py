@@ -196,6 +196,7 @@ class L1Solver:
         if not (np.isfinite(st.rho) and st.rho > 0):
             raise ValueError(f"settings.rho: must be finite and > 0, got {st.rho}")
         self.nx, self.nu, self.horizon = nx, nu, horizon
+        self._counts = (len(As), len(Bs), len(cs))
         self._solver = _satgnc.AdmmSolver(As, Bs, cs, horizon, x0, xf, Qf, Q, R, w, float(group_l2_weight),
                                           lo, hi, float(u_norm_max), bool(terminal_equality), st)
 
@@ -225,6 +226,29 @@ class L1Solver:
 
     def update_settings(self, settings) -> None:
         self._solver.update_settings(_settings(settings))
+
+    def update_dynamics(self, A, B, c=None) -> None:
+        """Replace the dynamics in place (re-linearization, sequential convex programming, LTV MPC).
+
+        A (N, nx, nx), B (N, nx, nu) and c (N, nx) with the counts given at construction: the solver
+        must have been built time-varying (N matrices each), and c is required exactly when c was
+        given then. The cached factorization is refreshed without allocation; the warm start is kept.
+        """
+        na, nb, nc = self._counts
+        N, nx, nu = self.horizon, self.nx, self.nu
+        if na != N or nb != N or nc not in (0, N):
+            raise ValueError(f"A, B: update_dynamics needs a solver built with horizon = {N} matrices of A "
+                             f"and of B (and of c if any); this one holds {na} / {nb} / {nc}")
+        A = _finite(_as_array(A, "A", 3, (N, nx, nx)), "A")
+        B = _finite(_as_array(B, "B", 3, (N, nx, nu)), "B")
+        if nc == 0 and c is not None:
+            raise ValueError("c: the solver was built without c; pass c=None")
+        if nc == N and c is None:
+            raise ValueError(f"c: required, shape ({N}, {nx}) (the solver was built with c)")
+        cs = [] if c is None else list(_finite(_as_array(c, "c", 2, (N, nx)), "c"))
+        if not self._solver.update_dynamics(list(A), list(B), cs):
+            raise ValueError("A, B: the updated problem cannot be factored at the current rho "
+                             "(R + rho I must stay positive definite)")
 
     def objective_of(self, U) -> float:
         """Objective of flying U (N, nu) from x0."""
