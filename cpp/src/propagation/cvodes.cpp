@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cvodes_detail.hpp"
 #include "satgnc/core/validate.hpp"
 #include "satgnc/propagation/nvector.hpp"
 
@@ -110,10 +111,7 @@ struct CvodesPropagator::Impl {
     return settings.vector == CvodesVector::satgnc ? nvector_new(n, ctx) : N_VNew_Serial(n, ctx);
   }
 
-  void check(int flag, const char* what) {
-    if (flag < 0)
-      throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
-  }
+  void check(int flag, const char* what) { detail::cvodes_check(flag, what, cv_message); }
 
   static int rhs(realtype t, N_Vector yv, N_Vector ydot, void* user) {
     auto* p = static_cast<Impl*>(user);
@@ -159,7 +157,6 @@ struct CvodesPropagator::Impl {
   }
 
   // ---- matrix-embedded linear solver: x = M^-1 b block by block (7 blocks with the STM) ----------
-  static SUNLinearSolver_Type ls_type(SUNLinearSolver) { return SUNLINEARSOLVER_MATRIX_EMBEDDED; }
 
   // CVODES 6.4 never calls setup() on a matrix-embedded solver (it disables lsetup for that type), so
   // solve() refreshes M = I - gamma A(x_pred) itself whenever the step (t, gamma) changed: modified
@@ -228,42 +225,11 @@ struct CvodesPropagator::Impl {
     if (settings.max_step > 0.0) check(CVodeSetMaxStep(mem, settings.max_step), "CVodeSetMaxStep");
     CvodesCorrector c = settings.corrector;
     if (c == CvodesCorrector::automatic) c = CvodesCorrector::newton;  // measured: see docs/propagation.md
-    if (c == CvodesCorrector::fixed_point) {
-      nls = SUNNonlinSol_FixedPoint(y, 0, ctx);
-      if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_FixedPoint failed");
-      check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
-    } else {
-      nls = SUNNonlinSol_Newton(y, ctx);
-      if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_Newton failed");
-      check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
-      ls = SUNLinSolNewEmpty(ctx);
-      if (ls == nullptr) throw std::runtime_error("SUNLinSolNewEmpty failed");
-      ls->content = this;
-      ls->ops->gettype = &Impl::ls_type;
-      ls->ops->solve = &Impl::ls_solve;
-      check(CVodeSetLinearSolver(mem, ls, nullptr), "CVodeSetLinearSolver");
-    }
+    detail::cvodes_attach_corrector(mem, y, ctx, c != CvodesCorrector::fixed_point, this, &Impl::ls_solve,
+                                    cv_message, nls, ls);
   }
 
-  static PropagationStatus map_flag(int flag) {
-    switch (flag) {
-      case CV_TOO_MUCH_WORK:
-        return PropagationStatus::too_much_work;
-      case CV_TOO_MUCH_ACC:
-        return PropagationStatus::too_much_accuracy;
-      case CV_ERR_FAILURE:
-        return PropagationStatus::error_test_failures;
-      case CV_CONV_FAILURE:
-        return PropagationStatus::convergence_failures;
-      case CV_RHSFUNC_FAIL:
-      case CV_FIRST_RHSFUNC_ERR:
-      case CV_REPTD_RHSFUNC_ERR:
-      case CV_UNREC_RHSFUNC_ERR:
-        return PropagationStatus::rhs_failure;
-      default:
-        return PropagationStatus::solver_failure;
-    }
-  }
+  static PropagationStatus map_flag(int flag) { return detail::cvodes_flag_status(flag); }
 
   void record(Trajectory& out, double t) const {
     const double* yd = N_VGetArrayPointer(y);
@@ -273,14 +239,8 @@ struct CvodesPropagator::Impl {
   }
 
   void fill_stats(Trajectory& out) const {
-    PropagationStats& s = out.stats;
-    CVodeGetNumSteps(mem, &s.steps);
-    CVodeGetNumRhsEvals(mem, &s.rhs_evals);
-    CVodeGetNumErrTestFails(mem, &s.error_test_fails);
-    CVodeGetNumNonlinSolvIters(mem, &s.nonlin_iters);
-    CVodeGetNumNonlinSolvConvFails(mem, &s.nonlin_conv_fails);
-    CVodeGetLastStep(mem, &s.last_step);
-    s.lin_setups = lin_setups;
+    detail::cvodes_read_stats(mem, out.stats);
+    out.stats.lin_setups = lin_setups;
   }
 
   void run(const Vec6& x0, double t0, const std::vector<double>& times, Trajectory& out) {

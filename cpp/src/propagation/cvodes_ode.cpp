@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "cvodes_detail.hpp"
 #include "satgnc/core/validate.hpp"
 #include "satgnc/propagation/nvector.hpp"
 
@@ -78,10 +79,7 @@ struct CvodesOde::Impl {
     if (ctx != nullptr) SUNContext_Free(&ctx);
   }
 
-  void check(int flag, const char* what) {
-    if (flag < 0)
-      throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
-  }
+  void check(int flag, const char* what) { detail::cvodes_check(flag, what, cv_message); }
 
   static int rhs(realtype t, N_Vector yv, N_Vector ydot, void* user) {
     auto* p = static_cast<Impl*>(user);
@@ -99,8 +97,6 @@ struct CvodesOde::Impl {
   static void error_handler(int, const char*, const char*, char* msg, void* data) {
     static_cast<Impl*>(data)->cv_message = msg;
   }
-
-  static SUNLinearSolver_Type ls_type(SUNLinearSolver) { return SUNLINEARSOLVER_MATRIX_EMBEDDED; }
 
   // As in CvodesPropagator: CVODES 6.4 does not call setup() on a matrix-embedded solver, so solve()
   // refreshes M = I - gamma J(y_pred) whenever (t, gamma) changed (modified Newton per step).
@@ -153,54 +149,18 @@ struct CvodesOde::Impl {
     }
     if (settings.max_order > 0) check(CVodeSetMaxOrd(mem, settings.max_order), "CVodeSetMaxOrd");
     if (settings.max_step > 0.0) check(CVodeSetMaxStep(mem, settings.max_step), "CVodeSetMaxStep");
-    if (!jac) {
-      nls = SUNNonlinSol_FixedPoint(y, 0, ctx);
-      if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_FixedPoint failed");
-      check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
-    } else {
+    if (jac) {
       J.setZero(n, n);
       M.setZero(n, n);
       lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
-      nls = SUNNonlinSol_Newton(y, ctx);
-      if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_Newton failed");
-      check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver");
-      ls = SUNLinSolNewEmpty(ctx);
-      if (ls == nullptr) throw std::runtime_error("SUNLinSolNewEmpty failed");
-      ls->content = this;
-      ls->ops->gettype = &Impl::ls_type;
-      ls->ops->solve = &Impl::ls_solve;
-      check(CVodeSetLinearSolver(mem, ls, nullptr), "CVodeSetLinearSolver");
     }
+    detail::cvodes_attach_corrector(mem, y, ctx, static_cast<bool>(jac), this, &Impl::ls_solve, cv_message,
+                                    nls, ls);
   }
 
-  static PropagationStatus map_flag(int flag) {
-    switch (flag) {
-      case CV_TOO_MUCH_WORK:
-        return PropagationStatus::too_much_work;
-      case CV_TOO_MUCH_ACC:
-        return PropagationStatus::too_much_accuracy;
-      case CV_ERR_FAILURE:
-        return PropagationStatus::error_test_failures;
-      case CV_CONV_FAILURE:
-        return PropagationStatus::convergence_failures;
-      case CV_RHSFUNC_FAIL:
-      case CV_FIRST_RHSFUNC_ERR:
-      case CV_REPTD_RHSFUNC_ERR:
-      case CV_UNREC_RHSFUNC_ERR:
-        return PropagationStatus::rhs_failure;
-      default:
-        return PropagationStatus::solver_failure;
-    }
-  }
+  static PropagationStatus map_flag(int flag) { return detail::cvodes_flag_status(flag); }
 
-  void fill_stats() {
-    CVodeGetNumSteps(mem, &stats.steps);
-    CVodeGetNumRhsEvals(mem, &stats.rhs_evals);
-    CVodeGetNumErrTestFails(mem, &stats.error_test_fails);
-    CVodeGetNumNonlinSolvIters(mem, &stats.nonlin_iters);
-    CVodeGetNumNonlinSolvConvFails(mem, &stats.nonlin_conv_fails);
-    CVodeGetLastStep(mem, &stats.last_step);
-  }
+  void fill_stats() { detail::cvodes_read_stats(mem, stats); }
 
   PropagationStatus integrate(double t0, Eigen::Ref<Eigen::VectorXd> yin, double t1) {
     stats = PropagationStats{};

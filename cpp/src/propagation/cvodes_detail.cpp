@@ -1,0 +1,69 @@
+// CVODES plumbing shared by CvodesPropagator and CvodesOde.
+#include "cvodes_detail.hpp"
+
+#include <cvodes/cvodes_ls.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+#include <sunnonlinsol/sunnonlinsol_newton.h>
+
+#include <stdexcept>
+
+namespace satgnc::propagation::detail {
+
+PropagationStatus cvodes_flag_status(int flag) {
+  switch (flag) {
+    case CV_TOO_MUCH_WORK:
+      return PropagationStatus::too_much_work;
+    case CV_TOO_MUCH_ACC:
+      return PropagationStatus::too_much_accuracy;
+    case CV_ERR_FAILURE:
+      return PropagationStatus::error_test_failures;
+    case CV_CONV_FAILURE:
+      return PropagationStatus::convergence_failures;
+    case CV_RHSFUNC_FAIL:
+    case CV_FIRST_RHSFUNC_ERR:
+    case CV_REPTD_RHSFUNC_ERR:
+    case CV_UNREC_RHSFUNC_ERR:
+      return PropagationStatus::rhs_failure;
+    default:
+      return PropagationStatus::solver_failure;
+  }
+}
+
+void cvodes_read_stats(void* mem, PropagationStats& s) {
+  CVodeGetNumSteps(mem, &s.steps);
+  CVodeGetNumRhsEvals(mem, &s.rhs_evals);
+  CVodeGetNumErrTestFails(mem, &s.error_test_fails);
+  CVodeGetNumNonlinSolvIters(mem, &s.nonlin_iters);
+  CVodeGetNumNonlinSolvConvFails(mem, &s.nonlin_conv_fails);
+  CVodeGetLastStep(mem, &s.last_step);
+}
+
+void cvodes_check(int flag, const char* what, const std::string& cv_message) {
+  if (flag < 0) throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
+}
+
+namespace {
+SUNLinearSolver_Type matrix_embedded(SUNLinearSolver) { return SUNLINEARSOLVER_MATRIX_EMBEDDED; }
+}  // namespace
+
+void cvodes_attach_corrector(void* mem, N_Vector y, SUNContext ctx, bool newton, void* content,
+                             CvodesLsSolve solve, const std::string& cv_message, SUNNonlinearSolver& nls,
+                             SUNLinearSolver& ls) {
+  if (!newton) {
+    nls = SUNNonlinSol_FixedPoint(y, 0, ctx);
+    if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_FixedPoint failed");
+    cvodes_check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver", cv_message);
+    return;
+  }
+  nls = SUNNonlinSol_Newton(y, ctx);
+  if (nls == nullptr) throw std::runtime_error("SUNNonlinSol_Newton failed");
+  cvodes_check(CVodeSetNonlinearSolver(mem, nls), "CVodeSetNonlinearSolver", cv_message);
+  ls = SUNLinSolNewEmpty(ctx);
+  if (ls == nullptr) throw std::runtime_error("SUNLinSolNewEmpty failed");
+  ls->content = content;
+  ls->ops->gettype = &matrix_embedded;
+  ls->ops->solve = solve;
+  cvodes_check(CVodeSetLinearSolver(mem, ls, nullptr), "CVodeSetLinearSolver", cv_message);
+}
+
+}  // namespace satgnc::propagation::detail

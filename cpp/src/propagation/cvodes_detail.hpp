@@ -1,0 +1,34 @@
+#pragma once
+// Private to the propagation room: what CvodesPropagator (orbits with STM) and CvodesOde (generic
+// N-dimensional systems) share in driving SUNDIALS CVODES 6.4.
+#include <cvodes/cvodes.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_nonlinearsolver.h>
+
+#include <string>
+
+#include "satgnc/propagation/trajectory.hpp"
+
+namespace satgnc::propagation::detail {
+
+/// CVode() return flag -> PropagationStatus.
+PropagationStatus cvodes_flag_status(int flag);
+
+/// Integrator statistics of the current CVODES memory (lin_setups untouched).
+void cvodes_read_stats(void* mem, PropagationStats& s);
+
+/// Throw std::runtime_error("CVODES set-up failed in <what>: <cv_message>") when flag < 0.
+void cvodes_check(int flag, const char* what, const std::string& cv_message);
+
+/// Solve callback of a matrix-embedded linear solver (x = (I - gamma J)^-1 b computed by the owner).
+using CvodesLsSolve = int (*)(SUNLinearSolver, SUNMatrix, N_Vector, N_Vector, realtype);
+
+/// Attach the corrector to `mem`: fixed-point iteration, or Newton with a matrix-embedded linear
+/// solver whose content is `content` and whose solve is `solve`. The created solvers are returned in
+/// nls / ls (the caller frees them). Throws std::runtime_error on failure.
+void cvodes_attach_corrector(void* mem, N_Vector y, SUNContext ctx, bool newton, void* content,
+                             CvodesLsSolve solve, const std::string& cv_message, SUNNonlinearSolver& nls,
+                             SUNLinearSolver& ls);
+
+}  // namespace satgnc::propagation::detail
