@@ -6,20 +6,9 @@
 #include <cstdlib>
 #include <random>
 
+#include "malloc_counter.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "testing.hpp"
-
-namespace {
-std::atomic<long> g_mallocs{0};
-std::atomic<bool> g_count{false};
-}  // namespace
-#if !defined(__SANITIZE_ADDRESS__)
-extern "C" void* __libc_malloc(size_t);
-extern "C" void* malloc(size_t n) {
-  if (g_count.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-#endif
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;

@@ -10,25 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "malloc_counter.hpp"
 #include "satgnc/guidance/ilqr_admm.hpp"
 #include "testing.hpp"
-
-// ---- malloc counter: the test binary interposes malloc (glibc forwards to __libc_malloc), which also
-// sees Eigen's aligned allocations (they call std::malloc, not operator new).
-// Under AddressSanitizer malloc belongs to ASan (mixing in __libc_malloc crashes), so the counter is
-// compiled out there: the sanitizer build still runs every solve for memory errors, and the release
-// build (make test) is the one that proves zero allocations.
-namespace {
-std::atomic<long> g_mallocs{0};
-std::atomic<bool> g_count{false};
-}  // namespace
-#if !defined(__SANITIZE_ADDRESS__)
-extern "C" void* __libc_malloc(size_t);
-extern "C" void* malloc(size_t n) {
-  if (g_count.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-#endif
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
