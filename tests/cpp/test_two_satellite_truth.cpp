@@ -10,6 +10,7 @@
 #include "satgnc/guidance/two_satellite_truth.hpp"
 #include "satgnc/propagation/cvodes_ode.hpp"
 #include "testing.hpp"
+#include "two_satellite_fixture.hpp"
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -23,14 +24,9 @@ using satgnc::propagation::PropagationStatus;
 using namespace satgnc::guidance;
 
 namespace {
-constexpr double kMu = 3.99e14;
-constexpr double kR = 7231.0e3;
-
-Vec12 release_state() {
-  Vec12 x;
-  x << 20.0, 30.0, 10.0, kR, 0.0, 0.0, 0.4, 0.6, -0.1, 0.0, std::sqrt(kMu / kR), 0.0;
-  return x;
-}
+using satgnc::testing::kMu;
+using satgnc::testing::kR;
+using satgnc::testing::release_state;
 TwoSatelliteParams truth_params() {
   TwoSatelliteParams p;
   p.mu = kMu;

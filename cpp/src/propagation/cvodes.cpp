@@ -151,11 +151,6 @@ struct CvodesPropagator::Impl {
     return 0;
   }
 
-  static void error_handler(int /*code*/, const char* /*module*/, const char* /*function*/, char* msg,
-                            void* data) {
-    static_cast<Impl*>(data)->cv_message = msg;
-  }
-
   // ---- matrix-embedded linear solver: x = M^-1 b block by block (7 blocks with the STM) ----------
 
   // CVODES 6.4 never calls setup() on a matrix-embedded solver (it disables lsetup for that type), so
@@ -165,11 +160,9 @@ struct CvodesPropagator::Impl {
   // STM part, which costs iterations but not accuracy (the residual is exact).
   static int ls_solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, realtype) {
     auto* p = static_cast<Impl*>(s->content);
-    realtype tcur, gamma, rl1;
-    N_Vector ypred, yn, fn, zn1;
-    void* ud;
-    if (CVodeGetNonlinearSystemData(p->mem, &tcur, &ypred, &yn, &fn, &gamma, &rl1, &zn1, &ud) != CV_SUCCESS)
-      return SUNLS_PACKAGE_FAIL_UNREC;
+    realtype tcur, gamma;
+    N_Vector ypred;
+    if (!detail::cvodes_newton_point(p->mem, tcur, gamma, ypred)) return SUNLS_PACKAGE_FAIL_UNREC;
     if (p->lin_setups == 0 || tcur != p->lu_t || gamma != p->lu_gamma) {
       const double* yd = N_VGetArrayPointer(ypred);
       const Eigen::Map<const Vec3> r(yd), v(yd + 3);
@@ -207,7 +200,7 @@ struct CvodesPropagator::Impl {
     yd[0] = 1.0;
     mem = CVodeCreate(settings.method == CvodesMethod::adams ? CV_ADAMS : CV_BDF, ctx);
     if (mem == nullptr) throw std::runtime_error("CVodeCreate failed");
-    check(CVodeSetErrHandlerFn(mem, &Impl::error_handler, this), "CVodeSetErrHandlerFn");
+    check(CVodeSetErrHandlerFn(mem, &detail::cvodes_store_message, &cv_message), "CVodeSetErrHandlerFn");
     check(CVodeInit(mem, &Impl::rhs, 0.0, y), "CVodeInit");
     check(CVodeSetUserData(mem, this), "CVodeSetUserData");
     if (settings.atol_components.empty()) {

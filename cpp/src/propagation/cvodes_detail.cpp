@@ -42,6 +42,17 @@ void cvodes_check(int flag, const char* what, const std::string& cv_message) {
   if (flag < 0) throw std::runtime_error(std::string("CVODES set-up failed in ") + what + ": " + cv_message);
 }
 
+void cvodes_store_message(int, const char*, const char*, char* msg, void* message) {
+  *static_cast<std::string*>(message) = msg;
+}
+
+bool cvodes_newton_point(void* mem, realtype& t, realtype& gamma, N_Vector& ypred) {
+  realtype rl1;
+  N_Vector yn, fn, zn1;
+  void* ud;
+  return CVodeGetNonlinearSystemData(mem, &t, &ypred, &yn, &fn, &gamma, &rl1, &zn1, &ud) == CV_SUCCESS;
+}
+
 namespace {
 SUNLinearSolver_Type matrix_embedded(SUNLinearSolver) { return SUNLINEARSOLVER_MATRIX_EMBEDDED; }
 }  // namespace

@@ -21,6 +21,14 @@ void cvodes_read_stats(void* mem, PropagationStats& s);
 /// Throw std::runtime_error("CVODES set-up failed in <what>: <cv_message>") when flag < 0.
 void cvodes_check(int flag, const char* what, const std::string& cv_message);
 
+/// CVODES error handler that stores the message in the std::string passed as user data (the core
+/// never prints): CVodeSetErrHandlerFn(mem, &cvodes_store_message, &message).
+void cvodes_store_message(int code, const char* module, const char* function, char* msg, void* message);
+
+/// Time, gamma and predicted state of the current Newton system (for a matrix-embedded linear
+/// solver that refreshes I - gamma J itself); false if CVODES cannot provide them.
+bool cvodes_newton_point(void* mem, realtype& t, realtype& gamma, N_Vector& ypred);
+
 /// Solve callback of a matrix-embedded linear solver (x = (I - gamma J)^-1 b computed by the owner).
 using CvodesLsSolve = int (*)(SUNLinearSolver, SUNMatrix, N_Vector, N_Vector, realtype);
 

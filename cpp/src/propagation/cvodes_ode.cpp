@@ -94,19 +94,13 @@ struct CvodesOde::Impl {
     return 0;
   }
 
-  static void error_handler(int, const char*, const char*, char* msg, void* data) {
-    static_cast<Impl*>(data)->cv_message = msg;
-  }
-
   // As in CvodesPropagator: CVODES 6.4 does not call setup() on a matrix-embedded solver, so solve()
   // refreshes M = I - gamma J(y_pred) whenever (t, gamma) changed (modified Newton per step).
   static int ls_solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, realtype) {
     auto* p = static_cast<Impl*>(s->content);
-    realtype tcur, gamma, rl1;
-    N_Vector ypred, yn, fn, zn1;
-    void* ud;
-    if (CVodeGetNonlinearSystemData(p->mem, &tcur, &ypred, &yn, &fn, &gamma, &rl1, &zn1, &ud) != CV_SUCCESS)
-      return SUNLS_PACKAGE_FAIL_UNREC;
+    realtype tcur, gamma;
+    N_Vector ypred;
+    if (!detail::cvodes_newton_point(p->mem, tcur, gamma, ypred)) return SUNLS_PACKAGE_FAIL_UNREC;
     if (!p->lu_valid || tcur != p->lu_t || gamma != p->lu_gamma) {
       if (!p->jac(tcur, N_VGetArrayPointer(ypred), p->J.data()) || !p->J.allFinite())
         return SUNLS_PACKAGE_FAIL_REC;
@@ -135,7 +129,7 @@ struct CvodesOde::Impl {
     for (int i = 0; i < n; ++i) yd[i] = 0.0;
     mem = CVodeCreate(settings.method == CvodesMethod::adams ? CV_ADAMS : CV_BDF, ctx);
     if (mem == nullptr) throw std::runtime_error("CVodeCreate failed");
-    check(CVodeSetErrHandlerFn(mem, &Impl::error_handler, this), "CVodeSetErrHandlerFn");
+    check(CVodeSetErrHandlerFn(mem, &detail::cvodes_store_message, &cv_message), "CVodeSetErrHandlerFn");
     check(CVodeInit(mem, &Impl::rhs, 0.0, y), "CVodeInit");
     check(CVodeSetUserData(mem, this), "CVodeSetUserData");
     if (settings.atol_components.empty()) {
