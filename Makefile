@@ -10,6 +10,15 @@ CTEST := $(VENV)/bin/ctest
 GEN := -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(VENV))/bin/ninja
 PREFIX := $(CURDIR)/build/prefix
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+# ccache, when present, makes rebuilds in a second checkout (a git worktree) nearly free; paths are
+# taken relative to the checkout so that two checkouts share the cache.
+CCACHE := $(shell command -v ccache 2>/dev/null)
+ifneq ($(CCACHE),)
+export CCACHE_BASEDIR := $(CURDIR)
+export CCACHE_NOHASHDIR := 1
+LAUNCHER_PIP := -C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=$(CCACHE)
+LAUNCHER := -DCMAKE_CXX_COMPILER_LAUNCHER=$(CCACHE)
+endif
 SOURCES := $(shell find cpp python tests/cpp examples/cpp cmake -type f \
              -not -name '*.so' -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml
 
@@ -32,7 +41,7 @@ setup: build/.system-stamp $(VENV)/.stamp
 # One CMake build serves the Python wheel, the gtest binaries and the installed C++ package.
 build/.install-stamp: $(VENV)/.stamp $(SOURCES)
 	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation --no-deps \
-	  -C build-dir=$(BUILD) -C cmake.define.SATGNC_BUILD_TESTS=ON -C cmake.define.CMAKE_INSTALL_PREFIX=$(PREFIX) .
+	  -C build-dir=$(BUILD) $(LAUNCHER_PIP) -C cmake.define.SATGNC_BUILD_TESTS=ON -C cmake.define.CMAKE_INSTALL_PREFIX=$(PREFIX) .
 	$(CMAKE) --install $(BUILD) --component satgnc_dev --prefix $(PREFIX) > /dev/null
 	@touch $@
 
@@ -43,7 +52,7 @@ cpp-test: install
 
 # Flight-style C++ linking only the installed static library (no Python).
 example: install
-	$(CMAKE) -S examples/cpp -B build/examples $(GEN) -DCMAKE_PREFIX_PATH=$(PREFIX) > /dev/null
+	$(CMAKE) -S examples/cpp -B build/examples $(GEN) $(LAUNCHER) -DCMAKE_PREFIX_PATH=$(PREFIX) > /dev/null
 	$(CMAKE) --build build/examples -j $(JOBS)
 	@for exe in build/examples/satgnc_example_*; do echo "== $$exe"; $$exe || exit 1; done
 
@@ -56,7 +65,7 @@ demo: install
 	$(VENV)/bin/satgnc reproduce
 
 sanitize: setup
-	$(CMAKE) -S . -B build/asan $(GEN) -DCMAKE_BUILD_TYPE=Debug -DSATGNC_BUILD_PYTHON=OFF \
+	$(CMAKE) -S . -B build/asan $(GEN) $(LAUNCHER) -DCMAKE_BUILD_TYPE=Debug -DSATGNC_BUILD_PYTHON=OFF \
 	  -DSATGNC_BUILD_TESTS=ON -DSATGNC_SANITIZE=ON > /dev/null
 	$(CMAKE) --build build/asan -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 $(CTEST) --test-dir build/asan --output-on-failure -j $(JOBS)
