@@ -72,7 +72,8 @@ def as_real_array(
     if shape is not None:
         ok = arr.ndim == len(shape) and all(s is None or s == a for s, a in zip(shape, arr.shape))
         if not ok:
-            want = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+            dims = ", ".join("n" if s is None else str(s) for s in shape)
+            want = f"({dims},)" if len(shape) == 1 else f"({dims})"
             raise ValueError(f"{name}: must have shape {want}, got {arr.shape}")
     if finite:
         bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
