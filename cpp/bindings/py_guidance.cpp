@@ -88,7 +88,10 @@ void init_guidance(py::module_& m) {
       .value("max_iterations", AdmmStatus::kMaxIterations)
       .value("terminal_unreachable", AdmmStatus::kTerminalUnreachable)
       .value("numerical_error", AdmmStatus::kNumericalError)
-      .value("unsolved", AdmmStatus::kUnsolved);
+      .value("unsolved", AdmmStatus::kUnsolved)
+      .value("solved_inaccurate", AdmmStatus::kSolvedInaccurate)
+      .value("primal_infeasible", AdmmStatus::kPrimalInfeasible)
+      .value("time_limit", AdmmStatus::kTimeLimit);
   m.def("admm_status_message",
         [](int s) { return std::string(guidance::status_message(static_cast<AdmmStatus>(s))); });
 

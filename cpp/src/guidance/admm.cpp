@@ -33,6 +33,12 @@ const char* status_message(AdmmStatus s) noexcept {
       return "numerical error: non-finite iterate or failed Riccati factorization";
     case AdmmStatus::kUnsolved:
       return "not solved yet";
+    case AdmmStatus::kSolvedInaccurate:
+      return "solved inaccurate: stopped at a limit with only the loose tolerances met";
+    case AdmmStatus::kPrimalInfeasible:
+      return "primal infeasible: the bounds and the terminal state cannot all hold (certificate given)";
+    case AdmmStatus::kTimeLimit:
+      return "time limit reached: best iterate returned, check the residuals";
   }
   return "unknown status";
 }

@@ -95,6 +95,9 @@ enum class AdmmStatus {
   kTerminalUnreachable = 3,  ///< hard terminal state outside the reachable set
   kNumericalError = 4,       ///< non-finite iterate or failed factorization
   kUnsolved = 5,             ///< solve() not called yet
+  kSolvedInaccurate = 6,     ///< stopped at a limit with the loose tolerances met; best iterate
+  kPrimalInfeasible = 7,     ///< constraints cannot all hold (certificate in the result)
+  kTimeLimit = 8,            ///< AdmmSettings::time_limit reached; best iterate returned
 };
 const char* status_message(AdmmStatus s) noexcept;
 
