@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from . import _satgnc
 from ._satgnc import EARTH_J2, EARTH_MU, EARTH_OMEGA, EARTH_RADIUS
+from ._validate import FileFormatError
 from .propagation import (
     ExponentialDrag,
     ForceModel,
@@ -30,6 +31,7 @@ __all__ = [
     "J2Gravity",
     "ExponentialDrag",
     "PropagationError",
+    "FileFormatError",
     "EARTH_MU",
     "EARTH_RADIUS",
     "EARTH_J2",
