@@ -28,6 +28,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from .. import _satgnc as _c
+from .._validate import FileFormatError, as_int, as_real, as_real_array, did_you_mean, read_text_file
 
 EARTH_MU = 398600.4418  #: km^3/s^2 (EGM-96)
 EARTH_OMEGA = 7.292115e-5  #: rad/s
@@ -330,39 +331,98 @@ class Observations:
         return ["range" if k == MeasurementType.range else "range_rate" for k in self.type]
 
 
-def read_csv(path) -> Observations:
-    """Observations from a CSV file with a header holding ``t,type,value,sigma[,station]`` (t in s
-    from the epoch; type range/range_rate; value and sigma in km or km/s). Errors name the line."""
-    import csv
-    import pathlib
+_CSV_COLUMNS = ("t", "type", "value", "sigma", "station")
 
-    p = pathlib.Path(path)
-    if not p.exists():
-        raise FileNotFoundError(f"path: {p} does not exist")
+
+def _csv_float(cell: str, column: str, p, lineno: int) -> float:
+    try:
+        v = float(cell)
+    except ValueError:
+        raise FileFormatError(p, lineno, f"column '{column}': not a number: {cell!r}", key=column) from None
+    if not math.isfinite(v):
+        raise FileFormatError(p, lineno, f"column '{column}': must be finite, got {cell!r}", key=column)
+    return v
+
+
+def read_csv(path) -> Observations:
+    """Observations from a CSV file with a header holding ``t,type,value,sigma[,station]`` in any
+    order (t in s from the epoch; type range/range_rate; value and sigma in km or km/s; station a
+    0-based index, default 0). Blank lines and lines starting with ``#`` are skipped; UTF-8 with or
+    without a byte-order mark, LF or CRLF line ends.
+
+    Every error in the content is a :class:`satgnc.FileFormatError` (a ``ValueError``) naming the
+    file, the line and the column: unknown, duplicated or missing header columns, a wrong number of
+    cells, a non-numeric or non-finite cell, a range <= 0, a sigma <= 0, a negative station index, and
+    two rows with the same time, type and station (both lines named). Rows need not be time-ordered."""
+    import csv
+
+    p, text = read_text_file(path)
+    header = None
     rows = {"t": [], "type": [], "value": [], "sigma": [], "station": []}
-    with p.open(newline="") as f:
-        reader = csv.reader(line for line in f if not line.lstrip().startswith("#"))
-        header = [h.strip().lower() for h in next(reader, [])]
-        need = ["t", "type", "value", "sigma"]
-        missing = [h for h in need if h not in header]
-        if missing:
-            raise ValueError(f"{p}: header must name {need} (+ optional station), missing {missing}")
-        for lineno, rec in enumerate(reader, start=2):
-            if not rec or all(not c.strip() for c in rec):
-                continue
-            if len(rec) != len(header):
-                raise ValueError(f"{p}:{lineno}: expected {len(header)} fields, got {len(rec)}")
-            d = dict(zip(header, (c.strip() for c in rec)))
-            try:
-                rows["t"].append(float(d["t"]))
-                rows["value"].append(float(d["value"]))
-                rows["sigma"].append(float(d["sigma"]))
-                rows["station"].append(int(d.get("station", "0") or 0))
-                rows["type"].append(_mtype(d["type"]))
-            except ValueError as e:
-                raise ValueError(f"{p}:{lineno}: {e}") from None
+    seen: dict[tuple, int] = {}
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        rec = [c.strip() for c in next(csv.reader([line]))]
+        if header is None:
+            header = [h.lower() for h in rec]
+            for i, h in enumerate(header):
+                if not h:
+                    raise FileFormatError(p, lineno, f"header: column {i + 1} has no name", key="header")
+                if h not in _CSV_COLUMNS:
+                    raise FileFormatError(
+                        p, lineno, f"header: unknown column '{h}'{did_you_mean(h, _CSV_COLUMNS)} "
+                        f"(columns: t, type, value, sigma, optional station)", key=h,
+                    )
+                if header.index(h) != i:
+                    raise FileFormatError(
+                        p, lineno, f"header: column '{h}' appears twice (columns {header.index(h) + 1} "
+                        f"and {i + 1})", key=h,
+                    )
+            missing = [h for h in _CSV_COLUMNS[:4] if h not in header]
+            if missing:
+                raise FileFormatError(
+                    p, lineno, f"header: missing column(s) {', '.join(missing)} (need t, type, value, "
+                    f"sigma, optional station; got {', '.join(header)})", key=missing[0],
+                )
+            continue
+        if len(rec) != len(header):
+            raise FileFormatError(
+                p, lineno, f"expected {len(header)} cells ({','.join(header)}), got {len(rec)}"
+            )
+        d = dict(zip(header, rec))
+        t = _csv_float(d["t"], "t", p, lineno)
+        try:
+            kind = _mtype(d["type"])
+        except ValueError as e:
+            raise FileFormatError(p, lineno, f"column 'type': {e}", key="type") from None
+        value = _csv_float(d["value"], "value", p, lineno)
+        if kind == MeasurementType.range and not value > 0:
+            raise FileFormatError(p, lineno, f"column 'value': a range must be > 0 km, got {d['value']}",
+                                  key="value")
+        sigma = _csv_float(d["sigma"], "sigma", p, lineno)
+        if not sigma > 0:
+            raise FileFormatError(p, lineno, f"column 'sigma': must be > 0, got {d['sigma']}", key="sigma")
+        cell = d.get("station", "") or "0"
+        try:
+            station = int(cell)
+        except ValueError:
+            raise FileFormatError(p, lineno, f"column 'station': must be an integer index, got {cell!r}",
+                                  key="station") from None
+        if station < 0:
+            raise FileFormatError(p, lineno, f"column 'station': must be >= 0, got {station}", key="station")
+        key = (t, int(kind), station)
+        if key in seen:
+            raise FileFormatError(
+                p, lineno, f"duplicate observation: same t, type and station as line {seen[key]}", key="t"
+            )
+        seen[key] = lineno
+        for k, v in (("t", t), ("type", kind), ("value", value), ("sigma", sigma), ("station", station)):
+            rows[k].append(v)
+    if header is None:
+        raise FileFormatError(p, None, "empty file (hint: a header t,type,value,sigma[,station] and rows)")
     if not rows["t"]:
-        raise ValueError(f"{p}: no observations")
+        raise FileFormatError(p, None, "no observations after the header")
     return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])
 
 
@@ -552,19 +612,60 @@ def simulate(
 ) -> Observations:
     """Synthetic observations of the orbit from ``x0`` (at t = 0) by every station at ``times`` (s):
     each type in ``types`` per visible time, Gaussian noise (sigmas in km, km/s; seed=None for none),
-    constant biases, and an elevation mask (deg, geocentric horizontal) that drops low passes."""
-    x0 = _vector(x0, 6, "x0")
+    constant biases (km, km/s), and an elevation mask (deg in [-90, 90], geocentric horizontal) that
+    drops low passes.
+
+    Raises ``ValueError`` naming the argument for: an orbit that is below the Earth's surface
+    (:data:`EARTH_RADIUS`) at any of ``times`` when ``mu`` is the Earth's (r = 0 for any ``mu``), an
+    empty or repeated ``types``, a NaN or out-of-range ``elevation_mask_deg``, non-finite biases, a
+    negative ``seed``, and a mask that leaves no observation."""
+    x0 = as_real_array(x0, "x0", shape=(6,))
     st = _stations(stations)
-    times = _array1(times, "times")
-    if times.size == 0 or not np.all(np.isfinite(times)):
-        raise ValueError("times: must be non-empty and finite")
+    times = as_real_array(times, "times", ndim=(0, 1))
+    times = np.atleast_1d(times)
+    if times.size == 0:
+        raise ValueError("times: must not be empty")
     if np.any(np.diff(times) <= 0):
         raise ValueError("times: must be strictly increasing")
-    sr = _finite_scalar(sigma_range, "sigma_range", positive=True)
-    srr = _finite_scalar(sigma_range_rate, "sigma_range_rate", positive=True)
-    kinds = [_mtype(k) for k in types]
+    sr = as_real(sigma_range, "sigma_range", positive=True)
+    srr = as_real(sigma_range_rate, "sigma_range_rate", positive=True)
+    bias_range = as_real(bias_range, "bias_range")
+    bias_range_rate = as_real(bias_range_rate, "bias_range_rate")
+    if elevation_mask_deg is not None:
+        elevation_mask_deg = as_real(elevation_mask_deg, "elevation_mask_deg", low=-90.0, high=90.0)
+    if seed is not None:
+        seed = as_int(seed, "seed", low=0)
+    if isinstance(types, (str, MeasurementType)):
+        types = [types]
+    if not isinstance(types, Sequence) or isinstance(types, bytes):
+        raise TypeError(f"types: must be a list of 'range' / 'range_rate', got {type(types).__name__}")
+    if len(types) == 0:
+        raise ValueError("types: must name at least one measurement type ('range', 'range_rate')")
+    kinds = []
+    for i, k in enumerate(types):
+        try:
+            kinds.append(_mtype(k))
+        except (TypeError, ValueError) as e:
+            raise type(e)(f"types[{i}]: {str(e).removeprefix('type: ')}") from None
+    if len(set(int(k) for k in kinds)) != len(kinds):
+        raise ValueError(f"types: a measurement type is repeated in {list(types)}")
+    mu = as_real(mu, "mu", positive=True)
+    floor = EARTH_RADIUS if mu == EARTH_MU else 0.0
+    r0 = float(np.linalg.norm(x0[:3]))
+    if not r0 > floor:
+        where = "below the Earth's surface" if floor else "at the centre of attraction"
+        raise ValueError(f"x0: the satellite is {where} (|r| = {r0:.6g} km, Earth radius {floor} km)")
     prop = make_propagator(propagator, mu)
     states, _ = prop.propagate(x0, list(times))
+    states = np.asarray(states)
+    radii = np.linalg.norm(states[:, :3], axis=1)
+    low = np.flatnonzero(~(radii > floor))
+    if low.size:
+        k = low[0]
+        raise ValueError(
+            f"x0: the orbit goes below the Earth's surface (|r| = {radii[k]:.6g} km < {floor} km at "
+            f"t = {times[k]:.6g} s)" if floor else f"x0: the orbit reaches r = 0 at t = {times[k]:.6g} s"
+        )
     rng = np.random.default_rng(seed) if seed is not None else None
     rows = {"t": [], "type": [], "value": [], "sigma": [], "station": []}
     for i, s in enumerate(st):

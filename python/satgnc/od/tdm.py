@@ -37,24 +37,79 @@ def parse_epoch(text: str) -> _dt.datetime:
     raise ValueError(f"bad epoch {text!r} (hint: YYYY-MM-DDThh:mm:ss or YYYY-DDDThh:mm:ss)")
 
 
+# KVN keywords of CCSDS 503.0-B-2. Header and metadata keywords not listed are errors (a typo must
+# not be dropped silently); listed ones this reader does not model are accepted when they cannot
+# change the meaning of RANGE and DOPPLER_INSTANTANEOUS values.
+_HEADER_KEYS = {"CCSDS_TDM_VERS", "CLASSIFICATION", "CREATION_DATE", "ORIGINATOR", "MESSAGE_ID"}
+_META_KEYS = {
+    "TRACK_ID", "DATA_TYPES", "TIME_SYSTEM", "START_TIME", "STOP_TIME", "MODE", "PATH", "PATH_1",
+    "PATH_2", "TRANSMIT_BAND", "RECEIVE_BAND", "TURNAROUND_NUMERATOR", "TURNAROUND_DENOMINATOR",
+    "TIMETAG_REF", "INTEGRATION_INTERVAL", "INTEGRATION_REF", "FREQ_OFFSET", "RANGE_MODE",
+    "RANGE_MODULUS", "RANGE_UNITS", "ANGLE_TYPE", "REFERENCE_FRAME", "INTERPOLATION",
+    "INTERPOLATION_DEGREE", "DOPPLER_COUNT_BIAS", "DOPPLER_COUNT_SCALE", "DOPPLER_COUNT_ROLLOVER",
+    "DATA_QUALITY", "CORRECTION_ANGLE_1", "CORRECTION_ANGLE_2", "CORRECTION_DOPPLER", "CORRECTION_MAG",
+    "CORRECTION_RANGE", "CORRECTION_RCS", "CORRECTION_RECEIVE", "CORRECTION_TRANSMIT",
+    "CORRECTION_ABERRATION_YEARLY", "CORRECTION_ABERRATION_DIURNAL", "CORRECTIONS_APPLIED",
+    *(f"{k}_{i}" for k in ("PARTICIPANT", "EPHEMERIS_NAME", "TRANSMIT_DELAY", "RECEIVE_DELAY")
+      for i in range(1, 6)),
+}
+# Corrections and delays shift the values; this reader applies none, so non-zero ones are errors.
+_MUST_BE_ZERO = ("CORRECTION_RANGE", "CORRECTION_DOPPLER",
+                 *(f"{k}_{i}" for k in ("TRANSMIT_DELAY", "RECEIVE_DELAY") for i in range(1, 6)))
+
+
+def _as_epoch(epoch) -> _dt.datetime:
+    """The ``epoch`` argument as a naive UTC datetime, or an error naming ``epoch``."""
+    if isinstance(epoch, _dt.datetime):
+        if epoch.tzinfo is not None:
+            epoch = epoch.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+        return epoch
+    if isinstance(epoch, str):
+        try:
+            return parse_epoch(epoch)
+        except ValueError:
+            pass
+        try:
+            return _as_epoch(_dt.datetime.fromisoformat(epoch.strip().replace("Z", "+00:00")))
+        except ValueError:
+            raise ValueError(
+                f"epoch: not a UTC date-time: {epoch!r} (hint: YYYY-MM-DDThh:mm:ss or YYYY-DDDThh:mm:ss)"
+            ) from None
+    raise TypeError(f"epoch: must be None, a datetime or an ISO string, got {type(epoch).__name__}")
+
+
 def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, epoch=None):
     """Read a KVN TDM. Returns ``(observations, station_names, epoch)``: times are seconds after
     ``epoch`` (default: the first observation), station indices follow ``station_names`` (order of
-    first appearance of PARTICIPANT_1). Errors are ValueError("<file>:<line>: ...")."""
-    p = pathlib.Path(path)
-    if not p.exists():
-        raise FileNotFoundError(f"path: {p} does not exist")
-    for name, v in (("sigma_range", sigma_range), ("sigma_range_rate", sigma_range_rate)):
-        if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
-            raise ValueError(f"{name}: must be finite and > 0, got {v!r}")
+    first appearance of PARTICIPANT_1). ``sigma_range`` (km) and ``sigma_range_rate`` (km/s) are
+    the sigmas given to every observation of that type.
+
+    Every error in the content is a :class:`satgnc.FileFormatError` (a ``ValueError``) reading
+    ``"<file>:<line>: ..."`` and naming the keyword: a keyword outside its section or unknown to TDM
+    (with a suggestion), a segment without TIME_SYSTEM or PARTICIPANT_1, a repeated metadata keyword,
+    a non-zero correction or delay (not applied by this reader), a bad epoch, a non-finite value, a
+    range <= 0, and two observations with the same epoch, type and station (both lines named)."""
+    from .._validate import FileFormatError, as_real, did_you_mean, read_text_file
+
+    sigma_range = as_real(sigma_range, "sigma_range", positive=True)
+    sigma_range_rate = as_real(sigma_range_rate, "sigma_range_rate", positive=True)
+    if epoch is not None:
+        epoch = _as_epoch(epoch)
+    p, text = read_text_file(path)
     state = "header"
     seen_version = False
     station = None
+    meta: dict[str, tuple[int, str]] = {}  # keyword -> (line, value), per segment
     names: list[str] = []
     rows = []  # (datetime, type, value, station)
-    for lineno, raw in enumerate(p.read_text().splitlines(), start=1):
+    seen: dict[tuple, int] = {}
+    lines = text.splitlines()
+    for lineno, raw in enumerate(lines, start=1):
         line = raw.strip()
-        where = f"{p}:{lineno}"
+
+        def fail(reason: str, key: str | None = None, lineno=lineno):
+            raise FileFormatError(p, lineno, reason, key=key)
+
         if not line or line.startswith("COMMENT"):
             continue
         if line in ("META_START", "META_STOP", "DATA_START", "DATA_STOP"):
@@ -64,12 +119,20 @@ def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, ep
                 "DATA_START": ("after_meta",),
                 "DATA_STOP": ("data",),
             }[line]
-            if state not in expected:
-                raise ValueError(f"{where}: unexpected {line}")
             if line == "META_START" and not seen_version:
-                raise ValueError(f"{where}: CCSDS_TDM_VERS must come first")
-            if line == "META_STOP" and station is None:
-                raise ValueError(f"{where}: metadata without PARTICIPANT_1")
+                fail("CCSDS_TDM_VERS must come first", "CCSDS_TDM_VERS")
+            if state not in expected:
+                fail(f"unexpected {line} (after {state.replace('_', ' ')})", line)
+            if line == "META_STOP":
+                for need in ("TIME_SYSTEM", "PARTICIPANT_1"):
+                    if need not in meta:
+                        fail(f"metadata without {need}", need)
+                applied = meta.get("CORRECTIONS_APPLIED", (0, "NO"))[1].upper() == "YES"
+                for k in _MUST_BE_ZERO:
+                    if k in meta and float(meta[k][1]) != 0.0 and not (applied and k.startswith("CORR")):
+                        fail(f"{k} = {meta[k][1]} is not supported: this reader applies no correction "
+                             "or delay (hint: apply it and set CORRECTIONS_APPLIED = YES, or remove it)",
+                             k, meta[k][0])
             state = {
                 "META_START": "meta",
                 "META_STOP": "after_meta",
@@ -78,53 +141,79 @@ def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, ep
             }[line]
             if line == "META_START":
                 station = None
+                meta = {}
             continue
         m = _KV.match(line)
         if not m:
-            raise ValueError(f"{where}: malformed line {raw!r} (hint: KEYWORD = value)")
+            fail(f"malformed line {raw.strip()!r} (hint: KEYWORD = value)")
         key, val = m.group(1), m.group(2)
         if state == "header":
             if key == "CCSDS_TDM_VERS":
+                if not re.fullmatch(r"[12]\.0", val):
+                    fail(f"CCSDS_TDM_VERS: unsupported version {val!r} (hint: 1.0 or 2.0)", key)
                 seen_version = True
             elif not seen_version:
-                raise ValueError(f"{where}: CCSDS_TDM_VERS must come first")
+                fail("CCSDS_TDM_VERS must come first", "CCSDS_TDM_VERS")
+            elif key not in _HEADER_KEYS:
+                fail(f"unknown header keyword {key}{did_you_mean(key, _HEADER_KEYS, '{}')}", key)
             continue
         if state == "meta":
+            if key not in _META_KEYS:
+                fail(f"unknown metadata keyword {key}{did_you_mean(key, _META_KEYS, '{}')}", key)
+            if key in meta:
+                fail(f"{key} repeated in one metadata section (also line {meta[key][0]})", key)
+            meta[key] = (lineno, val)
             if key == "TIME_SYSTEM" and val.upper() != "UTC":
-                raise ValueError(f"{where}: TIME_SYSTEM {val} not supported (hint: UTC)")
+                fail(f"TIME_SYSTEM {val} not supported (hint: UTC)", key)
             if key == "RANGE_UNITS" and val.lower() != "km":
-                raise ValueError(f"{where}: RANGE_UNITS {val} not supported (hint: km)")
+                fail(f"RANGE_UNITS {val} not supported (hint: km)", key)
+            if key in _MUST_BE_ZERO:
+                try:
+                    float(val)
+                except ValueError:
+                    fail(f"{key}: not a number: {val!r}", key)
+            if key == "CORRECTIONS_APPLIED" and val.upper() not in ("YES", "NO"):
+                fail(f"CORRECTIONS_APPLIED must be YES or NO, got {val!r}", key)
             if key == "PARTICIPANT_1":
+                if not val:
+                    fail("PARTICIPANT_1 must name the station", key)
                 station = val
                 if val not in names:
                     names.append(val)
             continue
         if state != "data":
-            raise ValueError(f"{where}: keyword {key} outside a META or DATA section")
+            fail(f"keyword {key} outside a META or DATA section", key)
         if key not in ("RANGE", "DOPPLER_INSTANTANEOUS"):
-            raise ValueError(
-                f"{where}: data keyword {key} not supported (hint: RANGE, DOPPLER_INSTANTANEOUS)"
-            )
+            fail(f"data keyword {key} not supported (hint: RANGE, DOPPLER_INSTANTANEOUS)", key)
         parts = val.split()
         if len(parts) != 2:
-            raise ValueError(f"{where}: expected '<epoch> <value>', got {val!r}")
+            fail(f"{key}: expected '<epoch> <value>', got {val!r}", key)
         try:
             when = parse_epoch(parts[0])
-            value = float(parts[1])
         except ValueError as e:
-            raise ValueError(f"{where}: {e}") from None
+            fail(f"{key}: {e}", key)
+        try:
+            value = float(parts[1])
+        except ValueError:
+            fail(f"{key}: value is not a number: {parts[1]!r}", key)
         if not np.isfinite(value):
-            raise ValueError(f"{where}: value must be finite")
+            fail(f"{key}: value must be finite, got {parts[1]!r}", key)
+        if key == "RANGE" and not value > 0:
+            fail(f"RANGE: must be > 0 km, got {parts[1]}", key)
         kind = MeasurementType.range if key == "RANGE" else MeasurementType.range_rate
+        k = (when, key, station)
+        if k in seen:
+            fail(f"duplicate {key} at {parts[0]} for {station} (also line {seen[k]})", key)
+        seen[k] = lineno
         rows.append((when, kind, value, names.index(station)))
-    if state not in ("after_data",):
-        raise ValueError(f"{p}: incomplete file (state {state}; hint: end with DATA_STOP)")
+    if state != "after_data":
+        hint = {"header": "no META_START", "meta": "no META_STOP", "after_meta": "no DATA_START",
+                "data": "no DATA_STOP"}[state]
+        raise FileFormatError(p, len(lines) or None, f"incomplete file: {hint} (hint: end with DATA_STOP)")
     if not rows:
-        raise ValueError(f"{p}: no RANGE or DOPPLER_INSTANTANEOUS data")
+        raise FileFormatError(p, None, "no RANGE or DOPPLER_INSTANTANEOUS data")
     if epoch is None:
         epoch = min(r[0] for r in rows)
-    elif isinstance(epoch, str):
-        epoch = parse_epoch(epoch) if "T" in epoch and "-" in epoch[:5] else _dt.datetime.fromisoformat(epoch)
     t = [(r[0] - epoch).total_seconds() for r in rows]
     kinds = [r[1] for r in rows]
     sig = [sigma_range if k == MeasurementType.range else sigma_range_rate for k in kinds]
