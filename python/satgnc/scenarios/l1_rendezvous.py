@@ -14,19 +14,81 @@ import pathlib
 
 import numpy as np
 
+from .._validate import FileFormatError, Key, check_toml_table, did_you_mean, load_toml, toml_line
+
 DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
 
 
-def _load_toml(path: pathlib.Path) -> dict:
-    try:
-        import tomllib  # Python >= 3.11
-    except ModuleNotFoundError:  # pragma: no cover - Python 3.9/3.10
-        try:
-            import tomli as tomllib
-        except ModuleNotFoundError as e:
-            raise ModuleNotFoundError("reading TOML on Python < 3.11 needs the 'tomli' package") from e
-    with open(path, "rb") as f:
-        return tomllib.load(f)
+# Strict schema of a scenario file: every key typed, unknown keys and sections are errors (a typo
+# must not silently fall back to a default). SI units (m, m/s, N, kg, s) except where marked.
+_TOP = {"name": Key("string", required=False), "source": Key("string", required=False)}
+_SECTIONS = {
+    "orbit": {
+        "mu": Key("number", positive=True, unit="m^3/s^2"),
+        "radius": Key("number", positive=True, unit="m"),
+    },
+    "chaser": {"mass": Key("number", positive=True, unit="kg")},
+    "initial_state": {
+        "position": Key("vector", length=3, nonzero=True, unit="m"),
+        "velocity": Key("vector", length=3, nonzero=True, unit="m/s"),
+    },
+    "horizon": {
+        "tf": Key("number", positive=True, unit="s"),
+        "knots": Key("integer", low=2, unit="knot points"),
+    },
+    "cost": {
+        "alpha": Key("number", nonnegative=True, unit="scaled units"),
+        "Qf": Key("number", nonnegative=True, unit="scaled units"),
+        "u_max": Key("number", positive=True, unit="N"),
+    },
+    "discretization": {
+        "method": Key("string", required=False, default="midpoint", choices=("midpoint", "zoh", "expm")),
+    },
+}
+_OPTIONAL_SECTIONS = ("discretization",)
+_CASE = {
+    "rho": Key("number", positive=True),
+    "eps": Key("number", positive=True),
+    "box": Key("bool", required=False, default=False),
+    "terminal_equality": Key("bool", required=False, default=False),
+    "paper_lqr_passes": Key("integer", required=False, low=0),
+}
+
+
+def _read(path: pathlib.Path):
+    """(path, text, checked sections, cases) of a scenario file; FileFormatError on any bad entry."""
+    p, text, d = load_toml(path, "scenario")
+    known = [*_TOP, *_SECTIONS, "cases"]
+    for key, value in d.items():
+        if key not in known:
+            what = "section" if isinstance(value, dict) else "key"
+            shown = f"[{key}]" if what == "section" else f"'{key}'"
+            line = toml_line(text, key) if what == "section" else toml_line(text, "", key)
+            hint = did_you_mean(key, known, "[{}]" if what == "section" else "'{}'")
+            raise FileFormatError(
+                p, line, f"unknown {what} {shown} at the top level{hint}; known sections: "
+                + ", ".join(f"[{k}]" for k in [*_SECTIONS, "cases"]), key=key,
+            )
+    top = check_toml_table({k: v for k, v in d.items() if k in _TOP}, _TOP, "", p, text)
+    secs = {}
+    for name, schema in _SECTIONS.items():
+        if name not in d:
+            if name in _OPTIONAL_SECTIONS:
+                d[name] = {}
+            else:
+                raise FileFormatError(p, None, f"missing section [{name}] (keys: {', '.join(schema)})",
+                                      key=name)
+        secs[name] = check_toml_table(d[name], schema, name, p, text)
+    cases_raw = d.get("cases")
+    if cases_raw is None:
+        raise FileFormatError(p, None, "missing section [cases.<name>]: the scenario needs at least one case",
+                              key="cases")
+    if not isinstance(cases_raw, dict) or not cases_raw:
+        raise FileFormatError(p, toml_line(text, "cases"),
+                              "[cases] must hold at least one [cases.<name>] table",
+                              key="cases")
+    cases = {name: check_toml_table(c, _CASE, f"cases.{name}", p, text) for name, c in cases_raw.items()}
+    return p, top, secs, cases
 
 
 @dataclasses.dataclass
@@ -86,32 +148,21 @@ class Scenario:
 
 
 def load(path: str | pathlib.Path | None = None) -> Scenario:
-    """Read a scenario TOML (default: the packaged Table 1 scenario). Raises ValueError on bad data."""
-    path = DEFAULT if path is None else pathlib.Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"scenario: no such file {path}")
-    d = _load_toml(path)
-    try:
-        sc = Scenario(mu=float(d["orbit"]["mu"]), radius=float(d["orbit"]["radius"]),
-                      mass=float(d["chaser"]["mass"]),
-                      p0=np.array(d["initial_state"]["position"], float),
-                      v0=np.array(d["initial_state"]["velocity"], float),
-                      tf=float(d["horizon"]["tf"]), knots=int(d["horizon"]["knots"]),
-                      alpha=float(d["cost"]["alpha"]), Qf=float(d["cost"]["Qf"]),
-                      u_max=float(d["cost"]["u_max"]),
-                      method=str(d.get("discretization", {}).get("method", "midpoint")),
-                      cases=dict(d.get("cases", {})))
-    except KeyError as e:
-        raise ValueError(f"scenario: missing key {e} in {path}") from None
-    for name, val in (("orbit.mu", sc.mu), ("orbit.radius", sc.radius), ("chaser.mass", sc.mass),
-                      ("horizon.tf", sc.tf), ("cost.u_max", sc.u_max)):
-        if not np.isfinite(val) or val <= 0:
-            raise ValueError(f"scenario: {name} must be finite and > 0, got {val}")
-    if sc.p0.shape != (3,) or sc.v0.shape != (3,):
-        raise ValueError("scenario: initial_state position and velocity need 3 entries each")
-    if sc.knots < 2:
-        raise ValueError("scenario: horizon.knots must be >= 2")
-    return sc
+    """Read a scenario TOML (default: the packaged Table 1 scenario).
+
+    The file is checked against a strict schema (sections [orbit], [chaser], [initial_state],
+    [horizon], [cost], optional [discretization], and one or more [cases.<name>]): a missing, unknown
+    or mistyped key is a :class:`satgnc.FileFormatError` (a ``ValueError``) naming the file, the line,
+    the key and its section. A missing file is ``FileNotFoundError``."""
+    p, _, s, cases = _read(DEFAULT if path is None else path)
+    # Cases keep only the keys the file gave, plus the defaults of box and terminal_equality.
+    cases = {n: {k: v for k, v in c.items() if v is not None} for n, c in cases.items()}
+    return Scenario(
+        mu=s["orbit"]["mu"], radius=s["orbit"]["radius"], mass=s["chaser"]["mass"],
+        p0=np.array(s["initial_state"]["position"]), v0=np.array(s["initial_state"]["velocity"]),
+        tf=s["horizon"]["tf"], knots=s["horizon"]["knots"], alpha=s["cost"]["alpha"], Qf=s["cost"]["Qf"],
+        u_max=s["cost"]["u_max"], method=s["discretization"]["method"], cases=cases,
+    )
 
 
 def linear_problem(sc: Scenario, case: str = "unconstrained", method: str | None = None,
