@@ -1,4 +1,7 @@
-"""``satgnc rendezvous --scenario FILE.toml --out DIR``: solve the scenario's linear cases and plot."""
+"""``satgnc rendezvous --scenario FILE.toml --out DIR``: solve the scenario's linear cases and plot.
+
+A scenario file is checked against a strict schema (see :func:`satgnc.scenarios.l1_rendezvous.load`);
+any error prints one line naming the file, the line and the key, and exits with code 2."""
 
 from __future__ import annotations
 
@@ -14,8 +17,23 @@ def _run(args: argparse.Namespace) -> int:
     if getattr(args, "model", "linear") == "nonlinear":
         from . import nonlinear
 
+        linear_only = (("--scenario", args.scenario), ("--case", args.case), ("--reference", args.reference))
+        for opt, given in linear_only:
+            if given:
+                raise ValueError(f"{opt}: only with --model linear (the nonlinear cases are built in)")
         return nonlinear.run_cli(pathlib.Path(args.out), closed_loop=args.closed_loop)
+    if args.closed_loop:
+        raise ValueError("--closed-loop: only with --model nonlinear")
     sc = scen.load(args.scenario)
+    for case in args.case or []:
+        if case not in sc.cases:
+            raise ValueError(f"--case: unknown {case!r}; the scenario has {sorted(sc.cases)}")
+    if args.reference:
+        try:
+            import cvxpy  # noqa: F401
+        except ImportError:
+            raise ImportError("--reference: needs the optional package cvxpy (pip install cvxpy clarabel)") \
+                from None
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     cases = args.case or list(sc.cases)
@@ -31,8 +49,9 @@ def _run(args: argparse.Namespace) -> int:
               f"dv = {m['conv_dv']:.4f} m/s, "
               f"miss = {m['conv_miss_m']:.3f} m; paper rule: {m['paper_iterations']} iterations, "
               f"flown miss {m['paper_miss_flown_Y_m'] / 1000:.2f} km")
-    dvq, dvl = rv.plot_fig1(sc, out / "quadratic_vs_l1.png")
-    summary["quadratic_vs_l1_dv"] = {"quadratic": dvq, "l1": dvl}
+    if "unconstrained" in sc.cases:  # Fig. 1 is built from the unconstrained case
+        dvq, dvl = rv.plot_fig1(sc, out / "quadratic_vs_l1.png")
+        summary["quadratic_vs_l1_dv"] = {"quadratic": dvq, "l1": dvl}
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str))
     print(f"plots and summary.json written to {out}")
     return 0

@@ -6,6 +6,9 @@ Examples::
     satgnc od solve obs.csv --station-inertial 5463.14996,2139.12637,2493.7785 \
         --guess 5846.89,1265.616,3411.496,0.3146,6.9401,-3.1125 --plots out/
     satgnc od solve obs.tdm --station DSS:23.1667,113.25,0.15 --epoch 1981-03-21T06:00:00 --guess ...
+
+Errors (bad option, bad file, bad data) print one line ``satgnc: error: ...`` and exit with code 2;
+``satgnc od solve`` exits with 1 when the solve does not converge (its status is printed).
 """
 
 from __future__ import annotations
@@ -22,11 +25,15 @@ def _floats(text: str, n: int | None, name: str) -> list[float]:
     except ValueError:
         raise ValueError(f"{name}: expected comma-separated numbers, got {text!r}") from None
     if n is not None and len(vals) != n:
-        raise ValueError(f"{name}: expected {n} numbers, got {len(vals)}")
+        raise ValueError(f"{name}: expected {n} comma-separated numbers, got {len(vals)} in {text!r}")
+    if not all(np.isfinite(vals)):
+        raise ValueError(f"{name}: numbers must be finite, got {text!r}")
     return vals
 
 
 def _stations(args, epoch, names=None):
+    """Stations from --station / --station-inertial, in the order of the file's station names when
+    the file has names (TDM PARTICIPANT_1): labelled options must then match those names."""
     from . import station_geodetic, station_inertial
 
     out, labels = [], []
@@ -34,21 +41,33 @@ def _stations(args, epoch, names=None):
         label, _, coords = spec.rpartition(":")
         lat, lon, h = _floats(coords, 3, "--station")
         out.append(station_geodetic(lat, lon, h, epoch, args.ut1_utc, args.ellipsoid))
-        labels.append(label or f"station{len(out)}")
+        labels.append(label)
     for spec in args.station_inertial or []:
         label, _, coords = spec.rpartition(":")
         v = _floats(coords, None, "--station-inertial")
         if len(v) not in (3, 4):
-            raise ValueError("--station-inertial: expected x,y,z[,omega]")
+            raise ValueError(f"--station-inertial: expected x,y,z[,omega] (km, rad/s), got {coords!r}")
         out.append(station_inertial(v[:3], v[3] if len(v) == 4 else 7.292115e-5))
-        labels.append(label or f"station{len(out)}")
+        labels.append(label)
     if not out:
         raise ValueError("--station/--station-inertial: give at least one station")
-    if names:  # TDM participants: order the stations by the file's names when labels match
-        if all(n in labels for n in names):
+    if len(set(lb for lb in labels if lb)) != len([lb for lb in labels if lb]):
+        raise ValueError(f"--station: a station name is given twice in {[lb for lb in labels if lb]}")
+    if names:  # TDM participants: the file's names decide the order
+        if any(labels):
+            unknown = [n for n in names if n not in labels]
+            if unknown:
+                raise ValueError(
+                    f"--station: the file's station {unknown[0]!r} (PARTICIPANT_1) has no --station "
+                    f"{unknown[0]}:... or --station-inertial {unknown[0]}:... "
+                    f"(given: {[lb for lb in labels if lb]})"
+                )
             out = [out[labels.index(n)] for n in names]
-        elif len(names) > len(out):
-            raise ValueError(f"--station: the file has stations {names}, only {len(out)} given")
+        elif len(names) != len(out):
+            raise ValueError(
+                f"--station: the file has {len(names)} station(s) {names}, {len(out)} given "
+                f"(hint: name them, --station {names[0]}:lat,lon,h)"
+            )
     return out
 
 
@@ -104,14 +123,30 @@ def summary(result, observations) -> str:
     return "\n".join(lines)
 
 
+def _is_tdm(path: pathlib.Path) -> bool:
+    if path.suffix.lower() in (".tdm", ".kvn", ".txt"):
+        return True
+    try:  # a TDM under another name: sniff the first keyword
+        with path.open("rb") as f:
+            head = f.read(256).lstrip(b"\xef\xbb\xbf").lstrip()
+    except OSError:
+        return False  # the reader reports it with the file name
+    return head.startswith(b"CCSDS_TDM_VERS")
+
+
 def _load(args):
     from . import read_csv
     from .tdm import read_tdm
 
     path = pathlib.Path(args.observations)
-    if path.suffix.lower() in (".tdm", ".kvn", ".txt"):
-        obs, names, epoch = read_tdm(path, args.sigma_range, args.sigma_range_rate, args.epoch)
+    if _is_tdm(path):
+        sr = 1e-3 if args.sigma_range is None else args.sigma_range
+        srr = 1e-6 if args.sigma_range_rate is None else args.sigma_range_rate
+        obs, names, epoch = read_tdm(path, sr, srr, args.epoch)
         return obs, names, epoch
+    for opt, v in (("--sigma-range", args.sigma_range), ("--sigma-range-rate", args.sigma_range_rate)):
+        if v is not None:
+            raise ValueError(f"{opt}: only for TDM files; a CSV file gives sigma on every row")
     obs = read_csv(path)
     return obs, None, args.epoch
 
@@ -119,11 +154,17 @@ def _load(args):
 def _solve(args) -> int:
     from . import solve
 
+    guess = _floats(args.guess, 6, "--guess")
     obs, names, epoch = _load(args)
     if epoch is None and args.station:
         raise ValueError("--epoch: geodetic stations need the UTC epoch of t = 0")
     st = _stations(args, epoch, names)
-    guess = _floats(args.guess, 6, "--guess")
+    used = int(np.max(obs.station))
+    if used >= len(st):
+        raise ValueError(
+            f"{args.observations}: observations use station index {used}, only {len(st)} station(s) "
+            "given (--station/--station-inertial; indices start at 0)"
+        )
     r = solve(
         obs, st, guess, method=args.method, propagator=args.propagator, max_iterations=args.max_iterations
     )
@@ -141,17 +182,27 @@ def _simulate(args) -> int:
     from .tdm import write_tdm
 
     x0 = paper.truth() if args.state is None else np.array(_floats(args.state, 6, "--state"))
+    if args.duration / args.step > 1e6:
+        n = args.duration / args.step
+        raise ValueError(f"--step: {n:.3g} samples, more than 1e6 (hint: a larger step)")
     st = paper.station()
     t = np.arange(0.0, args.duration + 1e-9, args.step)
-    obs = simulate(
-        x0,
-        st,
-        t,
-        sigma_range=args.sigma_range,
-        sigma_range_rate=args.sigma_range_rate,
-        seed=None if args.no_noise else args.seed,
-    )
+    try:
+        obs = simulate(
+            x0,
+            st,
+            t,
+            sigma_range=args.sigma_range,
+            sigma_range_rate=args.sigma_range_rate,
+            seed=None if args.no_noise else args.seed,
+        )
+    except ValueError as e:  # the library names its argument x0; the user typed --state
+        if str(e).startswith("x0:"):
+            raise ValueError("--state" + str(e)[2:]) from None
+        raise
     out = pathlib.Path(args.out)
+    if out.is_dir():
+        raise IsADirectoryError(f"--out: {out} is a directory (hint: a file name ending in .csv or .tdm)")
     if out.suffix.lower() == ".tdm":
         write_tdm(out, obs, dt.datetime(1981, 3, 21, 6, 0, 0), ["STATION"])
     else:
@@ -163,8 +214,20 @@ def _simulate(args) -> int:
     return 0
 
 
+def _need_subcommand(parser):
+    def run(args) -> int:
+        from ..cli import CliError
+
+        raise CliError(f"{parser.prog}: choose a subcommand: solve or simulate (see '{parser.prog} --help')")
+
+    return run
+
+
 def register(subparsers) -> None:
+    from ..cli import finite_float, int_at_least, positive_float
+
     p = subparsers.add_parser("od", help="orbit determination from range / range-rate observations")
+    p.set_defaults(func=_need_subcommand(p))
     sub = p.add_subparsers(dest="od_command")
     s = sub.add_parser("solve", help="estimate the state at t = 0 from a CSV or TDM file")
     s.add_argument("observations", help="CSV (t,type,value,sigma[,station]) or CCSDS TDM KVN (.tdm)")
@@ -172,7 +235,7 @@ def register(subparsers) -> None:
     s.add_argument("--station", action="append", help="[NAME:]lat_deg,lon_deg,height_km (geodetic)")
     s.add_argument("--station-inertial", action="append", help="[NAME:]x,y,z[,omega] inertial at t = 0 (km)")
     s.add_argument("--epoch", help="UTC epoch of t = 0 (ISO); TDM default: first observation")
-    s.add_argument("--ut1-utc", type=float, default=0.0, help="UT1 - UTC, s")
+    s.add_argument("--ut1-utc", type=finite_float, default=0.0, help="UT1 - UTC, s")
     s.add_argument("--ellipsoid", default="WGS-84")
     s.add_argument(
         "--method",
@@ -180,19 +243,21 @@ def register(subparsers) -> None:
         choices=["levenberg_marquardt", "gauss_newton", "newton", "lm", "gn"],
     )
     s.add_argument("--propagator", default="kepler", choices=["kepler", "cvodes"])
-    s.add_argument("--max-iterations", type=int, default=200)
-    s.add_argument("--sigma-range", type=float, default=1e-3, help="TDM range sigma, km")
-    s.add_argument("--sigma-range-rate", type=float, default=1e-6, help="TDM range-rate sigma, km/s")
+    s.add_argument("--max-iterations", type=int_at_least(1), default=200)
+    s.add_argument("--sigma-range", type=positive_float, default=None,
+                   help="TDM range sigma, km (default 1e-3)")
+    s.add_argument("--sigma-range-rate", type=positive_float, default=None,
+                   help="TDM range-rate sigma, km/s (default 1e-6)")
     s.add_argument("--plots", help="directory for residual plots")
     s.set_defaults(func=_solve)
     m = sub.add_parser("simulate", help="write synthetic observations of the paper's pass (CSV or .tdm)")
     m.add_argument("--out", required=True)
     m.add_argument("--state", help="x,y,z,vx,vy,vz at t = 0 (default: the paper's Table 1)")
-    m.add_argument("--duration", type=float, default=300.0)
-    m.add_argument("--step", type=float, default=10.0)
-    m.add_argument("--sigma-range", type=float, default=1e-3)
-    m.add_argument("--sigma-range-rate", type=float, default=1e-6)
-    m.add_argument("--seed", type=int, default=0)
+    m.add_argument("--duration", type=positive_float, default=300.0, help="s")
+    m.add_argument("--step", type=positive_float, default=10.0, help="s")
+    m.add_argument("--sigma-range", type=positive_float, default=1e-3, help="km")
+    m.add_argument("--sigma-range-rate", type=positive_float, default=1e-6, help="km/s")
+    m.add_argument("--seed", type=int_at_least(0), default=0)
     m.add_argument("--no-noise", action="store_true")
     m.set_defaults(func=_simulate)
 
