@@ -14,7 +14,7 @@ from satgnc.od import paper
 
 GUESS = ",".join(f"{v:.9g}" for v in paper.truth() + np.array([10, 0, 0, 0, 0, 0]))
 R0 = ",".join(f"{v:.9g}" for v in paper.station_state_table3()[:3])
-NEG_GUESS = "-3026.7,1265.6,3411.5,0.3146,6.9401,-3.1125"
+NEG_GUESS = "-5846.89,-1265.616,3411.496,-0.3146,6.9401,-3.1125"
 
 
 @pytest.fixture(scope="module")
@@ -181,6 +181,73 @@ CASES = [
         2,
         ["flat"],
     ),
+    # options that would have no effect, and values no ground station or orbit can have
+    (
+        "ellipsoid-unused",
+        [*SOLVE, GUESS, "--ellipsoid", "GRS-80"],
+        2,
+        ["--ellipsoid: only used with --station"],
+    ),
+    ("ut1-unused", [*SOLVE, GUESS, "--ut1-utc", "0.1"], 2, ["--ut1-utc: only used with --station"]),
+    ("epoch-unused-csv", [*SOLVE, GUESS, "--epoch", "1981-03-21T06:00:00"], 2, ["--epoch: only used with"]),
+    (
+        "ut1-too-large",
+        [
+            "od",
+            "solve",
+            "{d}/obs.csv",
+            "--station",
+            "23,113,0.1",
+            "--epoch",
+            "1981-03-21T06:00:00",
+            "--ut1-utc",
+            "-5",
+            "--guess",
+            GUESS,
+        ],
+        2,
+        ["--ut1-utc: must be within [-1, 1] s"],
+    ),
+    ("guess-inside-earth", [*SOLVE, "1,2,3,4,5,6"], 2, ["--guess: the position is inside the Earth"]),
+    (
+        "station-inertial-not-on-earth",
+        ["od", "solve", "{d}/obs.csv", "--station-inertial", "-1000,2,3", "--guess", GUESS],
+        2,
+        ["--station-inertial: |r| = 1000", "Earth's surface"],
+    ),
+    (
+        "tdm-extra-station",
+        [
+            "od",
+            "solve",
+            "{d}/obs.tdm",
+            "--station-inertial",
+            f"STATION:{R0}",
+            "--station-inertial",
+            f"DSS:{R0}",
+            "--guess",
+            GUESS,
+        ],
+        2,
+        ["'DSS' is not a station of the file"],
+    ),
+    (
+        "tdm-mixed-labels",
+        [
+            "od",
+            "solve",
+            "{d}/obs.tdm",
+            "--station-inertial",
+            f"STATION:{R0}",
+            "--station-inertial",
+            R0,
+            "--guess",
+            GUESS,
+        ],
+        2,
+        ["name every station"],
+    ),
+    ("plots-empty", [*SOLVE, GUESS, "--plots", ""], 2, ["--plots: must name a directory"]),
     # files
     (
         "missing-file",
@@ -295,7 +362,24 @@ NEGATIVE_OK = [
             "3",
         ],
     ),
-    ("ut1-negative", [*SOLVE, GUESS, "--ut1-utc", "-0.2", "--max-iterations", "3"]),
+    (
+        "ut1-negative",
+        [
+            "od",
+            "solve",
+            "{d}/obs.csv",
+            "--station",
+            "-33,150,0.1",
+            "--epoch",
+            "1981-03-21T06:00:00",
+            "--ut1-utc",
+            "-0.2",
+            "--guess",
+            GUESS,
+            "--max-iterations",
+            "3",
+        ],
+    ),
 ]
 
 

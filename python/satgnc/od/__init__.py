@@ -336,6 +336,8 @@ _CSV_COLUMNS = ("t", "type", "value", "sigma", "station")
 
 def _csv_float(cell: str, column: str, p, lineno: int) -> float:
     try:
+        if "_" in cell:  # Python's float() reads "1_000" as 1000; no CSV writer means that
+            raise ValueError
         v = float(cell)
     except ValueError:
         raise FileFormatError(p, lineno, f"column '{column}': not a number: {cell!r}", key=column) from None
@@ -403,14 +405,21 @@ def read_csv(path) -> Observations:
         sigma = _csv_float(d["sigma"], "sigma", p, lineno)
         if not sigma > 0:
             raise FileFormatError(p, lineno, f"column 'sigma': must be > 0, got {d['sigma']}", key="sigma")
-        cell = d.get("station", "") or "0"
+        if sigma < 1e-150:  # the weight 1/sigma^2 must be a finite double
+            raise FileFormatError(p, lineno, f"column 'sigma': too small, got {d['sigma']} (1/sigma^2 "
+                                  "overflows)", key="sigma")
+        cell = d.get("station", "0")
         try:
+            if "_" in cell:
+                raise ValueError
             station = int(cell)
         except ValueError:
-            raise FileFormatError(p, lineno, f"column 'station': must be an integer index, got {cell!r}",
-                                  key="station") from None
-        if station < 0:
-            raise FileFormatError(p, lineno, f"column 'station': must be >= 0, got {station}", key="station")
+            hint = " (an empty cell; 0 is the first station)" if not cell else ""
+            raise FileFormatError(p, lineno, f"column 'station': must be an integer index, got {cell!r}"
+                                  f"{hint}", key="station") from None
+        if not 0 <= station < 2**31 - 1:
+            raise FileFormatError(p, lineno, f"column 'station': must be in [0, 2^31 - 1), got {station}",
+                                  key="station")
         key = (t, int(kind), station)
         if key in seen:
             raise FileFormatError(

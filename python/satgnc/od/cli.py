@@ -47,6 +47,10 @@ def _stations(args, epoch, names=None):
         v = _floats(coords, None, "--station-inertial")
         if len(v) not in (3, 4):
             raise ValueError(f"--station-inertial: expected x,y,z[,omega] (km, rad/s), got {coords!r}")
+        r = float(np.linalg.norm(v[:3]))
+        if not 6340.0 <= r <= 6400.0:  # a ground station: the Earth's radius is 6357-6378 km
+            raise ValueError(f"--station-inertial: |r| = {r:.6g} km is not on the Earth's surface "
+                             f"(6340-6400 km; hint: x,y,z in km) in {spec!r}")
         out.append(station_inertial(v[:3], v[3] if len(v) == 4 else 7.292115e-5))
         labels.append(label)
     if not out:
@@ -61,6 +65,13 @@ def _stations(args, epoch, names=None):
                     f"--station: the file's station {unknown[0]!r} (PARTICIPANT_1) has no --station "
                     f"{unknown[0]}:... or --station-inertial {unknown[0]}:... "
                     f"(given: {[lb for lb in labels if lb]})"
+                )
+            if not all(labels):
+                raise ValueError("--station: name every station (NAME:...) when any is named")
+            extra = [lb for lb in labels if lb not in names]
+            if extra:
+                raise ValueError(
+                    f"--station: {extra[0]!r} is not a station of the file (PARTICIPANT_1: {names})"
                 )
             out = [out[labels.index(n)] for n in names]
         elif len(names) != len(out):
@@ -152,9 +163,28 @@ def _load(args):
 
 
 def _solve(args) -> int:
-    from . import solve
+    from . import EARTH_RADIUS, solve
 
     guess = _floats(args.guess, 6, "--guess")
+    r = float(np.linalg.norm(guess[:3]))
+    if r <= EARTH_RADIUS:
+        raise ValueError(f"--guess: the position is inside the Earth (|r| = {r:.6g} km <= {EARTH_RADIUS} km; "
+                         "hint: x,y,z in km, vx,vy,vz in km/s)")
+    # Options that would have no effect are errors: a typo or a misunderstanding must not pass.
+    if not args.station:
+        for opt, v in (("--ellipsoid", args.ellipsoid), ("--ut1-utc", args.ut1_utc)):
+            if v is not None:
+                raise ValueError(f"{opt}: only used with --station (geodetic stations)")
+    if args.ut1_utc is not None and abs(args.ut1_utc) > 1.0:
+        raise ValueError(
+            f"--ut1-utc: must be within [-1, 1] s (UTC is kept within 0.9 s of UT1), got {args.ut1_utc}"
+        )
+    if args.plots is not None and not args.plots.strip():
+        raise ValueError("--plots: must name a directory")
+    if args.epoch is not None and not args.station and not _is_tdm(pathlib.Path(args.observations)):
+        raise ValueError("--epoch: only used with --station (geodetic) or a TDM file")
+    args.ut1_utc = 0.0 if args.ut1_utc is None else args.ut1_utc
+    args.ellipsoid = "WGS-84" if args.ellipsoid is None else args.ellipsoid
     obs, names, epoch = _load(args)
     if epoch is None and args.station:
         raise ValueError("--epoch: geodetic stations need the UTC epoch of t = 0")
@@ -235,8 +265,8 @@ def register(subparsers) -> None:
     s.add_argument("--station", action="append", help="[NAME:]lat_deg,lon_deg,height_km (geodetic)")
     s.add_argument("--station-inertial", action="append", help="[NAME:]x,y,z[,omega] inertial at t = 0 (km)")
     s.add_argument("--epoch", help="UTC epoch of t = 0 (ISO); TDM default: first observation")
-    s.add_argument("--ut1-utc", type=finite_float, default=0.0, help="UT1 - UTC, s")
-    s.add_argument("--ellipsoid", default="WGS-84")
+    s.add_argument("--ut1-utc", type=finite_float, default=None, help="UT1 - UTC, s (default 0)")
+    s.add_argument("--ellipsoid", default=None, help="geodetic stations' ellipsoid (default WGS-84)")
     s.add_argument(
         "--method",
         default="levenberg_marquardt",

@@ -29,11 +29,16 @@ _KV = re.compile(r"^\s*([A-Z0-9_]+)\s*=\s*(.*?)\s*$")
 def parse_epoch(text: str) -> _dt.datetime:
     """A TDM epoch (calendar or day-of-year form), as a naive UTC datetime."""
     s = text.strip().rstrip("Z")
+    if re.search(r"T\d\d:\d\d:60", s):
+        raise ValueError(f"epoch {text!r} is a leap second (not supported: UTC is read without leap seconds)")
     for fmt in ("%Y-%m-%dT%H:%M:%S.%f", "%Y-%m-%dT%H:%M:%S", "%Y-%jT%H:%M:%S.%f", "%Y-%jT%H:%M:%S"):
         try:
-            return _dt.datetime.strptime(s, fmt)
+            when = _dt.datetime.strptime(s, fmt)
         except ValueError:
             continue
+        if "%j" in fmt and when.year != int(s[:4]):  # strptime rolls day 366 of a common year over
+            raise ValueError(f"bad epoch {text!r}: {s[:4]} has no day {s[5:8]}")
+        return when
     raise ValueError(f"bad epoch {text!r} (hint: YYYY-MM-DDThh:mm:ss or YYYY-DDDThh:mm:ss)")
 
 
@@ -98,6 +103,7 @@ def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, ep
     p, text = read_text_file(path)
     state = "header"
     seen_version = False
+    header_seen: dict[str, int] = {}
     station = None
     meta: dict[str, tuple[int, str]] = {}  # keyword -> (line, value), per segment
     names: list[str] = []
@@ -145,9 +151,15 @@ def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, ep
             continue
         m = _KV.match(line)
         if not m:
+            low = re.match(r"^\s*([A-Za-z0-9_]+)\s*=", line)
+            if low:
+                fail(f"keyword {low.group(1)!r} must be upper case ({low.group(1).upper()})", low.group(1))
             fail(f"malformed line {raw.strip()!r} (hint: KEYWORD = value)")
         key, val = m.group(1), m.group(2)
         if state == "header":
+            if key in header_seen:
+                fail(f"{key} repeated in the header (also line {header_seen[key]})", key)
+            header_seen[key] = lineno
             if key == "CCSDS_TDM_VERS":
                 if not re.fullmatch(r"[12]\.0", val):
                     fail(f"CCSDS_TDM_VERS: unsupported version {val!r} (hint: 1.0 or 2.0)", key)
