@@ -17,12 +17,12 @@ def _run(args: argparse.Namespace) -> int:
     if getattr(args, "model", "linear") == "nonlinear":
         from . import nonlinear
 
-        linear_only = (("--scenario", args.scenario), ("--case", args.case), ("--reference", args.reference))
-        for opt, given in linear_only:
+        for opt in ("--scenario", "--case", "--reference"):
+            given = getattr(args, opt[2:], None)
             if given:
                 raise ValueError(f"{opt}: only with --model linear (the nonlinear cases are built in)")
         return nonlinear.run_cli(pathlib.Path(args.out), closed_loop=args.closed_loop)
-    if args.closed_loop:
+    if getattr(args, "closed_loop", False):
         raise ValueError("--closed-loop: only with --model nonlinear")
     sc = scen.load(args.scenario)
     for case in args.case or []:

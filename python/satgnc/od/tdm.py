@@ -1,16 +1,20 @@
 """CCSDS Tracking Data Message (TDM, CCSDS 503.0-B) reader and writer, KVN only, a documented subset.
 
 Supported:
-- header: ``CCSDS_TDM_VERS`` (must be the first keyword), other header keywords ignored; ``COMMENT``
-  lines anywhere; blank lines;
+- header: ``CCSDS_TDM_VERS`` (1.0 or 2.0, must be the first keyword), then the other header keywords
+  of the standard (CLASSIFICATION, CREATION_DATE, ORIGINATOR, MESSAGE_ID; read and not used);
+  ``COMMENT`` lines anywhere; blank lines; UTF-8 with or without a byte-order mark, LF or CRLF;
 - one or more ``META_START``/``META_STOP`` + ``DATA_START``/``DATA_STOP`` segments;
-- metadata: ``TIME_SYSTEM`` (must be UTC), ``PARTICIPANT_1`` (the station; its name maps to a station),
-  ``RANGE_UNITS`` (must be km if present); other metadata keywords are ignored;
-- data: ``RANGE = <epoch> <value km>`` and ``DOPPLER_INSTANTANEOUS = <epoch> <value km/s>``
+- metadata: ``TIME_SYSTEM`` (required, must be UTC), ``PARTICIPANT_1`` (required: the station; its
+  name maps to a station), ``RANGE_UNITS`` (must be km if present); the other metadata keywords of
+  the standard are read and not used, except corrections and delays, which must be zero (or the
+  corrections flagged ``CORRECTIONS_APPLIED = YES``) because this reader applies none;
+- data: ``RANGE = <epoch> <value km>`` (> 0) and ``DOPPLER_INSTANTANEOUS = <epoch> <value km/s>``
   (instantaneous range-rate); epochs ``YYYY-MM-DDThh:mm:ss[.f]`` or ``YYYY-DDDThh:mm:ss[.f]``.
-Anything else in a data section (ANGLE_1, RECEIVE_FREQ, ...) is an error naming the line: data this
-reader cannot interpret are not silently dropped. TDM carries no per-observation sigma; the caller
-supplies one per type.
+Anything else (ANGLE_1, RECEIVE_FREQ, an unknown or misspelt keyword, ...) is a
+:class:`satgnc.FileFormatError` naming the file, the line and the keyword: data this reader cannot
+interpret are not silently dropped. TDM carries no per-observation sigma; the caller supplies one per
+type.
 """
 
 from __future__ import annotations
