@@ -8,6 +8,8 @@ import datetime as dt
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as hs
 import satgnc
 from satgnc import od
 from satgnc.od import paper
@@ -429,3 +431,130 @@ def test_simulate_bad_arguments(name, kw, exc, frags):
 def test_simulate_accepts_single_type_string_and_mask():
     obs = od.simulate(X0, ST, T, types="range", elevation_mask_deg=0.0, seed=None)
     assert obs.type_names() == ["range"] * len(T)
+
+
+# ----------------------------------------------------------------------------- properties
+
+_CELLS = hs.sampled_from(
+    [
+        "0",
+        "1.5",
+        "-2",
+        "1e3",
+        "nan",
+        "inf",
+        "",
+        " ",
+        "abc",
+        "range",
+        "range_rate",
+        "doppler",
+        "0.001",
+        "-0",
+        "7",
+        '"1"',
+        "1_0",
+        "1e400",
+        "\u00e9",
+    ]
+)
+_HEADERS = hs.sampled_from(
+    [HEADER, "t,type,value,sigma", "sigma,value,type,t,station", "t,type,value", "t,t"]
+)
+_LINES = hs.one_of(
+    hs.lists(_CELLS, min_size=0, max_size=7).map(",".join), hs.sampled_from(["# c", "", ROW, ROW2])
+)
+_PROPS = settings(
+    max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+
+
+@_PROPS
+@given(header=_HEADERS, lines=hs.lists(_LINES, max_size=6), crlf=hs.booleans())
+def test_csv_property_valid_table_or_file_error(tmp_path, header, lines, crlf):
+    """Any CSV text gives either a valid table (finite, ranges > 0, sigmas > 0, stations >= 0) or a
+    FileFormatError naming the file; nothing else escapes."""
+    p = tmp_path / "prop.csv"
+    p.write_text(("\r\n" if crlf else "\n").join([header, *lines]))
+    try:
+        obs = od.read_csv(p)
+    except satgnc.FileFormatError as e:
+        assert str(e).startswith(str(p))
+        return
+    assert np.all(np.isfinite(obs.t)) and np.all(np.isfinite(obs.value))
+    assert np.all(obs.sigma > 0) and np.all(obs.station >= 0)
+    assert np.all(obs.value[np.array(obs.type_names()) == "range"] > 0)
+
+
+_TDM_SUBS = hs.sampled_from(
+    [
+        "",
+        "META_START",
+        "META_STOP",
+        "DATA_START",
+        "DATA_STOP",
+        "RANGE = 1981-080T06:00:05 1.0",
+        "RANGE = 1981-080T06:00:05 -1.0",
+        "DOPPLER_INSTANTANEOUS = 1981-080T06:00:05 nan",
+        "TIME_SYSTEM = UTC",
+        "PARTICIPANT_1 = B",
+        "FOO = 1",
+        "x",
+        "COMMENT hi",
+        "RANGE = 1981-366T06:00:05 1.0",
+        "CORRECTION_RANGE = 1",
+    ]
+)
+
+
+@_PROPS
+@given(edits=hs.lists(hs.tuples(hs.integers(0, len(TDM_GOOD)), _TDM_SUBS, hs.booleans()), max_size=4))
+def test_tdm_property_valid_or_file_error(tmp_path, edits):
+    """Any line-level edit of a good TDM gives either valid observations or a FileFormatError with
+    the file name."""
+    lines = list(TDM_GOOD)
+    for k, text, insert in edits:
+        if insert or k >= len(lines):
+            lines.insert(min(k, len(lines)), text)
+        else:
+            lines[k] = text
+    p = tmp_path / "prop.tdm"
+    p.write_text("\n".join(lines))
+    try:
+        obs, names, _ = read_tdm(p)
+    except satgnc.FileFormatError as e:
+        assert str(e).startswith(str(p))
+        return
+    assert len(obs) >= 1 and names
+    assert np.all(np.isfinite(obs.value))
+    assert np.all(obs.value[np.array(obs.type_names()) == "range"] > 0)
+
+
+@_PROPS
+@given(
+    rows=hs.lists(
+        hs.tuples(
+            hs.floats(-1e6, 1e6, allow_nan=False),
+            hs.booleans(),
+            hs.floats(1e-3, 1e5),
+            hs.floats(1e-9, 1.0),
+            hs.integers(0, 3),
+        ),
+        min_size=1,
+        max_size=20,
+        unique_by=lambda r: (r[0], r[1], r[4]),
+    )
+)
+def test_csv_property_round_trip(tmp_path, rows):
+    """Rows written with full precision read back bit for bit, in file order."""
+    p = tmp_path / "rt.csv"
+    text = [HEADER] + [
+        f"{t!r},{'range' if rng else 'range_rate'},{v!r},{s!r},{st}" for t, rng, v, s, st in rows
+    ]
+    p.write_text("\n".join(text) + "\n")
+    obs = od.read_csv(p)
+    np.testing.assert_array_equal(obs.t, [r[0] for r in rows])
+    np.testing.assert_array_equal(obs.value, [r[2] for r in rows])
+    np.testing.assert_array_equal(obs.sigma, [r[3] for r in rows])
+    np.testing.assert_array_equal(obs.station, [r[4] for r in rows])
+    assert obs.type_names() == ["range" if r[1] else "range_rate" for r in rows]
