@@ -8,9 +8,9 @@ import datetime as dt
 
 import numpy as np
 import pytest
+import satgnc
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
-import satgnc
 from satgnc import od
 from satgnc.od import paper
 from satgnc.od.tdm import read_tdm, write_tdm
