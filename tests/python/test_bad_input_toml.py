@@ -8,6 +8,8 @@ import re
 import numpy as np
 import pytest
 import satgnc
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as hs
 from satgnc.scenarios import l1_rendezvous as scen
 
 GOOD = scen.DEFAULT.read_text()
@@ -195,3 +197,53 @@ def test_packaged_scenario_and_variants_load(tmp_path):
     sc2 = scen.load(_write(tmp_path, "\ufeff" + text.replace("\n", "\r\n")))
     assert sc2.mu == 398600441800000.0 and isinstance(sc2.mu, float)
     assert sc2.method == "midpoint" and sc2.cases["unconstrained"]["box"] is False
+
+
+_VALUES = hs.sampled_from(
+    [
+        "true",
+        '"false"',
+        "1",
+        "0",
+        "-1",
+        "2.7",
+        "nan",
+        "inf",
+        "[1, 2, 3]",
+        "[]",
+        "{a = 1}",
+        "1979-05-27",
+        '"x"',
+        "1e3",
+    ]
+)
+_KEYS = [m for m in re.finditer(r"(?m)^(\w+) = (.*?)(\s*#.*)?$", GOOD)]
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(
+    edits=hs.lists(
+        hs.tuples(hs.integers(0, len(_KEYS) - 1), _VALUES), min_size=1, max_size=3, unique_by=lambda e: e[0]
+    )
+)
+def test_property_typed_scenario_or_error(tmp_path, edits):
+    """Any value in any key gives a Scenario whose fields have their types and ranges, or a
+    FileFormatError naming the file; a wrong type is never coerced."""
+    text = GOOD
+    for k, v in sorted(edits, key=lambda e: -_KEYS[e[0]].start()):
+        m = _KEYS[k]
+        text = text[: m.start()] + f"{m.group(1)} = {v}" + text[m.end() :]
+    p = _write(tmp_path, text)
+    try:
+        sc = scen.load(p)
+    except satgnc.FileFormatError as e:
+        assert str(e).startswith(str(p))
+        return
+    for name in ("mu", "radius", "mass", "tf", "u_max"):
+        v = getattr(sc, name)
+        assert type(v) is float and v > 0 and np.isfinite(v)
+    assert type(sc.knots) is int and sc.knots >= 2
+    assert sc.p0.shape == (3,) and sc.v0.shape == (3,) and np.any(sc.p0 != 0) and np.any(sc.v0 != 0)
+    for c in sc.cases.values():
+        assert type(c["box"]) is bool and type(c["terminal_equality"]) is bool
+        assert c["rho"] > 0 and c["eps"] > 0
