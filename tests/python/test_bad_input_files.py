@@ -370,6 +370,37 @@ def test_file_format_error_attributes(tmp_path):
     assert str(pickle.loads(pickle.dumps(e))) == str(e)
 
 
+_OBS2 = od.Observations([0.0, 10.0], "range", [1000.0, 1001.0], 1e-3, [0, 1])
+_EP = dt.datetime(1981, 3, 21, 6)
+WRITE_CASES = [
+    ("names-too-few", dict(station_names=["A"]), ValueError, ["station_names", "index 1", "only 1 name"]),
+    ("names-duplicate", dict(station_names=["A", "A"]), ValueError, ["station_names: names must be unique"]),
+    ("name-empty", dict(station_names=["A", " "]), ValueError, ["not a valid PARTICIPANT_1"]),
+    ("name-newline", dict(station_names=["A", "B\nDATA_STOP"]), ValueError, ["not a valid PARTICIPANT_1"]),
+    ("names-string", dict(station_names="AB"), TypeError, ["station_names: must be a list"]),
+    ("epoch-string", dict(epoch="1981-03-21"), TypeError, ["epoch: must be a datetime"]),
+    ("observations-list", dict(observations=[1, 2]), TypeError, ["observations: must be an Observations"]),
+    ("originator-empty", dict(originator=""), ValueError, ["originator"]),
+]
+
+
+@pytest.mark.parametrize("name,kw,exc,frags", WRITE_CASES, ids=[c[0] for c in WRITE_CASES])
+def test_write_tdm_arguments(tmp_path, name, kw, exc, frags):
+    args = dict(path=tmp_path / "w.tdm", observations=_OBS2, epoch=_EP, station_names=["A", "B"])
+    args.update(kw)
+    with pytest.raises(exc) as ei:
+        write_tdm(**args)
+    for f in frags:
+        assert f in str(ei.value), (f, str(ei.value))
+    assert not (tmp_path / "w.tdm").exists()  # nothing half-written
+
+
+def test_write_tdm_two_stations_round_trip(tmp_path):
+    obs, names, _ = read_tdm(write_tdm(tmp_path / "w.tdm", _OBS2, _EP, ["A", "B"]))
+    assert names == ["A", "B"] and list(obs.station) == [0, 1]
+    np.testing.assert_array_equal(obs.value, [1000.0, 1001.0])
+
+
 def test_round_trips_still_hold(tmp_path):
     obs = od.simulate(paper.truth(), paper.station(), np.arange(0, 301, 20.0), seed=None)
     back, names, _ = read_tdm(write_tdm(tmp_path / "a.tdm", obs, dt.datetime(1981, 3, 21, 6), ["GZ"]))

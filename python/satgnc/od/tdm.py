@@ -244,7 +244,31 @@ def write_tdm(
     station_names: list[str],
     originator: str = "satgnc",
 ) -> pathlib.Path:
-    """Write observations (times relative to ``epoch``) as a KVN TDM, one segment per station."""
+    """Write observations (times relative to ``epoch``) as a KVN TDM, one segment per station.
+
+    ``station_names[i]`` names station index i; every index used must have a name (no observation is
+    dropped), names are unique, non-empty and fit on a KVN line."""
+    if not isinstance(observations, Observations):
+        raise TypeError(f"observations: must be an Observations table, got {type(observations).__name__}")
+    if not isinstance(epoch, _dt.datetime):
+        raise TypeError(f"epoch: must be a datetime (UTC), got {type(epoch).__name__}")
+    if epoch.tzinfo is not None:
+        epoch = epoch.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+    if isinstance(station_names, str) or not all(isinstance(n, str) for n in station_names):
+        raise TypeError("station_names: must be a list of names (str)")
+    station_names = list(station_names)
+    for n in station_names:
+        if not n.strip() or n != n.strip() or any(c in n for c in "\r\n="):
+            raise ValueError(f"station_names: {n!r} is not a valid PARTICIPANT_1 value")
+    if len(set(station_names)) != len(station_names):
+        raise ValueError(f"station_names: names must be unique, got {station_names}")
+    if len(observations) and int(np.max(observations.station)) >= len(station_names):
+        raise ValueError(
+            f"station_names: observations use station index {int(np.max(observations.station))}, "
+            f"only {len(station_names)} name(s) given"
+        )
+    if not isinstance(originator, str) or not originator.strip() or "\n" in originator:
+        raise ValueError(f"originator: must be a one-line non-empty string, got {originator!r}")
     p = pathlib.Path(path)
     lines = [
         "CCSDS_TDM_VERS = 2.0",
