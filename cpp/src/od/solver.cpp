@@ -450,8 +450,7 @@ bool OdSolver::solve_newton(Vec6& x) {
       res_.status = OdStatus::singular;
       break;
     }
-    const Vec6 dx =
-        -(svd_.matrixV() * (svd_.matrixU().transpose() * c_).cwiseQuotient(res_.singular_values));
+    const Vec6 dx = -(svd_.matrixV() * (svd_.matrixU().transpose() * c_).cwiseQuotient(res_.singular_values));
     const Vec6 xt = x + dx;
     const OdStatus st = eval_at(xt, true);
     if (st != OdStatus::converged) {
@@ -609,40 +608,39 @@ bool OdSolver::solve_lm(Vec6& x) {
   return true;
 }
 
-// Undamped Gauss-Newton steps from the LM point x (whose buffers are current), kept only if the walk
-// ends at a point of lower cost: LM's monotone decrease rejects the first Newton step in the curved
-// valleys of the six-point problem although Newton then converges quadratically. On success x and
-// the buffers are at the end point; on failure the history rows of the walk are cleared and the
-// buffers are stale.
+// Undamped Gauss-Newton steps from the LM point x (whose buffers are current), kept up to the
+// lowest-cost point of the walk if that is lower than x: LM's monotone decrease rejects the first
+// Newton step in the curved valleys of the six-point problem although Newton then converges
+// quadratically. Returns true when a point was kept (x and the buffers are there); otherwise the
+// history rows of the walk are cleared and the buffers are stale.
 bool OdSolver::polish(Vec6& x) {
   const int max_it = settings_.max_iterations;
   if (settings_.lm_polish_iterations <= 0 || res_.iterations >= max_it) return false;
   const int k_lm = res_.iterations;
-  const double cost_lm = 0.5 * rn_.squaredNorm();
+  double best_cost = 0.5 * rn_.squaredNorm();
+  int best = k_lm;
   Vec6 xp = x;
   int k = k_lm;
-  bool valid = true;  // buffers belong to xp
+  bool fresh = true;  // the buffers belong to xp
   for (int j = 0; j < settings_.lm_polish_iterations && k < max_it; ++j) {
     factor();
     if (res_.rank < 6) break;
     const Vec6 dx = gn_step();
     if (eval_at(xp + dx, true) != OdStatus::converged) {
-      valid = false;
+      fresh = false;
       break;
     }
     xp += dx;
     ++k;
     res_.x0 = xp;
     record(k, 0.0);
+    if (res_.history_cost(k) < best_cost) {
+      best_cost = res_.history_cost(k);
+      best = k;
+    }
     if (small_step(dx, xp)) break;
   }
-  if (k > k_lm && res_.history_cost(k) < cost_lm) {
-    if (!valid && eval_at(xp, true) != OdStatus::converged) return false;
-    x = xp;
-    res_.iterations = k;
-    return true;
-  }
-  for (int i = k_lm + 1; i <= k; ++i) {
+  for (int i = best + 1; i <= k; ++i) {
     res_.history_x0.row(i).setConstant(kNaN);
     res_.history_residuals.row(i).setConstant(kNaN);
     res_.history_range_residuals.row(i).setConstant(kNaN);
@@ -650,8 +648,15 @@ bool OdSolver::polish(Vec6& x) {
     res_.history_cost(i) = kNaN;
     res_.history_lambda(i) = kNaN;
   }
+  if (best == k_lm) {
+    res_.x0 = x;
+    return false;
+  }
+  x = res_.history_x0.row(best).transpose();
   res_.x0 = x;
-  return false;
+  res_.iterations = best;
+  if (best != k || !fresh) return eval_at(x, true) == OdStatus::converged;
+  return true;
 }
 
 OdStatus OdSolver::evaluate(const Vec6& x0, Eigen::VectorXd& residuals, Eigen::MatrixXd* jac) {

@@ -5,10 +5,14 @@
 /// One engine, three methods (OdSettings::method):
 ///  - newton: the paper's six-point Newton-Raphson on six implicit boundary conditions (eqs. 9-18),
 ///    or on six observations; the Jacobian is exact (measurement partials chained through the STM);
+///  - newton is kept exactly as the paper has it (full undamped steps) so its tables reproduce;
 ///  - gauss_newton: weighted batch least squares for any number (>= 6) of mixed observations from
-///    one or several stations, with the formal covariance (J^T W J)^-1 and correlation;
-///  - levenberg_marquardt: the same cost, globalized (Moré-scaled damping; trial points below the
-///    surface or unbound are rejected instead of ending the run).
+///    one or several stations, with the formal covariance (J^T W J)^-1 and correlation; globalized
+///    by a backtracking (Armijo) line search along the second-order path x + t v + t^2 a / 2;
+///  - levenberg_marquardt: the same cost, globalized by Moré-scaled damping.
+/// GN and LM add the geodesic acceleration a (OdSettings::geodesic), reject trial points below the
+/// surface, unbound or not propagatable, never raise the cost, and return the best iterate.
+/// Statuses and their guarantees: docs/od.md.
 /// Residual rows are either observations (predicted - observed, km or km/s, weight 1/sigma^2) or the
 /// paper's implicit conditions:
 ///  - range:   q = |X1 - R1|^2 - rho_j^2                         (km^2),   sigma_q = 2 rho_j sigma_rho
@@ -88,9 +92,9 @@ struct OdSettings {
   double rank_tol = 1e-13;    ///< singular values below rank_tol * s_max count as zero (numerical rank)
   double min_radius = dynamics::earth::radius;  ///< km; any state closer to the centre => diverged
   double mu = dynamics::earth::mu;              ///< km^3/s^2, for the unbound test (specific energy >= 0)
-  double fit_sigma = 3.0;      ///< a solution fits when the RMS normalized residual <= fit_sigma
-  double min_range = 1e-6;     ///< km; smaller predicted range => degenerate_geometry
-  int gn_max_halvings = 40;    ///< GN line search: step halvings (Armijo test) before status stalled
+  double fit_sigma = 3.0;    ///< a solution fits when the RMS normalized residual <= fit_sigma
+  double min_range = 1e-6;   ///< km; smaller predicted range => degenerate_geometry
+  int gn_max_halvings = 40;  ///< GN line search: step halvings (Armijo test) before status stalled
   /// GN and LM add the geodesic acceleration (second-order correction along the step, one extra
   /// residual evaluation per trial; Transtrum & Sethna 2012) so steps follow curved valleys.
   bool geodesic = true;
@@ -207,10 +211,10 @@ class OdSolver {
   std::vector<Vec6> states_;
   std::vector<Mat6> stms_;
   Eigen::VectorXd r_, rn_, rr_, rrr_;
-  Eigen::MatrixXd jn_;   // rows x 6, normalized
+  Eigen::MatrixXd jn_;        // rows x 6, normalized
   Eigen::VectorXd rn0_, gw_;  // geodesic probe: residuals at x, work vector
   Eigen::MatrixXd jn0_;       // geodesic probe: Jacobian at x
-  Eigen::MatrixXd aug_;  // rows x 7
+  Eigen::MatrixXd aug_;       // rows x 7
   Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
   Mat6 R_;
   Vec6 c_;
