@@ -469,7 +469,9 @@ bool OdSolver::solve_newton(Vec6& x) {
       break;
     }
   }
-  if (res_.status == OdStatus::converged || best == res_.iterations) return buffers_valid;
+  // converged and singular describe the last iterate: report that one.
+  if (res_.status == OdStatus::converged || res_.status == OdStatus::singular || best == res_.iterations)
+    return buffers_valid;
   x = res_.history_x0.row(best).transpose();
   return false;
 }
