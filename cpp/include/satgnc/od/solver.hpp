@@ -113,7 +113,8 @@ struct OdSettings {
 /// Result with per-iteration history. History row k holds the iterate after k accepted steps
 /// (row 0 = the guess); rows 0..iterations are used and finite (range / range-rate residual rows hold
 /// NaN only for rows without that observable), later rows are unused (NaN). Residual rows follow the
-/// input order. Whatever the status, x0 is the best (lowest-cost) iterate and cost, residuals,
+/// input order. Whatever the status, x0 is the best (lowest-cost) iterate (newton's converged and
+/// singular: its last iterate) and cost, residuals,
 /// covariance and rank are evaluated at it; when not even the guess can be evaluated (diverged,
 /// propagation_failed or degenerate_geometry with iterations = 0) cost and max_abs_normalized are +inf.
 struct OdResult {
