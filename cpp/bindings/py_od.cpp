@@ -139,7 +139,9 @@ void init_od(py::module_& m) {
       .value("singular", OdStatus::singular)
       .value("diverged", OdStatus::diverged)
       .value("propagation_failed", OdStatus::propagation_failed)
-      .value("degenerate_geometry", OdStatus::degenerate_geometry);
+      .value("degenerate_geometry", OdStatus::degenerate_geometry)
+      .value("unsolved", OdStatus::unsolved)
+      .value("stalled", OdStatus::stalled);
   m.def("od_status_message", &od_status_message, py::arg("status"));
   py::enum_<ConditionType>(m, "ConditionType")
       .value("range", ConditionType::range)
@@ -171,6 +173,8 @@ void init_od(py::module_& m) {
       .def_readwrite("mu", &OdSettings::mu)
       .def_readwrite("fit_sigma", &OdSettings::fit_sigma)
       .def_readwrite("min_range", &OdSettings::min_range)
+      .def_readwrite("gn_max_halvings", &OdSettings::gn_max_halvings)
+      .def_readwrite("geodesic", &OdSettings::geodesic)
       .def_readwrite("lm_lambda0", &OdSettings::lm_lambda0)
       .def_readwrite("lm_increase", &OdSettings::lm_increase)
       .def_readwrite("lm_decrease", &OdSettings::lm_decrease)

@@ -142,21 +142,15 @@ TEST(OdSolver, BatchTwoStationsCovarianceAndLm) {
     OdSettings set;
     set.method = method;
     auto solver = OdSolver::from_measurements(st, m, prop(), set);
-    // Plain Gauss-Newton diverges from the 70 km / 37 m/s offset (measured: below the surface after
-    // 5 steps); LM converges from it. GN gets a 10x smaller offset.
-    const double f = method == OdMethod::gauss_newton ? 0.1 : 1.0;
+    // Undamped Gauss-Newton left the physical region from this 70 km / 37 m/s offset (measured:
+    // below the surface after 5 steps); with the line search along the geodesic path it converges.
     Vec6 guess = paper_truth();
-    guess.head<3>() += f * Vec3(50.0, -40.0, 30.0);
-    guess.tail<3>() += f * Vec3(0.02, -0.01, 0.03);
+    guess.head<3>() += Vec3(50.0, -40.0, 30.0);
+    guess.tail<3>() += Vec3(0.02, -0.01, 0.03);
     const OdResult& r = solver.solve(guess);
-    EXPECT_EQ(r.status, OdStatus::converged);
-    if (method == OdMethod::gauss_newton) {
-      Vec6 far = paper_truth();
-      far.head<3>() += Vec3(50.0, -40.0, 30.0);
-      far.tail<3>() += Vec3(0.02, -0.01, 0.03);
-      EXPECT_EQ(solver.solve(far).status, OdStatus::diverged);
-      solver.solve(guess);
-    }
+    EXPECT_EQ(r.status, OdStatus::converged) << od_status_message(r.status);
+    // The cost never rises along the GN / LM iterations.
+    for (int k = 1; k <= r.iterations; ++k) EXPECT_LE(r.history_cost(k), r.history_cost(k - 1));
     EXPECT_LT((r.x0 - paper_truth()).head<3>().norm(), 1e-6);
     EXPECT_TRUE(r.fits);
     // Covariance is symmetric positive definite and the correlation has a unit diagonal.
@@ -311,4 +305,95 @@ TEST(OdSolver, KeplerAndCvodesPropagatorsAgreeWithRk4) {
   EXPECT_LE(r.iterations, 5);
   // The data come from RK4 (h = 1 s), so the Kepler solution differs by the RK4 error (< 1 m).
   EXPECT_LT((r.x0 - paper_truth()).head<3>().norm(), 1e-3);
+}
+
+TEST(OdSolver, ResultDefaultsToUnsolvedAndStatusesKeepTheirValues) {
+  EXPECT_EQ(OdResult{}.status, OdStatus::unsolved);
+  // Appended statuses: the existing values keep their numbers.
+  EXPECT_EQ(static_cast<int>(OdStatus::degenerate_geometry), 5);
+  EXPECT_EQ(static_cast<int>(OdStatus::unsolved), 6);
+  EXPECT_EQ(static_cast<int>(OdStatus::stalled), 7);
+  EXPECT_EQ(std::string(od_status_message(OdStatus::unsolved)), "not solved yet");
+  auto solver = OdSolver::from_conditions({paper_station()}, doppler_conditions(), prop());
+  EXPECT_EQ(solver.result().status, OdStatus::unsolved);
+}
+
+TEST(OdSolver, RankDeficientIsSingularForEveryMethod) {
+  // One station listed three times, range and range-rate at t = 0: rank 2, condition ~1e32.
+  const Station st = paper_station();
+  std::vector<Measurement> m;
+  for (int i = 0; i < 3; ++i) {
+    double rho = 0, rhodot = 0;
+    predict_measurement(MeasurementType::range, paper_truth(), st.state(0.0), rho);
+    predict_measurement(MeasurementType::range_rate, paper_truth(), st.state(0.0), rhodot);
+    m.push_back({0.0, MeasurementType::range, rho, 1e-3, i});
+    m.push_back({0.0, MeasurementType::range_rate, rhodot, 1e-6, i});
+  }
+  for (auto method : {OdMethod::newton, OdMethod::gauss_newton, OdMethod::levenberg_marquardt}) {
+    OdSettings s;
+    s.method = method;
+    auto solver = OdSolver::from_measurements({st, st, st}, m, prop(), s);
+    const OdResult& r = solver.solve(paper_truth() + Vec6::Constant(1e-3));
+    EXPECT_EQ(r.status, OdStatus::singular) << "method " << static_cast<int>(method);
+    EXPECT_EQ(r.rank, 2);
+    EXPECT_TRUE(std::isfinite(r.cost));
+    EXPECT_TRUE(std::isinf(r.covariance(0, 0)));
+  }
+}
+
+TEST(OdSolver, FailedNewtonReturnsTheBestIterateWithFiniteHistory) {
+  OdSettings s;
+  s.method = OdMethod::newton;
+  auto solver = OdSolver::from_conditions({paper_station()}, doppler_conditions(), prop(), s);
+  Vec6 guess = paper_truth();
+  guess.head<3>() += Vec3(200.0, -200.0, 200.0);
+  guess.tail<3>() += Vec3(0.2, -0.2, 0.2);
+  const OdResult& r = solver.solve(guess);
+  ASSERT_NE(r.status, OdStatus::converged);
+  double best = r.history_cost(0);
+  for (int k = 0; k <= r.iterations; ++k) {
+    EXPECT_TRUE(r.history_x0.row(k).allFinite()) << "row " << k;
+    EXPECT_TRUE(std::isfinite(r.history_cost(k)));
+    best = std::min(best, r.history_cost(k));
+  }
+  EXPECT_DOUBLE_EQ(r.cost, best);
+  EXPECT_GT(r.cost, 0.0);
+  // A guess below the surface has no residuals at all: cost +inf, never 0.
+  Vec6 inside = paper_truth();
+  inside.head<3>() *= 0.5;
+  const OdResult& ri = solver.solve(inside);
+  EXPECT_EQ(ri.status, OdStatus::diverged);
+  EXPECT_EQ(ri.iterations, 0);
+  EXPECT_TRUE(std::isinf(ri.cost));
+  EXPECT_TRUE(ri.history_x0.row(0).isApprox(inside.transpose()));
+}
+
+TEST(OdSolver, LineSearchAndGeodesicPathsDoNotAllocate) {
+  // Two stations, far guess: GN halves steps and uses the geodesic probe, LM rejects trials.
+  std::vector<Station> st{paper_station(), Station::from_inertial(Vec3(5200.0, 3000.0, 1900.0))};
+  std::vector<double> t;
+  for (int i = 0; i <= 30; ++i) t.push_back(10.0 * i);
+  std::vector<Measurement> m;
+  for (int s = 0; s < 2; ++s) {
+    std::vector<double> rho, rhodot;
+    observe(paper_truth(), st, t, s, rho, rhodot);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      m.push_back({t[i], MeasurementType::range, rho[i], 1e-3, s});
+      m.push_back({t[i], MeasurementType::range_rate, rhodot[i], 1e-6, s});
+    }
+  }
+  Vec6 guess = paper_truth();
+  guess.head<3>() += Vec3(50.0, -40.0, 30.0);
+  guess.tail<3>() += Vec3(0.02, -0.01, 0.03);
+  for (auto method : {OdMethod::gauss_newton, OdMethod::levenberg_marquardt}) {
+    OdSettings s;
+    s.method = method;
+    auto solver = OdSolver::from_measurements(st, m, prop(), s);
+    solver.solve(guess);  // warm-up
+    const long before = g_allocs.load();
+    const OdResult& r = solver.solve(guess);
+    EXPECT_EQ(g_allocs.load() - before, 0) << "method " << static_cast<int>(method);
+    EXPECT_EQ(r.status, OdStatus::converged);
+    EXPECT_GT(r.evaluations, r.iterations + 1);  // trials beyond the accepted steps happened
+  }
 }

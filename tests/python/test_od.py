@@ -314,3 +314,23 @@ def test_ellipsoids_and_ut1():
     assert math.degrees(g1 - g0) * 3600 == pytest.approx(0.5 * 15 * 1.0027379, abs=2e-3)
     with pytest.raises(ValueError, match="epoch"):
         od.gmst("21 March 1981")
+
+
+def test_solver_settings_and_statuses():
+    s = od.settings("gauss_newton")
+    assert s.max_iterations == 100 and s.gn_max_halvings == 40 and s.geodesic is True
+    assert s.step_sigma_tol == 1e-6 and s.cost_tol == 1e-6 and s.rank_tol == 1e-13
+    with pytest.raises(ValueError, match="gn_max_halvings"):
+        od.settings("gauss_newton", gn_max_halvings=-1)
+    # Appended statuses keep the old values; every status has a message.
+    assert [od.OdStatus.converged.value, od.OdStatus.degenerate_geometry.value] == [0, 5]
+    assert od.OdStatus.unsolved.value == 6 and od.OdStatus.stalled.value == 7
+    from satgnc import _satgnc
+
+    assert "stalled" in _satgnc.od_status_message(od.OdStatus.stalled)
+    # Without the geodesic acceleration GN still never raises the cost (line search).
+    obs = od.simulate(paper.truth(), paper.station(), np.arange(0, 301, 10.0), seed=2)
+    r = od.solve(obs, paper.station(), paper.truth(), "gauss_newton", geodesic=False, max_iterations=20)
+    assert np.all(np.diff(r.history_cost) <= 0)
+    assert r.history_x0.shape == (r.iterations + 1, 6)
+    assert r.status in (od.OdStatus.converged, od.OdStatus.max_iterations, od.OdStatus.stalled)

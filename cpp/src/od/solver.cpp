@@ -14,6 +14,9 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kLambdaFloor = 1e-12;  // below: pure Gauss-Newton steps
+constexpr double kArmijo = 1e-4;        // GN line search: fraction of the model decrease required
+constexpr double kGeoStep = 0.1;        // finite-difference step (fraction of v) of the geodesic probe
+constexpr double kGeoRatio = 0.75;      // LM keeps the acceleration a only if 2 |D a| <= this |D v|
 }  // namespace
 
 const char* od_status_message(OdStatus s) {
@@ -30,6 +33,10 @@ const char* od_status_message(OdStatus s) {
       return "propagation failed";
     case OdStatus::degenerate_geometry:
       return "zero range: the satellite is at the station, range-rate is undefined";
+    case OdStatus::unsolved:
+      return "not solved yet";
+    case OdStatus::stalled:
+      return "stalled: no trial step lowered the cost and the convergence test does not hold";
   }
   return "unknown status";
 }
@@ -52,6 +59,7 @@ void OdSettings::validate() const {
   require(std::isfinite(lm_decrease) && lm_decrease > 0.0 && lm_decrease < 1.0, "settings.lm_decrease",
           "must be in (0, 1)");
   require(lm_max_rejections >= 1, "settings.lm_max_rejections", "must be >= 1");
+  require(gn_max_halvings >= 0 && gn_max_halvings <= 60, "settings.gn_max_halvings", "must be in 0..60");
   require(lm_polish_iterations >= 0, "settings.lm_polish_iterations", "must be >= 0");
   core::require_nonnegative(lm_stall_tol, "settings.lm_stall_tol");
   require(method == OdMethod::newton || method == OdMethod::gauss_newton ||
@@ -164,6 +172,9 @@ void OdSolver::setup(std::vector<Station> stations, std::vector<Row> rows, std::
   rr_.setZero(m);
   rrr_.setZero(m);
   jn_.setZero(m, 6);
+  rn0_.setZero(m);
+  gw_.setZero(m);
+  jn0_.setZero(m, 6);
   aug_.setZero(m, 7);
   qr_ = Eigen::HouseholderQR<Eigen::MatrixXd>(m, 7);
   res_.residuals.setZero(m);
@@ -278,15 +289,57 @@ bool OdSolver::small_step(const Vec6& dx, const Vec6& x) const {
   return true;
 }
 
+// Convergence test of gauss_newton / levenberg_marquardt at the current iterate (after factor()):
+// gradient |c_r| <= step_sigma_tol, predicted decrease 0.5 |c_r|^2 <= cost_tol * cost, or a relative
+// step below step_tol, with c_r the part of c = Q^T r_n inside the numerical range of R. Needs
+// rank 6 to say converged; with rank < 6 the test still stops the iteration (the caller reports
+// singular).
+bool OdSolver::converged_here(const Vec6& x) const {
+  const Vec6 w = svd_.matrixU().transpose() * c_;
+  const double g = w.head(res_.rank).norm();
+  if (g <= settings_.step_sigma_tol) return true;
+  if (0.5 * g * g <= settings_.cost_tol * 0.5 * rn_.squaredNorm()) return true;
+  const Vec6 dx = gn_step();
+  for (int i = 0; i < 6; ++i)
+    if (std::abs(dx(i)) > settings_.step_tol * (1.0 + std::abs(x(i)))) return false;
+  return true;
+}
+
+// -R^+ b by the SVD of R truncated at the numerical rank; gn_step() = -R^+ c.
+Vec6 OdSolver::solve_r(const Vec6& b) const {
+  Vec6 w = svd_.matrixU().transpose() * b;
+  for (int i = 0; i < 6; ++i) w(i) = i < res_.rank ? w(i) / res_.singular_values(i) : 0.0;
+  return -(svd_.matrixV() * w);
+}
+
+Vec6 OdSolver::gn_step() const { return solve_r(c_); }
+
+// Geodesic acceleration (Transtrum & Sethna 2012): the second directional derivative of the
+// normalized residuals along v by a finite difference of step kGeoStep, r_vv ~ (2/h)((r(x+hv) -
+// r(x))/h - J v), projected by the Householder reflectors of the current factorization: returns
+// Q1^T r_vv (6), or false when x + h v cannot be evaluated. Needs rn0_/jn0_ at x; clobbers the buffers.
+bool OdSolver::second_derivative(const Vec6& x, const Vec6& v, Vec6& qt_rvv) {
+  if (eval_at(x + kGeoStep * v, false) != OdStatus::converged) return false;
+  gw_.noalias() = jn0_ * v;
+  gw_ = (2.0 / kGeoStep) * ((rn_ - rn0_) / kGeoStep - gw_);
+  if (!gw_.allFinite()) return false;
+  const Eigen::Index m = gw_.size();
+  const auto& qr = qr_.matrixQR();
+  for (Eigen::Index j = 0; j < 6; ++j) {  // Q^T y = H_5 ... H_0 y, H_j = I - tau v v^T, v = [1; essential]
+    const Eigen::Index n = m - j - 1;
+    double sdot = gw_(j) + (n > 0 ? qr.col(j).tail(n).dot(gw_.tail(n)) : 0.0);
+    sdot *= qr_.hCoeffs()(j);
+    gw_(j) -= sdot;
+    if (n > 0) gw_.tail(n) -= sdot * qr.col(j).tail(n);
+  }
+  qt_rvv = gw_.head<6>();
+  return true;
+}
+
 void OdSolver::finish(const Vec6& x, bool buffers_valid) {
   res_.x0 = x;
-  if (!buffers_valid) {
-    const OdStatus st = eval_at(x, true);
-    if (st != OdStatus::converged) {
-      res_.fits = false;
-      return;
-    }
-  }
+  // x was evaluated successfully before (it is an accepted iterate), so this cannot fail.
+  if (!buffers_valid && eval_at(x, true) != OdStatus::converged) return;
   factor();
   res_.residuals = r_;
   res_.normalized = rn_;
@@ -305,14 +358,21 @@ void OdSolver::finish(const Vec6& x, bool buffers_valid) {
     res_.covariance.setConstant(kInf);
     res_.correlation.setConstant(kNaN);
   }
+  const bool stopped = res_.status == OdStatus::max_iterations || res_.status == OdStatus::stalled;
+  // A budget or line search that ran out exactly at a converged point is converged.
+  if (stopped && settings_.method != OdMethod::newton && converged_here(x)) res_.status = OdStatus::converged;
+  if (res_.rank < 6 && (stopped || res_.status == OdStatus::converged)) res_.status = OdStatus::singular;
 }
 
 const OdResult& OdSolver::solve(const Vec6& guess) {
-  const int max_it = settings_.max_iterations;
+  res_.status = OdStatus::unsolved;
   res_.iterations = 0;
   res_.evaluations = 0;
   res_.rank = 0;
   res_.fits = false;
+  res_.cost = kInf;
+  res_.max_abs_normalized = kInf;
+  res_.condition_number = kInf;
   res_.covariance.setConstant(kNaN);
   res_.correlation.setConstant(kNaN);
   res_.singular_values.setZero();
@@ -323,174 +383,266 @@ const OdResult& OdSolver::solve(const Vec6& guess) {
   res_.history_cost.setConstant(kNaN);
   res_.history_lambda.setConstant(kNaN);
   res_.x0 = guess;
-  rr_.setConstant(kNaN);
-  rrr_.setConstant(kNaN);
-  r_.setConstant(kNaN);
-  rn_.setConstant(kNaN);
-  OdStatus st = eval_at(guess, true);
+  const OdStatus st = eval_at(guess, true);
   if (st != OdStatus::converged) {
+    // Not even the guess has residuals: report that, with an infinite cost (never 0).
     res_.status = st;
+    r_.setConstant(kNaN);
+    rn_.setConstant(kNaN);
+    rr_.setConstant(kNaN);
+    rrr_.setConstant(kNaN);
     res_.residuals = r_;
     res_.normalized = rn_;
     res_.range_residuals = rr_;
     res_.range_rate_residuals = rrr_;
+    res_.history_x0.row(0) = guess.transpose();
+    res_.history_cost(0) = kInf;
+    res_.history_lambda(0) = 0.0;
     return res_;
   }
   record(0, 0.0);
   Vec6 x = guess;
-  const bool lm = settings_.method == OdMethod::levenberg_marquardt;
-  double lambda = settings_.lm_lambda0;
-  Vec6 diag = Vec6::Zero();
   bool buffers_valid = true;  // r_/jn_ belong to x
-  bool gn_converged = false;
-  int stall = 0;
+  switch (settings_.method) {
+    case OdMethod::newton:
+      buffers_valid = solve_newton(x);
+      break;
+    case OdMethod::gauss_newton:
+      buffers_valid = solve_gauss_newton(x);
+      break;
+    case OdMethod::levenberg_marquardt:
+      buffers_valid = solve_lm(x);
+      break;
+  }
+  finish(x, buffers_valid);
+  return res_;
+}
+
+// -argmin |R d + b|^2 + lambda |D d|^2 by a fixed-size QR of [R b; sqrt(lambda) D 0].
+Vec6 OdSolver::damped_solve(const Vec6& b, double lambda, const Vec6& diag) const {
+  Eigen::Matrix<double, 12, 7> A = Eigen::Matrix<double, 12, 7>::Zero();
+  A.topLeftCorner<6, 6>() = R_;
+  A.block<6, 1>(0, 6) = b;
+  A.bottomLeftCorner<6, 6>() = (std::sqrt(lambda) * diag).asDiagonal();
+  const Eigen::HouseholderQR<Eigen::Matrix<double, 12, 7>> q(A);
+  const Mat6 Rl = q.matrixQR().topLeftCorner<6, 6>().triangularView<Eigen::Upper>();
+  const Vec6 cl = q.matrixQR().block<6, 1>(0, 6);
+  return -Rl.triangularView<Eigen::Upper>().solve(cl);
+}
+
+bool OdSolver::residual_small() const {
+  return settings_.residual_tol > 0.0 && rn_.cwiseAbs().maxCoeff() <= settings_.residual_tol;
+}
+
+// The paper's undamped Newton-Raphson (eqs. 9-18), kept exactly: full steps, converged when the step
+// just taken is small. On failure x becomes the lowest-cost iterate.
+bool OdSolver::solve_newton(Vec6& x) {
   res_.status = OdStatus::max_iterations;
-  for (int k = 1; k <= max_it; ++k) {
-    if (settings_.residual_tol > 0.0 && rn_.cwiseAbs().maxCoeff() <= settings_.residual_tol) {
+  bool buffers_valid = true;
+  int best = 0;
+  for (int k = 1; k <= settings_.max_iterations; ++k) {
+    if (residual_small()) {
       res_.status = OdStatus::converged;
       break;
     }
     factor();
-    Vec6 dx;
-    if (!lm) {
-      if (res_.rank < 6) {
-        res_.status = OdStatus::singular;
-        break;
-      }
-      dx.noalias() =
-          -(svd_.matrixV() * (svd_.matrixU().transpose() * c_).cwiseQuotient(res_.singular_values));
-      x += dx;
-      res_.x0 = x;
-      st = eval_at(x, true);
-      if (st != OdStatus::converged) {
-        res_.status = st;
-        res_.iterations = k;
-        buffers_valid = false;
-        break;
-      }
-      res_.iterations = k;
-      record(k, 0.0);
-      const double c_old = res_.history_cost(k - 1), c_new = res_.history_cost(k);
-      if (small_step(dx, x) || (c_new <= c_old && c_old - c_new <= settings_.cost_tol * c_old)) {
-        res_.status = OdStatus::converged;
-        break;
-      }
-      continue;
+    if (res_.rank < 6) {
+      res_.status = OdStatus::singular;
+      break;
     }
-    // Levenberg-Marquardt: minimize |R dx + c|^2 + lambda |D dx|^2 by a fixed-size QR (no squaring of
-    // the condition number). Damping follows the gain ratio rho = actual / predicted decrease and is
-    // switched off (pure Gauss-Newton) once small, so the end game converges quadratically.
+    const Vec6 dx = -(svd_.matrixV() * (svd_.matrixU().transpose() * c_).cwiseQuotient(res_.singular_values));
+    const Vec6 xt = x + dx;
+    const OdStatus st = eval_at(xt, true);
+    if (st != OdStatus::converged) {
+      res_.status = st;  // the failed trial is not an iterate
+      buffers_valid = false;
+      break;
+    }
+    x = xt;
+    res_.x0 = x;
+    res_.iterations = k;
+    record(k, 0.0);
+    const double c_old = res_.history_cost(k - 1), c_new = res_.history_cost(k);
+    if (c_new < res_.history_cost(best)) best = k;
+    if (small_step(dx, x) || (c_new <= c_old && c_old - c_new <= settings_.cost_tol * c_old)) {
+      res_.status = OdStatus::converged;
+      break;
+    }
+  }
+  // converged and singular describe the last iterate: report that one.
+  if (res_.status == OdStatus::converged || res_.status == OdStatus::singular || best == res_.iterations)
+    return buffers_valid;
+  x = res_.history_x0.row(best).transpose();
+  return false;
+}
+
+// Gauss-Newton with a backtracking line search along the second-order (geodesic) path
+// x(t) = x + t v + t^2 a / 2, v = -R^-1 c the full step and a the geodesic acceleration (zero when
+// settings.geodesic is off or x + h v cannot be evaluated): t is halved until the cost drops by the
+// Armijo fraction of the model's decrease (cost(x(t)) <= cost - 1e-4 t |c|^2), at most
+// gn_max_halvings times, then status stalled. The cost never rises. The curved path follows the
+// near-rotational valleys of one-pass problems that straight steps cut across.
+bool OdSolver::solve_gauss_newton(Vec6& x) {
+  res_.status = OdStatus::max_iterations;
+  for (int k = 1; k <= settings_.max_iterations; ++k) {
+    if (residual_small()) {
+      res_.status = OdStatus::converged;
+      return true;
+    }
+    factor();
+    if (res_.rank < 6) {
+      res_.status = OdStatus::singular;
+      return true;
+    }
+    if (converged_here(x)) {
+      res_.status = OdStatus::converged;
+      return true;
+    }
+    const Vec6 v = gn_step();
+    const double cost = 0.5 * rn_.squaredNorm();
+    const double slope = c_.squaredNorm();  // -d cost / dt at t = 0
+    Vec6 a = Vec6::Zero();
+    if (settings_.geodesic) {
+      rn0_ = rn_;
+      jn0_ = jn_;
+      Vec6 w;
+      if (second_derivative(x, v, w)) a = solve_r(w);
+    }
+    double t = 1.0;
+    bool accepted = false;
+    Vec6 xt;
+    for (int h = 0; h <= settings_.gn_max_halvings; ++h, t *= 0.5) {
+      xt = x + t * v + (0.5 * t * t) * a;
+      if (eval_at(xt, true) == OdStatus::converged && 0.5 * rn_.squaredNorm() <= cost - kArmijo * t * slope) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      res_.status = OdStatus::stalled;
+      return false;
+    }
+    x = xt;
+    res_.x0 = x;
+    res_.iterations = k;
+    record(k, 0.0);
+  }
+  return true;
+}
+
+// Levenberg-Marquardt: minimize |R dx + c|^2 + lambda |D dx|^2 by a fixed-size QR (no squaring of
+// the condition number), Moré's column scaling D. Damping follows the gain ratio rho = actual /
+// predicted decrease (x 0.1 when rho > 0.75, else Nielsen's max(1/3, 1 - (2 rho - 1)^3); after a
+// rejection x lm_increase) and is switched off (pure Gauss-Newton) once small, so the end game
+// converges quadratically. With settings.geodesic the step is v + a/2 with the geodesic acceleration
+// a (same damped system), dropped when 2 |D a| > 0.75 |D v|. Only steps that lower the cost are taken.
+bool OdSolver::solve_lm(Vec6& x) {
+  res_.status = OdStatus::max_iterations;
+  double lambda = settings_.lm_lambda0;
+  Vec6 diag = Vec6::Zero();
+  int stall = 0;
+  for (int k = 1; k <= settings_.max_iterations; ++k) {
+    if (residual_small()) {
+      res_.status = OdStatus::converged;
+      return true;
+    }
+    factor();
+    if (converged_here(x)) {
+      res_.status = OdStatus::converged;
+      return true;
+    }
     for (int i = 0; i < 6; ++i) diag(i) = std::max(diag(i), R_.col(i).norm());
     const double cost = 0.5 * rn_.squaredNorm();
-    bool accepted = false, tiny = false;
+    if (settings_.geodesic) {
+      rn0_ = rn_;
+      jn0_ = jn_;
+    }
+    bool accepted = false;
+    Vec6 dx, xt;
     for (int rej = 0; rej < settings_.lm_max_rejections; ++rej) {
-      Eigen::Matrix<double, 12, 7> A = Eigen::Matrix<double, 12, 7>::Zero();
-      A.topLeftCorner<6, 6>() = R_;
-      A.block<6, 1>(0, 6) = c_;
-      A.bottomLeftCorner<6, 6>() = (std::sqrt(lambda) * diag).asDiagonal();
-      Eigen::HouseholderQR<Eigen::Matrix<double, 12, 7>> q(A);
-      const Mat6 Rl = q.matrixQR().topLeftCorner<6, 6>().triangularView<Eigen::Upper>();
-      const Vec6 cl = q.matrixQR().block<6, 1>(0, 6);
-      dx = -Rl.triangularView<Eigen::Upper>().solve(cl);
+      dx = damped_solve(c_, lambda, diag);
       if (!dx.allFinite() || (lambda == 0.0 && res_.rank < 6)) {
         lambda = std::max(lambda * settings_.lm_increase, kLambdaFloor);
         continue;
       }
       const double pred = 0.5 * (c_.squaredNorm() - (R_ * dx + c_).squaredNorm());
-      const Vec6 xt = x + dx;
-      st = eval_at(xt, true);
-      buffers_valid = false;
+      xt = x + dx;
+      Vec6 w;
+      if (settings_.geodesic && second_derivative(x, dx, w)) {
+        const Vec6 a = damped_solve(w, lambda, diag);
+        if (a.allFinite() && 2.0 * diag.cwiseProduct(a).norm() <= kGeoRatio * diag.cwiseProduct(dx).norm())
+          xt += 0.5 * a;
+      }
+      const OdStatus st = eval_at(xt, true);
       const double actual = st == OdStatus::converged ? cost - 0.5 * rn_.squaredNorm() : -1.0;
       if (st == OdStatus::converged && actual > 0.0) {
-        x = xt;
-        buffers_valid = true;
         accepted = true;
         const double rho = pred > 0.0 ? actual / pred : 0.0;
         if (rho > 0.75) {
           lambda *= settings_.lm_decrease;
-          if (lambda < kLambdaFloor) lambda = 0.0;
-        } else if (rho < 0.25) {
-          lambda = std::max(2.0 * lambda, kLambdaFloor);
+        } else {
+          const double q = 2.0 * rho - 1.0;
+          lambda *= std::max(1.0 / 3.0, 1.0 - q * q * q);
         }
-        break;
-      }
-      if (small_step(dx, x)) {
-        tiny = true;
+        if (lambda < kLambdaFloor) lambda = 0.0;
         break;
       }
       lambda = std::max(lambda * settings_.lm_increase, kLambdaFloor);
     }
     if (!accepted) {
-      // No decrease possible: a stationary point (converged, maybe not fitting) or a stall.
-      res_.status = tiny ? OdStatus::converged : OdStatus::max_iterations;
-      break;
+      res_.status = OdStatus::stalled;
+      return false;
     }
+    x = xt;
     res_.x0 = x;
     res_.iterations = k;
     record(k, lambda);
+    // Slow creep along a curved, nearly flat valley: try undamped Newton steps from here.
     const double new_cost = 0.5 * rn_.squaredNorm();
-    if ((small_step(dx, x) && lambda == 0.0) || new_cost == 0.0 ||
-        cost - new_cost <= settings_.cost_tol * cost) {
-      res_.status = OdStatus::converged;
-      gn_converged = true;
-      break;
-    }
-    // Slow creep along a curved, nearly flat valley: stop and let the Newton polish finish.
-    stall = (cost - 0.5 * rn_.squaredNorm() < settings_.lm_stall_tol * cost) ? stall + 1 : 0;
+    stall = (cost - new_cost < settings_.lm_stall_tol * cost) ? stall + 1 : 0;
     if (stall >= 3) {
       stall = -10;  // do not retry the polish for a while if it fails
-      if (polish(x, buffers_valid)) {
-        gn_converged = true;
-        break;
-      }
-      if (!buffers_valid) {
-        if (eval_at(x, true) != OdStatus::converged) break;
-        buffers_valid = true;
+      if (!polish(x)) {
+        if (eval_at(x, true) != OdStatus::converged) return false;  // cannot happen: x was evaluated
       }
     }
   }
-  if (lm && !gn_converged && res_.status != OdStatus::diverged) polish(x, buffers_valid);
-  finish(x, buffers_valid);
-  if (res_.status == OdStatus::converged && res_.rank < 6 && !lm) res_.status = OdStatus::singular;
-  return res_;
+  return true;
 }
 
-bool OdSolver::polish(Vec6& x, bool& buffers_valid) {
-  // Undamped Newton (Gauss-Newton) steps from the LM point, kept only if they converge to a point
-  // with a cost no larger: LM's monotone decrease rejects the first Newton step in the curved valleys
-  // of the six-point problem although Newton then converges quadratically.
+// Undamped Gauss-Newton steps from the LM point x (whose buffers are current), kept up to the
+// lowest-cost point of the walk if that is lower than x: LM's monotone decrease rejects the first
+// Newton step in the curved valleys of the six-point problem although Newton then converges
+// quadratically. Returns true when a point was kept (x and the buffers are there); otherwise the
+// history rows of the walk are cleared and the buffers are stale.
+bool OdSolver::polish(Vec6& x) {
   const int max_it = settings_.max_iterations;
   if (settings_.lm_polish_iterations <= 0 || res_.iterations >= max_it) return false;
-  if (!buffers_valid) {
-    if (eval_at(x, true) != OdStatus::converged) return false;
-    buffers_valid = true;
-  }
   const int k_lm = res_.iterations;
-  const double cost_lm = 0.5 * rn_.squaredNorm();
+  double best_cost = 0.5 * rn_.squaredNorm();
+  int best = k_lm;
   Vec6 xp = x;
   int k = k_lm;
-  bool ok = false;
+  bool fresh = true;  // the buffers belong to xp
   for (int j = 0; j < settings_.lm_polish_iterations && k < max_it; ++j) {
     factor();
     if (res_.rank < 6) break;
-    const Vec6 dx = -(svd_.matrixV() * (svd_.matrixU().transpose() * c_).cwiseQuotient(res_.singular_values));
-    xp += dx;
-    ++k;
-    if (eval_at(xp, true) != OdStatus::converged) break;
-    res_.x0 = xp;
-    record(k, 0.0);
-    if (small_step(dx, xp)) {
-      ok = 0.5 * rn_.squaredNorm() <= cost_lm;
+    const Vec6 dx = gn_step();
+    if (eval_at(xp + dx, true) != OdStatus::converged) {
+      fresh = false;
       break;
     }
+    xp += dx;
+    ++k;
+    res_.x0 = xp;
+    record(k, 0.0);
+    if (res_.history_cost(k) < best_cost) {
+      best_cost = res_.history_cost(k);
+      best = k;
+    }
+    if (small_step(dx, xp)) break;
   }
-  if (ok) {
-    x = xp;
-    res_.iterations = k;
-    res_.status = OdStatus::converged;
-    return true;
-  }
-  for (int i = k_lm + 1; i <= k; ++i) {
+  for (int i = best + 1; i <= k; ++i) {
     res_.history_x0.row(i).setConstant(kNaN);
     res_.history_residuals.row(i).setConstant(kNaN);
     res_.history_range_residuals.row(i).setConstant(kNaN);
@@ -498,9 +650,15 @@ bool OdSolver::polish(Vec6& x, bool& buffers_valid) {
     res_.history_cost(i) = kNaN;
     res_.history_lambda(i) = kNaN;
   }
+  if (best == k_lm) {
+    res_.x0 = x;
+    return false;
+  }
+  x = res_.history_x0.row(best).transpose();
   res_.x0 = x;
-  buffers_valid = false;
-  return false;
+  res_.iterations = best;
+  if (best != k || !fresh) return eval_at(x, true) == OdStatus::converged;
+  return true;
 }
 
 OdStatus OdSolver::evaluate(const Vec6& x0, Eigen::VectorXd& residuals, Eigen::MatrixXd* jac) {
@@ -523,8 +681,9 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
     const OdResult& r = solver.solve(guesses[g]);
     out.guess_status[g] = r.status;
     out.guess_iterations[g] = r.iterations;
-    // Converged solutions, and stalled ones that fit (LM creeping along a flat valley).
-    const bool usable = r.status == OdStatus::converged || (r.status == OdStatus::max_iterations && r.fits);
+    // Converged solutions, and stopped ones that fit (a creep along a flat valley).
+    const bool stopped = r.status == OdStatus::max_iterations || r.status == OdStatus::stalled;
+    const bool usable = r.status == OdStatus::converged || (stopped && r.fits);
     if (!usable) continue;
     int found = -1;
     for (std::size_t k = 0; k < out.roots.size(); ++k) {

@@ -5,10 +5,14 @@
 /// One engine, three methods (OdSettings::method):
 ///  - newton: the paper's six-point Newton-Raphson on six implicit boundary conditions (eqs. 9-18),
 ///    or on six observations; the Jacobian is exact (measurement partials chained through the STM);
+///  - newton is kept exactly as the paper has it (full undamped steps) so its tables reproduce;
 ///  - gauss_newton: weighted batch least squares for any number (>= 6) of mixed observations from
-///    one or several stations, with the formal covariance (J^T W J)^-1 and correlation;
-///  - levenberg_marquardt: the same cost, globalized (Moré-scaled damping; trial points below the
-///    surface or unbound are rejected instead of ending the run).
+///    one or several stations, with the formal covariance (J^T W J)^-1 and correlation; globalized
+///    by a backtracking (Armijo) line search along the second-order path x + t v + t^2 a / 2;
+///  - levenberg_marquardt: the same cost, globalized by Moré-scaled damping.
+/// GN and LM add the geodesic acceleration a (OdSettings::geodesic), reject trial points below the
+/// surface, unbound or not propagatable, never raise the cost, and return the best iterate.
+/// Statuses and their guarantees: docs/od.md.
 /// Residual rows are either observations (predicted - observed, km or km/s, weight 1/sigma^2) or the
 /// paper's implicit conditions:
 ///  - range:   q = |X1 - R1|^2 - rho_j^2                         (km^2),   sigma_q = 2 rho_j sigma_rho
@@ -34,14 +38,18 @@ namespace satgnc::od {
 /// Iteration scheme.
 enum class OdMethod { newton = 0, gauss_newton = 1, levenberg_marquardt = 2 };
 
-/// Outcome of a solve (message table: od_status_message).
+/// Outcome of a solve (message table: od_status_message; guarantees: docs/od.md, "Statuses").
+/// Values are stable: new statuses are appended.
 enum class OdStatus {
-  converged = 0,        ///< step (or residual) below tolerance
-  max_iterations,       ///< iteration budget exhausted
-  singular,             ///< Jacobian rank < 6 (OdResult::rank holds the numerical rank)
+  converged = 0,        ///< the convergence test of the method holds at x0 (see OdSettings) and rank = 6
+  max_iterations,       ///< iteration budget exhausted; x0 is the best iterate
+  singular,             ///< Jacobian rank < 6 at x0 (OdResult::rank holds the numerical rank)
   diverged,             ///< an iterate left the physical region: |r| < min_radius or unbound (E >= 0)
   propagation_failed,   ///< the propagator reported a failure
   degenerate_geometry,  ///< zero range (satellite at the station): range-rate and partials undefined
+  unsolved,             ///< the result of a solver that has not solved yet
+  stalled,              ///< no trial step lowered the cost (GN: gn_max_halvings halvings, LM:
+                        ///< lm_max_rejections damping increases) and the convergence test does not hold
 };
 
 /// Message for a status.
@@ -63,34 +71,54 @@ struct BoundaryCondition {
 };
 
 /// Settings (plain struct, defaults documented).
+///
+/// Convergence test of gauss_newton and levenberg_marquardt, evaluated at the current iterate x from
+/// the QR factor R and c = Q^T r_n of the row-normalized Jacobian and residuals (r_n = r / sigma), with
+/// the full Gauss-Newton step dx = -R^-1 c (numerical rank 6 required, else the status is singular):
+///  - gradient: |c| <= step_sigma_tol. |c| = |R dx| is the Mahalanobis length of dx under the formal
+///    covariance, i.e. x is within step_sigma_tol formal sigmas of the minimum of the local model;
+///  - step:     |dx_i| <= step_tol (1 + |x_i|) for every component (km, km/s; the round-off floor);
+///  - cost:     0.5 |c|^2 <= cost_tol * cost, the model's predicted decrease of the full step.
+/// A step that only lowers the cost a little (a crawl) is never taken as convergence by itself.
+/// newton (the paper's method, kept exactly) tests the step just taken instead: |R dx| <= step_sigma_tol,
+/// the step test above, or an accepted step that lowered the cost by <= cost_tol * cost.
 struct OdSettings {
   OdMethod method = OdMethod::gauss_newton;
-  int max_iterations = 30;       ///< iterations (accepted steps)
-  double step_tol = 1e-10;       ///< converged when |dx_i| <= step_tol (1 + |x_i|) for all i, or
-  double step_sigma_tol = 1e-6;  ///< ... when the step moves the normalized residuals by <= this (|J_n dx|)
-  double cost_tol = 1e-6;        ///< ... or when an accepted step lowers the cost by <= cost_tol * cost
+  int max_iterations = 100;      ///< accepted steps (the history holds max_iterations + 1 rows)
+  double step_tol = 1e-10;       ///< relative step test (see above)
+  double step_sigma_tol = 1e-6;  ///< gradient test: formal sigmas (see above)
+  double cost_tol = 1e-6;        ///< relative predicted cost decrease (see above)
   double residual_tol = 0.0;  ///< also converged when max |normalized residual| <= this (paper's xi); 0 = off
-  double rank_tol = 1e-13;    ///< singular values below rank_tol * s_max count as zero
+  double rank_tol = 1e-13;    ///< singular values below rank_tol * s_max count as zero (numerical rank)
   double min_radius = dynamics::earth::radius;  ///< km; any state closer to the centre => diverged
   double mu = dynamics::earth::mu;              ///< km^3/s^2, for the unbound test (specific energy >= 0)
-  double fit_sigma = 3.0;      ///< a solution fits when the RMS normalized residual <= fit_sigma
-  double min_range = 1e-6;     ///< km; smaller predicted range => degenerate_geometry
+  double fit_sigma = 3.0;    ///< a solution fits when the RMS normalized residual <= fit_sigma
+  double min_range = 1e-6;   ///< km; smaller predicted range => degenerate_geometry
+  int gn_max_halvings = 40;  ///< GN line search: step halvings (Armijo test) before status stalled
+  /// GN and LM add the geodesic acceleration (second-order correction along the step, one extra
+  /// residual evaluation per trial; Transtrum & Sethna 2012) so steps follow curved valleys.
+  bool geodesic = true;
   double lm_lambda0 = 1e-3;    ///< initial LM damping (relative to the Moré scaling)
   double lm_increase = 10.0;   ///< damping factor after a rejected step
   double lm_decrease = 0.1;    ///< damping factor after a very successful step (gain ratio > 0.75)
-  int lm_max_rejections = 30;  ///< rejected trials in a row before giving up (then max_iterations)
+  int lm_max_rejections = 30;  ///< rejected trials in a row before giving up (then status stalled)
   double lm_stall_tol =
       0.1;  ///< after 3 LM steps each lowering the cost by < this fraction, try a Newton polish
   int lm_polish_iterations =
-      10;  ///< undamped Newton steps tried after LM stops (kept only if they converge lower)
+      10;  ///< undamped Newton steps tried when LM creeps (kept only if they end lower and converge)
   /// Throw std::invalid_argument naming the field on a bad value.
   void validate() const;
 };
 
 /// Result with per-iteration history. History row k holds the iterate after k accepted steps
-/// (row 0 = the guess); rows 0..iterations are valid. Residual rows follow the input order.
+/// (row 0 = the guess); rows 0..iterations are used and finite (range / range-rate residual rows hold
+/// NaN only for rows without that observable), later rows are unused (NaN). Residual rows follow the
+/// input order. Whatever the status, x0 is the best (lowest-cost) iterate (newton's converged and
+/// singular: its last iterate) and cost, residuals,
+/// covariance and rank are evaluated at it; when not even the guess can be evaluated (diverged,
+/// propagation_failed or degenerate_geometry with iterations = 0) cost and max_abs_normalized are +inf.
 struct OdResult {
-  OdStatus status = OdStatus::max_iterations;
+  OdStatus status = OdStatus::unsolved;
   int iterations = 0;              ///< accepted steps
   int evaluations = 0;             ///< propagations (LM counts rejected trials)
   Vec6 x0 = Vec6::Zero();          ///< final estimate at t = 0
@@ -106,7 +134,7 @@ struct OdResult {
   Eigen::VectorXd normalized;       ///< residuals / sigma
   Eigen::VectorXd range_residuals;  ///< predicted - observed range per row, km (NaN if none)
   Eigen::VectorXd range_rate_residuals;     ///< predicted - observed range-rate per row, km/s (NaN if none)
-  Eigen::MatrixXd history_x0;               ///< (max_iterations+1) x 6
+  Eigen::MatrixXd history_x0;               ///< (max_iterations+1) x 6 (rows > iterations unused)
   Eigen::MatrixXd history_residuals;        ///< (max_iterations+1) x rows, raw
   Eigen::MatrixXd history_range_residuals;  ///< km
   Eigen::MatrixXd history_range_rate_residuals;  ///< km/s
@@ -160,7 +188,18 @@ class OdSolver {
   void record(int k, double lambda);
   void finish(const Vec6& x, bool buffers_valid);
   bool small_step(const Vec6& dx, const Vec6& x) const;
-  bool polish(Vec6& x, bool& buffers_valid);  // uses R_ of the current linearization
+  bool residual_small() const;
+  bool converged_here(const Vec6& x) const;  // after factor(): the GN/LM convergence test at x
+  Vec6 gn_step() const;                      // after factor(): -R^+ c, truncated at the rank
+  Vec6 solve_r(const Vec6& b) const;         // after factor(): -R^+ b
+  Vec6 damped_solve(const Vec6& b, double lambda, const Vec6& diag) const;
+  bool second_derivative(const Vec6& x, const Vec6& v, Vec6& qt_rvv);
+  // Each method iterates from x (buffers current) and leaves x at the iterate to report; returns
+  // whether the buffers still belong to x.
+  bool solve_newton(Vec6& x);
+  bool solve_gauss_newton(Vec6& x);
+  bool solve_lm(Vec6& x);
+  bool polish(Vec6& x);  // undamped steps from the LM point; true if kept (buffers at x)
 
   std::vector<Station> stations_;
   std::vector<Row> rows_;
@@ -173,8 +212,10 @@ class OdSolver {
   std::vector<Vec6> states_;
   std::vector<Mat6> stms_;
   Eigen::VectorXd r_, rn_, rr_, rrr_;
-  Eigen::MatrixXd jn_;   // rows x 6, normalized
-  Eigen::MatrixXd aug_;  // rows x 7
+  Eigen::MatrixXd jn_;        // rows x 6, normalized
+  Eigen::VectorXd rn0_, gw_;  // geodesic probe: residuals at x, work vector
+  Eigen::MatrixXd jn0_;       // geodesic probe: Jacobian at x
+  Eigen::MatrixXd aug_;       // rows x 7
   Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
   Mat6 R_;
   Vec6 c_;
