@@ -281,13 +281,13 @@ void init_guidance_nonlinear(py::module_& m) {
   py::class_<IlqrAdmmSolver>(m, "IlqrAdmmSolver")
       .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const IlqrAdmmSettings&>(),
            py::arg("model"), py::arg("problem"), py::arg("settings") = IlqrAdmmSettings(),
-           py::keep_alive<1, 2>())
+           py::keep_alive<1, 2>(), py::call_guard<py::gil_scoped_release>())
       .def("set_initial_controls", &IlqrAdmmSolver::set_initial_controls, py::arg("U0"))
       .def("warm_start", &IlqrAdmmSolver::warm_start, py::arg("U"), py::arg("Y"), py::arg("Lambda"))
       .def("set_initial_state", &IlqrAdmmSolver::set_initial_state, py::arg("x0"))
       .def("set_rho", &IlqrAdmmSolver::set_rho, py::arg("rho"))
       .def("solve", &IlqrAdmmSolver::solve, py::call_guard<py::gil_scoped_release>())
-      .def("true_cost", &IlqrAdmmSolver::true_cost, py::arg("U"))
+      .def("true_cost", &IlqrAdmmSolver::true_cost, py::arg("U"), py::call_guard<py::gil_scoped_release>())
       .def(
           "rollout",
           [](const IlqrAdmmSolver& s, const Eigen::MatrixXd& U) {
@@ -338,7 +338,8 @@ void init_guidance_nonlinear(py::module_& m) {
                              [](const ScpInfo& i) { return std::string(status_message(i.status)); });
   py::class_<ScpSolver>(m, "ScpSolver")
       .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const ScpSettings&>(), py::arg("model"),
-           py::arg("problem"), py::arg("settings") = ScpSettings(), py::keep_alive<1, 2>())
+           py::arg("problem"), py::arg("settings") = ScpSettings(), py::keep_alive<1, 2>(),
+           py::call_guard<py::gil_scoped_release>())
       .def("set_initial_controls", &ScpSolver::set_initial_controls, py::arg("U0"))
       .def("set_initial_state", &ScpSolver::set_initial_state, py::arg("x0"))
       .def("solve", &ScpSolver::solve, py::call_guard<py::gil_scoped_release>())
