@@ -209,7 +209,8 @@ def propagate(
     # A span no orbit integration can cover (1e300 s) is the times' fault, not the force model's.
     span = float(np.max(np.abs(t - t0f)))
     if span > _MAX_SPAN:
-        raise ValueError(f"times: span |t - t0| = {span:.3g} s exceeds {_MAX_SPAN:.0e} s (~3e4 years); "
+        name = "times" if t0 is None else "times, t0"
+        raise ValueError(f"{name}: span |t - t0| = {span:.3g} s exceeds {_MAX_SPAN:.0e} s (~3e4 years); "
                          "check the units (s) and t0")
     mu_given = mu is not _DEFAULT
     muf = _real_scalar(EARTH_MU if not mu_given else mu, "mu")

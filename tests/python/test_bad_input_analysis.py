@@ -83,6 +83,10 @@ CASES = [
     (lambda **kw: an.cw_model(**kw), dict(mean_motion=True), TypeError, "mean_motion:"),
     (lambda **kw: an.cw_model(1e-3, **kw), dict(measured=[0.5]), TypeError, "measured:"),
     (_odg, dict(rate="fast"), TypeError, "rate:"),
+    (_odg, dict(kind=np.array(["range", "both"])), TypeError, "kind:"),
+    (_pbh, dict(property=np.ones(2)), TypeError, "property:"),
+    (lambda **kw: an.cw_model(1e-3, **kw), dict(measured=1.0), TypeError, "measured:"),
+    (lambda **kw: an.polar_linear_model(1.0, 1.0, **kw), dict(measured=True), TypeError, "measured:"),
     # out-of-range values
     (_ctrb, dict(rtol=-1.0), ValueError, "rtol:"),
     (_ctrb, dict(fuzz=0.5), ValueError, "fuzz:"),
@@ -92,6 +96,7 @@ CASES = [
     (lambda **kw: an.polar_model(**kw), dict(sigma=0.0, omega=1.0), ValueError, "sigma:"),
     (_odg, dict(kind="angles"), ValueError, "kind:"),
     (lambda **kw: an.visibility_pass(**kw), dict(dt=-10.0), ValueError, "dt:"),
+    (lambda **kw: an.visibility_pass(**kw), dict(dt=1e30), ValueError, "dt:"),  # was blamed on t_max
     # huge horizons: the Gramian overflows or loses positive semidefiniteness -> an error naming T
     (_gram, dict(A=np.diag([1.0, -1.0]), B=np.ones((2, 1)), T=1e3), ValueError, "T:"),
     (_gram, dict(A=np.array([[0.5, 1.0], [0.0, 0.3]]), B=np.array([[0.0], [1.0]]), T=2000.0), ValueError,

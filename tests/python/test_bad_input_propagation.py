@@ -111,6 +111,7 @@ CASES = [
     (_prop, dict(times=[0.0, 30.0, 20.0]), ValueError, "times:"),
     (_prop, dict(times=[0.0, 1e300]), ValueError, "times:"),
     (_prop, dict(times=[0.0, 1e300], method="kepler"), ValueError, "times:"),
+    (_prop, dict(t0=1e30), ValueError, "t0"),
     (_prop, dict(surface_radius=-1.0, method="kepler"), ValueError, "surface_radius:"),
     (_prop, dict(surface_radius=6378.0), ValueError, "surface_radius:"),
     (_kepler, dict(mu=-1.0), ValueError, "mu:"),

@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from .. import _satgnc as _s
-from .._validate import as_int, as_real, as_real_array
+from .._validate import as_int, as_real, as_real_array, one_of
 
 MU_EARTH = 398600.4418  # km^3/s^2 (EGM-96)
 EARTH_RATE_PAPER = 7.27e-5  # rad/s: the rotation rate implied by od_newton_raphson.md Table 3
@@ -109,6 +109,8 @@ def polar_linear_model(sigma: float, omega: float, measured: Sequence[int] = (0,
 
 
 def _indices(idx, n: int, name: str) -> list[int]:
+    if isinstance(idx, (str, bytes)) or not hasattr(idx, "__iter__"):
+        raise TypeError(f"{name}: must be a sequence of integer indices, got {type(idx).__name__}")
     out = []
     for i in idx:
         if isinstance(i, bool) or not isinstance(i, numbers.Integral):
@@ -214,6 +216,8 @@ class GramianReport:
 
 
 def _prop(p: str) -> str:
+    if not isinstance(p, str):
+        raise TypeError(f"property: must be 'controllability' or 'observability', got {type(p).__name__}")
     if p not in ("controllability", "observability"):
         raise ValueError(f"property: must be 'controllability' or 'observability', got {p!r}")
     return p
@@ -396,8 +400,7 @@ def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_R
     """Observability Gramian of single-station ``kind`` tracking ("range", "range_rate", "both") at
     ``times`` (s from the epoch) of the two-body state x0 (default: Table 1 of od_newton_raphson.md,
     station Table 3 rotating at 7.27e-5 rad/s). extra: jacobi_condition (unit-free), times."""
-    if kind not in ("range", "range_rate", "both"):
-        raise ValueError(f"kind: must be 'range', 'range_rate' or 'both', got {kind!r}")
+    kind = one_of(kind, "kind", ("range", "range_rate", "both"))
     px, pr = paper_od_state()
     x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
@@ -414,6 +417,8 @@ def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
     t_max = _scalar(t_max, "t_max", positive=True)
     dt = _scalar(dt, "dt", positive=True)
+    if dt > t_max:
+        raise ValueError(f"dt: the search step must be <= t_max = {t_max} s, got {dt}")
     mu = _scalar(mu, "mu", positive=True)
     return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), mu, t_max, dt))
 
