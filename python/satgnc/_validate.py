@@ -315,6 +315,23 @@ def _diagnose(qualname: str, message: str, args: tuple, kwargs: dict) -> str:
     return f"{qualname}: arguments do not match its signature {lines[0] if lines else ''}"
 
 
+def _out_of_memory(qualname: str, params: list, args: tuple, kwargs: dict) -> str:
+    """'horizon: 1000000000 is too large ...' naming the largest integer argument (a size) of the call."""
+    bound = dict(zip([p[0] for p in params], args))
+    bound.update(kwargs)
+    sizes = [(v, k) for k, v in bound.items() if isinstance(v, numbers.Integral) and not isinstance(v, bool)]
+    for k, v in bound.items():  # sizes of problem structs (e.g. NonlinearL1Problem.horizon)
+        for attr in ("horizon", "n", "steps", "max_steps"):
+            val = getattr(v, attr, None)
+            if isinstance(val, numbers.Integral) and not isinstance(val, bool):
+                sizes.append((val, f"{k}.{attr}"))
+    if sizes:
+        value, name = max(sizes)
+        return (f"{name}: {value} is too large: {qualname} could not allocate the memory this size needs "
+                f"(std::bad_alloc)")
+    return f"{qualname}: the engine could not allocate the memory these arguments need (std::bad_alloc)"
+
+
 def _wrap_callable(f: Any, qualname: str) -> Any:
     import functools
 
@@ -338,6 +355,8 @@ def _wrap_callable(f: Any, qualname: str) -> Any:
                     _check_param(key, annot, value)
         try:
             return f(*args, **kwargs)
+        except MemoryError:
+            raise ValueError(_out_of_memory(qualname, params, args, kwargs)) from None
         except TypeError as e:
             if not any(s in str(e) for s in _INCOMPATIBLE):
                 raise

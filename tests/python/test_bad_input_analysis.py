@@ -102,6 +102,9 @@ CASES = [
     (_gram, dict(A=np.array([[0.5, 1.0], [0.0, 0.3]]), B=np.array([[0.0], [1.0]]), T=2000.0), ValueError,
      "T:"),
     (_ogram, dict(A=np.diag([1.0, 2.0]), C=np.ones((1, 2)), T=1e4), ValueError, "T:"),
+    # huge sizes: 2^m - 1 staircases
+    (lambda **kw: an.loss_table(np.eye(2), **kw), dict(B=np.ones((2, 25))), ValueError, "B:"),
+    (lambda **kw: an.loss_table(np.eye(2), **kw), dict(C=np.ones((30, 2))), ValueError, "C:"),
 ]
 
 

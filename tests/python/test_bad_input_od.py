@@ -87,3 +87,18 @@ def test_bad_input_names_the_argument(fn, kwargs, exc, fragment):
         fn(**kwargs)
     assert fragment in str(info.value), str(info.value)
     assert "incompatible" not in str(info.value) and "Invoked with" not in str(info.value)
+
+
+def test_bad_alloc_names_the_size_argument():
+    # std::bad_alloc reaches Python as MemoryError; the hardened wrapper names the largest size.
+    from satgnc import _validate
+
+    def engine(center, half_width, n, seed):
+        raise MemoryError
+
+    engine.__doc__ = ("od_box_guesses(center: numpy.ndarray, half_width: numpy.ndarray, "
+                      "n: typing.SupportsInt, seed: typing.SupportsInt) -> numpy.ndarray")
+
+    wrapped = _validate._wrap_callable(engine, "od_box_guesses")
+    with pytest.raises(ValueError, match=r"^n: 3000000000 is too large: od_box_guesses could not allocate"):
+        wrapped(np.ones(6), np.ones(6), 3_000_000_000, 7)

@@ -297,7 +297,16 @@ def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 10
     if (B is None) == (C is None):
         raise ValueError("B, C: pass exactly one of them")
     prop = "controllability" if B is not None else "observability"
-    return _s._loss_table(*_args(A, B if B is not None else C, prop, rtol, fuzz, "svd", 1e-6, units))
+    args = _args(A, B if B is not None else C, prop, rtol, fuzz, "svd", 1e-6, units)
+    name, m = ("B", args[1].shape[1]) if B is not None else ("C", args[1].shape[0])
+    if m > _MAX_LOSS_CHANNELS:
+        raise ValueError(f"{name}: {m} channels make 2^{m} - 1 = {2**m - 1:.3g} subsets (one staircase and "
+                         f"one ~1 kB row each, ~{2**m * 1e3 / 1e9:.3g} GB); at most {_MAX_LOSS_CHANNELS} "
+                         "channels")
+    return _s._loss_table(*args)
+
+
+_MAX_LOSS_CHANNELS = 20
 
 
 def format_loss_table(rows: list[dict], names: Sequence[str], n: int, title: str = "") -> str:
