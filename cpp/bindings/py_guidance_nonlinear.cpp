@@ -114,8 +114,12 @@ void init_guidance_nonlinear(py::module_& m) {
             if (u.size() != d.control_dim()) throw py::value_error("u: must have control_dim entries");
             Eigen::VectorXd xn(d.state_dim());
             Eigen::MatrixXd A(d.state_dim(), d.state_dim()), B(d.state_dim(), d.control_dim());
-            if (!d.step(k, x.data(), u.data(), xn.data(), A.data(), B.data()))
-              throw std::runtime_error("step: the model failed on interval " + std::to_string(k));
+            bool ok;
+            {
+              py::gil_scoped_release release;  // a propagated map integrates over the interval
+              ok = d.step(k, x.data(), u.data(), xn.data(), A.data(), B.data());
+            }
+            if (!ok) throw std::runtime_error("step: the model failed on interval " + std::to_string(k));
             return py::make_tuple(xn, A, B);
           },
           py::arg("k"), py::arg("x"), py::arg("u"));
@@ -294,7 +298,11 @@ void init_guidance_nonlinear(py::module_& m) {
             const auto& r = s.result();
             if (U.rows() != r.U.rows() || U.cols() != r.U.cols()) throw py::value_error("U: must be nu x N");
             Eigen::MatrixXd X(r.X.rows(), r.X.cols());
-            const int k = s.rollout(U, X);
+            int k;
+            {
+              py::gil_scoped_release release;  // N model steps (propagated maps integrate)
+              k = s.rollout(U, X);
+            }
             if (k >= 0)
               throw std::runtime_error("rollout: the model failed on interval " + std::to_string(k));
             return X;

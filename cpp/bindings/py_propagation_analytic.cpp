@@ -78,6 +78,12 @@ void init_propagation_analytic(py::module_& m) {
           throw std::runtime_error(std::string("kepler_step: ") +
                                    propagation::kepler_failure_message(st, alpha, dt));
         }
+        // The universal-variable solution runs straight through r = 0 on a collision orbit.
+        const double s_hit = propagation::kepler_time_to_radius(x0, dt, mu, 0.0);
+        if (s_hit >= 0.0 && s_hit < std::abs(dt))
+          throw py::value_error("x0: a collision orbit: it reaches r = 0 after " + std::to_string(s_hit) +
+                                " s, before |dt| = " + std::to_string(std::abs(dt)) +
+                                " s (the two-body solution is singular there)");
         return py::make_tuple(x, stm);
       },
       py::arg("x0"), py::arg("dt"), py::arg("mu"),

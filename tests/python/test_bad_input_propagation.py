@@ -123,6 +123,7 @@ CASES = [
     (_prop, dict(x0=[0.0, 0, 0, 0, 7.5, 0]), ValueError, "x0:"),
     (_prop, dict(x0=[6000.0, 0, 0, 0, 7.5, 0], method="kepler", surface_radius=6378.0), ValueError, "x0:"),
     (_kstep, dict(x0=[0.0, 0, 0, 1.0, 0, 0]), ValueError, "x0:"),
+    (_kstep, dict(x0=[7000.0, 0, 0, -1.0, 0, 0], dt=1e4), ValueError, "x0:"),  # through r = 0
     (_kepler, dict(x0=[6000.0, 0, 0, 0, 7.5, 0], surface_radius=6378.0), ValueError, "x0:"),
     (_cvodes, dict(x0=[0.0, 0, 0, 0, 7.5, 0]), ValueError, "x0:"),
     # huge sizes
