@@ -66,10 +66,11 @@ CvodesSettings make_settings(const std::string& method, double rtol, py::object 
   else
     throw std::invalid_argument("vector: must be 'satgnc' or 'sundials_serial', got '" + vector + "'");
   s.rtol = rtol;
-  if (py::isinstance<py::float_>(atol) || py::isinstance<py::int_>(atol)) {
-    s.atol = atol.cast<double>();
+  // atol is a number or a list: check it here (a complex list was "Unable to cast").
+  if (py::isinstance<py::float_>(atol) || py::isinstance<py::int_>(atol) || py::isinstance<py::bool_>(atol)) {
+    s.atol = checks::real_arg(atol, "atol");
   } else {
-    s.atol_components = atol.cast<std::vector<double>>();
+    s.atol_components = checks::vector_arg(atol, "atol");
   }
   s.with_stm = with_stm;
   s.max_steps = max_steps;

@@ -103,6 +103,9 @@ CASES = [
     (_cvodes_new, dict(rtol=1j), TypeError, "rtol:"),
     (_cvodes_new, dict(with_stm=1), TypeError, "with_stm:"),
     (_cvodes_new, dict(method=1), TypeError, "method:"),
+    (_cvodes_new, dict(atol=[1e-12j] * 6), TypeError, "atol:"),
+    (_cvodes_new, dict(atol=True), TypeError, "atol:"),
+    (_cvodes_new, dict(atol=[np.nan] * 6), ValueError, "atol:"),
     # out-of-range values
     (_prop, dict(mu=-1.0), ValueError, "mu:"),
     (_prop, dict(rtol=0.0), ValueError, "rtol:"),

@@ -152,3 +152,26 @@ def test_cw_stm_finite_for_finite_input(t, n):
 def test_cw_stm_non_finite_time_is_an_error(bad):
     with pytest.raises(ValueError, match="^t:"):
         g.cw_stm(1e-3, bad)
+
+
+matrices = st.integers(0, 2**32 - 1).flatmap(
+    lambda seed: st.tuples(st.just(seed), st.integers(1, 5), st.integers(1, 3), st.floats(-300.0, 300.0)))
+
+
+@FAST
+@given(matrices)
+def test_rank_tests_finite_report_or_clear_error(args):
+    # Any finite (A, B), scaled from 1e-300 to 1e300: a finite report with a verdict, or a ValueError
+    # naming its argument; never NaN in the report.
+    seed, n, m, log_scale = args
+    rng = np.random.default_rng(seed)
+    scale = 10.0 ** (log_scale * rng.random())
+    A, B = scale * rng.standard_normal((n, n)), rng.standard_normal((n, m))
+    for fn in (an.controllability, an.pbh, an.kalman_rank):
+        try:
+            r = fn(A, B)
+        except ValueError as e:
+            assert str(e).split(":")[0] in ("A", "B", "units")
+            continue
+        assert 0 <= r.rank <= n and r.verdict in ("full rank", "rank deficient", "not robustly decidable")
+        assert math.isfinite(r.rtol) and not math.isnan(r.margin) and not math.isnan(r.sigma_r)
