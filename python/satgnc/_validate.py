@@ -233,11 +233,11 @@ def _check_param(name: str, annot: str, value: Any, *, field: bool = False) -> N
             if value.dtype.kind not in _REAL_KINDS:
                 as_real_array(value, name, finite=False)  # raises the uniform TypeError
         elif isinstance(value, (list, tuple)):
-            if value and not isinstance(value[0], (list, tuple, np.ndarray, numbers.Real)) or any(
-                isinstance(x, (bool, np.bool_, complex, str)) for x in value
-            ):
-                as_real_array(value, name, finite=False)
-            elif value and isinstance(value[0], (list, tuple, np.ndarray)):
+            if value and isinstance(value[0], (list, tuple, np.ndarray)):
+                # nested: a matrix as lists, or a list of matrices whose shapes may differ (H_j)
+                for item in value:
+                    as_real_array(item, name, finite=False)
+            elif any(not isinstance(x, numbers.Real) or isinstance(x, (bool, np.bool_)) for x in value):
                 as_real_array(value, name, finite=False)
         elif isinstance(value, (str, bytes, bool, np.bool_, complex)):
             as_real_array(value, name, finite=False)

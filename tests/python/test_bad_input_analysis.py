@@ -144,3 +144,11 @@ def test_unstable_gramian_over_long_horizon_is_honest(seed):
         assert g.extra["resolved"] == bool(g.eigenvalues[0] > floor)
         if g.eigenvalues[0] <= 0:
             assert g.condition == np.inf
+
+
+def test_list_of_matrices_of_different_shapes_is_valid_input():
+    # H_j may have different row counts (p_j x n): the argument checks take each matrix on its own.
+    g = an.ltv_observability_gramian([np.eye(6)] * 2, [np.ones((1, 6)), np.ones((2, 6))])
+    assert g.W.shape == (6, 6) and g.eigenvalues[-1] == pytest.approx(18.0)
+    with pytest.raises(TypeError, match="^H:"):
+        an.ltv_observability_gramian([np.eye(2)] * 2, [np.ones((1, 2)), np.ones((2, 2)) + 0j])
