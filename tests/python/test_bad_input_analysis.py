@@ -152,3 +152,12 @@ def test_list_of_matrices_of_different_shapes_is_valid_input():
     assert g.W.shape == (6, 6) and g.eigenvalues[-1] == pytest.approx(18.0)
     with pytest.raises(TypeError, match="^H:"):
         an.ltv_observability_gramian([np.eye(2)] * 2, [np.ones((1, 2)), np.ones((2, 2)) + 0j])
+
+
+def test_pbh_rank_never_negative_for_a_tiny_A():
+    # Found by test_properties: A = 1e-22 randn against B = randn made three PBH clusters whose
+    # deficiencies added up beyond n (rank -1). Eigenvalues within the rank tolerance are one cluster.
+    rng = np.random.default_rng(0)
+    A, B = 1e-22 * rng.standard_normal((3, 3)), rng.standard_normal((3, 1))
+    p, s = an.pbh(A, B), an.controllability(A, B)
+    assert p.rank == s.rank == 1
