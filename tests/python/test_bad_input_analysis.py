@@ -159,5 +159,7 @@ def test_pbh_rank_never_negative_for_a_tiny_A():
     # deficiencies added up beyond n (rank -1). Eigenvalues within the rank tolerance are one cluster.
     rng = np.random.default_rng(0)
     A, B = 1e-22 * rng.standard_normal((3, 3)), rng.standard_normal((3, 1))
-    p, s = an.pbh(A, B), an.controllability(A, B)
-    assert p.rank == s.rank == 1
+    p = an.pbh(A, B)
+    # [A B] ~ [0 B] to the tolerance: one controllable direction (the staircase, which scales stair by
+    # stair, finds 3 for this exact A; the two tests measure different things at this scale)
+    assert p.rank == 1 and all(m["deficiency"] <= m["multiplicity"] for m in p.modes)
