@@ -101,6 +101,7 @@ void init_guidance(py::module_& m) {
 
   py::class_<AdmmSettings>(m, "AdmmSettings")
       .def(py::init<>())
+      .def("validate", &AdmmSettings::validate)  // field rules at assignment (satgnc._validate)
       .def_readwrite("rho", &AdmmSettings::rho)
       .def_readwrite("max_iterations", &AdmmSettings::max_iterations)
       .def_readwrite("stopping", &AdmmSettings::stopping)

@@ -243,6 +243,7 @@ void init_guidance_nonlinear(py::module_& m) {
 
   py::class_<IlqrAdmmSettings>(m, "IlqrAdmmSettings")
       .def(py::init<>())
+      .def("validate", &IlqrAdmmSettings::validate)  // field rules at assignment (satgnc._validate)
       .def_readwrite("rho", &IlqrAdmmSettings::rho)
       .def_readwrite("max_iter", &IlqrAdmmSettings::max_iter)
       .def_readwrite("ilqr_iters", &IlqrAdmmSettings::ilqr_iters)
@@ -325,6 +326,7 @@ void init_guidance_nonlinear(py::module_& m) {
       .value("linear_admm", ScpInner::linear_admm);
   py::class_<ScpSettings>(m, "ScpSettings")
       .def(py::init<>())
+      .def("validate", &ScpSettings::validate)
       .def_readwrite("inner_solver", &ScpSettings::inner_solver)
       .def_readwrite("inner_ilqr", &ScpSettings::inner_ilqr)
       .def_readwrite("max_outer", &ScpSettings::max_outer)

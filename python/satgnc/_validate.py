@@ -407,7 +407,7 @@ def _harden_property(cls: type, name: str, prop: property) -> property:
             try:
                 validate()
             except ValueError as e:
-                if str(e).startswith((f"{name}:", f"{name} ")):
+                if str(e).startswith((f"{name}:", f"{name} ", f"settings.{name}:")):
                     fset(self, old)
                     raise
 

@@ -72,6 +72,12 @@ CASES = [
     (ADMM, dict(polish="false"), TypeError, "polish:"),
     (ADMM, dict(stopping=3), TypeError, "stopping:"),
     (ADMM, dict(stopping="never"), ValueError, "stopping:"),
+    (ADMM, dict(max_iterations=0), ValueError, "max_iterations:"),  # out of range: at assignment
+    (ADMM, dict(relaxation=3.0), ValueError, "relaxation:"),
+    (ADMM, dict(rho=-1.0), ValueError, "rho:"),
+    (ILQR, dict(rho=-1.0), ValueError, "rho:"),
+    (ILQR, dict(max_iter=0), ValueError, "max_iter:"),
+    (SCP, dict(armijo=1.5), ValueError, "armijo:"),
     (ILQR, dict(max_iter="x"), TypeError, "max_iter:"),
     (ILQR, dict(rho=True), TypeError, "rho:"),
     (ILQR, dict(adaptive_rho="yes"), TypeError, "adaptive_rho:"),
@@ -116,3 +122,6 @@ def test_a_refused_setting_keeps_the_old_value():
     assert s.max_iterations == 123
     s.stopping = "paper"  # enum members by name
     assert s.stopping == _satgnc.StoppingRule.paper
+    with pytest.raises(ValueError, match="^relaxation:"):
+        s.relaxation = 2.5
+    assert s.relaxation == g.AdmmSettings().relaxation

@@ -71,6 +71,7 @@ CASES = [
     (_set, dict(max_iterations="x"), TypeError, "max_iterations:"),
     (_set, dict(max_iterations=1.5), TypeError, "max_iterations:"),
     (_set, dict(max_iterations=2**40), ValueError, "max_iterations:"),
+    (_set, dict(max_iterations=0), ValueError, "max_iterations:"),
     (_set, dict(step_tol=np.nan), ValueError, "step_tol:"),
     (_set, dict(mu="earth"), TypeError, "mu:"),
     (_set, dict(fit_sigma=1j), TypeError, "fit_sigma:"),
