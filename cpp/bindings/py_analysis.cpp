@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "checks.hpp"
 #include "satgnc/analysis/gramian.hpp"
 #include "satgnc/analysis/linearize.hpp"
 #include "satgnc/analysis/od_gramian.hpp"
@@ -93,6 +94,8 @@ py::dict gramian(const an::GramianReport& g) {
   d["condition"] = g.condition;
   d["weakest"] = g.weakest;
   d["strongest"] = g.strongest;
+  d["rounding_floor"] = g.rounding_floor;
+  d["resolved"] = g.resolved;
   return d;
 }
 
@@ -104,39 +107,60 @@ py::dict gramian(const an::GramianReport& g) {
 }  // namespace
 
 void init_analysis(py::module_& m) {
+  using V4 = Eigen::Vector4d;
+  using V2 = Eigen::Vector2d;
+  namespace ck = checks;
   py::class_<dy::PolarModel>(m, "PolarModel", "Planar polar-coordinate satellite model (km, s)")
-      .def(py::init<double, double>(), py::arg("sigma"), py::arg("omega"))
-      .def_static("from_mu", &dy::PolarModel::from_mu, py::arg("sigma"), py::arg("mu"))
+      .def(py::init([](py::handle sigma, py::handle omega) {
+             return dy::PolarModel(ck::real_arg(sigma, "sigma"), ck::real_arg(omega, "omega"));
+           }),
+           py::arg("sigma"), py::arg("omega"))
+      .def_static(
+          "from_mu",
+          [](py::handle sigma, py::handle mu) {
+            return dy::PolarModel::from_mu(ck::real_arg(sigma, "sigma"), ck::real_arg(mu, "mu"));
+          },
+          py::arg("sigma"), py::arg("mu"))
       .def_property_readonly("sigma", &dy::PolarModel::sigma)
       .def_property_readonly("omega", &dy::PolarModel::omega)
       .def_property_readonly("k", &dy::PolarModel::k)
-      .def("rhs", &dy::PolarModel::rhs, py::arg("t"), py::arg("s"), py::arg("u"))
+      .def(
+          "rhs",
+          [](const dy::PolarModel& p, py::handle t, py::handle s, py::handle u) {
+            return p.rhs(ck::real_arg(t, "t"), ck::eigen_arg<V4>(s, "s"), ck::eigen_arg<V2>(u, "u"));
+          },
+          py::arg("t"), py::arg("s"), py::arg("u"))
       .def(
           "jacobians",
-          [](const dy::PolarModel& p, double t, const Eigen::Vector4d& s, const Eigen::Vector2d& u) {
+          [](const dy::PolarModel& p, py::handle t, py::handle s, py::handle u) {
             dy::PolarModel::MatA A;
             dy::PolarModel::MatB B;
-            p.jacobians(t, s, u, A, B);
+            p.jacobians(ck::real_arg(t, "t"), ck::eigen_arg<V4>(s, "s"), ck::eigen_arg<V2>(u, "u"), A, B);
             return py::make_tuple(MatrixXd(A), MatrixXd(B));
           },
           py::arg("t"), py::arg("s"), py::arg("u"))
-      .def("reference", &dy::PolarModel::reference, py::arg("t"))
+      .def(
+          "reference",
+          [](const dy::PolarModel& p, py::handle t) { return p.reference(ck::real_arg(t, "t")); },
+          py::arg("t"))
       .def(
           "to_deviation",
-          [](const dy::PolarModel& p, double t, const Eigen::Vector4d& s, const std::string& c) {
-            return p.to_deviation(t, s, coords(c));
+          [](const dy::PolarModel& p, py::handle t, py::handle s, const std::string& c) {
+            return p.to_deviation(ck::real_arg(t, "t"), ck::eigen_arg<V4>(s, "s"), coords(c));
           },
           py::arg("t"), py::arg("s"), py::arg("coordinates") = "scaled")
       .def(
           "from_deviation",
-          [](const dy::PolarModel& p, double t, const Eigen::Vector4d& x, const std::string& c) {
-            return p.from_deviation(t, x, coords(c));
+          [](const dy::PolarModel& p, py::handle t, py::handle x, const std::string& c) {
+            return p.from_deviation(ck::real_arg(t, "t"), ck::eigen_arg<V4>(x, "x"), coords(c));
           },
           py::arg("t"), py::arg("x"), py::arg("coordinates") = "scaled")
       .def(
           "deviation_rhs",
-          [](const dy::PolarModel& p, double t, const Eigen::Vector4d& x, const Eigen::Vector2d& u,
-             const std::string& c) { return p.deviation_rhs(t, x, u, coords(c)); },
+          [](const dy::PolarModel& p, py::handle t, py::handle x, py::handle u, const std::string& c) {
+            return p.deviation_rhs(ck::real_arg(t, "t"), ck::eigen_arg<V4>(x, "x"), ck::eigen_arg<V2>(u, "u"),
+                                   coords(c));
+          },
           py::arg("t"), py::arg("x"), py::arg("u"), py::arg("coordinates") = "scaled")
       .def(
           "A", [](const dy::PolarModel& p, const std::string& c) { return MatrixXd(p.A(coords(c))); },
@@ -203,8 +227,13 @@ void init_analysis(py::module_& m) {
       "_staircase",
       [](const MatrixXd& A, const MatrixXd& BC, const std::string& p, double rtol, double fuzz,
          const std::string& stair, double crt, const std::optional<py::dict>& units) {
-        const an::StaircaseReport r =
-            an::staircase(A, BC, property(p), settings(rtol, fuzz, stair, crt, units));
+        const an::RankSettings st = settings(rtol, fuzz, stair, crt, units);
+        const an::Property pp = property(p);
+        an::StaircaseReport r;
+        {
+          py::gil_scoped_release release;  // O(n^3) per stair: let other Python threads run
+          r = an::staircase(A, BC, pp, st);
+        }
         py::dict d = report(r.summary);
         d["stairs"] = r.stairs;
         d["indices"] = r.indices;
@@ -220,7 +249,13 @@ void init_analysis(py::module_& m) {
       "_pbh",
       [](const MatrixXd& A, const MatrixXd& BC, const std::string& p, double rtol, double fuzz,
          const std::string& stair, double crt, const std::optional<py::dict>& units) {
-        const an::PbhReport r = an::pbh(A, BC, property(p), settings(rtol, fuzz, stair, crt, units));
+        const an::RankSettings st = settings(rtol, fuzz, stair, crt, units);
+        const an::Property pp = property(p);
+        an::PbhReport r;
+        {
+          py::gil_scoped_release release;  // one SVD per eigenvalue cluster: seconds for large n
+          r = an::pbh(A, BC, pp, st);
+        }
         py::dict d = report(r.summary);
         py::list modes;
         for (const an::PbhMode& md : r.modes) {
@@ -246,17 +281,31 @@ void init_analysis(py::module_& m) {
       "_kalman_rank",
       [](const MatrixXd& A, const MatrixXd& BC, const std::string& p, double rtol, double fuzz,
          const std::string& stair, double crt, const std::optional<py::dict>& units) {
-        return report(an::kalman_rank(A, BC, property(p), settings(rtol, fuzz, stair, crt, units)));
+        const an::RankSettings st = settings(rtol, fuzz, stair, crt, units);
+        const an::Property pp = property(p);
+        an::RankReport r;
+        {
+          py::gil_scoped_release release;
+          r = an::kalman_rank(A, BC, pp, st);
+        }
+        return report(r);
       },
       SATGNC_RANK_ARGS);
-  m.def("_kalman_controllability_matrix", &an::kalman_controllability_matrix, py::arg("A"), py::arg("B"));
-  m.def("_kalman_observability_matrix", &an::kalman_observability_matrix, py::arg("A"), py::arg("C"));
+  m.def("_kalman_controllability_matrix", &an::kalman_controllability_matrix, py::arg("A"), py::arg("B"),
+        py::call_guard<py::gil_scoped_release>());
+  m.def("_kalman_observability_matrix", &an::kalman_observability_matrix, py::arg("A"), py::arg("C"),
+        py::call_guard<py::gil_scoped_release>());
   m.def(
       "_distance_to_uncontrollability",
       [](const MatrixXd& A, const MatrixXd& BC, const std::string& p, double rtol, double fuzz,
          const std::string& stair, double crt, const std::optional<py::dict>& units, int max_iter) {
-        const an::DistanceReport r = an::distance_to_uncontrollability(
-            A, BC, property(p), settings(rtol, fuzz, stair, crt, units), max_iter);
+        const an::RankSettings st = settings(rtol, fuzz, stair, crt, units);
+        const an::Property pp = property(p);
+        an::DistanceReport r;
+        {
+          py::gil_scoped_release release;  // Nelder-Mead over SVDs
+          r = an::distance_to_uncontrollability(A, BC, pp, st, max_iter);
+        }
         py::dict d;
         d["upper_bound"] = r.upper_bound;
         d["lambda_upper"] = r.lambda_upper;
@@ -273,8 +322,14 @@ void init_analysis(py::module_& m) {
       [](const MatrixXd& A, const MatrixXd& BC, const std::string& p, double rtol, double fuzz,
          const std::string& stair, double crt, const std::optional<py::dict>& units) {
         const an::Property pp = property(p);
+        const an::RankSettings st = settings(rtol, fuzz, stair, crt, units);
+        std::vector<an::LossRow> table;
+        {
+          py::gil_scoped_release release;  // 2^m - 1 staircases
+          table = an::loss_table(A, BC, pp, st);
+        }
         py::list rows;
-        for (const an::LossRow& r : an::loss_table(A, BC, pp, settings(rtol, fuzz, stair, crt, units))) {
+        for (const an::LossRow& r : table) {
           py::dict x;
           x["channels"] = r.channels;
           x["rank"] = r.rank;
@@ -289,30 +344,55 @@ void init_analysis(py::module_& m) {
       },
       SATGNC_RANK_ARGS);
 
-  m.def("_expm", &an::expm, py::arg("M"));
+  m.def("_expm", &an::expm, py::arg("M"), py::call_guard<py::gil_scoped_release>());
   m.def(
       "_controllability_gramian",
       [](const MatrixXd& A, const MatrixXd& B, double T) {
-        return gramian(an::controllability_gramian(A, B, T));
+        an::GramianReport g;
+        {
+          py::gil_scoped_release release;
+          g = an::controllability_gramian(A, B, T);
+        }
+        return gramian(g);
       },
       py::arg("A"), py::arg("B"), py::arg("T"));
   m.def(
       "_observability_gramian",
       [](const MatrixXd& A, const MatrixXd& C, double T) {
-        return gramian(an::observability_gramian(A, C, T));
+        an::GramianReport g;
+        {
+          py::gil_scoped_release release;
+          g = an::observability_gramian(A, C, T);
+        }
+        return gramian(g);
       },
       py::arg("A"), py::arg("C"), py::arg("T"));
   m.def(
       "_ltv_observability_gramian",
       [](const std::vector<MatrixXd>& stms, const std::vector<MatrixXd>& H, const std::vector<double>& w) {
-        return gramian(an::ltv_observability_gramian(stms, H, w));
+        an::GramianReport g;
+        {
+          py::gil_scoped_release release;
+          g = an::ltv_observability_gramian(stms, H, w);
+        }
+        return gramian(g);
       },
       py::arg("stms"), py::arg("H"), py::arg("weights") = std::vector<double>{});
-  m.def("_analyze_gramian", [](const MatrixXd& W) { return gramian(an::analyze_gramian(W)); }, py::arg("W"));
+  m.def(
+      "_analyze_gramian",
+      [](const MatrixXd& W) {
+        an::GramianReport g;
+        {
+          py::gil_scoped_release release;
+          g = an::analyze_gramian(W);
+        }
+        return gramian(g);
+      },
+      py::arg("W"));
   m.def(
       "_minimum_energy",
       [](const MatrixXd& W, const VectorXd& xf) { return an::minimum_energy(an::analyze_gramian(W), xf); },
-      py::arg("W"), py::arg("x_f"));
+      py::arg("W"), py::arg("x_f"), py::call_guard<py::gil_scoped_release>());
   m.def(
       "_od_observability_gramian",
       [](const Eigen::Matrix<double, 6, 1>& x0, const Eigen::Vector3d& r0, double rate,
@@ -326,8 +406,11 @@ void init_analysis(py::module_& m) {
           k = an::OdMeasurement::both;
         else
           throw std::invalid_argument("kind: must be 'range', 'range_rate' or 'both', got '" + kind + "'");
-        const an::OdGramianReport r =
-            an::od_observability_gramian(x0, an::RotatingStation{r0, rate}, times, k, mu);
+        an::OdGramianReport r;
+        {
+          py::gil_scoped_release release;
+          r = an::od_observability_gramian(x0, an::RotatingStation{r0, rate}, times, k, mu);
+        }
         py::dict d = gramian(r.gramian);
         d["jacobi_condition"] = r.jacobi_condition;
         d["singular_values"] = r.singular_values;
@@ -344,7 +427,7 @@ void init_analysis(py::module_& m) {
          double t_max,
          double dt) { return an::visibility_pass(x0, an::RotatingStation{r0, rate}, mu, t_max, dt); },
       py::arg("x0"), py::arg("station_r0"), py::arg("rate"), py::arg("mu"), py::arg("t_max") = 3600.0,
-      py::arg("dt") = 10.0);
+      py::arg("dt") = 10.0, py::call_guard<py::gil_scoped_release>());
 }
 
 }  // namespace satgnc::bindings

@@ -5,11 +5,34 @@
 
 #include <sstream>
 
+#include "checks.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 
 namespace py = pybind11;
 
 namespace satgnc::bindings {
+
+namespace {
+
+// Gravity is singular at r = 0 and the drag model is out of its range below the surface: refuse
+// such a position (ForceModel::validate_position) instead of returning NaN or 1e37 kg/m^3.
+Vec3 position_arg(const dynamics::ForceModel& f, py::handle h) {
+  const Vec3 r = checks::eigen_arg<Vec3>(h, "r");
+  f.validate_position(r, "r");
+  return r;
+}
+
+// |r| of 1e-160 km passes the non-zero test but |r|^3 underflows: refuse a non-finite result.
+template <typename T>
+const T& finite_result(const T& value, const Vec3& r) {
+  if (!value.allFinite()) {
+    std::ostringstream s;
+    s << "r: |r| = " << r.norm() << " km is too close to the centre: the acceleration overflows";
+    throw py::value_error(s.str());
+  }
+  return value;
+}
+}  // namespace
 
 void init_dynamics(py::module_& m) {
   using namespace satgnc::dynamics;
@@ -57,7 +80,15 @@ void init_dynamics(py::module_& m) {
       .def_readwrite("mass", &ExponentialDrag::mass)
       .def_readwrite("body_radius", &ExponentialDrag::body_radius)
       .def_readwrite("omega", &ExponentialDrag::omega)
-      .def("density", &exponential_density, py::arg("radius"), "Density (kg/m^3) at radius |r| km.")
+      .def(
+          "density",
+          [](const ExponentialDrag& d, py::handle radius) {
+            const double rr = checks::real_arg(radius, "radius");
+            validate_density_radius(d, rr, "radius");
+            return exponential_density(d, rr);
+          },
+          py::arg("radius"),
+          "Density (kg/m^3) at radius |r| km (>= body_radius; ValueError below the surface).")
       .def("__repr__", [](const ExponentialDrag& d) {
         std::ostringstream s;
         s.precision(12);
@@ -83,19 +114,37 @@ void init_dynamics(py::module_& m) {
       .def_property_readonly("conservative", &ForceModel::conservative)
       .def(
           "acceleration",
-          [](const ForceModel& f, const Vec3& r, const Vec3& v, double t) { return f.acceleration(t, r, v); },
-          py::arg("r"), py::arg("v"), py::arg("t") = 0.0, "Acceleration (km/s^2) at r km, v km/s.")
+          [](const ForceModel& f, py::handle r, py::handle v, py::handle t) {
+            const Vec3 rr = position_arg(f, r);
+            const Vec3 a = f.acceleration(checks::real_arg(t, "t"), rr, checks::eigen_arg<Vec3>(v, "v"));
+            return finite_result(a, rr);
+          },
+          py::arg("r"), py::arg("v"), py::arg("t") = 0.0,
+          "Acceleration (km/s^2) at r km (|r| > 0, above the surface with drag), v km/s, t s.")
       .def(
           "acceleration_jacobians",
-          [](const ForceModel& f, const Vec3& r, const Vec3& v, double t) {
+          [](const ForceModel& f, py::handle r, py::handle v, py::handle t) {
+            const Vec3 rr = position_arg(f, r);
+            const Vec3 vv = checks::eigen_arg<Vec3>(v, "v");
+            const double tt = checks::real_arg(t, "t");
             Vec3 a;
             Mat3 gr, gv;
-            f.acceleration_jacobians(t, r, v, a, gr, gv);
+            f.acceleration_jacobians(tt, rr, vv, a, gr, gv);
+            finite_result(a, rr);
+            finite_result(gr, rr);
             return py::make_tuple(a, gr, gv);
           },
-          py::arg("r"), py::arg("v"), py::arg("t") = 0.0, "(a, da/dr 1/s^2, da/dv 1/s).")
-      .def("potential", &ForceModel::potential, py::arg("r"), "Gravity potential energy, km^2/s^2.")
-      .def("energy", &ForceModel::energy, py::arg("r"), py::arg("v"), "|v|^2/2 + V(r), km^2/s^2.")
+          py::arg("r"), py::arg("v"), py::arg("t") = 0.0, "(a km/s^2, da/dr 1/s^2, da/dv 1/s).")
+      .def(
+          "potential", [](const ForceModel& f, py::handle r) { return f.potential(position_arg(f, r)); },
+          py::arg("r"), "Gravity potential energy, km^2/s^2 (|r| > 0).")
+      .def(
+          "energy",
+          [](const ForceModel& f, py::handle r, py::handle v) {
+            const Vec3 rr = position_arg(f, r);
+            return f.energy(rr, checks::eigen_arg<Vec3>(v, "v"));
+          },
+          py::arg("r"), py::arg("v"), "|v|^2/2 + V(r), km^2/s^2 (|r| > 0).")
       .def("__repr__", [](const ForceModel& f) {
         std::ostringstream s;
         s.precision(12);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "checks.hpp"
 #include "satgnc/dynamics/cw.hpp"
 #include "satgnc/guidance/admm.hpp"
 
@@ -59,8 +60,11 @@ void init_guidance(py::module_& m) {
       },
       py::arg("n"), py::arg("mass"));
   m.def(
-      "cw_stm", [](double n, double t) { return Eigen::MatrixXd(dyn::CwModel(n, 1.0).stm(t)); }, py::arg("n"),
-      py::arg("t"));
+      "cw_stm",
+      [](py::handle n, py::handle t) {  // checks: cw_stm(t=nan) was a NaN matrix, complex t was truncated
+        return Eigen::MatrixXd(dyn::CwModel(checks::real_arg(n, "n"), 1.0).stm(checks::real_arg(t, "t")));
+      },
+      py::arg("n"), py::arg("t"));
   m.def(
       "cw_discretize",
       [](double n, double mass, double dt, const std::string& method) {
@@ -97,6 +101,7 @@ void init_guidance(py::module_& m) {
 
   py::class_<AdmmSettings>(m, "AdmmSettings")
       .def(py::init<>())
+      .def("validate", &AdmmSettings::validate)  // field rules at assignment (satgnc._validate)
       .def_readwrite("rho", &AdmmSettings::rho)
       .def_readwrite("max_iterations", &AdmmSettings::max_iterations)
       .def_readwrite("stopping", &AdmmSettings::stopping)
@@ -148,7 +153,7 @@ void init_guidance(py::module_& m) {
            py::arg("A"), py::arg("B"), py::arg("c"), py::arg("horizon"), py::arg("x0"), py::arg("xf"),
            py::arg("Qf"), py::arg("Q"), py::arg("R"), py::arg("l1_weights"), py::arg("group_l2_weight"),
            py::arg("u_lower"), py::arg("u_upper"), py::arg("u_norm_max"), py::arg("terminal_equality"),
-           py::arg("settings"))
+           py::arg("settings"), py::call_guard<py::gil_scoped_release>())
       .def("solve",
            [](AdmmSolver& s) {
              const guidance::AdmmResult* r;
@@ -169,7 +174,8 @@ void init_guidance(py::module_& m) {
       .def("set_x0", &AdmmSolver::set_x0, py::arg("x0"))
       .def("set_xf", &AdmmSolver::set_xf, py::arg("xf"))
       .def("update_settings", &AdmmSolver::update_settings, py::arg("settings"))
-      .def("update_dynamics", &AdmmSolver::update_dynamics, py::arg("A"), py::arg("B"), py::arg("c"))
+      .def("update_dynamics", &AdmmSolver::update_dynamics, py::arg("A"), py::arg("B"), py::arg("c"),
+           py::call_guard<py::gil_scoped_release>())
       .def("objective_of", &AdmmSolver::objective_of, py::arg("U"))
       .def_property_readonly("nx", &AdmmSolver::nx)
       .def_property_readonly("nu", &AdmmSolver::nu)

@@ -114,8 +114,12 @@ void init_guidance_nonlinear(py::module_& m) {
             if (u.size() != d.control_dim()) throw py::value_error("u: must have control_dim entries");
             Eigen::VectorXd xn(d.state_dim());
             Eigen::MatrixXd A(d.state_dim(), d.state_dim()), B(d.state_dim(), d.control_dim());
-            if (!d.step(k, x.data(), u.data(), xn.data(), A.data(), B.data()))
-              throw std::runtime_error("step: the model failed on interval " + std::to_string(k));
+            bool ok;
+            {
+              py::gil_scoped_release release;  // a propagated map integrates over the interval
+              ok = d.step(k, x.data(), u.data(), xn.data(), A.data(), B.data());
+            }
+            if (!ok) throw std::runtime_error("step: the model failed on interval " + std::to_string(k));
             return py::make_tuple(xn, A, B);
           },
           py::arg("k"), py::arg("x"), py::arg("u"));
@@ -239,6 +243,7 @@ void init_guidance_nonlinear(py::module_& m) {
 
   py::class_<IlqrAdmmSettings>(m, "IlqrAdmmSettings")
       .def(py::init<>())
+      .def("validate", &IlqrAdmmSettings::validate)  // field rules at assignment (satgnc._validate)
       .def_readwrite("rho", &IlqrAdmmSettings::rho)
       .def_readwrite("max_iter", &IlqrAdmmSettings::max_iter)
       .def_readwrite("ilqr_iters", &IlqrAdmmSettings::ilqr_iters)
@@ -281,20 +286,24 @@ void init_guidance_nonlinear(py::module_& m) {
   py::class_<IlqrAdmmSolver>(m, "IlqrAdmmSolver")
       .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const IlqrAdmmSettings&>(),
            py::arg("model"), py::arg("problem"), py::arg("settings") = IlqrAdmmSettings(),
-           py::keep_alive<1, 2>())
+           py::keep_alive<1, 2>(), py::call_guard<py::gil_scoped_release>())
       .def("set_initial_controls", &IlqrAdmmSolver::set_initial_controls, py::arg("U0"))
       .def("warm_start", &IlqrAdmmSolver::warm_start, py::arg("U"), py::arg("Y"), py::arg("Lambda"))
       .def("set_initial_state", &IlqrAdmmSolver::set_initial_state, py::arg("x0"))
       .def("set_rho", &IlqrAdmmSolver::set_rho, py::arg("rho"))
       .def("solve", &IlqrAdmmSolver::solve, py::call_guard<py::gil_scoped_release>())
-      .def("true_cost", &IlqrAdmmSolver::true_cost, py::arg("U"))
+      .def("true_cost", &IlqrAdmmSolver::true_cost, py::arg("U"), py::call_guard<py::gil_scoped_release>())
       .def(
           "rollout",
           [](const IlqrAdmmSolver& s, const Eigen::MatrixXd& U) {
             const auto& r = s.result();
             if (U.rows() != r.U.rows() || U.cols() != r.U.cols()) throw py::value_error("U: must be nu x N");
             Eigen::MatrixXd X(r.X.rows(), r.X.cols());
-            const int k = s.rollout(U, X);
+            int k;
+            {
+              py::gil_scoped_release release;  // N model steps (propagated maps integrate)
+              k = s.rollout(U, X);
+            }
             if (k >= 0)
               throw std::runtime_error("rollout: the model failed on interval " + std::to_string(k));
             return X;
@@ -317,6 +326,7 @@ void init_guidance_nonlinear(py::module_& m) {
       .value("linear_admm", ScpInner::linear_admm);
   py::class_<ScpSettings>(m, "ScpSettings")
       .def(py::init<>())
+      .def("validate", &ScpSettings::validate)
       .def_readwrite("inner_solver", &ScpSettings::inner_solver)
       .def_readwrite("inner_ilqr", &ScpSettings::inner_ilqr)
       .def_readwrite("max_outer", &ScpSettings::max_outer)
@@ -338,7 +348,8 @@ void init_guidance_nonlinear(py::module_& m) {
                              [](const ScpInfo& i) { return std::string(status_message(i.status)); });
   py::class_<ScpSolver>(m, "ScpSolver")
       .def(py::init<const DiscreteModel&, const NonlinearL1Problem&, const ScpSettings&>(), py::arg("model"),
-           py::arg("problem"), py::arg("settings") = ScpSettings(), py::keep_alive<1, 2>())
+           py::arg("problem"), py::arg("settings") = ScpSettings(), py::keep_alive<1, 2>(),
+           py::call_guard<py::gil_scoped_release>())
       .def("set_initial_controls", &ScpSolver::set_initial_controls, py::arg("U0"))
       .def("set_initial_state", &ScpSolver::set_initial_state, py::arg("x0"))
       .def("solve", &ScpSolver::solve, py::call_guard<py::gil_scoped_release>())

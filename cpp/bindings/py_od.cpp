@@ -99,8 +99,12 @@ void init_od(py::module_& m) {
             const int n = static_cast<int>(times.size());
             std::vector<Vec6> xs(times.size());
             std::vector<Mat6> ph(times.size());
-            if (!p.propagate(x0, times.data(), n, xs.data(), ph.data()))
-              throw std::invalid_argument("x0: propagation failed");
+            bool ok;
+            {
+              py::gil_scoped_release release;
+              ok = p.propagate(x0, times.data(), n, xs.data(), ph.data());
+            }
+            if (!ok) throw std::invalid_argument("x0: propagation failed");
             return py::make_tuple(xs, ph);
           },
           py::arg("x0"), py::arg("times"));
@@ -232,7 +236,11 @@ void init_od(py::module_& m) {
           [](OdSolver& s, const Vec6& x0) {
             Eigen::VectorXd r;
             Eigen::MatrixXd J;
-            const OdStatus st = s.evaluate(x0, r, &J);
+            OdStatus st;
+            {
+              py::gil_scoped_release release;  // propagates the whole arc
+              st = s.evaluate(x0, r, &J);
+            }
             return py::make_tuple(st, r, J);
           },
           py::arg("x0"))

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "checks.hpp"
 #include "satgnc/propagation/cvodes.hpp"
 #include "satgnc/propagation/trajectory.hpp"
 
@@ -33,6 +34,8 @@ const char* status_name(PropagationStatus s) {
       return "rhs_failure";
     case PropagationStatus::solver_failure:
       return "solver_failure";
+    case PropagationStatus::impact:
+      return "impact";
   }
   return "unknown";
 }
@@ -63,10 +66,11 @@ CvodesSettings make_settings(const std::string& method, double rtol, py::object 
   else
     throw std::invalid_argument("vector: must be 'satgnc' or 'sundials_serial', got '" + vector + "'");
   s.rtol = rtol;
-  if (py::isinstance<py::float_>(atol) || py::isinstance<py::int_>(atol)) {
-    s.atol = atol.cast<double>();
+  // atol is a number or a list: check it here (a complex list was "Unable to cast").
+  if (py::isinstance<py::float_>(atol) || py::isinstance<py::int_>(atol) || py::isinstance<py::bool_>(atol)) {
+    s.atol = checks::real_arg(atol, "atol");
   } else {
-    s.atol_components = atol.cast<std::vector<double>>();
+    s.atol_components = checks::vector_arg(atol, "atol");
   }
   s.with_stm = with_stm;
   s.max_steps = max_steps;
@@ -139,7 +143,7 @@ void init_propagation(py::module_& m) {
       });
 
   m.def("status_message", [](const std::string& name) {
-    for (int i = 0; i <= static_cast<int>(PropagationStatus::solver_failure); ++i)
+    for (int i = 0; i <= static_cast<int>(PropagationStatus::impact); ++i)
       if (name == status_name(static_cast<PropagationStatus>(i)))
         return std::string(status_message(static_cast<PropagationStatus>(i)));
     throw std::invalid_argument("status: unknown status '" + name + "'");
@@ -159,9 +163,12 @@ void init_propagation(py::module_& m) {
            py::arg("initial_step") = 0.0, py::arg("max_step") = 0.0)
       .def(
           "propagate",
-          [](CvodesPropagator& p, const Vec6& x0, double t0, const std::vector<double>& times) {
+          [](CvodesPropagator& p, py::handle x0, py::handle t0, py::handle times) {
+            const Vec6 x = checks::eigen_arg<Vec6>(x0, "x0");
+            const double t = checks::real_arg(t0, "t0");
+            const std::vector<double> ts = checks::vector_arg(times, "times");
             py::gil_scoped_release release;
-            return p.propagate(x0, t0, times);
+            return p.propagate(x, t, ts);
           },
           py::arg("x0"), py::arg("t0"), py::arg("times"));
 }

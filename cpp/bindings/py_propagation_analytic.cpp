@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "checks.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/propagation/dop853.hpp"
 #include "satgnc/propagation/kepler.hpp"
@@ -21,23 +22,36 @@ void init_propagation_analytic(py::module_& m) {
 
   m.def(
       "propagate_kepler",
-      [](const Vec6& x0, double t0, const std::vector<double>& times, double mu, bool with_stm) {
+      [](py::handle x0, py::handle t0, py::handle times, py::handle mu, py::handle with_stm,
+         py::handle surface_radius) {
+        const Vec6 x = checks::eigen_arg<Vec6>(x0, "x0");
+        const double t = checks::real_arg(t0, "t0");
+        const std::vector<double> ts = checks::vector_arg(times, "times");
+        const double m = checks::real_arg(mu, "mu");
+        const bool stm = checks::bool_arg(with_stm, "with_stm");
+        const double R = checks::real_arg(surface_radius, "surface_radius");
         py::gil_scoped_release release;
-        return propagation::propagate_kepler(x0, t0, times, mu, with_stm);
+        return propagation::propagate_kepler(x, t, ts, m, stm, R);
       },
       py::arg("x0"), py::arg("t0"), py::arg("times"), py::arg("mu"), py::arg("with_stm") = true,
-      "Two-body propagation in universal variables with the analytic STM (km, km/s, s, km^3/s^2).");
+      py::arg("surface_radius") = 0.0,
+      "Two-body propagation in universal variables with the analytic STM (km, km/s, s, km^3/s^2).\n"
+      "An arc reaching |r| = surface_radius km (or r = 0) stops with status 'impact', t_reached = its time.");
 
   m.def(
       "propagate_dop853",
-      [](const Vec6& x0, double t0, const std::vector<double>& times, const dynamics::ForceModel& force_model,
-         double rtol, double atol, bool with_stm, long max_steps) {
+      [](py::handle x0, py::handle t0, py::handle times, const dynamics::ForceModel& force_model,
+         py::handle rtol, py::handle atol, py::handle with_stm, py::handle max_steps) {
+        const Vec6 x = checks::eigen_arg<Vec6>(x0, "x0");
+        const double t = checks::real_arg(t0, "t0");
+        const std::vector<double> ts = checks::vector_arg(times, "times");
         propagation::Dop853Settings s;
-        s.rtol = rtol;
-        s.atol = atol;
-        s.max_steps = max_steps;
+        s.rtol = checks::real_arg(rtol, "rtol");
+        s.atol = checks::real_arg(atol, "atol");
+        s.max_steps = static_cast<long>(checks::int_arg(max_steps, "max_steps", 1, 1LL << 62));
+        const bool stm = checks::bool_arg(with_stm, "with_stm");
         py::gil_scoped_release release;
-        return propagation::propagate_dop853(force_model, x0, t0, times, s, with_stm);
+        return propagation::propagate_dop853(force_model, x, t, ts, s, stm);
       },
       py::arg("x0"), py::arg("t0"), py::arg("times"), py::arg("force_model"), py::arg("rtol") = 1e-10,
       py::arg("atol") = 1e-12, py::arg("with_stm") = true, py::arg("max_steps") = 100000,
@@ -45,7 +59,10 @@ void init_propagation_analytic(py::module_& m) {
 
   m.def(
       "kepler_step",
-      [](const Vec6& x0, double dt, double mu) {
+      [](py::handle x0_, py::handle dt_, py::handle mu_) {
+        const Vec6 x0 = checks::eigen_arg<Vec6>(x0_, "x0");
+        const double dt = checks::real_arg(dt_, "dt");
+        const double mu = checks::real_arg(mu_, "mu");
         Vec6 x;
         Mat6 stm;
         const KeplerStatus st = propagation::kepler_step(x0, dt, mu, x, &stm);
@@ -56,8 +73,17 @@ void init_propagation_analytic(py::module_& m) {
           if (!x0.allFinite()) throw py::value_error("x0: must be finite (no NaN or Inf)");
           throw py::value_error("x0: position must be non-zero (|r0| = 0)");
         }
-        if (st != KeplerStatus::success)
-          throw std::runtime_error(std::string("kepler_step: ") + propagation::kepler_status_message(st));
+        if (st != KeplerStatus::success) {
+          const double alpha = 2.0 / x0.head<3>().norm() - x0.tail<3>().squaredNorm() / mu;
+          throw std::runtime_error(std::string("kepler_step: ") +
+                                   propagation::kepler_failure_message(st, alpha, dt));
+        }
+        // The universal-variable solution runs straight through r = 0 on a collision orbit.
+        const double s_hit = propagation::kepler_time_to_radius(x0, dt, mu, 0.0);
+        if (s_hit >= 0.0 && s_hit < std::abs(dt))
+          throw py::value_error("x0: a collision orbit: it reaches r = 0 after " + std::to_string(s_hit) +
+                                " s, before |dt| = " + std::to_string(std::abs(dt)) +
+                                " s (the two-body solution is singular there)");
         return py::make_tuple(x, stm);
       },
       py::arg("x0"), py::arg("dt"), py::arg("mu"),

@@ -8,9 +8,13 @@ Propagation (state and state transition matrix): :func:`satgnc.propagate`.
 from __future__ import annotations
 
 from . import _satgnc
-from ._satgnc import EARTH_J2, EARTH_MU, EARTH_OMEGA, EARTH_RADIUS
-from ._validate import FileFormatError
-from .propagation import (
+from ._validate import harden_module as _harden_module
+
+_harden_module(_satgnc)  # before any room imports a compiled name: type checks on every entry point
+
+from ._satgnc import EARTH_J2, EARTH_MU, EARTH_OMEGA, EARTH_RADIUS  # noqa: E402
+from ._validate import FileFormatError  # noqa: E402
+from .propagation import (  # noqa: E402
     ExponentialDrag,
     ForceModel,
     J2Gravity,

@@ -36,6 +36,7 @@ __all__ = [
     "as_real_array",
     "check_toml_table",
     "did_you_mean",
+    "harden_module",
     "load_toml",
     "one_of",
     "read_text_file",
@@ -428,3 +429,304 @@ def check_toml_table(
         else:  # pragma: no cover - schema bug
             raise AssertionError(spec.kind)
     return out
+
+
+# ----------------------------------------------------------------------------- compiled names
+# pybind11 converts anything numpy can cast (complex -> real with a ComplexWarning, True -> 1.0) and
+# answers a wrong type with a dump of every overload's signature. ``harden_module`` wraps every
+# function, method, constructor and settings field of the compiled module once at import, so that
+# (1) a complex / boolean / object / string value for a numeric parameter is a TypeError naming it,
+# (2) a bool for a number, NaN for a settings field, or an int out of the engine's range is refused
+# naming the field, and (3) any remaining pybind11 "incompatible arguments" error is rewritten as
+# "name: must be <type>, got <value>". Correct calls pay a few isinstance checks.
+
+_INCOMPATIBLE = ("incompatible function arguments", "incompatible constructor arguments")
+
+
+def _split_top(text: str) -> list[str]:
+    """Split ``text`` at commas outside brackets and quotes."""
+    out, depth, cur, quote = [], 0, [], ""
+    for ch in text:
+        if quote:
+            cur.append(ch)
+            if ch == quote:
+                quote = ""
+            continue
+        if ch in "\"'":
+            quote = ch
+        elif ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+        elif ch == "," and depth == 0:
+            out.append("".join(cur).strip())
+            cur = []
+            continue
+        cur.append(ch)
+    if "".join(cur).strip():
+        out.append("".join(cur).strip())
+    return out
+
+
+def _parse_signature(line: str) -> list[tuple[str, str, bool]]:
+    """[(name, annotation, has_default)] from a pybind11 signature line ``f(a: int, b: float = 1.0)``."""
+    start = line.find("(")
+    if start < 0:
+        return []
+    depth, end = 0, -1
+    for i in range(start, len(line)):
+        if line[i] in "([{":
+            depth += 1
+        elif line[i] in ")]}":
+            depth -= 1
+            if depth == 0:
+                end = i
+                break
+    params = []
+    for part in _split_top(line[start + 1:end]):
+        if part in ("*", "/") or part.startswith("*"):
+            continue
+        name, _, rest = part.partition(":")
+        annot, eq, _default = rest.partition("=")
+        params.append((name.strip(), annot.strip(), bool(eq)))
+    return params
+
+
+def _kind(annot: str) -> str:
+    a = annot.replace("typing.", "")
+    if a.startswith("Optional[") or a.endswith("| None"):
+        a = a.removeprefix("Optional[").removesuffix("]").removesuffix("| None").strip()
+    if "NDArray" in a or "numpy" in a or a.startswith(("list[float", "list[Supports", "Sequence[Supports",
+                                                        "collections.abc.Sequence[Supports")):
+        return "array"
+    if a in ("bool",):
+        return "bool"
+    if "SupportsFloat" in a or a == "float":
+        return "float"
+    if "SupportsInt" in a or a == "int":
+        return "int"
+    if a == "str":
+        return "str"
+    return "other"
+
+
+def _check_param(name: str, annot: str, value: Any, *, field: bool = False) -> None:
+    """Raise TypeError / ValueError naming ``name`` when ``value`` cannot be a ``annot``."""
+    if value is None and ("Optional" in annot or "None" in annot):
+        return
+    kind = _kind(annot)
+    if kind == "array":
+        if isinstance(value, np.ndarray):
+            if value.dtype.kind not in _REAL_KINDS:
+                as_real_array(value, name, finite=False)  # raises the uniform TypeError
+        elif isinstance(value, (list, tuple)):
+            if value and isinstance(value[0], (list, tuple, np.ndarray)):
+                # nested: a matrix as lists, or a list of matrices whose shapes may differ (H_j)
+                for item in value:
+                    as_real_array(item, name, finite=False)
+            elif any(not isinstance(x, numbers.Real) or isinstance(x, (bool, np.bool_)) for x in value):
+                as_real_array(value, name, finite=False)
+        elif isinstance(value, (str, bytes, bool, np.bool_, complex)):
+            as_real_array(value, name, finite=False)
+    elif kind == "float":
+        if isinstance(value, np.ndarray) and value.ndim == 0:
+            value = value[()]
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+            raise TypeError(f"{name}: must be a real number, got {_describe(value)}")
+        if field and math.isnan(float(value)):
+            raise ValueError(f"{name}: must not be NaN")
+    elif kind == "int":
+        as_int(value, name)
+    elif kind == "bool":
+        as_bool(value, name)
+    elif kind == "str":
+        if not isinstance(value, str):
+            raise TypeError(f"{name}: must be a string, got {_describe(value)}")
+
+
+def _fixed_shape(annot: str) -> tuple[int | None, ...] | None:
+    """(12, 1) from an Eigen annotation '... "[12, 1]"' (None for a free dimension), else None."""
+    m = re.search(r'"\[([0-9mn]+)(?:, ([0-9mn]+))?\]"', annot)
+    if not m:
+        return None
+    return tuple(int(d) if d.isdigit() else None for d in m.groups() if d is not None)
+
+
+def _short(annot: str) -> str:
+    kind = _kind(annot)
+    return {"array": "a real numeric array", "float": "a real number", "int": "an integer",
+            "bool": "a bool", "str": "a string"}.get(kind, annot.replace("satgnc._satgnc.", ""))
+
+
+def _diagnose(qualname: str, message: str, args: tuple, kwargs: dict) -> str:
+    """Turn a pybind11 overload dump into 'name: must be ..., got ...' for the first wrong argument."""
+    lines = [ln.strip() for ln in message.splitlines() if re.match(r"\s*\d+\.\s", ln)]
+    sigs = [_parse_signature(ln.split(".", 1)[1]) for ln in lines] or [[]]
+    params = sigs[0]
+    # Methods list self; constructors do not, but are called with the new instance first.
+    is_method = (bool(params) and params[0][0] == "self") or "constructor" in message
+    named = [p for p in params if p[0] != "self"]
+    pos = list(args[1:] if is_method and args else args)
+    names = [p[0] for p in named]
+    for key in kwargs:
+        if key not in names:
+            return f"{key}: unknown argument of {qualname} (accepted: {', '.join(names)})"
+    bound = dict(zip(names, pos))
+    if len(pos) > len(named):
+        return f"{qualname}: takes {len(named)} argument(s) ({', '.join(names)}), got {len(pos)}"
+    bound.update(kwargs)
+    for pname, annot, has_default in named:
+        if pname not in bound:
+            if not has_default:
+                return f"{pname}: required argument of {qualname} is missing"
+            continue
+        value = bound[pname]
+        try:
+            _check_param(pname, annot, value)
+        except (TypeError, ValueError) as e:
+            return str(e)
+        if _kind(annot) == "int":
+            return (f"{pname}: out of the engine's integer range (a count, size or seed must be >= 0 and "
+                    f"fit in 32 or 64 bits), got {value!r}")
+        shape = None if annot.startswith(("list[", "collections.abc.Sequence[")) else _fixed_shape(annot)
+        if shape is not None:
+            got = np.shape(value)
+            flat = got if len(got) != 2 or got[1] != 1 else (got[0],)
+            want = shape[:-1] if len(shape) == 2 and shape[-1] == 1 else shape
+            if len(flat) != len(want) or any(w is not None and w != f for w, f in zip(want, flat)):
+                dims = ", ".join("n" if d is None else str(d) for d in want)
+                return f"{pname}: must have shape ({dims}{',' if len(want) == 1 else ''}), got {got}"
+    for pname, annot, _ in named:
+        if pname in bound and _kind(annot) == "other":
+            return f"{pname}: must be {_short(annot)}, got {_describe(bound[pname])}"
+    return f"{qualname}: arguments do not match its signature {lines[0] if lines else ''}"
+
+
+def _out_of_memory(qualname: str, params: list, args: tuple, kwargs: dict) -> str:
+    """'horizon: 1000000000 is too large ...' naming the largest integer argument (a size) of the call."""
+    bound = dict(zip([p[0] for p in params], args))
+    bound.update(kwargs)
+    sizes = [(v, k) for k, v in bound.items() if isinstance(v, numbers.Integral) and not isinstance(v, bool)]
+    for k, v in bound.items():  # sizes of problem structs (e.g. NonlinearL1Problem.horizon)
+        for attr in ("horizon", "n", "steps", "max_steps"):
+            val = getattr(v, attr, None)
+            if isinstance(val, numbers.Integral) and not isinstance(val, bool):
+                sizes.append((val, f"{k}.{attr}"))
+    if sizes:
+        value, name = max(sizes)
+        return (f"{name}: {value} is too large: {qualname} could not allocate the memory this size needs "
+                f"(std::bad_alloc)")
+    return f"{qualname}: the engine could not allocate the memory these arguments need (std::bad_alloc)"
+
+
+def _wrap_callable(f: Any, qualname: str) -> Any:
+    import functools
+
+    doc = (getattr(f, "__doc__", None) or "").strip().splitlines()
+    params = _parse_signature(doc[0]) if doc else []
+    # pybind11 accepts True for a float or an int, 1 for a bool and complex arrays for real ones:
+    # check those parameters before the call (the rest fail inside pybind11 and are diagnosed below).
+    checked = [(i, p[0], p[1]) for i, p in enumerate(params)
+               if _kind(p[1]) in ("array", "float", "int", "bool")]
+    by_name = {name: annot for _, name, annot in checked}
+
+    @functools.wraps(f)
+    def wrapper(*args, **kwargs):
+        for i, name, annot in checked:
+            if i < len(args):
+                _check_param(name, annot, args[i])
+        if kwargs:
+            for key, value in kwargs.items():
+                annot = by_name.get(key)
+                if annot is not None:
+                    _check_param(key, annot, value)
+        try:
+            return f(*args, **kwargs)
+        except MemoryError:
+            raise ValueError(_out_of_memory(qualname, params, args, kwargs)) from None
+        except TypeError as e:
+            if not any(s in str(e) for s in _INCOMPATIBLE):
+                raise
+            msg = _diagnose(qualname, str(e), args, kwargs)
+            kind = ValueError if ("out of the engine's integer range" in msg or "must have shape" in msg) \
+                else TypeError
+            raise kind(msg) from None
+
+    wrapper.__satgnc_hardened__ = True
+    return wrapper
+
+
+def _harden_property(cls: type, name: str, prop: property) -> property:
+    doc = (getattr(prop.fset, "__doc__", None) or "").strip().splitlines()
+    params = _parse_signature(doc[0]) if doc else []
+    annot = params[-1][1] if params else ""
+    fset, fget = prop.fset, prop.fget
+    label = f"{name}"
+    enum_type = None
+    if _kind(annot) == "other" and annot.startswith("satgnc._satgnc."):
+        enum_type = getattr(_compiled_module, annot.rsplit(".", 1)[1], None)
+        if enum_type is not None and not hasattr(enum_type, "__members__"):
+            enum_type = None
+
+    def setter(self, value):
+        if enum_type is not None and isinstance(value, str):
+            if value not in enum_type.__members__:
+                raise ValueError(f"{label}: must be one of {list(enum_type.__members__)}, got {value!r}")
+            value = enum_type.__members__[value]
+        elif enum_type is not None and not isinstance(value, enum_type):
+            raise TypeError(f"{label}: must be one of {list(enum_type.__members__)} "
+                            f"({enum_type.__name__}), got {_describe(value)}")
+        _check_param(label, annot, value, field=True)
+        old = fget(self) if fget is not None else None
+        try:
+            fset(self, value)
+        except TypeError as e:
+            if not any(s in str(e) for s in _INCOMPATIBLE):
+                raise
+            if _kind(annot) == "int":
+                raise ValueError(f"{label}: out of the engine's integer range (a count, size or seed must be "
+                                 f">= 0 and fit in 32 or 64 bits), got {value!r}") from None
+            raise TypeError(f"{label}: must be {_short(annot)}, got {_describe(value)}") from None
+        # A rule of the class's own validate() about this field (e.g. "max_iterations: must be > 0")
+        # fails at the assignment, and the old value stays; rules about other fields wait for setup.
+        validate = getattr(self, "validate", None)
+        if callable(validate) and fget is not None:
+            try:
+                validate()
+            except ValueError as e:
+                if str(e).startswith((f"{name}:", f"{name} ", f"settings.{name}:")):
+                    fset(self, old)
+                    raise
+
+    return property(fget, setter, prop.fdel, prop.__doc__)
+
+
+_compiled_module: Any = None
+
+
+def harden_module(module: Any) -> None:
+    """Wrap the compiled module's functions, methods, constructors and settings fields (idempotent)."""
+    global _compiled_module
+    if getattr(module, "__satgnc_hardened__", False):
+        return
+    _compiled_module = module
+    for name, obj in list(vars(module).items()):
+        if name.startswith("__"):
+            continue
+        if isinstance(obj, type):
+            if hasattr(obj, "__members__"):  # pybind11 enums
+                continue
+            for attr, value in list(vars(obj).items()):
+                if attr.startswith("__") and attr != "__init__":
+                    continue
+                if isinstance(value, property):
+                    if value.fset is not None:
+                        setattr(obj, attr, _harden_property(obj, attr, value))
+                elif isinstance(value, staticmethod):
+                    setattr(obj, attr, staticmethod(_wrap_callable(value.__func__, f"{obj.__name__}.{attr}")))
+                elif callable(value) and type(value).__name__ in ("instancemethod",
+                                                                  "builtin_function_or_method"):
+                    setattr(obj, attr, _wrap_callable(value, f"{obj.__name__}.{attr}"))
+        elif type(obj).__name__ == "builtin_function_or_method":
+            setattr(module, name, _wrap_callable(obj, name))
+    module.__satgnc_hardened__ = True

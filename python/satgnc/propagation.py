@@ -20,6 +20,7 @@ from ._satgnc import (
     J2Gravity,
     Trajectory,
 )
+from ._validate import as_real
 
 __all__ = [
     "propagate",
@@ -119,6 +120,7 @@ def _force_model(forces, mu: float, mu_given: bool) -> ForceModel:
 
 
 _DEFAULT = object()
+_MAX_SPAN = 1e12  # s
 
 
 def propagate(
@@ -133,6 +135,7 @@ def propagate(
     atol=1e-12,
     with_stm: bool = True,
     max_steps: int = 500_000,
+    surface_radius: float | None = None,
 ) -> Trajectory:
     """Propagate the state ``x0`` (km, km/s) given at ``t0`` to every time in ``times`` (s).
 
@@ -160,6 +163,13 @@ def propagate(
         Also return the 6x6 STMs.
     max_steps : int
         Step budget of the whole call (> 0). Exhausting it raises :class:`PropagationError`.
+    surface_radius : float, optional
+        Method ``"kepler"`` only: radius of the body's surface (km, e.g. ``EARTH_RADIUS``). An arc that
+        reaches it before a requested time raises :class:`PropagationError` with ``status ==
+        "impact"`` and ``t_reached`` = the impact time (s), holding the outputs before it. Without it,
+        Kepler still stops with ``"impact"`` on a collision orbit through the centre (r = 0), which the
+        analytic solution would otherwise pass straight through. ``x0`` at or below the surface is a
+        ValueError.
 
     Returns
     -------
@@ -173,8 +183,8 @@ def propagate(
         Bad input, naming the argument (non-finite state, ``|r| = 0``, ``mu <= 0``, unsorted or
         non-finite times, non-positive tolerances, wrong shapes or dtypes).
     PropagationError
-        The integrator stopped early; the message says the time reached and why, and
-        ``err.trajectory`` holds the outputs reached.
+        The integrator stopped early (or the orbit hit the surface: ``status == "impact"``); the
+        message says the time reached and why, and ``err.trajectory`` holds the outputs reached.
     """
     x = _real_array(x0, "x0")
     if x.shape != (6,):
@@ -196,6 +206,12 @@ def propagate(
     if d.size and not (np.all(d > 0) or np.all(d < 0)):
         raise ValueError("times: must be strictly monotone (sorted, no duplicates), forward or backward")
     t0f = float(t[0]) if t0 is None else _real_scalar(t0, "t0", positive=False)
+    # A span no orbit integration can cover (1e300 s) is the times' fault, not the force model's.
+    span = float(np.max(np.abs(t - t0f)))
+    if span > _MAX_SPAN:
+        name = "times" if t0 is None else "times, t0"
+        raise ValueError(f"{name}: span |t - t0| = {span:.3g} s exceeds {_MAX_SPAN:.0e} s (~3e4 years); "
+                         "check the units (s) and t0")
     mu_given = mu is not _DEFAULT
     muf = _real_scalar(EARTH_MU if not mu_given else mu, "mu")
     rtolf = _real_scalar(rtol, "rtol")
@@ -214,17 +230,29 @@ def propagate(
         raise TypeError(f"max_steps: must be an int, got {type(max_steps).__name__}")
     if max_steps <= 0:
         raise ValueError(f"max_steps: must be > 0, got {max_steps}")
+    if max_steps > 2**62:
+        raise ValueError(f"max_steps: must be <= 2**62, got {max_steps}")
     if not isinstance(method, str):
         raise TypeError(f"method: must be a string, got {type(method).__name__}")
     methods = available_methods()
     if method not in methods:
         raise ValueError(f"method: unknown {method!r}; available in this build: {methods}")
 
+    if surface_radius is not None:
+        if method != "kepler":
+            raise ValueError(f"surface_radius: supported by method 'kepler' only, got method {method!r}")
+        surface = as_real(surface_radius, "surface_radius", nonnegative=True)
+        if float(np.linalg.norm(x[:3])) <= surface:
+            raise ValueError(f"x0: |r0| = {np.linalg.norm(x[:3]):.6g} km is at or below surface_radius = "
+                             f"{surface:.6g} km")
+    else:
+        surface = 0.0
+
     tl = t.tolist()
     if method == "kepler":
         if forces is not None:
             raise ValueError("forces: method 'kepler' is the analytic two-body solution; use forces=None")
-        traj = _satgnc.propagate_kepler(x, t0f, tl, muf, bool(with_stm))
+        traj = _satgnc.propagate_kepler(x, t0f, tl, muf, bool(with_stm), surface)
     else:
         model = _force_model(forces, muf, mu_given)
         if method == "dop853":

@@ -194,3 +194,24 @@ TEST(ForceModel, ValidateNamesTheField) {
   m.drag->omega.x() = INFINITY;
   EXPECT_NE(validation_error(m).find("drag.omega"), std::string::npos);
 }
+
+TEST(ForceModel, ValidatePositionRefusesTheCentreAndBelowTheSurface) {
+  dyn::ForceModel m = full_model();
+  EXPECT_NO_THROW(m.validate_position(Vec3(7000.0, 0.0, 0.0)));
+  try {
+    m.validate_position(Vec3::Zero(), "r");
+    ADD_FAILURE() << "r = 0 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("r: must be non-zero"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(m.validate_position(Vec3(6000.0, 0.0, 0.0)), std::invalid_argument);  // below, with drag
+  EXPECT_THROW(m.validate_position(Vec3(NAN, 0.0, 0.0)), std::invalid_argument);
+  m.drag.reset();
+  EXPECT_NO_THROW(m.validate_position(Vec3(6000.0, 0.0, 0.0)));  // point mass + J2: no surface rule
+  try {
+    dyn::validate_density_radius(*full_model().drag, -1.0, "radius");
+    ADD_FAILURE() << "radius -1 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("radius: is below the surface"), std::string::npos) << e.what();
+  }
+}

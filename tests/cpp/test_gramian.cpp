@@ -114,3 +114,35 @@ TEST(Gramian, BadInputThrows) {
   EXPECT_THROW(minimum_energy(analyze_gramian(MatrixXd::Identity(2, 2)), VectorXd::Ones(3)),
                std::invalid_argument);
 }
+
+TEST(Gramian, HugeHorizonOfUnstableModelIsAnErrorNamingT) {
+  MatrixXd A(2, 2);
+  A << 1.0, 0.0, 0.0, -1.0;
+  const MatrixXd B = MatrixXd::Ones(2, 1);
+  for (double T : {1e3, 1e6}) {
+    try {
+      controllability_gramian(A, B, T);
+      ADD_FAILURE() << "T = " << T << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("T: ", 0), 0u) << e.what();
+    }
+  }
+  // A moderate horizon of the same model is a valid PSD Gramian.
+  const auto g = controllability_gramian(A, B, 5.0);
+  EXPECT_GE(g.eigenvalues(0), 0.0);
+}
+
+TEST(Gramian, LongHorizonOfUnstableModelReportsItsRoundingFloor) {
+  // Random unstable 5x5 over T = 50: Van Loan's product cancels; the small eigenvalues are noise.
+  MatrixXd A(3, 3);
+  A << 0.9, 1.0, 0.0, -0.3, 0.8, 2.0, 0.1, 0.0, -0.5;
+  const MatrixXd B = MatrixXd::Ones(3, 1);
+  const auto g = controllability_gramian(A, B, 50.0);
+  EXPECT_GT(g.rounding_floor, 0.0);
+  EXPECT_GE(g.eigenvalues(0), -g.rounding_floor);
+  EXPECT_EQ(g.resolved, g.eigenvalues(0) > g.rounding_floor);
+  // A short horizon of a stable model is resolved to rounding.
+  const auto s = controllability_gramian(-MatrixXd::Identity(3, 3), MatrixXd::Identity(3, 3), 1.0);
+  EXPECT_TRUE(s.resolved);
+  EXPECT_LT(s.rounding_floor, 1e-12 * s.eigenvalues(2));
+}

@@ -392,3 +392,53 @@ TEST(KeplerSweep, RandomConicsConvergeFastAndRoundTrip) {
   EXPECT_LE(worst_it, 20);
   EXPECT_LT(worst_rt, 1e-9);
 }
+
+namespace {
+double radius_after(const Vec6& x0, double dt) {
+  Vec6 x;
+  EXPECT_EQ(kepler_step(x0, dt, kMu, x, nullptr), KeplerStatus::success);
+  return x.head<3>().norm();
+}
+}  // namespace
+
+TEST(KeplerImpact, SurfaceCrossingTimeIsTheFirstOneForEveryConic) {
+  using satgnc::propagation::kepler_time_to_radius;
+  using satgnc::propagation::PropagationStatus;
+  const double R = 6378.137;
+  const std::vector<Vec6> cases = {
+      (Vec6() << 7000.0, 0, 0, 0, 5.0, 0).finished(),     // ellipse at apoapsis, periapsis inside the body
+      (Vec6() << 7000.0, 0, 0, 1.0, 4.0, 0).finished(),   // ascending first: the descent follows apoapsis
+      (Vec6() << 7000.0, 0, 0, -11.0, 1.0, 0).finished()  // hyperbola falling onto the body
+  };
+  for (const Vec6& x0 : cases) {
+    const double s = kepler_time_to_radius(x0, 2e4, kMu, R);
+    ASSERT_GT(s, 0.0);
+    EXPECT_NEAR(radius_after(x0, s), R, 1e-7 * R);
+    for (int k = 0; k < 200; ++k) EXPECT_GT(radius_after(x0, s * k / 200.0), R);
+    const auto tr = propagate_kepler(x0, 100.0, {100.0, 100.0 + 0.5 * s, 100.0 + 2e4}, kMu, true, R);
+    EXPECT_EQ(tr.status, PropagationStatus::impact);
+    EXPECT_NEAR(tr.t_reached, 100.0 + s, 1e-9 * s);
+    EXPECT_EQ(tr.states.size(), 2u);
+    EXPECT_NE(tr.message.find("impact"), std::string::npos);
+  }
+  // Backward in time: the crossing of the past arc.
+  const double sb = kepler_time_to_radius(cases[1], -2e4, kMu, R);
+  ASSERT_GT(sb, 0.0);
+  EXPECT_NEAR(radius_after(cases[1], -sb), R, 1e-7 * R);
+  // An orbit above the surface never impacts; a circular LEO takes a few arithmetic operations.
+  const Vec6 leo = (Vec6() << 7000.0, 0, 0, 0, std::sqrt(kMu / 7000.0), 0).finished();
+  EXPECT_LT(kepler_time_to_radius(leo, 1e6, kMu, R), 0.0);
+  EXPECT_EQ(propagate_kepler(leo, 0.0, {1e5}, kMu, false, R).status, PropagationStatus::success);
+}
+
+TEST(KeplerImpact, CollisionOrbitThroughTheCentreIsAnImpactWithoutASurface) {
+  using satgnc::propagation::PropagationStatus;
+  const Vec6 radial = (Vec6() << 7000.0, 0, 0, -1.0, 0, 0).finished();
+  const auto tr = propagate_kepler(radial, 0.0, {100.0, 1e4}, kMu, false);
+  EXPECT_EQ(tr.status, PropagationStatus::impact);
+  EXPECT_GT(tr.t_reached, 100.0);
+  EXPECT_LT(tr.t_reached, 1e4);
+  EXPECT_LT(radius_after(radial, tr.t_reached * (1.0 - 1e-9)), 1e-3 * 7000.0);
+  EXPECT_THROW(propagate_kepler(radial, 0.0, {1.0}, kMu, false, 8000.0), std::invalid_argument);
+  EXPECT_THROW(propagate_kepler(radial, 0.0, {1.0}, kMu, false, -1.0), std::invalid_argument);
+}

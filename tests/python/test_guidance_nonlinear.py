@@ -182,16 +182,16 @@ def test_bad_input_errors(uncons):
         _c.IlqrAdmmSolver(uncons.dmap, pr)
     pr.alpha = np.ones(3)
     st = _c.IlqrAdmmSettings()
-    st.rho = -1.0
-    with pytest.raises(ValueError, match="rho"):
+    with pytest.raises(ValueError, match="rho"):  # refused at assignment (issue 11)
+        st.rho = -1.0
         _c.IlqrAdmmSolver(uncons.dmap, pr, st)
     ms = _c.TwoSatelliteMapSettings()
     ms.scheme = 5
     with pytest.raises(ValueError, match="scheme"):
         _c.TwoSatelliteMap(uncons.model, ms)
     p = _c.TwoSatelliteParams()
-    p.mass_chaser = 0.0
-    with pytest.raises(ValueError, match="mass_chaser"):
+    with pytest.raises(ValueError, match="mass_chaser"):  # refused at assignment (issue 11)
+        p.mass_chaser = 0.0
         _c.TwoSatelliteModel(p)
 
 

@@ -49,8 +49,8 @@ def test_kepler_step_bad_input_names_argument(x0, dt, mu, name):
         _satgnc.kepler_step(x0, dt, mu)
 
 
-def test_kepler_step_wrong_shape_is_type_error():
-    with pytest.raises(TypeError):
+def test_kepler_step_wrong_shape_names_the_argument():
+    with pytest.raises(ValueError, match=r"^x0: must have shape \(6,\), got \(5,\)"):
         _satgnc.kepler_step(np.zeros(5), 10.0, MU)
 
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <unsupported/Eigen/MatrixFunctions>
@@ -53,27 +54,57 @@ void check_lti(const MatrixXd& A, const MatrixXd& X, bool ctrb, double T) {
 // Van Loan (1978): for M = [[-F, Q], [0, F^T]] T, expm(M) = [[., E12], [0, E22]] and
 // int_0^T e^{F^T s} Q e^{F s} ds = E22^T E12 — with F = A^T, Q = B B^T for W_c and F = A, Q = C^T C
 // for W_o.
-MatrixXd van_loan(const MatrixXd& F, const MatrixXd& Q, double T) {
+MatrixXd van_loan(const MatrixXd& F, const MatrixXd& Q, double T, double& floor) {
   const Eigen::Index n = F.rows();
   MatrixXd M = MatrixXd::Zero(2 * n, 2 * n);
   M.topLeftCorner(n, n) = -F.transpose();
   M.topRightCorner(n, n) = Q;
   M.bottomRightCorner(n, n) = F;
   const MatrixXd E = (M * T).exp();
+  // Error of the product E22^T E12 ~ n eps |E22| |E12| (plus the exponential's own, of that order):
+  // for an unstable F it cancels down to W, and everything below this floor is rounding.
+  floor = 4.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon() *
+          E.bottomRightCorner(n, n).norm() * E.topRightCorner(n, n).norm();
   return E.bottomRightCorner(n, n).transpose() * E.topRightCorner(n, n);
+}
+
+// Van Loan over a long horizon of an unstable A: e^{AT} overflows, or the product E22^T E12 cancels
+// and the small eigenvalues are rounding (the "PSD" Gramian with lambda = -5e53). Overflow and
+// a negative eigenvalue beyond the rounding floor are errors naming T; otherwise the report carries
+// the floor and says whether every eigenvalue is above it (resolved).
+GramianReport checked_lti_gramian(const MatrixXd& W, double floor, double T) {
+  core::require(W.allFinite() && std::isfinite(floor), "T",
+                "too long for this A: e^{A T} overflows double precision (T = " + std::to_string(T) + " s)",
+                "shorten T, or nondimensionalize the model");
+  GramianReport g = analyze_gramian(0.5 * (W + W.transpose()));
+  const Eigen::Index n = g.eigenvalues.size();
+  g.rounding_floor = floor;
+  if (g.eigenvalues(0) < -floor) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "lambda_min = %.3g < -%.3g (its rounding floor), lambda_max = %.3g",
+                  g.eigenvalues(0), floor, g.eigenvalues(n - 1));
+    core::require(false, "T",
+                  "too long for this A: the Gramian lost positive semidefiniteness (" + std::string(buf) +
+                      ", T = " + std::to_string(T) + " s)",
+                  "shorten T, or nondimensionalize the model");
+  }
+  g.resolved = g.eigenvalues(0) > floor;
+  return g;
 }
 }  // namespace
 
 GramianReport controllability_gramian(const MatrixXd& A, const MatrixXd& B, double T) {
   check_lti(A, B, true, T);
-  const MatrixXd W = van_loan(A.transpose(), B * B.transpose(), T);
-  return analyze_gramian(0.5 * (W + W.transpose()));
+  double floor = 0.0;
+  const MatrixXd W = van_loan(A.transpose(), B * B.transpose(), T, floor);
+  return checked_lti_gramian(W, floor, T);
 }
 
 GramianReport observability_gramian(const MatrixXd& A, const MatrixXd& C, double T) {
   check_lti(A, C, false, T);
-  const MatrixXd W = van_loan(A, C.transpose() * C, T);
-  return analyze_gramian(0.5 * (W + W.transpose()));
+  double floor = 0.0;
+  const MatrixXd W = van_loan(A, C.transpose() * C, T, floor);
+  return checked_lti_gramian(W, floor, T);
 }
 
 GramianReport ltv_observability_gramian(const std::vector<MatrixXd>& stms, const std::vector<MatrixXd>& H,

@@ -372,7 +372,10 @@ PbhReport pbh(const MatrixXd& A_in, const MatrixXd& BC, Property p, const RankSe
   MatrixXd AB(n, n + m);
   AB << pr.A, pr.B;
   const double normAB = safe_norm(AB), normA = pr.A.norm();
-  const double radius = s.cluster_rtol * normA;
+  // Eigenvalues closer than the rank tolerance of [A B] are indistinguishable too: with ||A|| tiny
+  // against ||B|| they would otherwise form separate clusters whose deficiencies add up beyond n
+  // (a negative rank for A = 1e-22 randn, B = randn).
+  const double radius = std::max(s.cluster_rtol * normA, rep.rtol * normAB);
   Eigen::EigenSolver<MatrixXd> es(pr.A, false);
   const std::vector<Cluster> clusters = cluster_eigenvalues(es.eigenvalues(), radius);
   int rank_loss = 0;
@@ -399,6 +402,7 @@ PbhReport pbh(const MatrixXd& A_in, const MatrixXd& BC, Property p, const RankSe
       const double rel = best(i) / normAB;
       if (rel <= rep.rtol) ++md.deficiency;
     }
+    md.deficiency = std::min(md.deficiency, md.multiplicity);  // at most the modes at this eigenvalue
     for (Eigen::Index i = 0; i < n - md.deficiency; ++i)
       rep.sigma_r = std::min(rep.sigma_r, best(i) / normAB);
     if (md.deficiency > 0) rep.sigma_next = std::max(rep.sigma_next, best(n - md.deficiency) / normAB);
@@ -422,7 +426,7 @@ PbhReport pbh(const MatrixXd& A_in, const MatrixXd& BC, Property p, const RankSe
     rank_loss += md.deficiency;
     out.modes.push_back(md);
   }
-  rep.rank = static_cast<int>(n) - rank_loss;
+  rep.rank = std::max(0, static_cast<int>(n) - rank_loss);
   const int subtol = count_subtolerance(AB, rep.rtol * normAB);
   decide(rep, s.fuzz, subtol);
   return out;

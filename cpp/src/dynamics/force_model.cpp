@@ -73,6 +73,15 @@ double exponential_density(const ExponentialDrag& d, double radius_km) {
   return d.rho0 * std::exp(-(radius_km - d.body_radius - d.h0) / d.scale_height);
 }
 
+void validate_density_radius(const ExponentialDrag& d, double radius_km, const char* name) {
+  core::require_finite(radius_km, name);
+  core::require(
+      radius_km >= d.body_radius, name,
+      "is below the surface: " + std::to_string(radius_km) +
+          " km < body_radius = " + std::to_string(d.body_radius) + " km",
+      "the exponential atmosphere is defined from the surface up; the argument is |r|, not the altitude");
+}
+
 Vec3 drag_acceleration(const ExponentialDrag& d, const Vec3& r, const Vec3& v) {
   const Vec3 w = v - d.omega.cross(r);
   const double beta = 0.5 * d.cd * d.area / d.mass * exponential_density(d, r.norm()) * kPerMeterToPerKm;
@@ -95,6 +104,13 @@ void drag_jacobians(const ExponentialDrag& d, const Vec3& r, const Vec3& v, Vec3
   da_dv = da_dw;
   // dbeta/dr = -beta/H r/|r|; dw/dr = -[omega]x.
   da_dr = ((beta * wn / (d.scale_height * rn)) * w) * r.transpose() - da_dw * cross_matrix(d.omega);
+}
+
+void ForceModel::validate_position(const Vec3& r, const char* name) const {
+  core::require_finite(r, name);
+  core::require(r.norm() > 0.0, name, "must be non-zero (|r| = 0 is the centre of the body)",
+                "point-mass gravity is singular there");
+  if (drag) validate_density_radius(*drag, r.norm(), name);
 }
 
 void ForceModel::validate() const {

@@ -10,6 +10,7 @@
 // holds for every conic, so nothing is singular at alpha = 0.
 #include "satgnc/propagation/kepler.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -23,6 +24,7 @@ namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
 constexpr int kSeriesTerms = 17;  // |psi| < 4: 4^16 / 37! ~ 3e-35, far below eps
 
 // 1/k! for k = 0..40, built at compile time.
@@ -256,16 +258,143 @@ KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* st
   return KeplerStatus::success;
 }
 
+std::string kepler_failure_message(KeplerStatus s, double alpha, double dt) {
+  if (s == KeplerStatus::overflow && !(alpha < 0.0)) {
+    return std::string("the universal functions overflowed on this ") +
+           (alpha > 0.0 ? "ellipse" : "parabola") + " (dt = " + std::to_string(dt) +
+           " s; a degenerate, nearly radial orbit)";
+  }
+  return kepler_status_message(s);
+}
+
+namespace {
+// |r| after s seconds from y (NaN when the step fails).
+double radius_after(const Vec6& y, double s, double mu) {
+  Vec6 x;
+  if (kepler_step(y, s, mu, x, nullptr) != KeplerStatus::success)
+    return std::numeric_limits<double>::quiet_NaN();
+  return x.head<3>().norm();
+}
+
+// Bisection for |r(s)| = R on [lo, hi] with |r(lo)| > R >= |r(hi)|: the first crossing, to rounding.
+double bisect_radius(const Vec6& y, double lo, double hi, double mu, double R) {
+  for (int k = 0; k < 200 && hi - lo > 4.0 * kEps * std::max(1.0, hi); ++k) {
+    const double mid = 0.5 * (lo + hi);
+    const double r = radius_after(y, mid, mu);
+    if (r > R)
+      lo = mid;
+    else
+      hi = mid;  // also on a failed step (NaN): shrink towards the known-good side
+  }
+  return hi;
+}
+}  // namespace
+
+double kepler_time_to_radius(const Vec6& x0, double dt, double mu, double surface_radius) {
+  if (!(std::isfinite(mu) && mu > 0.0) || !std::isfinite(dt) || !x0.allFinite() || dt == 0.0) return -1.0;
+  // Two-body motion is time-reversible: the backward arc is the forward arc of the reversed velocity.
+  Vec6 y = x0;
+  if (dt < 0.0) y.tail<3>() = -y.tail<3>();
+  const double T = std::abs(dt);
+  const Vec3 r = y.head<3>(), v = y.tail<3>();
+  const double r0 = r.norm();
+  if (!(r0 > 0.0)) return 0.0;
+  const double R = std::max(surface_radius, 0.0);
+  if (r0 <= R) return 0.0;
+  const double sqmu = std::sqrt(mu);
+  const double rv = r.dot(v);
+  const double v2 = v.squaredNorm();
+  const double h2 = r.cross(v).squaredNorm();
+  const Vec3 evec = ((v2 - mu / r0) * r - rv * v) / mu;
+  const double e = evec.norm();
+  const double rp = h2 / (mu * (1.0 + e));
+  const double collision = 1e-9 * r0;  // periapsis this close to the centre: a collision orbit
+  const double Rt = std::max(R, collision);
+  if (rp > Rt) return -1.0;
+  const double alpha = 2.0 / r0 - v2 / mu;
+  double lo = 0.0, hi = T;
+  if (alpha * r0 > 1e-12) {
+    // Ellipse: next periapsis from the mean anomaly; r decreases on [tau - P/2, tau].
+    const double a = 1.0 / alpha;
+    const double n = std::sqrt(mu * alpha * alpha * alpha);
+    const double esinE = rv / (sqmu * std::sqrt(a));
+    const double ecosE = 1.0 - r0 * alpha;
+    const double E = std::atan2(esinE, ecosE);
+    const double M = E - esinE;
+    const double P = 2.0 * kPi / n;
+    double tau = M < 0.0 ? -M / n : (2.0 * kPi - M) / n;
+    if (tau <= 0.0) tau = P;
+    lo = std::max(0.0, tau - 0.5 * P);
+    if (lo >= T) return -1.0;
+    hi = std::min(tau, T);
+    if (hi == tau && R <= collision) return tau;  // collision orbit: r = 0 exactly at periapsis
+  } else {
+    // Parabola or hyperbola: r falls only before the single periapsis, and is unimodal.
+    if (rv >= 0.0) return -1.0;
+    double a = 0.0, b = T;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double c1 = b - g * (b - a), c2 = a + g * (b - a);
+    double f1 = radius_after(y, c1, mu), f2 = radius_after(y, c2, mu);
+    for (int k = 0; k < 200 && b - a > 4.0 * kEps * std::max(1.0, b); ++k) {
+      if (!(f1 > f2)) {  // minimum in [a, c2] (NaN: the step failed near the centre, keep the early part)
+        b = c2;
+        c2 = c1;
+        f2 = f1;
+        c1 = b - g * (b - a);
+        f1 = radius_after(y, c1, mu);
+      } else {
+        a = c1;
+        c1 = c2;
+        f1 = f2;
+        c2 = a + g * (b - a);
+        f2 = radius_after(y, c2, mu);
+      }
+    }
+    const double s_min = 0.5 * (a + b);
+    const double r_end = radius_after(y, T, mu);
+    if (r_end <= Rt) {
+      hi = T;
+    } else {
+      const double r_min = radius_after(y, s_min, mu);
+      if (!(r_min <= Rt) && std::isfinite(r_min)) return -1.0;
+      hi = s_min;
+      if (R <= collision) return s_min;
+    }
+  }
+  const double r_hi = radius_after(y, hi, mu);
+  if (r_hi > Rt) return -1.0;
+  return bisect_radius(y, lo, hi, mu, Rt);
+}
+
 Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>& times, double mu,
-                            bool with_stm) {
+                            bool with_stm, double surface_radius) {
   validate_orbit_arc_input(x0, t0, times, "the two-body problem is singular at the centre of the body");
   core::require_positive(mu, "mu");
+  core::require_nonnegative(surface_radius, "surface_radius");
+  core::require(x0.head<3>().norm() > surface_radius, "x0",
+                "starts below the surface: |r0| = " + std::to_string(x0.head<3>().norm()) +
+                    " km <= surface_radius = " + std::to_string(surface_radius) + " km");
   Trajectory tr;
   tr.times.reserve(times.size());
   tr.states.reserve(times.size());
   if (with_stm) tr.stms.reserve(times.size());
   tr.t_reached = t0;
+  // The impact check runs once over the whole arc (times are monotone): the farthest time from t0.
+  double t_far = t0;
+  for (double t : times)
+    if (std::abs(t - t0) > std::abs(t_far - t0)) t_far = t;
+  const double s_impact = kepler_time_to_radius(x0, t_far - t0, mu, surface_radius);
+  const double dir = t_far >= t0 ? 1.0 : -1.0;
   for (double t : times) {
+    if (s_impact >= 0.0 && (t - t0) * dir > s_impact) {
+      tr.status = PropagationStatus::impact;
+      tr.t_reached = t0 + dir * s_impact;
+      tr.message = "propagate_kepler: impact at t = " + std::to_string(tr.t_reached) + " s: |r| reached " +
+                   (surface_radius > 0.0 ? "surface_radius = " + std::to_string(surface_radius) + " km"
+                                         : std::string("0 (a collision orbit through the centre)")) +
+                   " before the requested time " + std::to_string(t) + " s";
+      return tr;
+    }
     Vec6 x;
     Mat6 phi;
     KeplerInfo info;
@@ -273,7 +402,7 @@ Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>
     tr.stats.nonlin_iters += info.iterations;
     if (st != KeplerStatus::success) {
       tr.status = PropagationStatus::convergence_failures;
-      tr.message = std::string("propagate_kepler: ") + kepler_status_message(st) +
+      tr.message = std::string("propagate_kepler: ") + kepler_failure_message(st, info.alpha, t - t0) +
                    " at t = " + std::to_string(t) + " s (dt = " + std::to_string(t - t0) + " s)";
       return tr;
     }

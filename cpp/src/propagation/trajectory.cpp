@@ -24,6 +24,8 @@ const char* status_message(PropagationStatus s) {
       return "the force model failed (|r| reached 0 or the acceleration was not finite)";
     case PropagationStatus::solver_failure:
       return "integrator failure";
+    case PropagationStatus::impact:
+      return "impact: the trajectory reached the surface radius (or the centre, r = 0) at t_reached";
   }
   return "unknown status";
 }

@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from .. import _satgnc as _s
+from .._validate import as_int, as_real, as_real_array, one_of
 
 MU_EARTH = 398600.4418  # km^3/s^2 (EGM-96)
 EARTH_RATE_PAPER = 7.27e-5  # rad/s: the rotation rate implied by od_newton_raphson.md Table 3
@@ -35,12 +36,9 @@ __all__ = [
 
 # ----------------------------------------------------------------------------- validation helpers
 def _matrix(value, name: str, ndim: int = 2, allow_empty: bool = False) -> np.ndarray:
-    if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name}: must be a real numeric array, got {type(value).__name__}")
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{name}: must be a real numeric array ({e})") from None
+    # as_real_array refuses complex / boolean / object / string arrays (numpy would truncate or
+    # read them as 0/1) with a TypeError naming the argument.
+    a = as_real_array(value, name, finite=False)
     if ndim == 2 and a.ndim == 1 and name in ("B",):
         a = a.reshape(-1, 1)
     if ndim == 2 and a.ndim == 1 and name in ("C",):
@@ -55,16 +53,7 @@ def _matrix(value, name: str, ndim: int = 2, allow_empty: bool = False) -> np.nd
 
 
 def _scalar(value, name: str, positive: bool = False, nonnegative: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name}: must be a real number, got {type(value).__name__}")
-    v = float(value)
-    if not math.isfinite(v):
-        raise ValueError(f"{name}: must be finite, got {v}")
-    if positive and v <= 0:
-        raise ValueError(f"{name}: must be > 0, got {v}")
-    if nonnegative and v < 0:
-        raise ValueError(f"{name}: must be >= 0, got {v}")
-    return v
+    return as_real(value, name, positive=positive, nonnegative=nonnegative)
 
 
 def _units(units):
@@ -120,6 +109,8 @@ def polar_linear_model(sigma: float, omega: float, measured: Sequence[int] = (0,
 
 
 def _indices(idx, n: int, name: str) -> list[int]:
+    if isinstance(idx, (str, bytes)) or not hasattr(idx, "__iter__"):
+        raise TypeError(f"{name}: must be a sequence of integer indices, got {type(idx).__name__}")
     out = []
     for i in idx:
         if isinstance(i, bool) or not isinstance(i, numbers.Integral):
@@ -140,13 +131,14 @@ def cw_model(mean_motion: float, measured: Sequence[int] = (0, 1, 2)):
 def polar_units(sigma: float, omega: float, n_outputs: int = 0) -> dict:
     """Dimensionless units for the polar model: time 1/omega, length sigma."""
     return _s._polar_units(_scalar(sigma, "sigma", positive=True), _scalar(omega, "omega", positive=True),
-                           int(n_outputs))
+                           as_int(n_outputs, "n_outputs", low=0, high=10**6))
 
 
 def cw_units(mean_motion: float, length: float = 1.0, n_outputs: int = 0) -> dict:
     """Dimensionless units for CW: time 1/n, length ``length`` (m)."""
     return _s._cw_units(_scalar(mean_motion, "mean_motion", positive=True),
-                        _scalar(length, "length", positive=True), int(n_outputs))
+                        _scalar(length, "length", positive=True),
+                        as_int(n_outputs, "n_outputs", low=0, high=10**6))
 
 
 def nondimensionalize(A, B, C, units: dict):
@@ -224,6 +216,8 @@ class GramianReport:
 
 
 def _prop(p: str) -> str:
+    if not isinstance(p, str):
+        raise TypeError(f"property: must be 'controllability' or 'observability', got {type(p).__name__}")
     if p not in ("controllability", "observability"):
         raise ValueError(f"property: must be 'controllability' or 'observability', got {p!r}")
     return p
@@ -292,9 +286,8 @@ def distance_to_uncontrollability(A, BC, property: str = "controllability", *, m
     """min over complex lambda of sigma_min([A - lambda I, B]): PBH upper bound and Nelder-Mead
     refinement from every eigenvalue cluster (dict: upper_bound, refined, relative, lambda_*)."""
     a = _args(A, BC, property, None, 100.0, "svd", cluster_rtol, None)
-    if isinstance(max_iter, bool) or not isinstance(max_iter, numbers.Integral) or max_iter < 0:
-        raise ValueError(f"max_iter: must be an integer >= 0, got {max_iter!r}")
-    return _s._distance_to_uncontrollability(*a, int(max_iter))
+    max_iter = as_int(max_iter, "max_iter", low=0, high=10**7)
+    return _s._distance_to_uncontrollability(*a, max_iter)
 
 
 def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 100.0,
@@ -304,7 +297,16 @@ def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 10
     if (B is None) == (C is None):
         raise ValueError("B, C: pass exactly one of them")
     prop = "controllability" if B is not None else "observability"
-    return _s._loss_table(*_args(A, B if B is not None else C, prop, rtol, fuzz, "svd", 1e-6, units))
+    args = _args(A, B if B is not None else C, prop, rtol, fuzz, "svd", 1e-6, units)
+    name, m = ("B", args[1].shape[1]) if B is not None else ("C", args[1].shape[0])
+    if m > _MAX_LOSS_CHANNELS:
+        raise ValueError(f"{name}: {m} channels make 2^{m} - 1 = {2**m - 1:.3g} subsets (one staircase and "
+                         f"one ~1 kB row each, ~{2**m * 1e3 / 1e9:.3g} GB); at most {_MAX_LOSS_CHANNELS} "
+                         "channels")
+    return _s._loss_table(*args)
+
+
+_MAX_LOSS_CHANNELS = 20
 
 
 def format_loss_table(rows: list[dict], names: Sequence[str], n: int, title: str = "") -> str:
@@ -407,8 +409,7 @@ def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_R
     """Observability Gramian of single-station ``kind`` tracking ("range", "range_rate", "both") at
     ``times`` (s from the epoch) of the two-body state x0 (default: Table 1 of od_newton_raphson.md,
     station Table 3 rotating at 7.27e-5 rad/s). extra: jacobi_condition (unit-free), times."""
-    if kind not in ("range", "range_rate", "both"):
-        raise ValueError(f"kind: must be 'range', 'range_rate' or 'both', got {kind!r}")
+    kind = one_of(kind, "kind", ("range", "range_rate", "both"))
     px, pr = paper_od_state()
     x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
@@ -425,6 +426,8 @@ def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
     t_max = _scalar(t_max, "t_max", positive=True)
     dt = _scalar(dt, "dt", positive=True)
+    if dt > t_max:
+        raise ValueError(f"dt: the search step must be <= t_max = {t_max} s, got {dt}")
     mu = _scalar(mu, "mu", positive=True)
     return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), mu, t_max, dt))
 

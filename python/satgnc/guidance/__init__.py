@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .. import _satgnc
+from .._validate import as_bool, as_real, as_real_array, one_of
 
 __all__ = [
     "AdmmSettings",
@@ -32,12 +33,8 @@ STATUS_NAMES = {0: "solved", 1: "solved_paper_rule", 2: "max_iterations", 3: "te
 
 
 def _as_array(value: Any, name: str, ndim: int | tuple[int, ...], shape: tuple | None = None) -> np.ndarray:
-    if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name}: must be a numeric array, got {type(value).__name__}")
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{name}: must be a numeric array ({e})") from None
+    # Shared checks: complex / boolean / object / string arrays are a TypeError naming the argument.
+    arr = as_real_array(value, name, finite=False)
     ndims = (ndim,) if isinstance(ndim, int) else ndim
     if arr.ndim not in ndims:
         want = " or ".join(map(str, ndims))
@@ -55,21 +52,22 @@ def _finite(arr: np.ndarray, name: str) -> np.ndarray:
 
 def cw_matrices(n: float, mass: float) -> tuple[np.ndarray, np.ndarray]:
     """Continuous Clohessy-Wiltshire A (6x6), B (6x3) in the paper's frame (y radial, z normal,
-    x = y cross z). ``n`` mean motion (rad/s), ``mass`` chaser mass (kg); u is a force (N)."""
-    return _satgnc.cw_matrices(float(n), float(mass))
+    x = y cross z). ``n`` mean motion (rad/s, > 0), ``mass`` chaser mass (kg, > 0); u is a force (N)."""
+    return _satgnc.cw_matrices(as_real(n, "n", positive=True), as_real(mass, "mass", positive=True))
 
 
 def cw_stm(n: float, t: float) -> np.ndarray:
-    """Analytic CW state transition matrix over ``t`` seconds (6x6)."""
-    return _satgnc.cw_stm(float(n), float(t))
+    """Analytic CW state transition matrix over ``t`` seconds (finite, any sign) (6x6), ``n`` rad/s > 0."""
+    return _satgnc.cw_stm(as_real(n, "n", positive=True), as_real(t, "t"))
 
 
 def cw_discretize(n: float, mass: float, dt: float, method: str = "zoh") -> tuple[np.ndarray, np.ndarray]:
-    """Discrete CW (Ad 6x6, Bd 6x3) over ``dt`` s: ``"zoh"`` (analytic STM and input integral),
-    ``"expm"`` (Van Loan matrix exponential) or ``"midpoint"`` (the published implementation's)."""
-    if method not in ("zoh", "expm", "midpoint"):
-        raise ValueError(f"method: must be 'zoh', 'expm' or 'midpoint', got {method!r}")
-    return _satgnc.cw_discretize(float(n), float(mass), float(dt), method)
+    """Discrete CW (Ad 6x6, Bd 6x3) over ``dt`` s (> 0): ``"zoh"`` (analytic STM and input integral),
+    ``"expm"`` (Van Loan matrix exponential) or ``"midpoint"`` (the published implementation's).
+    ``n`` rad/s > 0, ``mass`` kg > 0."""
+    method = one_of(method, "method", ("zoh", "expm", "midpoint"))
+    return _satgnc.cw_discretize(as_real(n, "n", positive=True), as_real(mass, "mass", positive=True),
+                                 as_real(dt, "dt", positive=True), method)
 
 
 @dataclasses.dataclass
@@ -189,10 +187,9 @@ class L1Solver:
             raise ValueError("u_lower/u_upper: must not be NaN")
         if lo.size and hi.size and np.any(lo > hi):
             raise ValueError(f"u_lower: must be <= u_upper on every axis (got {lo} > {hi})")
-        if not np.isfinite(group_l2_weight) or group_l2_weight < 0:
-            raise ValueError(f"group_l2_weight: must be finite and >= 0, got {group_l2_weight}")
-        if not np.isfinite(u_norm_max) or u_norm_max < 0:
-            raise ValueError(f"u_norm_max: must be finite and >= 0, got {u_norm_max}")
+        group_l2_weight = as_real(group_l2_weight, "group_l2_weight", nonnegative=True)
+        u_norm_max = as_real(u_norm_max, "u_norm_max", nonnegative=True)
+        terminal_equality = as_bool(terminal_equality, "terminal_equality")  # bool("false") is True
         st = _settings(settings)
         if not (np.isfinite(st.rho) and st.rho > 0):
             raise ValueError(f"settings.rho: must be finite and > 0, got {st.rho}")

@@ -28,7 +28,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from .. import _satgnc as _c
-from .._validate import FileFormatError, as_int, as_real, as_real_array, did_you_mean, read_text_file
+from .._validate import FileFormatError, as_bool, as_int, as_real, as_real_array, did_you_mean, read_text_file
 
 EARTH_MU = 398600.4418  #: km^3/s^2 (EGM-96)
 EARTH_OMEGA = 7.292115e-5  #: rad/s
@@ -100,10 +100,7 @@ _METHODS = {
 def _vector(x, n: int, name: str) -> np.ndarray:
     if isinstance(x, (str, bytes)):
         raise TypeError(f"{name}: must be a sequence of {n} numbers, got {type(x).__name__}")
-    try:
-        a = np.asarray(x, dtype=float)
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{name}: must be numeric ({e})") from None
+    a = as_real_array(x, name, finite=False)  # complex / boolean / object arrays: TypeError
     if a.shape != (n,):
         raise ValueError(f"{name}: must have shape ({n},), got {a.shape}")
     if not np.all(np.isfinite(a)):
@@ -112,10 +109,7 @@ def _vector(x, n: int, name: str) -> np.ndarray:
 
 
 def _array1(x, name: str) -> np.ndarray:
-    try:
-        a = np.atleast_1d(np.asarray(x, dtype=float))
-    except (TypeError, ValueError) as e:
-        raise TypeError(f"{name}: must be numeric ({e})") from None
+    a = np.atleast_1d(as_real_array(x, name, finite=False))  # complex / boolean / object: TypeError
     if a.ndim != 1:
         raise ValueError(f"{name}: must be one-dimensional, got shape {a.shape}")
     return a
@@ -244,6 +238,7 @@ def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
 def make_propagator(kind: str = "kepler", mu: float = EARTH_MU, j2: bool = False):
     """STM propagator: 'kepler' (analytic two-body, default) or 'cvodes' (numerical; ``j2`` optional)."""
     mu = _finite_scalar(mu, "mu", positive=True)
+    j2 = as_bool(j2, "j2")  # bool("no") is True
     if not isinstance(kind, str):
         return kind  # already a propagator object
     if kind == "kepler":
@@ -575,7 +570,10 @@ def box_guesses(center, half_width, n: int, seed: int = 0) -> np.ndarray:
     hw = _vector(half_width, 6, "half_width")
     if np.any(hw < 0):
         raise ValueError("half_width: must be >= 0")
-    return np.asarray(_c.od_box_guesses(_vector(center, 6, "center"), hw, int(n), int(seed)))
+    seed = as_int(seed, "seed", low=0, high=2**64 - 1)  # was a pybind11 signature dump for seed=-1
+    if n > 10**7:
+        raise ValueError(f"n: must be <= 1e7 guesses ({48 * n / 1e9:.3g} GB), got {n}")
+    return np.asarray(_c.od_box_guesses(_vector(center, 6, "center"), hw, int(n), seed))
 
 
 def root_search(

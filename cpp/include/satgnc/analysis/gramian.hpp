@@ -18,10 +18,18 @@ struct GramianReport {
   double condition = 0.0;       ///< lambda_max / lambda_min (inf when lambda_min <= 0)
   Eigen::VectorXd weakest;      ///< unit eigenvector of lambda_min: hardest to reach / observe
   Eigen::VectorXd strongest;    ///< unit eigenvector of lambda_max
+  /// Upper bound of the rounding error of the computed W (same units; LTI Gramians only, else 0):
+  /// eigenvalues below it are not resolved. Unstable models over long horizons have a floor far
+  /// above eps lambda_max (cancellation in Van Loan's product E22^T E12).
+  double rounding_floor = 0.0;
+  /// Every eigenvalue lies above rounding_floor (false: the small ones, and the condition, are noise).
+  bool resolved = true;
 };
 
 /// Controllability Gramian W_c(T) = int_0^T e^{A t} B B^T e^{A^T t} dt, horizon T > 0 (s), via
 /// Van Loan: expm(T [[-A, B B^T], [0, A^T]]) = [[F11, F12], [0, F22]], W_c = F22^T F12.
+/// @throws std::invalid_argument naming T when e^{AT} overflows or the result has a negative
+///   eigenvalue beyond its rounding floor (the horizon is too long for double precision).
 GramianReport controllability_gramian(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, double T);
 /// Observability Gramian W_o(T) = int_0^T e^{A^T t} C^T C e^{A t} dt (same construction, dual).
 GramianReport observability_gramian(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C, double T);

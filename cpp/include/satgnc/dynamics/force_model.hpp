@@ -46,6 +46,10 @@ struct ForceModel {
 
   /// Throw std::invalid_argument (naming the field and the rule) on non-positive mu, radius, etc.
   void validate() const;
+  /// Throw std::invalid_argument naming `name` unless r (km) is finite, non-zero (gravity is singular at
+  /// the centre) and, with drag, at or above drag->body_radius (the atmosphere model's range). For
+  /// single evaluations from an API; propagators check |r| > 0 in validate_orbit_arc_input instead.
+  void validate_position(const Vec3& r, const char* name = "r") const;
   /// True when every term derives from a potential (no drag): det(STM) = 1 and symplecticity hold.
   bool conservative() const { return !drag.has_value(); }
   /// Acceleration a(t, r, v), km/s^2.
@@ -74,8 +78,12 @@ void j2_jacobian(const J2Gravity& g, const Vec3& r, Vec3& a, Mat3& da_dr);
 /// J2 potential energy per unit mass mu J2 R^2 (3 z^2/r^2 - 1) / (2 r^3), km^2/s^2.
 double j2_potential(const J2Gravity& g, const Vec3& r);
 
-/// Exponential-atmosphere density at radius |r| (km), kg/m^3.
+/// Exponential-atmosphere density at radius |r| (km), kg/m^3. Unchecked (hot path): below the surface
+/// it grows without bound; see validate_density_radius.
 double exponential_density(const ExponentialDrag& d, double radius_km);
+/// Throw std::invalid_argument naming `name` unless radius_km is finite and >= d.body_radius (the
+/// exponential model holds from the surface up; 1e37 kg/m^3 below it is not a density).
+void validate_density_radius(const ExponentialDrag& d, double radius_km, const char* name = "radius");
 /// Drag acceleration -0.5 Cd (A/m) rho |v_rel| v_rel with v_rel = v - omega x r, km/s^2.
 Vec3 drag_acceleration(const ExponentialDrag& d, const Vec3& r, const Vec3& v);
 /// Drag acceleration and its Jacobians da/dr (1/s^2, density gradient and co-rotation) and da/dv (1/s).

@@ -5,6 +5,7 @@
 /// 6x6 state transition matrix. One formulation covers ellipses (also many revolutions), parabolas,
 /// near-parabolic orbits and hyperbolas: the Stumpff functions are evaluated by series near psi = 0.
 /// Units: km, km/s, s, km^3/s^2.
+#include <string>
 #include <vector>
 
 #include "satgnc/dynamics/types.hpp"
@@ -52,14 +53,30 @@ KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* st
 /// Series for |psi| < 1, closed forms (trigonometric or hyperbolic) elsewhere.
 void stumpff(double psi, double c[6]);
 
+/// Message for a failed kepler_step that names the conic actually propagated (alpha = 1/a, 1/km):
+/// "overflow" is a hyperbola's asymptote only when alpha < 0.
+std::string kepler_failure_message(KeplerStatus s, double alpha, double dt);
+
+/// First time s in (0, |dt|] after which the two-body arc from x0 (forward in time for dt > 0,
+/// backward for dt < 0) reaches |r| = surface_radius (km), or the centre (|r| = 0) when
+/// surface_radius is 0: a collision orbit (periapsis below 1e-9 |r0|) counts as reaching it.
+/// @return s >= 0 (the arc time to impact, s), or -1 when the arc stays above the radius.
+/// Uses the periapsis time (ellipses) or a unimodal search (open conics) and bisection; ~100
+/// kepler_step calls when an impact is found, a few otherwise. Allocates nothing; throws nothing.
+double kepler_time_to_radius(const Vec6& x0, double dt, double mu, double surface_radius);
+
 /// Propagate x0 (epoch t0) to each requested time with kepler_step (each time directly from t0, so
 /// errors do not accumulate).
 /// @param x0 initial state [km, km/s]; @param t0 epoch, s; @param times output times, s,
 ///   monotone (increasing or decreasing), any side of t0; @param mu km^3/s^2;
 /// @param with_stm also return the STMs.
+/// @param surface_radius km (>= 0). An arc that reaches |r| = surface_radius before a requested time
+///   (or r = 0, always checked: a collision orbit) stops with PropagationStatus::impact, t_reached =
+///   the impact time (s) and the outputs before it; 0 checks only the centre.
 /// @throws std::invalid_argument naming the argument on non-finite x0/t0/times, |r0| = 0, mu <= 0,
-///   non-monotone times. A solver failure is reported in Trajectory::status / message (states up to it).
+///   non-monotone times, a negative surface_radius or |r0| below it. A solver failure or an impact is
+///   reported in Trajectory::status / message (states up to it).
 Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>& times, double mu,
-                            bool with_stm);
+                            bool with_stm, double surface_radius = 0.0);
 
 }  // namespace satgnc::propagation

@@ -17,6 +17,7 @@ enum class PropagationStatus {
   convergence_failures,  ///< corrector did not converge repeatedly
   rhs_failure,           ///< the force model failed (e.g. |r| reached 0, non-finite acceleration)
   solver_failure,        ///< any other integrator failure
+  impact,                ///< the trajectory reached the surface radius (or r = 0); t_reached = impact time
 };
 
 /// Human-readable message for a status (message table, as OSQP does).

@@ -1,0 +1,105 @@
+"""Bad input to the orbit-determination API (the numeric entry points; file readers and the CLI have
+their own tables). Rows: (callable, kwargs, exception type, message fragment naming the argument)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from satgnc import od
+
+X = np.array([7000.0, 0.0, 0.0, 0.0, 7.5, 0.0])
+STATION = np.array([6378.0, 0.0, 0.0, 0.0, 0.465, 0.0])
+
+
+def _predict(**kw):
+    args = dict(kind="range", x=X, station_state=STATION)
+    args.update(kw)
+    return od.predict(**args)
+
+
+def _set(**kw):
+    s = od.OdSettings()
+    for k, v in kw.items():
+        setattr(s, k, v)
+
+
+def _box(**kw):
+    args = dict(center=X, half_width=np.ones(6), n=4)
+    args.update(kw)
+    return od.box_guesses(**args)
+
+
+def _solver_solve(**kw):
+    st = od.station_inertial([6378.0, 0.0, 0.0])
+    m = [od._c.Measurement(float(t), od.MeasurementType.range, 700.0, 1e-3, 0) for t in range(0, 60, 10)]
+    s = od.OdSolver.from_measurements([st], m, od.make_propagator("kepler"), od.OdSettings())
+    return s.solve(**kw)
+
+
+CASES = [
+    # complex / boolean / object / string arrays
+    (_predict, dict(x=X.astype(complex)), TypeError, "x:"),
+    (_predict, dict(x=np.ones(6, dtype=bool)), TypeError, "x:"),
+    (_predict, dict(station_state=np.array(list(STATION[:5]) + ["0"], dtype=object)), TypeError,
+     "station_state:"),
+    (_predict, dict(x="7000 0 0 0 7.5 0"), TypeError, "x:"),
+    (lambda **kw: od.station_inertial(**kw), dict(r0=np.array([1j, 0, 0])), TypeError, "r0:"),
+    (lambda **kw: od.implied_rotation_rate(**kw), dict(station_state=np.ones(6, dtype=bool)), TypeError,
+     "station_state:"),
+    (_box, dict(center=X + 0j), TypeError, "center:"),
+    (_box, dict(half_width=np.ones(6, dtype=bool)), TypeError, "half_width:"),
+    (_solver_solve, dict(x0=X.astype(complex)), TypeError, "x0:"),
+    (_solver_solve, dict(x0=np.ones(6, dtype=bool)), TypeError, "x0:"),
+    # NaN / Inf, shapes
+    (_predict, dict(x=[np.nan, 0, 0, 0, 7.5, 0]), ValueError, "x:"),
+    (_predict, dict(x=X[:5]), ValueError, "x:"),
+    (lambda **kw: od.geodetic_to_ecef(**kw), dict(lat_deg=np.nan, lon_deg=0.0, height_km=0.0), ValueError,
+     "lat_deg:"),
+    (lambda **kw: od.gmst("2020-01-01T00:00:00", **kw), dict(ut1_minus_utc=np.inf), ValueError,
+     "ut1_minus_utc:"),
+    # wrong types for numbers / ints, out of range, huge sizes
+    (lambda **kw: od.geodetic_to_ecef(**kw), dict(lat_deg="45", lon_deg=0.0, height_km=0.0), TypeError,
+     "lat_deg:"),
+    (lambda **kw: od.geodetic_to_ecef(**kw), dict(lat_deg=True, lon_deg=0.0, height_km=0.0), TypeError,
+     "lat_deg:"),
+    (lambda **kw: od.geodetic_to_ecef(**kw), dict(lat_deg=95.0, lon_deg=0.0, height_km=0.0), ValueError,
+     "lat_deg:"),
+    (_box, dict(seed=-1), ValueError, "seed:"),
+    (_box, dict(seed="x"), TypeError, "seed:"),
+    (_box, dict(seed=2**70), ValueError, "seed:"),
+    (_box, dict(n=10**12), ValueError, "n:"),
+    (_set, dict(max_iterations="x"), TypeError, "max_iterations:"),
+    (_set, dict(max_iterations=1.5), TypeError, "max_iterations:"),
+    (_set, dict(max_iterations=2**40), ValueError, "max_iterations:"),
+    (_set, dict(max_iterations=0), ValueError, "max_iterations:"),
+    (_set, dict(step_tol=np.nan), ValueError, "step_tol:"),
+    (_set, dict(mu="earth"), TypeError, "mu:"),
+    (_set, dict(fit_sigma=1j), TypeError, "fit_sigma:"),
+    (_set, dict(method="newton_raphson"), ValueError, "method:"),
+    (_set, dict(method=2), TypeError, "method:"),
+]
+
+
+@pytest.mark.parametrize("fn, kwargs, exc, fragment", CASES,
+                         ids=[f"{getattr(c[0], '__name__', 'fn')}-{'-'.join(c[1])}-{i}"
+                              for i, c in enumerate(CASES)])
+def test_bad_input_names_the_argument(fn, kwargs, exc, fragment):
+    with pytest.raises(exc) as info:
+        fn(**kwargs)
+    assert fragment in str(info.value), str(info.value)
+    assert "incompatible" not in str(info.value) and "Invoked with" not in str(info.value)
+
+
+def test_bad_alloc_names_the_size_argument():
+    # std::bad_alloc reaches Python as MemoryError; the hardened wrapper names the largest size.
+    from satgnc import _validate
+
+    def engine(center, half_width, n, seed):
+        raise MemoryError
+
+    engine.__doc__ = ("od_box_guesses(center: numpy.ndarray, half_width: numpy.ndarray, "
+                      "n: typing.SupportsInt, seed: typing.SupportsInt) -> numpy.ndarray")
+
+    wrapped = _validate._wrap_callable(engine, "od_box_guesses")
+    with pytest.raises(ValueError, match=r"^n: 3000000000 is too large: od_box_guesses could not allocate"):
+        wrapped(np.ones(6), np.ones(6), 3_000_000_000, 7)
