@@ -226,7 +226,9 @@ void init_guidance_nonlinear(py::module_& m) {
       .value("max_iterations", IlqrAdmmStatus::max_iterations)
       .value("propagation_failed", IlqrAdmmStatus::propagation_failed)
       .value("ilqr_failed", IlqrAdmmStatus::ilqr_failed)
-      .value("not_run", IlqrAdmmStatus::not_run);
+      .value("not_run", IlqrAdmmStatus::not_run)
+      .value("solved_inaccurate", IlqrAdmmStatus::solved_inaccurate)
+      .value("time_limit", IlqrAdmmStatus::time_limit);
   m.def("ilqr_admm_status_message", [](IlqrAdmmStatus s) { return std::string(status_message(s)); });
 
   py::class_<NonlinearL1Problem>(m, "NonlinearL1Problem")
@@ -264,7 +266,10 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readwrite("line_search_iters", &IlqrAdmmSettings::line_search_iters)
       .def_readwrite("ls_lower", &IlqrAdmmSettings::ls_lower)
       .def_readwrite("ls_upper", &IlqrAdmmSettings::ls_upper)
-      .def_readwrite("return_best", &IlqrAdmmSettings::return_best);
+      .def_readwrite("return_best", &IlqrAdmmSettings::return_best)
+      .def_readwrite("time_limit", &IlqrAdmmSettings::time_limit)
+      .def_readwrite("inaccurate_factor", &IlqrAdmmSettings::inaccurate_factor)
+      .def("validate", &IlqrAdmmSettings::validate);
 
   py::class_<IlqrAdmmInfo>(m, "IlqrAdmmInfo")
       .def_readonly("status", &IlqrAdmmInfo::status)
@@ -280,6 +285,8 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readonly("rho_updates", &IlqrAdmmInfo::rho_updates)
       .def_readonly("failed_interval", &IlqrAdmmInfo::failed_interval)
       .def_readonly("max_regularization", &IlqrAdmmInfo::max_regularization)
+      .def_readonly("terminal_miss", &IlqrAdmmInfo::terminal_miss)
+      .def_readonly("solve_time", &IlqrAdmmInfo::solve_time)
       .def_property_readonly("message",
                              [](const IlqrAdmmInfo& i) { return std::string(status_message(i.status)); });
 
@@ -291,6 +298,8 @@ void init_guidance_nonlinear(py::module_& m) {
       .def("warm_start", &IlqrAdmmSolver::warm_start, py::arg("U"), py::arg("Y"), py::arg("Lambda"))
       .def("set_initial_state", &IlqrAdmmSolver::set_initial_state, py::arg("x0"))
       .def("set_rho", &IlqrAdmmSolver::set_rho, py::arg("rho"))
+      .def("set_stage_bounds", &IlqrAdmmSolver::set_stage_bounds, py::arg("lo"), py::arg("hi"))
+      .def("clear_stage_bounds", &IlqrAdmmSolver::clear_stage_bounds)
       .def("solve", &IlqrAdmmSolver::solve, py::call_guard<py::gil_scoped_release>())
       .def("true_cost", &IlqrAdmmSolver::true_cost, py::arg("U"), py::call_guard<py::gil_scoped_release>())
       .def(
@@ -320,7 +329,14 @@ void init_guidance_nonlinear(py::module_& m) {
       .value("propagation_failed", ScpStatus::propagation_failed)
       .value("inner_failed", ScpStatus::inner_failed)
       .value("line_search_failed", ScpStatus::line_search_failed)
-      .value("not_run", ScpStatus::not_run);
+      .value("not_run", ScpStatus::not_run)
+      .value("solved_inaccurate", ScpStatus::solved_inaccurate)
+      .value("inner_infeasible", ScpStatus::inner_infeasible)
+      .value("time_limit", ScpStatus::time_limit);
+  m.def("scp_status_message", [](ScpStatus s) { return std::string(status_message(s)); });
+  py::enum_<ScpGlobalization>(m, "ScpGlobalization")
+      .value("trust_region", ScpGlobalization::trust_region)
+      .value("line_search", ScpGlobalization::line_search);
   py::enum_<ScpInner>(m, "ScpInner")
       .value("ilqr_admm", ScpInner::ilqr_admm)
       .value("linear_admm", ScpInner::linear_admm);
@@ -333,7 +349,17 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readwrite("tol", &ScpSettings::tol)
       .def_readwrite("armijo", &ScpSettings::armijo)
       .def_readwrite("line_search_iters", &ScpSettings::line_search_iters)
-      .def_readwrite("inner", &ScpSettings::inner);
+      .def_readwrite("inner", &ScpSettings::inner)
+      .def_readwrite("globalization", &ScpSettings::globalization)
+      .def_readwrite("trust_radius", &ScpSettings::trust_radius)
+      .def_readwrite("tr_accept", &ScpSettings::tr_accept)
+      .def_readwrite("tr_grow_ratio", &ScpSettings::tr_grow_ratio)
+      .def_readwrite("tr_shrink", &ScpSettings::tr_shrink)
+      .def_readwrite("tr_grow", &ScpSettings::tr_grow)
+      .def_readwrite("tr_min", &ScpSettings::tr_min)
+      .def_readwrite("tol_inaccurate", &ScpSettings::tol_inaccurate)
+      .def_readwrite("time_limit", &ScpSettings::time_limit)
+      .def("validate", &ScpSettings::validate);
   py::class_<ScpInfo>(m, "ScpInfo")
       .def_readonly("status", &ScpInfo::status)
       .def_readonly("outer_iterations", &ScpInfo::outer_iterations)
@@ -344,6 +370,13 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readonly("failed_interval", &ScpInfo::failed_interval)
       .def_readonly("inner_status", &ScpInfo::inner_status)
       .def_readonly("inner_ilqr_status", &ScpInfo::inner_ilqr_status)
+      .def_readonly("inner_solved", &ScpInfo::inner_solved)
+      .def_readonly("terminal_miss", &ScpInfo::terminal_miss)
+      .def_readonly("bound_violation", &ScpInfo::bound_violation)
+      .def_readonly("rejected_steps", &ScpInfo::rejected_steps)
+      .def_readonly("trust_radius", &ScpInfo::trust_radius)
+      .def_readonly("solve_time", &ScpInfo::solve_time)
+      .def_readonly("merit_history", &ScpInfo::merit_history)
       .def_property_readonly("message",
                              [](const ScpInfo& i) { return std::string(status_message(i.status)); });
   py::class_<ScpSolver>(m, "ScpSolver")

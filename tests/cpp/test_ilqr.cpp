@@ -177,6 +177,7 @@ TEST(IlqrAdmm, SolveDoesNotAllocate) {
     set.max_iter = 50;
     set.adaptive_rho = true;
     set.rho_update_every = 5;
+    set.time_limit = 10.0;  // the clock is read, never allocated
     IlqrAdmmSolver solver(model, prob, set);
     solver.set_initial_controls(MatrixXd::Zero(3, N));
     solver.solve();  // warm-up
@@ -185,6 +186,18 @@ TEST(IlqrAdmm, SolveDoesNotAllocate) {
     solver.solve();
     g_count = false;
     EXPECT_EQ(g_mallocs.load(), 0) << "cost " << static_cast<int>(cost);
+    if (cost == ControlCost::group_l2) continue;
+    // with per-stage bounds (SCP's trust region), set and warm-started inside the counted region
+    const MatrixXd lo = MatrixXd::Constant(3, N, -0.2), hi = MatrixXd::Constant(3, N, 0.3);
+    const MatrixXd U = solver.result().U, Y = solver.result().Y, L = solver.result().Lambda;
+    g_mallocs = 0;
+    g_count = true;
+    solver.set_stage_bounds(lo, hi);
+    solver.warm_start(U, Y, L);
+    solver.solve();
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "stage bounds, cost " << static_cast<int>(cost);
+    solver.clear_stage_bounds();
   }
   // sanity: the counter works
   g_mallocs = 0;
@@ -276,6 +289,12 @@ TEST(IlqrAdmm, BadInputThrowsNamingTheArgument) {
   IlqrAdmmSettings s;
   s.rho = 0.0;
   expect_throw(ok, s, "rho");
+  s = IlqrAdmmSettings();
+  s.time_limit = -1.0;
+  expect_throw(ok, s, "time_limit");
+  s = IlqrAdmmSettings();
+  s.inaccurate_factor = 0.5;
+  expect_throw(ok, s, "inaccurate_factor");
   p = ok;
   p.horizon = 0;
   expect_throw(p, {}, "horizon");
@@ -428,4 +447,89 @@ TEST(IlqrAdmm, BadExogenousIndicesThrow) {
       EXPECT_NE(std::string(e.what()).find("exogenous_states"), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(IlqrAdmm, StageBoundsEqualTheProblemBoxWhenConstant) {
+  // The per-stage bounds enter the prox exactly: constant stage bounds on the L1 problem give the
+  // iterates of the l1_box problem with that box.
+  MatrixXd A, B;
+  double_integrator(1.0, A, B);
+  const LinearDiscreteModel model({A}, {B}, {});
+  const int N = 20;
+  NonlinearL1Problem p = di_problem(N);
+  IlqrAdmmSettings set;
+  set.max_iter = 200;
+  IlqrAdmmSolver a(model, p, set);
+  a.set_initial_controls(MatrixXd::Zero(3, N));
+  a.set_stage_bounds(MatrixXd::Constant(3, N, -0.05), MatrixXd::Constant(3, N, 0.08));
+  a.solve();
+  NonlinearL1Problem pb = p;
+  pb.cost = ControlCost::l1_box;
+  pb.u_min = VectorXd::Constant(3, -0.05);
+  pb.u_max = VectorXd::Constant(3, 0.08);
+  IlqrAdmmSolver b(model, pb, set);
+  b.set_initial_controls(MatrixXd::Zero(3, N));
+  b.solve();
+  EXPECT_EQ(a.result().info.iterations, b.result().info.iterations);
+  EXPECT_LE((a.result().Y - b.result().Y).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LE(a.result().Y.maxCoeff(), 0.08);
+  EXPECT_GE(a.result().Y.minCoeff(), -0.05);
+  // group_l2 has no closed-form prox with a box: refused
+  NonlinearL1Problem pg = p;
+  pg.cost = ControlCost::group_l2;
+  IlqrAdmmSolver g(model, pg, set);
+  EXPECT_THROW(g.set_stage_bounds(MatrixXd::Zero(3, N), MatrixXd::Zero(3, N)), std::invalid_argument);
+  EXPECT_THROW(a.set_stage_bounds(MatrixXd::Ones(3, N), MatrixXd::Zero(3, N)), std::invalid_argument);
+}
+
+TEST(IlqrAdmm, LimitsReturnTheBestIterateWithAnHonestStatus) {
+  MatrixXd A, B;
+  double_integrator(1.0, A, B);
+  const LinearDiscreteModel model({A}, {B}, {});
+  const NonlinearL1Problem p = di_problem(20);
+  IlqrAdmmSettings set;
+  set.eps_abs = set.eps_rel = 1e-9;
+  IlqrAdmmSolver full(model, p, set);
+  full.set_initial_controls(MatrixXd::Zero(3, 20));
+  ASSERT_EQ(full.solve(), IlqrAdmmStatus::solved);
+  const int n = full.result().info.iterations;
+  // stopped before convergence: solved_inaccurate when the loose test holds, else max_iterations
+  set.max_iter = n / 2;
+  set.inaccurate_factor = 1e9;
+  IlqrAdmmSolver loose(model, p, set);
+  loose.set_initial_controls(MatrixXd::Zero(3, 20));
+  EXPECT_EQ(loose.solve(), IlqrAdmmStatus::solved_inaccurate);
+  set.inaccurate_factor = 1.0;
+  IlqrAdmmSolver strict(model, p, set);
+  strict.set_initial_controls(MatrixXd::Zero(3, 20));
+  EXPECT_EQ(strict.solve(), IlqrAdmmStatus::max_iterations);
+  EXPECT_TRUE(std::isfinite(strict.result().info.objective_y));
+  EXPECT_GT(strict.result().info.objective_y, 0.0);
+  // time limit: stops after the first iteration, best iterate with its true cost
+  IlqrAdmmSettings t;
+  t.time_limit = 1e-12;
+  IlqrAdmmSolver timed(model, p, t);
+  timed.set_initial_controls(MatrixXd::Zero(3, 20));
+  EXPECT_EQ(timed.solve(), IlqrAdmmStatus::time_limit);
+  EXPECT_EQ(timed.result().info.iterations, 1);
+  EXPECT_TRUE(std::isfinite(timed.result().info.objective_u));
+  EXPECT_TRUE(std::isfinite(timed.result().info.terminal_miss));
+  EXPECT_NEAR(timed.result().info.primal_residual, (timed.result().U - timed.result().Y).norm(), 1e-12);
+}
+
+TEST(IlqrAdmm, IlqrFailureReturnsAFiniteIterateWithItsTrueCost) {
+  // The model refuses any nonzero control: iLQR cannot move (every trial step fails).
+  const FailingModel model(-1, 1e-300);
+  IlqrAdmmSettings set;
+  set.reg_max = 1e2;
+  IlqrAdmmSolver solver(model, di_problem(10), set);
+  solver.set_initial_controls(MatrixXd::Zero(3, 10));
+  EXPECT_EQ(solver.solve(), IlqrAdmmStatus::ilqr_failed);
+  const auto& r = solver.result();
+  EXPECT_TRUE(r.U.allFinite());
+  const double J0 = r.info.objective_u;
+  EXPECT_TRUE(std::isfinite(J0));
+  EXPECT_GT(J0, 0.0);
+  EXPECT_EQ(J0, solver.true_cost(MatrixXd::Zero(3, 10)));
+  EXPECT_TRUE(std::isfinite(r.info.objective_y));
 }

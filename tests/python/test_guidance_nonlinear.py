@@ -352,3 +352,212 @@ def test_ilqr_admm_on_linear_dynamics_equals_linear_admm_solver():
     scale = 1.0 + np.abs(ref.U).max()
     np.testing.assert_allclose(np.asarray(sol.U).T, ref.U, rtol=0, atol=1e-8 * scale)
     np.testing.assert_allclose(np.asarray(sol.Y).T, ref.Y, rtol=0, atol=1e-8 * scale)
+
+
+# --- issue 11: honest SCP statuses and the trust region, on random rendezvous problems -------------
+
+
+class _Rdv:
+    """A random two-satellite rendezvous in the paper's scaled units (what solve_scp needs)."""
+
+    def __init__(self, dmap, problem, constrained):
+        self.dmap, self.problem, self.constrained = dmap, problem, constrained
+
+
+def _random_rendezvous(rng, offset=None, bound_n=None, horizon=None):
+    """Altitude 300-2000 km, N 8-30 over a quarter to a full orbit, offsets 10 m-5 km (position) and
+    1e-3 of that per second, J2 on or off, no drag, half of them with a per-axis bound 0.5-5 mN."""
+    p = nl.model_params(published=False, j2=bool(rng.integers(2)), drag=False)
+    model = _c.TwoSatelliteModel(p)
+    r = 6378.1363e3 + rng.uniform(300e3, 2000e3)
+    period = 2 * np.pi * np.sqrt(r**3 / nl.MU)
+    n = int(rng.integers(8, 31)) if horizon is None else horizon
+    dt = rng.uniform(0.25, 1.0) * period / n
+    off = 10 ** rng.uniform(1.0, 3.7) if offset is None else offset
+    x0 = np.zeros(12)
+    x0[0:3] = off * rng.uniform(-1, 1, 3)
+    x0[6:9] = 1e-3 * off * rng.uniform(-1, 1, 3)
+    x0[3] = r
+    x0[10] = np.sqrt(nl.MU / r)
+    sc = _c.published_scaling(x0, nl.MU, nl.MASS)
+    dmap = nl.make_map(model, dt, sc, "rk4")
+    pr = _c.NonlinearL1Problem()
+    pr.horizon = n
+    pr.x0 = x0 / np.asarray(sc.state_scale)
+    pr.x_target = np.zeros(12)
+    pr.Qf = 1000.0 * np.diag(nl.QF_MASK)
+    pr.alpha = np.ones(3)
+    pr.stage_weight = dt / sc.time_scale
+    constrained = bound_n is not None or rng.uniform() < 0.5
+    if constrained:
+        b = (rng.uniform(0.5, 5.0) * 1e-3 if bound_n is None else bound_n) / np.asarray(sc.control_scale)
+        pr.cost = _c.ControlCost.l1_box
+        pr.u_min = -b
+        pr.u_max = b
+    return _Rdv(dmap, pr, constrained)
+
+
+def _true_cost(case, U):
+    """Independent evaluation: roll U out with the map's step and add the terminal and L1 costs."""
+    x = np.asarray(case.problem.x0, dtype=float)
+    for k in range(U.shape[1]):
+        x = np.asarray(case.dmap.step(k, x, U[:, k])[0])
+    e = x - np.asarray(case.problem.x_target)
+    return 0.5 * e @ np.asarray(case.problem.Qf) @ e + case.problem.stage_weight * (
+        np.asarray(case.problem.alpha) @ np.abs(U).sum(axis=1)
+    )
+
+
+def _check_honest(case, s):
+    """Whatever the status: finite true cost of the returned plan, non-increasing merit history,
+    bounds held."""
+    info = s.info
+    U = np.asarray(s.U)
+    h = np.asarray(info.merit_history)
+    assert h.size >= 1 and np.all(np.isfinite(h))
+    assert np.all(np.diff(h) <= 0.0), h
+    assert info.objective == h[-1]
+    assert np.isfinite(info.objective) and info.objective > 0.0
+    assert abs(_true_cost(case, U) - info.objective) <= 1e-9 * max(1.0, info.objective)
+    assert info.bound_violation == 0.0
+    if case.constrained:
+        assert np.all(U <= np.asarray(case.problem.u_max)[:, None])
+        assert np.all(U >= np.asarray(case.problem.u_min)[:, None])
+    assert np.isfinite(info.terminal_miss)
+
+
+def _reference(case, U, inner):
+    """A long, tight run from the returned plan: the local optimum it sits at."""
+    return nl.solve_scp(case, U0=U, tol=1e-12, eps=1e-10, max_outer=100, inner=inner)
+
+
+SUITE_SEED = 1102
+
+
+def test_scp_random_rendezvous_suite_never_falsely_solved():
+    """24 random rendezvous with the defaults (linear ADMM inner, trust region), both
+    globalizations; 4 small ones with the iLQR-ADMM inner, whose subproblems often stop at max_iter
+    (they must then not be reported solved)."""
+    rng = np.random.default_rng(SUITE_SEED)
+    counts, false_solved = {}, 0
+    for t in range(28):
+        ilqr = t >= 24
+        case = _random_rendezvous(rng, horizon=int(rng.integers(8, 13)) if ilqr else None)
+        kw = {"eps": 1e-9}
+        if ilqr:
+            kw = {"inner": "ilqr_admm", "eps": 1e-6, "max_inner": 2000, "max_outer": 10}
+        glob = ("trust_region", "line_search")[t % 2]
+        s = nl.solve_scp(case, tol=1e-9, globalization=glob, **kw)
+        _check_honest(case, s)
+        name = ("ilqr: " if ilqr else "") + nl.SCP_STATUS_NAMES[int(s.info.status)]
+        counts[name] = counts.get(name, 0) + 1
+        if s.info.status == _c.ScpStatus.solved:
+            assert s.info.inner_solved
+            ref = _reference(case, np.asarray(s.U), kw.get("inner", "linear_admm"))
+            if s.info.objective - ref.info.objective > 1e-6 * max(1.0, ref.info.objective):
+                false_solved += 1
+    print("random rendezvous suite:", counts)
+    assert false_solved == 0
+    assert counts.get("solved", 0) == 24, counts  # measured: 24 of 24 with the defaults
+
+
+@pytest.mark.parametrize("kind", ["huge_offset", "tiny_bounds", "one_outer", "inner_starved"])
+def test_scp_hard_cases_are_honest(kind):
+    rng = np.random.default_rng(7)
+    if kind == "huge_offset":  # 100 km: far outside the linear regime
+        case = _random_rendezvous(rng, offset=1e5, horizon=20)
+        s = nl.solve_scp(case, tol=1e-9, eps=1e-9, max_outer=60)
+    elif kind == "tiny_bounds":  # 1 uN per axis: the target cannot be reached, the miss is large
+        case = _random_rendezvous(rng, offset=3e3, bound_n=1e-6, horizon=15)
+        s = nl.solve_scp(case, tol=1e-9, eps=1e-9)
+        assert s.info.terminal_miss > 1.0  # scaled units: metres / max(|d0|, 1)
+    elif kind == "one_outer":
+        case = _random_rendezvous(rng, offset=2e3, horizon=20)
+        s = nl.solve_scp(case, tol=1e-9, eps=1e-9, max_outer=1)
+        assert s.info.status == _c.ScpStatus.max_outer
+    else:  # every subproblem stops at max_iterations
+        case = _random_rendezvous(rng, offset=2e3, horizon=20)
+        s = nl.solve_scp(case, tol=1e-9, eps=1e-9, max_inner=3, inner="ilqr_admm")
+        assert s.info.status not in nl.SCP_SUCCESS
+        assert not s.info.inner_solved
+        assert s.info.inner_ilqr_status == _c.IlqrAdmmStatus.max_iterations
+    _check_honest(case, s)
+    if s.info.status == _c.ScpStatus.solved:
+        ref = _reference(case, np.asarray(s.U), "linear_admm")
+        assert s.info.objective - ref.info.objective <= 1e-6 * max(1.0, ref.info.objective)
+
+
+def _cvxpy_subproblem(case, U):
+    """The convex subproblem at U (exact map Jacobians along the rollout) by cvxpy + Clarabel."""
+    import cvxpy as cp
+
+    pr = case.problem
+    n = pr.horizon
+    x = np.asarray(pr.x0, dtype=float)
+    As, Bs, cs = [], [], []
+    for k in range(n):
+        xn, A, B = case.dmap.step(k, x, U[:, k])
+        As.append(np.asarray(A))
+        Bs.append(np.asarray(B))
+        cs.append(np.asarray(xn) - np.asarray(A) @ x - np.asarray(B) @ U[:, k])
+        x = np.asarray(xn)
+    Xv = cp.Variable((12, n + 1))
+    Uv = cp.Variable((3, n))
+    cons = [Xv[:, 0] == np.asarray(pr.x0)]
+    cons += [Xv[:, k + 1] == As[k] @ Xv[:, k] + Bs[k] @ Uv[:, k] + cs[k] for k in range(n)]
+    if case.constrained:
+        cons += [Uv <= np.asarray(pr.u_max)[:, None], Uv >= np.asarray(pr.u_min)[:, None]]
+    idx = np.flatnonzero(np.diag(np.asarray(pr.Qf)))
+    q = np.diag(np.asarray(pr.Qf))[idx]
+    e = Xv[idx, n] - np.asarray(pr.x_target)[idx]
+    obj = 0.5 * cp.sum(cp.multiply(q, cp.square(e))) + pr.stage_weight * cp.sum(
+        cp.multiply(np.asarray(pr.alpha)[:, None], cp.abs(Uv))
+    )
+    prob = cp.Problem(cp.Minimize(obj), cons)
+    prob.solve(solver=cp.CLARABEL, tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12)
+    return prob.value
+
+
+def test_scp_converged_plans_match_clarabel_on_the_final_linearization():
+    pytest.importorskip("cvxpy")
+    rng = np.random.default_rng(SUITE_SEED + 1)
+    checked = 0
+    for t in range(6):
+        case = _random_rendezvous(rng, horizon=int(rng.integers(8, 16)))
+        s = nl.solve_scp(case, tol=1e-10, eps=1e-10, globalization=("trust_region", "line_search")[t % 2])
+        if s.info.status != _c.ScpStatus.solved:
+            continue
+        ref = _cvxpy_subproblem(case, np.asarray(s.U))
+        # at an SCP solution the subproblem's optimum is the plan's own cost (no predicted decrease)
+        assert abs(ref - s.info.objective) <= 1e-6 * abs(s.info.objective), (ref, s.info.objective)
+        checked += 1
+    assert checked >= 4
+
+
+def test_scp_and_ilqr_statuses_are_exposed_and_validated(uncons):
+    assert nl.SCP_STATUS_NAMES[int(_c.ScpStatus.solved)] == "solved"
+    for name in ("solved_inaccurate", "inner_infeasible", "time_limit", "max_outer", "line_search_failed"):
+        assert name in nl.SCP_STATUS_NAMES.values()
+        assert _c.scp_status_message(getattr(_c.ScpStatus, name))
+    for name in ("solved_inaccurate", "time_limit", "ilqr_failed"):
+        assert name in nl.ILQR_ADMM_STATUS_NAMES.values()
+    with pytest.raises(ValueError, match="globalization"):
+        nl.solve_scp(uncons, globalization="dogleg")
+    with pytest.raises(TypeError, match="tol"):
+        nl.solve_scp(uncons, tol=1j)
+    with pytest.raises(ValueError, match="time_limit"):
+        nl.solve_scp(uncons, time_limit=-1.0)
+    st = _c.ScpSettings()
+    st.tr_shrink = 2.0
+    with pytest.raises(ValueError, match="tr_shrink"):
+        _c.ScpSolver(uncons.dmap, uncons.problem, st)
+    s = nl.solve_scp(uncons, time_limit=1e-12)
+    assert s.info.status == _c.ScpStatus.time_limit
+    assert s.info.objective > 0.0 and len(s.info.merit_history) == 1
+
+
+def test_scp_line_search_option_reaches_the_trust_region_optimum(uncons):
+    tr = nl.solve_scp(uncons, eps=1e-7, tol=1e-8)
+    ls = nl.solve_scp(uncons, eps=1e-7, tol=1e-8, globalization="line_search")
+    assert tr.info.status in nl.SCP_SUCCESS and ls.info.status in nl.SCP_SUCCESS
+    assert abs(tr.info.objective - ls.info.objective) <= 1e-6 * tr.info.objective

@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -50,6 +51,16 @@ void cholesky_solve_inplace(const MatrixXd& L, Eigen::MatrixBase<Derived>& B) {
       B(i, c) = v / L(i, i);
     }
   }
+}
+
+// Checks on the calls ScpSolver makes inside its solve loop (warm start, stage bounds): the message
+// strings are built only on failure, so a passing check does not allocate.
+void check_dims(const Eigen::Ref<const MatrixXd>& M, int r, int c, const char* name) {
+  if (M.rows() != r || M.cols() != c)
+    require(false, name, "must be nu x N = " + std::to_string(r) + " x " + std::to_string(c));
+}
+void check_finite(const Eigen::Ref<const MatrixXd>& M, const char* name) {
+  if (!M.allFinite()) core::require_finite(M, name);
 }
 
 double soft(double v, double t) { return v > t ? v - t : (v < -t ? v + t : 0.0); }
@@ -238,15 +249,19 @@ bool backward_reduced(int N, const int* ci, const int* ti, const std::vector<Mat
 const char* status_message(IlqrAdmmStatus s) {
   switch (s) {
     case IlqrAdmmStatus::solved:
-      return "solved: stopping rule met";
+      return "solved: stopping rule met and the plan rolls out on the model";
     case IlqrAdmmStatus::max_iterations:
       return "max_iter reached; best iterate (smallest ||U - Y||) returned";
     case IlqrAdmmStatus::propagation_failed:
-      return "the dynamics failed during the initial rollout (see failed_interval)";
+      return "the dynamics failed (initial rollout or the returned plan; see failed_interval)";
     case IlqrAdmmStatus::ilqr_failed:
-      return "iLQR made no progress up to reg_max; last iterate returned";
+      return "iLQR made no progress up to reg_max; best iterate returned";
     case IlqrAdmmStatus::not_run:
       return "solve() not called";
+    case IlqrAdmmStatus::solved_inaccurate:
+      return "stopped at a limit with the residual rule met at inaccurate_factor x eps; best iterate";
+    case IlqrAdmmStatus::time_limit:
+      return "time_limit reached; best iterate returned";
   }
   return "unknown status";
 }
@@ -268,6 +283,9 @@ void IlqrAdmmSettings::validate() const {
   require(reg_factor > 1.0 && std::isfinite(reg_factor), "reg_factor", "must be finite and > 1");
   require(line_search_iters >= 1, "line_search_iters", "must be >= 1");
   require(ls_lower >= 0.0 && ls_upper > ls_lower, "ls_lower/ls_upper", "need 0 <= ls_lower < ls_upper");
+  core::require_nonnegative(time_limit, "time_limit");
+  require(inaccurate_factor >= 1.0 && std::isfinite(inaccurate_factor), "inaccurate_factor",
+          "must be finite and >= 1");
 }
 
 IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
@@ -336,6 +354,8 @@ IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Prob
   Ybest_ = Un_;
   Lbest_ = Un_;
   V_ = Un_;
+  Slo_ = Un_;
+  Shi_ = Un_;
   S_ = MatrixXd::Zero(nx_, nx_);
   Qxx_ = S_;
   SA_ = S_;
@@ -353,9 +373,8 @@ IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Prob
 }
 
 void IlqrAdmmSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
-  require(U0.rows() == nu_ && U0.cols() == N_, "U0",
-          "must be nu x N = " + std::to_string(nu_) + " x " + std::to_string(N_));
-  core::require_finite(U0, "U0");
+  check_dims(U0, nu_, N_, "U0");
+  check_finite(U0, "U0");
   res_.U = U0;
   res_.Y.setZero();
   res_.Lambda.setZero();
@@ -364,13 +383,12 @@ void IlqrAdmmSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) 
 
 void IlqrAdmmSolver::warm_start(const Eigen::Ref<const MatrixXd>& U, const Eigen::Ref<const MatrixXd>& Y,
                                 const Eigen::Ref<const MatrixXd>& Lambda) {
-  const std::string dims = "must be nu x N = " + std::to_string(nu_) + " x " + std::to_string(N_);
-  require(U.rows() == nu_ && U.cols() == N_, "U", dims);
-  require(Y.rows() == nu_ && Y.cols() == N_, "Y", dims);
-  require(Lambda.rows() == nu_ && Lambda.cols() == N_, "Lambda", dims);
-  core::require_finite(U, "U");
-  core::require_finite(Y, "Y");
-  core::require_finite(Lambda, "Lambda");
+  check_dims(U, nu_, N_, "U");
+  check_dims(Y, nu_, N_, "Y");
+  check_dims(Lambda, nu_, N_, "Lambda");
+  check_finite(U, "U");
+  check_finite(Y, "Y");
+  check_finite(Lambda, "Lambda");
   res_.U = U;
   res_.Y = Y;
   res_.Lambda = Lambda;
@@ -386,6 +404,20 @@ void IlqrAdmmSolver::set_initial_state(const Eigen::Ref<const VectorXd>& x0) {
 void IlqrAdmmSolver::set_rho(double rho) {
   core::require_positive(rho, "rho");
   rho_ = rho;
+}
+
+void IlqrAdmmSolver::set_stage_bounds(const Eigen::Ref<const MatrixXd>& lo,
+                                      const Eigen::Ref<const MatrixXd>& hi) {
+  if (prob_.cost == ControlCost::group_l2)
+    require(false, "set_stage_bounds",
+            "not available for group_l2 (the prox of the norm plus a box has no closed form)");
+  check_dims(lo, nu_, N_, "lo");
+  check_dims(hi, nu_, N_, "hi");
+  if (lo.hasNaN() || hi.hasNaN()) require(false, "lo/hi", "must not be NaN");
+  if (!(lo.array() <= hi.array()).all()) require(false, "lo/hi", "need lo <= hi");
+  Slo_ = lo;
+  Shi_ = hi;
+  stage_bounds_ = true;
 }
 
 int IlqrAdmmSolver::rollout(const Eigen::Ref<const MatrixXd>& U, Eigen::Ref<MatrixXd> Xout) const {
@@ -596,27 +628,38 @@ void IlqrAdmmSolver::prox(const MatrixXd& V, MatrixXd& Yout) const {
     for (int i = 0; i < nu_; ++i) {
       double y = soft(V(i, k), prob_.alpha(i) * inv);
       if (prob_.cost == ControlCost::l1_box) y = std::min(std::max(y, prob_.u_min(i)), prob_.u_max(i));
+      // 1-D: the prox of |.| plus an interval is the prox of |.| clipped to it (exact).
+      if (stage_bounds_) y = std::min(std::max(y, Slo_(i, k)), Shi_(i, k));
       Yout(i, k) = y;
     }
 }
 
 IlqrAdmmStatus IlqrAdmmSolver::solve() {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point t0 = Clock::now();
   IlqrAdmmInfo& info = res_.info;
   info = IlqrAdmmInfo();
   reg_ = set_.reg_init;
   jac_valid_ = false;
   const double w = prob_.stage_weight;
   const double sqrt_n = std::sqrt(static_cast<double>(N_ * nu_));
+  const auto elapsed = [&t0]() { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const int fail = rollout(res_.U, res_.X);
   if (fail >= 0) {
     info.status = IlqrAdmmStatus::propagation_failed;
     info.failed_interval = fail;
     info.rho = rho_;
+    info.objective_u = info.objective_y = info.terminal_miss = std::numeric_limits<double>::infinity();
+    info.solve_time = elapsed();
     return info.status;
   }
-  double best_primal = std::numeric_limits<double>::infinity();
+  double best_primal = std::numeric_limits<double>::infinity(), best_dual = best_primal;
   IlqrAdmmStatus status = IlqrAdmmStatus::max_iterations;
   for (int it = 1; it <= set_.max_iter; ++it) {
+    if (set_.time_limit > 0.0 && it > 1 && elapsed() >= set_.time_limit) {
+      status = IlqrAdmmStatus::time_limit;
+      break;
+    }
     info.iterations = it;
     double J = subproblem_cost(res_.X, res_.U);
     bool failed = false;
@@ -653,6 +696,7 @@ IlqrAdmmStatus IlqrAdmmSolver::solve() {
     info.paper_criterion = primal / (N_ * nu_);
     if (primal < best_primal) {
       best_primal = primal;
+      best_dual = dual;
       Ubest_ = res_.U;
       Ybest_ = res_.Y;
       Lbest_ = res_.Lambda;
@@ -681,19 +725,41 @@ IlqrAdmmStatus IlqrAdmmSolver::solve() {
       break;
     }
   }
-  if (status == IlqrAdmmStatus::max_iterations && set_.return_best) {
+  // Without success the best iterate (smallest ||U - Y||) is returned, whichever limit stopped it.
+  if (status != IlqrAdmmStatus::solved && set_.return_best && std::isfinite(best_primal)) {
     res_.U.swap(Ubest_);
     res_.Y.swap(Ybest_);
     res_.Lambda.swap(Lbest_);
     res_.X.swap(Xbest_);
     info.primal_residual = best_primal;
+    info.dual_residual = best_dual;
     info.paper_criterion = best_primal / (N_ * nu_);
   }
-  info.status = status;
+  if ((status == IlqrAdmmStatus::max_iterations || status == IlqrAdmmStatus::time_limit) &&
+      set_.stop == StopRule::residuals && info.iterations > 1) {
+    const double f = set_.inaccurate_factor;
+    const double eps_p = f * (set_.eps_abs * sqrt_n + set_.eps_rel * std::max(res_.U.norm(), res_.Y.norm()));
+    const double eps_d = f * (set_.eps_abs * sqrt_n + set_.eps_rel * w * res_.Lambda.norm());
+    if (info.primal_residual <= eps_p && info.dual_residual <= eps_d)
+      status = IlqrAdmmStatus::solved_inaccurate;
+  }
   info.rho = rho_;
   info.lqr_passes = info.ilqr_iterations + info.iterations;
   info.objective_u = true_cost(res_.U);
-  info.objective_y = true_cost(res_.Y);
+  const int fail_y = rollout(res_.Y, Xtmp_);
+  if (fail_y >= 0) {
+    info.objective_y = info.terminal_miss = std::numeric_limits<double>::infinity();
+    // "solved" promises a plan that flies on the model.
+    if (status == IlqrAdmmStatus::solved || status == IlqrAdmmStatus::solved_inaccurate) {
+      status = IlqrAdmmStatus::propagation_failed;
+      info.failed_interval = fail_y;
+    }
+  } else {
+    info.objective_y = terminal_cost(Xtmp_.col(N_)) + control_cost(res_.Y);
+    info.terminal_miss = (Xtmp_.col(N_) - prob_.x_target).norm();
+  }
+  info.status = status;
+  info.solve_time = elapsed();
   return status;
 }
 

@@ -1,5 +1,7 @@
 #include "satgnc/guidance/scp.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -11,20 +13,77 @@ namespace satgnc::guidance {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
+namespace {
+
+// What the outer loop may conclude from the inner solver's status.
+enum class Inner {
+  solved,         // optimality test of the subproblem met
+  inaccurate,     // a usable point, loose tolerances (or a rule that is not a convergence test)
+  not_converged,  // stopped at a limit: a usable point, no claim
+  infeasible,     // the linearized constraints cannot hold
+  failed,         // no usable point
+};
+
+// No default: a new enumerator is a compiler warning (-Wswitch) until it is mapped here.
+Inner classify(AdmmStatus s) {
+  switch (s) {
+    case AdmmStatus::kSolved:
+      return Inner::solved;
+    case AdmmStatus::kSolvedPaperRule:  // ||U - Y|| small is not an optimality test
+    case AdmmStatus::kSolvedInaccurate:
+      return Inner::inaccurate;
+    case AdmmStatus::kMaxIterations:
+    case AdmmStatus::kTimeLimit:
+      return Inner::not_converged;
+    case AdmmStatus::kTerminalUnreachable:
+    case AdmmStatus::kPrimalInfeasible:
+      return Inner::infeasible;
+    case AdmmStatus::kNumericalError:
+    case AdmmStatus::kUnsolved:
+      return Inner::failed;
+  }
+  return Inner::failed;
+}
+
+Inner classify(IlqrAdmmStatus s, StopRule rule) {
+  switch (s) {
+    case IlqrAdmmStatus::solved:
+      return rule == StopRule::residuals ? Inner::solved : Inner::inaccurate;
+    case IlqrAdmmStatus::solved_inaccurate:
+      return Inner::inaccurate;
+    case IlqrAdmmStatus::max_iterations:
+    case IlqrAdmmStatus::time_limit:
+      return Inner::not_converged;
+    case IlqrAdmmStatus::propagation_failed:
+    case IlqrAdmmStatus::ilqr_failed:
+    case IlqrAdmmStatus::not_run:
+      return Inner::failed;
+  }
+  return Inner::failed;
+}
+
+}  // namespace
+
 const char* status_message(ScpStatus s) {
   switch (s) {
     case ScpStatus::solved:
-      return "solved: predicted decrease of the convex model below tol";
+      return "solved: predicted decrease <= tol * max(1, J) on a solved subproblem, trust region inactive";
     case ScpStatus::max_outer:
-      return "max_outer reached";
+      return "max_outer reached; best iterate returned";
     case ScpStatus::propagation_failed:
-      return "the dynamics failed (see failed_interval)";
+      return "the dynamics failed (see failed_interval); best iterate returned";
     case ScpStatus::inner_failed:
-      return "the convex subproblem solver failed (see inner_status)";
+      return "the convex subproblem solver failed (see inner_status); best iterate returned";
     case ScpStatus::line_search_failed:
-      return "no step decreased the true cost; current iterate returned";
+      return "no acceptable step (line search exhausted or trust radius below tr_min); best iterate returned";
     case ScpStatus::not_run:
       return "solve() not called";
+    case ScpStatus::solved_inaccurate:
+      return "stopped at a limit with predicted decrease <= tol_inaccurate * max(1, J); best iterate";
+    case ScpStatus::inner_infeasible:
+      return "the linearized subproblem is infeasible (inner primal infeasibility); best iterate returned";
+    case ScpStatus::time_limit:
+      return "time_limit reached; best iterate returned";
   }
   return "unknown status";
 }
@@ -34,6 +93,21 @@ void ScpSettings::validate() const {
   core::require_nonnegative(tol, "tol");
   core::require(armijo >= 0.0 && armijo < 1.0, "armijo", "must be in [0, 1)");
   core::require(line_search_iters >= 1, "line_search_iters", "must be >= 1");
+  core::require_nonnegative(trust_radius, "trust_radius");
+  core::require(tr_accept > 0.0 && tr_accept < 1.0, "tr_accept", "must be in (0, 1)");
+  core::require(tr_grow_ratio >= tr_accept && tr_grow_ratio < 1.0, "tr_grow_ratio",
+                "must be in [tr_accept, 1)");
+  core::require(tr_shrink > 0.0 && tr_shrink < 1.0, "tr_shrink", "must be in (0, 1)");
+  core::require(tr_grow > 1.0 && std::isfinite(tr_grow), "tr_grow", "must be finite and > 1");
+  core::require_nonnegative(tr_min, "tr_min");
+  core::require(std::isfinite(tol_inaccurate) && tol_inaccurate >= tol, "tol_inaccurate",
+                "must be finite and >= tol");
+  core::require_nonnegative(time_limit, "time_limit");
+  core::require(
+      globalization == ScpGlobalization::trust_region || globalization == ScpGlobalization::line_search,
+      "globalization", "must be trust_region or line_search");
+  core::require(inner_solver == ScpInner::ilqr_admm || inner_solver == ScpInner::linear_admm, "inner_solver",
+                "must be ilqr_admm or linear_admm");
   inner.validate();
 }
 
@@ -49,11 +123,22 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
   res_.X = MatrixXd::Zero(nx_, N_ + 1);
   res_.U = MatrixXd::Zero(nu_, N_);
   res_.Lambda = MatrixXd::Zero(nu_, N_);
+  res_.info.merit_history.reserve(static_cast<size_t>(set_.max_outer) + 1);
   Ytmp_ = res_.U;
   Utmp_ = res_.U;
   Xtmp_ = res_.X;
+  Xlin_ = res_.X;
   Ywarm_ = res_.U;
   Lwarm_ = res_.U;
+  Tlo_ = res_.U;
+  Thi_ = res_.U;
+  Ucand_ = res_.U;
+  lo_ = VectorXd::Constant(nu_, -std::numeric_limits<double>::infinity());
+  hi_ = VectorXd::Constant(nu_, std::numeric_limits<double>::infinity());
+  if (prob_.cost == ControlCost::l1_box) {
+    lo_ = prob_.u_min;
+    hi_ = prob_.u_max;
+  }
   sub_.dynamics.horizon = N_;
   sub_.dynamics.A.assign(N_, MatrixXd::Zero(nx_, nx_));
   sub_.dynamics.B.assign(N_, MatrixXd::Zero(nx_, nu_));
@@ -84,6 +169,12 @@ void ScpSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
   core::require(U0.rows() == nu_ && U0.cols() == N_, "U0",
                 "must be nu x N = " + std::to_string(nu_) + " x " + std::to_string(N_));
   core::require_finite(U0, "U0");
+  if (prob_.cost == ControlCost::l1_box) {
+    bool inside = true;
+    for (int k = 0; k < N_; ++k)
+      inside = inside && (U0.col(k).array() >= lo_.array()).all() && (U0.col(k).array() <= hi_.array()).all();
+    core::require(inside, "U0", "must lie inside the bounds u_min <= u <= u_max");
+  }
   res_.U = U0;
   Ywarm_.setZero();
   Lwarm_.setZero();
@@ -116,98 +207,238 @@ double ScpSolver::control_cost(const MatrixXd& U) const {
   return prob_.stage_weight * c;
 }
 
+double ScpSolver::terminal_cost(const Eigen::Ref<const VectorXd>& xN) const {
+  // 1/2 e' Qf e by loops: Qf * e inside an expression would allocate a temporary
+  double c = 0.0;
+  for (int j = 0; j < nx_; ++j) {
+    const double ej = xN(j) - prob_.x_target(j);
+    if (ej == 0.0) continue;
+    double row = 0.0;
+    for (int i = 0; i < nx_; ++i) row += prob_.Qf(i, j) * (xN(i) - prob_.x_target(i));
+    c += ej * row;
+  }
+  return 0.5 * c;
+}
+
 double ScpSolver::true_cost(const MatrixXd& U, MatrixXd& X) const {
   if (rollout(U, X) >= 0) return std::numeric_limits<double>::infinity();
-  const VectorXd e = X.col(N_) - prob_.x_target;
-  return 0.5 * e.dot(prob_.Qf * e) + control_cost(U);
+  return terminal_cost(X.col(N_)) + control_cost(U);
+}
+
+double ScpSolver::model_cost(const MatrixXd& U) {
+  Xlin_.col(0) = prob_.x0;
+  for (int k = 0; k < N_; ++k) {
+    Xlin_.col(k + 1).noalias() = sub_.dynamics.A[k] * Xlin_.col(k);
+    Xlin_.col(k + 1).noalias() += sub_.dynamics.B[k] * U.col(k);
+    Xlin_.col(k + 1) += sub_.dynamics.c[k];
+  }
+  return terminal_cost(Xlin_.col(N_)) + control_cost(U);
 }
 
 ScpStatus ScpSolver::solve() noexcept {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point t0 = Clock::now();
   ScpInfo& info = res_.info;
-  info = ScpInfo();
+  {
+    std::vector<double> h;  // keep the reserved capacity of the history (no allocation)
+    h.swap(info.merit_history);
+    info = ScpInfo();
+    info.merit_history.swap(h);
+    info.merit_history.clear();
+  }
+  ScpStatus st;
   try {
-    const int fail = rollout(res_.U, res_.X);
-    if (fail >= 0) {
-      info.status = ScpStatus::propagation_failed;
-      info.failed_interval = fail;
-      return info.status;
+    st = solve_impl();
+  } catch (const std::exception&) {
+    st = ScpStatus::inner_failed;
+  }
+  info.status = st;
+  // The returned iterate is the current one: every accepted step lowered the true cost.
+  if (info.merit_history.empty()) {  // the initial guess does not roll out
+    info.objective = info.terminal_miss = std::numeric_limits<double>::infinity();
+  } else {
+    info.objective = info.merit_history.back();
+    info.terminal_miss = (res_.X.col(N_) - prob_.x_target).norm();
+  }
+  double viol = 0.0;
+  for (int k = 0; k < N_; ++k)
+    for (int i = 0; i < nu_; ++i)
+      viol = std::max(viol, std::max(lo_(i) - res_.U(i, k), res_.U(i, k) - hi_(i)));
+  info.bound_violation = viol;
+  info.solve_time = std::chrono::duration<double>(Clock::now() - t0).count();
+  return st;
+}
+
+ScpStatus ScpSolver::solve_impl() {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point t0 = Clock::now();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  ScpInfo& info = res_.info;
+  const bool tr = set_.globalization == ScpGlobalization::trust_region;
+  const bool ilqr = set_.inner_solver == ScpInner::ilqr_admm;
+  // Exact box trust region inside the subproblem (prox of L1 + interval); otherwise the step is scaled.
+  const bool box_tr = tr && ilqr && prob_.cost != ControlCost::group_l2;
+  const int fail = rollout(res_.U, res_.X);
+  if (fail >= 0) {
+    info.failed_interval = fail;
+    return ScpStatus::propagation_failed;
+  }
+  double J = terminal_cost(res_.X.col(N_)) + control_cost(res_.U);
+  info.merit_history.push_back(J);
+  double Delta = set_.trust_radius > 0.0 ? set_.trust_radius : kInf;
+  info.trust_radius = Delta;
+  bool lin_valid = false, first_inner = true;
+  // Predicted decrease of a subproblem solved at the current iterate with the trust region inactive
+  // (what solved_inaccurate may rely on); +inf when there is none.
+  double cert_pred = kInf;
+  Inner cert_inner = Inner::failed;
+  ScpStatus status = ScpStatus::max_outer;
+  for (int it = 1; it <= set_.max_outer; ++it) {
+    if (set_.time_limit > 0.0 &&
+        std::chrono::duration<double>(Clock::now() - t0).count() >= set_.time_limit) {
+      status = ScpStatus::time_limit;
+      break;
     }
-    double J = true_cost(res_.U, Xtmp_);
-    info.status = ScpStatus::max_outer;
-    for (int it = 1; it <= set_.max_outer; ++it) {
-      info.outer_iterations = it;
+    info.outer_iterations = it;
+    if (!lin_valid) {
       // Linearize along (X, U): c_k makes the affine model exact at the current trajectory.
       for (int k = 0; k < N_; ++k) {
         if (!model_.step(k, res_.X.col(k).data(), res_.U.col(k).data(), Xtmp_.col(k + 1).data(),
                          sub_.dynamics.A[k].data(), sub_.dynamics.B[k].data())) {
-          info.status = ScpStatus::propagation_failed;
           info.failed_interval = k;
-          return info.status;
+          return ScpStatus::propagation_failed;
         }
-        sub_.dynamics.c[k] =
-            Xtmp_.col(k + 1) - sub_.dynamics.A[k] * res_.X.col(k) - sub_.dynamics.B[k] * res_.U.col(k);
+        VectorXd& c = sub_.dynamics.c[k];  // products in place: no temporaries
+        c = Xtmp_.col(k + 1);
+        c.noalias() -= sub_.dynamics.A[k] * res_.X.col(k);
+        c.noalias() -= sub_.dynamics.B[k] * res_.U.col(k);
       }
-      const MatrixXd* Ysub;
-      double J_lin;
-      if (set_.inner_solver == ScpInner::ilqr_admm) {
+      if (ilqr) {
         for (int k = 0; k < N_; ++k) lin_->set(k, sub_.dynamics.A[k], sub_.dynamics.B[k], sub_.dynamics.c[k]);
-        if (it == 1) {
-          inner_->set_initial_controls(res_.U);
-        } else {
-          inner_->warm_start(res_.U, Ywarm_, Lwarm_);
-        }
-        const IlqrAdmmStatus st = inner_->solve();
-        const IlqrAdmmResult& r = inner_->result();
-        info.inner_iterations += r.info.iterations;
-        info.inner_ilqr_status = st;
-        if (st == IlqrAdmmStatus::propagation_failed || st == IlqrAdmmStatus::ilqr_failed ||
-            !r.Y.allFinite()) {
-          info.status = ScpStatus::inner_failed;
-          return info.status;
-        }
-        Ywarm_ = r.Y;
-        Lwarm_ = r.Lambda;
-        J_lin = r.info.objective_y;
-        Ysub = &Ywarm_;
+      } else if (!admm_->update_dynamics(sub_.dynamics.A, sub_.dynamics.B, sub_.dynamics.c)) {
+        info.inner_status = AdmmStatus::kNumericalError;
+        return ScpStatus::inner_failed;
+      }
+      lin_valid = true;
+    }
+    // Convex subproblem (warm-started from the previous one).
+    Inner in;
+    if (ilqr) {
+      if (box_tr && std::isfinite(Delta)) {
+        for (int k = 0; k < N_; ++k)
+          for (int i = 0; i < nu_; ++i) {
+            Tlo_(i, k) = std::max(res_.U(i, k) - Delta, lo_(i));
+            Thi_(i, k) = std::min(res_.U(i, k) + Delta, hi_(i));
+          }
+        inner_->set_stage_bounds(Tlo_, Thi_);
       } else {
-        if (!admm_->update_dynamics(sub_.dynamics.A, sub_.dynamics.B, sub_.dynamics.c)) {
-          info.status = ScpStatus::inner_failed;
-          info.inner_status = AdmmStatus::kNumericalError;
-          return info.status;
-        }
-        if (it > 1)
-          admm_->warm_start(Ywarm_, Lwarm_);
-        else
-          admm_->cold_start();
-        const AdmmResult& r = admm_->solve();
-        info.inner_iterations += r.info.iterations;
-        info.inner_status = r.info.status;
-        if (r.info.status == AdmmStatus::kNumericalError || !r.Y.allFinite()) {
-          info.status = ScpStatus::inner_failed;
-          return info.status;
-        }
+        inner_->clear_stage_bounds();
+      }
+      if (first_inner)
+        inner_->set_initial_controls(res_.U);
+      else
+        inner_->warm_start(res_.U, Ywarm_, Lwarm_);
+      const IlqrAdmmStatus ist = inner_->solve();
+      const IlqrAdmmResult& r = inner_->result();
+      info.inner_iterations += r.info.iterations;
+      info.inner_ilqr_status = ist;
+      in = classify(ist, set_.inner_ilqr.stop);
+      if (in != Inner::failed && in != Inner::infeasible) {
         Ywarm_ = r.Y;
         Lwarm_ = r.Lambda;
-        J_lin = r.info.objective;
-        Ysub = &Ywarm_;
       }
-      res_.Lambda = Lwarm_;
-      const double pred = J - J_lin;  // J_lin(U) = J_true(U) by construction of c_k
-      info.predicted_decrease = pred;
-      if (pred < -1e-6 * std::max(1.0, std::abs(J))) {  // the convex model cannot be worse than U
-        info.status = ScpStatus::inner_failed;
+    } else {
+      if (!first_inner)
+        admm_->warm_start(Ywarm_, Lwarm_);
+      else
+        admm_->cold_start();
+      const AdmmResult& r = admm_->solve();
+      info.inner_iterations += r.info.iterations;
+      info.inner_status = r.info.status;
+      in = classify(r.info.status);
+      if (in != Inner::failed && in != Inner::infeasible) {
+        Ywarm_ = r.Y;
+        Lwarm_ = r.Lambda;
+      }
+    }
+    first_inner = false;
+    info.inner_solved = in == Inner::solved;
+    if (in == Inner::infeasible) {
+      info.merit_history.push_back(J);
+      return ScpStatus::inner_infeasible;
+    }
+    if (in == Inner::failed || !Ywarm_.allFinite() || !Lwarm_.allFinite()) {
+      info.merit_history.push_back(J);
+      return ScpStatus::inner_failed;
+    }
+    res_.Lambda = Lwarm_;
+    // Candidate: the subproblem's minimizer, scaled into the trust region when it is not inside it.
+    Ucand_ = Ywarm_;
+    bool tr_active = false;
+    const double full_step = (Ucand_ - res_.U).cwiseAbs().maxCoeff();
+    if (tr && std::isfinite(Delta)) {
+      if (box_tr) {
+        const double tiny = 1e-12 * std::max(1.0, Delta);
+        for (int k = 0; k < N_ && !tr_active; ++k)
+          for (int i = 0; i < nu_; ++i)
+            if ((Tlo_(i, k) > lo_(i) && Ucand_(i, k) <= Tlo_(i, k) + tiny) ||
+                (Thi_(i, k) < hi_(i) && Ucand_(i, k) >= Thi_(i, k) - tiny)) {
+              tr_active = true;
+              break;
+            }
+      } else if (full_step > Delta) {
+        Ucand_ = res_.U + (Delta / full_step) * (Ucand_ - res_.U);
+        tr_active = true;
+      }
+    }
+    const double step = (Ucand_ - res_.U).cwiseAbs().maxCoeff();
+    const double pred = J - model_cost(Ucand_);  // the model is exact at U: model(U) = J
+    info.predicted_decrease = pred;
+    const double scale = std::max(1.0, std::abs(J));
+    if (!tr_active) {
+      cert_pred = pred;
+      cert_inner = in;
+    }
+    if (pred <= set_.tol * scale) {
+      if (in == Inner::solved && pred < -set_.tol_inaccurate * scale) {
+        // A "solved" subproblem that is worse than the current iterate, which is feasible for it.
+        info.merit_history.push_back(J);
+        return ScpStatus::inner_failed;
+      }
+      info.merit_history.push_back(J);
+      info.last_step = 0.0;
+      // pred < -tol: the subproblem's answer is worse than U_k, which is feasible for it, so the
+      // inner solve is not accurate to tol and certifies nothing finer (solved_inaccurate below).
+      if (in == Inner::solved && !tr_active) {
+        if (pred >= -set_.tol * scale) return ScpStatus::solved;
         break;
       }
-      if (pred <= set_.tol * std::max(1.0, std::abs(J))) {
-        info.status = ScpStatus::solved;
-        break;
+      // Stationary within the trust region: widen it; or the inner stopped short: continue it.
+      if (tr_active) Delta *= set_.tr_grow;
+      info.trust_radius = Delta;
+      continue;
+    }
+    bool accepted = false;
+    if (tr) {
+      const double Jn = true_cost(Ucand_, Xtmp_);
+      const double ratio = (J - Jn) / pred;
+      if (std::isfinite(Jn) && Jn < J && ratio >= set_.tr_accept) {
+        res_.U.swap(Ucand_);
+        res_.X.swap(Xtmp_);
+        J = Jn;
+        accepted = true;
+        if (ratio > set_.tr_grow_ratio && std::isfinite(Delta)) Delta = std::max(Delta, set_.tr_grow * step);
+        info.last_step = 1.0;
+      } else {
+        Delta = set_.tr_shrink * std::min(Delta, step);
+        info.last_step = 0.0;
       }
+    } else {
       double t = 1.0;
-      bool accepted = false;
       for (int ls = 0; ls < set_.line_search_iters; ++ls, t *= 0.5) {
-        Utmp_ = res_.U + t * (*Ysub - res_.U);
+        Utmp_ = res_.U + t * (Ucand_ - res_.U);
         const double Jn = true_cost(Utmp_, Xtmp_);
-        if (std::isfinite(Jn) && Jn <= J - set_.armijo * t * pred) {
+        if (std::isfinite(Jn) && Jn < J && Jn <= J - set_.armijo * t * pred) {
           res_.U.swap(Utmp_);
           res_.X.swap(Xtmp_);
           J = Jn;
@@ -216,19 +447,31 @@ ScpStatus ScpSolver::solve() noexcept {
         }
       }
       info.last_step = accepted ? t : 0.0;
-      if (!accepted) {
-        // A predicted decrease at the inner solver's accuracy that cannot be realized: converged.
-        info.status =
-            pred <= 1e-7 * std::max(1.0, std::abs(J)) ? ScpStatus::solved : ScpStatus::line_search_failed;
-        break;
-      }
     }
-    info.objective = J;
-    if (rollout(res_.U, res_.X) >= 0) info.objective = std::numeric_limits<double>::infinity();
-  } catch (const std::exception&) {
-    info.status = ScpStatus::inner_failed;
+    info.trust_radius = Delta;
+    info.merit_history.push_back(J);
+    if (accepted) {
+      lin_valid = false;
+      cert_pred = kInf;
+      continue;
+    }
+    ++info.rejected_steps;
+    // A decrease at the loose tolerance that the true cost cannot realize: shrinking further only
+    // chases rounding (the status becomes solved_inaccurate below).
+    const bool at_rounding =
+        !tr_active && (in == Inner::solved || in == Inner::inaccurate) && pred <= set_.tol_inaccurate * scale;
+    if (!tr || at_rounding || Delta < set_.tr_min * std::max(1.0, res_.U.cwiseAbs().maxCoeff())) {
+      status = ScpStatus::line_search_failed;
+      break;
+    }
   }
-  return info.status;
+  // At a limit: the loose test on the last subproblem solved at the returned iterate.
+  if ((cert_inner == Inner::solved || cert_inner == Inner::inaccurate) && std::isfinite(cert_pred)) {
+    const double scale = std::max(1.0, std::abs(J));
+    if (cert_pred <= set_.tol_inaccurate * scale && cert_pred >= -set_.tol_inaccurate * scale)
+      status = ScpStatus::solved_inaccurate;
+  }
+  return status;
 }
 
 }  // namespace satgnc::guidance

@@ -22,6 +22,7 @@ import time
 import numpy as np
 
 from satgnc import _satgnc as _c
+from satgnc._validate import as_int, as_real, one_of
 
 MU = 3.99e14  #: m^3/s^2, the scenario's gravitational parameter
 R_TARGET = 7231.0e3  #: m, target orbit radius (6731 km + 500 km, the implementation's typo kept)
@@ -46,7 +47,17 @@ __all__ = [
     "linear_cw_plan",
     "miss",
     "run_cli",
+    "SCP_STATUS_NAMES",
+    "ILQR_ADMM_STATUS_NAMES",
+    "SCP_SUCCESS",
 ]
+
+#: ScpStatus value -> name (docs/guidance_nonlinear.md says what each guarantees).
+SCP_STATUS_NAMES = {int(v): k for k, v in _c.ScpStatus.__members__.items()}
+#: IlqrAdmmStatus value -> name.
+ILQR_ADMM_STATUS_NAMES = {int(v): k for k, v in _c.IlqrAdmmStatus.__members__.items()}
+#: The SCP statuses whose plan a caller may fly as converged (the loose one included).
+SCP_SUCCESS = (_c.ScpStatus.solved, _c.ScpStatus.solved_inaccurate)
 
 
 def model_params(published: bool = True, j2: bool = False, drag: bool = True, rho0: float | None = None):
@@ -216,14 +227,28 @@ def solve_scp(
     max_outer: int = 30,
     inner: str = "linear_admm",
     max_inner: int = 20000,
+    globalization: str = "trust_region",
+    time_limit: float = 0.0,
 ):
     """Sequential convex programming: re-linearize (exact map Jacobians), solve the convex L1
     subproblem (``inner="ilqr_admm"``: satgnc's iLQR-ADMM on the affine model, which is exact
-    LQR-ADMM there, allocation-free; ``"linear_admm"``: the linear guidance AdmmSolver), line search
-    on the true cost. Returns the solver (``.U``, ``.X``, ``.info``; scaled units)."""
+    LQR-ADMM there, allocation-free, with the trust region as per-stage bounds; ``"linear_admm"``:
+    the linear guidance AdmmSolver, the step scaled into the trust region), and accept steps by a
+    trust-region ratio test (``globalization="trust_region"``) or an Armijo line search
+    (``"line_search"``) on the true cost. ``time_limit``: seconds (0 = none). Returns the solver
+    (``.U``, ``.X``, ``.info``; scaled units); ``info.status`` is ``solved`` only when the convex
+    model predicts a decrease <= ``tol`` max(1, J) on a solved subproblem (table in
+    docs/guidance_nonlinear.md)."""
+    inner = one_of(inner, "inner", ("ilqr_admm", "linear_admm"))
+    globalization = one_of(globalization, "globalization", ("trust_region", "line_search"))
     st = _c.ScpSettings()
-    st.tol = tol
-    st.max_outer = max_outer
+    st.tol = as_real(tol, "tol", nonnegative=True)
+    st.max_outer = as_int(max_outer, "max_outer", low=1)
+    st.time_limit = as_real(time_limit, "time_limit", nonnegative=True)
+    st.tol_inaccurate = max(st.tol_inaccurate, st.tol)
+    st.globalization = getattr(_c.ScpGlobalization, globalization)
+    eps = as_real(eps, "eps", nonnegative=True)
+    max_inner = as_int(max_inner, "max_inner", low=1)
     if inner == "ilqr_admm":
         st.inner_solver = _c.ScpInner.ilqr_admm
         ii = st.inner_ilqr
@@ -231,15 +256,13 @@ def solve_scp(
         ii.eps_rel = eps
         ii.max_iter = max_inner
         st.inner_ilqr = ii
-    elif inner == "linear_admm":
+    else:
         st.inner_solver = _c.ScpInner.linear_admm
         ia = _c.AdmmSettings()
         ia.eps_abs = eps
         ia.eps_rel = eps
         ia.max_iterations = max_inner
         st.inner = ia
-    else:
-        raise ValueError(f"inner: must be 'ilqr_admm' or 'linear_admm', got {inner!r}")
     sol = _c.ScpSolver(case.dmap, case.problem, st)
     if U0 is not None:
         sol.set_initial_controls(U0)

@@ -19,10 +19,11 @@ inline void require(bool cond, const std::string& name, const std::string& rule,
   }
 }
 
-/// Throw unless every coefficient of x is finite.
+/// Throw unless every coefficient of x is finite. The rule text is built only on failure, so a
+/// passing check does not allocate (warm starts call it between allocation-free solves).
 template <typename Derived>
 void require_finite(const Eigen::DenseBase<Derived>& x, const std::string& name) {
-  require(x.allFinite(), name, "must be finite (no NaN or Inf)");
+  if (!x.allFinite()) require(false, name, "must be finite (no NaN or Inf)");
 }
 
 /// Throw unless value is finite.

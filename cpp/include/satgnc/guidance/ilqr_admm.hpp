@@ -71,18 +71,26 @@ struct IlqrAdmmSettings {
   double ls_lower = 1e-8;      ///< accept when actual/expected decrease lies in [ls_lower, ls_upper]
   double ls_upper = 10.0;
   bool return_best = true;  ///< on max_iter, return the iterate with the smallest ||U - Y|| (else the last)
+  double time_limit = 0.0;  ///< wall-clock budget of one solve(), s (0 = none); status time_limit
+  /// solved_inaccurate at a limit when the residual rule holds with eps_abs and eps_rel multiplied
+  /// by this factor (>= 1) at the returned iterate.
+  double inaccurate_factor = 1e3;
 
   /// Throw std::invalid_argument naming the field on a bad value.
   void validate() const;
 };
 
-/// Outcome.
+/// Outcome (docs/guidance_nonlinear.md has the table of what each status guarantees). Appended
+/// values keep the numbers of the old ones.
 enum class IlqrAdmmStatus {
-  solved = 0,          ///< stopping rule met
+  solved = 0,          ///< stopping rule met at the returned iterate and U and Y both roll out on the model
   max_iterations,      ///< max_iter reached; the best iterate (smallest primal residual) is returned
-  propagation_failed,  ///< the model failed on interval Info::failed_interval during the initial rollout
-  ilqr_failed,         ///< iLQR could not make progress even at reg_max; last iterate returned
+  propagation_failed,  ///< the model failed on interval Info::failed_interval (initial rollout, or
+                       ///< the returned plan Y does not roll out although the rule holds)
+  ilqr_failed,         ///< iLQR could not make progress even at reg_max; best iterate returned
   not_run,
+  solved_inaccurate,  ///< stopped at a limit; the residual rule holds with inaccurate_factor x eps
+  time_limit,         ///< IlqrAdmmSettings::time_limit reached; best iterate returned
 };
 
 /// Message table for statuses.
@@ -103,6 +111,8 @@ struct IlqrAdmmInfo {
   int rho_updates = 0;
   int failed_interval = -1;  ///< interval k where the model failed (propagation_failed), else -1
   double max_regularization = 0;
+  double terminal_miss = 0;  ///< ||x_N - x_f||_2 when Y is flown on the model (+inf if that fails)
+  double solve_time = 0;     ///< wall time of solve(), s
 };
 
 /// Solution (iterates) and info.
@@ -132,6 +142,13 @@ class IlqrAdmmSolver {
   void set_initial_state(const Eigen::Ref<const Eigen::VectorXd>& x0);
   /// Change rho between solves (> 0).
   void set_rho(double rho);
+  /// Per-stage bounds lo <= y_k <= hi (nu x N each, lo <= hi, may be +-inf), intersected with the
+  /// problem's box in the prox (exact for l1 and l1_box; rejected for group_l2). Sequential convex
+  /// programming puts its trust region here. The bounds need not contain 0. No allocation.
+  void set_stage_bounds(const Eigen::Ref<const Eigen::MatrixXd>& lo,
+                        const Eigen::Ref<const Eigen::MatrixXd>& hi);
+  /// Drop the per-stage bounds.
+  void clear_stage_bounds() { stage_bounds_ = false; }
 
   /// Run ADMM. No heap allocation, no exceptions.
   IlqrAdmmStatus solve();
@@ -171,6 +188,8 @@ class IlqrAdmmSolver {
   // workspace
   std::vector<Eigen::MatrixXd> A_, B_, K_;
   Eigen::MatrixXd d_, Xn_, Un_, Yprev_, Xtmp_, Ubest_, Ybest_, Lbest_, Xbest_, V_;
+  bool stage_bounds_ = false;
+  Eigen::MatrixXd Slo_, Shi_;  // per-stage bounds (set_stage_bounds), nu x N
   Eigen::MatrixXd S_, Qxx_, Quu_, Qux_, QuuK_, SA_, SB_, L_;
   Eigen::VectorXd s_, Qx_, Qu_, dx_, tmpx_, tmpu_;
 };

@@ -5,10 +5,16 @@
 /// sensitivity of each interval), solve the convex L1 subproblem
 ///   minimize 1/2 (x_N - x_f)' Qf (x_N - x_f) + sum_k w g(u_k)
 ///   s.t.     x_{k+1} = A_k x_k + B_k u_k + c_k,  c_k = f(xb_k, ub_k) - A_k xb_k - B_k ub_k
-/// with satgnc's linear ADMM solver (guidance/admm.hpp; warm-started from the previous outer
-/// iterate, adaptive rho), and accept U + t (Y_sub - U) by a backtracking (Armijo) line search on the
-/// TRUE nonlinear cost (terminal miss included through Qf). Stops when the decrease the convex model
-/// predicts falls below tol * max(1, J).
+/// with IlqrAdmmSolver on the affine model or satgnc's linear ADMM solver (guidance/admm.hpp;
+/// warm-started from the previous outer iterate). Globalization (ScpSettings::globalization):
+///  * trust_region (default): the subproblem is solved within |U - U_k|_inf <= Delta (per-stage bounds
+///    of the inner prox, intersected with the real bounds, for the ilqr_admm inner and L1 costs; else
+///    the subproblem's step is scaled into the box), and the ratio rho = actual / predicted decrease of
+///    the TRUE nonlinear cost decides: rho < tr_accept rejects the step (the iterate is unchanged) and
+///    shrinks Delta, rho > tr_grow_ratio grows it;
+///  * line_search: U + t (Y_sub - U) by Armijo backtracking on the true cost.
+/// Every accepted step lowers the true cost J (ScpInfo::merit_history is non-increasing), so the
+/// returned iterate is always the best one seen. docs/guidance_nonlinear.md tabulates the statuses.
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
@@ -24,9 +30,17 @@ enum class ScpInner {
   linear_admm = 1,  ///< guidance/admm.hpp AdmmSolver (dynamics updated in place: allocation-free)
 };
 
+/// How SCP makes its steps safe on the nonlinear model.
+enum class ScpGlobalization {
+  trust_region = 0,  ///< ratio test on the true cost, box trust region (default)
+  line_search = 1,   ///< Armijo backtracking along the subproblem's step
+};
+
 /// Settings (plain data).
 struct ScpSettings {
-  ScpInner inner_solver = ScpInner::ilqr_admm;
+  /// Default linear_admm: on random rendezvous problems it solves every subproblem to 1e-9 in a few
+  /// hundred iterations, where the iLQR-ADMM inner often stops at max_iter (docs/guidance_nonlinear.md).
+  ScpInner inner_solver = ScpInner::linear_admm;
   IlqrAdmmSettings inner_ilqr = default_inner_ilqr();  ///< for ScpInner::ilqr_admm
   static IlqrAdmmSettings default_inner_ilqr() {
     IlqrAdmmSettings s;
@@ -38,21 +52,43 @@ struct ScpSettings {
     return s;
   }
   int max_outer = 30;          ///< outer (re-linearization) iterations
-  double tol = 1e-9;           ///< stop when predicted decrease <= tol * max(1, J)
-  double armijo = 1e-4;        ///< sufficient-decrease fraction of the predicted decrease
+  double tol = 1e-9;           ///< solved when predicted decrease <= tol * max(1, J) (and see ScpStatus)
+  double armijo = 1e-4;        ///< sufficient-decrease fraction of the predicted decrease (line search)
   int line_search_iters = 30;  ///< halvings of t
   AdmmSettings inner;          ///< for ScpInner::linear_admm (defaults: residual rule, adaptive rho)
+  ScpGlobalization globalization = ScpGlobalization::trust_region;
+  /// Initial trust radius Delta on max |U - U_k| (units of the controls); 0 = the first step is
+  /// unrestricted and Delta then follows the accepted step lengths.
+  double trust_radius = 0.0;
+  double tr_accept = 0.1;       ///< accept a step when actual / predicted decrease >= this (in (0, 1))
+  double tr_grow_ratio = 0.75;  ///< grow Delta when the ratio exceeds this (in [tr_accept, 1))
+  double tr_shrink = 0.25;      ///< Delta *= tr_shrink (times the step length) on a rejection (in (0, 1))
+  double tr_grow = 2.0;         ///< Delta = max(Delta, tr_grow * step length) on a very good step (> 1)
+  /// No acceptable step (status line_search_failed) once Delta < tr_min * max(1, max |U|).
+  double tr_min = 1e-12;
+  /// At a limit (max_outer, time_limit, no acceptable step): solved_inaccurate when the last
+  /// subproblem was solved (accurately or inaccurately) and predicted <= tol_inaccurate * max(1, J).
+  double tol_inaccurate = 1e-5;
+  double time_limit = 0.0;  ///< wall-clock budget of solve(), s, checked per outer iteration (0 = none)
+  /// Throw std::invalid_argument naming the field on a bad value.
   void validate() const;
 };
 
-/// Outcome.
+/// Outcome. Whatever the status, the returned U is the iterate of lowest true cost seen (never NaN;
+/// ScpInfo::objective is its true cost, +inf only when even the initial guess does not roll out).
+/// Appended values keep the numbers of the old ones.
 enum class ScpStatus {
-  solved = 0,          ///< predicted decrease below tol
-  max_outer,           ///< max_outer reached
+  /// predicted decrease <= tol * max(1, J) on a subproblem that was solved (inner solved status),
+  /// not limited by the trust region, at an iterate inside the bounds that rolls out on the model
+  solved = 0,
+  max_outer,           ///< max_outer reached without the test above
   propagation_failed,  ///< the model failed on ScpInfo::failed_interval (initial rollout or linearization)
-  inner_failed,        ///< the convex subproblem solver failed (ScpInfo::inner_status)
-  line_search_failed,  ///< no step decreased the true cost; the current iterate is returned
+  inner_failed,        ///< the convex subproblem solver failed (ScpInfo::inner_status / inner_ilqr_status)
+  line_search_failed,  ///< no acceptable step (line search exhausted or trust radius below tr_min)
   not_run,
+  solved_inaccurate,  ///< stopped at a limit with predicted <= tol_inaccurate * max(1, J)
+  inner_infeasible,   ///< the subproblem's constraints are infeasible (inner primal infeasibility)
+  time_limit,         ///< ScpSettings::time_limit reached
 };
 const char* status_message(ScpStatus s);
 
@@ -64,8 +100,17 @@ struct ScpInfo {
   double predicted_decrease = 0.0;  ///< of the last subproblem
   double last_step = 0.0;           ///< accepted t of the last outer iteration
   int failed_interval = -1;
-  AdmmStatus inner_status = AdmmStatus::kUnsolved;             ///< linear_admm inner
-  IlqrAdmmStatus inner_ilqr_status = IlqrAdmmStatus::not_run;  ///< ilqr_admm inner
+  AdmmStatus inner_status = AdmmStatus::kUnsolved;             ///< linear_admm inner, last subproblem
+  IlqrAdmmStatus inner_ilqr_status = IlqrAdmmStatus::not_run;  ///< ilqr_admm inner, last subproblem
+  bool inner_solved = false;     ///< the last subproblem's inner status was an accurate "solved"
+  double terminal_miss = 0.0;    ///< ||x_N - x_f||_2 of the returned iterate (model units)
+  double bound_violation = 0.0;  ///< max violation of the control bounds by the returned U (0 inside)
+  int rejected_steps = 0;        ///< trust-region rejections / failed line searches
+  double trust_radius = 0.0;     ///< final Delta (+inf while unrestricted)
+  double solve_time = 0.0;       ///< wall time of solve(), s
+  /// True cost J of the iterate: entry 0 the initial guess, entry i after outer iteration i
+  /// (unchanged by a rejected step). Non-increasing. Capacity reserved at setup.
+  std::vector<double> merit_history;
 };
 
 struct ScpResult {
@@ -94,6 +139,9 @@ class ScpSolver {
   int rollout(const Eigen::MatrixXd& U, Eigen::MatrixXd& X) const;
   double true_cost(const Eigen::MatrixXd& U, Eigen::MatrixXd& X) const;
   double control_cost(const Eigen::MatrixXd& U) const;
+  double terminal_cost(const Eigen::Ref<const Eigen::VectorXd>& xN) const;
+  double model_cost(const Eigen::MatrixXd& U);  // convex model (affine rollout) at U
+  ScpStatus solve_impl();
 
   const DiscreteModel& model_;
   NonlinearL1Problem prob_;
@@ -104,7 +152,8 @@ class ScpSolver {
   std::unique_ptr<IlqrAdmmSolver> inner_;
   std::unique_ptr<AdmmSolver> admm_;
   ScpResult res_;
-  Eigen::MatrixXd Ytmp_, Utmp_, Xtmp_, Ywarm_, Lwarm_;
+  Eigen::MatrixXd Ytmp_, Utmp_, Xtmp_, Ywarm_, Lwarm_, Xlin_, Tlo_, Thi_, Ucand_;
+  Eigen::VectorXd lo_, hi_;  // real bounds (+-inf without a box)
   LtvProblem sub_;
 };
 
