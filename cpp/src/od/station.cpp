@@ -34,7 +34,7 @@ Vec3 geodetic_to_ecef(double lat_rad, double lon_rad, double height_km, const El
   core::require(std::isfinite(lat_rad) && std::abs(lat_rad) <= 0.5 * 3.14159265358979323846 + 1e-12,
                 "latitude", "must be finite and within [-90, 90] deg");
   core::require_finite(lon_rad, "longitude");
-  core::require(std::isfinite(height_km) && height_km > -12.0 && height_km < 100.0, "height",
+  core::require(std::isfinite(height_km) && height_km > -12.0 && height_km < 100.0, "height_km",
                 "must be finite, in km, within (-12, 100)", "heights are km, not m");
   core::require_positive(ell.a, "ellipsoid.a");
   core::require(std::isfinite(ell.f) && ell.f >= 0.0 && ell.f < 0.1, "ellipsoid.f", "must be in [0, 0.1)");

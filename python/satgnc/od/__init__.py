@@ -215,22 +215,22 @@ def implied_rotation_rate(station_state) -> float:
     return _c.od_implied_rotation_rate(_vector(station_state, 6, "station_state"))
 
 
-def _mtype(kind) -> MeasurementType:
+def _mtype(kind, name: str = "type") -> MeasurementType:
     if isinstance(kind, MeasurementType):
         return kind
     if not isinstance(kind, str):
-        raise TypeError(f"type: must be 'range' or 'range_rate', got {type(kind).__name__}")
+        raise TypeError(f"{name}: must be 'range' or 'range_rate', got {type(kind).__name__}")
     try:
         return _c.od_parse_measurement_type(kind)
     except ValueError as e:
-        raise ValueError(f"type: {e}") from None
+        raise ValueError(f"{name}: {e}") from None
 
 
 def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
     """Predicted observable (km or km/s) of satellite state ``x`` from ``station_state`` and its
     partials d h / d x (6,). Raises ValueError when the satellite is at the station."""
     v, g = _c.od_predict_measurement(
-        _mtype(kind), _vector(x, 6, "x"), _vector(station_state, 6, "station_state")
+        _mtype(kind, "kind"), _vector(x, 6, "x"), _vector(station_state, 6, "station_state")
     )
     return float(v), np.asarray(g).ravel()
 
