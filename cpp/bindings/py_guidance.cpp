@@ -128,6 +128,7 @@ void init_guidance(py::module_& m) {
       .def_readwrite("polish_swaps", &AdmmSettings::polish_swaps)
       .def_readwrite("eps_gap", &AdmmSettings::eps_gap)
       .def_readwrite("gap_floor", &AdmmSettings::gap_floor)
+      .def_readwrite("terminal_tolerance", &AdmmSettings::terminal_tolerance)
       .def_readwrite("gap_check_interval", &AdmmSettings::gap_check_interval)
       .def_readwrite("inaccurate_factor", &AdmmSettings::inaccurate_factor)
       .def_readwrite("time_limit", &AdmmSettings::time_limit)

@@ -25,7 +25,7 @@ using Eigen::VectorXd;
 const char* status_message(AdmmStatus s) noexcept {
   switch (s) {
     case AdmmStatus::kSolved:
-      return "solved: residuals within tolerance or certified active-set polish";
+      return "solved: residuals and relative duality gap within tolerance, or certified active-set polish";
     case AdmmStatus::kSolvedPaperRule:
       return "stopped by the paper's rule ||U-Y||/dim(U) <= eps (not a convergence certificate)";
     case AdmmStatus::kMaxIterations:
@@ -70,6 +70,7 @@ void AdmmSettings::validate() const {
   require(paper_global_rescale_iterations >= 0, "paper_global_rescale_iterations", "must be >= 0");
   core::require_nonnegative(eps_gap, "eps_gap");
   core::require_nonnegative(gap_floor, "gap_floor");
+  core::require_nonnegative(terminal_tolerance, "terminal_tolerance");
   require(gap_check_interval >= 1, "gap_check_interval", "must be >= 1");
   require(std::isfinite(inaccurate_factor) && inaccurate_factor >= 1.0, "inaccurate_factor", "must be >= 1");
   core::require_nonnegative(time_limit, "time_limit");
@@ -696,6 +697,16 @@ void AdmmSolver::update_settings(const AdmmSettings& settings) {
   set_ = settings;
 }
 
+double AdmmSolver::terminal_miss_ratio() noexcept {
+  // flown miss over the miss of the zero plan, in units of terminal_tolerance (res_.X_flown current)
+  if (!prob_.terminal_equality) return 0.0;
+  xtmp_ = res_.X_flown.col(N_) - prob_.xf;
+  xtmp2_ = xN0all_ - prob_.xf;
+  const double ref = set_.terminal_tolerance * xtmp2_.norm();
+  const double miss = xtmp_.norm();
+  return miss == 0.0 ? 0.0 : (ref > 0.0 ? miss / ref : std::numeric_limits<double>::infinity());
+}
+
 double AdmmSolver::control_cost(const Eigen::Ref<const VectorXd>& u) const noexcept {
   double c = w_.dot(u.cwiseAbs());
   if (has_group_) c += prob_.group_l2_weight * u.norm();
@@ -920,10 +931,11 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   // problem can be loose against tiny weights)
   const auto polish_gap_ok = [&]() {
     if (!gap_on) return true;
+    dual_at_u_ = false;  // the polish replaced U by the polished plan
     rollout(Y, res_.X_flown);
     const double P = trajectory_objective(res_.X_flown, Y);
     const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
-    return evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap;
+    return evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
   };
   bool ok = true;
   // condensed x/u step where it applies (a hard terminal state outside the reachable subspace goes
@@ -1087,10 +1099,12 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       }
       if (it - last_gap_it >= set_.gap_check_interval) {
         last_gap_it = it;
+        if (cond) rollout(U, X);
+        dual_at_u_ = true;
         rollout(Y, res_.X_flown);
         const double P = trajectory_objective(res_.X_flown, Y);
         const VectorXd& pm = prob_.terminal_equality ? (cond ? cg_ : ric_.terminal_multiplier()) : pz_;
-        if (evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap) {
+        if (evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0) {
           status = AdmmStatus::kSolved;
           break;
         }
@@ -1168,6 +1182,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   info.objective_u = trajectory_objective(X, U);
   info.certified = info.polished;
   {
+    dual_at_u_ = !info.polished;  // X, U: the (best) x/u iterate, rolled out above
     const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
     evaluate_gap(res_.X_flown, Y, pm, info.objective);
   }
@@ -1178,7 +1193,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
                             ? best
                             : std::max(info.primal_residual / std::max(info.eps_primal, 1e-300),
                                        info.dual_residual / std::max(info.eps_dual, 1e-300));
-    if (meas <= set_.inaccurate_factor && (!gap_on || info.duality_gap <= set_.inaccurate_factor * set_.eps_gap))
+    if (meas <= set_.inaccurate_factor && (!gap_on || info.duality_gap <= set_.inaccurate_factor * set_.eps_gap) &&
+        terminal_miss_ratio() <= set_.inaccurate_factor)
       status = AdmmStatus::kSolvedInaccurate;
   }
   info.status = status;
@@ -1203,7 +1219,7 @@ bool AdmmSolver::update_dynamics(const std::vector<MatrixXd>& A, const std::vect
   const VectorXd empty;
   for (std::size_t k = 0; k < n; ++k) {
     d.A[k] = A[k];
-    d.B[k].noalias() = B[k] * du_.asDiagonal();  // the equilibrated problem's B (same size: no allocation)
+    for (int i = 0; i < nu_; ++i) d.B[k].col(i) = B[k].col(i) * du_(i);  // the equilibrated B, in place
     if (!c.empty()) d.c[k] = c[k];
     orig_.dynamics.A[k] = A[k];
     orig_.dynamics.B[k] = B[k];

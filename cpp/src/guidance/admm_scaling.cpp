@@ -81,9 +81,14 @@ void AdmmSolver::equilibrate_problem() {
 void AdmmSolver::unscale_result() noexcept {
   // u = D_u u~, Lambda = Lambda~ / (c D_u), p = p~ / c, J = J~ / c; states are not scaled
   AdmmResult& r = res_;
-  r.U.array().colwise() *= du_.array();
-  r.Y.array().colwise() *= du_.array();
-  r.Lambda.array().colwise() /= cscale_ * du_.array();
+  // explicit loops: a broadcast of an expression would evaluate it into a heap temporary
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      r.U(i, k) *= du_(i);
+      r.Y(i, k) *= du_(i);
+      r.Lambda(i, k) /= cscale_ * du_(i);
+    }
+  }
   r.terminal_multiplier /= cscale_;
   AdmmInfo& i = r.info;
   i.objective /= cscale_;

@@ -86,8 +86,11 @@ struct AdmmSettings {
   /// Optimality test of kSolved (residual rule): besides the residuals, the relative duality gap
   /// (P - D) / max(|P|, |D|, gap_floor) of the flown plan Y must be <= eps_gap (P the objective of
   /// Y, D a Fenchel dual bound, see AdmmInfo::duality_gap). 0 disables the gap test (not advised).
-  double eps_gap = 1e-6;
+  double eps_gap = 1e-5;
   double gap_floor = 1e-300;  ///< denominator floor of the relative gap (objective units, >= 0)
+  /// With a hard terminal state, kSolved also needs the flown plan's terminal miss
+  /// ||x_N(Y) - x_f||_2 <= terminal_tolerance x ||x_N(0) - x_f||_2 (the miss of doing nothing).
+  double terminal_tolerance = 1e-6;
   int gap_check_interval = 5;  ///< once the residuals pass, iterations between gap evaluations (>= 1)
   /// kSolvedInaccurate at a limit: residuals <= inaccurate_factor x their tolerances and the gap
   /// <= inaccurate_factor x eps_gap on the returned (best) iterate.
@@ -98,12 +101,12 @@ struct AdmmSettings {
   /// Primal infeasibility check (hard terminal state with box bounds) every this many iterations.
   int infeasibility_check_interval = 25;
   /// Equilibration (read at setup; off under the paper rule, which reproduces the published
-  /// iterates): controls are scaled per axis, u = D_u u~, so the mean curvature of the smooth part
-  /// along each axis is 1 (mean over k of (Phi(N, k+1) B_k e_i)' Qf (...) + R_ii; the column norms
-  /// of dx_N/du with a hard terminal state), and the cost by c = 1 / max(1, max_i D_u,i w_i), so
-  /// rho, the tolerances and the polish tolerance are relative to the problem's own size. States
-  /// need no scaling: they are eliminated in the x/u step. Results are returned unscaled; the
-  /// residuals and eps_primal / eps_dual in AdmmInfo are those of the scaled problem.
+  /// iterates): u = D_u u~ per axis and the cost times c, so that the largest scaled L1 weight is 1
+  /// and the mean curvature of the smooth part along the axes is 256 (D_u shaped by 1 / w_i on L1
+  /// axes, by 1 / sqrt(curvature) otherwise), both rounded to powers of two (exact; the published
+  /// scenario is within sqrt 2 of that frame and is solved as given). States need no scaling: they
+  /// are eliminated in the x/u step. Results are returned unscaled; the residuals and eps_primal /
+  /// eps_dual in AdmmInfo are those of the scaled problem. See docs/guidance.md.
   bool equilibrate = true;
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
@@ -238,8 +241,13 @@ class AdmmSolver {
   /// info primal/dual objective and duality_gap, returns the relative gap.
   double evaluate_gap(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
                       const Eigen::Ref<const Eigen::VectorXd>& p, double P) noexcept;
+  /// The Fenchel dual bound D built from the residuals at (X, U) (any control sequence).
+  double dual_bound(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
+                    const Eigen::Ref<const Eigen::VectorXd>& p) noexcept;
+  bool dual_at_u_ = false;  ///< res_.X, res_.U hold the x/u iterate: also try the dual bound there
   /// Farkas test of candidate y for x_f unreachable within the box; true and stores it if it holds.
   bool check_infeasible(const Eigen::Ref<const Eigen::VectorXd>& y) noexcept;
+  double terminal_miss_ratio() noexcept;
   static double estimate_workspace_bytes(int nx, int nu, int N) noexcept;
   bool cond_factor(double rho) noexcept;
   void cond_step() noexcept;
