@@ -106,6 +106,7 @@ def random_suite():
     path = pathlib.Path(__file__).resolve().parents[1] / "tests" / "python" / "test_l1_random.py"
     spec = importlib.util.spec_from_file_location("l1_random_suite", path)
     mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod  # dataclasses look their module up there
     spec.loader.exec_module(mod)
     its, ts, tcs, ratios, labels = [], [], [], [], []
     for case in mod.suite():

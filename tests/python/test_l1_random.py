@@ -126,8 +126,7 @@ def _clarabel(kw, normalized):
     w0 = np.tile(kw["l1_weights"], N)
     J0 = J0 if J0 > 0 else max(float(np.sum(w0 * su)), 1e-300)
     cs = 1.0 / J0 if normalized else 1.0
-    v = cp.Variable(N * nu)
-    u = cp.multiply(su, v)
+    v = cp.Variable(N * nu)  # u = su * v
     xN = free[N] + (G[N] * su) @ v
     obj = 0
     cons = []
@@ -186,7 +185,7 @@ def check(case, res, ref, status_ref):
         xN0 = np.linalg.matrix_power(A, N) @ x0
         lam = y.copy()
         sig = 0.0
-        for k in range(N - 1, -1, -1):
+        for _ in range(N):  # k = N-1 .. 0: m_k = B' Phi(N, k+1)' y
             m = B.T @ lam
             sig += np.sum(np.maximum(m * kw["u_lower"], m * kw["u_upper"]))
             lam = A.T @ lam
@@ -322,3 +321,41 @@ def test_reproducer(make, known):
     assert (r.objective - obj) / abs(obj) <= 1e-4
     assert r.duality_gap <= 1e-5
     assert r.dual_objective <= obj * (1 + 1e-9) + 1e-300
+
+
+# ---- limits and settings
+
+def test_huge_horizon_is_a_clear_error_naming_the_memory():
+    A, B = g.cw_discretize(0.0011, 1, 30, "zoh")
+    msg = r"horizon: N = 1000000 needs a workspace of \d+ bytes \([\d.]+ MB\)"
+    with pytest.raises(ValueError, match=msg):
+        g.L1Solver(A, B, np.ones(6), horizon=10**6, Qf=np.eye(6))
+    with pytest.raises(ValueError, match="horizon: must be < 2"):
+        g.L1Solver(A, B, np.ones(6), horizon=2**31, Qf=np.eye(6))
+
+
+@pytest.mark.parametrize("key, val, exc, word", [
+    ("max_iterations", "x", TypeError, "settings.max_iterations: must be an integer"),
+    ("max_iterations", 2.0, TypeError, "settings.max_iterations: must be an integer"),
+    ("polish", "false", TypeError, "settings.polish: must be true or false"),
+    ("eps_gap", 1j, TypeError, "settings.eps_gap: must be a real number"),
+    ("time_limit", -1.0, ValueError, "time_limit"),
+    ("eps_gap", -1.0, ValueError, "eps_gap"),
+    ("max_workspace_bytes", 0.0, ValueError, "max_workspace_bytes"),
+])
+def test_bad_settings_name_the_setting(key, val, exc, word):
+    with pytest.raises(exc, match=word):
+        g.L1Solver(**_repro_tiny_rho(), settings={key: val})
+
+
+def test_time_limit_status():
+    r = g.L1Solver(**_repro_false_solved(), settings={"time_limit": 1e-9, "polish": False}).solve()
+    assert r.status == "time_limit"
+    assert r.iterations == 1
+    assert np.isfinite(r.objective) and r.objective > 0
+
+
+def test_certified_and_gap_on_a_polished_solve():
+    r = g.L1Solver(**_repro_tiny_rho()).solve()
+    assert r.status == "solved" and r.certified and r.polished
+    assert abs(r.duality_gap) <= 1e-9

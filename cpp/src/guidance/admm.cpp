@@ -1,6 +1,7 @@
 // ADMM with a Riccati step for L1 / group-L2 / box-constrained LTV guidance (see admm.hpp).
 #include "satgnc/guidance/admm.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -11,8 +12,6 @@
 #include <limits>
 #include <string>
 #include <type_traits>
-
-#include <Eigen/Eigenvalues>
 
 #include "satgnc/core/validate.hpp"
 
@@ -91,9 +90,10 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
     const double bytes = estimate_workspace_bytes(nx_, nu_, N_);
     res_.info.workspace_bytes = bytes;
     char buf[160];
-    std::snprintf(buf, sizeof buf, "workspace of %.0f bytes (%.1f MB) exceeds max_workspace_bytes = %.0f", bytes,
-                  bytes / 1e6, set_.max_workspace_bytes);
-    require(bytes <= set_.max_workspace_bytes, "horizon", std::string("N = ") + std::to_string(N_) + " needs a " + buf,
+    std::snprintf(buf, sizeof buf, "workspace of %.0f bytes (%.1f MB) exceeds max_workspace_bytes = %.0f",
+                  bytes, bytes / 1e6, set_.max_workspace_bytes);
+    require(bytes <= set_.max_workspace_bytes, "horizon",
+            std::string("N = ") + std::to_string(N_) + " needs a " + buf,
             "shorten the horizon (receding horizon) or raise AdmmSettings::max_workspace_bytes");
   }
   const std::string snx = std::to_string(nx_), snu = std::to_string(nu_);
@@ -190,7 +190,8 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
     if (diag) {
       rg_ = prob_.R.diagonal().cwiseMax(0.0);
     } else {
-      Eigen::SelfAdjointEigenSolver<MatrixXd> es(0.5 * (prob_.R + prob_.R.transpose()), Eigen::EigenvaluesOnly);
+      Eigen::SelfAdjointEigenSolver<MatrixXd> es(0.5 * (prob_.R + prob_.R.transpose()),
+                                                 Eigen::EigenvaluesOnly);
       rg_.setConstant(std::max(0.0, es.eigenvalues().minCoeff()));
     }
   }
@@ -1110,7 +1111,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
         }
       }
     }
-    if (timed && std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > set_.time_limit) {
+    if (timed &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > set_.time_limit) {
       status = AdmmStatus::kTimeLimit;
       break;
     }
@@ -1193,7 +1195,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
                             ? best
                             : std::max(info.primal_residual / std::max(info.eps_primal, 1e-300),
                                        info.dual_residual / std::max(info.eps_dual, 1e-300));
-    if (meas <= set_.inaccurate_factor && (!gap_on || info.duality_gap <= set_.inaccurate_factor * set_.eps_gap) &&
+    if (meas <= set_.inaccurate_factor &&
+        (!gap_on || info.duality_gap <= set_.inaccurate_factor * set_.eps_gap) &&
         terminal_miss_ratio() <= set_.inaccurate_factor)
       status = AdmmStatus::kSolvedInaccurate;
   }

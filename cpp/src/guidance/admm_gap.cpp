@@ -24,7 +24,8 @@ double AdmmSolver::estimate_workspace_bytes(int nx, int nu, int N) noexcept {
   return 8.0 * (per_stage * (static_cast<double>(N) + 1.0) + 64.0 * (n + m) * (n + m) + 512.0 * n * n);
 }
 
-double AdmmSolver::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
+double AdmmSolver::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
+                                       const Eigen::Ref<const MatrixXd>& U,
                                        const Eigen::Ref<const VectorXd>& p, bool with_cost) noexcept {
   const LtvDynamics& d = prob_.dynamics;
   double f = 0.0;

@@ -50,15 +50,15 @@ struct AdmmSettings {
   double rho = 0.2;            ///< initial penalty (> 0)
   int max_iterations = 10000;  ///< >= 1
   StoppingRule stopping = StoppingRule::kResiduals;
-  double eps_abs = 1e-7;                ///< absolute tolerance on both residuals (>= 0)
-  double eps_rel = 1e-6;                ///< relative tolerance (>= 0)
-  double paper_eps = 1e-3;              ///< threshold of the paper's rule (> 0)
-  double relaxation = 1.8;              ///< over-relaxation alpha in (0, 2); 1 = none (paper)
-  bool adaptive_rho = true;             ///< residual balancing (OSQP rule)
-  int adaptive_rho_interval = 25;       ///< iterations between rho checks
-  double adaptive_rho_tolerance = 5.0;  ///< refactor only if rho changes by more than this factor
+  double eps_abs = 1e-7;                  ///< absolute tolerance on both residuals (>= 0)
+  double eps_rel = 1e-6;                  ///< relative tolerance (>= 0)
+  double paper_eps = 1e-3;                ///< threshold of the paper's rule (> 0)
+  double relaxation = 1.8;                ///< over-relaxation alpha in (0, 2); 1 = none (paper)
+  bool adaptive_rho = true;               ///< residual balancing (OSQP rule)
+  int adaptive_rho_interval = 25;         ///< iterations between rho checks
+  double adaptive_rho_tolerance = 5.0;    ///< refactor only if rho changes by more than this factor
   double rho_min = 1e-12, rho_max = 1e6;  ///< bounds of adaptive rho (on the equilibrated problem)
-  bool cache_gains = true;  ///< false: full Riccati recursion every iteration (reference)
+  bool cache_gains = true;                ///< false: full Riccati recursion every iteration (reference)
   /// Condensed x/u step when the problem has no stage state cost (Q = 0) and R is empty or
   /// diagonal: x_N = x_N(U = 0) + M vec(U) with M = [Phi(N, k+1) B_k]_k, so the LQR step is two
   /// products with the stored nx x N nu matrix M and one cached nx x nx LU (refactored with rho).
@@ -154,7 +154,7 @@ struct AdmmInfo {
   double primal_objective = 0.0;
   double dual_objective = 0.0;
   double duality_gap = 0.0;
-  bool certified = false;  ///< the polish optimality certificate holds (same as polished)
+  bool certified = false;        ///< the polish optimality certificate holds (same as polished)
   double workspace_bytes = 0.0;  ///< setup's estimate of the workspace (size check)
 };
 
@@ -233,7 +233,8 @@ class AdmmSolver {
   void update_psib() noexcept;
   /// Backward costate sweep at (X, U) with terminal costate Qf (x_N - x_f) + p: fills Hg_ with the
   /// Lagrangian gradient grad f(U) + M' p (nu x N) and returns the smooth part f(U).
-  double lagrangian_gradient(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
+  double lagrangian_gradient(const Eigen::Ref<const Eigen::MatrixXd>& X,
+                             const Eigen::Ref<const Eigen::MatrixXd>& U,
                              const Eigen::Ref<const Eigen::VectorXd>& p, bool with_cost) noexcept;
   /// Conjugate g*(s z) of the nonsmooth part at z = -Hg_ (infinite if outside its domain).
   double conj_g(double s) const noexcept;
@@ -265,9 +266,9 @@ class AdmmSolver {
 
   void equilibrate_problem();
   void unscale_result() noexcept;
-  LtvProblem orig_;  ///< as given
-  LtvProblem prob_;  ///< equilibrated (the solver's)
-  Eigen::VectorXd du_;  ///< control scaling D_u
+  LtvProblem orig_;      ///< as given
+  LtvProblem prob_;      ///< equilibrated (the solver's)
+  Eigen::VectorXd du_;   ///< control scaling D_u
   double cscale_ = 1.0;  ///< cost scaling c
   bool scaled_ = false;
   AdmmSettings set_;
