@@ -169,6 +169,8 @@ TEST(AdmmHonest, HugeHorizonIsRejectedWithItsMemory) {
     EXPECT_NE(m.find("bytes"), std::string::npos) << m;
     EXPECT_NE(m.find("MB"), std::string::npos) << m;
   }
+  AdmmSolver ok(false_solved_problem());
+  EXPECT_GT(ok.solve().info.workspace_bytes, 1e3);
   AdmmSettings st;
   st.max_workspace_bytes = 1e3;
   EXPECT_THROW(AdmmSolver(false_solved_problem(), st), std::invalid_argument);

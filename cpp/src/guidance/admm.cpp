@@ -900,6 +900,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   const auto t0 = std::chrono::steady_clock::now();
   AdmmInfo& info = res_.info;
   info = AdmmInfo();
+  info.workspace_bytes = estimate_workspace_bytes(nx_, nu_, N_);
   const int fact0 = ric_.factorizations();
   double rho = set_.rho;
   MatrixXd& X = res_.X;
