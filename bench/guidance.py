@@ -3,12 +3,18 @@
 Run: .venv/bin/python bench/guidance.py   (single-threaded BLAS; numbers go to docs/guidance.md)
 Measures, in one run: (1) time to 1e-4 relative optimality vs Clarabel (solver time and cvxpy total);
 (2) ADMM iterations to 1e-4 with the defaults (adaptive rho, over-relaxation, polish) vs the fixed
-paper rho; (3) time per cached-gain iteration vs its flop count and this machine's measured flop rate.
+paper rho; (3) time per cached-gain iteration vs its flop count and this machine's measured flop rate;
+(4) the seeded random suite of tests/python/test_l1_random.py (default settings): solved share,
+iterations and solve time (median / 95th percentile) against Clarabel's own solve time.
+`--suite` runs only (4).
 """
 
 from __future__ import annotations
 
+import importlib.util
 import os
+import pathlib
+import sys
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -95,7 +101,47 @@ def machine_flop_rate():
     return 2 * 600**3 / best
 
 
+def random_suite():
+    """(4): each problem solved once by satgnc (defaults) and by Clarabel (its own solve time)."""
+    path = pathlib.Path(__file__).resolve().parents[1] / "tests" / "python" / "test_l1_random.py"
+    spec = importlib.util.spec_from_file_location("l1_random_suite", path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod  # dataclasses look their module up there
+    spec.loader.exec_module(mod)
+    its, ts, tcs, ratios, labels = [], [], [], [], []
+    for case in mod.suite():
+        solver = L1Solver(**case.kw)
+        res = solver.solve()
+        ref, st = mod.clarabel(case.kw)
+        label, _ = mod.check(case, res, ref, st)
+        labels.append(label)
+        if label != "ok":
+            continue
+        t = time_solver(solver, 3)  # best of 3 of the same solve (solve()'s own clock)
+        its.append(res.iterations)
+        ts.append(t)
+        tcs.append(ref[2])
+        ratios.append(ref[2] / t)
+    feasible = sum(lab in ("ok", "unsolved", "false_solved") for lab in labels)
+    print(f"\nrandom suite ({len(labels)} problems, {feasible} feasible with a Clarabel optimum): "
+          f"solved to 1e-4 {labels.count('ok')} ({100 * labels.count('ok') / max(feasible, 1):.1f} %), "
+          f"false solved {labels.count('false_solved')}, unsolved {labels.count('unsolved')}, "
+          f"infeasible reported {labels.count('infeasible_ok')}, infeasible missed "
+          f"{labels.count('infeasible_missed')}, Clarabel failed {labels.count('ref_failed')}")
+    if its:
+        q = lambda v, p: float(np.percentile(v, p))  # noqa: E731
+        print("| solved problems | median | 95th percentile |\n|---|---|---|")
+        print(f"| satgnc iterations | {q(its, 50):.0f} | {q(its, 95):.0f} |")
+        print(f"| satgnc solve time | {q(ts, 50) * 1e3:.3f} ms | {q(ts, 95) * 1e3:.3f} ms |")
+        print(f"| Clarabel solve time | {q(tcs, 50) * 1e3:.3f} ms | {q(tcs, 95) * 1e3:.3f} ms |")
+        print(f"| Clarabel time / satgnc time (per problem) | {q(ratios, 50):.2f}x | "
+              f"{q(ratios, 5):.2f}x (5th percentile) |")
+
+
 def main():
+    if "--suite" in sys.argv:
+        random_suite()
+        return
     sc = scen.load()
     rows = []
     print(f"satgnc {_satgnc.__version__}; target relative optimality {TARGET:g}")
@@ -164,6 +210,7 @@ def main():
           f"{tc_cpu * 1e6:.2f} us thread CPU time ({tc * 1e6:.2f} us best wall), "
           f"{fl_c / tc_cpu / 1e9:.2f} Gflop/s achieved; "
           f"time / (flops / dgemm rate) = {tc_cpu / (fl_c / rate):.1f}x")
+    random_suite()
 
 
 if __name__ == "__main__":

@@ -46,6 +46,12 @@ py::dict result_to_dict(const guidance::AdmmResult& r) {
   d["polish_attempts"] = i.polish_attempts;
   d["condensed"] = i.condensed;
   d["solve_time"] = i.solve_time;
+  d["primal_objective"] = i.primal_objective;
+  d["dual_objective"] = i.dual_objective;
+  d["duality_gap"] = i.duality_gap;
+  d["certified"] = i.certified;
+  d["workspace_bytes"] = i.workspace_bytes;
+  d["infeasibility_certificate"] = r.infeasibility_certificate;
   return d;
 }
 }  // namespace
@@ -124,7 +130,16 @@ void init_guidance(py::module_& m) {
       .def_readwrite("polish_max_free", &AdmmSettings::polish_max_free)
       .def_readwrite("polish_tolerance", &AdmmSettings::polish_tolerance)
       .def_readwrite("polish_dual", &AdmmSettings::polish_dual)
-      .def_readwrite("polish_swaps", &AdmmSettings::polish_swaps);
+      .def_readwrite("polish_swaps", &AdmmSettings::polish_swaps)
+      .def_readwrite("eps_gap", &AdmmSettings::eps_gap)
+      .def_readwrite("gap_floor", &AdmmSettings::gap_floor)
+      .def_readwrite("terminal_tolerance", &AdmmSettings::terminal_tolerance)
+      .def_readwrite("gap_check_interval", &AdmmSettings::gap_check_interval)
+      .def_readwrite("inaccurate_factor", &AdmmSettings::inaccurate_factor)
+      .def_readwrite("time_limit", &AdmmSettings::time_limit)
+      .def_readwrite("max_workspace_bytes", &AdmmSettings::max_workspace_bytes)
+      .def_readwrite("infeasibility_check_interval", &AdmmSettings::infeasibility_check_interval)
+      .def_readwrite("equilibrate", &AdmmSettings::equilibrate);
 
   py::class_<AdmmSolver>(m, "AdmmSolver")
       .def(py::init([](std::vector<Eigen::MatrixXd> A, std::vector<Eigen::MatrixXd> B,
@@ -148,6 +163,7 @@ void init_guidance(py::module_& m) {
              p.u_upper = u_upper;
              p.u_norm_max = u_norm_max;
              p.terminal_equality = terminal_equality;
+             py::gil_scoped_release release;  // setup factors and allocates: long for long horizons
              return new AdmmSolver(p, settings);
            }),
            py::arg("A"), py::arg("B"), py::arg("c"), py::arg("horizon"), py::arg("x0"), py::arg("xf"),

@@ -165,6 +165,7 @@ TEST(Admm, SolveDoesNotAllocate) {
     AdmmSettings st;
     st.max_iterations = 300;  // includes adaptive-rho refactorizations
     st.adaptive_rho_interval = 10;
+    st.rho = 50.0;  // far from where adaptation takes it: refactorizations certainly happen
     AdmmSolver s(scenario_problem(true, terminal), st);
     s.solve();                                                        // warm-up (first-touch)
     AdmmSolver s2(random_problem(5, 2, 30, 3u, true, terminal), st);  // dynamic-size path

@@ -49,6 +49,8 @@ TEST(AdmmUpdateDynamics, SameResultAsAFreshSolver) {
     p2x.x0 = p1.x0;  // only the dynamics change
     AdmmSettings st;
     st.max_iterations = 400;
+    // update_dynamics keeps the setup's equilibration; a fresh solver would scale for p2
+    st.equilibrate = false;
     AdmmSolver updated(p1, st);
     updated.solve();
     ASSERT_TRUE(updated.update_dynamics(p2.dynamics.A, p2.dynamics.B, p2.dynamics.c));
@@ -61,6 +63,23 @@ TEST(AdmmUpdateDynamics, SameResultAsAFreshSolver) {
     EXPECT_LE(std::abs(r1.info.objective - r2.info.objective),
               1e-12 * std::max(1.0, std::abs(r2.info.objective)));
   }
+}
+
+TEST(AdmmUpdateDynamics, EquilibratedSolverReachesTheSameOptimum) {
+  // with equilibration the updated solver keeps its scaling: other iterates, the same optimum
+  const LtvProblem p1 = tv_problem(6, 3, 25, 3u, false, false);
+  const LtvProblem p2 = tv_problem(6, 3, 25, 17u, false, false);
+  LtvProblem p2x = p2;
+  p2x.x0 = p1.x0;
+  AdmmSolver updated(p1);
+  updated.solve();
+  ASSERT_TRUE(updated.update_dynamics(p2.dynamics.A, p2.dynamics.B, p2.dynamics.c));
+  const AdmmResult r1 = updated.solve();
+  AdmmSolver fresh(p2x);
+  const AdmmResult& r2 = fresh.solve();
+  ASSERT_EQ(r1.info.status, AdmmStatus::kSolved);
+  ASSERT_EQ(r2.info.status, AdmmStatus::kSolved);
+  EXPECT_LE(std::abs(r1.info.objective - r2.info.objective), 2e-5 * std::abs(r2.info.objective));
 }
 
 TEST(AdmmUpdateDynamics, DoesNotAllocate) {

@@ -1,11 +1,13 @@
 // ADMM with a Riccati step for L1 / group-L2 / box-constrained LTV guidance (see admm.hpp).
 #include "satgnc/guidance/admm.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -22,7 +24,7 @@ using Eigen::VectorXd;
 const char* status_message(AdmmStatus s) noexcept {
   switch (s) {
     case AdmmStatus::kSolved:
-      return "solved: residuals within tolerance or certified active-set polish";
+      return "solved: residuals and relative duality gap within tolerance, or certified active-set polish";
     case AdmmStatus::kSolvedPaperRule:
       return "stopped by the paper's rule ||U-Y||/dim(U) <= eps (not a convergence certificate)";
     case AdmmStatus::kMaxIterations:
@@ -65,6 +67,14 @@ void AdmmSettings::validate() const {
   require(polish_swaps >= 0, "polish_swaps", "must be >= 0");
   core::require_positive(polish_tolerance, "polish_tolerance");
   require(paper_global_rescale_iterations >= 0, "paper_global_rescale_iterations", "must be >= 0");
+  core::require_nonnegative(eps_gap, "eps_gap");
+  core::require_nonnegative(gap_floor, "gap_floor");
+  core::require_nonnegative(terminal_tolerance, "terminal_tolerance");
+  require(gap_check_interval >= 1, "gap_check_interval", "must be >= 1");
+  require(std::isfinite(inaccurate_factor) && inaccurate_factor >= 1.0, "inaccurate_factor", "must be >= 1");
+  core::require_nonnegative(time_limit, "time_limit");
+  core::require_positive(max_workspace_bytes, "max_workspace_bytes");
+  require(infeasibility_check_interval >= 1, "infeasibility_check_interval", "must be >= 1");
 }
 
 AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
@@ -75,6 +85,17 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
   nx_ = prob_.dynamics.nx();
   nu_ = prob_.dynamics.nu();
   N_ = prob_.dynamics.horizon;
+  {
+    // size check before anything is allocated: a horizon whose workspace cannot be held is an error
+    const double bytes = estimate_workspace_bytes(nx_, nu_, N_);
+    res_.info.workspace_bytes = bytes;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "workspace of %.0f bytes (%.1f MB) exceeds max_workspace_bytes = %.0f",
+                  bytes, bytes / 1e6, set_.max_workspace_bytes);
+    require(bytes <= set_.max_workspace_bytes, "horizon",
+            std::string("N = ") + std::to_string(N_) + " needs a " + buf,
+            "shorten the horizon (receding horizon) or raise AdmmSettings::max_workspace_bytes");
+  }
   const std::string snx = std::to_string(nx_), snu = std::to_string(nu_);
   require(prob_.x0.size() == nx_, "x0", "must have nx = " + snx + " entries");
   core::require_finite(prob_.x0, "x0");
@@ -122,6 +143,11 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
           "a gimballed engine is bounded by u_norm_max");
   require(!(has_ball_ && (has_l1_ || has_box_)), "u_norm_max",
           "needs zero l1_weights and no per-axis bounds (no closed-form prox otherwise)");
+  orig_ = prob_;
+  du_.setOnes(nu_);
+  cscale_ = 1.0;
+  scaled_ = set_.equilibrate && set_.stopping == StoppingRule::kResiduals;
+  if (scaled_) equilibrate_problem();
   ric_.setup(prob_.dynamics, prob_.Q, prob_.R, prob_.Qf, prob_.terminal_equality);
   require(ric_.factor(set_.rho), "rho", "Riccati factorization failed",
           "rho must make R + rho I positive definite");
@@ -149,6 +175,31 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
   res_.X_flown.setZero(nx_, N_ + 1);
   res_.terminal_multiplier.setZero(nx_);
   Gd_.setZero(nu_, N_);
+  Hg_.setZero(nu_, N_);
+  lam_.setZero(nx_);
+  lam2_.setZero(nx_);
+  xN0all_.setZero(nx_);
+  ycand_.setZero(nx_);
+  pz_.setZero(nx_);
+  res_.infeasibility_certificate.setZero(nx_);
+  // the diagonal of R goes into g for the dual bound (its conjugate is then finite everywhere);
+  // a non-diagonal R keeps its off-diagonal part in f (R - diag(rg) may be indefinite: then all of R)
+  rg_.setZero(nu_);
+  if (prob_.R.size() != 0 && !has_group_ && !has_ball_) {
+    const bool diag = (prob_.R - MatrixXd(prob_.R.diagonal().asDiagonal())).cwiseAbs().maxCoeff() == 0.0;
+    if (diag) {
+      rg_ = prob_.R.diagonal().cwiseMax(0.0);
+    } else {
+      Eigen::SelfAdjointEigenSolver<MatrixXd> es(0.5 * (prob_.R + prob_.R.transpose()),
+                                                 Eigen::EigenvaluesOnly);
+      rg_.setConstant(std::max(0.0, es.eigenvalues().minCoeff()));
+    }
+  }
+  if (prob_.R.size() != 0) {
+    Rf_ = prob_.R;
+    Rf_.diagonal() -= rg_;
+    rf_on_ = Rf_.cwiseAbs().maxCoeff() > 0.0;
+  }
   // polish needs Q = 0, plain L1 (+ box straddling zero); see AdmmSettings::polish
   polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ && (lo_.array() < 0.0).all() &&
                (hi_.array() > 0.0).all();
@@ -534,7 +585,7 @@ bool AdmmSolver::polish_solve(int F) noexcept {
     for (int j = 0; j < nx_; ++j) rhs_(F + j) = -xtmp_(j);
   }
   if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
-  const double tol = set_.polish_tolerance * std::max(1.0, w_.maxCoeff());
+  const double tol = set_.polish_tolerance * (scaled_ ? w_.maxCoeff() : std::max(1.0, w_.maxCoeff()));
   for (int a = 0; a < F; ++a) {
     const int k = free_idx_[static_cast<std::size_t>(a)] / nu_,
               i = free_idx_[static_cast<std::size_t>(a)] % nu_;
@@ -620,6 +671,10 @@ void AdmmSolver::warm_start(const Eigen::Ref<const MatrixXd>& Y, const Eigen::Re
   core::require_finite(Lambda, "Lambda");
   Yws_ = Y;
   Lws_ = Lambda;
+  if (scaled_) {  // into the scaled problem: Y~ = D_u^-1 Y, Lambda~ = c D_u Lambda
+    Yws_.array().colwise() /= du_.array();
+    Lws_.array().colwise() *= cscale_ * du_.array();
+  }
   warm_ = true;
 }
 
@@ -627,18 +682,30 @@ void AdmmSolver::set_x0(const Eigen::Ref<const VectorXd>& x0) {
   core::require(x0.size() == nx_, "x0", "must have nx entries");
   core::require_finite(x0, "x0");
   prob_.x0 = x0;
+  orig_.x0 = x0;
 }
 
 void AdmmSolver::set_xf(const Eigen::Ref<const VectorXd>& xf) {
   core::require(xf.size() == nx_, "xf", "must have nx entries");
   core::require_finite(xf, "xf");
   prob_.xf = xf;
+  orig_.xf = xf;
   update_linear_terms();
 }
 
 void AdmmSolver::update_settings(const AdmmSettings& settings) {
   settings.validate();
   set_ = settings;
+}
+
+double AdmmSolver::terminal_miss_ratio() noexcept {
+  // flown miss over the miss of the zero plan, in units of terminal_tolerance (res_.X_flown current)
+  if (!prob_.terminal_equality) return 0.0;
+  xtmp_ = res_.X_flown.col(N_) - prob_.xf;
+  xtmp2_ = xN0all_ - prob_.xf;
+  const double ref = set_.terminal_tolerance * xtmp2_.norm();
+  const double miss = xtmp_.norm();
+  return miss == 0.0 ? 0.0 : (ref > 0.0 ? miss / ref : std::numeric_limits<double>::infinity());
 }
 
 double AdmmSolver::control_cost(const Eigen::Ref<const VectorXd>& u) const noexcept {
@@ -682,9 +749,11 @@ void AdmmSolver::rollout(const Eigen::Ref<const MatrixXd>& U, Eigen::Ref<MatrixX
 
 double AdmmSolver::objective_of(const Eigen::Ref<const MatrixXd>& U) const {
   core::require(U.rows() == nu_ && U.cols() == N_, "U", "must be nu x N");
+  MatrixXd Us = U;
+  Us.array().colwise() /= du_.array();
   MatrixXd X(nx_, N_ + 1);
-  rollout(U, X);
-  return trajectory_objective(X, U);
+  rollout(Us, X);
+  return trajectory_objective(X, Us) / cscale_;
 }
 
 namespace {
@@ -831,6 +900,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   const auto t0 = std::chrono::steady_clock::now();
   AdmmInfo& info = res_.info;
   info = AdmmInfo();
+  info.workspace_bytes = estimate_workspace_bytes(nx_, nu_, N_);
   const int fact0 = ric_.factorizations();
   double rho = set_.rho;
   MatrixXd& X = res_.X;
@@ -844,15 +914,31 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     Y.setZero();
     L.setZero();
   }
-  if (psi_ok_) {  // x_N of the zero control (x0 and x_f may change between solves)
+  {  // x_N of the zero control (x0 and x_f may change between solves)
     const LtvDynamics& d = prob_.dynamics;
-    xN0_ = prob_.x0;
+    xN0all_ = prob_.x0;
     for (int k = 0; k < N_; ++k) {
-      xtmp_.noalias() = d.A_at(k) * xN0_;
+      xtmp_.noalias() = d.A_at(k) * xN0all_;
       if (!d.c.empty()) xtmp_ += d.c.size() == 1 ? d.c[0] : d.c[k];
-      xN0_ = xtmp_;
+      xN0all_ = xtmp_;
     }
+    if (psi_ok_) xN0_ = xN0all_;
   }
+  res_.infeasibility_certificate.setZero();
+  const bool timed = set_.time_limit > 0.0;
+  const bool gap_on = set_.eps_gap > 0.0;
+  const bool infeas_on = prob_.terminal_equality && has_box_;
+  int last_gap_it = -set_.gap_check_interval;
+  // a polish certificate is accepted only if the duality gap agrees (tolerances of the scaled
+  // problem can be loose against tiny weights)
+  const auto polish_gap_ok = [&]() {
+    if (!gap_on) return true;
+    dual_at_u_ = false;  // the polish replaced U by the polished plan
+    rollout(Y, res_.X_flown);
+    const double P = trajectory_objective(res_.X_flown, Y);
+    const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
+    return evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
+  };
   bool ok = true;
   // condensed x/u step where it applies (a hard terminal state outside the reachable subspace goes
   // to the Riccati step, which reports it)
@@ -957,9 +1043,12 @@ const AdmmResult& AdmmSolver::solve() noexcept {
         have_dtried = true;
         ++res_.info.polish_attempts;
         if (polish_solve(F) || polish_swaps(F)) {
-          info.polished = true;
-          status = AdmmStatus::kSolved;
-          break;
+          if (polish_gap_ok()) {
+            info.polished = true;
+            status = AdmmStatus::kSolved;
+            break;
+          }
+          r_valid = false;  // rejected by the gap: ADMM continues from the polished Y, Lambda
         }
         failed[static_cast<std::size_t>(next_failed)] = dsig;
         next_failed = (next_failed + 1) % static_cast<int>(failed.size());
@@ -985,9 +1074,12 @@ const AdmmResult& AdmmSolver::solve() noexcept {
         have_tried = true;
         // with more than nx free entries the kept ones are ranked by |Y|, then by the dual estimate
         if (try_polish(false) || (dual_ok_ && set_.polish_dual && st.nfree > nx_ && try_polish(true))) {
-          info.polished = true;
-          status = AdmmStatus::kSolved;
-          break;
+          if (polish_gap_ok()) {
+            info.polished = true;
+            status = AdmmStatus::kSolved;
+            break;
+          }
+          r_valid = false;
         }
         if (!by_magnitude) {
           yfailed[static_cast<std::size_t>(next_yfailed)] = st.signature;
@@ -1002,14 +1094,57 @@ const AdmmResult& AdmmSolver::solve() noexcept {
         break;
       }
     } else if (prim <= info.eps_primal && dual <= info.eps_dual) {
-      status = AdmmStatus::kSolved;
+      // the residuals are not an optimality test: also require the relative duality gap of Y
+      if (!gap_on) {
+        status = AdmmStatus::kSolved;
+        break;
+      }
+      if (it - last_gap_it >= set_.gap_check_interval) {
+        last_gap_it = it;
+        if (cond) rollout(U, X);
+        dual_at_u_ = true;
+        rollout(Y, res_.X_flown);
+        const double P = trajectory_objective(res_.X_flown, Y);
+        const VectorXd& pm = prob_.terminal_equality ? (cond ? cg_ : ric_.terminal_multiplier()) : pz_;
+        if (evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0) {
+          status = AdmmStatus::kSolved;
+          break;
+        }
+      }
+    }
+    if (timed &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > set_.time_limit) {
+      status = AdmmStatus::kTimeLimit;
       break;
     }
+    if (infeas_on && it % set_.infeasibility_check_interval == 0 && prim > info.eps_primal) {
+      // Farkas candidates: the terminal multiplier (it diverges along the certificate) and the miss
+      // of the flown plan, both signs
+      const VectorXd& pm = cond ? cg_ : ric_.terminal_multiplier();
+      lam2_ = pm;
+      bool found = check_infeasible(lam2_);
+      if (!found) {
+        lam2_ = -pm;
+        found = check_infeasible(lam2_);
+      }
+      if (!found) {
+        rollout(Y, res_.X_flown);
+        lam2_ = prob_.xf - res_.X_flown.col(N_);
+        found = check_infeasible(lam2_);
+      }
+      if (found) {
+        status = AdmmStatus::kPrimalInfeasible;
+        break;
+      }
+    }
     if (set_.adaptive_rho && it % set_.adaptive_rho_interval == 0) {
+      // OSQP's rule on normalized residuals; a zero residual (e.g. Y stuck at 0: no dual residual)
+      // still moves rho, by at most 100x per update
       const double pn = prim / std::max(std::max(st.nU, st.nY), 1e-300);
       const double dn = dual / std::max(nL, 1e-300);
-      if (pn > 0.0 && dn > 0.0) {
-        const double rho_new = std::clamp(rho * std::sqrt(pn / dn), set_.rho_min, set_.rho_max);
+      if (pn > 0.0 || dn > 0.0) {
+        const double ratio = std::clamp(std::sqrt(pn / std::max(dn, 1e-300)), 1e-2, 1e2);
+        const double rho_new = std::clamp(rho * ratio, set_.rho_min, set_.rho_max);
         if (rho_new > set_.adaptive_rho_tolerance * rho || rho_new < rho / set_.adaptive_rho_tolerance) {
           rho = rho_new;
           r_valid = false;
@@ -1026,7 +1161,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       }
     }
   }
-  if (status == AdmmStatus::kMaxIterations && set_.track_best && std::isfinite(best)) {
+  const bool at_limit = status == AdmmStatus::kMaxIterations || status == AdmmStatus::kTimeLimit;
+  if (at_limit && set_.track_best && std::isfinite(best)) {
     U = bU_;
     Y = bY_;
     L = bL_;
@@ -1038,7 +1174,6 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     rollout(U, X);  // the condensed step produces U only
   }
   if (!paper_rule && flat_ok_) info.paper_criterion = (U - Y).norm() / dimU;  // of the returned iterate
-  info.status = status;
   info.iterations = it;
   info.rho = rho;
   info.condensed = cond;
@@ -1048,8 +1183,28 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   rollout(Y, res_.X_flown);
   info.objective = trajectory_objective(res_.X_flown, Y);
   info.objective_u = trajectory_objective(X, U);
+  info.certified = info.polished;
+  {
+    dual_at_u_ = !info.polished;  // X, U: the (best) x/u iterate, rolled out above
+    const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
+    evaluate_gap(res_.X_flown, Y, pm, info.objective);
+  }
+  if (at_limit && set_.stopping == StoppingRule::kResiduals) {
+    // loose pass on the returned iterate: residuals within inaccurate_factor x their tolerances
+    // (best is that ratio when tracked) and the gap within inaccurate_factor x eps_gap
+    const double meas = set_.track_best && std::isfinite(best)
+                            ? best
+                            : std::max(info.primal_residual / std::max(info.eps_primal, 1e-300),
+                                       info.dual_residual / std::max(info.eps_dual, 1e-300));
+    if (meas <= set_.inaccurate_factor &&
+        (!gap_on || info.duality_gap <= set_.inaccurate_factor * set_.eps_gap) &&
+        terminal_miss_ratio() <= set_.inaccurate_factor)
+      status = AdmmStatus::kSolvedInaccurate;
+  }
+  info.status = status;
   xtmp_ = res_.X_flown.col(N_) - prob_.xf;
   info.terminal_miss = xtmp_.norm();
+  if (scaled_) unscale_result();
   info.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res_;
 }
@@ -1068,9 +1223,12 @@ bool AdmmSolver::update_dynamics(const std::vector<MatrixXd>& A, const std::vect
   const VectorXd empty;
   for (std::size_t k = 0; k < n; ++k) {
     d.A[k] = A[k];
-    d.B[k] = B[k];
+    for (int i = 0; i < nu_; ++i) d.B[k].col(i) = B[k].col(i) * du_(i);  // the equilibrated B, in place
     if (!c.empty()) d.c[k] = c[k];
-    if (!ric_.set_stage_dynamics(static_cast<int>(k), A[k], B[k], c.empty() ? empty : c[k])) return false;
+    orig_.dynamics.A[k] = A[k];
+    orig_.dynamics.B[k] = B[k];
+    if (!c.empty()) orig_.dynamics.c[k] = c[k];
+    if (!ric_.set_stage_dynamics(static_cast<int>(k), A[k], d.B[k], c.empty() ? empty : c[k])) return false;
   }
   if (psi_ok_) {
     for (int k = N_ - 1; k >= 1; --k)

@@ -226,7 +226,9 @@ bool RiccatiSolver::factor(double rho) noexcept {
     rank_ = 0;
     Spinv_.setZero();
     for (Index i = 0; i < n; ++i) {
-      if (std::abs(eigval_(i)) > 1e-12 * lmax && lmax > 0.0) {
+      // 1e-14: an ill-conditioned but full-rank sensitivity (long CW horizons, scaled controls) is
+      // still inverted; an exactly rank-deficient one has eigenvalues at rounding level (~1e-16)
+      if (std::abs(eigval_(i)) > 1e-14 * lmax && lmax > 0.0) {
         ++rank_;
         Spinv_.noalias() += (1.0 / eigval_(i)) * eigvec_.col(i) * eigvec_.col(i).transpose();
       }

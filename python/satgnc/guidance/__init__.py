@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .. import _satgnc
+from .. import _validate as _v
 from .._validate import as_bool, as_real, as_real_array, one_of
 
 __all__ = [
@@ -100,6 +101,15 @@ class L1Result:
     polish_attempts: int
     solve_time: float
     condensed: bool = False  # the condensed x/u step was used (AdmmSettings.condensed)
+    #: objective of Y (= objective) and the Fenchel dual bound D <= optimum (objective units)
+    primal_objective: float = float("nan")
+    dual_objective: float = float("nan")
+    #: relative duality gap (P - D) / max(|P|, |D|); "solved" requires it <= settings.eps_gap
+    duality_gap: float = float("nan")
+    #: the active-set polish certificate holds (the result is the exact optimum up to rounding)
+    certified: bool = False
+    #: "primal_infeasible": unit y (nx,) with y'(xf - x_N(0)) > max over the box of y' dx_N/dU U
+    infeasibility_certificate: np.ndarray | None = None
 
     @property
     def converged(self) -> bool:
@@ -120,6 +130,15 @@ def _settings(settings: Any) -> Any:
                 if val not in ("residuals", "paper"):
                     raise ValueError("settings: stopping must be 'residuals' or 'paper'")
                 val = getattr(_satgnc.StoppingRule, val)
+            else:
+                # the type of the current value decides the check (no pybind11 signature dumps)
+                cur = getattr(st, key)
+                if isinstance(cur, bool):
+                    val = _v.as_bool(val, f"settings.{key}")
+                elif isinstance(cur, int) and not isinstance(cur, _satgnc.StoppingRule):
+                    val = _v.as_int(val, f"settings.{key}", low=-(2**31), high=2**31 - 1)
+                elif isinstance(cur, float):
+                    val = _v.as_real(val, f"settings.{key}", finite=False)
             setattr(st, key, val)
         return st
     raise TypeError(f"settings: must be None, a dict or AdmmSettings, got {type(settings).__name__}")
@@ -152,6 +171,10 @@ class L1Solver:
         if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)) or horizon < 1:
             raise ValueError(f"horizon: must be an integer >= 1, got {horizon!r}")
         horizon = int(horizon)
+        if horizon > 2**31 - 1:
+            raise ValueError(f"horizon: must be < 2**31, got {horizon} (the workspace would need about "
+                             f"{horizon * 3.6e3 / 1e9:.3g} GB for nx = 6, nu = 3; see "
+                             "AdmmSettings.max_workspace_bytes)")
         As = [A] if A.ndim == 2 else list(A)
         Bs = [B] if B.ndim == 2 else list(B)
         for name, seq in (("A", As), ("B", Bs)):
@@ -210,7 +233,10 @@ class L1Solver:
             eps_primal=d["eps_primal"],
             eps_dual=d["eps_dual"], paper_criterion=d["paper_criterion"], rho=d["rho"],
             factorizations=d["factorizations"], rho_updates=d["rho_updates"], polished=d["polished"],
-            polish_attempts=d["polish_attempts"], solve_time=d["solve_time"], condensed=d["condensed"])
+            polish_attempts=d["polish_attempts"], solve_time=d["solve_time"], condensed=d["condensed"],
+            primal_objective=d["primal_objective"], dual_objective=d["dual_objective"],
+            duality_gap=d["duality_gap"], certified=d["certified"],
+            infeasibility_certificate=d["infeasibility_certificate"].copy())
 
     def warm_start(self, Y, Lambda) -> None:
         """Start the next solve from Y, Lambda (N, nu) each, e.g. a shifted previous solution."""

@@ -50,15 +50,15 @@ struct AdmmSettings {
   double rho = 0.2;            ///< initial penalty (> 0)
   int max_iterations = 10000;  ///< >= 1
   StoppingRule stopping = StoppingRule::kResiduals;
-  double eps_abs = 1e-7;                ///< absolute tolerance on both residuals (>= 0)
-  double eps_rel = 1e-6;                ///< relative tolerance (>= 0)
-  double paper_eps = 1e-3;              ///< threshold of the paper's rule (> 0)
-  double relaxation = 1.8;              ///< over-relaxation alpha in (0, 2); 1 = none (paper)
-  bool adaptive_rho = true;             ///< residual balancing (OSQP rule)
-  int adaptive_rho_interval = 25;       ///< iterations between rho checks
-  double adaptive_rho_tolerance = 5.0;  ///< refactor only if rho changes by more than this factor
-  double rho_min = 1e-6, rho_max = 1e6;
-  bool cache_gains = true;  ///< false: full Riccati recursion every iteration (reference)
+  double eps_abs = 1e-7;                  ///< absolute tolerance on both residuals (>= 0)
+  double eps_rel = 1e-6;                  ///< relative tolerance (>= 0)
+  double paper_eps = 1e-3;                ///< threshold of the paper's rule (> 0)
+  double relaxation = 1.8;                ///< over-relaxation alpha in (0, 2); 1 = none (paper)
+  bool adaptive_rho = true;               ///< residual balancing (OSQP rule)
+  int adaptive_rho_interval = 25;         ///< iterations between rho checks
+  double adaptive_rho_tolerance = 5.0;    ///< refactor only if rho changes by more than this factor
+  double rho_min = 1e-12, rho_max = 1e6;  ///< bounds of adaptive rho (on the equilibrated problem)
+  bool cache_gains = true;                ///< false: full Riccati recursion every iteration (reference)
   /// Condensed x/u step when the problem has no stage state cost (Q = 0) and R is empty or
   /// diagonal: x_N = x_N(U = 0) + M vec(U) with M = [Phi(N, k+1) B_k]_k, so the LQR step is two
   /// products with the stored nx x N nu matrix M and one cached nx x nx LU (refactored with rho).
@@ -83,6 +83,31 @@ struct AdmmSettings {
   /// every polish_interval iterations; it identifies the optimum earlier than Y's sparsity pattern.
   bool polish_dual = true;
   int polish_swaps = 3;  ///< local repairs of a rejected dual guess (>= 0; one KKT solve each)
+  /// Optimality test of kSolved (residual rule): besides the residuals, the relative duality gap
+  /// (P - D) / max(|P|, |D|, gap_floor) of the flown plan Y must be <= eps_gap (P the objective of
+  /// Y, D a Fenchel dual bound, see AdmmInfo::duality_gap). 0 disables the gap test (not advised).
+  double eps_gap = 1e-5;
+  double gap_floor = 1e-300;  ///< denominator floor of the relative gap (objective units, >= 0)
+  /// With a hard terminal state, kSolved also needs the flown plan's terminal miss
+  /// ||x_N(Y) - x_f||_2 <= terminal_tolerance x ||x_N(0) - x_f||_2 (the miss of doing nothing).
+  double terminal_tolerance = 1e-6;
+  int gap_check_interval = 5;  ///< once the residuals pass, iterations between gap evaluations (>= 1)
+  /// kSolvedInaccurate at a limit: residuals <= inaccurate_factor x their tolerances and the gap
+  /// <= inaccurate_factor x eps_gap on the returned (best) iterate.
+  double inaccurate_factor = 10.0;
+  double time_limit = 0.0;  ///< seconds of solve() wall time, 0 = none -> kTimeLimit
+  /// Setup rejects (std::invalid_argument naming `horizon`) a workspace estimated above this.
+  double max_workspace_bytes = 512.0 * 1024.0 * 1024.0;
+  /// Primal infeasibility check (hard terminal state with box bounds) every this many iterations.
+  int infeasibility_check_interval = 25;
+  /// Equilibration (read at setup; off under the paper rule, which reproduces the published
+  /// iterates): u = D_u u~ per axis and the cost times c, so that the largest scaled L1 weight is 1
+  /// and the mean curvature of the smooth part along the axes is 256 (D_u shaped by 1 / w_i on L1
+  /// axes, by 1 / sqrt(curvature) otherwise), both rounded to powers of two (exact; the published
+  /// scenario is within sqrt 2 of that frame and is solved as given). States need no scaling: they
+  /// are eliminated in the x/u step. Results are returned unscaled; the residuals and eps_primal /
+  /// eps_dual in AdmmInfo are those of the scaled problem. See docs/guidance.md.
+  bool equilibrate = true;
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
 };
@@ -119,6 +144,18 @@ struct AdmmInfo {
   int polish_attempts = 0;
   bool condensed = false;   ///< the condensed x/u step was used (AdmmSettings::condensed)
   double solve_time = 0.0;  ///< wall time of solve (s)
+  /// Objective P of the returned plan Y (= objective) and the Fenchel dual bound D <= optimum:
+  /// smooth part f(U) = sum_j 1/2 ||A_j U + b_j||^2 (Qf, Q, R terms), hard terminal A_T U + b_T = 0,
+  /// g = L1 + box (+ group-L2 / ball); D(nu) = sum_j [-1/2 ||nu_j||^2 + nu_j' b_j] + nu_T' b_T
+  /// - g*(-sum_j A_j' nu_j - A_T' nu_T) with nu_j = s r_j(Y), nu_T = s p (p the terminal multiplier
+  /// estimate) and s in [0, 1] maximizing D with g* finite. duality_gap = (P - D) / max(|P|, |D|,
+  /// gap_floor), relative; with a hard terminal state P is that of Y, whose terminal miss is bounded
+  /// by the primal residual.
+  double primal_objective = 0.0;
+  double dual_objective = 0.0;
+  double duality_gap = 0.0;
+  bool certified = false;        ///< the polish optimality certificate holds (same as polished)
+  double workspace_bytes = 0.0;  ///< setup's estimate of the workspace (size check)
 };
 
 /// Result (all arrays allocated at setup).
@@ -129,6 +166,9 @@ struct AdmmResult {
   Eigen::MatrixXd Lambda;               ///< multipliers of U = Y, nu x N (unscaled)
   Eigen::MatrixXd X_flown;              ///< states when Y is flown, nx x (N+1)
   Eigen::VectorXd terminal_multiplier;  ///< nx (zeros without the terminal constraint)
+  /// kPrimalInfeasible: y (nx, unit norm) with y' (x_f - x_N(0)) > max over the box of y' M U,
+  /// M = dx_N/dU, so no U in the box reaches x_f (Farkas). Zeros otherwise.
+  Eigen::VectorXd infeasibility_certificate;
   AdmmInfo info;
 };
 
@@ -157,9 +197,13 @@ class AdmmSolver {
 
   const AdmmResult& result() const { return res_; }
   const AdmmSettings& settings() const { return set_; }
-  const LtvProblem& problem() const { return prob_; }
+  /// The problem as given (unscaled; the solver works on an equilibrated copy).
+  const LtvProblem& problem() const { return orig_; }
+  /// Control scaling D_u (nu; u = D_u u~) and cost scaling c of the equilibration (ones / 1 if off).
+  const Eigen::VectorXd& control_scaling() const { return du_; }
+  double cost_scaling() const { return cscale_; }
   const RiccatiSolver& riccati() const { return ric_; }
-  /// Dual estimate -grad f(U) of the last iteration (nu x N; used by the active-set polish).
+  /// Dual estimate -grad f(U) of the last iteration (nu x N, scaled problem; used by the polish).
   const Eigen::MatrixXd& dual_estimate() const { return Gd_; }
   int nx() const { return nx_; }
   int nu() const { return nu_; }
@@ -187,6 +231,25 @@ class AdmmSolver {
   bool polish_solve(int F) noexcept;
   bool polish_swaps(int& F) noexcept;
   void update_psib() noexcept;
+  /// Backward costate sweep at (X, U) with terminal costate Qf (x_N - x_f) + p: fills Hg_ with the
+  /// Lagrangian gradient grad f(U) + M' p (nu x N) and returns the smooth part f(U).
+  double lagrangian_gradient(const Eigen::Ref<const Eigen::MatrixXd>& X,
+                             const Eigen::Ref<const Eigen::MatrixXd>& U,
+                             const Eigen::Ref<const Eigen::VectorXd>& p, bool with_cost) noexcept;
+  /// Conjugate g*(s z) of the nonsmooth part at z = -Hg_ (infinite if outside its domain).
+  double conj_g(double s) const noexcept;
+  /// Fenchel dual bound D at the plan (X, U) with terminal multiplier p (see AdmmInfo); sets
+  /// info primal/dual objective and duality_gap, returns the relative gap.
+  double evaluate_gap(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
+                      const Eigen::Ref<const Eigen::VectorXd>& p, double P) noexcept;
+  /// The Fenchel dual bound D built from the residuals at (X, U) (any control sequence).
+  double dual_bound(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
+                    const Eigen::Ref<const Eigen::VectorXd>& p) noexcept;
+  bool dual_at_u_ = false;  ///< res_.X, res_.U hold the x/u iterate: also try the dual bound there
+  /// Farkas test of candidate y for x_f unreachable within the box; true and stores it if it holds.
+  bool check_infeasible(const Eigen::Ref<const Eigen::VectorXd>& y) noexcept;
+  double terminal_miss_ratio() noexcept;
+  static double estimate_workspace_bytes(int nx, int nu, int N) noexcept;
   bool cond_factor(double rho) noexcept;
   void cond_step() noexcept;
   /// Per-iteration statistics of the fused relaxation / prox / multiplier pass.
@@ -201,7 +264,13 @@ class AdmmSolver {
   /// entries (vectorized; identical values, the signature is a weighted sum instead of a hash).
   PassStats admm_pass_flat(double rho, double a, bool fro2) noexcept;
 
-  LtvProblem prob_;
+  void equilibrate_problem();
+  void unscale_result() noexcept;
+  LtvProblem orig_;      ///< as given
+  LtvProblem prob_;      ///< equilibrated (the solver's)
+  Eigen::VectorXd du_;   ///< control scaling D_u
+  double cscale_ = 1.0;  ///< cost scaling c
+  bool scaled_ = false;
   AdmmSettings set_;
   RiccatiSolver ric_;
   int nx_ = 0, nu_ = 0, N_ = 0;
@@ -252,6 +321,15 @@ class AdmmSolver {
   bool flat_ok_ = false;
   Eigen::ArrayXd wrep_, lorep_, hirep_, sigw_, fa_, fb_;
   Eigen::ArrayXd winvrep_, hifin_, lofin_;  ///< 1/w, finite bounds (0 where infinite), N nu
+  // duality gap and infeasibility check
+  Eigen::MatrixXd Hg_;          ///< Lagrangian gradient, nu x N
+  Eigen::VectorXd lam_, lam2_;  ///< costate scratch, nx
+  Eigen::VectorXd xN0all_;      ///< x_N for U = 0 (always computed)
+  Eigen::VectorXd ycand_;       ///< infeasibility candidate, nx
+  Eigen::VectorXd rg_;          ///< diagonal part of R moved into g for the dual bound (nu; zeros if none)
+  Eigen::MatrixXd Rf_;          ///< R - diag(rg_), kept in the smooth part f
+  bool rf_on_ = false;          ///< Rf_ is nonzero
+  Eigen::VectorXd pz_;          ///< the terminal multiplier used by the gap (zeros if soft terminal)
 };
 
 }  // namespace satgnc::guidance

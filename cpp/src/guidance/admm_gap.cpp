@@ -1,0 +1,195 @@
+// Optimality and infeasibility certificates of the ADMM solver (see admm.hpp, AdmmInfo): the
+// Lagrangian gradient by one backward costate sweep, the Fenchel dual bound and its relative gap,
+// the Farkas test of an unreachable terminal state under box bounds, and the workspace estimate.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "satgnc/guidance/admm.hpp"
+
+namespace satgnc::guidance {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}  // namespace
+
+double AdmmSolver::estimate_workspace_bytes(int nx, int nu, int N) noexcept {
+  // per stage: Riccati (P, K, closed-loop A and A', Quu^-1, Quu^-1 B', Z, affine terms), the ADMM
+  // iterates, best / warm copies, the condensed / polish matrices and the flat per-entry arrays
+  const double n = nx, m = nu;
+  const double per_stage = 6.0 * n * n + 5.0 * n * m + m * m + 8.0 * n + 30.0 * m;
+  return 8.0 * (per_stage * (static_cast<double>(N) + 1.0) + 64.0 * (n + m) * (n + m) + 512.0 * n * n);
+}
+
+double AdmmSolver::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
+                                       const Eigen::Ref<const MatrixXd>& U,
+                                       const Eigen::Ref<const VectorXd>& p, bool with_cost) noexcept {
+  const LtvDynamics& d = prob_.dynamics;
+  double f = 0.0;
+  lam_ = p;
+  if (with_cost) {
+    xtmp_ = X.col(N_) - prob_.xf;
+    xtmp2_.noalias() = prob_.Qf * xtmp_;
+    f += 0.5 * xtmp_.dot(xtmp2_);
+    lam_ += xtmp2_;
+  }
+  const bool stage_q = with_cost && prob_.Q.size() != 0;
+  const bool stage_r = with_cost && rf_on_;
+  for (int k = N_ - 1; k >= 0; --k) {
+    Hg_.col(k).noalias() = d.B_at(k).transpose() * lam_;
+    if (stage_r) {
+      utmp_.noalias() = Rf_ * U.col(k);
+      f += 0.5 * U.col(k).dot(utmp_);
+      Hg_.col(k) += utmp_;
+    }
+    if (k == 0) break;
+    lam2_.noalias() = d.A_at(k).transpose() * lam_;
+    lam_ = lam2_;
+    if (stage_q) {
+      xtmp_ = X.col(k) - prob_.xf;
+      xtmp2_.noalias() = prob_.Q * xtmp_;
+      f += 0.5 * xtmp_.dot(xtmp2_);
+      lam_ += xtmp2_;
+    }
+  }
+  return f;
+}
+
+// g*(z) at z = -s Hg_: per entry sup over [lo, hi] of z u - r/2 u^2 - w |u| (r the part of R moved
+// into g, diagonal), per stage for group-L2 (+ ball).
+double AdmmSolver::conj_g(double s) const noexcept {
+  double total = 0.0;
+  if (has_group_ || has_ball_) {
+    const double wg = prob_.group_l2_weight, umax = prob_.u_norm_max;
+    for (int k = 0; k < N_; ++k) {
+      double n2 = 0.0;
+      for (int i = 0; i < nu_; ++i) {
+        const double z = -s * Hg_(i, k);
+        const double e = z - std::clamp(z, -w_(i), w_(i));  // part outside the L1 dual box
+        n2 += e * e;
+      }
+      const double nz = std::sqrt(n2);
+      if (has_ball_) {
+        total += umax * std::max(0.0, nz - wg);
+      } else if (nz > wg) {
+        return kInf;
+      }
+    }
+    return total;
+  }
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double z = -s * Hg_(i, k), w = w_(i), lo = lo_(i), hi = hi_(i), r = rg_(i);
+      if (r > 0.0) {
+        const double v = z > w ? z - w : (z < -w ? z + w : 0.0);
+        const double u = std::clamp(v / r, lo, hi);
+        total += z * u - 0.5 * r * u * u - w * std::abs(u);
+        continue;
+      }
+      // concave piecewise linear: the sup is at lo, hi or 0 (if inside); infinite toward an open side
+      if ((z > w && hi == kInf) || (z < -w && lo == -kInf)) return kInf;
+      double best = -kInf;
+      if (hi < kInf) best = std::max(best, z * hi - w * std::abs(hi));
+      if (lo > -kInf) best = std::max(best, z * lo - w * std::abs(lo));
+      if (lo <= 0.0 && hi >= 0.0) best = std::max(best, 0.0);
+      total += best;
+    }
+  }
+  return total;
+}
+
+double AdmmSolver::evaluate_gap(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
+                                const Eigen::Ref<const VectorXd>& p, double P) noexcept {
+  // two dual candidates: residuals at the plan Y, and at the x/u iterate U, whose Lagrangian gradient
+  // is -(Lambda + rho (U - Y_prev)), nearly inside the dual box of g by construction
+  double best = dual_bound(X, U, p);
+  if (dual_at_u_) best = std::max(best, dual_bound(res_.X, res_.U, p));
+  AdmmInfo& info = res_.info;
+  info.primal_objective = P;
+  info.dual_objective = best;
+  const double denom = std::max({std::abs(P), std::abs(best), set_.gap_floor});
+  const double gap = denom > 0.0 ? (P - best) / denom : 0.0;
+  info.duality_gap = std::isfinite(gap) ? gap : kInf;
+  return info.duality_gap;
+}
+
+double AdmmSolver::dual_bound(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
+                              const Eigen::Ref<const VectorXd>& p) noexcept {
+  const double f = lagrangian_gradient(X, U, p, true);
+  double c1 = 2.0 * f;
+  for (int k = 0; k < N_; ++k) c1 -= Hg_.col(k).dot(U.col(k));
+  if (prob_.terminal_equality) {
+    xtmp_ = X.col(N_) - prob_.xf;
+    c1 += p.dot(xtmp_);
+  }
+  const auto D = [&](double s) { return -s * s * f + s * c1 - conj_g(s); };
+  // largest s with g* finite (bisection: finiteness is monotone in s), capped at 2
+  double smax = 2.0;
+  if (!std::isfinite(conj_g(smax))) {
+    double a = 0.0, b = smax;
+    for (int t = 0; t < 60; ++t) {
+      const double m = 0.5 * (a + b);
+      (std::isfinite(conj_g(m)) ? a : b) = m;
+    }
+    smax = a;
+  }
+  // D is concave in s: golden-section search on [0, smax], keeping the best value seen
+  double best = D(0.0);
+  if (smax > 0.0) {
+    constexpr double g = 0.6180339887498949;
+    double a = 0.0, b = smax;
+    double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    double f1 = D(x1), f2 = D(x2);
+    best = std::max({best, D(smax), f1, f2});
+    for (int t = 0; t < 50 && b - a > 1e-12 * smax; ++t) {
+      if (f1 < f2) {
+        a = x1;
+        x1 = x2;
+        f1 = f2;
+        x2 = a + g * (b - a);
+        f2 = D(x2);
+        best = std::max(best, f2);
+      } else {
+        b = x2;
+        x2 = x1;
+        f2 = f1;
+        x1 = b - g * (b - a);
+        f1 = D(x1);
+        best = std::max(best, f1);
+      }
+    }
+  }
+  if (!std::isfinite(best)) best = D(0.0);  // D(0) = -g*(0) = 0 for g >= 0 with g(0) = 0
+  return best;
+}
+
+bool AdmmSolver::check_infeasible(const Eigen::Ref<const VectorXd>& y) noexcept {
+  const double ny = y.norm();
+  if (!(ny > 0.0) || !std::isfinite(ny)) return false;
+  ycand_ = y / ny;
+  lagrangian_gradient(res_.X, res_.U, ycand_, false);  // Hg_ = M' y
+  // support of the box along m = M' y: sum_j max(lo_j m_j, hi_j m_j), infinite toward an open side
+  double sigma = 0.0;
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double m = Hg_(i, k);
+      if (m > 0.0) {
+        if (hi_(i) == kInf) return false;
+        sigma += m * hi_(i);
+      } else if (m < 0.0) {
+        if (lo_(i) == -kInf) return false;
+        sigma += m * lo_(i);
+      }
+    }
+  }
+  xtmp_ = prob_.xf - xN0all_;
+  const double b = ycand_.dot(xtmp_);
+  if (!(b - sigma > 1e-9 * (std::abs(b) + std::abs(sigma))) || !(b - sigma > 0.0)) return false;
+  res_.infeasibility_certificate = ycand_;
+  return true;
+}
+
+}  // namespace satgnc::guidance
