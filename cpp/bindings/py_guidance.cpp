@@ -163,8 +163,7 @@ void init_guidance(py::module_& m) {
              p.u_upper = u_upper;
              p.u_norm_max = u_norm_max;
              p.terminal_equality = terminal_equality;
-             py::gil_scoped_release release;  // setup factors and allocates: long for long horizons
-             return new AdmmSolver(p, settings);
+             return new AdmmSolver(p, settings);  // GIL released by the call guard below
            }),
            py::arg("A"), py::arg("B"), py::arg("c"), py::arg("horizon"), py::arg("x0"), py::arg("xf"),
            py::arg("Qf"), py::arg("Q"), py::arg("R"), py::arg("l1_weights"), py::arg("group_l2_weight"),
