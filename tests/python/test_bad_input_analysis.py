@@ -105,6 +105,10 @@ CASES = [
     # huge sizes: 2^m - 1 staircases
     (lambda **kw: an.loss_table(np.eye(2), **kw), dict(B=np.ones((2, 25))), ValueError, "B:"),
     (lambda **kw: an.loss_table(np.eye(2), **kw), dict(C=np.ones((30, 2))), ValueError, "C:"),
+    # found by the QA probe (issue 11 verification)
+    (lambda **kw: an.expm(**kw), dict(M=1e308 * np.eye(2)), ValueError, "M:"),  # silent NaN matrix
+    (lambda **kw: an.visibility_pass(**kw), dict(station_r0=[0.0, 0.0, 0.0]), ValueError,
+     "station_r0:"),  # blamed x0 ("not visible")
 ]
 
 

@@ -355,7 +355,12 @@ def minimum_energy(W, x_f) -> float:
 
 def expm(M) -> np.ndarray:
     """Matrix exponential (scaling and squaring, Pade)."""
-    return _s._expm(_matrix(M, "M"))
+    M = _matrix(M, "M")
+    E = np.asarray(_s._expm(M))
+    if not np.all(np.isfinite(E)):  # was a silent NaN matrix for expm(1e308 I)
+        raise ValueError(f"M: exp(M) overflows double precision (max |M_ij| = {np.max(np.abs(M)):.3g}; "
+                         "hint: scale time or use a shorter interval)")
+    return E
 
 
 # ----------------------------------------------------------------------------- linearization
@@ -424,6 +429,8 @@ def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu
     px, pr = paper_od_state()
     x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
+    if not np.linalg.norm(r0) > 0:  # was reported as "x0: the satellite is not visible"
+        raise ValueError("station_r0: the station is at the centre of the Earth (|station_r0| = 0)")
     t_max = _scalar(t_max, "t_max", positive=True)
     dt = _scalar(dt, "dt", positive=True)
     if dt > t_max:
