@@ -109,6 +109,11 @@ CASES = [
     (lambda **kw: an.expm(**kw), dict(M=1e308 * np.eye(2)), ValueError, "M:"),  # silent NaN matrix
     (lambda **kw: an.visibility_pass(**kw), dict(station_r0=[0.0, 0.0, 0.0]), ValueError,
      "station_r0:"),  # blamed x0 ("not visible")
+    (lambda **kw: an.minimum_energy(**kw), dict(W=-np.eye(2), x_f=[1.0, 0.0]), ValueError, "W:"),  # inf
+    (lambda **kw: an.minimum_energy(**kw), dict(W=np.array([[1.0, 2.0], [0.0, 1.0]]), x_f=[1.0, 0.0]),
+     ValueError, "W:"),  # not symmetric
+    (lambda **kw: an.polar_linear_model(1.0, 1.0, **kw), dict(measured=[0, 0]), ValueError,
+     "measured:"),  # a repeated output row was accepted
 ]
 
 

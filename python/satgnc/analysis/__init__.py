@@ -117,6 +117,8 @@ def _indices(idx, n: int, name: str) -> list[int]:
             raise TypeError(f"{name}: indices must be integers, got {i!r}")
         if not 0 <= int(i) < n:
             raise ValueError(f"{name}: indices must be in [0, {n - 1}], got {i}")
+        if int(i) in out:  # a repeated output was accepted silently (a duplicate row of C)
+            raise ValueError(f"{name}: index {int(i)} is repeated in {list(idx)}")
         out.append(int(i))
     return out
 
@@ -349,8 +351,17 @@ def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
 
 
 def minimum_energy(W, x_f) -> float:
-    """x_f^T W^+ x_f (inf if x_f leaves the range of W)."""
-    return _s._minimum_energy(_matrix(W, "W"), _matrix(x_f, "x_f", ndim=1))
+    """x_f^T W^+ x_f (inf if x_f leaves the range of W). W: a Gramian (symmetric PSD)."""
+    W = _matrix(W, "W")
+    if W.shape[0] == W.shape[1]:
+        # A non-PSD W (e.g. -I) gave inf ("unreachable") instead of an error.
+        scale = float(np.max(np.abs(W)))
+        if np.max(np.abs(W - W.T)) > 1e-8 * scale:
+            raise ValueError("W: must be symmetric (a Gramian)")
+        ev = np.linalg.eigvalsh(0.5 * (W + W.T))
+        if ev[0] < -1e-8 * max(scale, float(np.max(np.abs(ev)))):
+            raise ValueError(f"W: must be positive semidefinite (a Gramian), smallest eigenvalue {ev[0]:.3g}")
+    return _s._minimum_energy(W, _matrix(x_f, "x_f", ndim=1))
 
 
 def expm(M) -> np.ndarray:
