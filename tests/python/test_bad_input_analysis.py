@@ -37,6 +37,10 @@ def _ogram(**kw):
     return an.observability_gramian(**args)
 
 
+def _fd(**kw):
+    return an.fd_jacobian(t=0.0, x=[1.0], u=[0.0], **kw)
+
+
 def _odg(**kw):
     args = dict(kind="range", times=[0.0, 60.0, 120.0])
     args.update(kw)
@@ -114,6 +118,10 @@ CASES = [
      ValueError, "W:"),  # not symmetric
     (lambda **kw: an.polar_linear_model(1.0, 1.0, **kw), dict(measured=[0, 0]), ValueError,
      "measured:"),  # a repeated output row was accepted
+    # f's value: NaN gave a NaN Jacobian, complex was truncated, boolean read as 0/1
+    (_fd, dict(f=lambda t, x, u: x * np.nan), ValueError, "f:"),
+    (_fd, dict(f=lambda t, x, u: x + 0j), TypeError, "f:"),
+    (_fd, dict(f=lambda t, x, u: x > 0), TypeError, "f:"),
 ]
 
 

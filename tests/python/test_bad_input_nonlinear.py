@@ -50,6 +50,8 @@ CASES = [
     (lambda **kw: nl.solve_paper(**kw), dict(case=None), TypeError, "case:"),
     (lambda **kw: l1s.paper_settings(l1s.load(), **kw), dict(case="x"), ValueError, "case:"),  # KeyError
     (lambda **kw: l1s.linear_problem(**kw), dict(sc=None), TypeError, "sc:"),  # AttributeError
+    # closed_loop="x" was True
+    (lambda **kw: nl.run_cli("unused-out", **kw), dict(closed_loop="x"), TypeError, "closed_loop:"),
 ]
 
 

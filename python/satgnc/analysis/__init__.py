@@ -386,7 +386,8 @@ def fd_jacobian(f: Callable, t: float, x, u, *, rel_step: float = 6.055454452393
     us = np.ones(0) if u_scale is None else _matrix(u_scale, "u_scale", ndim=1)
 
     def g(tt, xx, uu):
-        return np.asarray(f(tt, xx, uu), dtype=float)
+        # A complex value was truncated, a boolean read as 0/1 and NaN gave a NaN Jacobian silently.
+        return as_real_array(f(tt, xx, uu), "f", finite=True)
 
     return _s._fd_jacobian(g, _scalar(t, "t"), x, u, _scalar(rel_step, "rel_step", positive=True), xs, us)
 

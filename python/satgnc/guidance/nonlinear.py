@@ -524,6 +524,8 @@ def run_cli(out, closed_loop: bool = False) -> int:
 
     from ..report.guidance_nonlinear import _figure, _flight_figure
 
+    closed_loop = as_bool(closed_loop, "closed_loop")  # "x" was True
+
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
     summary = {}
