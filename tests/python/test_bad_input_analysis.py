@@ -37,6 +37,10 @@ def _ogram(**kw):
     return an.observability_gramian(**args)
 
 
+def _fd(**kw):
+    return an.fd_jacobian(t=0.0, x=[1.0], u=[0.0], **kw)
+
+
 def _odg(**kw):
     args = dict(kind="range", times=[0.0, 60.0, 120.0])
     args.update(kw)
@@ -105,6 +109,19 @@ CASES = [
     # huge sizes: 2^m - 1 staircases
     (lambda **kw: an.loss_table(np.eye(2), **kw), dict(B=np.ones((2, 25))), ValueError, "B:"),
     (lambda **kw: an.loss_table(np.eye(2), **kw), dict(C=np.ones((30, 2))), ValueError, "C:"),
+    # found by the QA probe (issue 11 verification)
+    (lambda **kw: an.expm(**kw), dict(M=1e308 * np.eye(2)), ValueError, "M:"),  # silent NaN matrix
+    (lambda **kw: an.visibility_pass(**kw), dict(station_r0=[0.0, 0.0, 0.0]), ValueError,
+     "station_r0:"),  # blamed x0 ("not visible")
+    (lambda **kw: an.minimum_energy(**kw), dict(W=-np.eye(2), x_f=[1.0, 0.0]), ValueError, "W:"),  # inf
+    (lambda **kw: an.minimum_energy(**kw), dict(W=np.array([[1.0, 2.0], [0.0, 1.0]]), x_f=[1.0, 0.0]),
+     ValueError, "W:"),  # not symmetric
+    (lambda **kw: an.polar_linear_model(1.0, 1.0, **kw), dict(measured=[0, 0]), ValueError,
+     "measured:"),  # a repeated output row was accepted
+    # f's value: NaN gave a NaN Jacobian, complex was truncated, boolean read as 0/1
+    (_fd, dict(f=lambda t, x, u: x * np.nan), ValueError, "f:"),
+    (_fd, dict(f=lambda t, x, u: x + 0j), TypeError, "f:"),
+    (_fd, dict(f=lambda t, x, u: x > 0), TypeError, "f:"),
 ]
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from satgnc import od
+from satgnc.od.tdm import parse_epoch
 
 X = np.array([7000.0, 0.0, 0.0, 0.0, 7.5, 0.0])
 STATION = np.array([6378.0, 0.0, 0.0, 0.0, 0.465, 0.0])
@@ -27,6 +28,27 @@ def _box(**kw):
     args = dict(center=X, half_width=np.ones(6), n=4)
     args.update(kw)
     return od.box_guesses(**args)
+
+
+STATION_OBJ = od.station_inertial(STATION[:3])
+
+
+def _roots(**kw):
+    st = od.station_inertial([6378.0, 0.0, 0.0])
+    obs = od.simulate(X, st, np.arange(0.0, 301.0, 30.0), seed=None)
+    return od.root_search(od.solver(obs, st), **kw)
+
+
+def _six(**kw):
+    args = dict(t=np.arange(6.0), rho=np.full(6, 1000.0), rhodot=np.zeros(6))
+    args.update(kw)
+    return od.six_point_conditions(**args)
+
+
+def _obs(**kw):
+    args = dict(t=np.arange(6.0), type="range", value=np.full(6, 1000.0), sigma=1e-3, station=0)
+    args.update(kw)
+    return od.Observations(**args)
 
 
 def _solver_solve(**kw):
@@ -77,6 +99,23 @@ CASES = [
     (_set, dict(fit_sigma=1j), TypeError, "fit_sigma:"),
     (_set, dict(method="newton_raphson"), ValueError, "method:"),
     (_set, dict(method=2), TypeError, "method:"),
+    # found by the QA probe (issue 11 verification): each was accepted silently or unclear before
+    (_roots, dict(guesses=np.array([X]) + 0j), TypeError, "guesses:"),  # truncated to real
+    (_roots, dict(guesses=np.ones((1, 6), dtype=bool)), TypeError, "guesses:"),  # read as 1 km
+    (_roots, dict(guesses="x"), TypeError, "guesses:"),  # "could not convert string to float"
+    (_six, dict(t=[np.nan] * 6), ValueError, "t:"),  # accepted
+    (_six, dict(rho=-np.ones(6)), ValueError, "rho:"),  # accepted
+    (_six, dict(rhodot=np.full(6, np.inf)), ValueError, "rhodot:"),  # accepted
+    (_six, dict(station=-1), ValueError, "station:"),  # accepted
+    (_six, dict(station="a"), TypeError, "station:"),  # "invalid literal for int()"
+    (_obs, dict(value=np.full(6, -1000.0)), ValueError, "value:"),  # negative range accepted
+    (_obs, dict(station=-1), ValueError, "station:"),  # accepted until solve
+    (_obs, dict(sigma=1e-3 + 0j), TypeError, "sigma:"),  # truncated to real
+    (_box, dict(n=True), ValueError, "n:"),  # read as n = 1
+    (lambda **kw: od.simulate(X, **kw), dict(stations=None, times=[0.0, 10.0]), TypeError, "stations:"),
+    # blamed x0 ("propagation failed"), before issue 11 the force model
+    (lambda **kw: od.simulate(X, STATION_OBJ, **kw), dict(times=[0.0, 1e300]), ValueError, "times:"),
+    (lambda **kw: parse_epoch(**kw), dict(text=3), TypeError, "text:"),  # AttributeError on .strip
 ]
 
 

@@ -56,16 +56,32 @@ void check_lti(const MatrixXd& A, const MatrixXd& X, bool ctrb, double T) {
 // for W_o.
 MatrixXd van_loan(const MatrixXd& F, const MatrixXd& Q, double T, double& floor) {
   const Eigen::Index n = F.rows();
+  const double eps = std::numeric_limits<double>::epsilon();
+  // Van Loan only over a short t = T / 2^k (|F| t <= 1/2): over T itself e^{-F T} is huge for a
+  // stable F with fast modes and E22^T E12 cancelled to garbage (a Hurwitz 5x5 A, T = 6.5 s: lambda
+  // = -1.6e17). Then doubling, W(2t) = W(t) + e^{F^T t} W(t) e^{F t}: sums of PSD terms, no cancellation.
+  const double fn = F.lpNorm<Eigen::Infinity>() * T;
+  int k = 0;
+  while (k < 60 && std::ldexp(fn, -k) > 0.5) ++k;
+  const double t = std::ldexp(T, -k);
   MatrixXd M = MatrixXd::Zero(2 * n, 2 * n);
   M.topLeftCorner(n, n) = -F.transpose();
   M.topRightCorner(n, n) = Q;
   M.bottomRightCorner(n, n) = F;
-  const MatrixXd E = (M * T).exp();
-  // Error of the product E22^T E12 ~ n eps |E22| |E12| (plus the exponential's own, of that order):
-  // for an unstable F it cancels down to W, and everything below this floor is rounding.
-  floor = 4.0 * static_cast<double>(n) * std::numeric_limits<double>::epsilon() *
-          E.bottomRightCorner(n, n).norm() * E.topRightCorner(n, n).norm();
-  return E.bottomRightCorner(n, n).transpose() * E.topRightCorner(n, n);
+  const MatrixXd E = (M * t).exp();
+  // Error of the product E22^T E12 ~ n eps |E22| |E12| (plus the exponential's own, of that order).
+  floor =
+      4.0 * static_cast<double>(n) * eps * E.bottomRightCorner(n, n).norm() * E.topRightCorner(n, n).norm();
+  MatrixXd W = E.bottomRightCorner(n, n).transpose() * E.topRightCorner(n, n);
+  MatrixXd Et = E.bottomRightCorner(n, n);  // e^{F t}
+  for (int j = 0; j < k; ++j) {
+    const double e2 = Et.squaredNorm();
+    W += Et.transpose() * W * Et;
+    // Propagated floor plus the rounding of this product and sum; for an unstable F it grows like W.
+    floor = floor * (1.0 + e2) + 4.0 * static_cast<double>(n) * eps * (W.norm() + e2 * W.norm());
+    Et = Et * Et;
+  }
+  return W;
 }
 
 // Van Loan over a long horizon of an unstable A: e^{AT} overflows, or the product E22^T E12 cancels

@@ -117,6 +117,8 @@ def _indices(idx, n: int, name: str) -> list[int]:
             raise TypeError(f"{name}: indices must be integers, got {i!r}")
         if not 0 <= int(i) < n:
             raise ValueError(f"{name}: indices must be in [0, {n - 1}], got {i}")
+        if int(i) in out:  # a repeated output was accepted silently (a duplicate row of C)
+            raise ValueError(f"{name}: index {int(i)} is repeated in {list(idx)}")
         out.append(int(i))
     return out
 
@@ -349,13 +351,27 @@ def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
 
 
 def minimum_energy(W, x_f) -> float:
-    """x_f^T W^+ x_f (inf if x_f leaves the range of W)."""
-    return _s._minimum_energy(_matrix(W, "W"), _matrix(x_f, "x_f", ndim=1))
+    """x_f^T W^+ x_f (inf if x_f leaves the range of W). W: a Gramian (symmetric PSD)."""
+    W = _matrix(W, "W")
+    if W.shape[0] == W.shape[1]:
+        # A non-PSD W (e.g. -I) gave inf ("unreachable") instead of an error.
+        scale = float(np.max(np.abs(W)))
+        if np.max(np.abs(W - W.T)) > 1e-8 * scale:
+            raise ValueError("W: must be symmetric (a Gramian)")
+        ev = np.linalg.eigvalsh(0.5 * (W + W.T))
+        if ev[0] < -1e-8 * max(scale, float(np.max(np.abs(ev)))):
+            raise ValueError(f"W: must be positive semidefinite (a Gramian), smallest eigenvalue {ev[0]:.3g}")
+    return _s._minimum_energy(W, _matrix(x_f, "x_f", ndim=1))
 
 
 def expm(M) -> np.ndarray:
     """Matrix exponential (scaling and squaring, Pade)."""
-    return _s._expm(_matrix(M, "M"))
+    M = _matrix(M, "M")
+    E = np.asarray(_s._expm(M))
+    if not np.all(np.isfinite(E)):  # was a silent NaN matrix for expm(1e308 I)
+        raise ValueError(f"M: exp(M) overflows double precision (max |M_ij| = {np.max(np.abs(M)):.3g}; "
+                         "hint: scale time or use a shorter interval)")
+    return E
 
 
 # ----------------------------------------------------------------------------- linearization
@@ -370,7 +386,8 @@ def fd_jacobian(f: Callable, t: float, x, u, *, rel_step: float = 6.055454452393
     us = np.ones(0) if u_scale is None else _matrix(u_scale, "u_scale", ndim=1)
 
     def g(tt, xx, uu):
-        return np.asarray(f(tt, xx, uu), dtype=float)
+        # A complex value was truncated, a boolean read as 0/1 and NaN gave a NaN Jacobian silently.
+        return as_real_array(f(tt, xx, uu), "f", finite=True)
 
     return _s._fd_jacobian(g, _scalar(t, "t"), x, u, _scalar(rel_step, "rel_step", positive=True), xs, us)
 
@@ -424,6 +441,8 @@ def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu
     px, pr = paper_od_state()
     x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
+    if not np.linalg.norm(r0) > 0:  # was reported as "x0: the satellite is not visible"
+        raise ValueError("station_r0: the station is at the centre of the Earth (|station_r0| = 0)")
     t_max = _scalar(t_max, "t_max", positive=True)
     dt = _scalar(dt, "dt", positive=True)
     if dt > t_max:

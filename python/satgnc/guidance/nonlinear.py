@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from satgnc import _satgnc as _c
-from satgnc._validate import as_int, as_real, one_of
+from satgnc._validate import as_bool, as_int, as_real, as_real_array, one_of
 
 MU = 3.99e14  #: m^3/s^2, the scenario's gravitational parameter
 R_TARGET = 7231.0e3  #: m, target orbit radius (6731 km + 500 km, the implementation's typo kept)
@@ -63,13 +63,14 @@ SCP_SUCCESS = (_c.ScpStatus.solved, _c.ScpStatus.solved_inaccurate)
 def model_params(published: bool = True, j2: bool = False, drag: bool = True, rho0: float | None = None):
     """TwoSatelliteParams of the scenario. ``published`` selects the implementation's drag sign
     (v + omega x r); otherwise the physical co-rotating atmosphere (v - omega x r)."""
+    published, j2, drag = as_bool(published, "published"), as_bool(j2, "j2"), as_bool(drag, "drag")
     p = _c.TwoSatelliteParams()
     p.mu = MU
     p.atmosphere = _c.AtmosphereRotation.published if published else _c.AtmosphereRotation.co_rotating
-    p.j2_on = bool(j2)
-    p.drag_on = bool(drag)
+    p.j2_on = j2  # bool("x") was True
+    p.drag_on = drag
     if rho0 is not None:
-        p.rho0 = float(rho0)
+        p.rho0 = as_real(rho0, "rho0", nonnegative=True)
     return p
 
 
@@ -100,10 +101,13 @@ class Case:
     eps: float
     constrained: bool
     discretization: str = "rk3"
+    interval: float | None = None  #: s, control interval (None: the paper's TF / N)
 
     @property
     def dt(self) -> float:
-        return TF / N
+        # paper_case(horizon=..., tf=...) discretizes over tf / horizon: fly, mpc and summarize
+        # used TF / N = 60.6 s whatever the case's horizon was.
+        return TF / N if self.interval is None else self.interval
 
     def to_si(self, U: np.ndarray) -> np.ndarray:
         """Scaled controls (3 x N) to newtons."""
@@ -133,13 +137,21 @@ class Case:
 DISCRETIZATIONS = ("rk3", "rk4", "dop853")
 
 
+def _check_case(case, needs=("dmap", "problem")) -> None:
+    # Duck-typed (solve_scp needs only dmap and problem); None gave an AttributeError on 'dmap'.
+    if not all(hasattr(case, a) for a in needs):
+        raise TypeError(f"case: must be a Case (see paper_case()), got {type(case).__name__}")
+
+
 def make_map(model, dt: float, scaling, discretization: str = "rk3", substeps: int = 1, rtol: float = 1e-10):
     """Discrete map of ``model`` over intervals of ``dt`` s with the case's scaling:
     ``"rk3"`` (the published implementation's Kutta RK3, ``substeps`` per interval), ``"rk4"``
     (classic RK4), or ``"dop853"`` (the flow itself: adaptive DOP853 on the state, STM and control
     sensitivity, tolerance ``rtol`` on the scaled variables)."""
-    if discretization not in DISCRETIZATIONS:
-        raise ValueError(f"discretization: must be one of {DISCRETIZATIONS}, got {discretization!r}")
+    discretization = one_of(discretization, "discretization", DISCRETIZATIONS)
+    dt = as_real(dt, "dt", positive=True)
+    substeps = as_int(substeps, "substeps", low=1, high=10**6)
+    rtol = as_real(rtol, "rtol", positive=True)
     if discretization == "dop853":
         ps = _c.PropagatedMapSettings()
         ps.dt = dt
@@ -170,8 +182,18 @@ def paper_case(
     (time 324.48 s, force 0.42318 N), Qf = 1000 diag(1,1,1,0,0,0,1,1,1,0,0,0), alpha = 1, control
     cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6).
     ``discretization``: ``"rk3"`` (published), ``"rk4"`` or ``"dop853"`` (see :func:`make_map`)."""
+    # Checked here: complex / boolean x0_si was truncated or read as 0/1, horizon = 0 divided by zero,
+    # and a bad horizon or tf was reported as a bad "dt".
+    constrained = as_bool(constrained, "constrained")
+    horizon = as_int(horizon, "horizon", low=1, high=10**6)
+    tf = as_real(tf, "tf", positive=True)
+    substeps = as_int(substeps, "substeps", low=1, high=10**6)
+    discretization = one_of(discretization, "discretization", DISCRETIZATIONS)
+    if params is not None and not isinstance(params, _c.TwoSatelliteParams):
+        raise TypeError(f"params: must be TwoSatelliteParams (see model_params()), "
+                        f"got {type(params).__name__}")
     model = _c.TwoSatelliteModel(params if params is not None else model_params())
-    x0 = drift_state() if x0_si is None else np.asarray(x0_si, dtype=float)
+    x0 = drift_state() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,))
     sc = _c.published_scaling(x0, MU, MASS)
     dmap = make_map(model, tf / horizon, sc, discretization, substeps)
     pr = _c.NonlinearL1Problem()
@@ -198,6 +220,7 @@ def paper_case(
         5e-6 if constrained else 6e-5,
         constrained,
         discretization,
+        tf / horizon,
     )
 
 
@@ -206,6 +229,7 @@ def solve_paper(
 ):
     """ADMM + iLQR with the published settings (paper stopping rule, multiplier row rescaling after
     iteration 1). Returns the solver (``.U``, ``.Y``, ``.X``, ``.info``; scaled units)."""
+    _check_case(case)
     st = _c.IlqrAdmmSettings()
     st.rho = case.rho if rho is None else rho
     st.stop = _c.StopRule.paper
@@ -239,6 +263,7 @@ def solve_scp(
     (``.U``, ``.X``, ``.info``; scaled units); ``info.status`` is ``solved`` only when the convex
     model predicts a decrease <= ``tol`` max(1, J) on a solved subproblem (table in
     docs/guidance_nonlinear.md)."""
+    _check_case(case)
     inner = one_of(inner, "inner", ("ilqr_admm", "linear_admm"))
     globalization = one_of(globalization, "globalization", ("trust_region", "line_search"))
     st = _c.ScpSettings()
@@ -273,7 +298,9 @@ def solve_scp(
 def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
     """Fuel (delta-v = sum |u| dt / m, m/s, L1 per axis), terminal miss on the planning model (m and
     m/s), sparsity (fraction of control entries with |u| <= zero_tol * u_max), objective."""
-    U = case.to_si(U_scaled)
+    _check_case(case)
+    zero_tol = as_real(zero_tol, "zero_tol", nonnegative=True)
+    U = case.to_si(as_real_array(U_scaled, "U_scaled", shape=(3, case.problem.horizon)))
     X = case.rollout_si(U)
     dv = float(np.abs(U).sum() * case.dt / MASS)
     thresh = zero_tol * max(np.abs(U).max(), 1e-30)
@@ -301,17 +328,19 @@ def fly(
     ``"cvodes"`` (satgnc's CVODES path, re-initialised at each interval boundary, rtol 1e-11) or
     ``"rk4"`` (fixed step dt/substeps). Returns states 12 x (N+1), SI; raises RuntimeError naming
     the interval when the propagation fails."""
+    _check_case(case)
+    integrator = one_of(integrator, "integrator", ("cvodes", "rk4"))
+    substeps = as_int(substeps, "substeps", low=1, high=10**6)
     p = truth_params if truth_params is not None else model_params(published=False, j2=True, drag=True)
     truth = _c.TwoSatelliteModel(p)
-    x = np.array(case.x0_si if x0_si is None else x0_si, dtype=float)
-    U_si = np.asarray(U_si, dtype=float)
+    x = case.x0_si.copy() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,), copy=True)
+    # complex U_si was truncated with a ComplexWarning and boolean read as 0/1 newtons
+    U_si = as_real_array(U_si, "U_si", shape=(3, None))
     if integrator == "cvodes":
         r = _c.TwoSatelliteTruth(truth).fly(x, U_si, case.dt)
         if not r["ok"]:
             raise RuntimeError(f"fly: CVODES truth failed: {r['message']}")
         return np.asarray(r["X"])
-    if integrator != "rk4":
-        raise ValueError(f"integrator: must be 'cvodes' or 'rk4', got {integrator!r}")
     h = case.dt / substeps
     X = [x.copy()]
     for k in range(U_si.shape[1]):
@@ -356,10 +385,10 @@ def mpc(
     satgnc's CVODES path re-initialised at each interval; ``"rk4"``: RK4 at dt/substeps). Returns
     states (12 x N+1, SI), controls (3 x N, N), re-plan solve times (s, thread CPU time) and
     iterations."""
-    if integrator not in ("cvodes", "rk4"):
-        raise ValueError(f"integrator: must be 'cvodes' or 'rk4', got {integrator!r}")
-    if replan_every < 1:
-        raise ValueError(f"replan_every: must be >= 1, got {replan_every}")
+    _check_case(case)
+    integrator = one_of(integrator, "integrator", ("cvodes", "rk4"))
+    replan_every = as_int(replan_every, "replan_every", low=1)
+    substeps = as_int(substeps, "substeps", low=1, high=10**6)  # substeps=0 divided by zero
     tp = truth_params if truth_params is not None else model_params(published=False, j2=True, drag=True)
     pp = planner_params if planner_params is not None else model_params(published=False, j2=True, drag=True)
     truth = _c.TwoSatelliteModel(tp)
@@ -440,6 +469,7 @@ def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
     same initial relative state (exact CW frame of the target): satgnc's linear ADMM solver, with
     the nonlinear case's scaling so that Qf and alpha mean the same thing. Returns the plan in newtons
     (3 x N, target CW frame) and the solver's result dict."""
+    _check_case(case)
     sc = case.scaling
     x0 = np.asarray(_c.cw_relative_state(case.x0_si))
     n = np.sqrt(MU / np.linalg.norm(case.x0_si[3:6]) ** 3)
@@ -479,6 +509,9 @@ def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
 
 def miss(X: np.ndarray) -> tuple[float, float]:
     """Terminal miss (m, m/s) of a 12-state trajectory: |r_t - r_c| and |v_t - v_c| at the end."""
+    X = as_real_array(X, "X", shape=(12, None))  # a complex X gave (0, 0), a 1-D X an IndexError
+    if X.shape[1] == 0:
+        raise ValueError("X: needs at least one column (state)")
     return float(np.linalg.norm(X[0:3, -1])), float(np.linalg.norm(X[6:9, -1]))
 
 
@@ -490,6 +523,8 @@ def run_cli(out, closed_loop: bool = False) -> int:
     import pathlib
 
     from ..report.guidance_nonlinear import _figure, _flight_figure
+
+    closed_loop = as_bool(closed_loop, "closed_loop")  # "x" was True
 
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)

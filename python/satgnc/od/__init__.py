@@ -283,7 +283,7 @@ class Observations:
         self.t = _array1(self.t, "t")
         n = self.t.size
         self.value = _array1(self.value, "value")
-        sig = np.asarray(self.sigma, dtype=float)
+        sig = as_real_array(self.sigma, "sigma", finite=False)  # complex sigma was truncated silently
         self.sigma = np.full(n, float(sig)) if sig.ndim == 0 else _array1(sig, "sigma")
         st = np.asarray(self.station)
         if st.dtype.kind not in "iu" and not (st.dtype.kind == "f" and np.all(st == np.round(st))):
@@ -302,6 +302,15 @@ class Observations:
         bad = np.flatnonzero(~np.isfinite(self.t) | ~np.isfinite(self.value))
         if bad.size:
             raise ValueError(f"t/value: must be finite (row {bad[0]})")
+        bad = np.flatnonzero(self.station < 0)
+        if bad.size:
+            raise ValueError(f"station: indices must be >= 0 (row {bad[0]}: {self.station[bad[0]]})")
+        # A range is a distance: a negative one was accepted here (read_csv / read_tdm refuse it);
+        # a zero range is left to the solver, which names it "zero range".
+        rng = np.array([k == MeasurementType.range for k in self.type], dtype=bool)
+        bad = np.flatnonzero(rng & (self.value < 0))
+        if bad.size:
+            raise ValueError(f"value: a range must be >= 0 km (row {bad[0]}: {self.value[bad[0]]})")
 
     def __len__(self) -> int:
         return int(self.t.size)
@@ -433,6 +442,8 @@ def read_csv(path) -> Observations:
 def _stations(stations) -> list:
     if isinstance(stations, Station):
         return [stations]
+    if isinstance(stations, (str, bytes)) or not hasattr(stations, "__iter__"):
+        raise TypeError(f"stations: must be a Station or a list of Stations, got {type(stations).__name__}")
     st = list(stations)
     if not st:
         raise ValueError("stations: need at least one station")
@@ -495,6 +506,11 @@ def six_point_conditions(
     'range' (eq. 9) or a list of six of them (mixed)."""
     t = _array1(t, "t")
     rho = _array1(rho, "rho")
+    if not np.all(np.isfinite(t)):
+        raise ValueError("t: must be finite (no NaN or Inf)")
+    if not np.all(np.isfinite(rho)) or np.any(rho <= 0):
+        raise ValueError(f"rho: ranges must be finite and > 0 km, got {rho.tolist()}")
+    station = as_int(station, "station", low=0, high=2**31 - 1)
     if t.size != 6:
         raise ValueError(f"t: the six-point solver needs exactly 6 observation times, got {t.size}")
     if rho.shape != t.shape:
@@ -513,6 +529,8 @@ def six_point_conditions(
         rhodot = _array1(rhodot, "rhodot")
         if rhodot.shape != t.shape:
             raise ValueError(f"rhodot: must have 6 values, got {rhodot.size}")
+        if not np.all(np.isfinite(rhodot)):
+            raise ValueError("rhodot: must be finite (no NaN or Inf)")
     else:
         rhodot = np.zeros(6)
     if len(np.unique(t)) != 6 and len({(a, b) for a, b in zip(t, modes)}) != 6:
@@ -565,7 +583,7 @@ def solve_six_point(
 
 def box_guesses(center, half_width, n: int, seed: int = 0) -> np.ndarray:
     """(n, 6) guesses uniform in ``center +- half_width`` (km, km/s), reproducible from ``seed``."""
-    if not isinstance(n, (int, np.integer)) or n < 1:
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"n: must be an integer >= 1, got {n!r}")
     hw = _vector(half_width, 6, "half_width")
     if np.any(hw < 0):
@@ -587,7 +605,9 @@ def root_search(
     first) with residuals and covariance; ``result.ambiguous`` when two or more fit the data."""
     if not isinstance(solver_, OdSolver):
         raise TypeError(f"solver: must be an OdSolver, got {type(solver_).__name__}")
-    g = np.asarray(guesses, dtype=float)
+    if isinstance(guesses, (str, bytes)):
+        raise TypeError(f"guesses: must be an (n, 6) array of states, got {type(guesses).__name__}")
+    g = as_real_array(guesses, "guesses", finite=False)  # complex / boolean: TypeError (was truncated)
     if g.ndim != 2 or g.shape[1] != 6 or g.shape[0] < 1:
         raise ValueError(f"guesses: must have shape (n, 6), got {g.shape}")
     if not np.all(np.isfinite(g)):
@@ -667,7 +687,20 @@ def simulate(
         where = "below the Earth's surface" if floor else "at the centre of attraction"
         raise ValueError(f"x0: the satellite is {where} (|r| = {r0:.6g} km, Earth radius {floor} km)")
     prop = make_propagator(propagator, mu)
-    states, _ = prop.propagate(x0, list(times))
+    try:
+        states, _ = prop.propagate(x0, list(times))
+    except ValueError:
+        # The engine says only "x0: propagation failed"; name the first time it cannot reach
+        # (times = [0, 1e300] blamed x0, before that the force model).
+        for k, tk in enumerate(times):
+            try:
+                prop.propagate(x0, [float(tk)])
+            except ValueError:
+                raise ValueError(
+                    f"times: the {propagator} propagator could not propagate x0 to times[{k}] = {tk:.6g} s "
+                    "(hint: observation times are seconds from the epoch of x0)"
+                ) from None
+        raise
     states = np.asarray(states)
     radii = np.linalg.norm(states[:, :3], axis=1)
     low = np.flatnonzero(~(radii > floor))

@@ -32,6 +32,8 @@ _KV = re.compile(r"^\s*([A-Z0-9_]+)\s*=\s*(.*?)\s*$")
 
 def parse_epoch(text: str) -> _dt.datetime:
     """A TDM epoch (calendar or day-of-year form), as a naive UTC datetime."""
+    if not isinstance(text, str):  # was AttributeError: 'int' object has no attribute 'strip'
+        raise TypeError(f"text: must be an epoch string (YYYY-MM-DDThh:mm:ss), got {type(text).__name__}")
     s = text.strip().rstrip("Z")
     if re.search(r"T\d\d:\d\d:60", s):
         raise ValueError(f"epoch {text!r} is a leap second (not supported: UTC is read without leap seconds)")

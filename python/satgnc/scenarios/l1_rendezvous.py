@@ -173,6 +173,8 @@ def linear_problem(sc: Scenario, case: str = "unconstrained", method: str | None
     False gives the paper's eq. (34) weight Qf."""
     from ..guidance import cw_discretize
 
+    if not isinstance(sc, Scenario):
+        raise TypeError(f"sc: must be a Scenario (see load()), got {type(sc).__name__}")
     if case not in sc.cases:
         raise ValueError(f"case: unknown {case!r}; choose from {sorted(sc.cases)}")
     c = sc.cases[case]
@@ -192,6 +194,10 @@ def linear_problem(sc: Scenario, case: str = "unconstrained", method: str | None
 def paper_settings(sc: Scenario, case: str) -> dict:
     """The implementation's ADMM settings for a case: fixed rho, no relaxation, its stopping rule
     and multiplier rescaling."""
+    if not isinstance(sc, Scenario):
+        raise TypeError(f"sc: must be a Scenario (see load()), got {type(sc).__name__}")
+    if case not in sc.cases:  # was a bare KeyError
+        raise ValueError(f"case: unknown {case!r}; choose from {sorted(sc.cases)}")
     c = sc.cases[case]
     return dict(rho=float(c["rho"]), paper_eps=float(c["eps"]), stopping="paper", relaxation=1.0,
                 adaptive_rho=False, paper_multiplier_rescale=True, max_iterations=100000)

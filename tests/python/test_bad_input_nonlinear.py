@@ -1,0 +1,101 @@
+"""Bad input to the nonlinear rendezvous helpers (satgnc.guidance.nonlinear) and the scenario module.
+
+Rows: (callable, kwargs, exception type, message fragment naming the argument). Each row was found
+by the issue-11 QA probe: silently accepted (complex truncated, bool read as 0/1, "no" read as
+True), or an unclear error (ZeroDivisionError, AttributeError, a message naming "dt" or "x0")."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from satgnc.guidance import nonlinear as nl
+from satgnc.scenarios import l1_rendezvous as l1s
+
+H = 6  # a short horizon keeps every row fast
+
+
+@pytest.fixture(scope="module")
+def case():
+    return nl.paper_case(horizon=H)
+
+
+def _pc(**kw):
+    args = dict(horizon=H)
+    args.update(kw)
+    return nl.paper_case(**args)
+
+
+U0 = np.zeros((3, H))
+
+CASES = [
+    (_pc, dict(x0_si=nl.drift_state() + 0j), TypeError, "x0_si:"),
+    (_pc, dict(x0_si=np.ones(12, dtype=bool)), TypeError, "x0_si:"),
+    (_pc, dict(x0_si=np.full(12, np.nan)), ValueError, "x0_si:"),
+    (_pc, dict(x0_si=np.ones(6)), ValueError, "x0_si:"),
+    (_pc, dict(horizon=0), ValueError, "horizon:"),  # ZeroDivisionError
+    (_pc, dict(horizon=-3), ValueError, "horizon:"),  # blamed dt
+    (_pc, dict(horizon=2.5), TypeError, "horizon:"),
+    (_pc, dict(tf=np.nan), ValueError, "tf:"),  # blamed dt
+    (_pc, dict(tf=-1.0), ValueError, "tf:"),
+    (_pc, dict(substeps=0), ValueError, "substeps:"),
+    (_pc, dict(discretization="euler"), ValueError, "discretization:"),
+    (_pc, dict(constrained="no"), TypeError, "constrained:"),  # "no" was True
+    (_pc, dict(params=3), TypeError, "params:"),
+    (lambda **kw: nl.model_params(**kw), dict(j2="x"), TypeError, "j2:"),  # "x" was True
+    (lambda **kw: nl.model_params(**kw), dict(drag="off"), TypeError, "drag:"),
+    (lambda **kw: nl.model_params(**kw), dict(rho0=-1.0), ValueError, "rho0:"),
+    (lambda **kw: nl.miss(**kw), dict(X=np.zeros((12, 3)) + 0j), TypeError, "X:"),  # gave (0, 0)
+    (lambda **kw: nl.miss(**kw), dict(X=np.zeros(12)), ValueError, "X:"),  # IndexError
+    (lambda **kw: nl.solve_scp(**kw), dict(case=None), TypeError, "case:"),  # AttributeError
+    (lambda **kw: nl.solve_paper(**kw), dict(case=None), TypeError, "case:"),
+    (lambda **kw: l1s.paper_settings(l1s.load(), **kw), dict(case="x"), ValueError, "case:"),  # KeyError
+    (lambda **kw: l1s.linear_problem(**kw), dict(sc=None), TypeError, "sc:"),  # AttributeError
+    # closed_loop="x" was True
+    (lambda **kw: nl.run_cli("unused-out", **kw), dict(closed_loop="x"), TypeError, "closed_loop:"),
+]
+
+
+@pytest.mark.parametrize("fn, kwargs, exc, fragment", CASES,
+                         ids=[f"{getattr(c[0], '__name__', 'fn')}-{'-'.join(c[1])}-{i}"
+                              for i, c in enumerate(CASES)])
+def test_bad_input_names_the_argument(fn, kwargs, exc, fragment):
+    with pytest.raises(exc) as info:
+        fn(**kwargs)
+    assert fragment in str(info.value), str(info.value)
+
+
+CASE_ROWS = [
+    (nl.fly, dict(U_si=U0 + 0j), TypeError, "U_si:"),  # truncated to real
+    (nl.fly, dict(U_si=U0.astype(bool)), TypeError, "U_si:"),  # read as 0/1 N
+    (nl.fly, dict(U_si=np.full((3, H), np.nan)), ValueError, "U_si:"),  # RuntimeError from CVODES
+    (nl.fly, dict(U_si=np.zeros((H, 3))), ValueError, "U_si:"),  # named "U"
+    (nl.fly, dict(U_si=U0, integrator="rk5"), ValueError, "integrator:"),
+    (nl.fly, dict(U_si=U0, integrator="rk4", substeps=0), ValueError, "substeps:"),  # ZeroDivisionError
+    (nl.summarize, dict(U_scaled=U0, zero_tol=-1.0), ValueError, "zero_tol:"),
+    (nl.summarize, dict(U_scaled=U0 + 0j), TypeError, "U_scaled:"),  # named "u"
+    (nl.mpc, dict(substeps=0), ValueError, "substeps:"),
+    (nl.mpc, dict(replan_every=1.5), TypeError, "replan_every:"),
+]
+
+
+@pytest.mark.parametrize("fn, kwargs, exc, fragment", CASE_ROWS,
+                         ids=[f"{c[0].__name__}-{'-'.join(c[1])}-{i}" for i, c in enumerate(CASE_ROWS)])
+def test_bad_input_with_a_case_names_the_argument(case, fn, kwargs, exc, fragment):
+    with pytest.raises(exc) as info:
+        fn(case, **kwargs)
+    assert fragment in str(info.value), str(info.value)
+
+
+def test_case_interval_follows_its_horizon_and_tf(case):
+    # Case.dt was TF / N = 60.6 s for every case: fly and summarize of paper_case(horizon=6) flew
+    # 6 intervals of 60.6 s instead of 6000 / 6 = 1000 s.
+    assert case.dt == pytest.approx(6000.0 / H, rel=1e-15)
+    assert nl.paper_case(horizon=H, tf=1200.0).dt == pytest.approx(200.0, rel=1e-15)
+    assert nl.paper_case().dt == pytest.approx(6000.0 / 99, rel=1e-15)  # the paper's case
+    # The planning model's free drift matches fly on the same model: both use 100 s intervals (with
+    # 60.6 s, fly ended 1700 km away from the planned position).
+    c = nl.paper_case(horizon=H, tf=600.0)
+    X_plan = c.rollout_si(U0)
+    X_fly = nl.fly(c, U0, truth_params=nl.model_params(), integrator="rk4", substeps=20)
+    assert X_fly.shape == (12, H + 1)
+    assert np.max(np.abs(X_fly[3:6, -1] - X_plan[3:6, -1])) < 1e3  # m; measured 450 m (RK3 vs RK4)
