@@ -266,6 +266,7 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
     Xp_.setZero(nx_, N_ + 1);
     grad_.setZero(nu_, N_);
     pN_.setZero(nx_);
+    pe_.setZero(nx_);
     free_idx_.assign(static_cast<std::size_t>(fmax_), 0);
     fsign_.assign(static_cast<std::size_t>(fmax_), 0.0);
     dual_ok_ = prob_.R.size() == 0 && w_.minCoeff() > 0.0 && fmax_ >= nx_;
@@ -343,6 +344,14 @@ namespace {
 // Gaussian elimination with partial pivoting, in place (K and r are destroyed); false if singular.
 bool solve_dense_in_place(MatrixXd& K, VectorXd& r, VectorXd& x, int M) noexcept {
   if (M == 0) return true;
+  // row equilibration: the blocks of the polish systems carry different units (Qf G against G and
+  // the identity), and the pivot test below is relative to the largest entry
+  for (int i = 0; i < M; ++i) {
+    const double m = K.row(i).head(M).cwiseAbs().maxCoeff();
+    if (!(m > 0.0) || !std::isfinite(m)) return false;
+    K.row(i).head(M) /= m;
+    r(i) /= m;
+  }
   const double scale = K.topLeftCorner(M, M).cwiseAbs().maxCoeff();
   if (!(scale > 0.0) || !std::isfinite(scale)) return false;
   for (int c = 0; c < M; ++c) {
@@ -550,7 +559,12 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   const Eigen::Map<const VectorXd> up(Up_.data(), static_cast<Index>(N_) * nu_);
   xtmp_ = xN0_;
   xtmp_.noalias() += PsiB_.transpose() * up;  // fixed part x_N^fix
-  const int M = F + (term ? nx_ : 0);         // compact system: free entries, then the terminal multiplier
+  // Compact system: free entries, then nx more unknowns. Hard terminal: the terminal multiplier
+  // (G_F' p = -w s, G_F u_F = -x_fix). Soft terminal: the terminal error e = x_N - x_f itself
+  // (G_F u_F - e = -x_fix, G_F' Qf e = -w s): the normal equations G_F' Qf G_F would square the
+  // conditioning, and p = Qf (x_N - x_f) recomputed from the rolled-out x_N loses all its digits
+  // when the terminal error is small against x_N(0) (a large Qf), so no candidate could certify.
+  const int M = F + nx_;
   for (int a = 0; a < F; ++a) {
     const int k = free_idx_[static_cast<std::size_t>(a)] / nu_,
               i = free_idx_[static_cast<std::size_t>(a)] % nu_;
@@ -564,9 +578,11 @@ bool AdmmSolver::polish_solve(int F) noexcept {
     const double sa = fsign_[static_cast<std::size_t>(a)];
     rhs_(a) = -w_(ia) * sa;
     if (!term) {
-      xtmp2_.noalias() = prob_.Qf * GF_.col(a);
-      rhs_(a) -= xtmp2_.dot(xtmp_);
-      for (int b = 0; b < F; ++b) KKT_(b, a) = GF_.col(b).dot(xtmp2_);
+      xtmp2_.noalias() = prob_.Qf * GF_.col(a);  // Qf symmetric: row a of G_F' Qf
+      for (int j = 0; j < nx_; ++j) {
+        KKT_(a, F + j) = xtmp2_(j);
+        KKT_(F + j, a) = GF_(j, a);
+      }
     } else {
       for (int j = 0; j < nx_; ++j) {
         KKT_(F + j, a) = GF_(j, a);
@@ -581,8 +597,9 @@ bool AdmmSolver::polish_solve(int F) noexcept {
       }
     }
   }
-  if (term) {
-    for (int j = 0; j < nx_; ++j) rhs_(F + j) = -xtmp_(j);
+  for (int j = 0; j < nx_; ++j) {
+    rhs_(F + j) = -xtmp_(j);
+    if (!term) KKT_(F + j, F + j) = -1.0;
   }
   if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
   const double tol = set_.polish_tolerance * (scaled_ ? w_.maxCoeff() : std::max(1.0, w_.maxCoeff()));
@@ -606,9 +623,8 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   if (term) {
     pN_ = sol_.segment(F, nx_);
   } else {
-    xtmp_ = xN0_ - prob_.xf;
-    xtmp_.noalias() += PsiB_.transpose() * up;
-    pN_.noalias() = prob_.Qf * xtmp_;
+    pe_ = sol_.segment(F, nx_);
+    pN_.noalias() = prob_.Qf * pe_;  // Qf e from the solved terminal error
   }
   {
     Eigen::Map<VectorXd> g(grad_.data(), static_cast<Index>(N_) * nu_);
@@ -651,6 +667,13 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   res_.Lambda = -grad_;
   if (term) res_.terminal_multiplier = pN_;
   return true;
+}
+
+void AdmmSolver::polished_terminal() noexcept {
+  // soft terminal: the polish solved the terminal error e = x_N - x_f as an unknown, to full relative
+  // precision; the rolled-out x_N carries rounding of order eps |x_N(0)|, which swamps e when Qf is
+  // large (and with it the dual bound built from Qf e). Same plan, exact-arithmetic terminal state.
+  if (!prob_.terminal_equality) res_.X_flown.col(N_) = prob_.xf + pe_;
 }
 
 void AdmmSolver::update_linear_terms() noexcept {
@@ -935,6 +958,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     if (!gap_on) return true;
     dual_at_u_ = false;  // the polish replaced U by the polished plan
     rollout(Y, res_.X_flown);
+    polished_terminal();
     const double P = trajectory_objective(res_.X_flown, Y);
     const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
     return evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
@@ -1181,6 +1205,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   if (prob_.terminal_equality && !info.polished)
     res_.terminal_multiplier = cond ? cg_ : ric_.terminal_multiplier();
   rollout(Y, res_.X_flown);
+  if (info.polished) polished_terminal();
   info.objective = trajectory_objective(res_.X_flown, Y);
   info.objective_u = trajectory_objective(X, U);
   info.certified = info.polished;

@@ -293,6 +293,9 @@ class AdmmSolver {
   Eigen::VectorXd xN0_;   ///< x_N for U = 0 (set at the start of each solve)
   Eigen::MatrixXd GF_, KKT_, Up_, Xp_, grad_;
   Eigen::VectorXd rhs_, sol_, pN_;
+  Eigen::VectorXd pe_;  ///< terminal error x_N - x_f solved by the last soft-terminal polish
+  /// After a certified soft-terminal polish: X_flown's terminal column from the solved error pe_.
+  void polished_terminal() noexcept;
   std::vector<int> free_idx_;
   std::vector<double> fsign_;
   int gap_F_ = 0;    ///< free count of the dual guess by the largest jump in distance
