@@ -255,6 +255,21 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
     }
     update_psib();
   }
+  // QP polish: no L1 weights, no stage Q, R diagonal and positive definite (+ box): any number of
+  // free entries, eliminated through an nx x nx system (qp_polish)
+  qp_polish_ok_ = !polish_ok_ && cond_ok_ && flat_ok_ && !has_l1_ && prob_.R.size() != 0 &&
+                  prob_.R.diagonal().minCoeff() > 0.0;
+  if (qp_polish_ok_) {
+    Up_.setZero(nu_, N_);
+    Xp_.setZero(nx_, N_ + 1);
+    grad_.setZero(nu_, N_);
+    pN_.setZero(nx_);
+    pe_.setZero(nx_);
+    Hq_.setZero(nx_, nx_);
+    Sq_.setZero(nx_, nx_);
+    qb_.setZero(nx_);
+    q_lu_ = Eigen::PartialPivLU<MatrixXd>(nx_);
+  }
   if (polish_ok_) {
     fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 8 * nx_;
     fmax_ = std::min(fmax_, N_ * nu_);
@@ -669,6 +684,84 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   return true;
 }
 
+// QP polish (no L1, R diagonal > 0, Q = 0): entries of Y at a bound stay there, the others are free
+// with u_i = -m_i' p / r_i. With H_F = sum_free m_i m_i' / r_i and x_fix the terminal state of the
+// fixed entries alone: (I + H_F Qf) e = x_fix - x_f for the terminal error e (soft, p = Qf e), or
+// H_F p = x_fix - x_f (hard terminal state). Accepted only if the free entries lie in the box and
+// the fixed ones satisfy their sign condition (the KKT conditions of the QP).
+bool AdmmSolver::qp_polish() noexcept {
+  ++res_.info.polish_attempts;
+  const bool term = prob_.terminal_equality;
+  const MatrixXd& Y = res_.Y;
+  Hq_.setZero();
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double y = Y(i, k);
+      if (y == lo_(i) || y == hi_(i)) {
+        Up_(i, k) = y;
+      } else {
+        Up_(i, k) = 0.0;
+        const double c = 1.0 / prob_.R(i, i);
+        const Index row = static_cast<Index>(k) * nu_ + i;
+        for (int b = 0; b < nx_; ++b) {
+          const double mb = c * PsiB_(row, b);
+          for (int a = 0; a < nx_; ++a) Hq_(a, b) += mb * PsiB_(row, a);
+        }
+      }
+    }
+  }
+  const Eigen::Map<const VectorXd> up(Up_.data(), static_cast<Index>(N_) * nu_);
+  qb_ = xN0_ - prob_.xf;
+  qb_.noalias() += PsiB_.transpose() * up;
+  if (term) {
+    Sq_ = Hq_;
+  } else {
+    Sq_.noalias() = Hq_ * prob_.Qf;
+    Sq_.diagonal().array() += 1.0;
+  }
+  q_lu_.compute(Sq_);
+  const auto piv = q_lu_.matrixLU().diagonal().cwiseAbs();
+  if (!(piv.minCoeff() > 1e-13 * piv.maxCoeff()) || !std::isfinite(piv.maxCoeff())) return false;
+  if (term) {
+    pN_ = q_lu_.solve(qb_);
+  } else {
+    pe_ = q_lu_.solve(qb_);
+    pN_.noalias() = prob_.Qf * pe_;
+  }
+  if (!pN_.allFinite()) return false;
+  Eigen::Map<VectorXd> g(grad_.data(), static_cast<Index>(N_) * nu_);
+  g.noalias() = PsiB_ * pN_;  // m_i' p
+  double scale = 0.0;
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double y = Y(i, k);
+      if (y != lo_(i) && y != hi_(i)) Up_(i, k) = -grad_(i, k) / prob_.R(i, i);
+      grad_(i, k) += prob_.R(i, i) * Up_(i, k);  // gradient of the smooth part (zero on free entries)
+      scale = std::max(scale, std::abs(prob_.R(i, i) * Up_(i, k)));
+    }
+  }
+  const double tol = set_.polish_tolerance * std::max(scale, 1e-300);
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double u = Up_(i, k), y = Y(i, k), gk = grad_(i, k);
+      if (y == hi_(i) && y != lo_(i)) {
+        if (gk > tol) return false;  // at the upper bound the cost must decrease upward
+      } else if (y == lo_(i) && y != hi_(i)) {
+        if (gk < -tol) return false;
+      } else if (u < lo_(i) || u > hi_(i)) {
+        return false;
+      }
+    }
+  }
+  res_.U = Up_;
+  res_.Y = Up_;
+  rollout(Up_, Xp_);
+  res_.X = Xp_;
+  res_.Lambda = -grad_;
+  if (term) res_.terminal_multiplier = pN_;
+  return true;
+}
+
 void AdmmSolver::polished_terminal() noexcept {
   // soft terminal: the polish solved the terminal error e = x_N - x_f as an unknown, to full relative
   // precision; the rolled-out x_N carries rounding of order eps |x_N(0)|, which swamps e when Qf is
@@ -988,6 +1081,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   bool r_valid = false;  // r_ = Lambda - rho Y is produced by the previous pass
   const bool paper_rule = set_.stopping == StoppingRule::kPaper;
   const bool polish_on = polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
+  const bool qp_polish_on = qp_polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
   std::uint64_t prev_sig = 0, tried_sig = 0, prev_dsig = 0, tried_dsig = 0;
   std::array<std::uint64_t, 16> failed{};  // rejected dual guesses of this solve (ring)
   int n_failed = 0, next_failed = 0;
@@ -1109,6 +1203,25 @@ const AdmmResult& AdmmSolver::solve() noexcept {
           yfailed[static_cast<std::size_t>(next_yfailed)] = st.signature;
           next_yfailed = (next_yfailed + 1) % static_cast<int>(yfailed.size());
           n_yfailed = std::min(n_yfailed + 1, static_cast<int>(yfailed.size()));
+        }
+      }
+    }
+    if (qp_polish_on) {
+      // the candidate depends only on which entries of Y sit at a bound: once per new pattern
+      const bool stable = have_prev && st.signature == prev_sig;
+      const bool fresh = !have_tried || st.signature != tried_sig;
+      prev_sig = st.signature;
+      have_prev = true;
+      if (stable && fresh) {
+        tried_sig = st.signature;
+        have_tried = true;
+        if (qp_polish()) {
+          if (polish_gap_ok()) {
+            info.polished = true;
+            status = AdmmStatus::kSolved;
+            break;
+          }
+          r_valid = false;
         }
       }
     }

@@ -296,6 +296,11 @@ class AdmmSolver {
   Eigen::VectorXd pe_;  ///< terminal error x_N - x_f solved by the last soft-terminal polish
   /// After a certified soft-terminal polish: X_flown's terminal column from the solved error pe_.
   void polished_terminal() noexcept;
+  bool qp_polish() noexcept;
+  bool qp_polish_ok_ = false;   ///< QP polish applies (no L1, R diagonal > 0, Q = 0)
+  Eigen::MatrixXd Hq_, Sq_;     ///< H_F and the nx x nx system of the QP polish
+  Eigen::VectorXd qb_;          ///< its right-hand side
+  Eigen::PartialPivLU<Eigen::MatrixXd> q_lu_;
   std::vector<int> free_idx_;
   std::vector<double> fsign_;
   int gap_F_ = 0;    ///< free count of the dual guess by the largest jump in distance
