@@ -1,6 +1,7 @@
 // ADMM with a Riccati step for L1 / group-L2 / box-constrained LTV guidance (see admm.hpp).
 #include "satgnc/guidance/admm.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
@@ -285,6 +286,27 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
     free_idx_.assign(static_cast<std::size_t>(fmax_), 0);
     fsign_.assign(static_cast<std::size_t>(fmax_), 0.0);
     dual_ok_ = prob_.R.size() == 0 && w_.minCoeff() > 0.0 && fmax_ >= nx_;
+    // smoothed-dual Newton (dual_newton): needs the condensed map and, with a soft terminal, Qf^-1
+    dn_ok_ = dual_ok_ && cond_ok_;
+    if (dn_ok_ && !prob_.terminal_equality) {
+      Eigen::LDLT<MatrixXd> ldlt(prob_.Qf);
+      dn_ok_ = ldlt.info() == Eigen::Success && ldlt.isPositive() &&
+               ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff();
+      if (dn_ok_) dn_qi_ = ldlt.solve(MatrixXd::Identity(nx_, nx_));
+    }
+    if (dn_ok_) {
+      const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+      dn_s_.setZero(n);
+      dn_u_.setZero(n);
+      dn_nu_.setZero(nx_);
+      dn_g_.setZero(nx_);
+      dn_d_.setZero(nx_);
+      dn_t_.setZero(nx_);
+      dn_e_.setZero(nx_);
+      dn_H_.setZero(nx_, nx_);
+      dn_lu_ = Eigen::PartialPivLU<MatrixXd>(nx_);
+      if (dn_qi_.size() == 0) dn_qi_.setZero(nx_, nx_);
+    }
     winv_ = w_.cwiseInverse();
     seld_.assign(static_cast<std::size_t>(nx_ + 1), 0.0);
     seli_.assign(static_cast<std::size_t>(nx_ + 1), 0);
@@ -762,6 +784,115 @@ bool AdmmSolver::qp_polish() noexcept {
   return true;
 }
 
+// Smoothed dual of the L1 (+ box) problem without R: with eps/2 ||U||^2 added, the dual in the
+// terminal multiplier nu (nx) is smooth and concave, D(nu) = nu' e0 - 1/2 nu' Qf^-1 nu (soft only)
+// + sum_i min_u [s_i u + w_i |u| + eps/2 u^2] over the box, s = M' nu, with the minimizer
+// u_i = clip(-soft(s_i, w_i) / eps, lo_i, hi_i). Newton on nu (Hessian Qf^-1 + sum_free m_i m_i' / eps)
+// with backtracking, eps lowered by 10 per level from the mean curvature; at each level the entries
+// strictly inside (0, bound) are the free set of a candidate for the exact polish (polish_solve).
+// Starts from ADMM's terminal multiplier; nx-dimensional, so it finds the active set that ADMM's
+// iterates approach slowly. Returns true with the certified plan in res_ (as polish_solve).
+bool AdmmSolver::dual_newton() noexcept {
+  const bool term = prob_.terminal_equality;
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+  dn_e_ = xN0_ - prob_.xf;
+  double curv = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (term) {
+      curv += PsiB_.row(j).squaredNorm();
+    } else {
+      dn_t_.noalias() = prob_.Qf * PsiB_.row(j).transpose();
+      curv += PsiB_.row(j).dot(dn_t_);
+    }
+  }
+  curv /= static_cast<double>(n);
+  if (!(curv > 0.0) || !std::isfinite(curv)) return false;
+  dn_nu_ = cg_;  // condensed step: Qf e (soft) or the terminal multiplier (hard)
+  const auto evaluate = [&](const VectorXd& nu, double eps) {
+    // s, u(nu) into dn_s_, dn_u_; returns D(nu)
+    Eigen::Map<VectorXd> sv(dn_s_.data(), n);
+    sv.noalias() = PsiB_ * nu;
+    double D = nu.dot(dn_e_);
+    if (!term) {
+      dn_t_.noalias() = dn_qi_ * nu;
+      D -= 0.5 * nu.dot(dn_t_);
+    }
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double sj = dn_s_(j), w = wrep_(j);
+      const double v = sj > w ? sj - w : (sj < -w ? sj + w : 0.0);
+      const double u = std::clamp(-v / eps, lorep_(j), hirep_(j));
+      dn_u_(j) = u;
+      D += sj * u + w * std::abs(u) + 0.5 * eps * u * u;
+    }
+    return D;
+  };
+  int steps = 0;
+  constexpr int kMaxSteps = 120;
+  double eps = curv;
+  for (int level = 0; level < 14 && steps < kMaxSteps; ++level, eps *= 0.1) {
+    for (int t = 0; t < 30 && steps < kMaxSteps; ++t, ++steps) {
+      const double D0 = evaluate(dn_nu_, eps);
+      // gradient e0 + M u - Qf^-1 nu and Hessian (negated)
+      dn_g_ = dn_e_;
+      dn_g_.noalias() += PsiB_.transpose() * dn_u_;
+      if (!term) {
+        dn_g_.noalias() -= dn_qi_ * dn_nu_;
+        dn_H_ = dn_qi_;
+      } else {
+        dn_H_.setZero();
+      }
+      for (Eigen::Index j = 0; j < n; ++j) {
+        const double u = dn_u_(j);
+        if (u == 0.0 || u == lorep_(j) || u == hirep_(j)) continue;
+        for (int b = 0; b < nx_; ++b) {
+          const double mb = PsiB_(j, b) / eps;
+          for (int a = 0; a < nx_; ++a) dn_H_(a, b) += mb * PsiB_(j, a);
+        }
+      }
+      const double tr = dn_H_.trace();
+      dn_H_.diagonal().array() += 1e-12 * std::max(tr, 1e-300) / nx_ + (term ? 1e-300 : 0.0);
+      dn_lu_.compute(dn_H_);
+      dn_d_ = dn_lu_.solve(dn_g_);
+      if (!dn_d_.allFinite()) return false;
+      const double slope = dn_g_.dot(dn_d_);
+      double step = 1.0;
+      bool moved = false;
+      for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
+        dn_t_ = dn_nu_ + step * dn_d_;
+        const VectorXd& trial = dn_t_;
+        dn_g_ = trial;  // keep the trial point (evaluate overwrites dn_t_ in the soft case)
+        if (evaluate(dn_g_, eps) >= D0 + 1e-4 * step * slope) {
+          dn_nu_ = dn_g_;
+          moved = true;
+          break;
+        }
+      }
+      if (!moved || step * dn_d_.norm() <= 1e-13 * std::max(dn_nu_.norm(), 1e-300)) break;
+    }
+    // candidate: entries strictly inside (0, bound) free, the others fixed at 0 or the bound
+    evaluate(dn_nu_, eps);
+    int F = 0;
+    bool fits = true;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double u = dn_u_(j);
+      const bool fixed = u == 0.0 || u == lorep_(j) || u == hirep_(j);
+      Up_.data()[j] = fixed ? u : 0.0;
+      if (fixed) continue;
+      if (F >= nx_ || F >= fmax_) {
+        fits = false;
+        break;
+      }
+      free_idx_[static_cast<std::size_t>(F)] = static_cast<int>(j);
+      fsign_[static_cast<std::size_t>(F)] = u > 0.0 ? 1.0 : -1.0;
+      ++F;
+    }
+    if (!fits || F == 0 || (term && F < nx_)) continue;
+    ++res_.info.polish_attempts;
+    if (polish_solve(F)) return true;
+  }
+  return false;
+}
+
 void AdmmSolver::polished_terminal() noexcept {
   // soft terminal: the polish solved the terminal error e = x_N - x_f as an unknown, to full relative
   // precision; the rolled-out x_N carries rounding of order eps |x_N(0)|, which swamps e when Qf is
@@ -1081,6 +1212,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   bool r_valid = false;  // r_ = Lambda - rho Y is produced by the previous pass
   const bool paper_rule = set_.stopping == StoppingRule::kPaper;
   const bool polish_on = polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
+  int next_dn_it = 50;
   const bool qp_polish_on = qp_polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
   std::uint64_t prev_sig = 0, tried_sig = 0, prev_dsig = 0, tried_dsig = 0;
   std::array<std::uint64_t, 16> failed{};  // rejected dual guesses of this solve (ring)
@@ -1204,6 +1336,17 @@ const AdmmResult& AdmmSolver::solve() noexcept {
           next_yfailed = (next_yfailed + 1) % static_cast<int>(yfailed.size());
           n_yfailed = std::min(n_yfailed + 1, static_cast<int>(yfailed.size()));
         }
+      }
+    }
+    if (polish_on && dn_ok_ && set_.polish_dual && cond && it == next_dn_it) {
+      next_dn_it *= 2;  // at 50, 100, 200, ... iterations: ADMM alone is slow on this problem
+      if (dual_newton()) {
+        if (polish_gap_ok()) {
+          info.polished = true;
+          status = AdmmStatus::kSolved;
+          break;
+        }
+        r_valid = false;
       }
     }
     if (qp_polish_on) {
