@@ -233,6 +233,27 @@ TEST(Admm, QpPolishCertifiesWithoutAllocating) {
   }
 }
 
+// The smoothed-dual Newton candidate (tried at iterations 50, 100, 200, ...) runs without allocation,
+// whether it certifies (soft terminal: the paper's unconstrained case stops at iteration 50) or not.
+TEST(Admm, DualNewtonPathDoesNotAllocate) {
+  for (bool terminal : {false, true}) {
+    AdmmSolver s(scenario_problem(true, terminal), AdmmSettings());
+    AdmmSolver s0(scenario_problem(false, false), AdmmSettings());
+    s.solve();  // warm-up (first-touch)
+    s0.solve();
+    g_allocs = 0;
+    g_counting = true;
+    const AdmmResult& r = s.solve();
+    const AdmmResult& r0 = s0.solve();
+    g_counting = false;
+    EXPECT_EQ(g_allocs.load(), 0) << "terminal=" << terminal;
+    EXPECT_GE(r.info.iterations, 50) << "the dual Newton call at iteration 50 is reached";
+    EXPECT_EQ(r0.info.status, AdmmStatus::kSolved);
+    EXPECT_TRUE(r0.info.polished);
+    EXPECT_EQ(r0.info.iterations, 50);
+  }
+}
+
 TEST(Admm, CachedGainsMatchFullRiccatiIterateByIterate) {
   for (bool terminal : {false, true}) {
     const LtvProblem p = terminal ? scenario_problem(true, true) : random_problem(4, 2, 25, 11u, true, false);
