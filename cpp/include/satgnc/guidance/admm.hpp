@@ -302,9 +302,9 @@ class AdmmSolver {
   Eigen::MatrixXd dn_qi_, dn_H_;
   Eigen::VectorXd dn_s_, dn_u_, dn_nu_, dn_g_, dn_d_, dn_t_, dn_e_;
   Eigen::PartialPivLU<Eigen::MatrixXd> dn_lu_;
-  bool qp_polish_ok_ = false;   ///< QP polish applies (no L1, R diagonal > 0, Q = 0)
-  Eigen::MatrixXd Hq_, Sq_;     ///< H_F and the nx x nx system of the QP polish
-  Eigen::VectorXd qb_;          ///< its right-hand side
+  bool qp_polish_ok_ = false;  ///< QP polish applies (no L1, R diagonal > 0, Q = 0)
+  Eigen::MatrixXd Hq_, Sq_;    ///< H_F and the nx x nx system of the QP polish
+  Eigen::VectorXd qb_;         ///< its right-hand side
   Eigen::PartialPivLU<Eigen::MatrixXd> q_lu_;
   std::vector<int> free_idx_;
   std::vector<double> fsign_;
