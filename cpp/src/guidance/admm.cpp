@@ -1,6 +1,7 @@
 // ADMM with a Riccati step for L1 / group-L2 / box-constrained LTV guidance (see admm.hpp).
 #include "satgnc/guidance/admm.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
@@ -255,6 +256,21 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
     }
     update_psib();
   }
+  // QP polish: no L1 weights, no stage Q, R diagonal and positive definite (+ box): any number of
+  // free entries, eliminated through an nx x nx system (qp_polish)
+  qp_polish_ok_ = !polish_ok_ && cond_ok_ && flat_ok_ && !has_l1_ && prob_.R.size() != 0 &&
+                  prob_.R.diagonal().minCoeff() > 0.0;
+  if (qp_polish_ok_) {
+    Up_.setZero(nu_, N_);
+    Xp_.setZero(nx_, N_ + 1);
+    grad_.setZero(nu_, N_);
+    pN_.setZero(nx_);
+    pe_.setZero(nx_);
+    Hq_.setZero(nx_, nx_);
+    Sq_.setZero(nx_, nx_);
+    qb_.setZero(nx_);
+    q_lu_ = Eigen::PartialPivLU<MatrixXd>(nx_);
+  }
   if (polish_ok_) {
     fmax_ = set_.polish_max_free > 0 ? set_.polish_max_free : 8 * nx_;
     fmax_ = std::min(fmax_, N_ * nu_);
@@ -266,9 +282,31 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
     Xp_.setZero(nx_, N_ + 1);
     grad_.setZero(nu_, N_);
     pN_.setZero(nx_);
+    pe_.setZero(nx_);
     free_idx_.assign(static_cast<std::size_t>(fmax_), 0);
     fsign_.assign(static_cast<std::size_t>(fmax_), 0.0);
     dual_ok_ = prob_.R.size() == 0 && w_.minCoeff() > 0.0 && fmax_ >= nx_;
+    // smoothed-dual Newton (dual_newton): needs the condensed map and, with a soft terminal, Qf^-1
+    dn_ok_ = dual_ok_ && cond_ok_;
+    if (dn_ok_ && !prob_.terminal_equality) {
+      Eigen::LDLT<MatrixXd> ldlt(prob_.Qf);
+      dn_ok_ = ldlt.info() == Eigen::Success && ldlt.isPositive() &&
+               ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff();
+      if (dn_ok_) dn_qi_ = ldlt.solve(MatrixXd::Identity(nx_, nx_));
+    }
+    if (dn_ok_) {
+      const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+      dn_s_.setZero(n);
+      dn_u_.setZero(n);
+      dn_nu_.setZero(nx_);
+      dn_g_.setZero(nx_);
+      dn_d_.setZero(nx_);
+      dn_t_.setZero(nx_);
+      dn_e_.setZero(nx_);
+      dn_H_.setZero(nx_, nx_);
+      dn_lu_ = Eigen::PartialPivLU<MatrixXd>(nx_);
+      if (dn_qi_.size() == 0) dn_qi_.setZero(nx_, nx_);
+    }
     winv_ = w_.cwiseInverse();
     seld_.assign(static_cast<std::size_t>(nx_ + 1), 0.0);
     seli_.assign(static_cast<std::size_t>(nx_ + 1), 0);
@@ -343,6 +381,14 @@ namespace {
 // Gaussian elimination with partial pivoting, in place (K and r are destroyed); false if singular.
 bool solve_dense_in_place(MatrixXd& K, VectorXd& r, VectorXd& x, int M) noexcept {
   if (M == 0) return true;
+  // row equilibration: the blocks of the polish systems carry different units (Qf G against G and
+  // the identity), and the pivot test below is relative to the largest entry
+  for (int i = 0; i < M; ++i) {
+    const double m = K.row(i).head(M).cwiseAbs().maxCoeff();
+    if (!(m > 0.0) || !std::isfinite(m)) return false;
+    K.row(i).head(M) /= m;
+    r(i) /= m;
+  }
   const double scale = K.topLeftCorner(M, M).cwiseAbs().maxCoeff();
   if (!(scale > 0.0) || !std::isfinite(scale)) return false;
   for (int c = 0; c < M; ++c) {
@@ -550,7 +596,12 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   const Eigen::Map<const VectorXd> up(Up_.data(), static_cast<Index>(N_) * nu_);
   xtmp_ = xN0_;
   xtmp_.noalias() += PsiB_.transpose() * up;  // fixed part x_N^fix
-  const int M = F + (term ? nx_ : 0);         // compact system: free entries, then the terminal multiplier
+  // Compact system: free entries, then nx more unknowns. Hard terminal: the terminal multiplier
+  // (G_F' p = -w s, G_F u_F = -x_fix). Soft terminal: the terminal error e = x_N - x_f itself
+  // (G_F u_F - e = -x_fix, G_F' Qf e = -w s): the normal equations G_F' Qf G_F would square the
+  // conditioning, and p = Qf (x_N - x_f) recomputed from the rolled-out x_N loses all its digits
+  // when the terminal error is small against x_N(0) (a large Qf), so no candidate could certify.
+  const int M = F + nx_;
   for (int a = 0; a < F; ++a) {
     const int k = free_idx_[static_cast<std::size_t>(a)] / nu_,
               i = free_idx_[static_cast<std::size_t>(a)] % nu_;
@@ -564,9 +615,11 @@ bool AdmmSolver::polish_solve(int F) noexcept {
     const double sa = fsign_[static_cast<std::size_t>(a)];
     rhs_(a) = -w_(ia) * sa;
     if (!term) {
-      xtmp2_.noalias() = prob_.Qf * GF_.col(a);
-      rhs_(a) -= xtmp2_.dot(xtmp_);
-      for (int b = 0; b < F; ++b) KKT_(b, a) = GF_.col(b).dot(xtmp2_);
+      xtmp2_.noalias() = prob_.Qf * GF_.col(a);  // Qf symmetric: row a of G_F' Qf
+      for (int j = 0; j < nx_; ++j) {
+        KKT_(a, F + j) = xtmp2_(j);
+        KKT_(F + j, a) = GF_(j, a);
+      }
     } else {
       for (int j = 0; j < nx_; ++j) {
         KKT_(F + j, a) = GF_(j, a);
@@ -581,8 +634,9 @@ bool AdmmSolver::polish_solve(int F) noexcept {
       }
     }
   }
-  if (term) {
-    for (int j = 0; j < nx_; ++j) rhs_(F + j) = -xtmp_(j);
+  for (int j = 0; j < nx_; ++j) {
+    rhs_(F + j) = -xtmp_(j);
+    if (!term) KKT_(F + j, F + j) = -1.0;
   }
   if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
   const double tol = set_.polish_tolerance * (scaled_ ? w_.maxCoeff() : std::max(1.0, w_.maxCoeff()));
@@ -606,9 +660,8 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   if (term) {
     pN_ = sol_.segment(F, nx_);
   } else {
-    xtmp_ = xN0_ - prob_.xf;
-    xtmp_.noalias() += PsiB_.transpose() * up;
-    pN_.noalias() = prob_.Qf * xtmp_;
+    pe_ = sol_.segment(F, nx_);
+    pN_.noalias() = prob_.Qf * pe_;  // Qf e from the solved terminal error
   }
   {
     Eigen::Map<VectorXd> g(grad_.data(), static_cast<Index>(N_) * nu_);
@@ -651,6 +704,200 @@ bool AdmmSolver::polish_solve(int F) noexcept {
   res_.Lambda = -grad_;
   if (term) res_.terminal_multiplier = pN_;
   return true;
+}
+
+// QP polish (no L1, R diagonal > 0, Q = 0): entries of Y at a bound stay there, the others are free
+// with u_i = -m_i' p / r_i. With H_F = sum_free m_i m_i' / r_i and x_fix the terminal state of the
+// fixed entries alone: (I + H_F Qf) e = x_fix - x_f for the terminal error e (soft, p = Qf e), or
+// H_F p = x_fix - x_f (hard terminal state). Accepted only if the free entries lie in the box and
+// the fixed ones satisfy their sign condition (the KKT conditions of the QP).
+bool AdmmSolver::qp_polish() noexcept {
+  ++res_.info.polish_attempts;
+  const bool term = prob_.terminal_equality;
+  const MatrixXd& Y = res_.Y;
+  Hq_.setZero();
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double y = Y(i, k);
+      if (y == lo_(i) || y == hi_(i)) {
+        Up_(i, k) = y;
+      } else {
+        Up_(i, k) = 0.0;
+        const double c = 1.0 / prob_.R(i, i);
+        const Index row = static_cast<Index>(k) * nu_ + i;
+        for (int b = 0; b < nx_; ++b) {
+          const double mb = c * PsiB_(row, b);
+          for (int a = 0; a < nx_; ++a) Hq_(a, b) += mb * PsiB_(row, a);
+        }
+      }
+    }
+  }
+  const Eigen::Map<const VectorXd> up(Up_.data(), static_cast<Index>(N_) * nu_);
+  qb_ = xN0_ - prob_.xf;
+  qb_.noalias() += PsiB_.transpose() * up;
+  if (term) {
+    Sq_ = Hq_;
+  } else {
+    Sq_.noalias() = Hq_ * prob_.Qf;
+    Sq_.diagonal().array() += 1.0;
+  }
+  q_lu_.compute(Sq_);
+  const auto piv = q_lu_.matrixLU().diagonal().cwiseAbs();
+  if (!(piv.minCoeff() > 1e-13 * piv.maxCoeff()) || !std::isfinite(piv.maxCoeff())) return false;
+  if (term) {
+    pN_ = q_lu_.solve(qb_);
+  } else {
+    pe_ = q_lu_.solve(qb_);
+    pN_.noalias() = prob_.Qf * pe_;
+  }
+  if (!pN_.allFinite()) return false;
+  Eigen::Map<VectorXd> g(grad_.data(), static_cast<Index>(N_) * nu_);
+  g.noalias() = PsiB_ * pN_;  // m_i' p
+  double scale = 0.0;
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double y = Y(i, k);
+      if (y != lo_(i) && y != hi_(i)) Up_(i, k) = -grad_(i, k) / prob_.R(i, i);
+      grad_(i, k) += prob_.R(i, i) * Up_(i, k);  // gradient of the smooth part (zero on free entries)
+      scale = std::max(scale, std::abs(prob_.R(i, i) * Up_(i, k)));
+    }
+  }
+  const double tol = set_.polish_tolerance * std::max(scale, 1e-300);
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double u = Up_(i, k), y = Y(i, k), gk = grad_(i, k);
+      if (y == hi_(i) && y != lo_(i)) {
+        if (gk > tol) return false;  // at the upper bound the cost must decrease upward
+      } else if (y == lo_(i) && y != hi_(i)) {
+        if (gk < -tol) return false;
+      } else if (u < lo_(i) || u > hi_(i)) {
+        return false;
+      }
+    }
+  }
+  res_.U = Up_;
+  res_.Y = Up_;
+  rollout(Up_, Xp_);
+  res_.X = Xp_;
+  res_.Lambda = -grad_;
+  if (term) res_.terminal_multiplier = pN_;
+  return true;
+}
+
+// Smoothed dual of the L1 (+ box) problem without R: with eps/2 ||U||^2 added, the dual in the
+// terminal multiplier nu (nx) is smooth and concave, D(nu) = nu' e0 - 1/2 nu' Qf^-1 nu (soft only)
+// + sum_i min_u [s_i u + w_i |u| + eps/2 u^2] over the box, s = M' nu, with the minimizer
+// u_i = clip(-soft(s_i, w_i) / eps, lo_i, hi_i). Newton on nu (Hessian Qf^-1 + sum_free m_i m_i' / eps)
+// with backtracking, eps lowered by 10 per level from the mean curvature; at each level the entries
+// strictly inside (0, bound) are the free set of a candidate for the exact polish (polish_solve).
+// Starts from ADMM's terminal multiplier; nx-dimensional, so it finds the active set that ADMM's
+// iterates approach slowly. Returns true with the certified plan in res_ (as polish_solve).
+bool AdmmSolver::dual_newton() noexcept {
+  const bool term = prob_.terminal_equality;
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+  dn_e_ = xN0_ - prob_.xf;
+  double curv = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (term) {
+      curv += PsiB_.row(j).squaredNorm();
+    } else {
+      dn_t_.noalias() = prob_.Qf * PsiB_.row(j).transpose();
+      curv += PsiB_.row(j).dot(dn_t_);
+    }
+  }
+  curv /= static_cast<double>(n);
+  if (!(curv > 0.0) || !std::isfinite(curv)) return false;
+  dn_nu_ = cg_;  // condensed step: Qf e (soft) or the terminal multiplier (hard)
+  const auto evaluate = [&](const VectorXd& nu, double eps) {
+    // s, u(nu) into dn_s_, dn_u_; returns D(nu)
+    Eigen::Map<VectorXd> sv(dn_s_.data(), n);
+    sv.noalias() = PsiB_ * nu;
+    double D = nu.dot(dn_e_);
+    if (!term) {
+      dn_t_.noalias() = dn_qi_ * nu;
+      D -= 0.5 * nu.dot(dn_t_);
+    }
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double sj = dn_s_(j), w = wrep_(j);
+      const double v = sj > w ? sj - w : (sj < -w ? sj + w : 0.0);
+      const double u = std::clamp(-v / eps, lorep_(j), hirep_(j));
+      dn_u_(j) = u;
+      D += sj * u + w * std::abs(u) + 0.5 * eps * u * u;
+    }
+    return D;
+  };
+  int steps = 0;
+  constexpr int kMaxSteps = 120;
+  double eps = curv;
+  for (int level = 0; level < 14 && steps < kMaxSteps; ++level, eps *= 0.1) {
+    for (int t = 0; t < 30 && steps < kMaxSteps; ++t, ++steps) {
+      const double D0 = evaluate(dn_nu_, eps);
+      // gradient e0 + M u - Qf^-1 nu and Hessian (negated)
+      dn_g_ = dn_e_;
+      dn_g_.noalias() += PsiB_.transpose() * dn_u_;
+      if (!term) {
+        dn_g_.noalias() -= dn_qi_ * dn_nu_;
+        dn_H_ = dn_qi_;
+      } else {
+        dn_H_.setZero();
+      }
+      for (Eigen::Index j = 0; j < n; ++j) {
+        const double u = dn_u_(j);
+        if (u == 0.0 || u == lorep_(j) || u == hirep_(j)) continue;
+        for (int b = 0; b < nx_; ++b) {
+          const double mb = PsiB_(j, b) / eps;
+          for (int a = 0; a < nx_; ++a) dn_H_(a, b) += mb * PsiB_(j, a);
+        }
+      }
+      const double tr = dn_H_.trace();
+      dn_H_.diagonal().array() += 1e-12 * std::max(tr, 1e-300) / nx_ + (term ? 1e-300 : 0.0);
+      dn_lu_.compute(dn_H_);
+      dn_d_ = dn_lu_.solve(dn_g_);
+      if (!dn_d_.allFinite()) return false;
+      const double slope = dn_g_.dot(dn_d_);
+      double step = 1.0;
+      bool moved = false;
+      for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
+        dn_t_ = dn_nu_ + step * dn_d_;
+        const VectorXd& trial = dn_t_;
+        dn_g_ = trial;  // keep the trial point (evaluate overwrites dn_t_ in the soft case)
+        if (evaluate(dn_g_, eps) >= D0 + 1e-4 * step * slope) {
+          dn_nu_ = dn_g_;
+          moved = true;
+          break;
+        }
+      }
+      if (!moved || step * dn_d_.norm() <= 1e-13 * std::max(dn_nu_.norm(), 1e-300)) break;
+    }
+    // candidate: entries strictly inside (0, bound) free, the others fixed at 0 or the bound
+    evaluate(dn_nu_, eps);
+    int F = 0;
+    bool fits = true;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double u = dn_u_(j);
+      const bool fixed = u == 0.0 || u == lorep_(j) || u == hirep_(j);
+      Up_.data()[j] = fixed ? u : 0.0;
+      if (fixed) continue;
+      if (F >= nx_ || F >= fmax_) {
+        fits = false;
+        break;
+      }
+      free_idx_[static_cast<std::size_t>(F)] = static_cast<int>(j);
+      fsign_[static_cast<std::size_t>(F)] = u > 0.0 ? 1.0 : -1.0;
+      ++F;
+    }
+    if (!fits || F == 0 || (term && F < nx_)) continue;
+    ++res_.info.polish_attempts;
+    if (polish_solve(F)) return true;
+  }
+  return false;
+}
+
+void AdmmSolver::polished_terminal() noexcept {
+  // soft terminal: the polish solved the terminal error e = x_N - x_f as an unknown, to full relative
+  // precision; the rolled-out x_N carries rounding of order eps |x_N(0)|, which swamps e when Qf is
+  // large (and with it the dual bound built from Qf e). Same plan, exact-arithmetic terminal state.
+  if (!prob_.terminal_equality) res_.X_flown.col(N_) = prob_.xf + pe_;
 }
 
 void AdmmSolver::update_linear_terms() noexcept {
@@ -935,6 +1182,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     if (!gap_on) return true;
     dual_at_u_ = false;  // the polish replaced U by the polished plan
     rollout(Y, res_.X_flown);
+    polished_terminal();
     const double P = trajectory_objective(res_.X_flown, Y);
     const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
     return evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
@@ -964,6 +1212,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   bool r_valid = false;  // r_ = Lambda - rho Y is produced by the previous pass
   const bool paper_rule = set_.stopping == StoppingRule::kPaper;
   const bool polish_on = polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
+  int next_dn_it = 50;
+  const bool qp_polish_on = qp_polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
   std::uint64_t prev_sig = 0, tried_sig = 0, prev_dsig = 0, tried_dsig = 0;
   std::array<std::uint64_t, 16> failed{};  // rejected dual guesses of this solve (ring)
   int n_failed = 0, next_failed = 0;
@@ -1088,6 +1338,36 @@ const AdmmResult& AdmmSolver::solve() noexcept {
         }
       }
     }
+    if (polish_on && dn_ok_ && set_.polish_dual && cond && it == next_dn_it) {
+      next_dn_it *= 2;  // at 50, 100, 200, ... iterations: ADMM alone is slow on this problem
+      if (dual_newton()) {
+        if (polish_gap_ok()) {
+          info.polished = true;
+          status = AdmmStatus::kSolved;
+          break;
+        }
+        r_valid = false;
+      }
+    }
+    if (qp_polish_on) {
+      // the candidate depends only on which entries of Y sit at a bound: once per new pattern
+      const bool stable = have_prev && st.signature == prev_sig;
+      const bool fresh = !have_tried || st.signature != tried_sig;
+      prev_sig = st.signature;
+      have_prev = true;
+      if (stable && fresh) {
+        tried_sig = st.signature;
+        have_tried = true;
+        if (qp_polish()) {
+          if (polish_gap_ok()) {
+            info.polished = true;
+            status = AdmmStatus::kSolved;
+            break;
+          }
+          r_valid = false;
+        }
+      }
+    }
     if (set_.stopping == StoppingRule::kPaper) {
       if (info.paper_criterion <= set_.paper_eps) {
         status = AdmmStatus::kSolvedPaperRule;
@@ -1181,6 +1461,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   if (prob_.terminal_equality && !info.polished)
     res_.terminal_multiplier = cond ? cg_ : ric_.terminal_multiplier();
   rollout(Y, res_.X_flown);
+  if (info.polished) polished_terminal();
   info.objective = trajectory_objective(res_.X_flown, Y);
   info.objective_u = trajectory_objective(X, U);
   info.certified = info.polished;

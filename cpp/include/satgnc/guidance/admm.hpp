@@ -293,6 +293,19 @@ class AdmmSolver {
   Eigen::VectorXd xN0_;   ///< x_N for U = 0 (set at the start of each solve)
   Eigen::MatrixXd GF_, KKT_, Up_, Xp_, grad_;
   Eigen::VectorXd rhs_, sol_, pN_;
+  Eigen::VectorXd pe_;  ///< terminal error x_N - x_f solved by the last soft-terminal polish
+  /// After a certified soft-terminal polish: X_flown's terminal column from the solved error pe_.
+  void polished_terminal() noexcept;
+  bool qp_polish() noexcept;
+  bool dual_newton() noexcept;
+  bool dn_ok_ = false;  ///< smoothed-dual Newton candidates apply (plain L1 + box, condensed map)
+  Eigen::MatrixXd dn_qi_, dn_H_;
+  Eigen::VectorXd dn_s_, dn_u_, dn_nu_, dn_g_, dn_d_, dn_t_, dn_e_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> dn_lu_;
+  bool qp_polish_ok_ = false;  ///< QP polish applies (no L1, R diagonal > 0, Q = 0)
+  Eigen::MatrixXd Hq_, Sq_;    ///< H_F and the nx x nx system of the QP polish
+  Eigen::VectorXd qb_;         ///< its right-hand side
+  Eigen::PartialPivLU<Eigen::MatrixXd> q_lu_;
   std::vector<int> free_idx_;
   std::vector<double> fsign_;
   int gap_F_ = 0;    ///< free count of the dual guess by the largest jump in distance
