@@ -168,7 +168,7 @@ void init_guidance(py::module_& m) {
            py::arg("A"), py::arg("B"), py::arg("c"), py::arg("horizon"), py::arg("x0"), py::arg("xf"),
            py::arg("Qf"), py::arg("Q"), py::arg("R"), py::arg("l1_weights"), py::arg("group_l2_weight"),
            py::arg("u_lower"), py::arg("u_upper"), py::arg("u_norm_max"), py::arg("terminal_equality"),
-           py::arg("settings"))  // the body releases the GIL around setup (a second release aborts)
+           py::arg("settings"), py::call_guard<py::gil_scoped_release>())  // setup: long for long horizons
       .def("solve",
            [](AdmmSolver& s) {
              const guidance::AdmmResult* r;
