@@ -23,29 +23,36 @@ def _progress_during(call) -> tuple[int, object]:
     """Iterations a counter thread makes while ``call()`` runs in this thread.
 
     The switch interval is raised to 5 s, so the counter only runs when the call gives the GIL up
-    itself: a call that holds it leaves the count at 0. The counter yields every 1000 iterations so
-    that the call gets the GIL back at once when it returns."""
-    state = {"in_call": True, "count": 0}
-    go = threading.Event()
+    itself: a call that holds it leaves the count at 0. The counter is already running (and waiting
+    for the GIL) when the call starts, and yields every 1000 iterations so that the call gets the
+    GIL back at once when it returns."""
+    state = {"phase": 0, "count": 0}
+    ready = threading.Event()
 
     def counter():
-        go.wait()
+        # Spin (yielding) before the call starts, so that this thread is already runnable and
+        # waiting for the GIL when the call gives it up: a thread still being woken by the OS on a
+        # loaded machine would otherwise miss a short call and count 0.
+        ready.set()
+        while state["phase"] == 0:
+            time.sleep(0)  # gives the GIL back at once, so the main thread can start the call
         c = 0
-        while state["in_call"]:
+        while state["phase"] == 1:
             c += 1
             if c % 1000 == 0:
                 time.sleep(0)
         state["count"] = c
 
     old = sys.getswitchinterval()
-    sys.setswitchinterval(5.0)
+    sys.setswitchinterval(5.0)  # before the counter first waits for the GIL: no early drop request
     t = threading.Thread(target=counter)
     t.start()
+    ready.wait()
     try:
-        go.set()
+        state["phase"] = 1
         value = call()
     finally:
-        state["in_call"] = False
+        state["phase"] = 2
         t.join()
         sys.setswitchinterval(old)
     return state["count"], value
