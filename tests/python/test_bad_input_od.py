@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _bad_input import ARGNAMES, case_ids, check_bad_input
 from satgnc import od
 from satgnc.od.tdm import parse_epoch
 
@@ -119,14 +120,9 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("fn, kwargs, exc, fragment", CASES,
-                         ids=[f"{getattr(c[0], '__name__', 'fn')}-{'-'.join(c[1])}-{i}"
-                              for i, c in enumerate(CASES)])
+@pytest.mark.parametrize(ARGNAMES, CASES, ids=case_ids(CASES))
 def test_bad_input_names_the_argument(fn, kwargs, exc, fragment):
-    with pytest.raises(exc) as info:
-        fn(**kwargs)
-    assert fragment in str(info.value), str(info.value)
-    assert "incompatible" not in str(info.value) and "Invoked with" not in str(info.value)
+    check_bad_input(fn, kwargs, exc, fragment)
 
 
 def test_bad_alloc_names_the_size_argument():

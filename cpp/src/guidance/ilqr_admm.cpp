@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "detail/quadratic.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -430,16 +431,7 @@ int IlqrAdmmSolver::rollout(const Eigen::Ref<const MatrixXd>& U, Eigen::Ref<Matr
 }
 
 double IlqrAdmmSolver::terminal_cost(const Eigen::Ref<const VectorXd>& xN) const {
-  // 1/2 e^T Qf e without temporaries
-  double c = 0.0;
-  for (int j = 0; j < nx_; ++j) {
-    const double ej = xN(j) - prob_.x_target(j);
-    if (ej == 0.0) continue;
-    double row = 0.0;
-    for (int i = 0; i < nx_; ++i) row += prob_.Qf(i, j) * (xN(i) - prob_.x_target(i));
-    c += ej * row;
-  }
-  return 0.5 * c;
+  return detail::half_weighted_error(prob_.Qf, xN, prob_.x_target);
 }
 
 double IlqrAdmmSolver::control_cost(const Eigen::Ref<const MatrixXd>& U) const {

@@ -6,6 +6,7 @@
 #include <exception>
 #include <limits>
 
+#include "detail/quadratic.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -208,16 +209,7 @@ double ScpSolver::control_cost(const MatrixXd& U) const {
 }
 
 double ScpSolver::terminal_cost(const Eigen::Ref<const VectorXd>& xN) const {
-  // 1/2 e' Qf e by loops: Qf * e inside an expression would allocate a temporary
-  double c = 0.0;
-  for (int j = 0; j < nx_; ++j) {
-    const double ej = xN(j) - prob_.x_target(j);
-    if (ej == 0.0) continue;
-    double row = 0.0;
-    for (int i = 0; i < nx_; ++i) row += prob_.Qf(i, j) * (xN(i) - prob_.x_target(i));
-    c += ej * row;
-  }
-  return 0.5 * c;
+  return detail::half_weighted_error(prob_.Qf, xN, prob_.x_target);
 }
 
 double ScpSolver::true_cost(const MatrixXd& U, MatrixXd& X) const {
