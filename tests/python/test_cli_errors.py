@@ -20,8 +20,9 @@ NEG_GUESS = "-5846.89,-1265.616,3411.496,-0.3146,6.9401,-3.1125"
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
     d = tmp_path_factory.mktemp("cli")
-    assert cli.main(["od", "simulate", "--out", str(d / "obs.csv"), "--duration", "300", "--step", "30"]) == 0
-    assert cli.main(["od", "simulate", "--out", str(d / "obs.tdm"), "--duration", "300", "--step", "30"]) == 0
+    for name in ("obs.csv", "obs.tdm"):
+        argv = ["od", "simulate", "--out", str(d / name), "--duration", "300", "--step", "30"]
+        assert cli.main(argv) == 0, argv
     (d / "neg.csv").write_text("t,type,value,sigma\n0,range,1000,0.001\n10,range,-5,0.001\n")
     (d / "st1.csv").write_text("t,type,value,sigma,station\n0,range,1000,0.001,1\n")
     text = _scenario_path().read_text()
