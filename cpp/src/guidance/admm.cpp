@@ -697,13 +697,18 @@ bool AdmmSolver::polish_solve(int F) noexcept {
     }
   }
   if (fail) return false;
+  accept_polished(term);
+  return true;
+}
+
+// Store the certified polish candidate Up_ (with its gradient and terminal multiplier) as the result.
+void AdmmSolver::accept_polished(bool term) noexcept {
   res_.U = Up_;
   res_.Y = Up_;
   rollout(Up_, Xp_);
   res_.X = Xp_;
   res_.Lambda = -grad_;
   if (term) res_.terminal_multiplier = pN_;
-  return true;
 }
 
 // QP polish (no L1, R diagonal > 0, Q = 0): entries of Y at a bound stay there, the others are free
@@ -775,12 +780,7 @@ bool AdmmSolver::qp_polish() noexcept {
       }
     }
   }
-  res_.U = Up_;
-  res_.Y = Up_;
-  rollout(Up_, Xp_);
-  res_.X = Xp_;
-  res_.Lambda = -grad_;
-  if (term) res_.terminal_multiplier = pN_;
+  accept_polished(term);
   return true;
 }
 

@@ -297,6 +297,7 @@ class AdmmSolver {
   /// After a certified soft-terminal polish: X_flown's terminal column from the solved error pe_.
   void polished_terminal() noexcept;
   bool qp_polish() noexcept;
+  void accept_polished(bool term) noexcept;
   bool dual_newton() noexcept;
   bool dn_ok_ = false;  ///< smoothed-dual Newton candidates apply (plain L1 + box, condensed map)
   Eigen::MatrixXd dn_qi_, dn_H_;
