@@ -241,7 +241,8 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readwrite("stage_weight", &NonlinearL1Problem::stage_weight)
       .def_readwrite("cost", &NonlinearL1Problem::cost)
       .def_readwrite("u_min", &NonlinearL1Problem::u_min)
-      .def_readwrite("u_max", &NonlinearL1Problem::u_max);
+      .def_readwrite("u_max", &NonlinearL1Problem::u_max)
+      .def_readwrite("terminal_equality", &NonlinearL1Problem::terminal_equality);
 
   py::class_<IlqrAdmmSettings>(m, "IlqrAdmmSettings")
       .def(py::init<>())
@@ -298,6 +299,7 @@ void init_guidance_nonlinear(py::module_& m) {
       .def("warm_start", &IlqrAdmmSolver::warm_start, py::arg("U"), py::arg("Y"), py::arg("Lambda"))
       .def("set_initial_state", &IlqrAdmmSolver::set_initial_state, py::arg("x0"))
       .def("set_rho", &IlqrAdmmSolver::set_rho, py::arg("rho"))
+      .def("set_time_limit", &IlqrAdmmSolver::set_time_limit, py::arg("seconds"))
       .def("set_stage_bounds", &IlqrAdmmSolver::set_stage_bounds, py::arg("lo"), py::arg("hi"))
       .def("clear_stage_bounds", &IlqrAdmmSolver::clear_stage_bounds)
       .def("solve", &IlqrAdmmSolver::solve, py::call_guard<py::gil_scoped_release>())
@@ -359,6 +361,8 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readwrite("tr_min", &ScpSettings::tr_min)
       .def_readwrite("tol_inaccurate", &ScpSettings::tol_inaccurate)
       .def_readwrite("time_limit", &ScpSettings::time_limit)
+      .def_readwrite("terminal_tol", &ScpSettings::terminal_tol)
+      .def_readwrite("terminal_tol_inaccurate", &ScpSettings::terminal_tol_inaccurate)
       .def("validate", &ScpSettings::validate);
   py::class_<ScpInfo>(m, "ScpInfo")
       .def_readonly("status", &ScpInfo::status)
@@ -372,6 +376,12 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readonly("inner_ilqr_status", &ScpInfo::inner_ilqr_status)
       .def_readonly("inner_solved", &ScpInfo::inner_solved)
       .def_readonly("terminal_miss", &ScpInfo::terminal_miss)
+      .def_readonly("terminal_constraint_miss", &ScpInfo::terminal_constraint_miss)
+      .def_readonly("terminal_reference", &ScpInfo::terminal_reference)
+      .def_readonly("penalty", &ScpInfo::penalty)
+      .def_readonly("penalty_updates", &ScpInfo::penalty_updates)
+      .def_readonly("infeasibility_certificate", &ScpInfo::infeasibility_certificate)
+      .def_readonly("infeasibility_margin", &ScpInfo::infeasibility_margin)
       .def_readonly("bound_violation", &ScpInfo::bound_violation)
       .def_readonly("rejected_steps", &ScpInfo::rejected_steps)
       .def_readonly("trust_radius", &ScpInfo::trust_radius)

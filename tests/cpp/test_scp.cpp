@@ -415,3 +415,351 @@ TEST(Scp, EveryStatusHasAMessage) {
   for (int i = 0; i <= static_cast<int>(ScpStatus::time_limit); ++i)
     EXPECT_NE(std::string(status_message(static_cast<ScpStatus>(i))), "unknown status") << i;
 }
+
+// --- hard terminal state (NonlinearL1Problem::terminal_equality) and the time limit ---------------
+
+namespace {
+
+// On the cubic model each axis is a double integrator driven by v = u + g u^3, monotone in u, so
+// |u| <= b gives |v| <= b + g b^3 exactly. Position row of x_N: p0 + N v0 + sum_k (N - k - 1/2) v_k,
+// so |p0 + N v0| > (b + g b^3) N^2 / 2 on some axis proves x_N = 0 unreachable (independently of SCP).
+bool cubic_target_unreachable(const CubicModel&, double g, const NonlinearL1Problem& p) {
+  if (p.cost != ControlCost::l1_box) return false;
+  const double b = p.u_max(0), vmax = b + g * b * b * b, N = p.horizon;
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(p.x0(i) + N * p.x0(i + 3) - p.x_target(i) - N * p.x_target(i + 3)) > vmax * N * N / 2.0)
+      return true;
+  return false;
+}
+
+double rollout_miss(const DiscreteModel& m, const NonlinearL1Problem& p, const MatrixXd& U) {
+  VectorXd x = p.x0, xn(p.x0.size());
+  for (int k = 0; k < p.horizon; ++k) {
+    if (!m.step(k, x.data(), U.col(k).data(), xn.data(), nullptr, nullptr))
+      return std::numeric_limits<double>::infinity();
+    x = xn;
+  }
+  return (x - p.x_target).norm();
+}
+
+}  // namespace
+
+TEST(ScpTerminal, RandomCubicSuiteReachesTheTargetOrProvesItUnreachable) {
+  std::mt19937 rng(20261203u);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  int feasible = 0, reached = 0, solved = 0, infeasible = 0, infeasible_reported = 0, false_solved = 0;
+  int refined_agree = 0, other_start_agree = 0;
+  for (int t = 0; t < 40; ++t) {
+    Draw d = random_cubic(rng);
+    d.prob.terminal_equality = true;
+    d.prob.Qf *= 0.0;  // fuel alone: the target is a constraint
+    if (t % 4 == 3) {  // a quarter: a box far too small for the offset
+      d.prob.cost = ControlCost::l1_box;
+      const double b = 0.01;
+      d.prob.u_min = VectorXd::Constant(3, -b);
+      d.prob.u_max = VectorXd::Constant(3, b);
+      d.prob.x0.head(3) *= 50.0;
+    } else if (d.prob.cost == ControlCost::l1_box) {
+      d.prob.u_min *= 20.0;  // roomy box
+      d.prob.u_max *= 20.0;
+    }
+    const CubicModel model(d.g);
+    const bool unreachable = cubic_target_unreachable(model, d.g, d.prob);
+    const std::string tag = "problem " + std::to_string(t) + " g " + std::to_string(d.g);
+    ScpSettings set;
+    set.max_outer = 80;
+    set.inner.eps_abs = set.inner.eps_rel = 1e-9;
+    set.inner.eps_gap = 1e-11;  // the outer test (tol 1e-9) needs subproblems at least that accurate
+    set.inner.terminal_tolerance = 1e-11;
+    set.inner.max_iterations = 50000;
+    ScpSolver s(model, d.prob, set);
+    const ScpStatus st = s.solve();
+    const ScpInfo& info = s.result().info;
+    EXPECT_TRUE(std::isfinite(info.objective)) << tag;
+    EXPECT_TRUE(s.result().U.allFinite()) << tag;
+    EXPECT_EQ(info.bound_violation, 0.0) << tag;
+    for (double m : info.merit_history) EXPECT_TRUE(std::isfinite(m)) << tag;
+    if (info.penalty_updates == 0)
+      for (size_t i = 1; i < info.merit_history.size(); ++i)
+        EXPECT_LE(info.merit_history[i], info.merit_history[i - 1]) << tag << " outer " << i;
+    // objective: the true cost of the returned plan; the constraint miss: its rollout's
+    EXPECT_NEAR(info.objective, true_cost(model, d.prob, s.result().U), 1e-9 * std::max(1.0, info.objective))
+        << tag;
+    EXPECT_NEAR(info.terminal_constraint_miss, rollout_miss(model, d.prob, s.result().U),
+                1e-9 * std::max(1.0, info.terminal_reference))
+        << tag;
+    if (unreachable) {
+      ++infeasible;
+      EXPECT_NE(st, ScpStatus::solved) << tag;
+      EXPECT_NE(st, ScpStatus::solved_inaccurate) << tag;
+      EXPECT_NE(st, ScpStatus::max_outer) << tag;
+      if (st == ScpStatus::inner_infeasible) {
+        ++infeasible_reported;
+        EXPECT_NEAR(info.infeasibility_certificate.norm(), 1.0, 1e-9) << tag;
+        EXPECT_GT(info.infeasibility_margin, 0.0) << tag;
+      }
+      continue;
+    }
+    ++feasible;
+    if (info.terminal_constraint_miss <= 1e-6 * info.terminal_reference) ++reached;
+    if (st != ScpStatus::solved) {
+      std::printf("%s: %s, outer %d, inner %s, miss %.3g / %.3g, pred %.3g, J %.6g, mu %.3g (%d updates)\n",
+                  tag.c_str(), status_message(st), info.outer_iterations, status_message(info.inner_status),
+                  info.terminal_constraint_miss, info.terminal_reference, info.predicted_decrease, info.objective,
+                  info.penalty, info.penalty_updates);
+      continue;
+    }
+    ++solved;
+    EXPECT_LE(info.terminal_constraint_miss, set.terminal_tol * info.terminal_reference) << tag;
+    // independent references: a long tight run from the returned plan (no better local optimum
+    // nearby) and a run from a different start (same optimum when it converges)
+    ScpSettings ref = set;
+    ref.tol = 1e-12;
+    ref.max_outer = 200;
+    ScpSolver s2(model, d.prob, ref);
+    s2.set_initial_controls(s.result().U);
+    s2.solve();
+    const double J = info.objective, Jref = s2.result().info.objective;
+    if (s2.result().info.terminal_constraint_miss <= 1e-6 * info.terminal_reference) {
+      if (J - Jref > 1e-6 * std::max(1.0, std::abs(Jref)))
+        ++false_solved;
+      else
+        ++refined_agree;
+    }
+    MatrixXd U0 = MatrixXd::Zero(3, d.prob.horizon);
+    for (int k = 0; k < d.prob.horizon; ++k)
+      for (int i = 0; i < 3; ++i) {
+        double v = 0.02 * (2.0 * u01(rng) - 1.0);
+        if (d.prob.cost == ControlCost::l1_box) v = std::clamp(v, d.prob.u_min(i), d.prob.u_max(i));
+        U0(i, k) = v;
+      }
+    ScpSolver s3(model, d.prob, set);
+    s3.set_initial_controls(U0);
+    if (s3.solve() == ScpStatus::solved && std::abs(s3.result().info.objective - J) <= 1e-6 * std::max(1.0, J))
+      ++other_start_agree;
+  }
+  EXPECT_EQ(false_solved, 0);
+  EXPECT_EQ(infeasible_reported, infeasible) << "every unreachable target ends inner_infeasible";
+  EXPECT_GE(infeasible, 8);
+  EXPECT_GE(reached, feasible - 2) << "of " << feasible;
+  EXPECT_GE(solved, feasible - 3) << "of " << feasible;
+  std::printf(
+      "cubic hard-terminal suite: feasible %d (target reached %d, solved %d, refined run agrees %d, other "
+      "start agrees %d), unreachable %d (inner_infeasible %d)\n",
+      feasible, reached, solved, refined_agree, other_start_agree, infeasible, infeasible_reported);
+}
+
+TEST(ScpTerminal, LinearModelFeasibleAndInfeasibleAgainstTheCertificate) {
+  // Linear double integrator (exact linearization): x_N = 0 within |u| <= b is reachable iff the
+  // linear program says so; here the position rows decide, as in cubic_target_unreachable (g = 0).
+  std::vector<MatrixXd> A(1, MatrixXd::Identity(6, 6)), B(1, MatrixXd::Zero(6, 3));
+  A[0].topRightCorner(3, 3).setIdentity();
+  B[0].topRows(3) = 0.5 * MatrixXd::Identity(3, 3);
+  B[0].bottomRows(3).setIdentity();
+  const LinearDiscreteModel model(A, B, {});
+  NonlinearL1Problem p;
+  p.horizon = 10;
+  p.x0 = (VectorXd(6) << 3.0, -2.0, 1.0, 0.0, 0.1, 0.0).finished();
+  p.x_target = VectorXd::Zero(6);
+  p.Qf = MatrixXd::Zero(6, 6);
+  p.alpha = VectorXd::Ones(3);
+  p.terminal_equality = true;
+  p.cost = ControlCost::l1_box;
+  for (double b : {1.0, 0.2, 0.05, 0.02}) {
+    p.u_min = VectorXd::Constant(3, -b);
+    p.u_max = VectorXd::Constant(3, b);
+    const bool unreachable = cubic_target_unreachable(CubicModel(0.0), 0.0, p);
+    ScpSolver s(model, p);
+    const ScpStatus st = s.solve();
+    const ScpInfo& info = s.result().info;
+    if (unreachable) {
+      EXPECT_EQ(st, ScpStatus::inner_infeasible) << "b " << b;
+      EXPECT_EQ(info.inner_status, AdmmStatus::kPrimalInfeasible) << "b " << b;
+      EXPECT_GT(info.infeasibility_margin, 0.0) << "b " << b;
+      EXPECT_NE(std::string(status_message(st)).find("infeasibility_certificate"), std::string::npos);
+    } else {
+      EXPECT_EQ(st, ScpStatus::solved) << "b " << b;
+      EXPECT_LE(info.terminal_constraint_miss, 1e-6 * info.terminal_reference) << "b " << b;
+      EXPECT_LE(info.outer_iterations, 2) << "b " << b;  // exact model: one step, one confirmation
+    }
+  }
+}
+
+TEST(ScpTerminal, TwoSatelliteRendezvousWithExactArrival) {
+  // Rendezvous on the two-satellite map with x_N = x_f on the chaser's relative state; the target's
+  // orbit (exogenous) is free. Reached to terminal_tol, checked on an independent rollout.
+  using satgnc::dynamics::TwoSatelliteModel;
+  using satgnc::dynamics::TwoSatelliteParams;
+  using satgnc::dynamics::Vec12;
+  std::mt19937 rng(43u);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  int solved = 0;
+  for (int t = 0; t < 4; ++t) {
+    TwoSatelliteParams par;
+    par.mu = satgnc::testing::kMu;
+    par.drag_on = false;
+    const TwoSatelliteModel tsm(par);
+    const double r = 6378.0e3 + 400.0e3 + 1000.0e3 * u01(rng);
+    const double period = 2.0 * M_PI * std::sqrt(r * r * r / par.mu);
+    const int N = 10 + static_cast<int>(10 * u01(rng));
+    const double off = std::pow(10.0, 1.0 + 2.0 * u01(rng));
+    Vec12 x0 = Vec12::Zero();
+    for (int i = 0; i < 3; ++i) x0(i) = off * (2.0 * u01(rng) - 1.0);
+    x0(3) = r;
+    x0(10) = std::sqrt(par.mu / r);
+    const ReferenceScaling sc = published_scaling(x0, par.mu, par.mass_chaser);
+    TwoSatelliteMapSettings ms;
+    ms.dt = 0.5 * period / N;
+    ms.state_scale = sc.state_scale;
+    ms.control_scale = sc.control_scale;
+    const TwoSatelliteMap map(tsm, ms);
+    NonlinearL1Problem p;
+    p.horizon = N;
+    p.x0 = x0.array() / sc.state_scale.array();
+    p.x_target = VectorXd::Zero(12);
+    p.Qf = MatrixXd::Zero(12, 12);
+    p.alpha = VectorXd::Ones(3);
+    p.stage_weight = ms.dt / sc.time_scale;
+    p.terminal_equality = true;
+    ScpSettings set;
+    set.inner.eps_abs = set.inner.eps_rel = 1e-9;
+    set.inner.eps_gap = 1e-11;
+    set.inner.terminal_tolerance = 1e-11;
+    set.inner.max_iterations = 50000;
+    ScpSolver s(map, p, set);
+    const ScpStatus st = s.solve();
+    const ScpInfo& info = s.result().info;
+    const std::string tag = "rendezvous " + std::to_string(t);
+    if (st == ScpStatus::solved) ++solved;
+    // independent rollout of the returned plan: chaser's relative state at N
+    VectorXd x = p.x0, xn(12);
+    for (int k = 0; k < N; ++k) {
+      ASSERT_TRUE(map.step(k, x.data(), s.result().U.col(k).data(), xn.data(), nullptr, nullptr));
+      x = xn;
+    }
+    const double miss = std::sqrt(x.segment(0, 3).squaredNorm() + x.segment(6, 3).squaredNorm());
+    EXPECT_NEAR(miss, info.terminal_constraint_miss, 1e-12 * std::max(1.0, info.terminal_reference)) << tag;
+    if (st == ScpStatus::solved) EXPECT_LE(miss, set.terminal_tol * info.terminal_reference) << tag;
+    std::printf("%s: status %s, outer %d, inner %s, pred %.3g, miss %.3g (reference %.3g), penalty %.3g\n",
+                tag.c_str(), status_message(st), info.outer_iterations, status_message(info.inner_status),
+                info.predicted_decrease, miss, info.terminal_reference, info.penalty);
+  }
+  EXPECT_EQ(solved, 4);
+}
+
+TEST(ScpTerminal, IlqrAdmmRejectsAHardTerminalStateNamingScp) {
+  const CubicModel model(1.0);
+  NonlinearL1Problem p;
+  p.horizon = 5;
+  p.x0 = VectorXd::Ones(6);
+  p.Qf = MatrixXd::Identity(6, 6);
+  p.alpha = VectorXd::Ones(3);
+  p.terminal_equality = true;
+  try {
+    IlqrAdmmSolver s(model, p);
+    ADD_FAILURE() << "IlqrAdmmSolver accepted terminal_equality";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("terminal_equality:", 0), 0u) << m;
+    EXPECT_NE(m.find("ScpSolver"), std::string::npos) << m;
+  }
+  ScpSettings set;
+  set.inner_solver = ScpInner::ilqr_admm;
+  try {
+    ScpSolver s(model, p, set);
+    ADD_FAILURE() << "SCP with the ilqr_admm inner accepted terminal_equality";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("terminal_equality:", 0), 0u) << m;
+    EXPECT_NE(m.find("linear_admm"), std::string::npos) << m;
+  }
+  EXPECT_NO_THROW(ScpSolver(model, p));  // the default inner supports it
+}
+
+TEST(ScpTerminal, TimeLimitReachesIntoTheInnerSolver) {
+  // Inner solvers that would run for minutes (tolerance 0, huge budgets): the SCP limit passed in
+  // as the remaining time stops them. Before, the limit was checked only between outer iterations.
+  const CubicModel model(10.0);
+  NonlinearL1Problem p;
+  p.horizon = 200;
+  p.x0 = (VectorXd(6) << 30.0, -20.0, 10.0, 0.1, 0.0, -0.1).finished();
+  p.x_target = VectorXd::Zero(6);
+  p.Qf = 100.0 * MatrixXd::Identity(6, 6);
+  p.alpha = VectorXd::Ones(3);
+  for (ScpInner inner : {ScpInner::linear_admm, ScpInner::ilqr_admm}) {
+    for (bool hard : {false, true}) {
+      if (hard && inner == ScpInner::ilqr_admm) continue;
+      p.terminal_equality = hard;
+      ScpSettings set;
+      set.inner_solver = inner;
+      set.time_limit = 0.05;
+      set.inner.eps_abs = set.inner.eps_rel = 1e-300;  // unreachable tolerances
+      set.inner.eps_gap = 1e-300;
+      set.inner.polish = false;
+      set.inner.max_iterations = 100000000;
+      set.inner_ilqr.eps_abs = set.inner_ilqr.eps_rel = 1e-300;
+      set.inner_ilqr.max_iter = 100000000;
+      ScpSolver s(model, p, set);
+      const ScpStatus st = s.solve();
+      const ScpInfo& info = s.result().info;
+      const std::string tag = std::string(inner == ScpInner::ilqr_admm ? "ilqr" : "admm") + (hard ? " hard" : "");
+      EXPECT_EQ(st, ScpStatus::time_limit) << tag;
+      if (inner == ScpInner::linear_admm)
+        EXPECT_EQ(info.inner_status, AdmmStatus::kTimeLimit) << tag;
+      else
+        EXPECT_EQ(info.inner_ilqr_status, IlqrAdmmStatus::time_limit) << tag;
+      // a bound that shows the inner stopped (minutes otherwise), not a speed assertion
+      EXPECT_LT(info.solve_time, 5.0) << tag;
+      EXPECT_TRUE(std::isfinite(info.objective)) << tag;
+      EXPECT_NEAR(info.objective, true_cost(model, p, s.result().U), 1e-9 * std::max(1.0, info.objective)) << tag;
+      ASSERT_FALSE(info.merit_history.empty()) << tag;
+      for (double m : info.merit_history) EXPECT_TRUE(std::isfinite(m)) << tag;
+    }
+  }
+}
+
+TEST(ScpTerminal, HardTerminalAndTimedSolvesDoNotAllocate) {
+  const CubicModel model(10.0);
+  NonlinearL1Problem p;
+  p.horizon = 12;
+  p.x0 = (VectorXd(6) << 3.0, -2.0, 1.0, 0.1, 0.0, -0.1).finished();
+  p.x_target = VectorXd::Zero(6);
+  p.Qf = MatrixXd::Zero(6, 6);
+  p.alpha = VectorXd::Ones(3);
+  p.terminal_equality = true;
+  for (ScpGlobalization g : {ScpGlobalization::trust_region, ScpGlobalization::line_search})
+    for (ControlCost cost : {ControlCost::l1, ControlCost::l1_box}) {
+      for (double b : {1.0, 0.001}) {  // reachable, unreachable (inner_infeasible path)
+        p.cost = cost;
+        p.u_min = VectorXd::Constant(3, -b);
+        p.u_max = VectorXd::Constant(3, b);
+        ScpSettings set;
+        set.globalization = g;
+        set.max_outer = 10;
+        set.time_limit = 100.0;  // active, never reached: the remaining time goes to the inner
+        ScpSolver s(model, p, set);
+        s.solve();  // warm-up
+        g_mallocs = 0;
+        g_count = true;
+        const ScpStatus st = s.solve();
+        g_count = false;
+        EXPECT_EQ(g_mallocs.load(), 0) << "globalization " << static_cast<int>(g) << " cost "
+                                       << static_cast<int>(cost) << " b " << b << " status "
+                                       << status_message(st);
+      }
+    }
+  // the timed iLQR-ADMM inner (soft terminal)
+  p.terminal_equality = false;
+  p.cost = ControlCost::l1;
+  p.Qf = 100.0 * MatrixXd::Identity(6, 6);
+  ScpSettings set;
+  set.inner_solver = ScpInner::ilqr_admm;
+  set.time_limit = 100.0;
+  ScpSolver s(model, p, set);
+  s.solve();
+  g_mallocs = 0;
+  g_count = true;
+  s.solve();
+  g_count = false;
+  EXPECT_EQ(g_mallocs.load(), 0) << "timed ilqr inner";
+}

@@ -298,6 +298,9 @@ IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Prob
   N_ = prob_.horizon;
   require(nx_ >= 1 && nu_ >= 1, "model", "state and control dimensions must be >= 1");
   require(N_ >= 1, "horizon", "must be >= 1");
+  require(!prob_.terminal_equality, "terminal_equality",
+          "not supported by IlqrAdmmSolver (its iLQR step has no terminal constraint)",
+          "use ScpSolver with inner_solver = linear_admm, or a large Qf for a soft terminal state");
   const std::string nxs = std::to_string(nx_), nus = std::to_string(nu_);
   require(prob_.x0.size() == nx_, "x0",
           "must have nx = " + nxs + " entries, got " + std::to_string(prob_.x0.size()));
@@ -405,6 +408,17 @@ void IlqrAdmmSolver::set_initial_state(const Eigen::Ref<const VectorXd>& x0) {
 void IlqrAdmmSolver::set_rho(double rho) {
   core::require_positive(rho, "rho");
   rho_ = rho;
+}
+
+void IlqrAdmmSolver::set_time_limit(double seconds) {
+  if (!(std::isfinite(seconds) && seconds >= 0.0)) core::require_nonnegative(seconds, "time_limit");
+  set_.time_limit = seconds;
+}
+
+bool IlqrAdmmSolver::out_of_time() const {
+  return set_.time_limit > 0.0 &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_start_).count() >=
+             set_.time_limit;
 }
 
 void IlqrAdmmSolver::set_stage_bounds(const Eigen::Ref<const MatrixXd>& lo,
@@ -602,6 +616,7 @@ int IlqrAdmmSolver::ilqr_step(double& J) {
     }
     reg = std::max(reg * set_.reg_factor, set_.reg_min);
     if (reg > set_.reg_max) return 2;
+    if (out_of_time()) return 3;  // each retry costs an iLQR iteration
   }
 }
 
@@ -629,6 +644,7 @@ void IlqrAdmmSolver::prox(const MatrixXd& V, MatrixXd& Yout) const {
 IlqrAdmmStatus IlqrAdmmSolver::solve() {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
+  solve_start_ = t0;
   IlqrAdmmInfo& info = res_.info;
   info = IlqrAdmmInfo();
   reg_ = set_.reg_init;
@@ -656,13 +672,15 @@ IlqrAdmmStatus IlqrAdmmSolver::solve() {
     double J = subproblem_cost(res_.X, res_.U);
     bool failed = false;
     for (int j = 0; j < set_.ilqr_iters; ++j) {
+      // out of time: the y- and multiplier steps below still run (cheap), the next iteration stops
+      if (j > 0 && out_of_time()) break;
       const double J0 = J;
       const int r = ilqr_step(J);
       if (r == 2) {
         failed = true;
         break;
       }
-      if (r == 1) break;
+      if (r == 1 || r == 3) break;
       ++info.ilqr_iterations;
       if (set_.ilqr_iters > 1 && (J0 - J) <= set_.ilqr_tol * (1.0 + std::abs(J0))) break;
     }

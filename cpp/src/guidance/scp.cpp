@@ -82,7 +82,8 @@ const char* status_message(ScpStatus s) {
     case ScpStatus::solved_inaccurate:
       return "stopped at a limit with predicted decrease <= tol_inaccurate * max(1, J); best iterate";
     case ScpStatus::inner_infeasible:
-      return "the linearized subproblem is infeasible (inner primal infeasibility); best iterate returned";
+      return "the linearized subproblem is infeasible (x_f outside what the box reaches; see "
+             "infeasibility_certificate / infeasibility_margin); best iterate returned";
     case ScpStatus::time_limit:
       return "time_limit reached; best iterate returned";
   }
@@ -104,6 +105,9 @@ void ScpSettings::validate() const {
   core::require(std::isfinite(tol_inaccurate) && tol_inaccurate >= tol, "tol_inaccurate",
                 "must be finite and >= tol");
   core::require_nonnegative(time_limit, "time_limit");
+  core::require(std::isfinite(terminal_tol) && terminal_tol > 0.0, "terminal_tol", "must be finite and > 0");
+  core::require(std::isfinite(terminal_tol_inaccurate) && terminal_tol_inaccurate >= terminal_tol,
+                "terminal_tol_inaccurate", "must be finite and >= terminal_tol");
   core::require(
       globalization == ScpGlobalization::trust_region || globalization == ScpGlobalization::line_search,
       "globalization", "must be trust_region or line_search");
@@ -112,12 +116,26 @@ void ScpSettings::validate() const {
   inner.validate();
 }
 
+namespace {
+// The problem without its hard terminal state (what IlqrAdmmSolver accepts: validation, the inner).
+NonlinearL1Problem soft_copy(const NonlinearL1Problem& p) {
+  NonlinearL1Problem q = p;
+  q.terminal_equality = false;
+  return q;
+}
+}  // namespace
+
 ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
                      const ScpSettings& settings)
-    : model_(model), prob_(problem), set_(settings), checker_(model, problem) {
+    : model_(model), prob_(problem), set_(settings), checker_(model, soft_copy(problem)) {
   set_.validate();
   set_.inner_ilqr.validate();
+  hard_ = problem.terminal_equality;
+  core::require(!(hard_ && set_.inner_solver == ScpInner::ilqr_admm), "terminal_equality",
+                "needs ScpSettings::inner_solver = linear_admm (the ilqr_admm inner has no terminal constraint)",
+                "use the default inner solver");
   prob_ = checker_.problem();  // validated, x_target filled
+  prob_.terminal_equality = hard_;
   nx_ = model.state_dim();
   nu_ = model.control_dim();
   N_ = prob_.horizon;
@@ -125,6 +143,14 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
   res_.U = MatrixXd::Zero(nu_, N_);
   res_.Lambda = MatrixXd::Zero(nu_, N_);
   res_.info.merit_history.reserve(static_cast<size_t>(set_.max_outer) + 1);
+  res_.info.infeasibility_certificate = VectorXd::Zero(nx_);
+  is_exo_.assign(nx_, 0);
+  for (int i : model.exogenous_states()) is_exo_[i] = 1;  // validated by checker_
+  has_exo_ = std::find(is_exo_.begin(), is_exo_.end(), 1) != is_exo_.end();
+  xf_sub_ = prob_.x_target;
+  lam_ = VectorXd::Zero(nx_);
+  lam2_ = lam_;
+  su_ = VectorXd::Zero(nu_);
   Ytmp_ = res_.U;
   Utmp_ = res_.U;
   Xtmp_ = res_.X;
@@ -147,11 +173,12 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
   sub_.x0 = prob_.x0;
   sub_.xf = prob_.x_target;
   sub_.Qf = prob_.Qf;
+  sub_.terminal_equality = hard_;
   {
     std::vector<MatrixXd> A(N_, MatrixXd::Identity(nx_, nx_)), B(N_, MatrixXd::Zero(nx_, nu_));
     std::vector<VectorXd> c(N_, VectorXd::Zero(nx_));
     lin_ = std::make_unique<LinearDiscreteModel>(A, B, c);
-    inner_ = std::make_unique<IlqrAdmmSolver>(*lin_, prob_, set_.inner_ilqr);
+    inner_ = std::make_unique<IlqrAdmmSolver>(*lin_, soft_copy(prob_), set_.inner_ilqr);
   }
   const double w = prob_.stage_weight;
   if (prob_.cost == ControlCost::group_l2) {
@@ -212,9 +239,41 @@ double ScpSolver::terminal_cost(const Eigen::Ref<const VectorXd>& xN) const {
   return detail::half_weighted_error(prob_.Qf, xN, prob_.x_target);
 }
 
+double ScpSolver::constraint_miss(const Eigen::Ref<const VectorXd>& xN) const {
+  double s = 0.0;
+  for (int i = 0; i < nx_; ++i)
+    if (!is_exo_[i]) s += (xN(i) - prob_.x_target(i)) * (xN(i) - prob_.x_target(i));
+  return std::sqrt(s);
+}
+
 double ScpSolver::true_cost(const MatrixXd& U, MatrixXd& X) const {
+  // the merit: the true cost, plus mu ||e_c|| with a hard terminal state (mu_ = 0 otherwise)
   if (rollout(U, X) >= 0) return std::numeric_limits<double>::infinity();
-  return terminal_cost(X.col(N_)) + control_cost(U);
+  const double J = terminal_cost(X.col(N_)) + control_cost(U);
+  return mu_ > 0.0 ? J + mu_ * constraint_miss(X.col(N_)) : J;
+}
+
+double ScpSolver::infeasibility_margin(const VectorXd& y) {
+  // y'(x_f - x_N(0)) - max_{lo <= U <= hi} y' M U on the affine model; M_k' y = B_k' Phi(N, k+1)' y
+  double reach = 0.0;
+  lam_ = y;
+  for (int k = N_ - 1; k >= 0; --k) {
+    su_.noalias() = sub_.dynamics.B[k].transpose() * lam_;
+    for (int i = 0; i < nu_; ++i) {
+      if (su_(i) == 0.0) continue;
+      reach += su_(i) > 0.0 ? su_(i) * hi_(i) : su_(i) * lo_(i);  // +inf without that bound
+    }
+    lam2_.noalias() = sub_.dynamics.A[k].transpose() * lam_;
+    lam_.swap(lam2_);
+  }
+  lam_ = prob_.x0;  // x_N(0)
+  for (int k = 0; k < N_; ++k) {
+    lam2_.noalias() = sub_.dynamics.A[k] * lam_;
+    lam2_ += sub_.dynamics.c[k];
+    lam_.swap(lam2_);
+  }
+  lam2_ = xf_sub_ - lam_;
+  return y.dot(lam2_) - reach;
 }
 
 double ScpSolver::model_cost(const MatrixXd& U) {
@@ -224,7 +283,8 @@ double ScpSolver::model_cost(const MatrixXd& U) {
     Xlin_.col(k + 1).noalias() += sub_.dynamics.B[k] * U.col(k);
     Xlin_.col(k + 1) += sub_.dynamics.c[k];
   }
-  return terminal_cost(Xlin_.col(N_)) + control_cost(U);
+  const double J = terminal_cost(Xlin_.col(N_)) + control_cost(U);
+  return mu_ > 0.0 ? J + mu_ * constraint_miss(Xlin_.col(N_)) : J;
 }
 
 ScpStatus ScpSolver::solve() noexcept {
@@ -233,11 +293,16 @@ ScpStatus ScpSolver::solve() noexcept {
   ScpInfo& info = res_.info;
   {
     std::vector<double> h;  // keep the reserved capacity of the history (no allocation)
+    VectorXd cert;
     h.swap(info.merit_history);
+    cert.swap(info.infeasibility_certificate);
     info = ScpInfo();
     info.merit_history.swap(h);
+    info.infeasibility_certificate.swap(cert);
     info.merit_history.clear();
+    info.infeasibility_certificate.setZero();
   }
+  mu_ = 0.0;
   ScpStatus st;
   try {
     st = solve_impl();
@@ -249,9 +314,13 @@ ScpStatus ScpSolver::solve() noexcept {
   if (info.merit_history.empty()) {  // the initial guess does not roll out
     info.objective = info.terminal_miss = std::numeric_limits<double>::infinity();
   } else {
-    info.objective = info.merit_history.back();
+    // the merit's last entry is the true cost unless a penalty term was added
+    info.objective =
+        mu_ > 0.0 ? terminal_cost(res_.X.col(N_)) + control_cost(res_.U) : info.merit_history.back();
     info.terminal_miss = (res_.X.col(N_) - prob_.x_target).norm();
+    info.terminal_constraint_miss = constraint_miss(res_.X.col(N_));
   }
+  info.penalty = mu_;
   double viol = 0.0;
   for (int k = 0; k < N_; ++k)
     for (int i = 0; i < nu_; ++i)
@@ -268,6 +337,8 @@ ScpStatus ScpSolver::solve_impl() {
   ScpInfo& info = res_.info;
   const bool tr = set_.globalization == ScpGlobalization::trust_region;
   const bool ilqr = set_.inner_solver == ScpInner::ilqr_admm;
+  const bool timed = set_.time_limit > 0.0;
+  const auto elapsed = [&t0]() { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   // Exact box trust region inside the subproblem (prox of L1 + interval); otherwise the step is scaled.
   const bool box_tr = tr && ilqr && prob_.cost != ControlCost::group_l2;
   const int fail = rollout(res_.U, res_.X);
@@ -275,8 +346,26 @@ ScpStatus ScpSolver::solve_impl() {
     info.failed_interval = fail;
     return ScpStatus::propagation_failed;
   }
-  double J = terminal_cost(res_.X.col(N_)) + control_cost(res_.U);
+  double J = terminal_cost(res_.X.col(N_)) + control_cost(res_.U);  // the merit (mu_ = 0 here)
   info.merit_history.push_back(J);
+  // Hard terminal state: reference of the terminal tolerance (x0 itself, and the initial guess).
+  double tref = 0.0;
+  if (hard_) {
+    tref = std::max(constraint_miss(prob_.x0), constraint_miss(res_.X.col(N_)));
+    info.terminal_reference = tref;
+  }
+  const auto terminal_ok = [&](double factor) {
+    return !hard_ || constraint_miss(res_.X.col(N_)) <= factor * tref;
+  };
+  // Raise mu to new_mu and re-evaluate the merit of the current iterate.
+  const auto raise_penalty = [&](double new_mu) {
+    mu_ = new_mu;
+    J = terminal_cost(res_.X.col(N_)) + control_cost(res_.U) + mu_ * constraint_miss(res_.X.col(N_));
+    if (info.merit_history.size() == 1)
+      info.merit_history[0] = J;  // still the initial guess: its merit at the first penalty
+    else
+      ++info.penalty_updates;
+  };
   double Delta = set_.trust_radius > 0.0 ? set_.trust_radius : kInf;
   info.trust_radius = Delta;
   bool lin_valid = false, first_inner = true;
@@ -286,8 +375,7 @@ ScpStatus ScpSolver::solve_impl() {
   Inner cert_inner = Inner::failed;
   ScpStatus status = ScpStatus::max_outer;
   for (int it = 1; it <= set_.max_outer; ++it) {
-    if (set_.time_limit > 0.0 &&
-        std::chrono::duration<double>(Clock::now() - t0).count() >= set_.time_limit) {
+    if (timed && elapsed() >= set_.time_limit) {
       status = ScpStatus::time_limit;
       break;
     }
@@ -307,15 +395,33 @@ ScpStatus ScpSolver::solve_impl() {
       }
       if (ilqr) {
         for (int k = 0; k < N_; ++k) lin_->set(k, sub_.dynamics.A[k], sub_.dynamics.B[k], sub_.dynamics.c[k]);
-      } else if (!admm_->update_dynamics(sub_.dynamics.A, sub_.dynamics.B, sub_.dynamics.c)) {
-        info.inner_status = AdmmStatus::kNumericalError;
-        return ScpStatus::inner_failed;
+      } else {
+        if (!admm_->update_dynamics(sub_.dynamics.A, sub_.dynamics.B, sub_.dynamics.c)) {
+          info.inner_status = AdmmStatus::kNumericalError;
+          return ScpStatus::inner_failed;
+        }
+        if (hard_ && has_exo_) {
+          // exogenous states: no control changes them, so their target is where they will be
+          for (int i = 0; i < nx_; ++i)
+            if (is_exo_[i]) xf_sub_(i) = res_.X(i, N_);
+          admm_->set_xf(xf_sub_);
+        }
       }
       lin_valid = true;
+      if (timed && elapsed() >= set_.time_limit) {  // the Jacobians can be the expensive part
+        info.merit_history.push_back(J);
+        return ScpStatus::time_limit;
+      }
     }
-    // Convex subproblem (warm-started from the previous one).
+    // Convex subproblem (warm-started from the previous one), within the remaining time.
+    const double remaining = timed ? set_.time_limit - elapsed() : 0.0;
     Inner in;
+    bool inner_out_of_time = false;
     if (ilqr) {
+      if (timed) {
+        const double own = set_.inner_ilqr.time_limit;
+        inner_->set_time_limit(std::max(own > 0.0 ? std::min(own, remaining) : remaining, 1e-300));
+      }
       if (box_tr && std::isfinite(Delta)) {
         for (int k = 0; k < N_; ++k)
           for (int i = 0; i < nu_; ++i) {
@@ -335,11 +441,16 @@ ScpStatus ScpSolver::solve_impl() {
       info.inner_iterations += r.info.iterations;
       info.inner_ilqr_status = ist;
       in = classify(ist, set_.inner_ilqr.stop);
+      inner_out_of_time = ist == IlqrAdmmStatus::time_limit;
       if (in != Inner::failed && in != Inner::infeasible) {
         Ywarm_ = r.Y;
         Lwarm_ = r.Lambda;
       }
     } else {
+      if (timed) {
+        const double own = set_.inner.time_limit;
+        admm_->set_time_limit(std::max(own > 0.0 ? std::min(own, remaining) : remaining, 1e-300));
+      }
       if (!first_inner)
         admm_->warm_start(Ywarm_, Lwarm_);
       else
@@ -348,9 +459,23 @@ ScpStatus ScpSolver::solve_impl() {
       info.inner_iterations += r.info.iterations;
       info.inner_status = r.info.status;
       in = classify(r.info.status);
+      inner_out_of_time = r.info.status == AdmmStatus::kTimeLimit;
       if (in != Inner::failed && in != Inner::infeasible) {
         Ywarm_ = r.Y;
         Lwarm_ = r.Lambda;
+      }
+      if (in == Inner::infeasible) {
+        info.infeasibility_certificate = r.infeasibility_certificate;
+        info.infeasibility_margin =
+            r.infeasibility_certificate.squaredNorm() > 0.0 ? infeasibility_margin(r.infeasibility_certificate)
+                                                            : 0.0;
+      } else if (hard_ && in != Inner::failed) {
+        // exact penalty: mu above the multiplier norm of the constrained (non-exogenous) states
+        double pn = 0.0;
+        for (int i = 0; i < nx_; ++i)
+          if (!is_exo_[i]) pn += r.terminal_multiplier(i) * r.terminal_multiplier(i);
+        pn = std::sqrt(pn);
+        if (std::isfinite(pn) && mu_ < 1.5 * pn) raise_penalty(2.0 * pn);
       }
     }
     first_inner = false;
@@ -358,6 +483,11 @@ ScpStatus ScpSolver::solve_impl() {
     if (in == Inner::infeasible) {
       info.merit_history.push_back(J);
       return ScpStatus::inner_infeasible;
+    }
+    if (timed && inner_out_of_time && elapsed() >= set_.time_limit) {
+      // the subproblem's answer is partial: the current iterate (its true cost) is returned
+      info.merit_history.push_back(J);
+      return ScpStatus::time_limit;
     }
     if (in == Inner::failed || !Ywarm_.allFinite() || !Lwarm_.allFinite()) {
       info.merit_history.push_back(J);
@@ -394,8 +524,20 @@ ScpStatus ScpSolver::solve_impl() {
     if (pred <= set_.tol * scale) {
       if (in == Inner::solved && pred < -set_.tol_inaccurate * scale) {
         // A "solved" subproblem that is worse than the current iterate, which is feasible for it.
+        // (Not with a hard terminal state: the iterate is then not feasible for the subproblem.)
+        if (!hard_ || terminal_ok(set_.terminal_tol)) {
+          info.merit_history.push_back(J);
+          return ScpStatus::inner_failed;
+        }
+      }
+      if (hard_ && !terminal_ok(set_.terminal_tol)) {
+        // Stationary for the merit but off the target: mu is too small to weigh the miss (its
+        // multiplier estimate was loose). Raise it so that the penalty term dominates, and go on.
+        const double miss = constraint_miss(res_.X.col(N_));
+        raise_penalty(std::max(10.0 * mu_, scale / std::max(miss, 1e-300)));
         info.merit_history.push_back(J);
-        return ScpStatus::inner_failed;
+        cert_pred = kInf;
+        continue;
       }
       info.merit_history.push_back(J);
       info.last_step = 0.0;
@@ -411,6 +553,7 @@ ScpStatus ScpSolver::solve_impl() {
       continue;
     }
     bool accepted = false;
+    bool out_of_time = false;
     if (tr) {
       const double Jn = true_cost(Ucand_, Xtmp_);
       const double ratio = (J - Jn) / pred;
@@ -428,6 +571,10 @@ ScpStatus ScpSolver::solve_impl() {
     } else {
       double t = 1.0;
       for (int ls = 0; ls < set_.line_search_iters; ++ls, t *= 0.5) {
+        if (ls > 0 && timed && elapsed() >= set_.time_limit) {
+          out_of_time = true;
+          break;
+        }
         Utmp_ = res_.U + t * (Ucand_ - res_.U);
         const double Jn = true_cost(Utmp_, Xtmp_);
         if (std::isfinite(Jn) && Jn < J && Jn <= J - set_.armijo * t * pred) {
@@ -442,6 +589,7 @@ ScpStatus ScpSolver::solve_impl() {
     }
     info.trust_radius = Delta;
     info.merit_history.push_back(J);
+    if (out_of_time) return ScpStatus::time_limit;
     if (accepted) {
       lin_valid = false;
       cert_pred = kInf;
@@ -458,7 +606,8 @@ ScpStatus ScpSolver::solve_impl() {
     }
   }
   // At a limit: the loose test on the last subproblem solved at the returned iterate.
-  if ((cert_inner == Inner::solved || cert_inner == Inner::inaccurate) && std::isfinite(cert_pred)) {
+  if ((cert_inner == Inner::solved || cert_inner == Inner::inaccurate) && std::isfinite(cert_pred) &&
+      terminal_ok(set_.terminal_tol_inaccurate)) {
     const double scale = std::max(1.0, std::abs(J));
     if (cert_pred <= set_.tol_inaccurate * scale && cert_pred >= -set_.tol_inaccurate * scale)
       status = ScpStatus::solved_inaccurate;

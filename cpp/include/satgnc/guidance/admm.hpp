@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "satgnc/guidance/riccati.hpp"
@@ -194,6 +195,13 @@ class AdmmSolver {
   void set_xf(const Eigen::Ref<const Eigen::VectorXd>& xf);
   /// Replace the settings (validated); a new rho refactors at the next solve.
   void update_settings(const AdmmSettings& settings);
+  /// Set AdmmSettings::time_limit (s, 0 = none) without allocating (SCP passes its remaining time);
+  /// a negative or non-finite value is ignored (returns false).
+  bool set_time_limit(double seconds) noexcept {
+    if (!(seconds >= 0.0 && seconds < std::numeric_limits<double>::infinity())) return false;
+    set_.time_limit = seconds;
+    return true;
+  }
 
   const AdmmResult& result() const { return res_; }
   const AdmmSettings& settings() const { return set_; }

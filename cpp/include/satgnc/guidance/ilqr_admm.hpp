@@ -17,6 +17,7 @@
 /// is the exact prox of g (soft threshold, soft threshold then clip, block soft threshold); then
 /// lambda += rho (U - Y). One iLQR iteration per ADMM iteration reproduces the paper.
 #include <Eigen/Core>
+#include <chrono>
 #include <vector>
 
 #include "satgnc/guidance/nonlinear_model.hpp"
@@ -40,6 +41,11 @@ struct NonlinearL1Problem {
   double stage_weight = 1.0;  ///< w > 0 multiplying the control cost (dt for an integral cost)
   ControlCost cost = ControlCost::l1;
   Eigen::VectorXd u_min, u_max;  ///< bounds (nu) for l1_box
+  /// Hard terminal state x_N = x_f on every state except the model's exogenous ones
+  /// (DiscreteModel::exogenous_states(), e.g. the target's orbit, which no control changes).
+  /// Default false: the soft terminal cost alone. Only ScpSolver with ScpInner::linear_admm
+  /// supports it; IlqrAdmmSolver rejects it at setup (std::invalid_argument naming ScpSolver).
+  bool terminal_equality = false;
 };
 
 /// Stopping rule.
@@ -71,7 +77,10 @@ struct IlqrAdmmSettings {
   double ls_lower = 1e-8;      ///< accept when actual/expected decrease lies in [ls_lower, ls_upper]
   double ls_upper = 10.0;
   bool return_best = true;  ///< on max_iter, return the iterate with the smallest ||U - Y|| (else the last)
-  double time_limit = 0.0;  ///< wall-clock budget of one solve(), s (0 = none); status time_limit
+  /// Wall-clock budget of one solve(), s (0 = none); status time_limit. Checked before every ADMM
+  /// iteration and every iLQR iteration / regularization retry inside it, so a solve overruns it by at
+  /// most one iLQR iteration (backward pass + line search).
+  double time_limit = 0.0;
   /// solved_inaccurate at a limit when the residual rule holds with eps_abs and eps_rel multiplied
   /// by this factor (>= 1) at the returned iterate.
   double inaccurate_factor = 1e3;
@@ -142,6 +151,9 @@ class IlqrAdmmSolver {
   void set_initial_state(const Eigen::Ref<const Eigen::VectorXd>& x0);
   /// Change rho between solves (> 0).
   void set_rho(double rho);
+  /// Change IlqrAdmmSettings::time_limit between solves (s, finite, >= 0; 0 = none). No allocation
+  /// when the value is valid (SCP passes its remaining time before each subproblem).
+  void set_time_limit(double seconds);
   /// Per-stage bounds lo <= y_k <= hi (nu x N each, lo <= hi, may be +-inf), intersected with the
   /// problem's box in the prox (exact for l1 and l1_box; rejected for group_l2). Sequential convex
   /// programming puts its trust region here. The bounds need not contain 0. No allocation.
@@ -171,7 +183,8 @@ class IlqrAdmmSolver {
   bool backward_pass(double reg, double& dv1, double& dv2);
   // Forward pass with line search; returns true and updates X, U on acceptance.
   bool forward_pass(double dv1, double dv2, double& J);
-  int ilqr_step(double& J);  // 0 = progress, 1 = converged (no decrease), 2 = failed
+  int ilqr_step(double& J);  // 0 = progress, 1 = converged (no decrease), 2 = failed, 3 = out of time
+  bool out_of_time() const;  // time_limit set and reached (since solve_start_)
   void prox(const Eigen::MatrixXd& V, Eigen::MatrixXd& Yout) const;
 
   const DiscreteModel& model_;
@@ -182,6 +195,7 @@ class IlqrAdmmSolver {
   IlqrAdmmResult res_;
   bool warm_ = false;
   double reg_ = 0.0;
+  std::chrono::steady_clock::time_point solve_start_{};
   bool jac_valid_ = false;  // A_, B_ hold the Jacobians along (X, U)
   int n_exo_ = 0;           // number of exogenous states (DiscreteModel::exogenous_states)
   std::vector<int> exo_idx_, endo_idx_;

@@ -15,6 +15,14 @@
 ///  * line_search: U + t (Y_sub - U) by Armijo backtracking on the true cost.
 /// Every accepted step lowers the true cost J (ScpInfo::merit_history is non-increasing), so the
 /// returned iterate is always the best one seen. docs/guidance_nonlinear.md tabulates the statuses.
+///
+/// Hard terminal state (NonlinearL1Problem::terminal_equality, linear_admm inner only): each
+/// subproblem enforces the linearized x_N = x_f (exogenous states excluded: their x_f entries are
+/// replaced by the rollout's values, which no control changes), and steps are judged on the exact
+/// penalty merit phi = J + mu ||e_c||_2, e_c = (x_N - x_f) on the non-exogenous states, with mu kept
+/// above twice the subproblem's terminal multiplier norm. An infeasible subproblem (target outside
+/// what the box can reach on the linearization) ends inner_infeasible with the inner solver's Farkas
+/// certificate and its margin re-evaluated here (ScpInfo::infeasibility_certificate / _margin).
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
@@ -69,7 +77,16 @@ struct ScpSettings {
   /// At a limit (max_outer, time_limit, no acceptable step): solved_inaccurate when the last
   /// subproblem was solved (accurately or inaccurately) and predicted <= tol_inaccurate * max(1, J).
   double tol_inaccurate = 1e-5;
-  double time_limit = 0.0;  ///< wall-clock budget of solve(), s, checked per outer iteration (0 = none)
+  /// Wall-clock budget of solve(), s (0 = none). Checked before each outer iteration, after each
+  /// linearization and each line-search trial, and passed to the inner solver as the remaining time
+  /// (the smaller of that and the inner settings' own limit), so a solve overruns it by at most one
+  /// inner iteration plus one rollout.
+  double time_limit = 0.0;
+  /// Hard terminal state: solved needs ||e_c||_2 <= terminal_tol * r on the returned iterate, with
+  /// r = max(||e_c(x0)||, ||e_c(initial guess)||), e_c(x) = (x - x_f) on the non-exogenous states;
+  /// solved_inaccurate needs terminal_tol_inaccurate * r.
+  double terminal_tol = 1e-6;
+  double terminal_tol_inaccurate = 1e-4;
   /// Throw std::invalid_argument naming the field on a bad value.
   void validate() const;
 };
@@ -80,6 +97,7 @@ struct ScpSettings {
 enum class ScpStatus {
   /// predicted decrease <= tol * max(1, J) on a subproblem that was solved (inner solved status),
   /// not limited by the trust region, at an iterate inside the bounds that rolls out on the model
+  /// (hard terminal state: and ||e_c|| <= terminal_tol * r, see ScpSettings::terminal_tol)
   solved = 0,
   max_outer,           ///< max_outer reached without the test above
   propagation_failed,  ///< the model failed on ScpInfo::failed_interval (initial rollout or linearization)
@@ -87,7 +105,9 @@ enum class ScpStatus {
   line_search_failed,  ///< no acceptable step (line search exhausted or trust radius below tr_min)
   not_run,
   solved_inaccurate,  ///< stopped at a limit with predicted <= tol_inaccurate * max(1, J)
-  inner_infeasible,   ///< the subproblem's constraints are infeasible (inner primal infeasibility)
+  /// the linearized subproblem is infeasible: hard terminal state outside what the box reaches
+  /// (Farkas certificate and margin in ScpInfo) or outside the reachable subspace (certificate 0)
+  inner_infeasible,
   time_limit,         ///< ScpSettings::time_limit reached
 };
 const char* status_message(ScpStatus s);
@@ -104,12 +124,24 @@ struct ScpInfo {
   IlqrAdmmStatus inner_ilqr_status = IlqrAdmmStatus::not_run;  ///< ilqr_admm inner, last subproblem
   bool inner_solved = false;     ///< the last subproblem's inner status was an accurate "solved"
   double terminal_miss = 0.0;    ///< ||x_N - x_f||_2 of the returned iterate (model units)
+  /// ||e_c||_2: x_N - x_f on the non-exogenous states (what a hard terminal state constrains)
+  double terminal_constraint_miss = 0.0;
+  double terminal_reference = 0.0;  ///< r of ScpSettings::terminal_tol (hard terminal state)
+  double penalty = 0.0;             ///< final merit penalty mu (hard terminal state, else 0)
+  int penalty_updates = 0;          ///< increases of mu after the first one (each may raise the merit)
+  /// inner_infeasible: the inner solver's certificate y (nx, unit norm; zeros otherwise) and the
+  /// margin y'(x_f - x_N(0)) - max over the box of y' M U on the last linearization (> 0 proves that
+  /// no control inside the box reaches x_f on it). Capacity reserved at setup.
+  Eigen::VectorXd infeasibility_certificate;
+  double infeasibility_margin = 0.0;
   double bound_violation = 0.0;  ///< max violation of the control bounds by the returned U (0 inside)
   int rejected_steps = 0;        ///< trust-region rejections / failed line searches
   double trust_radius = 0.0;     ///< final Delta (+inf while unrestricted)
   double solve_time = 0.0;       ///< wall time of solve(), s
   /// True cost J of the iterate: entry 0 the initial guess, entry i after outer iteration i
-  /// (unchanged by a rejected step). Non-increasing. Capacity reserved at setup.
+  /// (unchanged by a rejected step). Non-increasing. Capacity reserved at setup. With a hard
+  /// terminal state the merit J + mu ||e_c||_2 at the mu of that iteration: non-increasing when
+  /// penalty_updates == 0 (an increase of mu raises the merit of the same iterate).
   std::vector<double> merit_history;
 };
 
@@ -140,7 +172,9 @@ class ScpSolver {
   double true_cost(const Eigen::MatrixXd& U, Eigen::MatrixXd& X) const;
   double control_cost(const Eigen::MatrixXd& U) const;
   double terminal_cost(const Eigen::Ref<const Eigen::VectorXd>& xN) const;
-  double model_cost(const Eigen::MatrixXd& U);  // convex model (affine rollout) at U
+  double model_cost(const Eigen::MatrixXd& U);  // convex model (affine rollout) at U, merit with mu_
+  double constraint_miss(const Eigen::Ref<const Eigen::VectorXd>& xN) const;  // ||e_c||_2
+  double infeasibility_margin(const Eigen::VectorXd& y);  // on the current linearization
   ScpStatus solve_impl();
 
   const DiscreteModel& model_;
@@ -154,6 +188,11 @@ class ScpSolver {
   ScpResult res_;
   Eigen::MatrixXd Ytmp_, Utmp_, Xtmp_, Ywarm_, Lwarm_, Xlin_, Tlo_, Thi_, Ucand_;
   Eigen::VectorXd lo_, hi_;  // real bounds (+-inf without a box)
+  bool hard_ = false;        // hard terminal state
+  double mu_ = 0.0;          // merit penalty
+  std::vector<char> is_exo_;
+  bool has_exo_ = false;
+  Eigen::VectorXd xf_sub_, lam_, lam2_, su_;  // subproblem target, costate scratch (nx, nx, nx, nu)
   LtvProblem sub_;
 };
 
