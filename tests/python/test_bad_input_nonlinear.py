@@ -42,6 +42,13 @@ CASES = [
     (_pc, dict(discretization="euler"), ValueError, "discretization:"),
     (_pc, dict(constrained="no"), TypeError, "constrained:"),  # "no" was True
     (_pc, dict(params=3), TypeError, "params:"),
+    (_pc, dict(terminal_equality="yes"), TypeError, "terminal_equality:"),
+    (_pc, dict(terminal_equality=1), TypeError, "terminal_equality:"),
+    # a hard terminal state: iLQR-ADMM has none (setup error naming SCP), nor SCP's ilqr_admm inner
+    (lambda **kw: nl.solve_paper(_pc(terminal_equality=True), **kw), dict(max_iter=5), ValueError,
+     "terminal_equality: not supported by IlqrAdmmSolver"),
+    (lambda **kw: nl.solve_scp(_pc(terminal_equality=True), **kw), dict(inner="ilqr_admm"), ValueError,
+     "terminal_equality: needs ScpSettings::inner_solver = linear_admm"),
     (lambda **kw: nl.model_params(**kw), dict(j2="x"), TypeError, "j2:"),  # "x" was True
     (lambda **kw: nl.model_params(**kw), dict(drag="off"), TypeError, "drag:"),
     (lambda **kw: nl.model_params(**kw), dict(rho0=-1.0), ValueError, "rho0:"),

@@ -933,8 +933,7 @@ void AdmmSolver::set_x0(const Eigen::Ref<const VectorXd>& x0) {
 }
 
 void AdmmSolver::set_xf(const Eigen::Ref<const VectorXd>& xf) {
-  // message built only on failure: SCP calls this inside its allocation-free solve
-  if (xf.size() != nx_) core::require(false, "xf", "must have nx entries");
+  core::require(xf.size() == nx_, "xf", "must have nx entries");
   core::require_finite(xf, "xf");
   prob_.xf = xf;
   orig_.xf = xf;

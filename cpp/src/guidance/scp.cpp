@@ -147,8 +147,11 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
   is_exo_.assign(nx_, 0);
   for (int i : model.exogenous_states()) is_exo_[i] = 1;  // validated by checker_
   has_exo_ = std::find(is_exo_.begin(), is_exo_.end(), 1) != is_exo_.end();
-  xf_sub_ = prob_.x_target;
-  lam_ = VectorXd::Zero(nx_);
+  for (int i = 0; i < nx_; ++i)
+    if (!is_exo_[i]) endo_.push_back(i);
+  reduced_ = hard_ && has_exo_;
+  const int nxi = reduced_ ? static_cast<int>(endo_.size()) : nx_;  // the inner's state dimension
+  lam_ = VectorXd::Zero(nxi);
   lam2_ = lam_;
   su_ = VectorXd::Zero(nu_);
   Ytmp_ = res_.U;
@@ -190,7 +193,26 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
       sub_.u_upper = prob_.u_max;
     }
   }
-  if (set_.inner_solver == ScpInner::linear_admm) admm_ = std::make_unique<AdmmSolver>(sub_, set_.inner);
+  if (reduced_) {
+    // x_N = x_f on the non-exogenous states c only: x_c' = A_cc x_c + B_c u + (c_c + A_ct x_t), with
+    // the exogenous trajectory x_t fixed by the rollout (full rank terminal constraint; Qf_cc only,
+    // the rest of 1/2 e'Qf e is constant once e_c = 0)
+    const int nc = static_cast<int>(endo_.size());
+    red_ = sub_;
+    red_.dynamics.A.assign(N_, MatrixXd::Identity(nc, nc));
+    red_.dynamics.B.assign(N_, MatrixXd::Zero(nc, nu_));
+    red_.dynamics.c.assign(N_, VectorXd::Zero(nc));
+    red_.x0.resize(nc);
+    red_.xf.resize(nc);
+    red_.Qf.resize(nc, nc);
+    for (int i = 0; i < nc; ++i) {
+      red_.x0(i) = prob_.x0(endo_[i]);
+      red_.xf(i) = prob_.x_target(endo_[i]);
+      for (int j = 0; j < nc; ++j) red_.Qf(i, j) = prob_.Qf(endo_[i], endo_[j]);
+    }
+  }
+  if (set_.inner_solver == ScpInner::linear_admm)
+    admm_ = std::make_unique<AdmmSolver>(reduced_ ? red_ : sub_, set_.inner);
 }
 
 void ScpSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
@@ -213,8 +235,12 @@ void ScpSolver::set_initial_state(const Eigen::Ref<const VectorXd>& x0) {
   core::require_finite(x0, "x0");
   prob_.x0 = x0;
   sub_.x0 = x0;
+  if (reduced_) {
+    for (size_t i = 0; i < endo_.size(); ++i) red_.x0(static_cast<Eigen::Index>(i)) = x0(endo_[i]);
+    if (admm_) admm_->set_x0(red_.x0);
+  }
   inner_->set_initial_state(x0);
-  if (admm_) admm_->set_x0(x0);
+  if (admm_ && !reduced_) admm_->set_x0(x0);
 }
 
 int ScpSolver::rollout(const MatrixXd& U, MatrixXd& X) const {
@@ -253,26 +279,45 @@ double ScpSolver::true_cost(const MatrixXd& U, MatrixXd& X) const {
   return mu_ > 0.0 ? J + mu_ * constraint_miss(X.col(N_)) : J;
 }
 
+void ScpSolver::reduce_linearization() {
+  const int nc = static_cast<int>(endo_.size());
+  for (int k = 0; k < N_; ++k) {
+    const MatrixXd& A = sub_.dynamics.A[k];
+    for (int i = 0; i < nc; ++i) {
+      double ci = sub_.dynamics.c[k](endo_[i]);
+      for (int j = 0; j < nx_; ++j) {
+        if (is_exo_[j])
+          ci += A(endo_[i], j) * res_.X(j, k);
+      }
+      red_.dynamics.c[k](i) = ci;
+      for (int j = 0; j < nc; ++j) red_.dynamics.A[k](i, j) = A(endo_[i], endo_[j]);
+      for (int j = 0; j < nu_; ++j) red_.dynamics.B[k](i, j) = sub_.dynamics.B[k](endo_[i], j);
+    }
+  }
+}
+
 double ScpSolver::infeasibility_margin(const VectorXd& y) {
-  // y'(x_f - x_N(0)) - max_{lo <= U <= hi} y' M U on the affine model; M_k' y = B_k' Phi(N, k+1)' y
+  // y'(x_f - x_N(0)) - max_{lo <= U <= hi} y' M U on the inner's affine model (M_k' y =
+  // B_k' Phi(N, k+1)' y), in the inner's states
+  const LtvProblem& q = reduced_ ? red_ : sub_;
   double reach = 0.0;
   lam_ = y;
   for (int k = N_ - 1; k >= 0; --k) {
-    su_.noalias() = sub_.dynamics.B[k].transpose() * lam_;
+    su_.noalias() = q.dynamics.B[k].transpose() * lam_;
     for (int i = 0; i < nu_; ++i) {
       if (su_(i) == 0.0) continue;
       reach += su_(i) > 0.0 ? su_(i) * hi_(i) : su_(i) * lo_(i);  // +inf without that bound
     }
-    lam2_.noalias() = sub_.dynamics.A[k].transpose() * lam_;
+    lam2_.noalias() = q.dynamics.A[k].transpose() * lam_;
     lam_.swap(lam2_);
   }
-  lam_ = prob_.x0;  // x_N(0)
+  lam_ = q.x0;  // x_N(0)
   for (int k = 0; k < N_; ++k) {
-    lam2_.noalias() = sub_.dynamics.A[k] * lam_;
-    lam2_ += sub_.dynamics.c[k];
+    lam2_.noalias() = q.dynamics.A[k] * lam_;
+    lam2_ += q.dynamics.c[k];
     lam_.swap(lam2_);
   }
-  lam2_ = xf_sub_ - lam_;
+  lam2_ = q.xf - lam_;
   return y.dot(lam2_) - reach;
 }
 
@@ -396,15 +441,11 @@ ScpStatus ScpSolver::solve_impl() {
       if (ilqr) {
         for (int k = 0; k < N_; ++k) lin_->set(k, sub_.dynamics.A[k], sub_.dynamics.B[k], sub_.dynamics.c[k]);
       } else {
-        if (!admm_->update_dynamics(sub_.dynamics.A, sub_.dynamics.B, sub_.dynamics.c)) {
+        if (reduced_) reduce_linearization();
+        const LtvDynamics& d = reduced_ ? red_.dynamics : sub_.dynamics;
+        if (!admm_->update_dynamics(d.A, d.B, d.c)) {
           info.inner_status = AdmmStatus::kNumericalError;
           return ScpStatus::inner_failed;
-        }
-        if (hard_ && has_exo_) {
-          // exogenous states: no control changes them, so their target is where they will be
-          for (int i = 0; i < nx_; ++i)
-            if (is_exo_[i]) xf_sub_(i) = res_.X(i, N_);
-          admm_->set_xf(xf_sub_);
         }
       }
       lin_valid = true;
@@ -465,15 +506,16 @@ ScpStatus ScpSolver::solve_impl() {
         Lwarm_ = r.Lambda;
       }
       if (in == Inner::infeasible) {
-        info.infeasibility_certificate = r.infeasibility_certificate;
-        info.infeasibility_margin =
-            r.infeasibility_certificate.squaredNorm() > 0.0 ? infeasibility_margin(r.infeasibility_certificate)
-                                                            : 0.0;
+        // in full coordinates (zeros on the exogenous states when the inner saw the others only)
+        const VectorXd& y = r.infeasibility_certificate;
+        for (int i = 0; i < static_cast<int>(y.size()); ++i)
+          info.infeasibility_certificate(reduced_ ? endo_[i] : i) = y(i);
+        info.infeasibility_margin = y.squaredNorm() > 0.0 ? infeasibility_margin(y) : 0.0;
       } else if (hard_ && in != Inner::failed) {
         // exact penalty: mu above the multiplier norm of the constrained (non-exogenous) states
         double pn = 0.0;
-        for (int i = 0; i < nx_; ++i)
-          if (!is_exo_[i]) pn += r.terminal_multiplier(i) * r.terminal_multiplier(i);
+        for (int i = 0; i < static_cast<int>(r.terminal_multiplier.size()); ++i)
+          if (reduced_ || !is_exo_[i]) pn += r.terminal_multiplier(i) * r.terminal_multiplier(i);
         pn = std::sqrt(pn);
         if (std::isfinite(pn) && mu_ < 1.5 * pn) raise_penalty(2.0 * pn);
       }

@@ -177,11 +177,15 @@ def paper_case(
     tf: float = TF,
     substeps: int = 1,
     discretization: str = "rk3",
+    terminal_equality: bool = False,
 ) -> Case:
     """The published implementation's nonlinear case: RK3 over dt = tf/horizon, scaling
     (time 324.48 s, force 0.42318 N), Qf = 1000 diag(1,1,1,0,0,0,1,1,1,0,0,0), alpha = 1, control
     cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6).
-    ``discretization``: ``"rk3"`` (published), ``"rk4"`` or ``"dop853"`` (see :func:`make_map`)."""
+    ``discretization``: ``"rk3"`` (published), ``"rk4"`` or ``"dop853"`` (see :func:`make_map`).
+    ``terminal_equality``: arrive exactly (x_N = x_f on the chaser's relative position and velocity,
+    the target's orbit free) instead of the soft terminal cost; only :func:`solve_scp` solves it
+    (its default linear ADMM inner); :func:`solve_paper` (iLQR-ADMM) raises ValueError."""
     # Checked here: complex / boolean x0_si was truncated or read as 0/1, horizon = 0 divided by zero,
     # and a bad horizon or tf was reported as a bad "dt".
     constrained = as_bool(constrained, "constrained")
@@ -189,6 +193,7 @@ def paper_case(
     tf = as_real(tf, "tf", positive=True)
     substeps = as_int(substeps, "substeps", low=1, high=10**6)
     discretization = one_of(discretization, "discretization", DISCRETIZATIONS)
+    terminal_equality = as_bool(terminal_equality, "terminal_equality")
     if params is not None and not isinstance(params, _c.TwoSatelliteParams):
         raise TypeError(f"params: must be TwoSatelliteParams (see model_params()), "
                         f"got {type(params).__name__}")
@@ -203,6 +208,7 @@ def paper_case(
     pr.Qf = 1000.0 * np.diag(QF_MASK)
     pr.alpha = np.ones(3)
     pr.stage_weight = tf / horizon / sc.time_scale
+    pr.terminal_equality = terminal_equality
     if constrained:
         pr.cost = _c.ControlCost.l1_box
         ub = U_MAX / np.asarray(sc.control_scale)
@@ -262,7 +268,11 @@ def solve_scp(
     (``"line_search"``) on the true cost. ``time_limit``: seconds (0 = none). Returns the solver
     (``.U``, ``.X``, ``.info``; scaled units); ``info.status`` is ``solved`` only when the convex
     model predicts a decrease <= ``tol`` max(1, J) on a solved subproblem (table in
-    docs/guidance_nonlinear.md)."""
+    docs/guidance_nonlinear.md). With ``case.problem.terminal_equality`` (hard terminal state; the
+    linear_admm inner only, ``inner="ilqr_admm"`` raises ValueError) ``solved`` also needs
+    ``info.terminal_constraint_miss <= 1e-6 info.terminal_reference``, and an unreachable target ends
+    ``inner_infeasible`` with ``info.infeasibility_certificate`` and ``info.infeasibility_margin > 0``;
+    ``time_limit`` also bounds each subproblem (the inner gets the remaining time)."""
     _check_case(case)
     inner = one_of(inner, "inner", ("ilqr_admm", "linear_admm"))
     globalization = one_of(globalization, "globalization", ("trust_region", "line_search"))
@@ -283,9 +293,10 @@ def solve_scp(
         st.inner_ilqr = ii
     else:
         st.inner_solver = _c.ScpInner.linear_admm
-        ia = _c.AdmmSettings()
+        ia = _c.ScpSettings().inner  # the SCP defaults (terminal_tolerance 1e-10)
         ia.eps_abs = eps
         ia.eps_rel = eps
+        ia.terminal_tolerance = min(ia.terminal_tolerance, 0.1 * st.tol) if st.tol > 0 else ia.terminal_tolerance
         ia.max_iterations = max_inner
         st.inner = ia
     sol = _c.ScpSolver(case.dmap, case.problem, st)

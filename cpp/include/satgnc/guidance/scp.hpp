@@ -17,8 +17,8 @@
 /// returned iterate is always the best one seen. docs/guidance_nonlinear.md tabulates the statuses.
 ///
 /// Hard terminal state (NonlinearL1Problem::terminal_equality, linear_admm inner only): each
-/// subproblem enforces the linearized x_N = x_f (exogenous states excluded: their x_f entries are
-/// replaced by the rollout's values, which no control changes), and steps are judged on the exact
+/// subproblem enforces the linearized x_N = x_f on the non-exogenous states (the subproblem is posed on
+/// those alone: the exogenous trajectory, which no control changes, enters their affine term), and steps are judged on the exact
 /// penalty merit phi = J + mu ||e_c||_2, e_c = (x_N - x_f) on the non-exogenous states, with mu kept
 /// above twice the subproblem's terminal multiplier norm. An infeasible subproblem (target outside
 /// what the box can reach on the linearization) ends inner_infeasible with the inner solver's Farkas
@@ -63,7 +63,16 @@ struct ScpSettings {
   double tol = 1e-9;           ///< solved when predicted decrease <= tol * max(1, J) (and see ScpStatus)
   double armijo = 1e-4;        ///< sufficient-decrease fraction of the predicted decrease (line search)
   int line_search_iters = 30;  ///< halvings of t
-  AdmmSettings inner;          ///< for ScpInner::linear_admm (defaults: residual rule, adaptive rho)
+  /// For ScpInner::linear_admm (AdmmSettings defaults: residual rule, adaptive rho), except
+  /// terminal_tolerance = 1e-10 = 0.1 tol: with a hard terminal state the subproblem's plan must
+  /// reach x_f finer than the outer test resolves (1e-6 left predicted decreases of -1e-8 on
+  /// random rendezvous: solved_inaccurate where one more inner iteration gives solved).
+  AdmmSettings inner = default_inner();
+  static AdmmSettings default_inner() {
+    AdmmSettings s;
+    s.terminal_tolerance = 1e-10;
+    return s;
+  }
   ScpGlobalization globalization = ScpGlobalization::trust_region;
   /// Initial trust radius Delta on max |U - U_k| (units of the controls); 0 = the first step is
   /// unrestricted and Delta then follows the accepted step lengths.
@@ -174,7 +183,8 @@ class ScpSolver {
   double terminal_cost(const Eigen::Ref<const Eigen::VectorXd>& xN) const;
   double model_cost(const Eigen::MatrixXd& U);  // convex model (affine rollout) at U, merit with mu_
   double constraint_miss(const Eigen::Ref<const Eigen::VectorXd>& xN) const;  // ||e_c||_2
-  double infeasibility_margin(const Eigen::VectorXd& y);  // on the current linearization
+  double infeasibility_margin(const Eigen::VectorXd& y);  // on the inner's current linearization
+  void reduce_linearization();  // sub_ (full) -> red_ (non-exogenous states), hard terminal only
   ScpStatus solve_impl();
 
   const DiscreteModel& model_;
@@ -192,7 +202,10 @@ class ScpSolver {
   double mu_ = 0.0;          // merit penalty
   std::vector<char> is_exo_;
   bool has_exo_ = false;
-  Eigen::VectorXd xf_sub_, lam_, lam2_, su_;  // subproblem target, costate scratch (nx, nx, nx, nu)
+  bool reduced_ = false;       // hard terminal with exogenous states: the inner sees red_
+  std::vector<int> endo_;      // non-exogenous state indices
+  LtvProblem red_;             // the subproblem on the non-exogenous states
+  Eigen::VectorXd lam_, lam2_, su_;  // costate scratch (inner nx, inner nx, nu)
   LtvProblem sub_;
 };
 
