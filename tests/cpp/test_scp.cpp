@@ -748,6 +748,51 @@ TEST(ScpTerminal, HardTerminalAndTimedSolvesDoNotAllocate) {
                                        << status_message(st);
       }
     }
+  {
+    // two-satellite map: the subproblem on the non-exogenous states (reduced linearization), after a
+    // new initial state
+    using satgnc::dynamics::TwoSatelliteModel;
+    using satgnc::dynamics::TwoSatelliteParams;
+    using satgnc::dynamics::Vec12;
+    TwoSatelliteParams par;
+    par.mu = satgnc::testing::kMu;
+    par.drag_on = false;
+    const TwoSatelliteModel tsm(par);
+    const double r = 6378.0e3 + 500.0e3;
+    Vec12 x0 = Vec12::Zero();
+    x0.head(3) << 300.0, -200.0, 100.0;
+    x0(3) = r;
+    x0(10) = std::sqrt(par.mu / r);
+    const ReferenceScaling sc = published_scaling(x0, par.mu, par.mass_chaser);
+    TwoSatelliteMapSettings ms;
+    ms.dt = 200.0;
+    ms.state_scale = sc.state_scale;
+    ms.control_scale = sc.control_scale;
+    const TwoSatelliteMap map(tsm, ms);
+    NonlinearL1Problem q;
+    q.horizon = 12;
+    q.x0 = x0.array() / sc.state_scale.array();
+    q.x_target = VectorXd::Zero(12);
+    q.Qf = MatrixXd::Zero(12, 12);
+    q.alpha = VectorXd::Ones(3);
+    q.stage_weight = ms.dt / sc.time_scale;
+    q.terminal_equality = true;
+    ScpSettings set;
+    set.time_limit = 100.0;
+    ScpSolver s(map, q, set);
+    VectorXd x1 = q.x0;
+    x1(0) *= 0.5;
+    s.set_initial_state(x1);
+    s.solve();
+    g_mallocs = 0;
+    g_count = true;
+    const ScpStatus st = s.solve();
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "two-satellite hard terminal";
+    EXPECT_EQ(st, ScpStatus::solved);
+    EXPECT_DOUBLE_EQ(s.result().X(0, 0), x1(0));
+    EXPECT_LE(s.result().info.terminal_constraint_miss, 1e-6 * s.result().info.terminal_reference);
+  }
   // the timed iLQR-ADMM inner (soft terminal)
   p.terminal_equality = false;
   p.cost = ControlCost::l1;
