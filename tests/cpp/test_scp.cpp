@@ -505,8 +505,8 @@ TEST(ScpTerminal, RandomCubicSuiteReachesTheTargetOrProvesItUnreachable) {
     if (st != ScpStatus::solved) {
       std::printf("%s: %s, outer %d, inner %s, miss %.3g / %.3g, pred %.3g, J %.6g, mu %.3g (%d updates)\n",
                   tag.c_str(), status_message(st), info.outer_iterations, status_message(info.inner_status),
-                  info.terminal_constraint_miss, info.terminal_reference, info.predicted_decrease, info.objective,
-                  info.penalty, info.penalty_updates);
+                  info.terminal_constraint_miss, info.terminal_reference, info.predicted_decrease,
+                  info.objective, info.penalty, info.penalty_updates);
       continue;
     }
     ++solved;
@@ -535,7 +535,8 @@ TEST(ScpTerminal, RandomCubicSuiteReachesTheTargetOrProvesItUnreachable) {
       }
     ScpSolver s3(model, d.prob, set);
     s3.set_initial_controls(U0);
-    if (s3.solve() == ScpStatus::solved && std::abs(s3.result().info.objective - J) <= 1e-6 * std::max(1.0, J))
+    if (s3.solve() == ScpStatus::solved &&
+        std::abs(s3.result().info.objective - J) <= 1e-6 * std::max(1.0, J))
       ++other_start_agree;
   }
   EXPECT_EQ(false_solved, 0);
@@ -702,7 +703,8 @@ TEST(ScpTerminal, TimeLimitReachesIntoTheInnerSolver) {
       ScpSolver s(model, p, set);
       const ScpStatus st = s.solve();
       const ScpInfo& info = s.result().info;
-      const std::string tag = std::string(inner == ScpInner::ilqr_admm ? "ilqr" : "admm") + (hard ? " hard" : "");
+      const std::string tag =
+          std::string(inner == ScpInner::ilqr_admm ? "ilqr" : "admm") + (hard ? " hard" : "");
       EXPECT_EQ(st, ScpStatus::time_limit) << tag;
       if (inner == ScpInner::linear_admm)
         EXPECT_EQ(info.inner_status, AdmmStatus::kTimeLimit) << tag;
@@ -711,7 +713,8 @@ TEST(ScpTerminal, TimeLimitReachesIntoTheInnerSolver) {
       // a bound that shows the inner stopped (minutes otherwise), not a speed assertion
       EXPECT_LT(info.solve_time, 5.0) << tag;
       EXPECT_TRUE(std::isfinite(info.objective)) << tag;
-      EXPECT_NEAR(info.objective, true_cost(model, p, s.result().U), 1e-9 * std::max(1.0, info.objective)) << tag;
+      EXPECT_NEAR(info.objective, true_cost(model, p, s.result().U), 1e-9 * std::max(1.0, info.objective))
+          << tag;
       ASSERT_FALSE(info.merit_history.empty()) << tag;
       for (double m : info.merit_history) EXPECT_TRUE(std::isfinite(m)) << tag;
     }
@@ -743,9 +746,9 @@ TEST(ScpTerminal, HardTerminalAndTimedSolvesDoNotAllocate) {
         g_count = true;
         const ScpStatus st = s.solve();
         g_count = false;
-        EXPECT_EQ(g_mallocs.load(), 0) << "globalization " << static_cast<int>(g) << " cost "
-                                       << static_cast<int>(cost) << " b " << b << " status "
-                                       << status_message(st);
+        EXPECT_EQ(g_mallocs.load(), 0)
+            << "globalization " << static_cast<int>(g) << " cost " << static_cast<int>(cost) << " b " << b
+            << " status " << status_message(st);
       }
     }
   {

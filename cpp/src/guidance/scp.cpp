@@ -131,9 +131,10 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
   set_.validate();
   set_.inner_ilqr.validate();
   hard_ = problem.terminal_equality;
-  core::require(!(hard_ && set_.inner_solver == ScpInner::ilqr_admm), "terminal_equality",
-                "needs ScpSettings::inner_solver = linear_admm (the ilqr_admm inner has no terminal constraint)",
-                "use the default inner solver");
+  core::require(
+      !(hard_ && set_.inner_solver == ScpInner::ilqr_admm), "terminal_equality",
+      "needs ScpSettings::inner_solver = linear_admm (the ilqr_admm inner has no terminal constraint)",
+      "use the default inner solver");
   prob_ = checker_.problem();  // validated, x_target filled
   prob_.terminal_equality = hard_;
   nx_ = model.state_dim();
@@ -286,8 +287,7 @@ void ScpSolver::reduce_linearization() {
     for (int i = 0; i < nc; ++i) {
       double ci = sub_.dynamics.c[k](endo_[i]);
       for (int j = 0; j < nx_; ++j) {
-        if (is_exo_[j])
-          ci += A(endo_[i], j) * res_.X(j, k);
+        if (is_exo_[j]) ci += A(endo_[i], j) * res_.X(j, k);
       }
       red_.dynamics.c[k](i) = ci;
       for (int j = 0; j < nc; ++j) red_.dynamics.A[k](i, j) = A(endo_[i], endo_[j]);

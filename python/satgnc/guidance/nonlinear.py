@@ -296,7 +296,8 @@ def solve_scp(
         ia = _c.ScpSettings().inner  # the SCP defaults (terminal_tolerance 1e-10)
         ia.eps_abs = eps
         ia.eps_rel = eps
-        ia.terminal_tolerance = min(ia.terminal_tolerance, 0.1 * st.tol) if st.tol > 0 else ia.terminal_tolerance
+        if st.tol > 0:  # hard terminal state: the subproblem reaches x_f finer than the outer test
+            ia.terminal_tolerance = min(ia.terminal_tolerance, 0.1 * st.tol)
         ia.max_iterations = max_inner
         st.inner = ia
     sol = _c.ScpSolver(case.dmap, case.problem, st)

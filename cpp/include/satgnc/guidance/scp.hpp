@@ -17,11 +17,11 @@
 /// returned iterate is always the best one seen. docs/guidance_nonlinear.md tabulates the statuses.
 ///
 /// Hard terminal state (NonlinearL1Problem::terminal_equality, linear_admm inner only): each
-/// subproblem enforces the linearized x_N = x_f on the non-exogenous states (the subproblem is posed on
-/// those alone: the exogenous trajectory, which no control changes, enters their affine term), and steps are judged on the exact
-/// penalty merit phi = J + mu ||e_c||_2, e_c = (x_N - x_f) on the non-exogenous states, with mu kept
-/// above twice the subproblem's terminal multiplier norm. An infeasible subproblem (target outside
-/// what the box can reach on the linearization) ends inner_infeasible with the inner solver's Farkas
+/// subproblem enforces the linearized x_N = x_f on the non-exogenous states, posed on those alone (the
+/// exogenous trajectory, which no control changes, enters their affine term). Steps are judged on
+/// the exact-penalty merit phi = J + mu ||e_c||_2, e_c = (x_N - x_f) on the non-exogenous states, mu
+/// kept above the subproblem's terminal multiplier norm. An infeasible subproblem (target outside
+/// what the box reaches on the linearization) ends inner_infeasible with the inner solver's Farkas
 /// certificate and its margin re-evaluated here (ScpInfo::infeasibility_certificate / _margin).
 #include <Eigen/Core>
 #include <memory>
@@ -117,7 +117,7 @@ enum class ScpStatus {
   /// the linearized subproblem is infeasible: hard terminal state outside what the box reaches
   /// (Farkas certificate and margin in ScpInfo) or outside the reachable subspace (certificate 0)
   inner_infeasible,
-  time_limit,         ///< ScpSettings::time_limit reached
+  time_limit,  ///< ScpSettings::time_limit reached
 };
 const char* status_message(ScpStatus s);
 
@@ -131,8 +131,8 @@ struct ScpInfo {
   int failed_interval = -1;
   AdmmStatus inner_status = AdmmStatus::kUnsolved;             ///< linear_admm inner, last subproblem
   IlqrAdmmStatus inner_ilqr_status = IlqrAdmmStatus::not_run;  ///< ilqr_admm inner, last subproblem
-  bool inner_solved = false;     ///< the last subproblem's inner status was an accurate "solved"
-  double terminal_miss = 0.0;    ///< ||x_N - x_f||_2 of the returned iterate (model units)
+  bool inner_solved = false;   ///< the last subproblem's inner status was an accurate "solved"
+  double terminal_miss = 0.0;  ///< ||x_N - x_f||_2 of the returned iterate (model units)
   /// ||e_c||_2: x_N - x_f on the non-exogenous states (what a hard terminal state constrains)
   double terminal_constraint_miss = 0.0;
   double terminal_reference = 0.0;  ///< r of ScpSettings::terminal_tol (hard terminal state)
@@ -202,9 +202,9 @@ class ScpSolver {
   double mu_ = 0.0;          // merit penalty
   std::vector<char> is_exo_;
   bool has_exo_ = false;
-  bool reduced_ = false;       // hard terminal with exogenous states: the inner sees red_
-  std::vector<int> endo_;      // non-exogenous state indices
-  LtvProblem red_;             // the subproblem on the non-exogenous states
+  bool reduced_ = false;             // hard terminal with exogenous states: the inner sees red_
+  std::vector<int> endo_;            // non-exogenous state indices
+  LtvProblem red_;                   // the subproblem on the non-exogenous states
   Eigen::VectorXd lam_, lam2_, su_;  // costate scratch (inner nx, inner nx, nu)
   LtvProblem sub_;
 };
