@@ -403,6 +403,12 @@ TEST(Scp, BadSettingsThrowNamingTheField) {
   s = ScpSettings();
   s.globalization = static_cast<ScpGlobalization>(7);
   expect_throw(s, "globalization");
+  s = ScpSettings();
+  s.terminal_tol = 0.0;
+  expect_throw(s, "terminal_tol");
+  s = ScpSettings();
+  s.terminal_tol_inaccurate = 1e-9;  // below terminal_tol
+  expect_throw(s, "terminal_tol_inaccurate");
   // an initial guess outside the bounds
   p.cost = ControlCost::l1_box;
   p.u_min = VectorXd::Constant(3, -0.1);

@@ -199,3 +199,23 @@ def test_ilqr_admm_time_limit_is_checked_between_ilqr_iterations(uncons_short):
 @pytest.fixture(scope="module")
 def uncons_short():
     return nl.paper_case(False, horizon=20)
+
+
+def test_terminal_settings_and_info_fields_are_validated_and_exposed():
+    st = _c.ScpSettings()
+    with pytest.raises(ValueError, match="terminal_tol: must be finite and > 0"):
+        st.terminal_tol = 0.0
+    with pytest.raises(ValueError, match="terminal_tol_inaccurate: must be finite and >= terminal_tol"):
+        st.terminal_tol_inaccurate = 1e-9
+    with pytest.raises(TypeError, match="terminal_tol"):
+        st.terminal_tol = 1e-6 + 0j
+    assert st.terminal_tol == 1e-6 and st.terminal_tol_inaccurate == 1e-4  # old values kept
+    assert st.inner.terminal_tolerance == 1e-10
+    pr = _c.NonlinearL1Problem()
+    assert pr.terminal_equality is False  # default: today's soft terminal cost
+    case = nl.paper_case(False, horizon=10)
+    info = _c.ScpSolver(case.dmap, case.problem).info  # before solve()
+    for name in ("terminal_constraint_miss", "terminal_reference", "penalty", "penalty_updates",
+                 "infeasibility_margin"):
+        assert getattr(info, name) == 0
+    assert np.asarray(info.infeasibility_certificate).shape == (12,)
