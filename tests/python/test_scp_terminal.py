@@ -191,6 +191,13 @@ def test_ilqr_admm_time_limit_is_checked_between_ilqr_iterations(uncons_short):
     sol.set_initial_controls(np.zeros((3, uncons_short.problem.horizon)))
     assert sol.solve() == _c.IlqrAdmmStatus.time_limit
     assert sol.info.iterations == 1 and sol.info.ilqr_iterations <= 1
+    # control: without the limit the same first ADMM iteration runs several iLQR iterations
+    st.time_limit = 0.0
+    st.max_iter = 1
+    ctl = _c.IlqrAdmmSolver(uncons_short.dmap, uncons_short.problem, st)
+    ctl.set_initial_controls(np.zeros((3, uncons_short.problem.horizon)))
+    ctl.solve()
+    assert ctl.info.ilqr_iterations >= 3
     assert np.isfinite(sol.info.objective_u) and np.isfinite(sol.info.objective_y)
     with pytest.raises(ValueError, match="time_limit"):
         sol.set_time_limit(-1.0)
