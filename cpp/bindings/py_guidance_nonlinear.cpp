@@ -384,6 +384,7 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_readonly("infeasibility_margin", &ScpInfo::infeasibility_margin)
       .def_readonly("bound_violation", &ScpInfo::bound_violation)
       .def_readonly("rejected_steps", &ScpInfo::rejected_steps)
+      .def_readonly("restoration_steps", &ScpInfo::restoration_steps)
       .def_readonly("trust_radius", &ScpInfo::trust_radius)
       .def_readonly("solve_time", &ScpInfo::solve_time)
       .def_readonly("merit_history", &ScpInfo::merit_history)

@@ -347,14 +347,15 @@ TEST(Scp, SolveDoesNotAllocate) {
         set.globalization = g;
         set.max_outer = 10;
         ScpSolver s(model, p, set);
-        s.solve();  // warm-up
+        s.solve();                                             // warm-up
+        s.set_initial_controls(MatrixXd::Zero(3, p.horizon));  // from scratch: warm-started subproblems
         g_mallocs = 0;
         g_count = true;
         s.solve();
         g_count = false;
         EXPECT_EQ(g_mallocs.load(), 0) << "inner " << static_cast<int>(inner) << " globalization "
                                        << static_cast<int>(g) << " cost " << static_cast<int>(cost);
-        EXPECT_GE(s.result().info.outer_iterations, 1);
+        EXPECT_GE(s.result().info.outer_iterations, 2);
       }
 }
 
@@ -485,7 +486,7 @@ TEST(ScpTerminal, RandomCubicSuiteReachesTheTargetOrProvesItUnreachable) {
     EXPECT_TRUE(s.result().U.allFinite()) << tag;
     EXPECT_EQ(info.bound_violation, 0.0) << tag;
     for (double m : info.merit_history) EXPECT_TRUE(std::isfinite(m)) << tag;
-    if (info.penalty_updates == 0)
+    if (info.penalty_updates == 0 && info.restoration_steps == 0)
       for (size_t i = 1; i < info.merit_history.size(); ++i)
         EXPECT_LE(info.merit_history[i], info.merit_history[i - 1]) << tag << " outer " << i;
     // objective: the true cost of the returned plan; the constraint miss: its rollout's
@@ -748,6 +749,7 @@ TEST(ScpTerminal, HardTerminalAndTimedSolvesDoNotAllocate) {
         set.time_limit = 100.0;  // active, never reached: the remaining time goes to the inner
         ScpSolver s(model, p, set);
         s.solve();  // warm-up
+        s.set_initial_controls(MatrixXd::Zero(3, p.horizon));
         g_mallocs = 0;
         g_count = true;
         const ScpStatus st = s.solve();
@@ -793,6 +795,7 @@ TEST(ScpTerminal, HardTerminalAndTimedSolvesDoNotAllocate) {
     x1(0) *= 0.5;
     s.set_initial_state(x1);
     s.solve();
+    s.set_initial_controls(MatrixXd::Zero(3, q.horizon));
     g_mallocs = 0;
     g_count = true;
     const ScpStatus st = s.solve();
@@ -811,9 +814,75 @@ TEST(ScpTerminal, HardTerminalAndTimedSolvesDoNotAllocate) {
   set.time_limit = 100.0;
   ScpSolver s(model, p, set);
   s.solve();
+  s.set_initial_controls(MatrixXd::Zero(3, p.horizon));
   g_mallocs = 0;
   g_count = true;
   s.solve();
   g_count = false;
   EXPECT_EQ(g_mallocs.load(), 0) << "timed ilqr inner";
+  EXPECT_GE(s.result().info.outer_iterations, 2);
+}
+
+TEST(ScpTerminal, InfeasibleFirstLinearizationOfAReachableTargetIsRestored) {
+  // g = 10, |u| <= 0.3: v = u + g u^3 reaches 0.57 per step, the linearization at u = 0 only 0.3.
+  // From rest, x_N = 0 (position and velocity) is reachable per axis iff |p0| <= vmax N^2 / 4 (N
+  // even: +vmax for N/2 steps, then -vmax). Offsets between the two bounds: reachable, yet the first
+  // subproblem is infeasible.
+  const double g = 10.0, b = 0.3, vlin = b, vmax = b + g * b * b * b;
+  const int N = 8;
+  const CubicModel model(g);
+  int restored = 0;
+  for (double frac : {0.6, 0.75, 0.9}) {  // of the way from the linearized to the exact bound
+    NonlinearL1Problem p;
+    p.horizon = N;
+    const double off = (vlin + frac * (vmax - vlin)) * N * N / 4.0;
+    p.x0 = (VectorXd(6) << off, -0.5 * off, 0.2 * off, 0.0, 0.0, 0.0).finished();
+    p.x_target = VectorXd::Zero(6);
+    p.Qf = MatrixXd::Zero(6, 6);
+    p.alpha = VectorXd::Ones(3);
+    p.cost = ControlCost::l1_box;
+    p.u_min = VectorXd::Constant(3, -b);
+    p.u_max = VectorXd::Constant(3, b);
+    p.terminal_equality = true;
+    ASSERT_FALSE(cubic_target_unreachable(model, g, p));
+    ScpSettings set;
+    set.max_outer = 60;
+    ScpSolver s(model, p, set);
+    const ScpStatus st = s.solve();
+    const ScpInfo& info = s.result().info;
+    const std::string tag = "fraction " + std::to_string(frac);
+    EXPECT_NE(st, ScpStatus::inner_infeasible) << tag;
+    EXPECT_TRUE(success(st)) << tag << " " << status_message(st);
+    EXPECT_GE(info.restoration_steps, 1) << tag;
+    EXPECT_LE(rollout_miss(model, p, s.result().U), 1e-4 * info.terminal_reference) << tag;
+    EXPECT_EQ(info.bound_violation, 0.0) << tag;
+    restored += info.restoration_steps > 0;
+    std::printf("%s: %s, outer %d, restoration steps %d, miss %.2e\n", tag.c_str(), status_message(st),
+                info.outer_iterations, info.restoration_steps, info.terminal_constraint_miss);
+  }
+  EXPECT_EQ(restored, 3);
+  // just beyond the exact bound: unreachable. Restoration brings the miss down to its minimum over
+  // the box, then the subproblem there is infeasible with a certificate: inner_infeasible.
+  NonlinearL1Problem p;
+  p.horizon = N;
+  const double off = 1.2 * vmax * N * N / 4.0;
+  p.x0 = (VectorXd(6) << off, 0.0, 0.0, 0.0, 0.0, 0.0).finished();
+  p.x_target = VectorXd::Zero(6);
+  p.Qf = MatrixXd::Zero(6, 6);
+  p.alpha = VectorXd::Ones(3);
+  p.cost = ControlCost::l1_box;
+  p.u_min = VectorXd::Constant(3, -b);
+  p.u_max = VectorXd::Constant(3, b);
+  p.terminal_equality = true;
+  ScpSettings set;
+  set.max_outer = 60;
+  ScpSolver s(model, p, set);
+  EXPECT_EQ(s.solve(), ScpStatus::inner_infeasible);
+  const ScpInfo& info = s.result().info;
+  EXPECT_GE(info.restoration_steps, 1);
+  EXPECT_GT(info.infeasibility_margin, 0.0);
+  // the returned plan: saturated bang-bang on x, within 5 % of the least possible miss
+  // (position 0.2 vmax N^2 / 4 left at zero final velocity, or less with a velocity error)
+  EXPECT_LE(info.terminal_constraint_miss, 1.05 * 0.2 * vmax * N * N / 4.0);
+  EXPECT_LT(info.terminal_constraint_miss, info.terminal_reference);
 }

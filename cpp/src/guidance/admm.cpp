@@ -919,8 +919,13 @@ void AdmmSolver::warm_start(const Eigen::Ref<const MatrixXd>& Y, const Eigen::Re
   Yws_ = Y;
   Lws_ = Lambda;
   if (scaled_) {  // into the scaled problem: Y~ = D_u^-1 Y, Lambda~ = c D_u Lambda
-    Yws_.array().colwise() /= du_.array();
-    Lws_.array().colwise() *= cscale_ * du_.array();
+    // explicit loops: the broadcast of c D_u was evaluated into a heap temporary at every call
+    // (SCP warm-starts its subproblems inside its allocation-free solve)
+    for (int k = 0; k < N_; ++k)
+      for (int i = 0; i < nu_; ++i) {
+        Yws_(i, k) /= du_(i);
+        Lws_(i, k) *= cscale_ * du_(i);
+      }
   }
   warm_ = true;
 }

@@ -83,7 +83,8 @@ const char* status_message(ScpStatus s) {
       return "stopped at a limit with predicted decrease <= tol_inaccurate * max(1, J); best iterate";
     case ScpStatus::inner_infeasible:
       return "the linearized subproblem is infeasible (x_f outside what the box reaches; see "
-             "infeasibility_certificate / infeasibility_margin); best iterate returned";
+             "infeasibility_certificate / infeasibility_margin) and no restoration step lowers the "
+             "terminal miss; best iterate returned";
     case ScpStatus::time_limit:
       return "time_limit reached; best iterate returned";
   }
@@ -214,6 +215,22 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
   }
   if (set_.inner_solver == ScpInner::linear_admm)
     admm_ = std::make_unique<AdmmSolver>(reduced_ ? red_ : sub_, set_.inner);
+  const bool boxed = (lo_.array() > -std::numeric_limits<double>::infinity()).any() ||
+                     (hi_.array() < std::numeric_limits<double>::infinity()).any();
+  if (hard_ && admm_ && boxed) {
+    // restoration subproblem: the same linearization and box, no fuel cost, 1/2 ||e_c||^2
+    LtvProblem el = reduced_ ? red_ : sub_;
+    el.terminal_equality = false;
+    el.l1_weights.resize(0);
+    el.group_l2_weight = 0.0;
+    const int nxi = static_cast<int>(el.x0.size());
+    el.Qf = MatrixXd::Identity(nxi, nxi);
+    if (!reduced_)
+      for (int i = 0; i < nx_; ++i)
+        if (is_exo_[i]) el.Qf(i, i) = 0.0;
+    elastic_ = std::make_unique<AdmmSolver>(el, set_.inner);
+  }
+  Zu_ = MatrixXd::Zero(nu_, N_);
 }
 
 void ScpSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
@@ -240,6 +257,7 @@ void ScpSolver::set_initial_state(const Eigen::Ref<const VectorXd>& x0) {
     for (size_t i = 0; i < endo_.size(); ++i) red_.x0(static_cast<Eigen::Index>(i)) = x0(endo_[i]);
     if (admm_) admm_->set_x0(red_.x0);
   }
+  if (elastic_) elastic_->set_x0(reduced_ ? red_.x0 : sub_.x0);
   inner_->set_initial_state(x0);
   if (admm_ && !reduced_) admm_->set_x0(x0);
 }
@@ -330,6 +348,41 @@ double ScpSolver::model_cost(const MatrixXd& U) {
   }
   const double J = terminal_cost(Xlin_.col(N_)) + control_cost(U);
   return mu_ > 0.0 ? J + mu_ * constraint_miss(Xlin_.col(N_)) : J;
+}
+
+int ScpSolver::restore(double& J) {
+  const LtvDynamics& d = reduced_ ? red_.dynamics : sub_.dynamics;
+  if (!elastic_->update_dynamics(d.A, d.B, d.c)) return -1;
+  elastic_->warm_start(res_.U, Zu_);
+  const AdmmResult& r = elastic_->solve();
+  res_.info.inner_iterations += r.info.iterations;
+  const Inner in = classify(r.info.status);
+  if (in == Inner::failed || in == Inner::infeasible || !r.Y.allFinite()) return -1;
+  // predicted / actual decrease of 1/2 ||e_c||^2 along U + t (Y - U); the model is exact at U
+  const double miss = constraint_miss(res_.X.col(N_));
+  const double m0 = 0.5 * miss * miss;
+  Ucand_ = r.Y;
+  const double mu = mu_;
+  mu_ = 0.0;  // model_cost's rollout only
+  model_cost(Ucand_);
+  mu_ = mu;
+  const double mlin = constraint_miss(Xlin_.col(N_));
+  const double pred = m0 - 0.5 * mlin * mlin;
+  if (!(pred > 1e-9 * m0)) return 0;  // no control in the box lowers the miss to first order
+  double t = 1.0;
+  for (int ls = 0; ls < set_.line_search_iters; ++ls, t *= 0.5) {
+    Utmp_ = res_.U + t * (Ucand_ - res_.U);
+    if (rollout(Utmp_, Xtmp_) >= 0) continue;
+    const double mn = constraint_miss(Xtmp_.col(N_));
+    if (m0 - 0.5 * mn * mn >= set_.armijo * t * pred && mn < miss) {
+      res_.U.swap(Utmp_);
+      res_.X.swap(Xtmp_);
+      J = terminal_cost(res_.X.col(N_)) + control_cost(res_.U) + mu_ * mn;
+      res_.info.last_step = t;
+      return 1;
+    }
+  }
+  return 2;
 }
 
 ScpStatus ScpSolver::solve() noexcept {
@@ -522,6 +575,23 @@ ScpStatus ScpSolver::solve_impl() {
     }
     first_inner = false;
     info.inner_solved = in == Inner::solved;
+    if (in == Inner::infeasible && elastic_ && info.inner_status == AdmmStatus::kPrimalInfeasible) {
+      // Infeasible on this linearization, which may be an artifact of it (the box reaches further
+      // elsewhere on a nonlinear model): lower the true miss first; report only at a stationary point.
+      const int rs = restore(J);
+      if (rs == 1) {
+        info.merit_history.push_back(J);
+        ++info.restoration_steps;
+        lin_valid = false;
+        cert_pred = kInf;
+        continue;
+      }
+      if (rs < 0) {
+        info.merit_history.push_back(J);
+        return ScpStatus::inner_failed;
+      }
+      if (rs == 2) ++info.rejected_steps;  // predicted but not realized: no step lowers the miss either
+    }
     if (in == Inner::infeasible) {
       info.merit_history.push_back(J);
       return ScpStatus::inner_infeasible;

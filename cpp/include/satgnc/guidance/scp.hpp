@@ -21,8 +21,11 @@
 /// exogenous trajectory, which no control changes, enters their affine term). Steps are judged on
 /// the exact-penalty merit phi = J + mu ||e_c||_2, e_c = (x_N - x_f) on the non-exogenous states, mu
 /// kept above the subproblem's terminal multiplier norm. An infeasible subproblem (target outside
-/// what the box reaches on the linearization) ends inner_infeasible with the inner solver's Farkas
-/// certificate and its margin re-evaluated here (ScpInfo::infeasibility_certificate / _margin).
+/// what the box reaches on the linearization) first triggers feasibility restoration (a step that
+/// lowers the true miss ||e_c||: box-constrained least squares on the linearization, backtracking on
+/// the rollout); inner_infeasible is reported only where restoration predicts no decrease of the
+/// miss, with the inner solver's Farkas certificate and its margin re-evaluated here
+/// (ScpInfo::infeasibility_certificate / _margin).
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
@@ -145,12 +148,16 @@ struct ScpInfo {
   double infeasibility_margin = 0.0;
   double bound_violation = 0.0;  ///< max violation of the control bounds by the returned U (0 inside)
   int rejected_steps = 0;        ///< trust-region rejections / failed line searches
-  double trust_radius = 0.0;     ///< final Delta (+inf while unrestricted)
-  double solve_time = 0.0;       ///< wall time of solve(), s
+  /// Hard terminal state: accepted feasibility-restoration steps (each lowers the true miss
+  /// ||e_c||; the merit may rise).
+  int restoration_steps = 0;
+  double trust_radius = 0.0;  ///< final Delta (+inf while unrestricted)
+  double solve_time = 0.0;    ///< wall time of solve(), s
   /// True cost J of the iterate: entry 0 the initial guess, entry i after outer iteration i
   /// (unchanged by a rejected step). Non-increasing. Capacity reserved at setup. With a hard
   /// terminal state the merit J + mu ||e_c||_2 at the mu of that iteration: non-increasing when
-  /// penalty_updates == 0 (an increase of mu raises the merit of the same iterate).
+  /// penalty_updates == 0 and restoration_steps == 0 (an increase of mu raises the merit of the same
+  /// iterate; a restoration step lowers the miss, not the merit).
   std::vector<double> merit_history;
 };
 
@@ -182,6 +189,9 @@ class ScpSolver {
   double control_cost(const Eigen::MatrixXd& U) const;
   double terminal_cost(const Eigen::Ref<const Eigen::VectorXd>& xN) const;
   double model_cost(const Eigen::MatrixXd& U);  // convex model (affine rollout) at U, merit with mu_
+  // Feasibility restoration at the current iterate (hard terminal state, infeasible subproblem):
+  // 1 = step accepted, 0 = no predicted decrease of the miss (stationary), 2 = rejected, -1 = failed.
+  int restore(double& J);
   double constraint_miss(const Eigen::Ref<const Eigen::VectorXd>& xN) const;  // ||e_c||_2
   double infeasibility_margin(const Eigen::VectorXd& y);  // on the inner's current linearization
   void reduce_linearization();  // sub_ (full) -> red_ (non-exogenous states), hard terminal only
@@ -195,8 +205,9 @@ class ScpSolver {
   std::unique_ptr<LinearDiscreteModel> lin_;
   std::unique_ptr<IlqrAdmmSolver> inner_;
   std::unique_ptr<AdmmSolver> admm_;
+  std::unique_ptr<AdmmSolver> elastic_;  // restoration: min 1/2 ||e_c||^2 on the linearization, box
   ScpResult res_;
-  Eigen::MatrixXd Ytmp_, Utmp_, Xtmp_, Ywarm_, Lwarm_, Xlin_, Tlo_, Thi_, Ucand_;
+  Eigen::MatrixXd Ytmp_, Utmp_, Xtmp_, Ywarm_, Lwarm_, Xlin_, Tlo_, Thi_, Ucand_, Zu_;
   Eigen::VectorXd lo_, hi_;  // real bounds (+-inf without a box)
   bool hard_ = false;        // hard terminal state
   double mu_ = 0.0;          // merit penalty
