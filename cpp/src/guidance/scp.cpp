@@ -350,12 +350,17 @@ double ScpSolver::model_cost(const MatrixXd& U) {
   return mu_ > 0.0 ? J + mu_ * constraint_miss(Xlin_.col(N_)) : J;
 }
 
-int ScpSolver::restore(double& J) {
+int ScpSolver::restore(double& J, double time_left) {
   const LtvDynamics& d = reduced_ ? red_.dynamics : sub_.dynamics;
   if (!elastic_->update_dynamics(d.A, d.B, d.c)) return -1;
   elastic_->warm_start(res_.U, Zu_);
+  if (time_left > 0.0) {
+    const double own = set_.inner.time_limit;
+    elastic_->set_time_limit(own > 0.0 ? std::min(own, time_left) : time_left);
+  }
   const AdmmResult& r = elastic_->solve();
   res_.info.inner_iterations += r.info.iterations;
+  if (time_left > 0.0 && r.info.status == AdmmStatus::kTimeLimit) return -2;
   const Inner in = classify(r.info.status);
   if (in == Inner::failed || in == Inner::infeasible || !r.Y.allFinite()) return -1;
   // predicted / actual decrease of 1/2 ||e_c||^2 along U + t (Y - U); the model is exact at U
@@ -580,7 +585,11 @@ ScpStatus ScpSolver::solve_impl() {
     if (in == Inner::infeasible && elastic_ && info.inner_status == AdmmStatus::kPrimalInfeasible) {
       // Infeasible on this linearization, which may be an artifact of it (the box reaches further
       // elsewhere on a nonlinear model): lower the true miss first; report only at a stationary point.
-      const int rs = restore(J);
+      const int rs = restore(J, timed ? std::max(set_.time_limit - elapsed(), 1e-300) : 0.0);
+      if (rs == -2) {  // out of time inside the restoration subproblem
+        info.merit_history.push_back(J);
+        return ScpStatus::time_limit;
+      }
       if (rs == 1) {
         info.merit_history.push_back(J);
         ++info.restoration_steps;

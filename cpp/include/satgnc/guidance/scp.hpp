@@ -190,8 +190,9 @@ class ScpSolver {
   double terminal_cost(const Eigen::Ref<const Eigen::VectorXd>& xN) const;
   double model_cost(const Eigen::MatrixXd& U);  // convex model (affine rollout) at U, merit with mu_
   // Feasibility restoration at the current iterate (hard terminal state, infeasible subproblem):
-  // 1 = step accepted, 0 = no predicted decrease of the miss (stationary), 2 = rejected, -1 = failed.
-  int restore(double& J);
+  // 1 = step accepted, 0 = no predicted decrease of the miss (stationary), 2 = rejected, -1 = failed,
+  // -2 = out of time (time_left > 0: the remaining time, passed to the restoration solver).
+  int restore(double& J, double time_left);
   double constraint_miss(const Eigen::Ref<const Eigen::VectorXd>& xN) const;  // ||e_c||_2
   double infeasibility_margin(const Eigen::VectorXd& y);  // on the inner's current linearization
   void reduce_linearization();  // sub_ (full) -> red_ (non-exogenous states), hard terminal only
