@@ -197,7 +197,10 @@ def test_converged_estimates_match_independent_scipy_least_squares(passes):
         worst_sigma = max(worst_sigma, math.sqrt(d @ np.linalg.solve(np.asarray(r.covariance), d)))
         worst_cost = max(worst_cost, abs(r.cost - ref.cost) / ref.cost)
     assert worst_default < 1e-6  # measured 1.8e-7
-    assert worst_sigma < 1e-3  # measured 8.8e-5
+    # Measured 1.7e-3 (pass 15, with the valley corrector; 8.8e-5 without): there satgnc's point has
+    # the lower cost in both models and a 3.5x smaller gradient |Q^T r_n| (5.6e-5 vs 2.0e-4) than
+    # scipy's; both stop at the round-off floor along the flat direction of the valley.
+    assert worst_sigma < 3e-3
     assert worst_cost < 1e-8  # measured 8e-10
 
 

@@ -61,6 +61,8 @@ void OdSettings::validate() const {
   require(lm_max_rejections >= 1, "settings.lm_max_rejections", "must be >= 1");
   require(gn_max_halvings >= 0 && gn_max_halvings <= 60, "settings.gn_max_halvings", "must be in 0..60");
   require(lm_polish_iterations >= 0, "settings.lm_polish_iterations", "must be >= 0");
+  require(valley_corrections >= 0 && valley_corrections <= 100, "settings.valley_corrections",
+          "must be in 0..100");
   core::require_nonnegative(lm_stall_tol, "settings.lm_stall_tol");
   require(method == OdMethod::newton || method == OdMethod::gauss_newton ||
               method == OdMethod::levenberg_marquardt,
@@ -177,6 +179,13 @@ void OdSolver::setup(std::vector<Station> stations, std::vector<Row> rows, std::
   jn0_.setZero(m, 6);
   aug_.setZero(m, 7);
   qr_ = Eigen::HouseholderQR<Eigen::MatrixXd>(m, 7);
+  rs_.setZero(m);
+  rns_.setZero(m);
+  rrs_.setZero(m);
+  rrrs_.setZero(m);
+  jns_.setZero(m, 6);
+  augc_.setZero(m, 6);
+  qrc_ = Eigen::HouseholderQR<Eigen::MatrixXd>(m, 6);
   res_.residuals.setZero(m);
   res_.normalized.setZero(m);
   res_.range_residuals.setZero(m);
@@ -430,6 +439,59 @@ Vec6 OdSolver::damped_solve(const Vec6& b, double lambda, const Vec6& diag) cons
   return -Rl.triangularView<Eigen::Upper>().solve(cl);
 }
 
+void OdSolver::save_buffers() {
+  rs_ = r_;
+  rns_ = rn_;
+  rrs_ = rr_;
+  rrrs_ = rrr_;
+  jns_ = jn_;
+}
+
+void OdSolver::restore_buffers() {
+  r_ = rs_;
+  rn_ = rns_;
+  rr_ = rrs_;
+  rrr_ = rrrs_;
+  jn_ = jns_;
+}
+
+// Predictor-corrector for curved valleys: from the trial point xt (buffers current, cost ct), up to
+// valley_corrections Gauss-Newton steps min |r_n + J_n P y| over the 5-dimensional complement P of
+// the step direction (orthonormal in the coordinates scaled by diag, so the correction is unit
+// invariant and does not undo the progress along the valley); each is kept only if it lowers the
+// cost. Leaves xt, ct and the buffers at the lowest point.
+void OdSolver::valley_correct(Vec6& xt, double& ct, const Vec6& dir, const Vec6& diag) {
+  if (settings_.valley_corrections <= 0) return;
+  Vec6 u = diag.cwiseProduct(dir);
+  const double nu = u.norm();
+  if (!(nu > 0.0) || !std::isfinite(nu) || !(diag.array() > 0.0).all()) return;
+  u /= nu;
+  // Columns 1..5 of the Householder reflector that maps u to e1 span u's orthogonal complement.
+  Vec6 w = u;
+  w(0) += u(0) >= 0.0 ? 1.0 : -1.0;
+  const Mat6 H = Mat6::Identity() - (2.0 / w.squaredNorm()) * (w * w.transpose());
+  const Eigen::Matrix<double, 6, 5> P = diag.cwiseInverse().asDiagonal() * H.rightCols<5>();
+  for (int j = 0; j < settings_.valley_corrections; ++j) {
+    augc_.leftCols<5>().noalias() = jn_ * P;
+    augc_.col(5) = rn_;
+    qrc_.compute(augc_);
+    const auto& q = qrc_.matrixQR();
+    const Eigen::Matrix<double, 5, 5> Rc = q.topLeftCorner<5, 5>().triangularView<Eigen::Upper>();
+    const Eigen::Matrix<double, 5, 1> cc = q.block<5, 1>(0, 5);
+    const Eigen::Matrix<double, 5, 1> y = -Rc.triangularView<Eigen::Upper>().solve(cc);
+    if (!y.allFinite()) return;
+    const Vec6 xc = xt + P * y;
+    save_buffers();
+    if (eval_at(xc, true) == OdStatus::converged && 0.5 * rn_.squaredNorm() < ct) {
+      xt = xc;
+      ct = 0.5 * rn_.squaredNorm();
+      continue;
+    }
+    restore_buffers();
+    return;
+  }
+}
+
 bool OdSolver::residual_small() const {
   return settings_.residual_tol > 0.0 && rn_.cwiseAbs().maxCoeff() <= settings_.residual_tol;
 }
@@ -508,12 +570,17 @@ bool OdSolver::solve_gauss_newton(Vec6& x) {
       Vec6 w;
       if (second_derivative(x, v, w)) a = solve_r(w);
     }
+    Vec6 diag;
+    for (int i = 0; i < 6; ++i) diag(i) = R_.col(i).norm();
     double t = 1.0;
     bool accepted = false;
     Vec6 xt;
     for (int h = 0; h <= settings_.gn_max_halvings; ++h, t *= 0.5) {
       xt = x + t * v + (0.5 * t * t) * a;
-      if (eval_at(xt, true) == OdStatus::converged && 0.5 * rn_.squaredNorm() <= cost - kArmijo * t * slope) {
+      if (eval_at(xt, true) != OdStatus::converged) continue;
+      double ct = 0.5 * rn_.squaredNorm();
+      if (ct > cost - kArmijo * t * slope) valley_correct(xt, ct, v, diag);
+      if (ct <= cost - kArmijo * t * slope) {
         accepted = true;
         break;
       }
@@ -574,7 +641,13 @@ bool OdSolver::solve_lm(Vec6& x) {
           xt += 0.5 * a;
       }
       const OdStatus st = eval_at(xt, true);
-      const double actual = st == OdStatus::converged ? cost - 0.5 * rn_.squaredNorm() : -1.0;
+      double actual = st == OdStatus::converged ? cost - 0.5 * rn_.squaredNorm() : -1.0;
+      if (st == OdStatus::converged && actual < 0.25 * pred) {
+        // A poor step along a curved valley: pull the trial back to the floor before judging it.
+        double ct = cost - actual;
+        valley_correct(xt, ct, dx, diag);
+        actual = cost - ct;
+      }
       if (st == OdStatus::converged && actual > 0.0) {
         accepted = true;
         const double rho = pred > 0.0 ? actual / pred : 0.0;

@@ -98,6 +98,14 @@ struct OdSettings {
   /// GN and LM add the geodesic acceleration (second-order correction along the step, one extra
   /// residual evaluation per trial; Transtrum & Sethna 2012) so steps follow curved valleys.
   bool geodesic = true;
+  /// GN and LM: valley corrector steps per trial point (0 = off). A one-station pass has a long,
+  /// curved valley of nearly equal cost (formal sigmas of km along it, cm across it): a step along
+  /// its tangent leaves the floor by metres (cost 1e8 higher) already at a fraction of its length,
+  /// so the line search crawled. Each trial point xt is pulled back to the floor by up to this many
+  /// Gauss-Newton steps restricted to the complement of the step direction (in Moré-scaled
+  /// coordinates, so the progress along the valley is kept), each kept only if it lowers the cost;
+  /// the trial is then judged at the corrected point (predictor-corrector, as in continuation).
+  int valley_corrections = 3;
   double lm_lambda0 = 1e-3;    ///< initial LM damping (relative to the Moré scaling)
   double lm_increase = 10.0;   ///< damping factor after a rejected step
   double lm_decrease = 0.1;    ///< damping factor after a very successful step (gain ratio > 0.75)
@@ -200,6 +208,12 @@ class OdSolver {
   bool solve_gauss_newton(Vec6& x);
   bool solve_lm(Vec6& x);
   bool polish(Vec6& x);  // undamped steps from the LM point; true if kept (buffers at x)
+  // Valley corrector: xt (buffers current, cost ct) -> lower point on the valley floor reached by
+  // Gauss-Newton steps in the complement of the step direction dir (scaled by diag); buffers stay
+  // at the returned xt.
+  void valley_correct(Vec6& xt, double& ct, const Vec6& dir, const Vec6& diag);
+  void save_buffers();
+  void restore_buffers();
 
   std::vector<Station> stations_;
   std::vector<Row> rows_;
@@ -216,6 +230,10 @@ class OdSolver {
   Eigen::VectorXd rn0_, gw_;  // geodesic probe: residuals at x, work vector
   Eigen::MatrixXd jn0_;       // geodesic probe: Jacobian at x
   Eigen::MatrixXd aug_;       // rows x 7
+  Eigen::VectorXd rs_, rns_, rrs_, rrrs_;  // valley corrector: saved buffers of the best point
+  Eigen::MatrixXd jns_;                    // rows x 6
+  Eigen::MatrixXd augc_;                   // rows x 6: [Jn P | rn] of the corrector
+  Eigen::HouseholderQR<Eigen::MatrixXd> qrc_;
   Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
   Mat6 R_;
   Vec6 c_;
