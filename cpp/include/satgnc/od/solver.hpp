@@ -106,6 +106,11 @@ struct OdSettings {
   /// coordinates, so the progress along the valley is kept), each kept only if it lowers the cost;
   /// the trial is then judged at the corrected point (predictor-corrector, as in continuation).
   int valley_corrections = 3;
+  /// GN and LM: after an accepted step d, fit the cost along x + t d by a parabola (cost at x, its
+  /// slope, cost at the new point) and try its minimizer t* when t* >= 2 (at most 10), kept only if
+  /// lower. Gauss-Newton converges only linearly where the residuals' curvature along the weak
+  /// direction rivals J^T J (measured 0.95 per step on a noisy one-station pass); this finishes it.
+  bool extrapolate = true;
   double lm_lambda0 = 1e-3;    ///< initial LM damping (relative to the Moré scaling)
   double lm_increase = 10.0;   ///< damping factor after a rejected step
   double lm_decrease = 0.1;    ///< damping factor after a very successful step (gain ratio > 0.75)
@@ -212,6 +217,9 @@ class OdSolver {
   // Gauss-Newton steps in the complement of the step direction dir (scaled by diag); buffers stay
   // at the returned xt.
   void valley_correct(Vec6& xt, double& ct, const Vec6& dir, const Vec6& diag);
+  // After an accepted step x -> xt (cost ct): try the parabola's minimizer along xt - x (see
+  // OdSettings::extrapolate); xt, ct and the buffers end at the kept point.
+  void extrapolate(const Vec6& x, double cost, Vec6& xt, double& ct, const Vec6& diag);
   void save_buffers();
   void restore_buffers();
 
