@@ -8,7 +8,8 @@
 ///  - newton is kept exactly as the paper has it (full undamped steps) so its tables reproduce;
 ///  - gauss_newton: weighted batch least squares for any number (>= 6) of mixed observations from
 ///    one or several stations, with the formal covariance (J^T W J)^-1 and correlation; globalized
-///    by a backtracking (Armijo) line search along the second-order path x + t v + t^2 a / 2;
+///    by a backtracking line search along the second-order path x + t v + t^2 a / 2 with a valley
+///    corrector and an extrapolation of accepted steps;
 ///  - levenberg_marquardt: the same cost, globalized by Moré-scaled damping.
 /// GN and LM add the geodesic acceleration a (OdSettings::geodesic), reject trial points below the
 /// surface, unbound or not propagatable, never raise the cost, and return the best iterate.
@@ -94,7 +95,7 @@ struct OdSettings {
   double mu = dynamics::earth::mu;              ///< km^3/s^2, for the unbound test (specific energy >= 0)
   double fit_sigma = 3.0;    ///< a solution fits when the RMS normalized residual <= fit_sigma
   double min_range = 1e-6;   ///< km; smaller predicted range => degenerate_geometry
-  int gn_max_halvings = 40;  ///< GN line search: step halvings (Armijo test) before status stalled
+  int gn_max_halvings = 40;  ///< GN line search: step halvings (decrease test) before status stalled
   /// GN and LM add the geodesic acceleration (second-order correction along the step, one extra
   /// residual evaluation per trial; Transtrum & Sethna 2012) so steps follow curved valleys.
   bool geodesic = true;
