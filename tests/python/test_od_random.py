@@ -279,7 +279,7 @@ def _hessian_eigenvalues(sv, x):
     _, _, J = sv.evaluate(x)
     _, s, vt = np.linalg.svd(np.asarray(J) / sig[:, None], full_matrices=False)
     B = vt.T / s
-    H = np.column_stack([B.T @ (grad(x + 1e-3 * B[:, i]) - grad(x - 1e-3 * B[:, i])) / 2e-3 for i in range(6)])
+    H = np.column_stack([B.T @ (grad(x + 1e-3 * b) - grad(x - 1e-3 * b)) / 2e-3 for b in B.T])
     return np.linalg.eigvalsh(0.5 * (H + H.T))
 
 

@@ -99,13 +99,15 @@ struct OdSettings {
   /// GN and LM add the geodesic acceleration (second-order correction along the step, one extra
   /// residual evaluation per trial; Transtrum & Sethna 2012) so steps follow curved valleys.
   bool geodesic = true;
-  /// GN and LM: valley corrector steps per trial point (0 = off). A one-station pass has a long,
-  /// curved valley of nearly equal cost (formal sigmas of km along it, cm across it): a step along
-  /// its tangent leaves the floor by metres (cost 1e8 higher) already at a fraction of its length,
-  /// so the line search crawled. Each trial point xt is pulled back to the floor by up to this many
-  /// Gauss-Newton steps restricted to the complement of the step direction (in Moré-scaled
-  /// coordinates, so the progress along the valley is kept), each kept only if it lowers the cost;
-  /// the trial is then judged at the corrected point (predictor-corrector, as in continuation).
+  /// GN and LM: valley corrector steps per poor trial point (0 = off). A one-station pass has a
+  /// long, curved valley of nearly equal cost (Gao-Luo 300 s pass: formal sigmas 35 km and 0.25 km
+  /// along it, 0.13 m and less across it): a step along its tangent leaves the floor (the cost
+  /// rises by 2e10 at the full 28 km GN step and still by 2e4 at 1/32 of it), so the line search
+  /// crawled at t ~ 1/1000. A trial xt that fails the decrease test (GN) or does worse than the
+  /// model predicted (LM) is pulled back to the floor by up to this many Gauss-Newton steps
+  /// restricted to the complement of the step direction (orthonormal in Moré-scaled coordinates,
+  /// so the progress along the valley is kept), each kept only if it lowers the cost; the trial is
+  /// then judged at the corrected point (a predictor-corrector, as in continuation methods).
   int valley_corrections = 3;
   /// GN and LM: after an accepted step d, fit the cost along x + t d by a parabola (cost at x, its
   /// slope, cost at the new point) and try its minimizer t* when t* >= 2 (at most 10), kept only if
@@ -235,10 +237,10 @@ class OdSolver {
   std::vector<Vec6> states_;
   std::vector<Mat6> stms_;
   Eigen::VectorXd r_, rn_, rr_, rrr_;
-  Eigen::MatrixXd jn_;        // rows x 6, normalized
-  Eigen::VectorXd rn0_, gw_;  // geodesic probe: residuals at x, work vector
-  Eigen::MatrixXd jn0_;       // geodesic probe: Jacobian at x
-  Eigen::MatrixXd aug_;       // rows x 7
+  Eigen::MatrixXd jn_;                     // rows x 6, normalized
+  Eigen::VectorXd rn0_, gw_;               // geodesic probe: residuals at x, work vector
+  Eigen::MatrixXd jn0_;                    // geodesic probe: Jacobian at x
+  Eigen::MatrixXd aug_;                    // rows x 7
   Eigen::VectorXd rs_, rns_, rrs_, rrrs_;  // valley corrector: saved buffers of the best point
   Eigen::MatrixXd jns_;                    // rows x 6
   Eigen::MatrixXd augc_;                   // rows x 6: [Jn P | rn] of the corrector
