@@ -179,6 +179,8 @@ void init_od(py::module_& m) {
       .def_readwrite("min_range", &OdSettings::min_range)
       .def_readwrite("gn_max_halvings", &OdSettings::gn_max_halvings)
       .def_readwrite("geodesic", &OdSettings::geodesic)
+      .def_readwrite("valley_corrections", &OdSettings::valley_corrections)
+      .def_readwrite("extrapolate", &OdSettings::extrapolate)
       .def_readwrite("lm_lambda0", &OdSettings::lm_lambda0)
       .def_readwrite("lm_increase", &OdSettings::lm_increase)
       .def_readwrite("lm_decrease", &OdSettings::lm_decrease)

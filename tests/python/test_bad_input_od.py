@@ -100,6 +100,12 @@ CASES = [
     (_set, dict(fit_sigma=1j), TypeError, "fit_sigma:"),
     (_set, dict(method="newton_raphson"), ValueError, "method:"),
     (_set, dict(method=2), TypeError, "method:"),
+    (_set, dict(valley_corrections="3"), TypeError, "valley_corrections:"),
+    (_set, dict(valley_corrections=2.5), TypeError, "valley_corrections:"),
+    (_set, dict(valley_corrections=-1), ValueError, "valley_corrections:"),
+    (_set, dict(valley_corrections=101), ValueError, "valley_corrections:"),
+    (_set, dict(extrapolate="no"), TypeError, "extrapolate:"),
+    (_set, dict(extrapolate=np.array([1, 0])), TypeError, "extrapolate:"),
     # found by the QA probe (issue 11 verification): each was accepted silently or unclear before
     (_roots, dict(guesses=np.array([X]) + 0j), TypeError, "guesses:"),  # truncated to real
     (_roots, dict(guesses=np.ones((1, 6), dtype=bool)), TypeError, "guesses:"),  # read as 1 km

@@ -197,7 +197,10 @@ def test_converged_estimates_match_independent_scipy_least_squares(passes):
         worst_sigma = max(worst_sigma, math.sqrt(d @ np.linalg.solve(np.asarray(r.covariance), d)))
         worst_cost = max(worst_cost, abs(r.cost - ref.cost) / ref.cost)
     assert worst_default < 1e-6  # measured 1.8e-7
-    assert worst_sigma < 1e-3  # measured 8.8e-5
+    # Measured 1.7e-3 (pass 15, with the valley corrector; 8.8e-5 without): there satgnc's point has
+    # the lower cost in both models and a 3.5x smaller gradient |Q^T r_n| (5.6e-5 vs 2.0e-4) than
+    # scipy's; both stop at the round-off floor along the flat direction of the valley.
+    assert worst_sigma < 3e-3
     assert worst_cost < 1e-8  # measured 8e-10
 
 
@@ -252,10 +255,128 @@ def test_gao_luo_pass_gauss_newton_from_the_truth_never_reports_garbage():
         _check_result(r, 100)
 
 
+def _predicted_decrease(sv, x):
+    """0.5 |Q1^T r_n|^2 at x (the Gauss-Newton decrement) and the cost, by numpy's QR of satgnc's
+    row-normalized Jacobian: the convergence test recomputed outside the solver."""
+    st, r, J = sv.evaluate(x)
+    assert st == od.OdStatus.converged
+    sig = np.asarray(sv.row_sigmas)
+    rn = np.asarray(r) / sig
+    q, _ = np.linalg.qr(np.asarray(J) / sig[:, None])
+    c = q.T @ rn
+    return 0.5 * float(c @ c), 0.5 * float(rn @ rn)
+
+
+def _hessian_eigenvalues(sv, x):
+    """Eigenvalues of the full Hessian of the cost (J^T J + sum r_i H_i) at x, by central
+    differences of the gradient J^T r_n along the formal 1-sigma directions (1 = J^T J alone)."""
+    sig = np.asarray(sv.row_sigmas)
+
+    def grad(y):
+        _, r, J = sv.evaluate(y)
+        return (np.asarray(J) / sig[:, None]).T @ (np.asarray(r) / sig)
+
+    _, _, J = sv.evaluate(x)
+    _, s, vt = np.linalg.svd(np.asarray(J) / sig[:, None], full_matrices=False)
+    B = vt.T / s
+    H = np.column_stack([B.T @ (grad(x + 1e-3 * b) - grad(x - 1e-3 * b)) / 2e-3 for b in B.T])
+    return np.linalg.eigvalsh(0.5 * (H + H.T))
+
+
+@pytest.mark.parametrize("method", ["gauss_newton", "levenberg_marquardt"])
+def test_gao_luo_pass_from_the_truth_converges_for_every_noise_seed(method):
+    # Issue 11, the first OD item: the 300 s Gao-Luo pass, one station, 1 m / 1 mm/s noise, from the
+    # truth. The minimum lies 4-16 km away along a curved valley (formal sigmas 35 km / 0.25 km /
+    # 0.13 m, condition 3e8). Before the valley corrector and the extrapolation, GN converged for
+    # 4 of these 10 seeds and LM for 6 within 100 iterations; now 10 / 10 each (GN 2-8 iterations,
+    # LM 12-18, measured).
+    from satgnc.od import paper
+
+    T, st = paper.truth(), paper.station()
+    converged, iters = 0, []
+    for seed in range(1, 11):
+        obs = od.simulate(T, st, np.arange(0, 301, 10.0), seed=seed)
+        sv = od.solver(obs, st, method)
+        c_truth = _cost_at(sv, T)
+        r = sv.solve(T)
+        _check_result(r, 100)
+        iters.append(r.iterations)
+        if r.status != od.OdStatus.converged:
+            continue
+        converged += 1
+        # Every converged solve fits at least as well as the truth, and the stated test holds.
+        assert r.cost <= c_truth
+        assert r.rank == 6 and r.fits
+        dec, cost = _predicted_decrease(sv, np.asarray(r.x0))
+        assert dec <= sv.settings.cost_tol * cost * 1.01
+        assert np.all(np.linalg.eigvalsh(np.asarray(r.covariance)) > 0)
+    assert converged == 10
+    assert max(iters) <= 25  # measured GN 8, LM 18
+
+
+def test_gao_luo_pass_gauss_newton_and_lm_reach_the_same_minimum():
+    # Two different globalizations end at the same point. With the default cost_tol = 1e-6 they
+    # agree in cost to 3.5e-5 (a chi-square difference of 7e-5) but may lie up to 0.9 km apart
+    # along the flat valley (0.025 of its 35 km formal sigma); cost_tol = 1e-10 brings them to
+    # <= 18 m (0.018 formal sigma), measured.
+    from satgnc.od import paper
+
+    T, st = paper.truth(), paper.station()
+    for seed in range(1, 11):
+        obs = od.simulate(T, st, np.arange(0, 301, 10.0), seed=seed)
+        a = od.solve(obs, st, T, method="gauss_newton")
+        b = od.solve(obs, st, T, method="levenberg_marquardt")
+        assert abs(a.cost - b.cost) <= 1e-4
+        a = od.solve(obs, st, T, method="gauss_newton", cost_tol=1e-10)
+        b = od.solve(obs, st, T, method="levenberg_marquardt", cost_tol=1e-10)
+        # Near the round-off floor a trial may no longer lower the cost: converged or stalled there.
+        assert a.status in (od.OdStatus.converged, od.OdStatus.stalled)
+        assert b.status in (od.OdStatus.converged, od.OdStatus.stalled)
+        d = np.asarray(a.x0) - np.asarray(b.x0)
+        assert math.sqrt(d @ np.linalg.solve(np.asarray(a.covariance), d)) < 0.05
+        assert np.linalg.norm(d[:3]) < 0.05  # km
+        assert abs(a.cost - b.cost) <= 1e-7
+
+
+# Passes 100-199 (not the 24 of the suite above) from 10 km / 10 m/s off. Measured: GN 96 / 100,
+# LM 100 / 100 (before the valley corrector: GN 61, LM 98).
+FAR_SEEDS = range(100, 200)
+FAR_FLOOR = {"gauss_newton": 96, "levenberg_marquardt": 100}
+
+
+@pytest.fixture(scope="module")
+def far_passes():
+    return [make_pass(s) for s in FAR_SEEDS]
+
+
+@pytest.mark.parametrize("method", ["gauss_newton", "levenberg_marquardt"])
+def test_ten_km_starts_reach_a_minimum_that_fits_like_the_truth(far_passes, method):
+    good, other = 0, []
+    for p in far_passes:
+        sv = od.solver(p["obs"], p["station"], method)
+        c_truth = _cost_at(sv, p["x0"])
+        r = sv.solve(p["x0"] + 10 * OFFSET)
+        _check_result(r, 100)
+        if r.status == od.OdStatus.converged and r.cost <= c_truth * (1 + 1e-9):
+            good += 1
+            continue
+        other.append((p["seed"], r.status.name, r.iterations, round(r.cost, 1), round(c_truth, 1)))
+        if r.status == od.OdStatus.converged:
+            # Honest: a converged solve that fits worse than the truth is a strict local minimum of
+            # the cost (the full Hessian, not only J^T J, is positive definite), not a false stop.
+            dec, cost = _predicted_decrease(sv, np.asarray(r.x0))
+            assert dec <= sv.settings.cost_tol * cost * 1.01
+            assert _hessian_eigenvalues(sv, np.asarray(r.x0)).min() > 0.5
+        else:
+            assert r.status in (od.OdStatus.max_iterations, od.OdStatus.stalled)
+    assert good >= FAR_FLOOR[method], other
+
+
 @pytest.mark.parametrize("source", ["conditions", "observations"])
 def test_exact_six_point_problem_lm_reaches_the_truth_in_the_default_budget(source):
     # Issue 11: LM's default of 30 iterations stopped 39 m off; the default budget is now 100 and
-    # the geodesic LM needs 12-41 iterations from these guesses (measured).
+    # the geodesic LM needed 12-41 iterations from these guesses, 11-15 with the valley corrector
+    # (measured).
     from satgnc.od import paper
 
     rho, rhodot = paper.observe()

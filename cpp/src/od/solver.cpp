@@ -14,9 +14,12 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kLambdaFloor = 1e-12;  // below: pure Gauss-Newton steps
-constexpr double kArmijo = 1e-4;        // GN line search: fraction of the model decrease required
+constexpr double kGnAccept = 0.25;      // GN: fraction of the model's decrease (t - t^2/2)|c|^2 required
 constexpr double kGeoStep = 0.1;        // finite-difference step (fraction of v) of the geodesic probe
 constexpr double kGeoRatio = 0.75;      // LM keeps the acceleration a only if 2 |D a| <= this |D v|
+constexpr double kExtrapMin = 2.0;      // extrapolate an accepted step only when the parabola's t* >= this
+constexpr double kExtrapMax = 10.0;     // ... and at most this far
+constexpr int kGnPlainTrials = 3;       // GN: uncorrected trials t = 1, 1/2, 1/4 before the corrected ones
 }  // namespace
 
 const char* od_status_message(OdStatus s) {
@@ -61,6 +64,8 @@ void OdSettings::validate() const {
   require(lm_max_rejections >= 1, "settings.lm_max_rejections", "must be >= 1");
   require(gn_max_halvings >= 0 && gn_max_halvings <= 60, "settings.gn_max_halvings", "must be in 0..60");
   require(lm_polish_iterations >= 0, "settings.lm_polish_iterations", "must be >= 0");
+  require(valley_corrections >= 0 && valley_corrections <= 100, "settings.valley_corrections",
+          "must be in 0..100");
   core::require_nonnegative(lm_stall_tol, "settings.lm_stall_tol");
   require(method == OdMethod::newton || method == OdMethod::gauss_newton ||
               method == OdMethod::levenberg_marquardt,
@@ -177,6 +182,13 @@ void OdSolver::setup(std::vector<Station> stations, std::vector<Row> rows, std::
   jn0_.setZero(m, 6);
   aug_.setZero(m, 7);
   qr_ = Eigen::HouseholderQR<Eigen::MatrixXd>(m, 7);
+  rs_.setZero(m);
+  rns_.setZero(m);
+  rrs_.setZero(m);
+  rrrs_.setZero(m);
+  jns_.setZero(m, 6);
+  augc_.setZero(m, 6);
+  qrc_ = Eigen::HouseholderQR<Eigen::MatrixXd>(m, 6);
   res_.residuals.setZero(m);
   res_.normalized.setZero(m);
   res_.range_residuals.setZero(m);
@@ -430,6 +442,86 @@ Vec6 OdSolver::damped_solve(const Vec6& b, double lambda, const Vec6& diag) cons
   return -Rl.triangularView<Eigen::Upper>().solve(cl);
 }
 
+void OdSolver::save_buffers() {
+  rs_ = r_;
+  rns_ = rn_;
+  rrs_ = rr_;
+  rrrs_ = rrr_;
+  jns_ = jn_;
+}
+
+void OdSolver::restore_buffers() {
+  r_ = rs_;
+  rn_ = rns_;
+  rr_ = rrs_;
+  rrr_ = rrrs_;
+  jn_ = jns_;
+}
+
+// Predictor-corrector for curved valleys: from the trial point xt (buffers current, cost ct), up to
+// valley_corrections Gauss-Newton steps min |r_n + J_n P y| over the 5-dimensional complement P of
+// the step direction (orthonormal in the coordinates scaled by diag, so the correction is unit
+// invariant and does not undo the progress along the valley); each is kept only if it lowers the
+// cost. Leaves xt, ct and the buffers at the lowest point.
+void OdSolver::valley_correct(Vec6& xt, double& ct, const Vec6& dir, const Vec6& diag) {
+  if (settings_.valley_corrections <= 0) return;
+  Vec6 u = diag.cwiseProduct(dir);
+  const double nu = u.norm();
+  if (!(nu > 0.0) || !std::isfinite(nu) || !(diag.array() > 0.0).all()) return;
+  u /= nu;
+  // Columns 1..5 of the Householder reflector that maps u to e1 span u's orthogonal complement.
+  Vec6 w = u;
+  w(0) += u(0) >= 0.0 ? 1.0 : -1.0;
+  const Mat6 H = Mat6::Identity() - (2.0 / w.squaredNorm()) * (w * w.transpose());
+  const Eigen::Matrix<double, 6, 5> P = diag.cwiseInverse().asDiagonal() * H.rightCols<5>();
+  for (int j = 0; j < settings_.valley_corrections; ++j) {
+    augc_.leftCols<5>().noalias() = jn_ * P;
+    augc_.col(5) = rn_;
+    qrc_.compute(augc_);
+    const auto& q = qrc_.matrixQR();
+    const Eigen::Matrix<double, 5, 5> Rc = q.topLeftCorner<5, 5>().triangularView<Eigen::Upper>();
+    const Eigen::Matrix<double, 5, 1> cc = q.block<5, 1>(0, 5);
+    const Eigen::Matrix<double, 5, 1> y = -Rc.triangularView<Eigen::Upper>().solve(cc);
+    if (!y.allFinite()) return;
+    const Vec6 xc = xt + P * y;
+    save_buffers();
+    if (eval_at(xc, true) == OdStatus::converged && 0.5 * rn_.squaredNorm() < ct) {
+      xt = xc;
+      ct = 0.5 * rn_.squaredNorm();
+      continue;
+    }
+    restore_buffers();
+    return;
+  }
+}
+
+// Extrapolation of an accepted step d = xt - x: where the residuals' own curvature along the weak
+// direction is comparable with J^T J there (noisy one-station passes), Gauss-Newton converges only
+// linearly (measured: each step 0.95 of the previous one on the Gao-Luo pass, seed 5). The cost
+// along x + t d is fitted by the parabola through cost(x), its slope c^T R d and cost(xt); its
+// minimizer t* (kExtrapMax when the fit is not convex) is tried when t* >= kExtrapMin, corrected
+// to the valley floor, and kept only if lower than xt. Needs R_/c_ of x; buffers end at xt.
+void OdSolver::extrapolate(const Vec6& x, double cost, Vec6& xt, double& ct, const Vec6& diag) {
+  if (!settings_.extrapolate) return;
+  const Vec6 d = xt - x;
+  const double slope = c_.dot(R_ * d);
+  if (!(slope < 0.0)) return;
+  const double curv = ct - cost - slope;
+  const double ts = curv > 0.0 ? std::min(-slope / (2.0 * curv), kExtrapMax) : kExtrapMax;
+  if (!(ts >= kExtrapMin)) return;
+  Vec6 xe = x + ts * d;
+  if (eval_at(xe, true) == OdStatus::converged) {
+    double ce = 0.5 * rn_.squaredNorm();
+    if (ce >= ct) valley_correct(xe, ce, d, diag);
+    if (ce < ct) {
+      xt = xe;
+      ct = ce;
+      return;
+    }
+  }
+  eval_at(xt, true);  // xt was evaluated before: restores its buffers
+}
+
 bool OdSolver::residual_small() const {
   return settings_.residual_tol > 0.0 && rn_.cwiseAbs().maxCoeff() <= settings_.residual_tol;
 }
@@ -478,10 +570,12 @@ bool OdSolver::solve_newton(Vec6& x) {
 
 // Gauss-Newton with a backtracking line search along the second-order (geodesic) path
 // x(t) = x + t v + t^2 a / 2, v = -R^-1 c the full step and a the geodesic acceleration (zero when
-// settings.geodesic is off or x + h v cannot be evaluated): t is halved until the cost drops by the
-// Armijo fraction of the model's decrease (cost(x(t)) <= cost - 1e-4 t |c|^2), at most
-// gn_max_halvings times, then status stalled. The cost never rises. The curved path follows the
-// near-rotational valleys of one-pass problems that straight steps cut across.
+// settings.geodesic is off, x + h v cannot be evaluated or 2 |D a| > 0.75 |D v|): t is halved until
+// the cost drops by a quarter of the model's decrease along the path, cost(x(t)) <= cost -
+// 0.25 (t - t^2/2) |c|^2 (a trust-region-like gain test: a first Armijo test at 1e-4 accepted
+// 800 km jumps from far starts), at most gn_max_halvings times, then status stalled. A trial that
+// fails is first pulled back to the valley floor (valley_correct); an accepted step is extrapolated
+// (extrapolate). The cost never rises.
 bool OdSolver::solve_gauss_newton(Vec6& x) {
   res_.status = OdStatus::max_iterations;
   for (int k = 1; k <= settings_.max_iterations; ++k) {
@@ -508,13 +602,37 @@ bool OdSolver::solve_gauss_newton(Vec6& x) {
       Vec6 w;
       if (second_derivative(x, v, w)) a = solve_r(w);
     }
+    Vec6 diag;
+    for (int i = 0; i < 6; ++i) diag(i) = R_.col(i).norm();
+    // As in LM: an acceleration as large as the step means the second-order path is not trustworthy.
+    if (2.0 * diag.cwiseProduct(a).norm() > kGeoRatio * diag.cwiseProduct(v).norm()) a.setZero();
     double t = 1.0;
     bool accepted = false;
     Vec6 xt;
-    for (int h = 0; h <= settings_.gn_max_halvings; ++h, t *= 0.5) {
+    // First t = 1, 1/2, 1/4 plain; only then the corrected trials from t = 1. The corrector keeps
+    // the along-valley progress of the full linear step, which far from the minimum can jump into
+    // another basin (measured from 1 km / 1 m/s: 3 of 300 random passes ended at a worse local
+    // minimum or crawled; with the plain trials first 1).
+    for (int h = 0; h < kGnPlainTrials; ++h, t *= 0.5) {
       xt = x + t * v + (0.5 * t * t) * a;
-      if (eval_at(xt, true) == OdStatus::converged && 0.5 * rn_.squaredNorm() <= cost - kArmijo * t * slope) {
+      if (eval_at(xt, true) != OdStatus::converged) continue;
+      double ct = 0.5 * rn_.squaredNorm();
+      if (ct <= cost - kGnAccept * (t - 0.5 * t * t) * slope) {
         accepted = true;
+        extrapolate(x, cost, xt, ct, diag);
+        break;
+      }
+    }
+    t = 1.0;
+    for (int h = 0; !accepted && h <= settings_.gn_max_halvings; ++h, t *= 0.5) {
+      xt = x + t * v + (0.5 * t * t) * a;
+      if (eval_at(xt, true) != OdStatus::converged) continue;
+      double ct = 0.5 * rn_.squaredNorm();
+      const double need = kGnAccept * (t - 0.5 * t * t) * slope;
+      if (ct > cost - need) valley_correct(xt, ct, v, diag);
+      if (ct <= cost - need) {
+        accepted = true;
+        extrapolate(x, cost, xt, ct, diag);
         break;
       }
     }
@@ -574,17 +692,28 @@ bool OdSolver::solve_lm(Vec6& x) {
           xt += 0.5 * a;
       }
       const OdStatus st = eval_at(xt, true);
-      const double actual = st == OdStatus::converged ? cost - 0.5 * rn_.squaredNorm() : -1.0;
+      double actual = st == OdStatus::converged ? cost - 0.5 * rn_.squaredNorm() : -1.0;
+      if (st == OdStatus::converged && actual < pred) {
+        // Worse than the model: on a curved valley, pull the trial back to the floor before judging it.
+        double ct = cost - actual;
+        valley_correct(xt, ct, dx, diag);
+        actual = cost - ct;
+      }
       if (st == OdStatus::converged && actual > 0.0) {
         accepted = true;
         const double rho = pred > 0.0 ? actual / pred : 0.0;
-        if (rho > 0.75) {
+        // Not x lm_decrease right after a rejection: that returns to the rejected damping and the
+        // next iteration repeats the rejection (measured: a 200-iteration ping-pong 1e-11 <-> 1e-10
+        // on one guess of the six-point map).
+        if (rho > 0.75 && rej == 0) {
           lambda *= settings_.lm_decrease;
         } else {
           const double q = 2.0 * rho - 1.0;
           lambda *= std::max(1.0 / 3.0, 1.0 - q * q * q);
         }
         if (lambda < kLambdaFloor) lambda = 0.0;
+        double ct = cost - actual;
+        extrapolate(x, cost, xt, ct, diag);
         break;
       }
       lambda = std::max(lambda * settings_.lm_increase, kLambdaFloor);

@@ -485,8 +485,9 @@ def solve(
     one or several stations. ``method``: 'levenberg_marquardt' (default), 'gauss_newton' (line
     search) or 'newton' (the paper's undamped method, exactly 6 observations). Extra keywords set
     :class:`OdSettings` fields (e.g. ``max_iterations`` = 100, ``cost_tol`` = 1e-6,
-    ``geodesic`` = True). Returns the OdResult: status (``converged`` only when the convergence test
-    holds at x0 with rank 6; ``singular``, ``stalled``, ``max_iterations``, ... otherwise, see
+    ``geodesic`` = True, ``valley_corrections`` = 3, ``extrapolate`` = True). Returns the OdResult:
+    status (``converged`` only when the convergence test holds at x0 with rank 6; ``singular``,
+    ``stalled``, ``max_iterations``, ... otherwise, see
     docs/od.md), x0 = the best iterate with its cost, residuals and covariance, and a history of
     ``iterations + 1`` rows."""
     x0 = _vector(x0_guess, 6, "x0_guess")
