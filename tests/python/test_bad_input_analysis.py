@@ -48,7 +48,29 @@ def _odg(**kw):
     return an.od_gramian(**args)
 
 
+def _flt(**kw):
+    args = dict(rows=an.loss_table(A, B=np.eye(2)), names=["u1", "u2"], n=2)
+    args.update(kw)
+    return an.format_loss_table(**args)
+
+
 CASES = [
+    # orbit said "orbit:" for its argument spec
+    (an.orbit, dict(spec="mars"), ValueError, "spec: must be leo, geo, one or 'sigma,omega'"),
+    (an.orbit, dict(spec=3), TypeError, "spec: must be a string or a (sigma, omega) pair"),
+    (an.orbit, dict(spec=(-1.0, 1.0)), ValueError, "spec (sigma): must be > 0"),
+    (an.orbit, dict(spec="1,nan"), ValueError, "spec (omega): must be finite"),
+    # format_loss_table had no checks: "ab" printed letters, short names an IndexError, foreign rows a
+    # KeyError, n=True printed "rank/True"
+    (_flt, dict(names="ab"), TypeError, "names: must be a list of channel names"),
+    (_flt, dict(names=["a"]), ValueError, "names: 1 name(s) given, but rows[0] uses channel 1"),
+    (_flt, dict(names=["a", 2]), TypeError, "names[1]: must be a string"),
+    (_flt, dict(rows=[{"channels": (0,)}]), ValueError, "rows[0]: missing key(s)"),
+    (_flt, dict(rows="x"), TypeError, "rows: must be the list of dicts returned by loss_table"),
+    (_flt, dict(rows=[3]), TypeError, "rows[0]: must be a dict from loss_table"),
+    (_flt, dict(n=True), TypeError, "n: must be an integer"),
+    (_flt, dict(n=0), ValueError, "n: must be >= 1"),
+    (_flt, dict(title=None), TypeError, "title: must be a string"),
     # complex / boolean / object / string arrays
     (_ctrb, dict(A=A.astype(complex)), TypeError, "A:"),
     (_ctrb, dict(B=B.astype(bool)), TypeError, "B:"),

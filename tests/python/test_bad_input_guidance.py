@@ -34,6 +34,14 @@ MAPSET, PMAPSET = _set(_satgnc.TwoSatelliteMapSettings), _set(_satgnc.Propagated
 PARAMS, PROBLEM = _set(_satgnc.TwoSatelliteParams), _set(_satgnc.NonlinearL1Problem)
 
 CASES = [
+    # huge times: cw_stm(t=1e300) returned a matrix of 1e300 entries with no correct digit (|n t| <= 1e9 rad)
+    (g.cw_stm, dict(n=N_MEAN, t=1e300), ValueError, "t: |n t| = 1.1e+297 rad exceeds 1e9 rad"),
+    (g.cw_stm, dict(n=N_MEAN, t=-1e13), ValueError, "t: |n t|"),
+    (g.cw_stm, dict(n=1e300, t=1.0), ValueError, "t: |n t|"),
+    (_satgnc.cw_stm, dict(n=N_MEAN, t=1e300), ValueError, "t: |n t|"),
+    (g.cw_discretize, dict(n=N_MEAN, mass=1.0, dt=1e13), ValueError, "dt: |n dt|"),
+    (g.cw_discretize, dict(n=N_MEAN, mass=1.0, dt=1e13, method="expm"), ValueError, "dt: |n dt|"),
+    (g.cw_discretize, dict(n=N_MEAN, mass=1.0, dt=1e13, method="midpoint"), ValueError, "dt: |n dt|"),
     # CW: complex / bool / string numbers, NaN, out of range
     (g.cw_stm, dict(n=N_MEAN, t=np.nan), ValueError, "t:"),
     (g.cw_stm, dict(n=N_MEAN, t=np.inf), ValueError, "t:"),

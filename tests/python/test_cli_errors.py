@@ -299,9 +299,9 @@ CASES = [
         ["--closed-loop: only with --model nonlinear"],
     ),
     # rank
-    ("orbit-negative-space", ["rank", "--orbit", "-1,2"], 2, ["sigma: must be > 0"]),
-    ("orbit-negative-equals", ["rank", "--orbit=-1,2"], 2, ["sigma: must be > 0"]),
-    ("orbit-text", ["rank", "--orbit", "mars"], 2, ["orbit: must be leo, geo, one"]),
+    ("orbit-negative-space", ["rank", "--orbit", "-1,2"], 2, ["--orbit (sigma): must be > 0"]),
+    ("orbit-negative-equals", ["rank", "--orbit=-1,2"], 2, ["--orbit (sigma): must be > 0"]),
+    ("orbit-text", ["rank", "--orbit", "mars"], 2, ["--orbit: must be leo, geo, one"]),
     # reproduce
     (
         "section-unknown",

@@ -12,7 +12,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -67,7 +67,12 @@ def _units(units):
 # ----------------------------------------------------------------------------- models
 def orbit(spec) -> tuple[float, float]:
     """(sigma km, omega rad/s) for ``"one"`` (sigma = omega = 1, the paper's case), ``"leo"`` (400 km
-    altitude), ``"geo"``, a ``"sigma,omega"`` string or a (sigma, omega) pair."""
+    altitude), ``"geo"``, a ``"sigma,omega"`` string or a (sigma, omega) pair (both > 0)."""
+    return _orbit(spec, "spec")
+
+
+def _orbit(spec, name: str) -> tuple[float, float]:
+    """orbit() with errors naming the caller's argument (``spec``, or the CLI's ``--orbit``)."""
     if isinstance(spec, str):
         key = spec.strip().lower()
         if key in ("one", "unit", "1"):
@@ -80,17 +85,17 @@ def orbit(spec) -> tuple[float, float]:
             return s, math.sqrt(MU_EARTH / s**3)
         parts = key.split(",")
         if len(parts) != 2:
-            raise ValueError(f"orbit: must be leo, geo, one or 'sigma,omega', got {spec!r}")
+            raise ValueError(f"{name}: must be leo, geo, one or 'sigma,omega', got {spec!r}")
         try:
             sigma, omega = float(parts[0]), float(parts[1])
         except ValueError:
-            raise ValueError(f"orbit: 'sigma,omega' must be two numbers, got {spec!r}") from None
+            raise ValueError(f"{name}: 'sigma,omega' must be two numbers, got {spec!r}") from None
     else:
         try:
             sigma, omega = spec
         except (TypeError, ValueError):
-            raise TypeError(f"orbit: must be a string or a (sigma, omega) pair, got {spec!r}") from None
-    return _scalar(sigma, "sigma", positive=True), _scalar(omega, "omega", positive=True)
+            raise TypeError(f"{name}: must be a string or a (sigma, omega) pair, got {spec!r}") from None
+    return _scalar(sigma, f"{name} (sigma)", positive=True), _scalar(omega, f"{name} (omega)", positive=True)
 
 
 def polar_model(sigma: float, omega: float) -> PolarModel:
@@ -312,7 +317,31 @@ _MAX_LOSS_CHANNELS = 20
 
 
 def format_loss_table(rows: list[dict], names: Sequence[str], n: int, title: str = "") -> str:
-    """Plain-text (Markdown) table of :func:`loss_table` rows with channel ``names``."""
+    """Plain-text (Markdown) table of :func:`loss_table` rows with channel ``names`` (one name per
+    channel of the B columns / C rows) and state dimension ``n`` (>= 1)."""
+    # Checks: names="ab" printed channel letters, a short names list raised a bare IndexError, rows of
+    # another function a KeyError, n=True printed "rank/True".
+    n = as_int(n, "n", low=1)
+    if not isinstance(title, str):
+        raise TypeError(f"title: must be a string, got {type(title).__name__}")
+    if isinstance(names, (str, bytes)) or not isinstance(names, Sequence):
+        raise TypeError(f"names: must be a list of channel names (str), got {type(names).__name__}")
+    for i, nm in enumerate(names):
+        if not isinstance(nm, str):
+            raise TypeError(f"names[{i}]: must be a string, got {type(nm).__name__}")
+    if isinstance(rows, (str, bytes, dict)) or not isinstance(rows, Sequence):
+        raise TypeError(f"rows: must be the list of dicts returned by loss_table, got {type(rows).__name__}")
+    keys = ("channels", "rank", "verdict_text", "margin", "kalman_rank", "kalman_ratio")
+    for i, r in enumerate(rows):
+        if not isinstance(r, Mapping):
+            raise TypeError(f"rows[{i}]: must be a dict from loss_table, got {type(r).__name__}")
+        missing = [k for k in keys if k not in r]
+        if missing:
+            raise ValueError(f"rows[{i}]: missing key(s) {missing}; pass the rows returned by loss_table")
+        for c in r["channels"]:
+            if isinstance(c, bool) or not isinstance(c, numbers.Integral) or not 0 <= c < len(names):
+                raise ValueError(f"names: {len(names)} name(s) given, but rows[{i}] uses channel {c!r} "
+                                 "(one name per channel is needed)")
     lines = [title] if title else []
     lines += ["| kept | rank | verdict | margin | Kalman rank (numpy tol) | Kalman smin/smax |",
               "|---|---|---|---|---|---|"]

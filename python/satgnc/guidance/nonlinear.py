@@ -194,6 +194,7 @@ def paper_case(
                         f"got {type(params).__name__}")
     model = _c.TwoSatelliteModel(params if params is not None else model_params())
     x0 = drift_state() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,))
+    _check_above_surface(x0, "x0_si", params if params is not None else model_params())
     sc = _c.published_scaling(x0, MU, MASS)
     dmap = make_map(model, tf / horizon, sc, discretization, substeps)
     pr = _c.NonlinearL1Problem()
@@ -315,6 +316,28 @@ def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
     }
 
 
+def _check_above_surface(x: np.ndarray, name: str, params) -> None:
+    """ValueError naming ``name`` when the target or the chaser of the 12-state x (m) is at or below
+    the Earth's surface, the sphere of radius ``params.j2_radius`` (m); a start inside the Earth was a
+    CVODES RuntimeError (or, with RK4, a silent flight through the planet)."""
+    R = float(params.j2_radius)
+    rt = float(np.linalg.norm(x[3:6]))
+    rc = float(np.linalg.norm(x[3:6] - x[0:3]))
+    for body, r in (("target |r_t|", rt), ("chaser |r_t - d|", rc)):
+        if not r > R:
+            raise ValueError(f"{name}: the {body.split()[0]} starts at or below the Earth's surface: "
+                             f"{body} = {r:.6g} m <= R = {R:.6g} m (j2_radius); "
+                             "x = [d, r_t, w, v_t] in m, m/s")
+
+
+def _impact(message: str, t: float, X: np.ndarray):
+    from satgnc.propagation import PropagationError
+
+    err = PropagationError(message, status="impact", t_reached=t)
+    err.states = X  # the states reached, 12 x (k + 1), SI
+    return err
+
+
 def fly(
     case: Case,
     U_si: np.ndarray,
@@ -327,7 +350,11 @@ def fly(
     frame) on a truth model (default: J2 and drag on, co-rotating atmosphere). ``integrator``:
     ``"cvodes"`` (satgnc's CVODES path, re-initialised at each interval boundary, rtol 1e-11) or
     ``"rk4"`` (fixed step dt/substeps). Returns states 12 x (N+1), SI; raises RuntimeError naming
-    the interval when the propagation fails."""
+    the interval when the propagation fails. A start with either body at or below the Earth's surface
+    (radius ``j2_radius`` of the truth parameters) is a ValueError naming ``x0_si``; reaching it is a
+    :class:`satgnc.PropagationError` with ``status == "impact"``, ``t_reached`` the impact time (s
+    from the start; CVODES root finding, or the end of the RK4 substep where it was first seen) and
+    ``states`` the states reached (12 x k)."""
     _check_case(case)
     integrator = one_of(integrator, "integrator", ("cvodes", "rk4"))
     substeps = as_int(substeps, "substeps", low=1, high=10**6)
@@ -336,16 +363,27 @@ def fly(
     x = case.x0_si.copy() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,), copy=True)
     # complex U_si was truncated with a ComplexWarning and boolean read as 0/1 newtons
     U_si = as_real_array(U_si, "U_si", shape=(3, None))
+    _check_above_surface(x, "x0_si" if x0_si is not None else "case.x0_si", p)
     if integrator == "cvodes":
         r = _c.TwoSatelliteTruth(truth).fly(x, U_si, case.dt)
+        if r["impact"]:
+            k = int(r["failed_interval"])
+            raise _impact(f"fly: impact at t = {r['t_reached']:.6f} s: {r['message']}", float(r["t_reached"]),
+                          np.asarray(r["X"])[:, : k + 1])
         if not r["ok"]:
             raise RuntimeError(f"fly: CVODES truth failed: {r['message']}")
         return np.asarray(r["X"])
     h = case.dt / substeps
+    R2 = float(p.j2_radius) ** 2
     X = [x.copy()]
     for k in range(U_si.shape[1]):
-        for _ in range(substeps):
+        for j in range(substeps):
             x = np.asarray(truth.rk_step(4, h, x, U_si[:, k]))
+            if min(x[3:6] @ x[3:6], (x[3:6] - x[0:3]) @ (x[3:6] - x[0:3])) <= R2:
+                t = k * case.dt + (j + 1) * h
+                raise _impact(f"fly: impact: a body reached the Earth's surface (radius j2_radius = "
+                              f"{p.j2_radius:.6g} m) in interval {k}, within the RK4 substep ending at t = "
+                              f"{t:.6f} s", t, np.array(X).T)
         X.append(x.copy())
     return np.array(X).T
 
