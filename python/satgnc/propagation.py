@@ -200,6 +200,9 @@ def propagate(
         raise ValueError("x0: must be finite (no NaN or Inf)")
     if not np.any(x[:3] != 0.0):
         raise ValueError("x0: position must be nonzero (|r| = 0)")
+    if np.max(np.abs(x)) >= 1e100:  # x0 = 1e300 was a "force model failed" PropagationError at t0
+        raise ValueError("x0: every component must be below 1e100 in magnitude (km, km/s): |r|^3 overflows "
+                         "double precision in the force model (hint: check the units)")
     t = _real_array(times, "times")
     if t.ndim == 0:
         t = t.reshape(1)

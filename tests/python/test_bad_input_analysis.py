@@ -55,6 +55,24 @@ def _flt(**kw):
 
 
 CASES = [
+    # fuzz pass: overflow blamed on another argument (T, W, x0) or a NaN / Inf result
+    (_gram, dict(B=B * 1e300), ValueError, "B: entries must be below 1e+150"),  # blamed T
+    (_ogram, dict(C=C * 1e300), ValueError, "C: entries must be below 1e+150"),
+    (_gram, dict(T=1e300), ValueError, "T: too long for this A"),  # W = 0 for an oscillator
+    (an.ltv_observability_gramian, dict(stms=None, H=[C]), TypeError, "stms: must be a sequence"),
+    (an.ltv_observability_gramian, dict(stms=[np.eye(2) * 1e200], H=[C * 1e200]), ValueError,
+     "stms, H, weights: the Gramian sum overflows"),  # named "W"
+    (an.nondimensionalize, dict(A=np.zeros((4, 4)), B=np.zeros((3, 3)), C=np.zeros((1, 4)),
+                                units=an.polar_units(1.0, 1.0, n_outputs=1)), ValueError,
+     "B: must have n = 4 rows"),  # "cannot reshape array of size 9"
+    (an.od_gramian, dict(kind="range", times=[0.0, 1e300]), ValueError, "times: |t| = 1e+300 s exceeds"),
+    (an.od_linear_model, dict(times=[0.0, 60.0], mu=1e300), ValueError, "x0, mu, times: Kepler"),
+    (an.visibility_pass, dict(mu=1e300), ValueError, "x0, mu, t_max:"),
+    (an.cw_model, dict(mean_motion=1e300), ValueError, "mean_motion: must be in [1e-100, 1e100]"),  # inf in A
+    (an.polar_model, dict(sigma=1e300, omega=1.0), ValueError, "sigma: must be in [1e-100, 1e100]"),
+    (an.polar_units, dict(sigma=1.0, omega=1e300), ValueError, "omega: must be in"),
+    (an.minimum_energy, dict(W=np.eye(2), x_f=[1e300, 0.0]), ValueError, "x_f: entries must be below"),  # inf
+    (an.loss_table, dict(A=A, B=np.eye(2) * 1e300), ValueError, "B: entries must be below"),  # NaN ratios
     # orbit said "orbit:" for its argument spec
     (an.orbit, dict(spec="mars"), ValueError, "spec: must be leo, geo, one or 'sigma,omega'"),
     (an.orbit, dict(spec=3), TypeError, "spec: must be a string or a (sigma, omega) pair"),

@@ -29,6 +29,12 @@ def _pc(**kw):
 U0 = np.zeros((3, H))
 
 CASES = [
+    # fuzz pass
+    (nl.drift_state, dict(steps=2**70), ValueError, "steps: must be <="),  # blamed "scheme"
+    (l1s.linear_problem, dict(sc=l1s.load(), implementation_weights="false"), TypeError,
+     "implementation_weights: must be true or false"),  # "false" was True
+    (l1s.linear_problem, dict(sc=l1s.load(), case=3), TypeError, "case: must be a case name"),
+    (l1s.load, dict(path="no-such-file.toml"), FileNotFoundError, "path: no-such-file.toml does not exist"),
     (_pc, dict(x0_si=nl.drift_state() + 0j), TypeError, "x0_si:"),
     (_pc, dict(x0_si=np.ones(12, dtype=bool)), TypeError, "x0_si:"),
     (_pc, dict(x0_si=np.full(12, np.nan)), ValueError, "x0_si:"),
@@ -66,6 +72,11 @@ def test_bad_input_names_the_argument(fn, kwargs, exc, fragment):
 
 
 CASE_ROWS = [
+    # fuzz pass: eps errors named the solver field "eps_abs"; huge controls were a bare RuntimeError
+    (nl.linear_cw_plan, dict(eps=np.nan), ValueError, "eps: must be finite"),
+    (nl.linear_cw_plan, dict(eps=0.0), ValueError, "eps: must be > 0"),
+    (nl.fly, dict(U_si=np.full((3, H), 1e300), integrator="rk4"), ValueError, "U_si: controls up to 1e+300"),
+    (nl.summarize, dict(U_scaled=np.full((3, H), 1e300)), ValueError, "U_scaled: controls up to 1e+300"),
     (nl.fly, dict(U_si=U0 + 0j), TypeError, "U_si:"),  # truncated to real
     (nl.fly, dict(U_si=U0.astype(bool)), TypeError, "U_si:"),  # read as 0/1 N
     (nl.fly, dict(U_si=np.full((3, H), np.nan)), ValueError, "U_si:"),  # RuntimeError from CVODES

@@ -60,6 +60,18 @@ def _solver_solve(**kw):
 
 
 CASES = [
+    # fuzz pass
+    (od.six_point_conditions, dict(t=[0.0, 1, 2, 3, 4, 5], rho=[1e3] * 6, rhodot=[0.1] * 6, mode=3),
+     TypeError, "mode: must be 'doppler', 'range' or a list"),  # "'int' object is not iterable"
+    (od.six_point_conditions, dict(t=[0.0, 1, 2, 3, 4, 5], rho=[1e3] * 6, rhodot=[0.1] * 6, mode=None),
+     TypeError, "mode:"),
+    (parse_epoch, dict(text="no-such-epoch"), ValueError, "text: bad epoch"),  # named nothing
+    (_predict, dict(x=[1e300, 0, 0, 0, 7.5, 0]), ValueError, "x: every component must be below 1e100"),  # NaN
+    (lambda **kw: od.implied_rotation_rate(**kw), dict(station_state=[1e300, 1, 0, 0, 0.4, 0]), ValueError,
+     "station_state:"),  # NaN
+    (lambda **kw: od.simulate(X, [od.station_inertial(STATION[:3])], np.linspace(0.0, 300.0, 7), seed=1,
+                              **kw),
+     dict(sigma_range=1e300), ValueError, "sigma_range, bias_range: the simulated noise"),  # named "value"
     # time and frame inputs out of their physical range
     (lambda **kw: od.gmst("2020-01-01T00:00:00", **kw), dict(ut1_minus_utc=5), ValueError,
      "ut1_minus_utc: |UT1 - UTC| must be < 0.9 s"),

@@ -53,6 +53,11 @@ def _dop(**kw):
 
 
 CASES = [
+    # fuzz pass: x0 = 1e300 was a "force model failed" PropagationError at t0
+    (_prop, dict(x0=[1e300, 0, 0, 0, 7.5, 0]), ValueError, "x0: every component must be below 1e100"),
+    (_prop, dict(x0=[1e300, 0, 0, 0, 7.5, 0], method="dop853"), ValueError, "x0: every component"),
+    (_cvodes, dict(x0=[7000.0, 0, 0, 0, 1e300, 0]), ValueError, "x0: every component"),
+    (_dop, dict(x0=[7000.0, 0, 0, 0, 1e300, 0]), ValueError, "x0: every component"),
     # complex / boolean / object / string arrays
     (_prop, dict(x0=np.array(X0, dtype=complex)), TypeError, "x0:"),
     (_prop, dict(x0=np.ones(6, dtype=bool)), TypeError, "x0:"),

@@ -170,11 +170,11 @@ def test_bad_scenario(tmp_path, name, text, frags):
 
 
 def test_missing_and_directory(tmp_path):
-    with pytest.raises(FileNotFoundError, match="scenario: .*nope.toml does not exist"):
+    with pytest.raises(FileNotFoundError, match="^path: .*nope.toml does not exist"):  # load's argument
         scen.load(tmp_path / "nope.toml")
     with pytest.raises(IsADirectoryError, match="is a directory"):
         scen.load(tmp_path)
-    with pytest.raises(TypeError, match="scenario: must be a file path"):
+    with pytest.raises(TypeError, match="^path: must be a file path"):
         scen.load(3.5)
 
 

@@ -319,9 +319,14 @@ def test_bad_arguments(kw, exc, text):
 
 
 def test_bad_force_model_parameters():
+    # The term's constructor names its own argument (it used to wait for the propagation: "drag.mass");
+    # a field set to a bad value afterwards is still caught at setup, named from the model.
+    with pytest.raises(ValueError, match="^mass: must be finite and > 0"):
+        satgnc.ExponentialDrag(rho0=1e-12, h0=500, scale_height=60, mass=0.0)
+    drag = satgnc.ExponentialDrag(rho0=1e-12, h0=500, scale_height=60)
+    drag.mass = 0.0
     with pytest.raises(ValueError, match="drag.mass: must be finite and > 0"):
-        satgnc.propagate(X0, [0.0, 10.0], forces=satgnc.ExponentialDrag(rho0=1e-12, h0=500, scale_height=60,
-                                                                          mass=0.0))
+        satgnc.propagate(X0, [0.0, 10.0], forces=drag)
     with pytest.raises(ValueError, match="mu: must be finite and > 0"):
         satgnc.ForceModel(mu=-1.0)
 

@@ -27,6 +27,9 @@ void require_cw_angle(double n, double t, const char* name) {
 CwModel::CwModel(double mean_motion, double chaser_mass) : n(mean_motion), mass(chaser_mass) {
   core::require_positive(mean_motion, "n");
   core::require_positive(chaser_mass, "mass");
+  // n^2 enters A and the STM: n = 1e300 gave infinite entries, n = 1e-300 a zero n^2.
+  core::require(mean_motion >= 1e-100 && mean_motion <= 1e100, "n",
+                "must be in [1e-100, 1e100] rad/s (n^2 would overflow or underflow)", "check the units");
 }
 
 Mat6 CwModel::A() const {

@@ -65,6 +65,7 @@ void validate_propagation_input(const Vec6& x0, double t0, const std::vector<dou
   if (!x0.allFinite()) invalid("x0", "must be finite (no NaN or Inf)");
   if (!(x0.head<3>().squaredNorm() > 0.0))
     invalid("x0", "position must be nonzero (|r| = 0)", "x0 = [r km, v km/s]");
+  validate_state_magnitude(x0);
   if (!std::isfinite(t0)) invalid("t0", "must be finite");
   if (times.empty()) invalid("times", "must not be empty");
   for (size_t i = 0; i < times.size(); ++i)

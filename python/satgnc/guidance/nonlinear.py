@@ -83,6 +83,7 @@ def release_state() -> np.ndarray:
 
 def drift_state(params=None, steps: int = 9999) -> np.ndarray:
     """12-state after 3600 s of uncontrolled RK4 (the implementation: 10000 nodes = 9999 steps)."""
+    steps = as_int(steps, "steps", low=1, high=10**7)  # 2**70 was reported as a bad "scheme"
     model = _c.TwoSatelliteModel(params if params is not None else model_params())
     return np.asarray(model.propagate(4, release_state(), 3600.0, steps))
 
@@ -302,7 +303,10 @@ def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
     _check_case(case)
     zero_tol = as_real(zero_tol, "zero_tol", nonnegative=True)
     U = case.to_si(as_real_array(U_scaled, "U_scaled", shape=(3, case.problem.horizon)))
-    X = case.rollout_si(U)
+    try:
+        X = case.rollout_si(U)
+    except RuntimeError as e:  # "step: the model failed on interval 0" named no argument
+        raise _model_failure("U_scaled", U_scaled, None, e) from None
     dv = float(np.abs(U).sum() * case.dt / MASS)
     thresh = zero_tol * max(np.abs(U).max(), 1e-30)
     return {
@@ -328,6 +332,16 @@ def _check_above_surface(x: np.ndarray, name: str, params) -> None:
             raise ValueError(f"{name}: the {body.split()[0]} starts at or below the Earth's surface: "
                              f"{body} = {r:.6g} m <= R = {R:.6g} m (j2_radius); "
                              "x = [d, r_t, w, v_t] in m, m/s")
+
+
+def _model_failure(name: str, U, k, err: Exception) -> Exception:
+    """The model's failure as an error naming the control argument when its size explains it."""
+    big = float(np.max(np.abs(U))) if np.size(U) else 0.0
+    where = f" in interval {k}" if k is not None else ""
+    if big >= 1e100:
+        return ValueError(f"{name}: controls up to {big:.3g} make the model's state overflow{where} "
+                          f"({err}); check the units")
+    return RuntimeError(f"{name}: the model failed{where} ({err})")
 
 
 def _impact(message: str, t: float, X: np.ndarray):
@@ -378,7 +392,10 @@ def fly(
     X = [x.copy()]
     for k in range(U_si.shape[1]):
         for j in range(substeps):
-            x = np.asarray(truth.rk_step(4, h, x, U_si[:, k]))
+            try:
+                x = np.asarray(truth.rk_step(4, h, x, U_si[:, k]))
+            except RuntimeError as e:  # "rk_step: model evaluation failed" named no argument
+                raise _model_failure("U_si", U_si, k, e) from None
             if min(x[3:6] @ x[3:6], (x[3:6] - x[0:3]) @ (x[3:6] - x[0:3])) <= R2:
                 t = k * case.dt + (j + 1) * h
                 raise _impact(f"fly: impact: a body reached the Earth's surface (radius j2_radius = "
@@ -508,6 +525,7 @@ def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
     the nonlinear case's scaling so that Qf and alpha mean the same thing. Returns the plan in newtons
     (3 x N, target CW frame) and the solver's result dict."""
     _check_case(case)
+    eps = as_real(eps, "eps", positive=True)  # errors named the solver field "eps_abs"
     sc = case.scaling
     x0 = np.asarray(_c.cw_relative_state(case.x0_si))
     n = np.sqrt(MU / np.linalg.norm(case.x0_si[3:6]) ** 3)
@@ -550,7 +568,13 @@ def miss(X: np.ndarray) -> tuple[float, float]:
     X = as_real_array(X, "X", shape=(12, None))  # a complex X gave (0, 0), a 1-D X an IndexError
     if X.shape[1] == 0:
         raise ValueError("X: needs at least one column (state)")
-    return float(np.linalg.norm(X[0:3, -1])), float(np.linalg.norm(X[6:9, -1]))
+    return _norm(X[0:3, -1]), _norm(X[6:9, -1])
+
+
+def _norm(v: np.ndarray) -> float:
+    """|v| without overflow in the squares (X = 1e300 gave an infinite miss)."""
+    m = float(np.max(np.abs(v)))
+    return m * float(np.linalg.norm(v / m)) if m > 0 and np.isfinite(m) else float(np.linalg.norm(v))
 
 
 def run_cli(out, closed_loop: bool = False) -> int:

@@ -105,6 +105,9 @@ def _vector(x, n: int, name: str) -> np.ndarray:
         raise ValueError(f"{name}: must have shape ({n},), got {a.shape}")
     if not np.all(np.isfinite(a)):
         raise ValueError(f"{name}: must be finite (no NaN or Inf)")
+    if np.max(np.abs(a)) >= 1e100:  # predict(x = 1e300) returned a NaN range: r^2 overflowed
+        raise ValueError(f"{name}: every component must be below 1e100 in magnitude (km, km/s): its square "
+                         "overflows double precision (hint: check the units)")
     return a
 
 
@@ -543,6 +546,8 @@ def six_point_conditions(
         raise ValueError(f"t: the six-point solver needs exactly 6 observation times, got {t.size}")
     if rho.shape != t.shape:
         raise ValueError(f"rho: must have 6 values, got {rho.size}")
+    if not isinstance(mode, str) and (isinstance(mode, bytes) or not isinstance(mode, Sequence)):
+        raise TypeError(f"mode: must be 'doppler', 'range' or a list of 6 of them, got {type(mode).__name__}")
     modes = [mode] * 6 if isinstance(mode, str) else list(mode)
     if len(modes) != 6:
         raise ValueError(f"mode: need 6 condition types, got {len(modes)}")
@@ -724,9 +729,10 @@ def simulate(
             try:
                 prop.propagate(x0, [float(tk)])
             except ValueError:
+                who = "times" if abs(float(tk)) > 1e12 else "times, x0, mu"  # 1e12 s: ~3e4 years
                 raise ValueError(
-                    f"times: the {propagator} propagator could not propagate x0 to times[{k}] = {tk:.6g} s "
-                    "(hint: observation times are seconds from the epoch of x0)"
+                    f"{who}: the {propagator} propagator could not propagate x0 to times[{k}] = "
+                    f"{tk:.6g} s (hint: observation times are seconds from the epoch of x0; mu in km^3/s^2)"
                 ) from None
         raise
     states = np.asarray(states)
@@ -757,4 +763,11 @@ def simulate(
                 rows["station"].append(i)
     if not rows["t"]:
         raise ValueError("elevation_mask_deg: no observation above the mask")
+    neg = [j for j, (k, v) in enumerate(zip(rows["type"], rows["value"]))
+           if k == MeasurementType.range and v < 0]
+    if neg:  # the table's "value: a range must be >= 0 km" named no argument of simulate
+        j = neg[0]
+        raise ValueError(f"sigma_range, bias_range: the simulated noise and bias made range {j} negative "
+                         f"({rows['value'][j]:.6g} km at t = {rows['t'][j]:.6g} s); they must stay well "
+                         "below the ranges (km)")
     return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])

@@ -26,7 +26,7 @@ struct CwModel {
   double n = 0.0;     ///< mean motion of the target orbit (rad/s), > 0
   double mass = 1.0;  ///< chaser mass (kg), > 0
 
-  /// Validates n > 0 and mass > 0 (std::invalid_argument with a hint).
+  /// Validates 1e-100 <= n <= 1e100 and mass > 0 (std::invalid_argument with a hint).
   CwModel(double mean_motion, double chaser_mass);
 
   Mat6 A() const;   ///< 6x6 state matrix (1/s, 1/s^2)
