@@ -16,6 +16,8 @@ and is classified:
 
 Usage: ``python scripts/fuzz_api.py [--timeout 20] [--only NAME] [--show CLASS ...]``.
 Prints the counts per class and the cases of the classes named by --show (default: every defect).
+``--cli`` runs the command-line pass instead (every option of ``satgnc od simulate / od solve / rank /
+rendezvous`` with NaN, Inf, negative, zero, huge, malformed and empty values).
 """
 
 from __future__ import annotations
@@ -336,12 +338,60 @@ def _worker(conn, cases):
         conn.send(res)
 
 
+CLI_VALUES = ["nan", "inf", "-1", "0", "1e300", "x", "", "1,2", "-1e300,0,0,0,0,0", "0,0,0,0,0,0",
+              "nan,0,0,0,7,0"]
+
+
+def cli_pass(timeout: float) -> int:
+    """Every option of the CLI subcommands with CLI_VALUES: ``clear`` = exit code 2 with one short
+    error line naming the option, ``accepted`` = exit code 0, anything else ``unclear`` / ``hang``."""
+    import shutil
+    import subprocess
+
+    exe = shutil.which("satgnc") or str(pathlib.Path(sys.executable).with_name("satgnc"))
+    obs = _csv()
+    out = str(TMP / "cli")
+    base = {
+        "od simulate": (["od", "simulate", "--out", out + ".csv"],
+                        ["--state", "--duration", "--step", "--sigma-range", "--sigma-range-rate", "--seed"]),
+        "od solve": (["od", "solve", obs, "--station-inertial", "6378,0,0", "--guess", "7000,0,0,0,7.5,1",
+                      "--max-iterations", "5"],
+                     ["--guess", "--station", "--station-inertial", "--epoch", "--ut1-utc", "--ellipsoid",
+                      "--method", "--propagator", "--max-iterations", "--sigma-range", "--sigma-range-rate"]),
+        "rank": (["rank"], ["--model", "--orbit", "--units"]),
+        "rendezvous": (["rendezvous", "--out", out], ["--scenario", "--case", "--model"]),
+    }
+    counts = collections.Counter()
+    for name, (args, opts) in base.items():
+        for opt in opts:
+            for v in CLI_VALUES:
+                try:
+                    p = subprocess.run([exe, *args, opt, v], capture_output=True, text=True, timeout=timeout)
+                except subprocess.TimeoutExpired:
+                    cls, msg = "hang", ""
+                else:
+                    err = p.stderr.strip()
+                    if p.returncode == 2 and "Traceback" not in err and len(err.splitlines()) <= 3:
+                        cls = "clear" if opt.lstrip("-") in err else "unclear"
+                    else:
+                        cls = "accepted" if p.returncode in (0, 1) and not err else "unclear"
+                    msg = err[-200:] or p.stdout[-120:]
+                counts[cls] += 1
+                if cls not in ("clear", "accepted"):
+                    print(f"[{cls}] satgnc {name} {opt} {v!r}: {msg!r}")
+    print(f"CLI: {sum(counts.values())} cases: {dict(counts)}")
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--timeout", type=float, default=20.0)
     ap.add_argument("--only")
     ap.add_argument("--show", nargs="*", default=["unclear", "silent", "hang", "crash", "good-failed"])
+    ap.add_argument("--cli", action="store_true", help="fuzz the command-line interface instead")
     args = ap.parse_args()
+    if args.cli:
+        return cli_pass(max(args.timeout, 60.0))
     cases = build_cases(args.only)
     ctx = mp.get_context("fork")
     results = []

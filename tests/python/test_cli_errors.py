@@ -88,7 +88,19 @@ CASES = [
         "too-many-samples",
         ["od", "simulate", "--out", "{d}/x.csv", "--duration", "1e9", "--step", "1"],
         2,
-        ["--step", "more than 1e6"],
+        ["--duration, --step", "more than 1e6"],  # named only --step
+    ),
+    (
+        "sigma-range-huge",  # the noise made a range negative: named the table's "value"
+        ["od", "simulate", "--out", "{d}/x.csv", "--sigma-range", "1e300"],
+        2,
+        ["--sigma-range: the simulated noise"],
+    ),
+    (
+        "state-huge",  # blamed the propagator's times
+        ["od", "simulate", "--out", "{d}/x.csv", "--state", "-1e300,0,0,0,0,0"],
+        2,
+        ["--state: every component must be below 1e100"],
     ),
     (
         "seed-negative",

@@ -683,7 +683,7 @@ def simulate(
     (:data:`EARTH_RADIUS`) at any of ``times`` when ``mu`` is the Earth's (r = 0 for any ``mu``), an
     empty or repeated ``types``, a NaN or out-of-range ``elevation_mask_deg``, non-finite biases, a
     negative ``seed``, and a mask that leaves no observation."""
-    x0 = as_real_array(x0, "x0", shape=(6,))
+    x0 = _vector(x0, 6, "x0")  # also bounds |x0_i| < 1e100 (a 1e300 state blamed the propagator)
     st = _stations(stations)
     times = as_real_array(times, "times", ndim=(0, 1))
     times = np.atleast_1d(times)

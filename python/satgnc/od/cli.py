@@ -214,7 +214,8 @@ def _simulate(args) -> int:
     x0 = paper.truth() if args.state is None else np.array(_floats(args.state, 6, "--state"))
     if args.duration / args.step > 1e6:
         n = args.duration / args.step
-        raise ValueError(f"--step: {n:.3g} samples, more than 1e6 (hint: a larger step)")
+        raise ValueError(f"--duration, --step: {n:.3g} samples, more than 1e6 (hint: a shorter duration or "
+                         "a larger step)")
     st = paper.station()
     t = np.arange(0.0, args.duration + 1e-9, args.step)
     try:
@@ -229,6 +230,8 @@ def _simulate(args) -> int:
     except ValueError as e:  # the library names its argument x0; the user typed --state
         if str(e).startswith("x0:"):
             raise ValueError("--state" + str(e)[2:]) from None
+        if str(e).startswith("sigma_range, bias_range:"):
+            raise ValueError("--sigma-range" + str(e)[len("sigma_range, bias_range"):]) from None
         raise
     out = pathlib.Path(args.out)
     if out.is_dir():
