@@ -219,7 +219,13 @@ CASES = [
             GUESS,
         ],
         2,
-        ["--ut1-utc: must be within [-1, 1] s"],
+        ["--ut1-utc: |UT1 - UTC| must be < 0.9 s"],
+    ),
+    (
+        "ut1-between-0.9-and-1",  # passed the CLI check, then the library named ut1_minus_utc
+        [*SOLVE, GUESS, "--station", "23,113,0.1", "--epoch", "1981-03-21T06:00:00", "--ut1-utc", "0.95"],
+        2,
+        ["--ut1-utc: |UT1 - UTC| must be < 0.9 s"],
     ),
     ("guess-inside-earth", [*SOLVE, "1,2,3,4,5,6"], 2, ["--guess: the position is inside the Earth"]),
     (

@@ -175,9 +175,9 @@ def _solve(args) -> int:
         for opt, v in (("--ellipsoid", args.ellipsoid), ("--ut1-utc", args.ut1_utc)):
             if v is not None:
                 raise ValueError(f"{opt}: only used with --station (geodetic stations)")
-    if args.ut1_utc is not None and abs(args.ut1_utc) > 1.0:
+    if args.ut1_utc is not None and not abs(args.ut1_utc) < 0.9:  # the library's IERS bound (od.gmst)
         raise ValueError(
-            f"--ut1-utc: must be within [-1, 1] s (UTC is kept within 0.9 s of UT1), got {args.ut1_utc}"
+            f"--ut1-utc: |UT1 - UTC| must be < 0.9 s (IERS keeps UTC within 0.9 s of UT1), got {args.ut1_utc}"
         )
     if args.plots is not None and not args.plots.strip():
         raise ValueError("--plots: must name a directory")
