@@ -383,15 +383,78 @@ def cli_pass(timeout: float) -> int:
     return 0
 
 
+def _file_mutants(text: str):
+    """(label, text) variants of a good file: every line dropped or duplicated, every number replaced
+    by NaN / Inf / -1 / 0 / 1e300 / a word, every '=' or ',' dropped, truncations, binary bytes."""
+    lines = text.splitlines()
+    yield "empty", ""
+    yield "truncated", text[: len(text) // 2]
+    yield "binary", "\x00\xff" + text
+    for i in range(len(lines)):
+        yield f"drop {i + 1}", "\n".join(lines[:i] + lines[i + 1:]) + "\n"
+        yield f"dup {i + 1}", "\n".join(lines[: i + 1] + lines[i:]) + "\n"
+        for m in re.finditer(r"-?\d+(\.\d+)?(e[-+]?\d+)?", lines[i]):
+            for rep in ("nan", "inf", "-1", "0", "1e300", "x"):
+                new = lines[i][: m.start()] + rep + lines[i][m.end():]
+                label = f"line {i + 1} number {m.group(0)!r} -> {rep}"
+                yield label, "\n".join(lines[:i] + [new] + lines[i + 1:]) + "\n"
+            break  # the first number of each line
+        for ch in ("=", ","):
+            if ch in lines[i]:
+                yield f"line {i + 1} without {ch!r}", "\n".join(lines[:i] + [lines[i].replace(ch, " ", 1)]
+                                                                 + lines[i + 1:]) + "\n"
+
+
+def files_pass() -> int:
+    """CSV, TDM and scenario-TOML readers on mutants of good files: ``clear`` = a FileFormatError (a
+    ValueError) naming the file, ``accepted`` = read without error (review: NaN / Inf in the result is
+    counted ``silent``), anything else ``unclear``."""
+    from satgnc._validate import FileFormatError
+
+    readers = {
+        "csv": (od.read_csv, pathlib.Path(_csv()).read_text()),
+        "tdm": (tdm.read_tdm, pathlib.Path(_tdm()).read_text()),
+        "toml": (l1s.load, l1s.DEFAULT.read_text() if hasattr(l1s.DEFAULT, "read_text")
+                 else pathlib.Path(l1s.DEFAULT).read_text()),
+    }
+    counts = collections.Counter()
+    for kind, (reader, text) in readers.items():
+        for label, variant in _file_mutants(text):
+            p = TMP / f"mutant.{kind}"
+            p.write_bytes(variant.encode("utf-8", "surrogateescape") if "\x00" not in variant
+                          else variant.encode("latin-1", "replace"))
+            try:
+                out = reader(p)
+            except FileFormatError as e:
+                cls = "clear" if str(p) in str(e) else "unclear"
+                msg = str(e)
+            except Exception as e:  # noqa: BLE001
+                cls, msg = "unclear", f"{type(e).__name__}: {e}"
+            else:
+                vals = [getattr(out, f, None) for f in ("t", "value", "sigma")]
+                finite = all(v is None or np.all(np.isfinite(np.asarray(v, dtype=float))) for v in vals)
+                cls, msg = ("accepted", "") if finite else ("silent", "NaN / Inf in the table")
+            counts[(kind, cls)] += 1
+            if cls in ("unclear", "silent"):
+                print(f"[{cls}] {kind} {label}: {msg[:200]}")
+    for kind in readers:
+        classes = ("clear", "unclear", "silent", "accepted")
+        print(f"{kind}: " + ", ".join(f"{c} {counts[(kind, c)]}" for c in classes))
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--timeout", type=float, default=20.0)
     ap.add_argument("--only")
     ap.add_argument("--show", nargs="*", default=["unclear", "silent", "hang", "crash", "good-failed"])
     ap.add_argument("--cli", action="store_true", help="fuzz the command-line interface instead")
+    ap.add_argument("--files", action="store_true", help="fuzz the CSV / TDM / TOML readers instead")
     args = ap.parse_args()
     if args.cli:
         return cli_pass(max(args.timeout, 60.0))
+    if args.files:
+        return files_pass()
     cases = build_cases(args.only)
     ctx = mp.get_context("fork")
     results = []

@@ -14,7 +14,16 @@ import pathlib
 
 import numpy as np
 
-from .._validate import FileFormatError, Key, as_bool, check_toml_table, did_you_mean, load_toml, toml_line
+from .._validate import (
+    FileFormatError,
+    Key,
+    as_bool,
+    check_toml_table,
+    did_you_mean,
+    load_toml,
+    read_text_file,
+    toml_line,
+)
 
 DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
 
@@ -24,17 +33,17 @@ DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
 _TOP = {"name": Key("string", required=False), "source": Key("string", required=False)}
 _SECTIONS = {
     "orbit": {
-        "mu": Key("number", positive=True, unit="m^3/s^2"),
-        "radius": Key("number", positive=True, unit="m"),
+        "mu": Key("number", positive=True, low=1.0, high=1e22, unit="m^3/s^2"),
+        "radius": Key("number", positive=True, low=1.0, high=1e13, unit="m"),
     },
-    "chaser": {"mass": Key("number", positive=True, unit="kg")},
+    "chaser": {"mass": Key("number", positive=True, high=1e9, unit="kg")},
     "initial_state": {
         "position": Key("vector", length=3, nonzero=True, unit="m"),
         "velocity": Key("vector", length=3, nonzero=True, unit="m/s"),
     },
     "horizon": {
-        "tf": Key("number", positive=True, unit="s"),
-        "knots": Key("integer", low=2, unit="knot points"),
+        "tf": Key("number", positive=True, high=1e9, unit="s"),
+        "knots": Key("integer", low=2, high=10**6, unit="knot points"),
     },
     "cost": {
         "alpha": Key("number", nonnegative=True, unit="scaled units"),
@@ -162,6 +171,12 @@ def _load(path, name: str) -> Scenario:
     p, _, s, cases = _read(DEFAULT if path is None else path, name)
     # Cases keep only the keys the file gave, plus the defaults of box and terminal_equality.
     cases = {n: {k: v for k, v in c.items() if v is not None} for n, c in cases.items()}
+    n = float(np.sqrt(s["orbit"]["mu"] / s["orbit"]["radius"] ** 3))
+    if n * s["horizon"]["tf"] > 1e9:  # the CW matrices' bound (guidance.cw_stm); the error named "dt"
+        raise FileFormatError(
+            p, toml_line(read_text_file(p)[1], "horizon", "tf"),
+            f"key 'tf' in section [horizon] (s): n tf = {n * s['horizon']['tf']:.3g} rad exceeds 1e9 rad "
+            f"(n = sqrt(mu / radius^3) = {n:.3g} rad/s): the CW matrices keep no correct digit", key="tf")
     return Scenario(
         mu=s["orbit"]["mu"], radius=s["orbit"]["radius"], mass=s["chaser"]["mass"],
         p0=np.array(s["initial_state"]["position"]), v0=np.array(s["initial_state"]["velocity"]),
