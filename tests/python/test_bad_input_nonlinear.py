@@ -144,3 +144,21 @@ def test_fly_into_the_earth_reports_impact_and_its_time(integrator):
         assert t_hit <= err.t_reached <= t_hit + c.dt / 60  # the substep in which it was seen
     k = int(t_hit // c.dt)
     assert err.states.shape == (12, k + 1) and np.all(np.isfinite(err.states))
+
+
+@pytest.mark.parametrize("integrator", ["cvodes", "rk4"])
+def test_mpc_into_the_earth_reports_impact(integrator):
+    # The same falling pair under MPC: the truth step's impact was a bare RuntimeError.
+    import satgnc
+
+    x = nl.paper_case().x0_si.copy()
+    x[9:12] *= 0.3
+    c = nl.paper_case(horizon=12, x0_si=x, tf=1200.0)
+    tp = nl.model_params(published=False, j2=False, drag=False)
+    with pytest.raises(satgnc.PropagationError) as info:
+        nl.mpc(c, truth_params=tp, planner_params=tp, integrator=integrator, max_iter=3, first_max_iter=50)
+    err = info.value
+    assert err.status == "impact" and "impact" in str(err)
+    assert 450.0 < err.t_reached < 520.0  # measured 486.09 s (CVODES), 490 s (end of the RK4 substep)
+    k = int(err.t_reached // c.dt)
+    assert err.states.shape == (12, k + 1) and np.all(np.isfinite(err.states))

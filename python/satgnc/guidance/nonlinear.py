@@ -17,6 +17,7 @@ Units: SI (m, m/s, N, kg, s) at this API; the solvers work in the scaled units o
 from __future__ import annotations
 
 import dataclasses
+import re
 import time
 
 import numpy as np
@@ -344,6 +345,12 @@ def _model_failure(name: str, U, k, err: Exception) -> Exception:
     return RuntimeError(f"{name}: the model failed{where} ({err})")
 
 
+def _above_surface(x: np.ndarray, params) -> bool:
+    """Both bodies of the 12-state x (m) above the sphere of radius params.j2_radius."""
+    R2 = float(params.j2_radius) ** 2
+    return bool(min(x[3:6] @ x[3:6], (x[3:6] - x[0:3]) @ (x[3:6] - x[0:3])) > R2)
+
+
 def _impact(message: str, t: float, X: np.ndarray):
     from satgnc.propagation import PropagationError
 
@@ -439,7 +446,9 @@ def mpc(
     truth: J2 and drag on, co-rotating atmosphere, integrated by ``integrator`` (``"cvodes"``:
     satgnc's CVODES path re-initialised at each interval; ``"rk4"``: RK4 at dt/substeps). Returns
     states (12 x N+1, SI), controls (3 x N, N), re-plan solve times (s, thread CPU time) and
-    iterations."""
+    iterations. A body reaching the Earth's surface (``j2_radius`` of the truth) raises
+    :class:`satgnc.PropagationError` with ``status == "impact"``, ``t_reached`` and ``states``, as
+    :func:`fly` does."""
     _check_case(case)
     integrator = one_of(integrator, "integrator", ("cvodes", "rk4"))
     replan_every = as_int(replan_every, "replan_every", low=1)
@@ -502,11 +511,23 @@ def mpc(
         for j in range(nexec):
             u = case.to_si(prev[1][:, j : j + 1])[:, 0]
             U_all[:, k + j] = u
+            t_start = (k + j) * case.dt
             if cv_truth is not None:
-                x = np.asarray(cv_truth.step(x, u, case.dt))
+                try:
+                    x = np.asarray(cv_truth.step(x, u, case.dt))
+                except RuntimeError as e:  # an impact was a bare RuntimeError of the truth's step
+                    m = re.search(r"impact at t = ([-+0-9.eE]+)", str(e))
+                    if m is None:
+                        raise
+                    t_hit = t_start + float(m.group(1))
+                    raise _impact(f"mpc: impact at t = {t_hit:.6f} s: {e}", t_hit, np.array(X).T) from None
             else:
-                for _ in range(substeps):
+                for i in range(substeps):
                     x = np.asarray(truth.rk_step(4, h, x, u))
+                    if not _above_surface(x, tp):
+                        t_hit = t_start + (i + 1) * h
+                        raise _impact(f"mpc: impact: a body reached the Earth's surface within the RK4 "
+                                      f"substep ending at t = {t_hit:.6f} s", t_hit, np.array(X).T)
             X.append(x.copy())
         prev = tuple(a[:, nexec:] for a in prev)
         k += nexec
