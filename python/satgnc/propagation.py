@@ -225,6 +225,8 @@ def propagate(
     mu_given = mu is not _DEFAULT
     muf = _real_scalar(EARTH_MU if not mu_given else mu, "mu")
     rtolf = _real_scalar(rtol, "rtol")
+    if not rtolf < 1.0:  # rtol = 1e300 "succeeded" with a trajectory no tolerance controlled
+        raise ValueError(f"rtol: must be < 1 (a relative tolerance of 100 % controls nothing), got {rtol!r}")
     if isinstance(atol, numbers.Real) and not isinstance(atol, bool):
         atolv: float | list[float] = _real_scalar(atol, "atol")
     else:

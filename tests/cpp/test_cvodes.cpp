@@ -533,6 +533,8 @@ TEST(Cvodes, BadInputThrowsNamingTheArgument) {
   prop::CvodesSettings s;
   s.rtol = 0.0;
   EXPECT_NE(settings_error(s).find("rtol: must be finite and > 0"), std::string::npos);
+  s.rtol = 1e300;  // accepted before: a "successful" trajectory that no tolerance controlled
+  EXPECT_NE(settings_error(s).find("rtol: must be < 1"), std::string::npos);
   s = {};
   s.atol = -1e-12;
   EXPECT_NE(settings_error(s).find("atol: must be finite and > 0"), std::string::npos);

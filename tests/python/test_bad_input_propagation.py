@@ -123,6 +123,9 @@ CASES = [
     (_prop, dict(t0=1e30), ValueError, "t0"),
     (_prop, dict(surface_radius=-1.0, method="kepler"), ValueError, "surface_radius:"),
     (_prop, dict(surface_radius=-1.0, method="dop853"), ValueError, "surface_radius:"),
+    (_prop, dict(rtol=1e300), ValueError, "rtol: must be < 1"),  # "succeeded" uncontrolled (fuzz pass)
+    (_dop, dict(rtol=2.0), ValueError, "rtol: must be < 1"),
+    (_cvodes_new, dict(rtol=1.0), ValueError, "rtol: must be < 1"),
     (_prop, dict(surface_radius=np.nan), ValueError, "surface_radius:"),
     (_prop, dict(surface_radius=True), TypeError, "surface_radius:"),
     (_dop, dict(surface_radius=-1.0), ValueError, "surface_radius:"),

@@ -40,6 +40,9 @@ std::string fmt(double x) {
 void CvodesSettings::validate() const {
   if (!(std::isfinite(rtol) && rtol > 0.0))
     invalid("rtol", "must be finite and > 0, got " + fmt(rtol), "1e-10 is a good start for orbits");
+  if (!(rtol < 1.0))  // rtol = 1e300 "succeeded" with a trajectory no tolerance controlled
+    invalid("rtol", "must be < 1 (a relative tolerance of 100 % controls nothing), got " + fmt(rtol),
+            "1e-10 is a good start for orbits");
   if (!(std::isfinite(atol) && atol > 0.0)) invalid("atol", "must be finite and > 0, got " + fmt(atol));
   const size_t na = atol_components.size();
   if (!(na == 0 || na == 6 || (na == 42 && with_stm)))

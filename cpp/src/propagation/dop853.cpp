@@ -10,6 +10,7 @@ namespace satgnc::propagation {
 
 void dop853_validate_settings(const Dop853Settings& s) {
   core::require_positive(s.rtol, "rtol");
+  core::require(s.rtol < 1.0, "rtol", "must be < 1 (a relative tolerance of 100 % controls nothing)");
   core::require_nonnegative(s.atol, "atol");
   core::require(s.max_steps > 0, "max_steps", "must be > 0, got " + std::to_string(s.max_steps));
   core::require_nonnegative(s.h0, "h0");

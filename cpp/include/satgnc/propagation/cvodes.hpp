@@ -43,7 +43,7 @@ struct CvodesSettings {
   CvodesMethod method = CvodesMethod::adams;
   CvodesCorrector corrector = CvodesCorrector::automatic;
   CvodesVector vector = CvodesVector::satgnc;
-  double rtol = 1e-10;  ///< relative tolerance (> 0)
+  double rtol = 1e-10;  ///< relative tolerance, in (0, 1)
   double atol = 1e-12;  ///< scalar absolute tolerance, km and km/s (STM entries: dimensionless mix)
   /// Optional per-component absolute tolerances: empty (use atol), 6 values (state; the STM entries
   /// keep atol) or 42 values (state then the STM column by column). All > 0.
