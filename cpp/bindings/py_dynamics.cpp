@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "checks.hpp"
+#include "satgnc/core/validate.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 
 namespace py = pybind11;
@@ -42,7 +43,13 @@ void init_dynamics(py::module_& m) {
   m.attr("EARTH_OMEGA") = earth::omega;
 
   py::class_<J2Gravity>(m, "J2Gravity", "Zonal J2 term: mu km^3/s^2, j2, radius km.")
-      .def(py::init([](double mu, double j2, double radius) { return J2Gravity{mu, j2, radius}; }),
+      .def(py::init([](double mu, double j2, double radius) {
+             // Checked here, naming the argument: J2Gravity(mu=nan) was accepted until a propagation.
+             core::require_positive(mu, "mu");
+             core::require_finite(j2, "j2");
+             core::require_positive(radius, "radius");
+             return J2Gravity{mu, j2, radius};
+           }),
            py::arg("mu") = earth::mu, py::arg("j2") = earth::j2, py::arg("radius") = earth::radius)
       .def_readwrite("mu", &J2Gravity::mu)
       .def_readwrite("j2", &J2Gravity::j2)
@@ -58,6 +65,15 @@ void init_dynamics(py::module_& m) {
                               "Exponential atmosphere rho0 exp(-(h - h0)/scale_height) with co-rotation.")
       .def(py::init([](double rho0, double h0, double scale_height, double cd, double area, double mass,
                        double body_radius, const Vec3& omega) {
+             // The rules of ForceModel::validate, naming the argument (rho0=nan was accepted here).
+             core::require_nonnegative(rho0, "rho0");
+             core::require_finite(h0, "h0");
+             core::require_positive(scale_height, "scale_height");
+             core::require_nonnegative(cd, "cd");
+             core::require_nonnegative(area, "area");
+             core::require_positive(mass, "mass");
+             core::require_positive(body_radius, "body_radius");
+             core::require_finite(omega, "omega");
              ExponentialDrag d;
              d.rho0 = rho0;
              d.h0 = h0;

@@ -204,6 +204,8 @@ void init_guidance_nonlinear(py::module_& m) {
             d["ok"] = f.status == propagation::PropagationStatus::success;
             d["failed_interval"] = f.failed_interval;
             d["message"] = f.message;
+            d["impact"] = f.status == propagation::PropagationStatus::impact;
+            d["t_reached"] = f.t_reached;
             d["steps"] = f.steps;
             d["rhs_evals"] = f.rhs_evals;
             return d;

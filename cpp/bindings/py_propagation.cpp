@@ -42,7 +42,8 @@ const char* status_name(PropagationStatus s) {
 
 CvodesSettings make_settings(const std::string& method, double rtol, py::object atol, bool with_stm,
                              long max_steps, int max_order, const std::string& corrector,
-                             const std::string& vector, double initial_step, double max_step) {
+                             const std::string& vector, double initial_step, double max_step,
+                             double surface_radius) {
   CvodesSettings s;
   if (method == "adams")
     s.method = CvodesMethod::adams;
@@ -77,6 +78,7 @@ CvodesSettings make_settings(const std::string& method, double rtol, py::object 
   s.max_order = max_order;
   s.initial_step = initial_step;
   s.max_step = max_step;
+  s.surface_radius = surface_radius;
   return s;
 }
 }  // namespace
@@ -153,14 +155,16 @@ void init_propagation(py::module_& m) {
                                "CVODES propagator whose workspace is allocated once for a force model.")
       .def(py::init([](const dynamics::ForceModel& f, const std::string& method, double rtol, py::object atol,
                        bool with_stm, long max_steps, int max_order, const std::string& corrector,
-                       const std::string& vector, double initial_step, double max_step) {
-             return new CvodesPropagator(f, make_settings(method, rtol, atol, with_stm, max_steps, max_order,
-                                                          corrector, vector, initial_step, max_step));
+                       const std::string& vector, double initial_step, double max_step,
+                       double surface_radius) {
+             return new CvodesPropagator(
+                 f, make_settings(method, rtol, atol, with_stm, max_steps, max_order, corrector, vector,
+                                  initial_step, max_step, surface_radius));
            }),
            py::arg("force_model"), py::arg("method") = "adams", py::arg("rtol") = 1e-10,
            py::arg("atol") = 1e-12, py::arg("with_stm") = true, py::arg("max_steps") = 500000,
            py::arg("max_order") = 0, py::arg("corrector") = "auto", py::arg("vector") = "satgnc",
-           py::arg("initial_step") = 0.0, py::arg("max_step") = 0.0)
+           py::arg("initial_step") = 0.0, py::arg("max_step") = 0.0, py::arg("surface_radius") = 0.0)
       .def(
           "propagate",
           [](CvodesPropagator& p, py::handle x0, py::handle t0, py::handle times) {

@@ -41,7 +41,8 @@ void init_propagation_analytic(py::module_& m) {
   m.def(
       "propagate_dop853",
       [](py::handle x0, py::handle t0, py::handle times, const dynamics::ForceModel& force_model,
-         py::handle rtol, py::handle atol, py::handle with_stm, py::handle max_steps) {
+         py::handle rtol, py::handle atol, py::handle with_stm, py::handle max_steps,
+         py::handle surface_radius) {
         const Vec6 x = checks::eigen_arg<Vec6>(x0, "x0");
         const double t = checks::real_arg(t0, "t0");
         const std::vector<double> ts = checks::vector_arg(times, "times");
@@ -50,12 +51,15 @@ void init_propagation_analytic(py::module_& m) {
         s.atol = checks::real_arg(atol, "atol");
         s.max_steps = static_cast<long>(checks::int_arg(max_steps, "max_steps", 1, 1LL << 62));
         const bool stm = checks::bool_arg(with_stm, "with_stm");
+        const double R = checks::real_arg(surface_radius, "surface_radius");
         py::gil_scoped_release release;
-        return propagation::propagate_dop853(force_model, x, t, ts, s, stm);
+        return propagation::propagate_dop853(force_model, x, t, ts, s, stm, R);
       },
       py::arg("x0"), py::arg("t0"), py::arg("times"), py::arg("force_model"), py::arg("rtol") = 1e-10,
       py::arg("atol") = 1e-12, py::arg("with_stm") = true, py::arg("max_steps") = 100000,
-      "Fixed-size Dormand-Prince 8(5,3) propagation with the variational equations (km, km/s, s).");
+      py::arg("surface_radius") = 0.0,
+      "Fixed-size Dormand-Prince 8(5,3) propagation with the variational equations (km, km/s, s).\n"
+      "An arc reaching |r| = surface_radius km stops with status 'impact', t_reached = its time.");
 
   m.def(
       "kepler_step",

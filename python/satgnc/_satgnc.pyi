@@ -102,20 +102,23 @@ class CvodesPropagator:
         vector: str = "satgnc",
         initial_step: float = 0.0,
         max_step: float = 0.0,
+        surface_radius: float = 0.0,
     ) -> None: ...
     def propagate(self, x0: npt.ArrayLike, t0: float, times: Sequence[float]) -> Trajectory: ...
 
 # ---------------------------------------------------------------- propagation_analytic (kepler room)
 def propagate_kepler(
-    x0: npt.ArrayLike, t0: float, times: Sequence[float], mu: float, with_stm: bool
+    x0: npt.ArrayLike, t0: float, times: Sequence[float], mu: float, with_stm: bool = True,
+    surface_radius: float = 0.0,
 ) -> Trajectory: ...
 def propagate_dop853(
     x0: npt.ArrayLike,
     t0: float,
     times: Sequence[float],
     force_model: ForceModel,
-    rtol: float,
-    atol: float,
-    with_stm: bool,
-    max_steps: int,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    with_stm: bool = True,
+    max_steps: int = 100000,
+    surface_radius: float = 0.0,
 ) -> Trajectory: ...

@@ -15,6 +15,7 @@ import numpy as np
 from . import _satgnc
 from ._satgnc import (
     EARTH_MU,
+    EARTH_RADIUS,
     ExponentialDrag,
     ForceModel,
     J2Gravity,
@@ -40,14 +41,17 @@ class PropagationError(RuntimeError):
 
     ``trajectory`` holds the outputs reached, ``t_reached`` the last time reached (s) and ``status``
     the reason (``"too_much_work"``, ``"too_much_accuracy"``, ``"error_test_failures"``,
-    ``"convergence_failures"``, ``"rhs_failure"``, ``"solver_failure"``).
+    ``"convergence_failures"``, ``"rhs_failure"``, ``"solver_failure"``, or ``"impact"``: the orbit
+    reached the surface, ``t_reached`` = the impact time). Raised without a trajectory (``None``) by
+    other flights (:func:`satgnc.guidance.nonlinear.fly`), which give ``status`` and ``t_reached``.
     """
 
-    def __init__(self, message: str, trajectory: Trajectory):
+    def __init__(self, message: str, trajectory: Trajectory | None = None, *, status: str | None = None,
+                 t_reached: float | None = None):
         super().__init__(message)
         self.trajectory = trajectory
-        self.t_reached: float = trajectory.t_reached
-        self.status: str = trajectory.status
+        self.t_reached: float = trajectory.t_reached if trajectory is not None else float(t_reached)
+        self.status: str = trajectory.status if trajectory is not None else str(status)
 
 
 def available_methods() -> list[str]:
@@ -164,12 +168,15 @@ def propagate(
     max_steps : int
         Step budget of the whole call (> 0). Exhausting it raises :class:`PropagationError`.
     surface_radius : float, optional
-        Method ``"kepler"`` only: radius of the body's surface (km, e.g. ``EARTH_RADIUS``). An arc that
-        reaches it before a requested time raises :class:`PropagationError` with ``status ==
-        "impact"`` and ``t_reached`` = the impact time (s), holding the outputs before it. Without it,
-        Kepler still stops with ``"impact"`` on a collision orbit through the centre (r = 0), which the
-        analytic solution would otherwise pass straight through. ``x0`` at or below the surface is a
-        ValueError.
+        Radius of the central body's surface (km, >= 0), for every method. Default: ``EARTH_RADIUS``
+        (6378.1363 km) when the body is the Earth (``mu`` not given or equal to ``EARTH_MU``), else 0.
+        ``x0`` at or below it is a ValueError naming ``x0``; an arc that reaches it before a requested
+        time raises :class:`PropagationError` with ``status == "impact"`` and ``t_reached`` = the impact
+        time (s), holding the outputs before it (CVODES root finding, a bisection on DOP853's dense
+        output, Kepler's time to radius). 0 turns the surface off: then the numerical methods fail
+        near r = 0 with a PropagationError (never NaN states), and Kepler stops with ``"impact"`` on a
+        collision orbit through the centre, which the analytic solution would otherwise pass straight
+        through.
 
     Returns
     -------
@@ -193,6 +200,9 @@ def propagate(
         raise ValueError("x0: must be finite (no NaN or Inf)")
     if not np.any(x[:3] != 0.0):
         raise ValueError("x0: position must be nonzero (|r| = 0)")
+    if np.max(np.abs(x)) >= 1e100:  # x0 = 1e300 was a "force model failed" PropagationError at t0
+        raise ValueError("x0: every component must be below 1e100 in magnitude (km, km/s): |r|^3 overflows "
+                         "double precision in the force model (hint: check the units)")
     t = _real_array(times, "times")
     if t.ndim == 0:
         t = t.reshape(1)
@@ -215,6 +225,8 @@ def propagate(
     mu_given = mu is not _DEFAULT
     muf = _real_scalar(EARTH_MU if not mu_given else mu, "mu")
     rtolf = _real_scalar(rtol, "rtol")
+    if not rtolf < 1.0:  # rtol = 1e300 "succeeded" with a trajectory no tolerance controlled
+        raise ValueError(f"rtol: must be < 1 (a relative tolerance of 100 % controls nothing), got {rtol!r}")
     if isinstance(atol, numbers.Real) and not isinstance(atol, bool):
         atolv: float | list[float] = _real_scalar(atol, "atol")
     else:
@@ -239,14 +251,15 @@ def propagate(
         raise ValueError(f"method: unknown {method!r}; available in this build: {methods}")
 
     if surface_radius is not None:
-        if method != "kepler":
-            raise ValueError(f"surface_radius: supported by method 'kepler' only, got method {method!r}")
         surface = as_real(surface_radius, "surface_radius", nonnegative=True)
-        if float(np.linalg.norm(x[:3])) <= surface:
-            raise ValueError(f"x0: |r0| = {np.linalg.norm(x[:3]):.6g} km is at or below surface_radius = "
-                             f"{surface:.6g} km")
-    else:
-        surface = 0.0
+        what = "surface_radius"
+    else:  # a state inside the Earth propagated "successfully" with every numerical method
+        surface = EARTH_RADIUS if muf == EARTH_MU else 0.0
+        what = "the Earth's radius (the default surface_radius; pass surface_radius=0 to turn it off)"
+    r0 = float(np.linalg.norm(x[:3]))
+    if surface > 0.0 and not r0 > surface:
+        raise ValueError(f"x0: starts at or below the surface: |r| = {r0:.6g} km <= R = {surface:.6g} km, "
+                         f"{what}; x0 = [r km, v km/s]")
 
     tl = t.tolist()
     if method == "kepler":
@@ -258,12 +271,14 @@ def propagate(
         if method == "dop853":
             if not isinstance(atolv, float):
                 raise ValueError("atol: method 'dop853' takes a scalar atol")
-            traj = _satgnc.propagate_dop853(x, t0f, tl, model, rtolf, atolv, bool(with_stm), int(max_steps))
+            traj = _satgnc.propagate_dop853(x, t0f, tl, model, rtolf, atolv, bool(with_stm), int(max_steps),
+                                            surface)
         else:
             if isinstance(atolv, list) and len(atolv) == 42 and not with_stm:
                 raise ValueError("atol: 42 entries need with_stm=True (6 without the STM)")
             prop = _satgnc.CvodesPropagator(model, method=method, rtol=rtolf, atol=atolv,
-                                            with_stm=bool(with_stm), max_steps=int(max_steps))
+                                            with_stm=bool(with_stm), max_steps=int(max_steps),
+                                            surface_radius=surface)
             traj = prop.propagate(x, t0f, tl)
     if not traj.success:
         raise PropagationError(traj.message, traj)

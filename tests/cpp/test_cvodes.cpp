@@ -533,6 +533,8 @@ TEST(Cvodes, BadInputThrowsNamingTheArgument) {
   prop::CvodesSettings s;
   s.rtol = 0.0;
   EXPECT_NE(settings_error(s).find("rtol: must be finite and > 0"), std::string::npos);
+  s.rtol = 1e300;  // accepted before: a "successful" trajectory that no tolerance controlled
+  EXPECT_NE(settings_error(s).find("rtol: must be < 1"), std::string::npos);
   s = {};
   s.atol = -1e-12;
   EXPECT_NE(settings_error(s).find("atol: must be finite and > 0"), std::string::npos);
@@ -581,6 +583,54 @@ TEST(Cvodes, CollisionCourseFailsWithForceModelStatus) {
   EXPECT_LT(tr.t_reached, 4000.0);
   EXPECT_NE(tr.message.find("stopped at t = "), std::string::npos);
   EXPECT_TRUE(tr.states.empty());
+}
+
+// An orbit whose perigee lies below the surface: CVODES' root finding against the analytic impact
+// time of the Kepler room (an independent method: universal variables and their own root search).
+TEST(Cvodes, SurfaceRadiusStopsWithImpactAtTheKeplerTime) {
+  Vec6 x0;
+  x0 << 6600.0, 0, 0, -3.0, 5.0, 1.0;
+  const double R = dyn::earth::radius;
+  const std::vector<double> times = {30.0, 60.0, 3000.0};
+  const prop::Trajectory ref = prop::propagate_kepler(x0, 0.0, times, kMu, true, R);
+  ASSERT_EQ(ref.status, prop::PropagationStatus::impact);
+  for (bool stm : {true, false})
+    for (auto method : {prop::CvodesMethod::adams, prop::CvodesMethod::bdf}) {
+      prop::CvodesSettings s;
+      s.surface_radius = R;
+      s.with_stm = stm;
+      s.method = method;
+      prop::CvodesPropagator p(dyn::ForceModel{}, s);
+      prop::Trajectory tr;
+      p.propagate(x0, 0.0, times, tr);
+      EXPECT_EQ(tr.status, prop::PropagationStatus::impact);
+      EXPECT_NEAR(tr.t_reached, ref.t_reached, 1e-6);  // measured ~3e-8 s
+      EXPECT_GT(tr.t_reached, 60.0);
+      ASSERT_EQ(tr.states.size(), 2u);  // the outputs before the impact, none after
+      EXPECT_LT((tr.states[1] - ref.states[1]).norm(), 1e-6);
+      EXPECT_NE(tr.message.find("impact at t = "), std::string::npos);
+      // The impact path allocates nothing in a reused workspace either.
+      const long before = g_news.load();
+      p.propagate(x0, 0.0, times, tr);
+      EXPECT_EQ(g_news.load() - before, 0) << "heap allocations on the impact path";
+    }
+}
+
+TEST(Cvodes, SurfaceRadiusRejectsStartsBelowItAndBadValues) {
+  prop::CvodesSettings s;
+  s.surface_radius = dyn::earth::radius;
+  prop::CvodesPropagator p(dyn::ForceModel{}, s);
+  Vec6 inside;
+  inside << 6000.0, 0, 0, 0, 7.5, 0;
+  EXPECT_NE(
+      invalid_message([&] { p.propagate(inside, 0.0, {60.0}); }).find("x0: starts at or below the surface"),
+      std::string::npos);
+  for (double bad : {-1.0, static_cast<double>(NAN), static_cast<double>(INFINITY)}) {
+    s.surface_radius = bad;
+    EXPECT_NE(
+        invalid_message([&] { prop::CvodesPropagator q(dyn::ForceModel{}, s); }).find("surface_radius:"),
+        std::string::npos);
+  }
 }
 
 TEST(Cvodes, StatusMessagesAreDistinct) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "satgnc/dynamics/cw.hpp"
 #include "testing.hpp"
@@ -132,4 +133,28 @@ TEST(Cw, BadInput) {
   CwModel cw(kN, kMass);
   EXPECT_THROW(satgnc::dynamics::cw_discretize_zoh(cw, 0.0), std::invalid_argument);
   EXPECT_THROW(satgnc::dynamics::cw_discretize_midpoint(cw, -1.0), std::invalid_argument);
+}
+
+// |n t| beyond kCwMaxAngle (1e9 rad): cw_stm(t = 1e300) returned entries of 1e300 with no correct
+// digit; now every time function refuses it naming its time argument. The bound itself is accepted.
+TEST(Cw, HugeTimesAreRefusedNamingTheTime) {
+  using namespace satgnc::dynamics;
+  CwModel cw(kN, kMass);
+  const double t_max = kCwMaxAngle / kN;
+  EXPECT_TRUE(cw.stm(t_max).allFinite());
+  EXPECT_TRUE(cw.stm(-t_max).allFinite());
+  auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no throw");
+  };
+  EXPECT_EQ(message([&] { cw.stm(1e300); }).rfind("t: |n t| = ", 0), 0u);
+  EXPECT_EQ(message([&] { cw.stm(-2.0 * t_max); }).rfind("t: ", 0), 0u);
+  EXPECT_EQ(message([&] { cw.input_integral(2.0 * t_max); }).rfind("t: ", 0), 0u);
+  EXPECT_EQ(message([&] { cw_discretize_zoh(cw, 2.0 * t_max); }).rfind("dt: |n dt| = ", 0), 0u);
+  EXPECT_EQ(message([&] { cw_discretize_expm(cw, 2.0 * t_max); }).rfind("dt: ", 0), 0u);
+  EXPECT_EQ(message([&] { cw_discretize_midpoint(cw, 2.0 * t_max); }).rfind("dt: ", 0), 0u);
 }

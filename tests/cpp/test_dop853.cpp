@@ -11,6 +11,7 @@
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "satgnc/propagation/dop853.hpp"
@@ -383,6 +384,52 @@ TEST(Dop853BadInput, CoreReturnsStatus) {
   EXPECT_EQ(status_with(Dop853Settings{}, 0.0, x0, {100.0, -50.0}), Dop853Status::invalid_input);
   EXPECT_STREQ(satgnc::propagation::dop853_status_message(Dop853Status::max_steps),
                "step budget (max_steps) exhausted before the last output time");
+}
+
+// The event (surface) path: the same impact as the analytic Kepler room's root search, the outputs
+// before it only, and no allocation in the stepping loop with the event either.
+TEST(Dop853, SurfaceEventStopsAtTheKeplerImpactTime) {
+  Vec6 x0;
+  x0 << 6600.0, 0, 0, -3.0, 5.0, 1.0;  // perigee below the surface
+  const double R = 6378.1363, mu = 398600.4418;
+  const std::vector<double> times = {30.0, 60.0, 3000.0};
+  const auto ref = satgnc::propagation::propagate_kepler(x0, 0.0, times, mu, true, R);
+  ASSERT_EQ(ref.status, satgnc::propagation::PropagationStatus::impact);
+  for (bool stm : {true, false}) {
+    const auto tr = propagate_dop853_with<false>(PointMass{}, x0, 0.0, times, Dop853Settings{}, stm, R);
+    EXPECT_EQ(tr.status, satgnc::propagation::PropagationStatus::impact);
+    EXPECT_NEAR(tr.t_reached, ref.t_reached, 1e-6);  // bisection on the 7th-order dense output
+    ASSERT_EQ(tr.states.size(), 2u);
+    EXPECT_LT((tr.states[1] - ref.states[1]).norm(), 1e-6);
+    EXPECT_NE(tr.message.find("impact at t = "), std::string::npos);
+  }
+  using Rhs = satgnc::propagation::detail::OrbitRhs<false, false, PointMass>;
+  const PointMass pm;
+  Rhs rhs{pm};
+  Dop853<6, Rhs> integ(rhs, Dop853Settings{});
+  std::array<double, 2> ts = {60.0, 3000.0};
+  const long before = g_allocations.load();
+  Eigen::internal::set_is_malloc_allowed(false);
+  const Dop853Info info = integ.solve(
+      0.0, x0, ts.data(), ts.size(), [](std::size_t, double, const Vec6&) {},
+      [R](double, const Vec6& y) { return y.head<3>().squaredNorm() - R * R; });
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(info.status, Dop853Status::event);
+  EXPECT_EQ(info.outputs, 1u);
+  EXPECT_NEAR(info.t_reached, ref.t_reached, 1e-6);
+  // Starting at or below the surface, and a negative radius, are errors naming the argument.
+  Vec6 inside = x0;
+  inside.head<3>() *= 0.9;
+  for (auto [x, r, needle] : {std::tuple<Vec6, double, std::string>{inside, R, "x0: starts at or below"},
+                              std::tuple<Vec6, double, std::string>{x0, -1.0, "surface_radius:"}}) {
+    try {
+      propagate_dop853_with<false>(PointMass{}, x, 0.0, times, Dop853Settings{}, true, r);
+      ADD_FAILURE() << "no throw, expected " << needle;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Dop853BadInput, OrbitalWrapperThrowsNamingTheArgument) {

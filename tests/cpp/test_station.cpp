@@ -1,6 +1,7 @@
 // Station model: Julian date, GMST, geodetic -> inertial, rotation, textbook examples.
 #include <Eigen/Geometry>
 #include <cmath>
+#include <string>
 
 #include "satgnc/od/measurement.hpp"
 #include "satgnc/od/station.hpp"
@@ -38,6 +39,26 @@ TEST(Time, GmstVallado35) {
 TEST(Time, BadInput) {
   EXPECT_THROW(julian_date(1981, 13, 1, 0, 0, 0.0), std::invalid_argument);
   EXPECT_THROW(julian_date(1981, 3, 21, 6, 0, NAN), std::invalid_argument);
+  // A day past the month's end was accepted (2021-02-31 read as 2021-03-03); 2020 is a leap year,
+  // 1900 is not (the formula's validity starts on 1900-03-01).
+  EXPECT_THROW(julian_date(2021, 2, 29, 0, 0, 0.0), std::invalid_argument);
+  EXPECT_THROW(julian_date(2021, 4, 31, 0, 0, 0.0), std::invalid_argument);
+  EXPECT_THROW(julian_date(1900, 2, 28, 0, 0, 0.0), std::invalid_argument);
+  EXPECT_DOUBLE_EQ(julian_date(2020, 2, 29, 0, 0, 0.0) + 1.0, julian_date(2020, 3, 1, 0, 0, 0.0));
+  EXPECT_DOUBLE_EQ(julian_date(2000, 2, 29, 0, 0, 0.0) + 1.0, julian_date(2000, 3, 1, 0, 0, 0.0));
+  // |UT1 - UTC| < 0.9 s (IERS): 5 s is a unit or sign error.
+  const double jd = julian_date(2020, 1, 1, 0, 0, 0.0);
+  EXPECT_NO_THROW(gmst_from_utc(jd, 0.89));
+  EXPECT_NO_THROW(gmst_from_utc(jd, -0.89));
+  for (double bad : {5.0, -0.9, 0.9, static_cast<double>(NAN)}) {
+    try {
+      gmst_from_utc(jd, bad);
+      ADD_FAILURE() << "no throw for " << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("ut1_minus_utc_s: |UT1 - UTC| must be < 0.9 s", 0), 0u)
+          << e.what();
+    }
+  }
   EXPECT_THROW(gmst_iau1982(INFINITY), std::invalid_argument);
 }
 

@@ -3,12 +3,15 @@
 // truth against a fine-step RK4 integration of the same controlled arc, failure statuses naming the
 // interval, and bad input.
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "satgnc/guidance/two_satellite_truth.hpp"
 #include "satgnc/propagation/cvodes_ode.hpp"
+#include "satgnc/propagation/kepler.hpp"
 #include "testing.hpp"
 #include "two_satellite_fixture.hpp"
 
@@ -173,12 +176,21 @@ TEST(TwoSatelliteTruth, FailureNamesTheInterval) {
   EXPECT_EQ(fl.failed_interval, 2);
   EXPECT_NE(fl.message.find("interval 2"), std::string::npos) << fl.message;
   EXPECT_TRUE(fl.X.col(2).allFinite());
-  // chaser at the Earth's centre (d = r_t): the model fails on the first interval
+  // chaser at the Earth's centre (d = r_t): fly refuses it naming x0 (it was an rhs_failure status),
+  // step() reports an impact at t = 0 without stepping.
   Vec12 x = release_state();
   x.head<3>() = x.segment<3>(3);
-  const TruthFlight f2 = truth.fly(x, MatrixXd::Zero(3, 3), 60.0);
-  EXPECT_EQ(f2.status, PropagationStatus::rhs_failure);
-  EXPECT_EQ(f2.failed_interval, 0);
+  try {
+    truth.fly(x, MatrixXd::Zero(3, 3), 60.0);
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("x0: the chaser starts at or below the Earth's surface"),
+              std::string::npos)
+        << e.what();
+  }
+  VectorXd xc = x;
+  EXPECT_EQ(truth.step(xc, Vec3::Zero(), 60.0), PropagationStatus::impact);
+  EXPECT_TRUE(xc.allFinite());
   // non-finite state
   VectorXd y = release_state();
   y(0) = std::nan("");
@@ -188,4 +200,36 @@ TEST(TwoSatelliteTruth, FailureNamesTheInterval) {
   EXPECT_THROW(truth.fly(VectorXd::Zero(11), MatrixXd::Zero(3, 2), 60.0), std::invalid_argument);
   EXPECT_THROW(truth.fly(release_state(), MatrixXd::Zero(2, 2), 60.0), std::invalid_argument);
   EXPECT_THROW(truth.fly(release_state(), MatrixXd::Zero(3, 2), 0.0), std::invalid_argument);
+}
+
+// Target and chaser slowed to 30 % of the circular speed fall into the Earth: the flight stops with
+// impact at the crossing time of the first body, which point-mass Kepler gives independently.
+TEST(TwoSatelliteTruth, FlyingIntoTheEarthStopsWithImpactAtTheKeplerTime) {
+  TwoSatelliteParams p;
+  p.mu = kMu;
+  p.j2_on = false;
+  p.drag_on = false;
+  const TwoSatelliteModel model(p);
+  TwoSatelliteTruth truth(model);
+  Vec12 x = release_state();
+  x.segment<3>(9) *= 0.3;
+  x.segment<3>(6) *= 0.3;
+  const double dt = 60.0;
+  const TruthFlight fl = truth.fly(x, MatrixXd::Zero(3, 100), dt);
+  ASSERT_EQ(fl.status, PropagationStatus::impact) << fl.message;
+  // Kepler (km) for each body; the first to reach R ends the flight.
+  double t_first = 1e300;
+  for (int body = 0; body < 2; ++body) {
+    satgnc::Vec6 s;
+    s.head<3>() = (x.segment<3>(3) - (body == 1 ? x.head<3>() : Vec3::Zero().eval())) / 1e3;
+    s.tail<3>() = (x.segment<3>(9) - (body == 1 ? x.segment<3>(6) : Vec3::Zero().eval())) / 1e3;
+    const auto tr =
+        satgnc::propagation::propagate_kepler(s, 0.0, {6000.0}, p.mu / 1e9, false, p.j2_radius / 1e3);
+    ASSERT_EQ(tr.status, PropagationStatus::impact);
+    t_first = std::min(t_first, tr.t_reached);
+  }
+  EXPECT_NEAR(fl.t_reached, t_first, 1e-5);
+  EXPECT_EQ(fl.failed_interval, static_cast<int>(t_first / dt));
+  EXPECT_NE(fl.message.find("impact at t = "), std::string::npos) << fl.message;
+  EXPECT_TRUE(fl.X.leftCols(fl.failed_interval + 1).allFinite());
 }

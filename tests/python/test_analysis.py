@@ -318,7 +318,7 @@ def test_report_section_builds(tmp_path):
         (lambda: an.controllability_gramian(np.eye(2), [[1], [0], [0]], 1.0), "B:", ValueError),
         (lambda: an.polar_model(-1.0, 1.0), "sigma:", ValueError),
         (lambda: an.polar_model(1.0, float("nan")), "omega:", ValueError),
-        (lambda: an.orbit("1,2,3"), "orbit:", ValueError),
+        (lambda: an.orbit("1,2,3"), "spec:", ValueError),
         (lambda: an.od_gramian("angles", [0.0]), "kind:", ValueError),
         (lambda: an.od_gramian("range", [0.0, 0.0]), "times:", ValueError),
         (lambda: an.fd_jacobian(3, 0.0, [1.0], []), "f:", TypeError),

@@ -48,7 +48,47 @@ def _odg(**kw):
     return an.od_gramian(**args)
 
 
+def _flt(**kw):
+    args = dict(rows=an.loss_table(A, B=np.eye(2)), names=["u1", "u2"], n=2)
+    args.update(kw)
+    return an.format_loss_table(**args)
+
+
 CASES = [
+    # fuzz pass: overflow blamed on another argument (T, W, x0) or a NaN / Inf result
+    (_gram, dict(B=B * 1e300), ValueError, "B: entries must be below 1e+150"),  # blamed T
+    (_ogram, dict(C=C * 1e300), ValueError, "C: entries must be below 1e+150"),
+    (_gram, dict(T=1e300), ValueError, "T: too long for this A"),  # W = 0 for an oscillator
+    (an.ltv_observability_gramian, dict(stms=None, H=[C]), TypeError, "stms: must be a sequence"),
+    (an.ltv_observability_gramian, dict(stms=[np.eye(2) * 1e200], H=[C * 1e200]), ValueError,
+     "stms, H, weights: the Gramian sum overflows"),  # named "W"
+    (an.nondimensionalize, dict(A=np.zeros((4, 4)), B=np.zeros((3, 3)), C=np.zeros((1, 4)),
+                                units=an.polar_units(1.0, 1.0, n_outputs=1)), ValueError,
+     "B: must have n = 4 rows"),  # "cannot reshape array of size 9"
+    (an.od_gramian, dict(kind="range", times=[0.0, 1e300]), ValueError, "times: |t| = 1e+300 s exceeds"),
+    (an.od_linear_model, dict(times=[0.0, 60.0], mu=1e300), ValueError, "x0, mu, times: Kepler"),
+    (an.visibility_pass, dict(mu=1e300), ValueError, "x0, mu, t_max:"),
+    (an.cw_model, dict(mean_motion=1e300), ValueError, "mean_motion: must be in [1e-100, 1e100]"),  # inf in A
+    (an.polar_model, dict(sigma=1e300, omega=1.0), ValueError, "sigma: must be in [1e-100, 1e100]"),
+    (an.polar_units, dict(sigma=1.0, omega=1e300), ValueError, "omega: must be in"),
+    (an.minimum_energy, dict(W=np.eye(2), x_f=[1e300, 0.0]), ValueError, "x_f: entries must be below"),  # inf
+    (an.loss_table, dict(A=A, B=np.eye(2) * 1e300), ValueError, "B: entries must be below"),  # NaN ratios
+    # orbit said "orbit:" for its argument spec
+    (an.orbit, dict(spec="mars"), ValueError, "spec: must be leo, geo, one or 'sigma,omega'"),
+    (an.orbit, dict(spec=3), TypeError, "spec: must be a string or a (sigma, omega) pair"),
+    (an.orbit, dict(spec=(-1.0, 1.0)), ValueError, "spec (sigma): must be > 0"),
+    (an.orbit, dict(spec="1,nan"), ValueError, "spec (omega): must be finite"),
+    # format_loss_table had no checks: "ab" printed letters, short names an IndexError, foreign rows a
+    # KeyError, n=True printed "rank/True"
+    (_flt, dict(names="ab"), TypeError, "names: must be a list of channel names"),
+    (_flt, dict(names=["a"]), ValueError, "names: 1 name(s) given, but rows[0] uses channel 1"),
+    (_flt, dict(names=["a", 2]), TypeError, "names[1]: must be a string"),
+    (_flt, dict(rows=[{"channels": (0,)}]), ValueError, "rows[0]: missing key(s)"),
+    (_flt, dict(rows="x"), TypeError, "rows: must be the list of dicts returned by loss_table"),
+    (_flt, dict(rows=[3]), TypeError, "rows[0]: must be a dict from loss_table"),
+    (_flt, dict(n=True), TypeError, "n: must be an integer"),
+    (_flt, dict(n=0), ValueError, "n: must be >= 1"),
+    (_flt, dict(title=None), TypeError, "title: must be a string"),
     # complex / boolean / object / string arrays
     (_ctrb, dict(A=A.astype(complex)), TypeError, "A:"),
     (_ctrb, dict(B=B.astype(bool)), TypeError, "B:"),

@@ -71,6 +71,16 @@ def _polar_rhs(**kw):
 
 
 CASES = [
+    # fuzz pass (issue 11): the force terms' constructors accepted NaN / Inf until a propagation
+    (satgnc.J2Gravity, dict(mu=np.nan), ValueError, "mu: must be finite and > 0"),
+    (satgnc.J2Gravity, dict(j2=np.inf), ValueError, "j2: must be finite"),
+    (satgnc.J2Gravity, dict(radius=-np.inf), ValueError, "radius: must be finite and > 0"),
+    (satgnc.ExponentialDrag, dict(DRAG, rho0=np.inf), ValueError, "rho0: must be finite and >= 0"),
+    (satgnc.ExponentialDrag, dict(DRAG, h0=np.nan), ValueError, "h0: must be finite"),
+    (satgnc.ExponentialDrag, dict(DRAG, scale_height=-np.inf), ValueError,
+     "scale_height: must be finite and > 0"),
+    (satgnc.ExponentialDrag, dict(DRAG, body_radius=0.0), ValueError, "body_radius: must be finite and > 0"),
+    (satgnc.ExponentialDrag, dict(DRAG, omega=[0.0, 0.0, np.nan]), ValueError, "omega: must be finite"),
     # complex / boolean / object / string arrays
     (_acc, dict(r=R.astype(complex)), TypeError, "r:"),
     (_acc, dict(r=np.ones(3, dtype=bool)), TypeError, "r:"),

@@ -34,6 +34,20 @@ MAPSET, PMAPSET = _set(_satgnc.TwoSatelliteMapSettings), _set(_satgnc.Propagated
 PARAMS, PROBLEM = _set(_satgnc.TwoSatelliteParams), _set(_satgnc.NonlinearL1Problem)
 
 CASES = [
+    # fuzz pass: 1e300 entries gave a NaN objective (A) or an infinite one (x0); Qf = 1e300 blamed "rho"
+    (_l1, dict(A=AD * 1e300), ValueError, "A: entries must be below 1e100"),
+    (_l1, dict(x0=np.full(6, 1e300)), ValueError, "x0: entries must be below 1e100"),
+    (_l1, dict(Qf=np.eye(6) * 1e300), ValueError, "Qf: entries must be below 1e100"),
+    # huge times: cw_stm(t=1e300) returned a matrix of 1e300 entries with no correct digit (|n t| <= 1e9 rad)
+    (g.cw_stm, dict(n=N_MEAN, t=1e300), ValueError, "t: |n t| = 1.1e+297 rad exceeds 1e9 rad"),
+    (g.cw_stm, dict(n=N_MEAN, t=-1e13), ValueError, "t: |n t|"),
+    (g.cw_stm, dict(n=1e300, t=1.0), ValueError, "n: must be in [1e-100, 1e100] rad/s"),  # n^2 = inf
+    (g.cw_matrices, dict(n=1e300, mass=1.0), ValueError, "n: must be in [1e-100, 1e100]"),  # inf in A
+    (g.cw_stm, dict(n=1e90, t=1e20), ValueError, "t: |n t|"),
+    (_satgnc.cw_stm, dict(n=N_MEAN, t=1e300), ValueError, "t: |n t|"),
+    (g.cw_discretize, dict(n=N_MEAN, mass=1.0, dt=1e13), ValueError, "dt: |n dt|"),
+    (g.cw_discretize, dict(n=N_MEAN, mass=1.0, dt=1e13, method="expm"), ValueError, "dt: |n dt|"),
+    (g.cw_discretize, dict(n=N_MEAN, mass=1.0, dt=1e13, method="midpoint"), ValueError, "dt: |n dt|"),
     # CW: complex / bool / string numbers, NaN, out of range
     (g.cw_stm, dict(n=N_MEAN, t=np.nan), ValueError, "t:"),
     (g.cw_stm, dict(n=N_MEAN, t=np.inf), ValueError, "t:"),

@@ -60,6 +60,37 @@ def _solver_solve(**kw):
 
 
 CASES = [
+    # fuzz pass
+    (od.six_point_conditions, dict(t=[0.0, 1, 2, 3, 4, 5], rho=[1e3] * 6, rhodot=[0.1] * 6, mode=3),
+     TypeError, "mode: must be 'doppler', 'range' or a list"),  # "'int' object is not iterable"
+    (od.six_point_conditions, dict(t=[0.0, 1, 2, 3, 4, 5], rho=[1e3] * 6, rhodot=[0.1] * 6, mode=None),
+     TypeError, "mode:"),
+    (parse_epoch, dict(text="no-such-epoch"), ValueError, "text: bad epoch"),  # named nothing
+    (_predict, dict(x=[1e300, 0, 0, 0, 7.5, 0]), ValueError, "x: every component must be below 1e100"),  # NaN
+    (lambda **kw: od.implied_rotation_rate(**kw), dict(station_state=[1e300, 1, 0, 0, 0.4, 0]), ValueError,
+     "station_state:"),  # NaN
+    (lambda **kw: od.simulate(X, [od.station_inertial(STATION[:3])], np.linspace(0.0, 300.0, 7), seed=1,
+                              **kw),
+     dict(sigma_range=1e300), ValueError, "sigma_range, bias_range: the simulated noise"),  # named "value"
+    # time and frame inputs out of their physical range
+    (lambda **kw: od.gmst("2020-01-01T00:00:00", **kw), dict(ut1_minus_utc=5), ValueError,
+     "ut1_minus_utc: |UT1 - UTC| must be < 0.9 s"),
+    (lambda **kw: od.gmst("2020-01-01T00:00:00", **kw), dict(ut1_minus_utc=-0.95), ValueError,
+     "ut1_minus_utc:"),
+    (lambda **kw: od.station_geodetic(0.0, 0.0, 0.0, "2020-01-01T00:00:00", **kw), dict(ut1_minus_utc=1.0),
+     ValueError, "ut1_minus_utc:"),
+    (od.gmst, dict(epoch="1850-01-01T00:00:00"), ValueError, "epoch: 1850-01-01T00:00:00 is out of range"),
+    (od.gmst, dict(epoch="2200-01-01T00:00:00"), ValueError, "epoch:"),  # named "year"
+    (od.julian_date, dict(epoch=2.4e6), ValueError, "epoch: a Julian date must be finite and in"),
+    (od.julian_date, dict(epoch=np.int64(2_400_000)), ValueError, "epoch:"),
+    (od.julian_date, dict(epoch=np.bool_(True)), TypeError, "epoch:"),
+    (lambda **kw: od._c.od_julian_date(2021, 2, **kw), dict(day=29, hour=0, minute=0, second=0.0), ValueError,
+     "day: must be in 1..28 for month 2 of 2021"),  # read as 2021-03-01
+    (lambda **kw: od._c.od_gmst_from_utc(2459000.5, **kw), dict(ut1_minus_utc_s=5.0), ValueError,
+     "ut1_minus_utc_s:"),
+    # make_propagator named "propagator" for its own argument "kind"; solve/simulate name "propagator"
+    (od.make_propagator, dict(kind="rk4"), ValueError, "kind: unknown propagator 'rk4'"),
+    (od.make_propagator, dict(kind=3), TypeError, "kind: must be 'kepler', 'cvodes' or a propagator"),
     # complex / boolean / object / string arrays
     (_predict, dict(x=X.astype(complex)), TypeError, "x:"),
     (_predict, dict(x=np.ones(6, dtype=bool)), TypeError, "x:"),

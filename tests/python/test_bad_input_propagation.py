@@ -53,6 +53,11 @@ def _dop(**kw):
 
 
 CASES = [
+    # fuzz pass: x0 = 1e300 was a "force model failed" PropagationError at t0
+    (_prop, dict(x0=[1e300, 0, 0, 0, 7.5, 0]), ValueError, "x0: every component must be below 1e100"),
+    (_prop, dict(x0=[1e300, 0, 0, 0, 7.5, 0], method="dop853"), ValueError, "x0: every component"),
+    (_cvodes, dict(x0=[7000.0, 0, 0, 0, 1e300, 0]), ValueError, "x0: every component"),
+    (_dop, dict(x0=[7000.0, 0, 0, 0, 1e300, 0]), ValueError, "x0: every component"),
     # complex / boolean / object / string arrays
     (_prop, dict(x0=np.array(X0, dtype=complex)), TypeError, "x0:"),
     (_prop, dict(x0=np.ones(6, dtype=bool)), TypeError, "x0:"),
@@ -117,7 +122,15 @@ CASES = [
     (_prop, dict(times=[0.0, 1e300], method="kepler"), ValueError, "times:"),
     (_prop, dict(t0=1e30), ValueError, "t0"),
     (_prop, dict(surface_radius=-1.0, method="kepler"), ValueError, "surface_radius:"),
-    (_prop, dict(surface_radius=6378.0), ValueError, "surface_radius:"),
+    (_prop, dict(surface_radius=-1.0, method="dop853"), ValueError, "surface_radius:"),
+    (_prop, dict(rtol=1e300), ValueError, "rtol: must be < 1"),  # "succeeded" uncontrolled (fuzz pass)
+    (_dop, dict(rtol=2.0), ValueError, "rtol: must be < 1"),
+    (_cvodes_new, dict(rtol=1.0), ValueError, "rtol: must be < 1"),
+    (_prop, dict(surface_radius=np.nan), ValueError, "surface_radius:"),
+    (_prop, dict(surface_radius=True), TypeError, "surface_radius:"),
+    (_dop, dict(surface_radius=-1.0), ValueError, "surface_radius:"),
+    (_cvodes_new, dict(surface_radius=-1.0), ValueError, "surface_radius:"),
+    (_cvodes_new, dict(surface_radius=np.inf), ValueError, "surface_radius:"),
     (_kepler, dict(mu=-1.0), ValueError, "mu:"),
     (_kepler, dict(surface_radius=-5.0), ValueError, "surface_radius:"),
     (_kstep, dict(mu=0.0), ValueError, "mu:"),
@@ -130,6 +143,18 @@ CASES = [
     (_kstep, dict(x0=[7000.0, 0, 0, -1.0, 0, 0], dt=1e4), ValueError, "x0:"),  # through r = 0
     (_kepler, dict(x0=[6000.0, 0, 0, 0, 7.5, 0], surface_radius=6378.0), ValueError, "x0:"),
     (_cvodes, dict(x0=[0.0, 0, 0, 0, 7.5, 0]), ValueError, "x0:"),
+    # below the Earth's surface: every method, the default surface for mu = EARTH_MU (issue 11: it
+    # propagated "successfully" with the numerical methods)
+    (_prop, dict(x0=[3000.0, 0, 0, 0, 7.5, 0]), ValueError,
+     "x0: starts at or below the surface: |r| = 3000 km <= R"),
+    (_prop, dict(x0=[3000.0, 0, 0, 0, 7.5, 0], method="bdf"), ValueError, "x0: starts at or below"),
+    (_prop, dict(x0=[3000.0, 0, 0, 0, 7.5, 0], method="dop853"), ValueError, "x0: starts at or below"),
+    (_prop, dict(x0=[3000.0, 0, 0, 0, 7.5, 0], method="kepler"), ValueError, "x0: starts at or below"),
+    (_prop, dict(x0=[6378.1363, 0, 0, 0, 7.5, 0]), ValueError, "x0:"),  # on the surface
+    (_prop, dict(x0=[6600.0, 0, 0, 0, 7.5, 0], surface_radius=6600.0, method="dop853"), ValueError, "x0:"),
+    (_dop, dict(x0=[6000.0, 0, 0, 0, 7.5, 0], surface_radius=6378.0), ValueError, "x0:"),
+    (lambda **kw: _satgnc.CvodesPropagator(satgnc.ForceModel(), surface_radius=6378.0).propagate(**kw),
+     dict(x0=[6000.0, 0, 0, 0, 7.5, 0], t0=0.0, times=[60.0]), ValueError, "x0: starts at or below"),
     # huge sizes
     (_dop, dict(max_steps=2**70), ValueError, "max_steps:"),
     (_prop, dict(max_steps=2**70), ValueError, "max_steps:"),
@@ -154,8 +179,7 @@ def _radius(x0, dt):
 ])
 def test_kepler_impact_status_and_time(x0, surface):
     with pytest.raises(satgnc.PropagationError) as info:
-        satgnc.propagate(x0, np.linspace(0.0, 20000.0, 41), method="kepler",
-                         surface_radius=surface if surface > 0 else None)
+        satgnc.propagate(x0, np.linspace(0.0, 20000.0, 41), method="kepler", surface_radius=surface)
     err = info.value
     assert err.status == "impact"
     t_hit = err.t_reached
@@ -183,6 +207,22 @@ def test_kepler_impact_backward_in_time():
 def test_kepler_without_surface_keeps_orbits_above_it():
     tr = satgnc.propagate(X0, np.linspace(0.0, 86400.0, 11), method="kepler", surface_radius=6378.137)
     assert tr.status == "success" and len(tr.times) == 11
+
+
+@pytest.mark.parametrize("method", ["adams", "bdf", "dop853"])
+def test_numerical_impact_status_and_time(method):
+    # The first Kepler case above on the numerical methods: the same impact, to the tolerances.
+    x0 = [7000.0, 0.0, 0.0, 0.0, 5.0, 0.0]
+    times = np.linspace(0.0, 20000.0, 41)
+    with pytest.raises(satgnc.PropagationError) as ref:
+        satgnc.propagate(x0, times, method="kepler", surface_radius=6378.137)
+    with pytest.raises(satgnc.PropagationError) as info:
+        satgnc.propagate(x0, times, method=method, surface_radius=6378.137)
+    err = info.value
+    assert err.status == "impact" and "impact at t = " in str(err)
+    assert err.t_reached == pytest.approx(ref.value.t_reached, abs=1e-5)
+    assert len(err.trajectory) == len(ref.value.trajectory)
+    assert np.all(np.isfinite(err.trajectory.states)) and np.all(np.isfinite(err.trajectory.stms))
 
 
 def test_status_message_knows_impact():

@@ -28,6 +28,22 @@ def _line_of(text: str, needle: str) -> int:
 
 # (id, TOML text, exception type, fragments; "@<needle>" is replaced by ":<line of needle>:")
 CASES = [
+    # values no scenario can have (fuzz pass): 1e300 reached the CW functions ("dt:", "n:") or overflowed
+    (
+        "tf-huge",
+        _edit(r"tf = .*", "tf = 1e300"),
+        ["@tf =", "key 'tf'", "[horizon]", "must be <= 1000000000.0"],
+    ),
+    (
+        "radius-huge",  # OverflowError in radius**3
+        _edit(r"radius = .*", "radius = 1e300"),
+        ["@radius =", "key 'radius'", "[orbit]", "must be <="],
+    ),
+    (
+        "n-tf-beyond-cw",  # n tf > 1e9 rad with every key in range
+        _edit(r"radius = .*", "radius = 1.0"),
+        ["@tf =", "key 'tf'", "n tf = ", "exceeds 1e9 rad"],
+    ),
     # wrong types
     (
         "bool-as-number",
@@ -170,11 +186,11 @@ def test_bad_scenario(tmp_path, name, text, frags):
 
 
 def test_missing_and_directory(tmp_path):
-    with pytest.raises(FileNotFoundError, match="scenario: .*nope.toml does not exist"):
+    with pytest.raises(FileNotFoundError, match="^path: .*nope.toml does not exist"):  # load's argument
         scen.load(tmp_path / "nope.toml")
     with pytest.raises(IsADirectoryError, match="is a directory"):
         scen.load(tmp_path)
-    with pytest.raises(TypeError, match="scenario: must be a file path"):
+    with pytest.raises(TypeError, match="^path: must be a file path"):
         scen.load(3.5)
 
 

@@ -88,7 +88,19 @@ CASES = [
         "too-many-samples",
         ["od", "simulate", "--out", "{d}/x.csv", "--duration", "1e9", "--step", "1"],
         2,
-        ["--step", "more than 1e6"],
+        ["--duration, --step", "more than 1e6"],  # named only --step
+    ),
+    (
+        "sigma-range-huge",  # the noise made a range negative: named the table's "value"
+        ["od", "simulate", "--out", "{d}/x.csv", "--sigma-range", "1e300"],
+        2,
+        ["--sigma-range: the simulated noise"],
+    ),
+    (
+        "state-huge",  # blamed the propagator's times
+        ["od", "simulate", "--out", "{d}/x.csv", "--state", "-1e300,0,0,0,0,0"],
+        2,
+        ["--state: every component must be below 1e100"],
     ),
     (
         "seed-negative",
@@ -207,7 +219,13 @@ CASES = [
             GUESS,
         ],
         2,
-        ["--ut1-utc: must be within [-1, 1] s"],
+        ["--ut1-utc: |UT1 - UTC| must be < 0.9 s"],
+    ),
+    (
+        "ut1-between-0.9-and-1",  # passed the CLI check, then the library named ut1_minus_utc
+        [*SOLVE, GUESS, "--station", "23,113,0.1", "--epoch", "1981-03-21T06:00:00", "--ut1-utc", "0.95"],
+        2,
+        ["--ut1-utc: |UT1 - UTC| must be < 0.9 s"],
     ),
     ("guess-inside-earth", [*SOLVE, "1,2,3,4,5,6"], 2, ["--guess: the position is inside the Earth"]),
     (
@@ -299,9 +317,9 @@ CASES = [
         ["--closed-loop: only with --model nonlinear"],
     ),
     # rank
-    ("orbit-negative-space", ["rank", "--orbit", "-1,2"], 2, ["sigma: must be > 0"]),
-    ("orbit-negative-equals", ["rank", "--orbit=-1,2"], 2, ["sigma: must be > 0"]),
-    ("orbit-text", ["rank", "--orbit", "mars"], 2, ["orbit: must be leo, geo, one"]),
+    ("orbit-negative-space", ["rank", "--orbit", "-1,2"], 2, ["--orbit (sigma): must be > 0"]),
+    ("orbit-negative-equals", ["rank", "--orbit=-1,2"], 2, ["--orbit (sigma): must be > 0"]),
+    ("orbit-text", ["rank", "--orbit", "mars"], 2, ["--orbit: must be leo, geo, one"]),
     # reproduce
     (
         "section-unknown",

@@ -319,9 +319,14 @@ def test_bad_arguments(kw, exc, text):
 
 
 def test_bad_force_model_parameters():
+    # The term's constructor names its own argument (it used to wait for the propagation: "drag.mass");
+    # a field set to a bad value afterwards is still caught at setup, named from the model.
+    with pytest.raises(ValueError, match="^mass: must be finite and > 0"):
+        satgnc.ExponentialDrag(rho0=1e-12, h0=500, scale_height=60, mass=0.0)
+    drag = satgnc.ExponentialDrag(rho0=1e-12, h0=500, scale_height=60)
+    drag.mass = 0.0
     with pytest.raises(ValueError, match="drag.mass: must be finite and > 0"):
-        satgnc.propagate(X0, [0.0, 10.0], forces=satgnc.ExponentialDrag(rho0=1e-12, h0=500, scale_height=60,
-                                                                          mass=0.0))
+        satgnc.propagate(X0, [0.0, 10.0], forces=drag)
     with pytest.raises(ValueError, match="mu: must be finite and > 0"):
         satgnc.ForceModel(mu=-1.0)
 
@@ -342,9 +347,69 @@ def test_too_much_work_raises_with_time_reached_and_partial_trajectory():
     assert err.trajectory.stms.shape == (2, 6, 6)
 
 
-def test_collision_course_raises():
+def _radial_fall_time(r0: float, r: float, mu: float = satgnc.EARTH_MU) -> float:
+    """Time (s) of a radial free fall from rest at r0 down to r (analytic)."""
+    x = r / r0
+    return math.sqrt(r0**3 / (2 * mu)) * (math.sqrt(x * (1 - x)) + math.acos(math.sqrt(x)))
+
+
+@pytest.mark.parametrize("method", satgnc.available_methods())
+def test_collision_course_raises(method):
     x0 = np.array([7000.0, 0, 0, 0, 0, 0])  # radial free fall reaches r = 0 at ~1.5e3 s
+    # Without a surface, the numerical methods fail near r = 0 (never NaN), Kepler reports "impact".
     with pytest.raises(satgnc.PropagationError) as info:
-        satgnc.propagate(x0, [0.0, 4000.0])
+        satgnc.propagate(x0, [0.0, 4000.0], method=method, surface_radius=0.0)
     assert info.value.t_reached < 4000.0
-    assert "stopped at t = " in str(info.value)
+    assert np.all(np.isfinite(info.value.trajectory.states))
+    if method != "kepler":
+        assert "stopped at t = " in str(info.value) or "step size" in str(info.value)
+    # With the Earth's surface (the default for mu = EARTH_MU): "impact" at the analytic fall time.
+    with pytest.raises(satgnc.PropagationError) as info:
+        satgnc.propagate(x0, [0.0, 100.0, 4000.0], method=method)
+    err = info.value
+    assert err.status == "impact" and "impact at t = " in str(err)
+    assert err.t_reached == pytest.approx(_radial_fall_time(7000.0, satgnc.EARTH_RADIUS), rel=1e-7)
+    assert len(err.trajectory) == 2  # the outputs before the impact
+
+
+# An inclined LEO orbit whose perigee lies 200 km below the surface: every method sees the same impact.
+_DIVE = [6600.0, 0, 0, -3.0, 5.0, 1.0]
+
+
+def _dive_impact_time() -> float:
+    """Impact time of _DIVE from Kepler's equation: r(E) = a (1 - e cos E) = R, E before perigee."""
+    mu, R = satgnc.EARTH_MU, satgnc.EARTH_RADIUS
+    r, v = np.array(_DIVE[:3]), np.array(_DIVE[3:])
+    rn = np.linalg.norm(r)
+    a = 1.0 / (2.0 / rn - v @ v / mu)
+    ecosE0, esinE0 = 1.0 - rn / a, (r @ v) / math.sqrt(mu * a)
+    e = math.hypot(ecosE0, esinE0)
+    E0 = math.atan2(esinE0, ecosE0)
+    E1 = -math.acos((1.0 - R / a) / e)  # descending branch (E < 0 before perigee), E0 < E1
+    assert E0 < E1 < 0.0
+    n = math.sqrt(mu / a**3)
+    return ((E1 - e * math.sin(E1)) - (E0 - e * math.sin(E0))) / n
+
+
+@pytest.mark.parametrize("method", satgnc.available_methods())
+@pytest.mark.parametrize("with_stm", [True, False])
+def test_impact_time_agrees_across_methods(method, with_stm):
+    ref = satgnc.propagate(_DIVE, [0.0, 60.0], method="kepler")  # before the impact
+    with pytest.raises(satgnc.PropagationError) as info:
+        satgnc.propagate(_DIVE, [0.0, 60.0, 3000.0], method=method, with_stm=with_stm)
+    err = info.value
+    assert err.status == "impact"
+    t_hit = _dive_impact_time()
+    assert err.t_reached == pytest.approx(t_hit, abs=1e-6)
+    np.testing.assert_allclose(err.trajectory.states, ref.states, rtol=1e-8, atol=1e-8)
+    # a larger body (surface_radius 6500 km) is reached earlier
+    with pytest.raises(satgnc.PropagationError) as info:
+        satgnc.propagate(_DIVE, [0.0, 3000.0], method=method, surface_radius=6500.0, with_stm=with_stm)
+    assert info.value.status == "impact" and 0.0 < info.value.t_reached < t_hit
+
+
+@pytest.mark.parametrize("method", satgnc.available_methods())
+def test_backward_impact(method):
+    # backward in time from a point on the way down: the arc rises, so no impact; forward it falls.
+    traj = satgnc.propagate(_DIVE, [0.0, -600.0], method=method)
+    assert traj.success and np.linalg.norm(traj.states[-1, :3]) > satgnc.EARTH_RADIUS

@@ -2,14 +2,34 @@
 #include "satgnc/dynamics/cw.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::dynamics {
 
+namespace {
+// Rejects |n t| beyond kCwMaxAngle, naming the caller's time argument; builds no string on success.
+void require_cw_angle(double n, double t, const char* name) {
+  const double th = std::abs(n * t);
+  if (th <= kCwMaxAngle) return;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3g", th);
+  core::require(false, name,
+                "|n " + std::string(name) + "| = " + buf +
+                    " rad exceeds 1e9 rad (~1.6e8 revolutions): the rounding of n t alone leaves fewer "
+                    "than 6 correct digits in the CW matrices",
+                "check the units: t in s, n in rad/s");
+}
+}  // namespace
+
 CwModel::CwModel(double mean_motion, double chaser_mass) : n(mean_motion), mass(chaser_mass) {
   core::require_positive(mean_motion, "n");
   core::require_positive(chaser_mass, "mass");
+  // n^2 enters A and the STM: n = 1e300 gave infinite entries, n = 1e-300 a zero n^2.
+  core::require(mean_motion >= 1e-100 && mean_motion <= 1e100, "n",
+                "must be in [1e-100, 1e100] rad/s (n^2 would overflow or underflow)", "check the units");
 }
 
 Mat6 CwModel::A() const {
@@ -40,6 +60,7 @@ Vec6 CwModel::rhs(const Vec6& x, const Vec3& u) const {
 // Hill's solution written in this frame (radial y, x = minus along-track); 1 - cos computed as
 // 2 sin^2(th/2) to avoid cancellation for small n t.
 Mat6 CwModel::stm(double t) const {
+  require_cw_angle(n, t, "t");
   const double th = n * t, s = std::sin(th), c = std::cos(th);
   const double omc = 2.0 * std::sin(0.5 * th) * std::sin(0.5 * th);
   Mat6 p = Mat6::Zero();
@@ -70,6 +91,7 @@ Mat6 CwModel::stm(double t) const {
 }
 
 Mat63 CwModel::input_integral(double t) const {
+  require_cw_angle(n, t, "t");
   const double th = n * t, s = std::sin(th);
   const double omc = 2.0 * std::sin(0.5 * th) * std::sin(0.5 * th);
   const double n2 = n * n;
@@ -92,11 +114,13 @@ Mat63 CwModel::input_integral(double t) const {
 
 CwDiscrete cw_discretize_zoh(const CwModel& model, double dt) {
   core::require_positive(dt, "dt");
+  require_cw_angle(model.n, dt, "dt");
   return {model.stm(dt), model.input_integral(dt)};
 }
 
 CwDiscrete cw_discretize_expm(const CwModel& model, double dt) {
   core::require_positive(dt, "dt");
+  require_cw_angle(model.n, dt, "dt");
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(9, 9);
   M.topLeftCorner(6, 6) = model.A() * dt;
   M.topRightCorner(6, 3) = model.B() * dt;
@@ -106,6 +130,7 @@ CwDiscrete cw_discretize_expm(const CwModel& model, double dt) {
 
 CwDiscrete cw_discretize_midpoint(const CwModel& model, double dt) {
   core::require_positive(dt, "dt");
+  require_cw_angle(model.n, dt, "dt");
   const Mat6 a = model.A();
   CwDiscrete d;
   d.Ad = Mat6::Identity() + dt * a + 0.5 * dt * dt * a * a;

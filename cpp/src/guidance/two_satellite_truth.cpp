@@ -1,8 +1,10 @@
 // CVODES truth flight of the two-satellite model (see two_satellite_truth.hpp).
 #include "satgnc/guidance/two_satellite_truth.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "satgnc/core/validate.hpp"
 
@@ -52,7 +54,16 @@ struct TwoSatelliteTruth::Impl {
   }
 
   Impl(const dynamics::TwoSatelliteModel& m, const propagation::CvodesOdeSettings& s)
-      : data(std::make_unique<Data>(m)), ode(make(data.get(), s)) {}
+      : data(std::make_unique<Data>(m)), ode(make(data.get(), s)) {
+    const double R = m.params().j2_radius;
+    ode.set_impact_function([R](double, const double* y) { return surface_margin(y, R); });
+  }
+
+  // min(|r_t|^2, |r_c|^2) - R^2 with r_c = r_t - d: > 0 while both bodies are above the surface.
+  static double surface_margin(const double* y, double R) {
+    const Eigen::Map<const Vec3> d(y), rt(y + 3);
+    return std::min(rt.squaredNorm(), (rt - d).squaredNorm()) - R * R;
+  }
 };
 
 TwoSatelliteTruth::TwoSatelliteTruth(const dynamics::TwoSatelliteModel& model,
@@ -80,6 +91,15 @@ TruthFlight TwoSatelliteTruth::fly(const Eigen::Ref<const Eigen::VectorXd>& x0,
   core::require(x0.size() == 12, "x0", "must have 12 entries [d, r_t, w, v_t] (m, m/s)");
   core::require(U.rows() == 3 && U.cols() >= 1, "U", "must be 3 x N (N >= 1), newtons");
   core::require_positive(dt, "dt");
+  core::require_finite(x0, "x0");
+  const double R = impl_->data->model.params().j2_radius;
+  const double rt = x0.segment<3>(3).norm(), rc = (x0.segment<3>(3) - x0.head<3>()).norm();
+  if (!(std::min(rt, rc) > R))
+    core::require(false, "x0",
+                  std::string(rt <= R ? "the target" : "the chaser") +
+                      " starts at or below the Earth's surface: |r| = " + std::to_string(std::min(rt, rc)) +
+                      " m <= R = " + std::to_string(R) + " m",
+                  "x0 = [d = r_t - r_c, r_t, w, v_t] in m and m/s");
   TruthFlight out;
   const int N = static_cast<int>(U.cols());
   out.X.setConstant(12, N + 1, std::numeric_limits<double>::quiet_NaN());
@@ -91,12 +111,14 @@ TruthFlight TwoSatelliteTruth::fly(const Eigen::Ref<const Eigen::VectorXd>& x0,
     out.rhs_evals += impl_->ode.stats().rhs_evals;
     if (st != PropagationStatus::success) {
       out.status = st;
+      out.t_reached = k * dt + impl_->ode.t_reached();
       out.failed_interval = k;
       out.message = "interval " + std::to_string(k) + ": " + impl_->message;
       return out;
     }
     out.X.col(k + 1) = x;
   }
+  out.t_reached = N * dt;
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include "satgnc/od/time.hpp"
 
 #include <cmath>
+#include <string>
 
 #include "satgnc/core/validate.hpp"
 
@@ -10,7 +11,15 @@ double julian_date(int year, int month, int day, int hour, int minute, double se
   using core::require;
   require(year >= 1900 && year <= 2100, "year", "must be in 1900..2100");
   require(month >= 1 && month <= 12, "month", "must be in 1..12");
-  require(day >= 1 && day <= 31, "day", "must be in 1..31");
+  static constexpr int kDays[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  const bool leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+  const int days = month == 2 && !leap ? 28 : kDays[month - 1];
+  // 2021-02-31 was accepted and read as 2021-03-03.
+  require(day >= 1 && day <= days, "day",
+          "must be in 1.." + std::to_string(days) + " for month " + std::to_string(month) + " of " +
+              std::to_string(year) + ", got " + std::to_string(day));
+  // Alg. 14's validity starts on 1900-03-01 (1900 is not a leap year; the formula assumes it is).
+  require(year > 1900 || month >= 3, "year", "must be on or after 1900-03-01 (the formula's validity)");
   require(hour >= 0 && hour <= 23, "hour", "must be in 0..23");
   require(minute >= 0 && minute <= 59, "minute", "must be in 0..59");
   require(std::isfinite(second) && second >= 0.0 && second < 61.0, "second", "must be in [0, 61)");
@@ -33,7 +42,11 @@ double gmst_iau1982(double jd_ut1) {
 }
 
 double gmst_from_utc(double jd_utc, double ut1_minus_utc_s) {
-  core::require_finite(ut1_minus_utc_s, "ut1_minus_utc_s");
+  // IERS keeps |UT1 - UTC| < 0.9 s with leap seconds: 5 s is a unit or sign error, not an offset.
+  core::require(std::isfinite(ut1_minus_utc_s) && std::abs(ut1_minus_utc_s) < kMaxUt1MinusUtc,
+                "ut1_minus_utc_s",
+                "|UT1 - UTC| must be < 0.9 s (IERS), got " + std::to_string(ut1_minus_utc_s),
+                "the offset is in seconds; leap seconds keep it below 0.9 s");
   return gmst_iau1982(jd_utc + ut1_minus_utc_s / 86400.0);
 }
 

@@ -40,6 +40,9 @@ std::string fmt(double x) {
 void CvodesSettings::validate() const {
   if (!(std::isfinite(rtol) && rtol > 0.0))
     invalid("rtol", "must be finite and > 0, got " + fmt(rtol), "1e-10 is a good start for orbits");
+  if (!(rtol < 1.0))  // rtol = 1e300 "succeeded" with a trajectory no tolerance controlled
+    invalid("rtol", "must be < 1 (a relative tolerance of 100 % controls nothing), got " + fmt(rtol),
+            "1e-10 is a good start for orbits");
   if (!(std::isfinite(atol) && atol > 0.0)) invalid("atol", "must be finite and > 0, got " + fmt(atol));
   const size_t na = atol_components.size();
   if (!(na == 0 || na == 6 || (na == 42 && with_stm)))
@@ -56,6 +59,8 @@ void CvodesSettings::validate() const {
     invalid("initial_step", "must be finite and >= 0 (0: automatic), got " + fmt(initial_step));
   if (!(std::isfinite(max_step) && max_step >= 0.0))
     invalid("max_step", "must be finite and >= 0 (0: unbounded), got " + fmt(max_step));
+  if (!(std::isfinite(surface_radius) && surface_radius >= 0.0))
+    invalid("surface_radius", "must be finite and >= 0 km (0: no surface), got " + fmt(surface_radius));
 }
 
 void validate_propagation_input(const Vec6& x0, double t0, const std::vector<double>& times) {
@@ -63,6 +68,7 @@ void validate_propagation_input(const Vec6& x0, double t0, const std::vector<dou
   if (!x0.allFinite()) invalid("x0", "must be finite (no NaN or Inf)");
   if (!(x0.head<3>().squaredNorm() > 0.0))
     invalid("x0", "position must be nonzero (|r| = 0)", "x0 = [r km, v km/s]");
+  validate_state_magnitude(x0);
   if (!std::isfinite(t0)) invalid("t0", "must be finite");
   if (times.empty()) invalid("times", "must not be empty");
   for (size_t i = 0; i < times.size(); ++i)
@@ -95,6 +101,7 @@ struct CvodesPropagator::Impl {
   // Failure bookkeeping (written only on failure).
   bool rhs_failed = false;
   double rhs_fail_t = 0.0;
+  realtype tret_ = 0.0;  // time CVode returned (the root's time on CV_ROOT_RETURN)
   std::string cv_message;
 
   Impl(const dynamics::ForceModel& m, const CvodesSettings& s) : model(m), settings(s) {}
@@ -220,6 +227,21 @@ struct CvodesPropagator::Impl {
     if (c == CvodesCorrector::automatic) c = CvodesCorrector::newton;  // measured: see docs/propagation.md
     detail::cvodes_attach_corrector(mem, y, ctx, c != CvodesCorrector::fixed_point, this, &Impl::ls_solve,
                                     cv_message, nls, ls);
+    if (settings.surface_radius > 0.0) {
+      check(CVodeRootInit(mem, 1, &Impl::surface_root), "CVodeRootInit");
+      int down = -1;  // only entering the body is an impact
+      check(CVodeSetRootDirection(mem, &down), "CVodeSetRootDirection");
+      check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn");
+    }
+  }
+
+  // g = |r|^2 - R^2: positive above the surface; CVODES stops where it crosses zero downward.
+  static int surface_root(realtype, N_Vector yv, realtype* g, void* user) {
+    const auto* p = static_cast<const Impl*>(user);
+    const double* yd = N_VGetArrayPointer(yv);
+    const double R = p->settings.surface_radius;
+    g[0] = yd[0] * yd[0] + yd[1] * yd[1] + yd[2] * yd[2] - R * R;
+    return 0;
   }
 
   static PropagationStatus map_flag(int flag) { return detail::cvodes_flag_status(flag); }
@@ -238,6 +260,12 @@ struct CvodesPropagator::Impl {
 
   void run(const Vec6& x0, double t0, const std::vector<double>& times, Trajectory& out) {
     validate_propagation_input(x0, t0, times);
+    const double R = settings.surface_radius;
+    if (R > 0.0 && !(x0.head<3>().norm() > R))
+      invalid("x0",
+              "starts at or below the surface: |r0| = " + fmt(x0.head<3>().norm()) +
+                  " km <= surface_radius = " + fmt(R) + " km",
+              "x0 = [r km, v km/s]; surface_radius = 0 disables the surface");
     out.times.clear();
     out.states.clear();
     out.stms.clear();
@@ -272,18 +300,36 @@ struct CvodesPropagator::Impl {
       const long remaining = settings.max_steps - used;
       if (remaining > 0) {
         CVodeSetMaxNumSteps(mem, remaining);
-        realtype tret = t0;
-        flag = CVode(mem, times[i], y, &tret, CV_NORMAL);
+        tret_ = t0;
+        flag = CVode(mem, times[i], y, &tret_, CV_NORMAL);
         CVodeGetNumSteps(mem, &used);
       }
       if (flag < 0) {
         fail(out, flag, times[i], times.size());
         return;
       }
+      if (flag == CV_ROOT_RETURN) {
+        impact(out, tret_, times[i], times.size());
+        return;
+      }
       record(out, times[i]);
     }
     out.t_reached = times.back();
     fill_stats(out);
+  }
+
+  void impact(Trajectory& out, double t_hit, double target, size_t n_requested) {
+    fill_stats(out);
+    out.t_reached = t_hit;
+    out.status = PropagationStatus::impact;
+    // One snprintf into a stack buffer: a reused Trajectory keeps its message capacity, so an impact
+    // in a reused workspace allocates nothing (test_cvodes.cpp).
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "CVODES: impact at t = %.17g s: |r| reached surface_radius = %.17g km before t = %.17g s "
+                  "(%zu of %zu outputs returned)",
+                  t_hit, settings.surface_radius, target, out.times.size(), n_requested);
+    out.message.assign(buf);
   }
 
   void fail(Trajectory& out, int flag, double target, size_t n_requested) {

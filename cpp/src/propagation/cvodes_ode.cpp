@@ -67,6 +67,7 @@ struct CvodesOde::Impl {
   double t_reached = 0.0;
   bool rhs_failed = false;
   double rhs_fail_t = 0.0;
+  ImpactFunction impact;
 
   Impl(int dim, Rhs rhs, const CvodesOdeSettings& s, Jacobian j)
       : n(dim), f(std::move(rhs)), jac(std::move(j)), settings(s) {}
@@ -152,6 +153,24 @@ struct CvodesOde::Impl {
                                     nls, ls);
   }
 
+  static int impact_root(realtype t, N_Vector yv, realtype* g, void* user) {
+    const auto* p = static_cast<const Impl*>(user);
+    g[0] = p->impact(t, N_VGetArrayPointer(yv));
+    return std::isfinite(g[0]) ? 0 : 1;  // a non-finite g is a root-function failure (CV_RTFUNC_FAIL)
+  }
+
+  void set_impact(ImpactFunction g) {
+    core::require(static_cast<bool>(g), "impact_function", "must be a callable");
+    const bool first = !impact;
+    impact = std::move(g);
+    if (first) {
+      check(CVodeRootInit(mem, 1, &Impl::impact_root), "CVodeRootInit");
+      int down = -1;  // only entering the region is an impact
+      check(CVodeSetRootDirection(mem, &down), "CVodeSetRootDirection");
+      check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn");
+    }
+  }
+
   static PropagationStatus map_flag(int flag) { return detail::cvodes_flag_status(flag); }
 
   void fill_stats() { detail::cvodes_read_stats(mem, stats); }
@@ -167,6 +186,11 @@ struct CvodesOde::Impl {
       message = "invalid input: y must have n = " + std::to_string(n) +
                 " finite entries and t0, t1 must be finite and distinct";
       return PropagationStatus::solver_failure;
+    }
+    if (impact && !(impact(t0, yin.data()) > 0.0)) {
+      message =
+          "impact: the state starts at or inside the surface (impact function <= 0 at t = " + fmt(t0) + ")";
+      return PropagationStatus::impact;
     }
     Eigen::Map<Eigen::VectorXd> yv(N_VGetArrayPointer(y), n);
     yv = yin;
@@ -191,6 +215,10 @@ struct CvodesOde::Impl {
       return st;
     }
     yin = yv;
+    if (flag == CV_ROOT_RETURN) {
+      message = "impact at t = " + fmt(tret) + " (the impact function reached 0) before t = " + fmt(t1);
+      return PropagationStatus::impact;
+    }
     return PropagationStatus::success;
   }
 };
@@ -211,6 +239,8 @@ PropagationStatus CvodesOde::integrate(double t0, Eigen::Ref<Eigen::VectorXd> y,
     return PropagationStatus::solver_failure;
   }
 }
+
+void CvodesOde::set_impact_function(ImpactFunction g) { impl_->set_impact(std::move(g)); }
 
 int CvodesOde::dim() const { return impl_->n; }
 const CvodesOdeSettings& CvodesOde::settings() const { return impl_->settings; }

@@ -10,6 +10,7 @@ namespace satgnc::propagation {
 
 void dop853_validate_settings(const Dop853Settings& s) {
   core::require_positive(s.rtol, "rtol");
+  core::require(s.rtol < 1.0, "rtol", "must be < 1 (a relative tolerance of 100 % controls nothing)");
   core::require_nonnegative(s.atol, "atol");
   core::require(s.max_steps > 0, "max_steps", "must be > 0, got " + std::to_string(s.max_steps));
   core::require_nonnegative(s.h0, "h0");
@@ -26,6 +27,15 @@ void dop853_validate_orbit_input(const Vec6& x0, double t0, const std::vector<do
   validate_orbit_arc_input(x0, t0, times, "gravity is singular at the centre of the body");
 }
 
+void dop853_validate_surface(const Vec6& x0, double surface_radius) {
+  core::require_nonnegative(surface_radius, "surface_radius");
+  if (surface_radius > 0.0 && !(x0.head<3>().norm() > surface_radius))
+    core::require(false, "x0",
+                  "starts at or below the surface: |r0| = " + std::to_string(x0.head<3>().norm()) +
+                      " km <= surface_radius = " + std::to_string(surface_radius) + " km",
+                  "x0 = [r km, v km/s]; surface_radius = 0 disables the surface");
+}
+
 PropagationStatus dop853_to_propagation_status(Dop853Status s) {
   switch (s) {
     case Dop853Status::success:
@@ -36,6 +46,8 @@ PropagationStatus dop853_to_propagation_status(Dop853Status s) {
       return PropagationStatus::error_test_failures;
     case Dop853Status::rhs_failure:
       return PropagationStatus::rhs_failure;
+    case Dop853Status::event:
+      return PropagationStatus::impact;
     case Dop853Status::invalid_settings:
     case Dop853Status::invalid_input:
       return PropagationStatus::solver_failure;

@@ -12,7 +12,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -56,6 +56,18 @@ def _scalar(value, name: str, positive: bool = False, nonnegative: bool = False)
     return as_real(value, name, positive=positive, nonnegative=nonnegative)
 
 
+_MAX_SCALE = 1e100  # rates and lengths: their squares and cubes stay finite (1e300 gave inf matrices)
+
+
+def _scale(value, name: str, unit: str) -> float:
+    """A positive rate or length whose powers up to the third are normal doubles."""
+    v = as_real(value, name, positive=True)
+    if not 1.0 / _MAX_SCALE <= v <= _MAX_SCALE:
+        raise ValueError(f"{name}: must be in [1e-100, 1e100] {unit}, got {v:.3g} (its square or cube in the "
+                         "model would overflow or underflow; hint: check the units)")
+    return v
+
+
 def _units(units):
     if units is None:
         return None
@@ -67,7 +79,12 @@ def _units(units):
 # ----------------------------------------------------------------------------- models
 def orbit(spec) -> tuple[float, float]:
     """(sigma km, omega rad/s) for ``"one"`` (sigma = omega = 1, the paper's case), ``"leo"`` (400 km
-    altitude), ``"geo"``, a ``"sigma,omega"`` string or a (sigma, omega) pair."""
+    altitude), ``"geo"``, a ``"sigma,omega"`` string or a (sigma, omega) pair (both > 0)."""
+    return _orbit(spec, "spec")
+
+
+def _orbit(spec, name: str) -> tuple[float, float]:
+    """orbit() with errors naming the caller's argument (``spec``, or the CLI's ``--orbit``)."""
     if isinstance(spec, str):
         key = spec.strip().lower()
         if key in ("one", "unit", "1"):
@@ -80,22 +97,22 @@ def orbit(spec) -> tuple[float, float]:
             return s, math.sqrt(MU_EARTH / s**3)
         parts = key.split(",")
         if len(parts) != 2:
-            raise ValueError(f"orbit: must be leo, geo, one or 'sigma,omega', got {spec!r}")
+            raise ValueError(f"{name}: must be leo, geo, one or 'sigma,omega', got {spec!r}")
         try:
             sigma, omega = float(parts[0]), float(parts[1])
         except ValueError:
-            raise ValueError(f"orbit: 'sigma,omega' must be two numbers, got {spec!r}") from None
+            raise ValueError(f"{name}: 'sigma,omega' must be two numbers, got {spec!r}") from None
     else:
         try:
             sigma, omega = spec
         except (TypeError, ValueError):
-            raise TypeError(f"orbit: must be a string or a (sigma, omega) pair, got {spec!r}") from None
-    return _scalar(sigma, "sigma", positive=True), _scalar(omega, "omega", positive=True)
+            raise TypeError(f"{name}: must be a string or a (sigma, omega) pair, got {spec!r}") from None
+    return _scalar(sigma, f"{name} (sigma)", positive=True), _scalar(omega, f"{name} (omega)", positive=True)
 
 
 def polar_model(sigma: float, omega: float) -> PolarModel:
     """Polar model about the circle r = sigma (km), theta = omega t (rad/s); k = sigma^3 omega^2."""
-    return PolarModel(_scalar(sigma, "sigma", positive=True), _scalar(omega, "omega", positive=True))
+    return PolarModel(_scale(sigma, "sigma", "km"), _scale(omega, "omega", "rad/s"))
 
 
 def polar_linear_model(sigma: float, omega: float, measured: Sequence[int] = (0, 2),
@@ -126,28 +143,34 @@ def _indices(idx, n: int, name: str) -> list[int]:
 def cw_model(mean_motion: float, measured: Sequence[int] = (0, 1, 2)):
     """(A, B, C) of Clohessy-Wiltshire in a Hill frame: x radial, y along-track, z orbit normal;
     state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity."""
-    n = _scalar(mean_motion, "mean_motion", positive=True)
+    n = _scale(mean_motion, "mean_motion", "rad/s")
     return _s._cw_model(n, _indices(measured, 6, "measured"))
 
 
 def polar_units(sigma: float, omega: float, n_outputs: int = 0) -> dict:
     """Dimensionless units for the polar model: time 1/omega, length sigma."""
-    return _s._polar_units(_scalar(sigma, "sigma", positive=True), _scalar(omega, "omega", positive=True),
+    return _s._polar_units(_scale(sigma, "sigma", "km"), _scale(omega, "omega", "rad/s"),
                            as_int(n_outputs, "n_outputs", low=0, high=10**6))
 
 
 def cw_units(mean_motion: float, length: float = 1.0, n_outputs: int = 0) -> dict:
     """Dimensionless units for CW: time 1/n, length ``length`` (m)."""
-    return _s._cw_units(_scalar(mean_motion, "mean_motion", positive=True),
-                        _scalar(length, "length", positive=True),
+    return _s._cw_units(_scale(mean_motion, "mean_motion", "rad/s"),
+                        _scale(length, "length", "m"),
                         as_int(n_outputs, "n_outputs", low=0, high=10**6))
 
 
 def nondimensionalize(A, B, C, units: dict):
     """(A~, B~, C~) in ``units`` (see :func:`polar_units`)."""
     A = _matrix(A, "A")
-    B = _matrix(B, "B", allow_empty=True).reshape(A.shape[0], -1) if np.size(B) else np.zeros((A.shape[0], 0))
-    C = _matrix(C, "C", allow_empty=True).reshape(-1, A.shape[0]) if np.size(C) else np.zeros((0, A.shape[0]))
+    n = A.shape[0]
+    B = _matrix(B, "B", allow_empty=True) if np.size(B) else np.zeros((n, 0))
+    C = _matrix(C, "C", allow_empty=True) if np.size(C) else np.zeros((0, n))
+    # A B or C of the wrong size was a bare numpy "cannot reshape array of size 9 into shape (4,newaxis)"
+    if B.shape[0] != n:
+        raise ValueError(f"B: must have n = {n} rows (A is {n} x {n}), got shape {B.shape}")
+    if C.shape[1] != n:
+        raise ValueError(f"C: must have n = {n} columns (A is {n} x {n}), got shape {C.shape}")
     return _s._nondimensionalize(A, B, C, _units(units))
 
 
@@ -305,6 +328,7 @@ def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 10
         raise ValueError(f"{name}: {m} channels make 2^{m} - 1 = {2**m - 1:.3g} subsets (one staircase and "
                          f"one ~1 kB row each, ~{2**m * 1e3 / 1e9:.3g} GB); at most {_MAX_LOSS_CHANNELS} "
                          "channels")
+    _squarable(args[1], name)  # B = 1e300 gave NaN Kalman ratios (inf / inf)
     return _s._loss_table(*args)
 
 
@@ -312,7 +336,31 @@ _MAX_LOSS_CHANNELS = 20
 
 
 def format_loss_table(rows: list[dict], names: Sequence[str], n: int, title: str = "") -> str:
-    """Plain-text (Markdown) table of :func:`loss_table` rows with channel ``names``."""
+    """Plain-text (Markdown) table of :func:`loss_table` rows with channel ``names`` (one name per
+    channel of the B columns / C rows) and state dimension ``n`` (>= 1)."""
+    # Checks: names="ab" printed channel letters, a short names list raised a bare IndexError, rows of
+    # another function a KeyError, n=True printed "rank/True".
+    n = as_int(n, "n", low=1)
+    if not isinstance(title, str):
+        raise TypeError(f"title: must be a string, got {type(title).__name__}")
+    if isinstance(names, (str, bytes)) or not isinstance(names, Sequence):
+        raise TypeError(f"names: must be a list of channel names (str), got {type(names).__name__}")
+    for i, nm in enumerate(names):
+        if not isinstance(nm, str):
+            raise TypeError(f"names[{i}]: must be a string, got {type(nm).__name__}")
+    if isinstance(rows, (str, bytes, dict)) or not isinstance(rows, Sequence):
+        raise TypeError(f"rows: must be the list of dicts returned by loss_table, got {type(rows).__name__}")
+    keys = ("channels", "rank", "verdict_text", "margin", "kalman_rank", "kalman_ratio")
+    for i, r in enumerate(rows):
+        if not isinstance(r, Mapping):
+            raise TypeError(f"rows[{i}]: must be a dict from loss_table, got {type(r).__name__}")
+        missing = [k for k in keys if k not in r]
+        if missing:
+            raise ValueError(f"rows[{i}]: missing key(s) {missing}; pass the rows returned by loss_table")
+        for c in r["channels"]:
+            if isinstance(c, bool) or not isinstance(c, numbers.Integral) or not 0 <= c < len(names):
+                raise ValueError(f"names: {len(names)} name(s) given, but rows[{i}] uses channel {c!r} "
+                                 "(one name per channel is needed)")
     lines = [title] if title else []
     lines += ["| kept | rank | verdict | margin | Kalman rank (numpy tol) | Kalman smin/smax |",
               "|---|---|---|---|---|---|"]
@@ -330,24 +378,63 @@ def _gramian(d: dict) -> GramianReport:
     return GramianReport(**base, extra=extra)
 
 
+_MAX_FACTOR = 1e150  # |B_ij|, |C_ij| below it keep B B^T and C^T C finite
+
+
+_MAX_PHASE = 1e12  # |A| T: beyond it the doubling of e^{A T / 2^k} keeps no correct digit
+
+
+def _horizon(A: np.ndarray, T: float) -> float:
+    """T, or a ValueError naming it when |A|_1 T > 1e12 or T > 1e100 (T = 1e300 gave W = 0 for an
+    oscillator whose Gramian grows like T)."""
+    phase = float(np.max(np.sum(np.abs(A), axis=0))) * T if A.size else 0.0
+    if phase > _MAX_PHASE or T > _MAX_SCALE:
+        raise ValueError(f"T: too long for this A: |A|_1 T = {phase:.3g} (must be <= 1e12) or T = {T:.3g} s "
+                         "(must be <= 1e100); the Van Loan doubling keeps no correct digit beyond "
+                         "(hint: shorten T, or nondimensionalize the model)")
+    return T
+
+
+def _squarable(M: np.ndarray, name: str) -> np.ndarray:
+    """M, or a ValueError naming it when M M^T overflows (B = 1e300 was blamed on T)."""
+    big = float(np.max(np.abs(M))) if M.size else 0.0
+    if big >= _MAX_FACTOR:
+        raise ValueError(f"{name}: entries must be below {_MAX_FACTOR:.0e} in magnitude (max |{name}_ij| = "
+                         f"{big:.3g}): the Gramian's {name}-product overflows double precision "
+                         "(hint: nondimensionalize the model)")
+    return M
+
+
 def controllability_gramian(A, B, T: float) -> GramianReport:
     """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential (T in s)."""
     T = _scalar(T, "T", positive=True)
-    return _gramian(_s._controllability_gramian(_matrix(A, "A"), _matrix(B, "B"), T))
+    A = _matrix(A, "A")
+    return _gramian(_s._controllability_gramian(A, _squarable(_matrix(B, "B"), "B"), _horizon(A, T)))
 
 
 def observability_gramian(A, C, T: float) -> GramianReport:
     """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential (T in s)."""
     T = _scalar(T, "T", positive=True)
-    return _gramian(_s._observability_gramian(_matrix(A, "A"), _matrix(C, "C"), T))
+    A = _matrix(A, "A")
+    return _gramian(_s._observability_gramian(A, _squarable(_matrix(C, "C"), "C"), _horizon(A, T)))
 
 
 def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
     """W = sum_j w_j Phi_j^T H_j^T H_j Phi_j from transition matrices Phi_j and partials H_j."""
+    for name, value in (("stms", stms), ("H", H), ("weights", weights)):
+        if value is not None or name != "weights":  # None was "'NoneType' object is not iterable"
+            if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
+                raise TypeError(f"{name}: must be a sequence of matrices (one per time), "
+                                f"got {type(value).__name__}")
     stms = [_matrix(p, "stms") for p in stms]
     H = [_matrix(h, "H") for h in H]
     w = [] if weights is None else [_scalar(x, "weights", nonnegative=True) for x in weights]
-    return _gramian(_s._ltv_observability_gramian(stms, H, w))
+    try:
+        return _gramian(_s._ltv_observability_gramian(stms, H, w))
+    except ValueError as e:  # "W: must be finite" named the result, not the inputs that overflowed
+        if str(e).startswith("W:"):
+            raise ValueError(f"stms, H, weights: the Gramian sum overflows double precision ({e})") from None
+        raise
 
 
 def minimum_energy(W, x_f) -> float:
@@ -361,7 +448,8 @@ def minimum_energy(W, x_f) -> float:
         ev = np.linalg.eigvalsh(0.5 * (W + W.T))
         if ev[0] < -1e-8 * max(scale, float(np.max(np.abs(ev)))):
             raise ValueError(f"W: must be positive semidefinite (a Gramian), smallest eigenvalue {ev[0]:.3g}")
-    return _s._minimum_energy(W, _matrix(x_f, "x_f", ndim=1))
+    x_f = _squarable(_matrix(x_f, "x_f", ndim=1), "x_f")  # 1e300 gave inf, read as "unreachable"
+    return _s._minimum_energy(W, x_f)
 
 
 def expm(M) -> np.ndarray:
@@ -421,6 +509,34 @@ def paper_od_state() -> tuple[np.ndarray, np.ndarray]:
     return np.array(od["table1_true_state"], float), np.array(od["table3_station_state"][:3], float)
 
 
+_MAX_SPAN = 1e12  # s (~3e4 years), as satgnc.propagate
+
+
+def _span_checked(times: np.ndarray) -> np.ndarray:
+    """times, or a ValueError naming them when an orbit arc cannot span them (1e300 s blamed x0)."""
+    if times.size and float(np.max(np.abs(times))) > _MAX_SPAN:
+        raise ValueError(f"times: |t| = {float(np.max(np.abs(times))):.3g} s exceeds {_MAX_SPAN:.0e} s (~3e4 "
+                         "years) (hint: times are seconds from the epoch of x0)")
+    return times
+
+
+class _kepler_blame:
+    """Rewrite the engine's "x0: Kepler propagation ..." so that it names every argument that shapes the
+    arc: a huge mu or time span was reported as a bad x0."""
+
+    def __init__(self, span: str):
+        self.span = span
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, err, tb):
+        if kind is ValueError and str(err).startswith("x0: Kepler propagation"):
+            raise ValueError(f"x0, mu, {self.span}: {str(err)[4:]} (hint: check the units: km, km/s, s, "
+                             "km^3/s^2)") from None
+        return False
+
+
 def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER,
                mu: float = MU_EARTH) -> GramianReport:
     """Observability Gramian of single-station ``kind`` tracking ("range", "range_rate", "both") at
@@ -430,9 +546,10 @@ def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_R
     px, pr = paper_od_state()
     x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
-    times = _matrix(times, "times", ndim=1)
-    return _gramian(_s._od_observability_gramian(x0, r0, _scalar(rate, "rate"), list(times), kind,
-                                                 _scalar(mu, "mu", positive=True)))
+    times = _span_checked(_matrix(times, "times", ndim=1))
+    with _kepler_blame("times"):
+        return _gramian(_s._od_observability_gramian(x0, r0, _scalar(rate, "rate"), list(times), kind,
+                                                     _scalar(mu, "mu", positive=True)))
 
 
 def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu: float = MU_EARTH,
@@ -448,7 +565,8 @@ def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu
     if dt > t_max:
         raise ValueError(f"dt: the search step must be <= t_max = {t_max} s, got {dt}")
     mu = _scalar(mu, "mu", positive=True)
-    return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), mu, t_max, dt))
+    with _kepler_blame("t_max"):
+        return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), mu, t_max, dt))
 
 
 def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> dict:
@@ -458,7 +576,7 @@ def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> dict:
     Phi(t_{j+1}, t_j) = Phi_{j+1} Phi_j^-1 ((N-1) x 6 x 6) for the discrete LTV model."""
     px, _ = paper_od_state()
     x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
-    times = _matrix(times, "times", ndim=1)
+    times = _span_checked(_matrix(times, "times", ndim=1))
     if np.any(np.diff(times) <= 0):
         raise ValueError("times: must be strictly increasing")
     mu = _scalar(mu, "mu", positive=True)
@@ -466,7 +584,7 @@ def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> dict:
     states = np.asarray(tr.states)
     stms = np.asarray(tr.stms)
     if len(states) != len(times):
-        raise ValueError(f"x0: Kepler propagation stopped early ({tr.message})")
+        raise ValueError(f"x0, mu, times: Kepler propagation stopped early ({tr.message})")
     A = np.array([_s._two_body_jacobian(x[:3], mu) for x in states])
     trans = np.array([stms[j + 1] @ np.linalg.inv(stms[j]) for j in range(len(times) - 1)])
     return {"times": times, "states": states, "stms": stms, "A": A, "transitions": trans}

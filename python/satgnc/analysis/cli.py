@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import argparse
 
-from . import cw_model, cw_units, format_loss_table, loss_table, orbit, polar_linear_model, polar_units
+from . import _orbit, cw_model, cw_units, format_loss_table, loss_table, polar_linear_model, polar_units
 
 
 def _rank(args: argparse.Namespace) -> int:
-    sigma, omega = orbit(args.orbit)
+    sigma, omega = _orbit(args.orbit, "--orbit")
     if args.model == "polar":
         A, B, C = polar_linear_model(sigma, omega)
         units = polar_units(sigma, omega, n_outputs=2) if args.units == "dimensionless" else None

@@ -48,6 +48,10 @@ def _as_array(value: Any, name: str, ndim: int | tuple[int, ...], shape: tuple |
 def _finite(arr: np.ndarray, name: str) -> np.ndarray:
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name}: must be finite (no NaN or Inf)")
+    # A = 1e300 gave a numerical_error with a NaN objective, x0 = 1e300 an infinite one
+    if arr.size and np.max(np.abs(arr)) >= 1e100:
+        raise ValueError(f"{name}: entries must be below 1e100 in magnitude (got {np.max(np.abs(arr)):.3g}): "
+                         "the solver's products overflow double precision (hint: scale the problem)")
     return arr
 
 
@@ -218,8 +222,19 @@ class L1Solver:
             raise ValueError(f"settings.rho: must be finite and > 0, got {st.rho}")
         self.nx, self.nu, self.horizon = nx, nu, horizon
         self._counts = (len(As), len(Bs), len(cs))
-        self._solver = _satgnc.AdmmSolver(As, Bs, cs, horizon, x0, xf, Qf, Q, R, w, float(group_l2_weight),
-                                          lo, hi, float(u_norm_max), bool(terminal_equality), st)
+        try:
+            self._solver = _satgnc.AdmmSolver(As, Bs, cs, horizon, x0, xf, Qf, Q, R, w,
+                                              float(group_l2_weight), lo, hi, float(u_norm_max),
+                                              bool(terminal_equality), st)
+        except ValueError as e:
+            # Qf = 1e300 I overflowed the Riccati recursion and the error blamed "rho".
+            if str(e).startswith("rho: Riccati factorization failed"):
+                for name, v in (("Qf", Qf), ("Q", Q), ("R", R), ("group_l2_weight", group_l2_weight)):
+                    big = float(np.max(np.abs(v))) if np.size(v) else 0.0
+                    if big >= 1e150:
+                        raise ValueError(f"{name}: entries up to {big:.3g} overflow the Riccati recursion "
+                                         "(hint: scale the cost; weights must be below 1e150)") from None
+            raise
 
     def solve(self) -> L1Result:
         """Run ADMM (never raises for solver outcomes: check ``result.status``)."""

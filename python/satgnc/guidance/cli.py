@@ -24,7 +24,7 @@ def _run(args: argparse.Namespace) -> int:
         return nonlinear.run_cli(pathlib.Path(args.out), closed_loop=args.closed_loop)
     if getattr(args, "closed_loop", False):
         raise ValueError("--closed-loop: only with --model nonlinear")
-    sc = scen.load(args.scenario)
+    sc = scen._load(args.scenario, "scenario")
     for case in args.case or []:
         if case not in sc.cases:
             raise ValueError(f"--case: unknown {case!r}; the scenario has {sorted(sc.cases)}")

@@ -17,6 +17,7 @@ Units: SI (m, m/s, N, kg, s) at this API; the solvers work in the scaled units o
 from __future__ import annotations
 
 import dataclasses
+import re
 import time
 
 import numpy as np
@@ -83,6 +84,7 @@ def release_state() -> np.ndarray:
 
 def drift_state(params=None, steps: int = 9999) -> np.ndarray:
     """12-state after 3600 s of uncontrolled RK4 (the implementation: 10000 nodes = 9999 steps)."""
+    steps = as_int(steps, "steps", low=1, high=10**7)  # 2**70 was reported as a bad "scheme"
     model = _c.TwoSatelliteModel(params if params is not None else model_params())
     return np.asarray(model.propagate(4, release_state(), 3600.0, steps))
 
@@ -199,6 +201,7 @@ def paper_case(
                         f"got {type(params).__name__}")
     model = _c.TwoSatelliteModel(params if params is not None else model_params())
     x0 = drift_state() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,))
+    _check_above_surface(x0, "x0_si", params if params is not None else model_params())
     sc = _c.published_scaling(x0, MU, MASS)
     dmap = make_map(model, tf / horizon, sc, discretization, substeps)
     pr = _c.NonlinearL1Problem()
@@ -313,7 +316,10 @@ def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
     _check_case(case)
     zero_tol = as_real(zero_tol, "zero_tol", nonnegative=True)
     U = case.to_si(as_real_array(U_scaled, "U_scaled", shape=(3, case.problem.horizon)))
-    X = case.rollout_si(U)
+    try:
+        X = case.rollout_si(U)
+    except RuntimeError as e:  # "step: the model failed on interval 0" named no argument
+        raise _model_failure("U_scaled", U_scaled, None, e) from None
     dv = float(np.abs(U).sum() * case.dt / MASS)
     thresh = zero_tol * max(np.abs(U).max(), 1e-30)
     return {
@@ -325,6 +331,44 @@ def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
         "objective": case.cost(U),
         "u_max": float(np.abs(U).max()),
     }
+
+
+def _check_above_surface(x: np.ndarray, name: str, params) -> None:
+    """ValueError naming ``name`` when the target or the chaser of the 12-state x (m) is at or below
+    the Earth's surface, the sphere of radius ``params.j2_radius`` (m); a start inside the Earth was a
+    CVODES RuntimeError (or, with RK4, a silent flight through the planet)."""
+    R = float(params.j2_radius)
+    rt = float(np.linalg.norm(x[3:6]))
+    rc = float(np.linalg.norm(x[3:6] - x[0:3]))
+    for body, r in (("target |r_t|", rt), ("chaser |r_t - d|", rc)):
+        if not r > R:
+            raise ValueError(f"{name}: the {body.split()[0]} starts at or below the Earth's surface: "
+                             f"{body} = {r:.6g} m <= R = {R:.6g} m (j2_radius); "
+                             "x = [d, r_t, w, v_t] in m, m/s")
+
+
+def _model_failure(name: str, U, k, err: Exception) -> Exception:
+    """The model's failure as an error naming the control argument when its size explains it."""
+    big = float(np.max(np.abs(U))) if np.size(U) else 0.0
+    where = f" in interval {k}" if k is not None else ""
+    if big >= 1e100:
+        return ValueError(f"{name}: controls up to {big:.3g} make the model's state overflow{where} "
+                          f"({err}); check the units")
+    return RuntimeError(f"{name}: the model failed{where} ({err})")
+
+
+def _above_surface(x: np.ndarray, params) -> bool:
+    """Both bodies of the 12-state x (m) above the sphere of radius params.j2_radius."""
+    R2 = float(params.j2_radius) ** 2
+    return bool(min(x[3:6] @ x[3:6], (x[3:6] - x[0:3]) @ (x[3:6] - x[0:3])) > R2)
+
+
+def _impact(message: str, t: float, X: np.ndarray):
+    from satgnc.propagation import PropagationError
+
+    err = PropagationError(message, status="impact", t_reached=t)
+    err.states = X  # the states reached, 12 x (k + 1), SI
+    return err
 
 
 def fly(
@@ -339,7 +383,11 @@ def fly(
     frame) on a truth model (default: J2 and drag on, co-rotating atmosphere). ``integrator``:
     ``"cvodes"`` (satgnc's CVODES path, re-initialised at each interval boundary, rtol 1e-11) or
     ``"rk4"`` (fixed step dt/substeps). Returns states 12 x (N+1), SI; raises RuntimeError naming
-    the interval when the propagation fails."""
+    the interval when the propagation fails. A start with either body at or below the Earth's surface
+    (radius ``j2_radius`` of the truth parameters) is a ValueError naming ``x0_si``; reaching it is a
+    :class:`satgnc.PropagationError` with ``status == "impact"``, ``t_reached`` the impact time (s
+    from the start; CVODES root finding, or the end of the RK4 substep where it was first seen) and
+    ``states`` the states reached (12 x k)."""
     _check_case(case)
     integrator = one_of(integrator, "integrator", ("cvodes", "rk4"))
     substeps = as_int(substeps, "substeps", low=1, high=10**6)
@@ -348,16 +396,30 @@ def fly(
     x = case.x0_si.copy() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,), copy=True)
     # complex U_si was truncated with a ComplexWarning and boolean read as 0/1 newtons
     U_si = as_real_array(U_si, "U_si", shape=(3, None))
+    _check_above_surface(x, "x0_si" if x0_si is not None else "case.x0_si", p)
     if integrator == "cvodes":
         r = _c.TwoSatelliteTruth(truth).fly(x, U_si, case.dt)
+        if r["impact"]:
+            k = int(r["failed_interval"])
+            raise _impact(f"fly: impact at t = {r['t_reached']:.6f} s: {r['message']}", float(r["t_reached"]),
+                          np.asarray(r["X"])[:, : k + 1])
         if not r["ok"]:
             raise RuntimeError(f"fly: CVODES truth failed: {r['message']}")
         return np.asarray(r["X"])
     h = case.dt / substeps
+    R2 = float(p.j2_radius) ** 2
     X = [x.copy()]
     for k in range(U_si.shape[1]):
-        for _ in range(substeps):
-            x = np.asarray(truth.rk_step(4, h, x, U_si[:, k]))
+        for j in range(substeps):
+            try:
+                x = np.asarray(truth.rk_step(4, h, x, U_si[:, k]))
+            except RuntimeError as e:  # "rk_step: model evaluation failed" named no argument
+                raise _model_failure("U_si", U_si, k, e) from None
+            if min(x[3:6] @ x[3:6], (x[3:6] - x[0:3]) @ (x[3:6] - x[0:3])) <= R2:
+                t = k * case.dt + (j + 1) * h
+                raise _impact(f"fly: impact: a body reached the Earth's surface (radius j2_radius = "
+                              f"{p.j2_radius:.6g} m) in interval {k}, within the RK4 substep ending at t = "
+                              f"{t:.6f} s", t, np.array(X).T)
         X.append(x.copy())
     return np.array(X).T
 
@@ -396,7 +458,9 @@ def mpc(
     truth: J2 and drag on, co-rotating atmosphere, integrated by ``integrator`` (``"cvodes"``:
     satgnc's CVODES path re-initialised at each interval; ``"rk4"``: RK4 at dt/substeps). Returns
     states (12 x N+1, SI), controls (3 x N, N), re-plan solve times (s, thread CPU time) and
-    iterations."""
+    iterations. A body reaching the Earth's surface (``j2_radius`` of the truth) raises
+    :class:`satgnc.PropagationError` with ``status == "impact"``, ``t_reached`` and ``states``, as
+    :func:`fly` does."""
     _check_case(case)
     integrator = one_of(integrator, "integrator", ("cvodes", "rk4"))
     replan_every = as_int(replan_every, "replan_every", low=1)
@@ -459,11 +523,23 @@ def mpc(
         for j in range(nexec):
             u = case.to_si(prev[1][:, j : j + 1])[:, 0]
             U_all[:, k + j] = u
+            t_start = (k + j) * case.dt
             if cv_truth is not None:
-                x = np.asarray(cv_truth.step(x, u, case.dt))
+                try:
+                    x = np.asarray(cv_truth.step(x, u, case.dt))
+                except RuntimeError as e:  # an impact was a bare RuntimeError of the truth's step
+                    m = re.search(r"impact at t = ([-+0-9.eE]+)", str(e))
+                    if m is None:
+                        raise
+                    t_hit = t_start + float(m.group(1))
+                    raise _impact(f"mpc: impact at t = {t_hit:.6f} s: {e}", t_hit, np.array(X).T) from None
             else:
-                for _ in range(substeps):
+                for i in range(substeps):
                     x = np.asarray(truth.rk_step(4, h, x, u))
+                    if not _above_surface(x, tp):
+                        t_hit = t_start + (i + 1) * h
+                        raise _impact(f"mpc: impact: a body reached the Earth's surface within the RK4 "
+                                      f"substep ending at t = {t_hit:.6f} s", t_hit, np.array(X).T)
             X.append(x.copy())
         prev = tuple(a[:, nexec:] for a in prev)
         k += nexec
@@ -482,6 +558,7 @@ def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
     the nonlinear case's scaling so that Qf and alpha mean the same thing. Returns the plan in newtons
     (3 x N, target CW frame) and the solver's result dict."""
     _check_case(case)
+    eps = as_real(eps, "eps", positive=True)  # errors named the solver field "eps_abs"
     sc = case.scaling
     x0 = np.asarray(_c.cw_relative_state(case.x0_si))
     n = np.sqrt(MU / np.linalg.norm(case.x0_si[3:6]) ** 3)
@@ -524,7 +601,13 @@ def miss(X: np.ndarray) -> tuple[float, float]:
     X = as_real_array(X, "X", shape=(12, None))  # a complex X gave (0, 0), a 1-D X an IndexError
     if X.shape[1] == 0:
         raise ValueError("X: needs at least one column (state)")
-    return float(np.linalg.norm(X[0:3, -1])), float(np.linalg.norm(X[6:9, -1]))
+    return _norm(X[0:3, -1]), _norm(X[6:9, -1])
+
+
+def _norm(v: np.ndarray) -> float:
+    """|v| without overflow in the squares (X = 1e300 gave an infinite miss)."""
+    m = float(np.max(np.abs(v)))
+    return m * float(np.linalg.norm(v / m)) if m > 0 and np.isfinite(m) else float(np.linalg.norm(v))
 
 
 def run_cli(out, closed_loop: bool = False) -> int:

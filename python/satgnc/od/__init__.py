@@ -105,6 +105,9 @@ def _vector(x, n: int, name: str) -> np.ndarray:
         raise ValueError(f"{name}: must have shape ({n},), got {a.shape}")
     if not np.all(np.isfinite(a)):
         raise ValueError(f"{name}: must be finite (no NaN or Inf)")
+    if np.max(np.abs(a)) >= 1e100:  # predict(x = 1e300) returned a NaN range: r^2 overflowed
+        raise ValueError(f"{name}: every component must be below 1e100 in magnitude (km, km/s): its square "
+                         "overflows double precision (hint: check the units)")
     return a
 
 
@@ -127,13 +130,19 @@ def _finite_scalar(x, name: str, positive: bool = False) -> float:
 
 
 # ----------------------------------------------------------------------------- time and stations
+_JD_MIN = 2415079.5  # 1900-03-01T00:00 (od_julian_date's lower bound)
+_JD_MAX = 2488069.5  # 2100-03-01T00:00
+_MAX_DUT1 = 0.9  # s, IERS bound on |UT1 - UTC|
+
+
 def julian_date(epoch) -> float:
     """Julian date of ``epoch``: a :class:`datetime.datetime` (naive = UTC), an ISO-8601 string
     ('1981-03-21T06:00:00'), or a float Julian date (returned as is)."""
-    if isinstance(epoch, (float, int, np.floating)) and not isinstance(epoch, bool):
+    if isinstance(epoch, (float, int, np.floating, np.integer)) and not isinstance(epoch, (bool, np.bool_)):
         v = float(epoch)
-        if not math.isfinite(v) or v < 2.4e6 or v > 2.5e6:
-            raise ValueError(f"epoch: a Julian date must be finite and in [2.4e6, 2.5e6], got {v}")
+        if not math.isfinite(v) or v < _JD_MIN or v >= _JD_MAX:
+            raise ValueError(f"epoch: a Julian date must be finite and in [{_JD_MIN}, {_JD_MAX}) "
+                             f"(1900-03-01 .. 2100-02-28, the calendar range of julian_date), got {v}")
         return v
     if isinstance(epoch, str):
         try:
@@ -145,12 +154,24 @@ def julian_date(epoch) -> float:
     if epoch.tzinfo is not None:
         epoch = epoch.astimezone(_dt.timezone.utc).replace(tzinfo=None)
     sec = epoch.second + epoch.microsecond * 1e-6
-    return _c.od_julian_date(epoch.year, epoch.month, epoch.day, epoch.hour, epoch.minute, sec)
+    try:
+        return _c.od_julian_date(epoch.year, epoch.month, epoch.day, epoch.hour, epoch.minute, sec)
+    except ValueError as e:  # "year: must be in 1900..2100" named a field the user never passed
+        raise ValueError(f"epoch: {epoch.isoformat()} is out of range ({e})") from None
+
+
+def _ut1_minus_utc(value) -> float:
+    v = _finite_scalar(value, "ut1_minus_utc")
+    if not abs(v) < _MAX_DUT1:  # 5 s was accepted: a unit or sign error, never a real offset
+        raise ValueError(f"ut1_minus_utc: |UT1 - UTC| must be < {_MAX_DUT1} s (IERS keeps it so with leap "
+                         f"seconds), got {v} s")
+    return v
 
 
 def gmst(epoch, ut1_minus_utc: float = 0.0) -> float:
-    """Greenwich mean sidereal time (IAU-1982), rad in [0, 2 pi), at a UTC epoch (see :func:`julian_date`)."""
-    return _c.od_gmst_from_utc(julian_date(epoch), _finite_scalar(ut1_minus_utc, "ut1_minus_utc"))
+    """Greenwich mean sidereal time (IAU-1982), rad in [0, 2 pi), at a UTC epoch (see :func:`julian_date`);
+    ``ut1_minus_utc`` in s, ``|UT1 - UTC| < 0.9`` (IERS)."""
+    return _c.od_gmst_from_utc(julian_date(epoch), _ut1_minus_utc(ut1_minus_utc))
 
 
 def ellipsoid(name: str = "WGS-84") -> Ellipsoid:
@@ -199,7 +220,7 @@ def station_geodetic(
         _finite_scalar(lon_deg, "lon_deg"),
         _finite_scalar(height_km, "height_km"),
         julian_date(epoch),
-        _finite_scalar(ut1_minus_utc, "ut1_minus_utc"),
+        _ut1_minus_utc(ut1_minus_utc),
         _as_ellipsoid(ellipsoid),
         _finite_scalar(omega, "omega"),
     )
@@ -236,18 +257,28 @@ def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
 
 
 def make_propagator(kind: str = "kepler", mu: float = EARTH_MU, j2: bool = False):
-    """STM propagator: 'kepler' (analytic two-body, default) or 'cvodes' (numerical; ``j2`` optional)."""
+    """STM propagator: 'kepler' (analytic two-body, default) or 'cvodes' (numerical; ``j2`` optional).
+    A propagator object (KeplerStmPropagator, CvodesStmPropagator, ShortArcStmPropagator) is returned
+    as is."""
+    return _make_propagator(kind, mu, j2, "kind")
+
+
+def _make_propagator(kind, mu, j2=False, name: str = "propagator"):
+    """make_propagator with errors naming the caller's argument (``propagator`` in solve/simulate)."""
     mu = _finite_scalar(mu, "mu", positive=True)
     j2 = as_bool(j2, "j2")  # bool("no") is True
-    if not isinstance(kind, str):
+    if isinstance(kind, _c.StmPropagator):
         return kind  # already a propagator object
+    if not isinstance(kind, str):  # 3 was returned as the "propagator" and failed later
+        raise TypeError(f"{name}: must be 'kepler', 'cvodes' or a propagator object (KeplerStmPropagator, "
+                        f"CvodesStmPropagator, ShortArcStmPropagator), got {type(kind).__name__}")
     if kind == "kepler":
         if j2:
             raise ValueError("j2: the Kepler propagator is two-body only (hint: propagator='cvodes')")
         return KeplerStmPropagator(mu)
     if kind == "cvodes":
         return CvodesStmPropagator(mu, bool(j2))
-    raise ValueError(f"propagator: unknown {kind!r} (hint: 'kepler' or 'cvodes')")
+    raise ValueError(f"{name}: unknown propagator {kind!r} (hint: 'kepler' or 'cvodes')")
 
 
 def settings(method: str = "levenberg_marquardt", **kw) -> OdSettings:
@@ -467,7 +498,7 @@ def solver(
     return OdSolver.from_measurements(
         _stations(stations),
         observations.measurements(),
-        make_propagator(propagator, mu),
+        _make_propagator(propagator, mu),
         settings(method, mu=mu, **kw),
     )
 
@@ -516,6 +547,8 @@ def six_point_conditions(
         raise ValueError(f"t: the six-point solver needs exactly 6 observation times, got {t.size}")
     if rho.shape != t.shape:
         raise ValueError(f"rho: must have 6 values, got {rho.size}")
+    if not isinstance(mode, str) and (isinstance(mode, bytes) or not isinstance(mode, Sequence)):
+        raise TypeError(f"mode: must be 'doppler', 'range' or a list of 6 of them, got {type(mode).__name__}")
     modes = [mode] * 6 if isinstance(mode, str) else list(mode)
     if len(modes) != 6:
         raise ValueError(f"mode: need 6 condition types, got {len(modes)}")
@@ -560,7 +593,7 @@ def six_point_solver(
     """Reusable solver for the paper's six-point problem (see :func:`solve_six_point`)."""
     conds = six_point_conditions(t, rho, rhodot, mode, sigma_range, sigma_range_rate)
     return OdSolver.from_conditions(
-        _stations(station), conds, make_propagator(propagator, mu), settings(method, mu=mu, **kw)
+        _stations(station), conds, _make_propagator(propagator, mu), settings(method, mu=mu, **kw)
     )
 
 
@@ -651,7 +684,7 @@ def simulate(
     (:data:`EARTH_RADIUS`) at any of ``times`` when ``mu`` is the Earth's (r = 0 for any ``mu``), an
     empty or repeated ``types``, a NaN or out-of-range ``elevation_mask_deg``, non-finite biases, a
     negative ``seed``, and a mask that leaves no observation."""
-    x0 = as_real_array(x0, "x0", shape=(6,))
+    x0 = _vector(x0, 6, "x0")  # also bounds |x0_i| < 1e100 (a 1e300 state blamed the propagator)
     st = _stations(stations)
     times = as_real_array(times, "times", ndim=(0, 1))
     times = np.atleast_1d(times)
@@ -687,7 +720,7 @@ def simulate(
     if not r0 > floor:
         where = "below the Earth's surface" if floor else "at the centre of attraction"
         raise ValueError(f"x0: the satellite is {where} (|r| = {r0:.6g} km, Earth radius {floor} km)")
-    prop = make_propagator(propagator, mu)
+    prop = _make_propagator(propagator, mu)
     try:
         states, _ = prop.propagate(x0, list(times))
     except ValueError:
@@ -697,9 +730,10 @@ def simulate(
             try:
                 prop.propagate(x0, [float(tk)])
             except ValueError:
+                who = "times" if abs(float(tk)) > 1e12 else "times, x0, mu"  # 1e12 s: ~3e4 years
                 raise ValueError(
-                    f"times: the {propagator} propagator could not propagate x0 to times[{k}] = {tk:.6g} s "
-                    "(hint: observation times are seconds from the epoch of x0)"
+                    f"{who}: the {propagator} propagator could not propagate x0 to times[{k}] = "
+                    f"{tk:.6g} s (hint: observation times are seconds from the epoch of x0; mu in km^3/s^2)"
                 ) from None
         raise
     states = np.asarray(states)
@@ -730,4 +764,11 @@ def simulate(
                 rows["station"].append(i)
     if not rows["t"]:
         raise ValueError("elevation_mask_deg: no observation above the mask")
+    neg = [j for j, (k, v) in enumerate(zip(rows["type"], rows["value"]))
+           if k == MeasurementType.range and v < 0]
+    if neg:  # the table's "value: a range must be >= 0 km" named no argument of simulate
+        j = neg[0]
+        raise ValueError(f"sigma_range, bias_range: the simulated noise and bias made range {j} negative "
+                         f"({rows['value'][j]:.6g} km at t = {rows['t'][j]:.6g} s); they must stay well "
+                         "below the ranges (km)")
     return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])

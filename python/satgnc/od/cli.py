@@ -175,9 +175,9 @@ def _solve(args) -> int:
         for opt, v in (("--ellipsoid", args.ellipsoid), ("--ut1-utc", args.ut1_utc)):
             if v is not None:
                 raise ValueError(f"{opt}: only used with --station (geodetic stations)")
-    if args.ut1_utc is not None and abs(args.ut1_utc) > 1.0:
+    if args.ut1_utc is not None and not abs(args.ut1_utc) < 0.9:  # the library's IERS bound (od.gmst)
         raise ValueError(
-            f"--ut1-utc: must be within [-1, 1] s (UTC is kept within 0.9 s of UT1), got {args.ut1_utc}"
+            f"--ut1-utc: |UT1 - UTC| must be < 0.9 s (IERS keeps UTC within 0.9 s of UT1), got {args.ut1_utc}"
         )
     if args.plots is not None and not args.plots.strip():
         raise ValueError("--plots: must name a directory")
@@ -214,7 +214,8 @@ def _simulate(args) -> int:
     x0 = paper.truth() if args.state is None else np.array(_floats(args.state, 6, "--state"))
     if args.duration / args.step > 1e6:
         n = args.duration / args.step
-        raise ValueError(f"--step: {n:.3g} samples, more than 1e6 (hint: a larger step)")
+        raise ValueError(f"--duration, --step: {n:.3g} samples, more than 1e6 (hint: a shorter duration or "
+                         "a larger step)")
     st = paper.station()
     t = np.arange(0.0, args.duration + 1e-9, args.step)
     try:
@@ -229,6 +230,8 @@ def _simulate(args) -> int:
     except ValueError as e:  # the library names its argument x0; the user typed --state
         if str(e).startswith("x0:"):
             raise ValueError("--state" + str(e)[2:]) from None
+        if str(e).startswith("sigma_range, bias_range:"):
+            raise ValueError("--sigma-range" + str(e)[len("sigma_range, bias_range"):]) from None
         raise
     out = pathlib.Path(args.out)
     if out.is_dir():

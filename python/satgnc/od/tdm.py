@@ -34,6 +34,14 @@ def parse_epoch(text: str) -> _dt.datetime:
     """A TDM epoch (calendar or day-of-year form), as a naive UTC datetime."""
     if not isinstance(text, str):  # was AttributeError: 'int' object has no attribute 'strip'
         raise TypeError(f"text: must be an epoch string (YYYY-MM-DDThh:mm:ss), got {type(text).__name__}")
+    try:
+        return _parse_epoch(text)
+    except ValueError as e:  # "bad epoch 'x'" did not name the argument
+        raise ValueError(f"text: {e}") from None
+
+
+def _parse_epoch(text: str) -> _dt.datetime:
+    """parse_epoch without the argument's name in its errors (the file readers add file and line)."""
     s = text.strip().rstrip("Z")
     if re.search(r"T\d\d:\d\d:60", s):
         raise ValueError(f"epoch {text!r} is a leap second (not supported: UTC is read without leap seconds)")
@@ -77,7 +85,7 @@ def _as_epoch(epoch) -> _dt.datetime:
         return epoch
     if isinstance(epoch, str):
         try:
-            return parse_epoch(epoch)
+            return _parse_epoch(epoch)
         except ValueError:
             pass
         try:
@@ -207,7 +215,7 @@ def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, ep
         if len(parts) != 2:
             fail(f"{key}: expected '<epoch> <value>', got {val!r}", key)
         try:
-            when = parse_epoch(parts[0])
+            when = _parse_epoch(parts[0])
         except ValueError as e:
             fail(f"{key}: {e}", key)
         try:

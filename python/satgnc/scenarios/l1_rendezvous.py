@@ -14,7 +14,16 @@ import pathlib
 
 import numpy as np
 
-from .._validate import FileFormatError, Key, check_toml_table, did_you_mean, load_toml, toml_line
+from .._validate import (
+    FileFormatError,
+    Key,
+    as_bool,
+    check_toml_table,
+    did_you_mean,
+    load_toml,
+    read_text_file,
+    toml_line,
+)
 
 DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
 
@@ -24,17 +33,17 @@ DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
 _TOP = {"name": Key("string", required=False), "source": Key("string", required=False)}
 _SECTIONS = {
     "orbit": {
-        "mu": Key("number", positive=True, unit="m^3/s^2"),
-        "radius": Key("number", positive=True, unit="m"),
+        "mu": Key("number", positive=True, low=1.0, high=1e22, unit="m^3/s^2"),
+        "radius": Key("number", positive=True, low=1.0, high=1e13, unit="m"),
     },
-    "chaser": {"mass": Key("number", positive=True, unit="kg")},
+    "chaser": {"mass": Key("number", positive=True, high=1e9, unit="kg")},
     "initial_state": {
         "position": Key("vector", length=3, nonzero=True, unit="m"),
         "velocity": Key("vector", length=3, nonzero=True, unit="m/s"),
     },
     "horizon": {
-        "tf": Key("number", positive=True, unit="s"),
-        "knots": Key("integer", low=2, unit="knot points"),
+        "tf": Key("number", positive=True, high=1e9, unit="s"),
+        "knots": Key("integer", low=2, high=10**6, unit="knot points"),
     },
     "cost": {
         "alpha": Key("number", nonnegative=True, unit="scaled units"),
@@ -55,9 +64,10 @@ _CASE = {
 }
 
 
-def _read(path: pathlib.Path):
-    """(path, text, checked sections, cases) of a scenario file; FileFormatError on any bad entry."""
-    p, text, d = load_toml(path, "scenario")
+def _read(path: pathlib.Path, name: str = "path"):
+    """(path, text, checked sections, cases) of a scenario file; FileFormatError on any bad entry.
+    ``name`` is the caller's argument in errors about the path itself (``path``, the CLI's scenario)."""
+    p, text, d = load_toml(path, name)
     known = [*_TOP, *_SECTIONS, "cases"]
     for key, value in d.items():
         if key not in known:
@@ -154,9 +164,19 @@ def load(path: str | pathlib.Path | None = None) -> Scenario:
     [horizon], [cost], optional [discretization], and one or more [cases.<name>]): a missing, unknown
     or mistyped key is a :class:`satgnc.FileFormatError` (a ``ValueError``) naming the file, the line,
     the key and its section. A missing file is ``FileNotFoundError``."""
-    p, _, s, cases = _read(DEFAULT if path is None else path)
+    return _load(path, "path")
+
+
+def _load(path, name: str) -> Scenario:
+    p, _, s, cases = _read(DEFAULT if path is None else path, name)
     # Cases keep only the keys the file gave, plus the defaults of box and terminal_equality.
     cases = {n: {k: v for k, v in c.items() if v is not None} for n, c in cases.items()}
+    n = float(np.sqrt(s["orbit"]["mu"] / s["orbit"]["radius"] ** 3))
+    if n * s["horizon"]["tf"] > 1e9:  # the CW matrices' bound (guidance.cw_stm); the error named "dt"
+        raise FileFormatError(
+            p, toml_line(read_text_file(p)[1], "horizon", "tf"),
+            f"key 'tf' in section [horizon] (s): n tf = {n * s['horizon']['tf']:.3g} rad exceeds 1e9 rad "
+            f"(n = sqrt(mu / radius^3) = {n:.3g} rad/s): the CW matrices keep no correct digit", key="tf")
     return Scenario(
         mu=s["orbit"]["mu"], radius=s["orbit"]["radius"], mass=s["chaser"]["mass"],
         p0=np.array(s["initial_state"]["position"]), v0=np.array(s["initial_state"]["velocity"]),
@@ -175,8 +195,14 @@ def linear_problem(sc: Scenario, case: str = "unconstrained", method: str | None
 
     if not isinstance(sc, Scenario):
         raise TypeError(f"sc: must be a Scenario (see load()), got {type(sc).__name__}")
+    if not isinstance(case, str):
+        raise TypeError(f"case: must be a case name (str), got {type(case).__name__}")
     if case not in sc.cases:
         raise ValueError(f"case: unknown {case!r}; choose from {sorted(sc.cases)}")
+    if method is not None and not isinstance(method, str):
+        raise TypeError(f"method: must be None or a discretization name (str), got {type(method).__name__}")
+    # implementation_weights="false" or 1j was read as True
+    implementation_weights = as_bool(implementation_weights, "implementation_weights")
     c = sc.cases[case]
     dt_s = sc.dt / sc.t_ref
     Ad, Bd = cw_discretize(sc.n * sc.t_ref, 1.0, dt_s, method or sc.method)

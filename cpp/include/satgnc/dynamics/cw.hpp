@@ -16,21 +16,28 @@ namespace satgnc::dynamics {
 
 using Mat63 = Eigen::Matrix<double, 6, 3>;
 
+/// Largest |n t| (rad, ~1.6e8 revolutions) accepted by the CW time functions (stm, input_integral,
+/// cw_discretize_*). Rounding n t costs eps |n t| rad in every trigonometric entry: 2e-7 rad here,
+/// and no correct digit at all past ~4.5e15 rad (cw_stm(t = 1e300) returned entries of 1e300).
+inline constexpr double kCwMaxAngle = 1e9;
+
 /// Continuous-time CW matrices of x' = A x + B u.
 struct CwModel {
   double n = 0.0;     ///< mean motion of the target orbit (rad/s), > 0
   double mass = 1.0;  ///< chaser mass (kg), > 0
 
-  /// Validates n > 0 and mass > 0 (std::invalid_argument with a hint).
+  /// Validates 1e-100 <= n <= 1e100 and mass > 0 (std::invalid_argument with a hint).
   CwModel(double mean_motion, double chaser_mass);
 
   Mat6 A() const;   ///< 6x6 state matrix (1/s, 1/s^2)
   Mat63 B() const;  ///< 6x3 input matrix (1/kg)
   /// Right-hand side x' = A x + B u; x (m, m/s), u (N); returns (m/s, m/s^2).
   Vec6 rhs(const Vec6& x, const Vec3& u) const;
-  /// Analytic state transition matrix Phi(t) = exp(A t), t (s), any sign.
+  /// Analytic state transition matrix Phi(t) = exp(A t), t (s), any sign with |n t| <= kCwMaxAngle
+  /// (std::invalid_argument naming t otherwise).
   Mat6 stm(double t) const;
-  /// Analytic input integral Gamma(t) = int_0^t Phi(s) ds B (zero-order hold over t seconds).
+  /// Analytic input integral Gamma(t) = int_0^t Phi(s) ds B (zero-order hold over t seconds),
+  /// |n t| <= kCwMaxAngle.
   Mat63 input_integral(double t) const;
 };
 
@@ -41,6 +48,7 @@ struct CwDiscrete {
 };
 
 /// Exact zero-order hold by the analytic CW state transition matrix and its input integral.
+/// Each cw_discretize_* throws std::invalid_argument naming dt unless dt > 0 and |n dt| <= kCwMaxAngle.
 CwDiscrete cw_discretize_zoh(const CwModel& model, double dt);
 /// Exact zero-order hold by Van Loan's block matrix exponential exp([[A, B], [0, 0]] dt).
 CwDiscrete cw_discretize_expm(const CwModel& model, double dt);

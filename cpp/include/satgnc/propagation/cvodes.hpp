@@ -43,7 +43,7 @@ struct CvodesSettings {
   CvodesMethod method = CvodesMethod::adams;
   CvodesCorrector corrector = CvodesCorrector::automatic;
   CvodesVector vector = CvodesVector::satgnc;
-  double rtol = 1e-10;  ///< relative tolerance (> 0)
+  double rtol = 1e-10;  ///< relative tolerance, in (0, 1)
   double atol = 1e-12;  ///< scalar absolute tolerance, km and km/s (STM entries: dimensionless mix)
   /// Optional per-component absolute tolerances: empty (use atol), 6 values (state; the STM entries
   /// keep atol) or 42 values (state then the STM column by column). All > 0.
@@ -53,6 +53,11 @@ struct CvodesSettings {
   bool with_stm = true;       ///< integrate the 36 variational equations as well
   double initial_step = 0.0;  ///< |h0| in s; 0 lets CVODES estimate it
   double max_step = 0.0;      ///< |h| upper bound in s; 0 means unbounded
+  /// Radius of the body's surface, km (>= 0; e.g. 6378.1363 for the Earth). With R > 0, x0 must lie
+  /// above it (|r0| > R) and an arc that reaches |r| = R stops with PropagationStatus::impact,
+  /// t_reached = the impact time (CVODES root finding on |r|^2 - R^2, downward crossings, located
+  /// to the solver's roundoff), holding the outputs before it. 0: no surface (only r = 0 is singular).
+  double surface_radius = 0.0;
 
   /// Throw std::invalid_argument naming the field on any invalid value.
   void validate() const;
@@ -73,8 +78,9 @@ class CvodesPropagator {
   /// Propagate x0 = [r km, v km/s] given at t0 (s) to every time in `times` (s). Times must be
   /// finite, strictly monotone in one direction and on one side of t0 (forward or backward); a
   /// time equal to t0 returns x0 and the identity. Throws std::invalid_argument on bad input (x0
-  /// non-finite or |r| = 0, bad times); integration failures return a Trajectory whose status is
-  /// not success, holding the outputs reached, t_reached and a message saying why.
+  /// non-finite, |r| = 0 or |r| <= settings.surface_radius, bad times); integration failures and an
+  /// impact return a Trajectory whose status is not success, holding the outputs reached, t_reached
+  /// and a message saying why.
   Trajectory propagate(const Vec6& x0, double t0, const std::vector<double>& times);
 
   /// Same, writing into `out` (whose vectors keep their capacity across calls).

@@ -50,6 +50,15 @@ class CvodesOde {
   CvodesOde(const CvodesOde&) = delete;
   CvodesOde& operator=(const CvodesOde&) = delete;
 
+  /// g(t, y): positive while the system is outside a forbidden region (e.g. |r|^2 - R^2 for a body
+  /// above the Earth's surface). Must not throw.
+  using ImpactFunction = std::function<double(double t, const double* y)>;
+  /// Stop every later integrate() where g reaches 0 from above: status impact, t_reached = the
+  /// crossing time (CVODES root finding), y = the state there. A start with g(t0, y0) <= 0 returns
+  /// impact at t0 without stepping. Setup-time call (allocates the root-finding memory); an empty
+  /// function is an std::invalid_argument.
+  void set_impact_function(ImpactFunction g);
+
   /// Integrate y from t0 to t1 (t1 != t0, either direction; y has n entries, overwritten with y(t1)
   /// on success and with the last reached state on failure). Never throws: a non-finite t0, t1 or y,
   /// or t1 == t0, returns PropagationStatus::solver_failure with message() "invalid input: ...";

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "satgnc/dynamics/force_model.hpp"
@@ -41,6 +42,15 @@ enum class Dop853Status {
   max_steps,            ///< Settings::max_steps exhausted before the last output time
   step_size_too_small,  ///< |h| fell below the resolution of t (tolerance too tight or singularity)
   rhs_failure,          ///< the right-hand side returned a non-finite derivative at an accepted point
+  event,                ///< the event function reached zero (Dop853Info::t_reached = its time)
+};
+
+/// The default event of Dop853::solve: none.
+struct Dop853NoEvent {
+  template <class Vec>
+  double operator()(double, const Vec&) const {
+    return 1.0;
+  }
 };
 
 /// Human-readable message for a Dop853Status.
@@ -60,6 +70,8 @@ inline const char* dop853_status_message(Dop853Status s) {
       return "step size became smaller than the resolution of t";
     case Dop853Status::rhs_failure:
       return "right-hand side returned a non-finite derivative";
+    case Dop853Status::event:
+      return "the event function reached zero (e.g. the surface was reached)";
   }
   return "unknown status";
 }
@@ -277,8 +289,13 @@ class Dop853 {
   /// monotone away from t0 (all >= t0 or all <= t0; values equal to t0 are allowed), calling
   /// out(i, t_out[i], y) for each. Steps are not shortened to hit output times (7th-order dense
   /// output); only the last step lands exactly on t_out[n_out - 1].
-  template <class Output>
-  Dop853Info solve(double t0, const Vec& y0, const double* t_out, std::size_t n_out, Output&& out);
+  /// event(t, y) -> double (optional, > 0 at t0): the integration stops at the first accepted step
+  /// whose end has event <= 0, at the zero located on the 7th-order dense output by bisection
+  /// (status event, t_reached = its time, only the outputs before it delivered). Checked at step
+  /// ends: an excursion below zero and back within one step is not seen.
+  template <class Output, class Event = Dop853NoEvent>
+  Dop853Info solve(double t0, const Vec& y0, const double* t_out, std::size_t n_out, Output&& out,
+                   const Event& event = Event());
 
  private:
   double error_norm(double h) const;
@@ -379,9 +396,9 @@ void Dop853<N, Rhs>::interpolate(double s, Vec& y) const {
 }
 
 template <int N, class Rhs>
-template <class Output>
+template <class Output, class Event>
 Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, std::size_t n_out,
-                                 Output&& out) {
+                                 Output&& out, const Event& event) {
   namespace tb = dop853_tableau;
   Dop853Info info;
   info.t_reached = t0;
@@ -493,9 +510,25 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
         break;
       }
       ++info.steps;
-      const double tnew = last ? t_end : t + h;
+      double tnew = last ? t_end : t + h;
       bool dense_ready = false;
-      while (io < n_out && (t_out[io] - tnew) * dir <= 0.0) {
+      bool hit = false;
+      if constexpr (!std::is_same_v<Event, Dop853NoEvent>) {
+        if (!(event(tnew, static_cast<const Vec&>(ynew_)) > 0.0)) {
+          // Bracket [0, 1] of s = (t' - t) / h: event > 0 at s = 0 (the previous step end), <= 0 at 1.
+          prepare_dense(t, h);
+          dense_ready = true;
+          double lo = 0.0, hi = 1.0;
+          for (int it = 0; it < 60 && hi - lo > 4.0 * uround; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            interpolate(mid, yt_);
+            (event(t + mid * h, static_cast<const Vec&>(yt_)) > 0.0 ? lo : hi) = mid;
+          }
+          tnew = t + hi * h;
+          hit = true;
+        }
+      }
+      while (io < n_out && (t_out[io] - tnew) * dir <= 0.0 && !(hit && t_out[io] == tnew)) {
         if (t_out[io] == tnew) {
           out(io, tnew, static_cast<const Vec&>(ynew_));
         } else {
@@ -509,6 +542,11 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
         ++io;
       }
       info.outputs = io;
+      if (hit) {
+        info.status = Dop853Status::event;
+        info.t_reached = tnew;
+        break;
+      }
       k[0] = k[12];
       y_ = ynew_;
       t = tnew;
@@ -534,24 +572,29 @@ Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, 
 /// accel(t, r, v, a) fills the acceleration (km/s^2) and accel(t, r, v, a, da_dr, da_dv) also its
 /// Jacobians (1/s^2, 1/s); VelocityDependent = false skips the da/dv products.
 /// times: monotone (non-decreasing or non-increasing), either side of t0 (two arcs from t0).
+/// surface_radius (km, >= 0): with R > 0, |r0| must exceed R and an arc reaching |r| = R stops with
+/// PropagationStatus::impact, t_reached = the impact time, and the outputs before it; 0: no surface.
 /// Throws std::invalid_argument naming the argument on bad input; solver failures are reported in
 /// Trajectory::status / message with the states reached so far.
 template <bool VelocityDependent = true, class Accel>
 Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
                                  const std::vector<double>& times, const Dop853Settings& settings,
-                                 bool with_stm);
+                                 bool with_stm, double surface_radius = 0.0);
 
 /// DOP853 propagation with a ForceModel (see propagate_dop853_with). Units km, km/s, s.
-/// @throws std::invalid_argument naming the argument: non-finite x0/t0/times, |r0| = 0, decreasing
-///   times, invalid settings (rtol <= 0, ...), invalid force model.
+/// @throws std::invalid_argument naming the argument: non-finite x0/t0/times, |r0| = 0 or
+///   |r0| <= surface_radius, decreasing times, invalid settings (rtol <= 0, ...), invalid force model.
 Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6& x0, double t0,
-                            const std::vector<double>& times, const Dop853Settings& settings, bool with_stm);
+                            const std::vector<double>& times, const Dop853Settings& settings, bool with_stm,
+                            double surface_radius = 0.0);
 
 /// Throw std::invalid_argument naming the first invalid field of a Dop853Settings.
 void dop853_validate_settings(const Dop853Settings& settings);
 /// Throw std::invalid_argument naming x0, t0 or times when invalid (shared by the orbital wrappers).
 void dop853_validate_orbit_input(const Vec6& x0, double t0, const std::vector<double>& times);
-/// Map a Dop853Status to the Trajectory status set.
+/// Throw std::invalid_argument naming surface_radius (< 0 or non-finite) or x0 (|r0| <= surface_radius).
+void dop853_validate_surface(const Vec6& x0, double surface_radius);
+/// Map a Dop853Status to the Trajectory status set (event -> impact: the orbital wrappers' only event).
 PropagationStatus dop853_to_propagation_status(Dop853Status s);
 
 namespace detail {
@@ -603,7 +646,8 @@ struct OrbitRhs {
 
 template <bool WithStm, bool VelocityDependent, class Accel>
 void run_arc(const Accel& accel, const Vec6& x0, double t0, const double* ts, std::size_t n,
-             const Dop853Settings& settings, Vec6* states, Mat6* stms, Dop853Info& info) {
+             const Dop853Settings& settings, Vec6* states, Mat6* stms, Dop853Info& info,
+             double surface_radius) {
   using R = OrbitRhs<WithStm, VelocityDependent, Accel>;
   using Vec = typename R::Vec;
   R rhs{accel};
@@ -613,10 +657,17 @@ void run_arc(const Accel& accel, const Vec6& x0, double t0, const double* ts, st
   if constexpr (WithStm) {
     Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
   }
-  info = integ.solve(t0, y0, ts, n, [&](std::size_t i, double, const Vec& y) {
+  auto out = [&](std::size_t i, double, const Vec& y) {
     states[i] = y.template head<6>();
     if constexpr (WithStm) stms[i] = Eigen::Map<const Mat6>(y.data() + 6);
-  });
+  };
+  if (surface_radius > 0.0) {
+    const double r2 = surface_radius * surface_radius;
+    info = integ.solve(t0, y0, ts, n, out,
+                       [r2](double, const Vec& y) { return y.template head<3>().squaredNorm() - r2; });
+  } else {
+    info = integ.solve(t0, y0, ts, n, out);
+  }
 }
 
 }  // namespace detail
@@ -624,9 +675,10 @@ void run_arc(const Accel& accel, const Vec6& x0, double t0, const double* ts, st
 template <bool VelocityDependent, class Accel>
 Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
                                  const std::vector<double>& times, const Dop853Settings& settings,
-                                 bool with_stm) {
+                                 bool with_stm, double surface_radius) {
   dop853_validate_orbit_input(x0, t0, times);
   dop853_validate_settings(settings);
+  dop853_validate_surface(x0, surface_radius);
   const std::size_t n = times.size();
   // Two arcs from t0: times >= t0 forward in increasing order, times < t0 backward in decreasing order.
   // (Setup-time allocations only; the stepping loop allocates nothing.)
@@ -651,10 +703,10 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
     Dop853Info info;
     if (with_stm)
       detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), ps.data(),
-                                               info);
+                                               info, surface_radius);
     else
       detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), nullptr,
-                                                info);
+                                                info, surface_radius);
     for (std::size_t j = 0; j < info.outputs; ++j) {
       states[idx[j]] = xs[j];
       if (with_stm) stms[idx[j]] = ps[j];
@@ -665,7 +717,14 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
     tr.stats.error_test_fails += info.rejected;
     if (info.steps > 0) tr.stats.last_step = info.h_last;
     tr.t_reached = info.t_reached;
-    if (info.status != Dop853Status::success) {
+    if (info.status == Dop853Status::event) {
+      failed = true;
+      tr.status = PropagationStatus::impact;
+      tr.message = std::string("propagate_dop853 (") + name +
+                   " arc): impact at t = " + std::to_string(info.t_reached) +
+                   " s: |r| reached surface_radius = " + std::to_string(surface_radius) +
+                   " km before t = " + std::to_string(ts.back()) + " s";
+    } else if (info.status != Dop853Status::success) {
       failed = true;
       tr.status = dop853_to_propagation_status(info.status);
       tr.message = std::string("propagate_dop853 (") + name + " arc): " + dop853_status_message(info.status) +

@@ -23,7 +23,16 @@ enum class PropagationStatus {
 /// Human-readable message for a status (message table, as OSQP does).
 const char* status_message(PropagationStatus s);
 
-/// Throw std::invalid_argument unless x0 = [r km, v km/s] is finite with |r| > 0, t0 (s) is finite
+/// Largest |component| of an initial state x0 = [r km, v km/s] a propagator accepts: the force
+/// model's |r|^3 overflows double precision near 5e102 km (x0 = 1e300 was a "force model failed"
+/// status at t0 instead of an error naming x0).
+inline constexpr double kMaxStateComponent = 1e100;
+
+/// Throw std::invalid_argument naming x0 unless every |x0_i| < kMaxStateComponent.
+void validate_state_magnitude(const Vec6& x0);
+
+/// Throw std::invalid_argument unless x0 = [r km, v km/s] is finite with |r| > 0 (and every
+/// |x0_i| < kMaxStateComponent), t0 (s) is finite
 /// and the output times (s) are finite and monotone (non-strictly, increasing or decreasing; they
 /// may lie on either side of t0). `singular_hint` says why |r| = 0 is refused by the caller.
 void validate_orbit_arc_input(const Vec6& x0, double t0, const std::vector<double>& times,
