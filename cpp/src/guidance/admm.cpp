@@ -1500,7 +1500,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   info.objective_u = trajectory_objective(X, U);
   info.certified = info.polished;
   {
-    dual_at_u_ = !info.polished;  // X, U: the (best) x/u iterate, rolled out above
+    dual_at_u_ =
+        !info.polished && !info.ipm_solved;  // X, U: the (best) x/u iterate (the plan itself for the IPM)
     const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
     evaluate_gap(res_.X_flown, Y, pm, info.objective);
   }

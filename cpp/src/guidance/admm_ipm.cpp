@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "satgnc/guidance/admm.hpp"
 
@@ -64,6 +65,159 @@ void AdmmSolver::ipm_setup() {
   idxn_.setZero(nx_);
 }
 
+// Stage views of the stored per-stage blocks, fixed-size for the (6, 3) CW case (the products then
+// unroll), dynamic otherwise; all storage is preallocated, nothing is allocated here.
+template <int NX, int NU>
+bool AdmmSolver::ipm_riccati_factor() noexcept {
+  using MXX = Eigen::Matrix<double, NX, NX>;
+  using MUX = Eigen::Matrix<double, NU, NX>;
+  using MXU = Eigen::Matrix<double, NX, NU>;
+  using MUU = Eigen::Matrix<double, NU, NU>;
+  const bool term = prob_.terminal_equality;
+  const LtvDynamics& d = prob_.dynamics;
+  const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
+  const Index nx = nx_, nu = nu_;
+  Eigen::Map<MXX> P(iP_.data(), nx, nx), Pn(iPn_.data(), nx, nx), L(iL_.data(), nx, nx),
+      Ln(iLn_.data(), nx, nx), Acl(iAcl_.data(), nx, nx), Z(iZ_.data(), nx, nx);
+  Eigen::Map<MUX> BtP(iBtP_.data(), nu, nx), BtL(iBtL_.data(), nu, nx), Zu(iZu_.data(), nu, nx);
+  Eigen::Map<MUU> Quu(iQuu_.data(), nu, nu);
+  std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
+  P = prob_.Qf;
+  if (term) L.setIdentity();
+  for (int k = N_ - 1; k >= 0; --k) {
+    const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
+    const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
+    Eigen::Map<MUU> Qi(iQi_.data() + k * nu * nu, nu, nu);
+    Eigen::Map<MUX> Qux(iQux_.data() + k * nu * nx, nu, nx), K(iK_.data() + k * nu * nx, nu, nx),
+        Knu(iKnu_.data() + k * nu * nx, nu, nx);
+    BtP.noalias() = B.transpose() * P;
+    Quu.noalias() = BtP * B;
+    if (has_r) Quu += prob_.R;
+    for (int i = 0; i < nu_; ++i) Quu(i, i) += id_(static_cast<Index>(k) * nu_ + i);
+    llt.compute(Quu);
+    // near the end D spans many decades and P_{k+1} may lose definiteness to rounding: a relative
+    // shift of the stage Hessian (the step stays a descent direction)
+    for (double shift = 1e-14; llt.info() != Eigen::Success; shift *= 100.0) {
+      if (shift > 1e-6) return false;
+      Quu.diagonal().array() += shift * Quu.diagonal().cwiseAbs().maxCoeff();
+      llt.compute(Quu);
+    }
+    Qi.setIdentity();
+    llt.solveInPlace(Qi);
+    Qux.noalias() = BtP * A;
+    K.noalias() = -Qi * Qux;
+    if (term) {
+      BtL.noalias() = B.transpose() * L;
+      Knu.noalias() = -Qi * BtL;
+      Acl = A;
+      Acl.noalias() += B * K;
+      Ln.noalias() = Acl.transpose() * L;
+      L = Ln;
+    }
+    if (k == 0) break;
+    Pn.noalias() = P * A;
+    P.noalias() = A.transpose() * Pn;
+    P.noalias() += Qux.transpose() * K;
+    if (has_q) P += prob_.Q;
+    Pn = P.transpose();
+    P += Pn;
+    P *= 0.5;
+  }
+  if (!P.allFinite()) return false;
+  if (term) {
+    // sensitivity S = dx_N / dnu of the closed loop: the terminal multiplier solves S nu = target
+    Z.setZero();
+    for (int k = 0; k < N_; ++k) {
+      const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
+      const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
+      const Eigen::Map<const MUX> K(iK_.data() + k * nu * nx, nu, nx),
+          Knu(iKnu_.data() + k * nu * nx, nu, nx);
+      Zu.noalias() = K * Z;
+      Zu += Knu;
+      Pn.noalias() = A * Z;
+      Pn.noalias() += B * Zu;
+      Z = Pn;
+    }
+    iS_ = iZ_;
+  }
+  return true;
+}
+
+template <int NU>
+auto AdmmSolver::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&,
+                                                          Eigen::LLT<Eigen::Matrix<double, NU, NU>>> {
+  if constexpr (NU == Eigen::Dynamic) {
+    return illt_;
+  } else {
+    return Eigen::LLT<Eigen::Matrix<double, NU, NU>>();
+  }
+}
+
+// Affine backward sweep (linear terms: R u + lin on u, Q (x_k - x_f) on stage states, Qf e at N) and
+// forward rollout of the step; with a hard terminal state, the multiplier from the sensitivity and a
+// second forward pass.
+template <int NX, int NU>
+void AdmmSolver::ipm_riccati_sweep() noexcept {
+  using MXX = Eigen::Matrix<double, NX, NX>;
+  using MUX = Eigen::Matrix<double, NU, NX>;
+  using MXU = Eigen::Matrix<double, NX, NU>;
+  using MUU = Eigen::Matrix<double, NU, NU>;
+  using VX = Eigen::Matrix<double, NX, 1>;
+  using VU = Eigen::Matrix<double, NU, 1>;
+  const bool term = prob_.terminal_equality;
+  const LtvDynamics& d = prob_.dynamics;
+  const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
+  const Index nx = nx_, nu = nu_;
+  Eigen::Map<VX> p(ip_.data(), nx), pn(ipn_.data(), nx), dx(idx_.data(), nx);
+  Eigen::Map<VU> qu(iqu_.data(), nu);
+  p.noalias() = prob_.Qf * ie_;
+  for (int k = N_ - 1; k >= 0; --k) {
+    const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
+    const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
+    const Eigen::Map<const MUU> Qi(iQi_.data() + k * nu * nu, nu, nu);
+    const Eigen::Map<const MUX> Qux(iQux_.data() + k * nu * nx, nu, nx);
+    Eigen::Map<VU> kff(ikff_.data() + k * nu, nu);
+    qu = Eigen::Map<const VU>(ilin_.data() + k * nu, nu);
+    if (has_r) qu.noalias() += prob_.R * iU_.col(k);
+    qu.noalias() += B.transpose() * p;
+    kff.noalias() = -Qi * qu;
+    if (k == 0) break;
+    pn.noalias() = A.transpose() * p;
+    pn.noalias() += Qux.transpose() * kff;
+    if (has_q) {
+      dx = iX_.col(k) - prob_.xf;
+      pn.noalias() += prob_.Q * dx;
+    }
+    p = pn;
+  }
+  for (int pass = 0; pass < (term ? 2 : 1); ++pass) {
+    idX_.col(0).setZero();
+    for (int k = 0; k < N_; ++k) {
+      const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
+      const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
+      const Eigen::Map<const MUX> K(iK_.data() + k * nu * nx, nu, nx);
+      Eigen::Map<VU> du(idu_.data() + k * nu, nu);
+      const Eigen::Map<const VX> xk(idX_.data() + k * nx, nx);
+      Eigen::Map<VX> xn(idX_.data() + (k + 1) * nx, nx);
+      du = Eigen::Map<const VU>(ikff_.data() + k * nu, nu);
+      du.noalias() += K * xk;
+      if (pass == 1) du.noalias() += Eigen::Map<const MUX>(iKnu_.data() + k * nu * nx, nu, nx) * inun_;
+      xn.noalias() = A * xk;
+      xn.noalias() += B * du;
+    }
+    if (term && pass == 0) {
+      idx_ = -ie_ - idX_.col(N_);
+      inun_ = ilu_.solve(idx_);
+    }
+  }
+  iep_ = ie_ + idX_.col(N_);
+}
+
+template bool AdmmSolver::ipm_riccati_factor<6, 3>() noexcept;
+template bool AdmmSolver::ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
+template void AdmmSolver::ipm_riccati_sweep<6, 3>() noexcept;
+template void AdmmSolver::ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
+
 // D_j (the eliminated epigraph / box block) from the current slacks and multipliers, then the
 // factorization of the structured LQR step with R + diag(D).
 bool AdmmSolver::ipm_factor() noexcept {
@@ -71,65 +225,9 @@ bool AdmmSolver::ipm_factor() noexcept {
   // pair block in the inverse ratios r_m = s_m / z_m (bounded where d_m = z_m / s_m overflows):
   // D = 4 d1 d2 / (d1 + d2) = 4 / (r1 + r2)
   id_ = (im1_ > 0.5).select(4.0 / (is1_ / iz1_ + is2_ / iz2_), 0.0) + im3_ * iz3_ / is3_ + im4_ * iz4_ / is4_;
-  {
-    const LtvDynamics& d = prob_.dynamics;
-    const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
-    iP_ = prob_.Qf;
-    if (term) iL_.setIdentity();
-    for (int k = N_ - 1; k >= 0; --k) {
-      const MatrixXd& A = d.A_at(k);
-      const MatrixXd& B = d.B_at(k);
-      iBtP_.noalias() = B.transpose() * iP_;
-      iQuu_.noalias() = iBtP_ * B;
-      if (has_r) iQuu_ += prob_.R;
-      for (int i = 0; i < nu_; ++i) iQuu_(i, i) += id_(static_cast<Index>(k) * nu_ + i);
-      illt_.compute(iQuu_);
-      // near the end D spans many decades and P_{k+1} may lose definiteness to rounding: a relative
-      // shift of the stage Hessian (the step stays a descent direction)
-      for (double shift = 1e-14; illt_.info() != Eigen::Success; shift *= 100.0) {
-        if (shift > 1e-6) return false;
-        const double scale = iQuu_.diagonal().cwiseAbs().maxCoeff();
-        iQuu_.diagonal().array() += shift * scale;
-        illt_.compute(iQuu_);
-      }
-      auto Qi = iQi_.middleCols(static_cast<Index>(k) * nu_, nu_);
-      Qi = iInu_;
-      illt_.solveInPlace(Qi);
-      auto Qux = iQux_.middleCols(static_cast<Index>(k) * nx_, nx_);
-      Qux.noalias() = iBtP_ * A;
-      auto K = iK_.middleCols(static_cast<Index>(k) * nx_, nx_);
-      K.noalias() = -Qi * Qux;
-      if (term) {
-        iBtL_.noalias() = B.transpose() * iL_;
-        iKnu_.middleCols(static_cast<Index>(k) * nx_, nx_).noalias() = -Qi * iBtL_;
-        iAcl_ = A;
-        iAcl_.noalias() += B * K;
-        iLn_.noalias() = iAcl_.transpose() * iL_;
-        iL_ = iLn_;
-      }
-      if (k == 0) break;
-      iPn_.noalias() = iP_ * A;
-      iP_.noalias() = A.transpose() * iPn_;
-      iP_.noalias() += Qux.transpose() * K;
-      if (has_q) iP_ += prob_.Q;
-      iPn_ = iP_.transpose();
-      iP_ += iPn_;
-      iP_ *= 0.5;
-    }
-    if (!iP_.allFinite()) return false;
-    if (term) {
-      // sensitivity S = dx_N / dnu of the closed loop: the terminal multiplier solves S nu = target
-      iZ_.setZero();
-      for (int k = 0; k < N_; ++k) {
-        iZu_.noalias() = iK_.middleCols(static_cast<Index>(k) * nx_, nx_) * iZ_;
-        iZu_ += iKnu_.middleCols(static_cast<Index>(k) * nx_, nx_);
-        iPn_.noalias() = d.A_at(k) * iZ_;
-        iPn_.noalias() += d.B_at(k) * iZu_;
-        iZ_ = iPn_;
-      }
-      iS_ = iZ_;
-    }
-  }
+  if (!(nx_ == 6 && nu_ == 3 ? ipm_riccati_factor<6, 3>()
+                             : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
+    return false;
   if (!term) return true;
   ilu_.compute(iS_);
   const auto piv = ilu_.matrixLU().diagonal().cwiseAbs();
@@ -159,41 +257,10 @@ bool AdmmSolver::ipm_newton(bool corrector, double smu) noexcept {
   // linear term of the reduced step: -sum z a + g_u - H_ut (r_t + g_t) / H_tt
   ilin_ = iz1_ - iz2_ - iz3_ + iz4_ - idz1_ + idz2_ + idz3_ - idz4_ -
           (im1_ > 0.5).select((is1_ / iz1_ - is2_ / iz2_) / (is1_ / iz1_ + is2_ / iz2_) * (irt_ + idt_), 0.0);
-  Eigen::Map<MatrixXd> dU(idu_.data(), nu_, N_);
-  {
-    const LtvDynamics& d = prob_.dynamics;
-    const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
-    Eigen::Map<const MatrixXd> lin(ilin_.data(), nu_, N_);
-    ip_.noalias() = prob_.Qf * ie_;
-    for (int k = N_ - 1; k >= 0; --k) {
-      iqu_ = lin.col(k);
-      if (has_r) iqu_.noalias() += prob_.R * iU_.col(k);
-      iqu_.noalias() += d.B_at(k).transpose() * ip_;
-      ikff_.col(k).noalias() = -iQi_.middleCols(static_cast<Index>(k) * nu_, nu_) * iqu_;
-      if (k == 0) break;
-      ipn_.noalias() = d.A_at(k).transpose() * ip_;
-      ipn_.noalias() += iQux_.middleCols(static_cast<Index>(k) * nx_, nx_).transpose() * ikff_.col(k);
-      if (has_q) {
-        idx_ = iX_.col(k) - prob_.xf;
-        ipn_.noalias() += prob_.Q * idx_;
-      }
-      ip_ = ipn_;
-    }
-    for (int pass = 0; pass < (term ? 2 : 1); ++pass) {
-      idX_.col(0).setZero();
-      for (int k = 0; k < N_; ++k) {
-        dU.col(k) = ikff_.col(k);
-        dU.col(k).noalias() += iK_.middleCols(static_cast<Index>(k) * nx_, nx_) * idX_.col(k);
-        if (pass == 1) dU.col(k).noalias() += iKnu_.middleCols(static_cast<Index>(k) * nx_, nx_) * inun_;
-        idX_.col(k + 1).noalias() = d.A_at(k) * idX_.col(k);
-        idX_.col(k + 1).noalias() += d.B_at(k) * dU.col(k);
-      }
-      if (term && pass == 0) {
-        idx_ = -ie_ - idX_.col(N_);
-        inun_ = ilu_.solve(idx_);
-      }
-    }
-    iep_ = ie_ + idX_.col(N_);
+  if (nx_ == 6 && nu_ == 3) {
+    ipm_riccati_sweep<6, 3>();
+  } else {
+    ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>();
   }
   if (!idu_.allFinite()) return false;
   // back-substitution: dt, ds, dz

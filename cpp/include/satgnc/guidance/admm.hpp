@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "satgnc/guidance/riccati.hpp"
@@ -374,6 +375,13 @@ class AdmmSolver {
   bool ipm_solve() noexcept;
   void ipm_setup();
   bool ipm_factor() noexcept;
+  template <int NX, int NU>
+  bool ipm_riccati_factor() noexcept;
+  template <int NX, int NU>
+  void ipm_riccati_sweep() noexcept;
+  template <int NU>
+  auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
+                                                Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
   double ipm_max_step() const noexcept;
   bool ipm_newton(bool corrector, double sigma_mu) noexcept;
   bool ipm_certify() noexcept;
