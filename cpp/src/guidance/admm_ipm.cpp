@@ -83,7 +83,10 @@ bool AdmmSolver::ipm_riccati_factor() noexcept {
   Eigen::Map<MUU> Quu(iQuu_.data(), nu, nu);
   std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
   P = prob_.Qf;
-  if (term) L.setIdentity();
+  if (term) {
+    L.setIdentity();
+    Z.setZero();  // W: the nu-nu block of the value function; at k = 0 it is S = dx_N / dnu
+  }
   for (int k = N_ - 1; k >= 0; --k) {
     const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
     const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
@@ -109,6 +112,7 @@ bool AdmmSolver::ipm_riccati_factor() noexcept {
     if (term) {
       BtL.noalias() = B.transpose() * L;
       Knu.noalias() = -Qi * BtL;
+      Z.noalias() += BtL.transpose() * Knu;  // W_k = W_{k+1} - (B'L)' Quu^-1 (B'L)
       Acl = A;
       Acl.noalias() += B * K;
       Ln.noalias() = Acl.transpose() * L;
@@ -125,19 +129,7 @@ bool AdmmSolver::ipm_riccati_factor() noexcept {
   }
   if (!P.allFinite()) return false;
   if (term) {
-    // sensitivity S = dx_N / dnu of the closed loop: the terminal multiplier solves S nu = target
-    Z.setZero();
-    for (int k = 0; k < N_; ++k) {
-      const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
-      const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
-      const Eigen::Map<const MUX> K(iK_.data() + k * nu * nx, nu, nx),
-          Knu(iKnu_.data() + k * nu * nx, nu, nx);
-      Zu.noalias() = K * Z;
-      Zu += Knu;
-      Pn.noalias() = A * Z;
-      Pn.noalias() += B * Zu;
-      Z = Pn;
-    }
+    // sensitivity S = dx_N / dnu = W_0 (envelope: x_N is the derivative of the value in nu)
     iS_ = iZ_;
   }
   return true;
