@@ -111,6 +111,7 @@ TEST(AdmmHonest, SolvedInaccurateAtTheLimit) {
   st.eps_rel = 1e-12;
   st.inaccurate_factor = 1e9;
   st.max_iterations = 3000;
+  st.method = satgnc::guidance::AdmmMethod::kAdmm;  // ADMM's limit (the IPM endgame reaches 1e-12)
   AdmmSolver s(false_solved_problem(), st);
   const AdmmResult& r = s.solve();
   EXPECT_EQ(r.info.status, AdmmStatus::kSolvedInaccurate);

@@ -234,11 +234,11 @@ def test_no_false_solved(outcomes):
     assert bad == []
 
 
-# Issue 11 asks for 98 % solved with default settings. Measured on this suite: 386 / 391 = 98.7 % with
-# the interior-point endgame (docs/guidance.md, "Random suite"); the floor is the issue's 98 %, so that
-# a regression fails. The rest end max_iterations / solved_inaccurate with their true objective and
+# Issue 11 asks for 98 % solved with default settings. Measured on this suite: 390 / 391 = 99.7 % with
+# the interior-point endgame (docs/guidance.md, "Random suite"); the floor is that share less a margin
+# of 3 problems, so that a regression fails. The rest end max_iterations / solved_inaccurate with their true objective and
 # gap (never "solved").
-MIN_SOLVED = 0.98
+MIN_SOLVED = 0.99
 
 
 def test_solved_share_with_default_settings(outcomes):

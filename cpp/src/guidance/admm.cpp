@@ -1233,7 +1233,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   const int ipm_at = set_.method == AdmmMethod::kIpm ? 0 : set_.ipm_after;
   bool ipm_only = false;
   if (ok && ipm_on && ipm_at == 0) {
-    if (ipm_solve()) {
+    if (ipm_solve(false)) {
       info.ipm_solved = true;
       status = AdmmStatus::kSolved;
     } else if (set_.method == AdmmMethod::kIpm) {
@@ -1419,7 +1419,10 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     }
     if (ipm_on && it == ipm_at) {
       // endgame: accepted only through the same gap / terminal tests; otherwise ADMM goes on
-      if (ipm_solve()) {
+      // warm from ADMM's iterate (measured: 386 -> 390 / 391 suite problems solved), cold if that
+      // fails or there is no plan yet (Y = 0)
+      const bool warm = res_.Y.cwiseAbs().maxCoeff() > 0.0;
+      if ((warm && ipm_solve(true)) || ipm_solve(false)) {
         info.ipm_solved = true;
         status = AdmmStatus::kSolved;
         break;

@@ -323,43 +323,63 @@ bool AdmmSolver::ipm_certify() noexcept {
   return evaluate_gap(res_.X_flown, iU_, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
 }
 
-bool AdmmSolver::ipm_solve() noexcept {
+bool AdmmSolver::ipm_solve(bool warm) noexcept {
   const bool term = prob_.terminal_equality;
   const Index n = static_cast<Index>(N_) * nu_;
   AdmmInfo& info = res_.info;
   Eigen::Map<ArrayXd> u(iU_.data(), n);
-  // cold start: u = 0 (the box midpoint if 0 is not inside), t = |u| + 1, z1 = z2 = w / 2 (r_t = 0),
-  // box multipliers 1 / s
-  for (Index j = 0; j < n; ++j) {
-    const double lo = lorep_(j), hi = hirep_(j);
-    double v = 0.0;
-    if (!(lo < 0.0 && hi > 0.0)) {
-      if (std::isfinite(lo) && std::isfinite(hi)) {
-        v = 0.5 * (lo + hi);
-      } else if (std::isfinite(lo)) {
-        v = std::max(0.0, lo) + 1.0;
-      } else {
-        v = std::min(0.0, hi) - 1.0;
+  if (warm) {
+    // from ADMM's iterate: u = Y (in the box), multipliers from Lambda = -grad f at its fixed point
+    // (-grad f = z1 - z2 - z3 + z4): the L1 pair takes clamp(Lambda, -w, w), the box the rest;
+    // slacks and multipliers floored at a fraction of the plan's and the multipliers' scale
+    Eigen::Map<const ArrayXd> y(res_.Y.data(), n), lam(res_.Lambda.data(), n);
+    u = y.max(lorep_).min(hirep_);
+    const double tau = 1e-2 * std::max(u.abs().maxCoeff(), 1e-300);
+    const double zf = 1e-2 * std::max({w_.maxCoeff(), lam.abs().maxCoeff(), 1e-300});
+    itv_ = im1_ * (u.abs() + tau);
+    is1_ = im1_ * (itv_ - u) + (1.0 - im1_);
+    is2_ = im1_ * (itv_ + u) + (1.0 - im1_);
+    is3_ = im3_ * (u - lofin_).max(tau) + (1.0 - im3_);
+    is4_ = im4_ * (hifin_ - u).max(tau) + (1.0 - im4_);
+    ia1_ = lam.max(-wrep_).min(wrep_);  // scratch: the L1 part of Lambda
+    iz1_ = im1_ * (0.5 * (wrep_ + ia1_)).max(1e-2 * wrep_);
+    iz2_ = im1_ * (0.5 * (wrep_ - ia1_)).max(1e-2 * wrep_);
+    iz3_ = im3_ * ((ia1_ - lam).max(0.0) + zf);
+    iz4_ = im4_ * ((lam - ia1_).max(0.0) + zf);
+  } else {
+    // cold start: u = 0 (the box midpoint if 0 is not inside), t = |u| + 1, z1 = z2 = w / 2 (r_t = 0),
+    // box multipliers 1 / s
+    for (Index j = 0; j < n; ++j) {
+      const double lo = lorep_(j), hi = hirep_(j);
+      double v = 0.0;
+      if (!(lo < 0.0 && hi > 0.0)) {
+        if (std::isfinite(lo) && std::isfinite(hi)) {
+          v = 0.5 * (lo + hi);
+        } else if (std::isfinite(lo)) {
+          v = std::max(0.0, lo) + 1.0;
+        } else {
+          v = std::min(0.0, hi) - 1.0;
+        }
       }
+      u(j) = v;
     }
-    u(j) = v;
+    // infeasible start: t = |u| + 1 and slacks at least 1 (a box narrower than that starts outside,
+    // its residual c(u, t) - s decays with the steps), z1 = z2 = w / 2 (r_t = 0), box multipliers 1
+    itv_ = im1_ * (u.abs() + 1.0);
+    is1_ = im1_ * (itv_ - u).max(1.0) + (1.0 - im1_);
+    is2_ = im1_ * (itv_ + u).max(1.0) + (1.0 - im1_);
+    is3_ = im3_ * (u - lofin_).max(1.0) + (1.0 - im3_);
+    is4_ = im4_ * (hifin_ - u).max(1.0) + (1.0 - im4_);
+    iz1_ = 0.5 * im1_ * wrep_;
+    iz2_ = iz1_;
   }
-  // infeasible start: t = |u| + 1 and slacks at least 1 (a box narrower than that starts outside,
-  // its residual c(u, t) - s decays with the steps), z1 = z2 = w / 2 (r_t = 0), box multipliers 1
-  itv_ = im1_ * (u.abs() + 1.0);
-  is1_ = im1_ * (itv_ - u).max(1.0) + (1.0 - im1_);
-  is2_ = im1_ * (itv_ + u).max(1.0) + (1.0 - im1_);
-  is3_ = im3_ * (u - lofin_).max(1.0) + (1.0 - im3_);
-  is4_ = im4_ * (hifin_ - u).max(1.0) + (1.0 - im4_);
-  iz1_ = 0.5 * im1_ * wrep_;
-  iz2_ = iz1_;
   inu_.setZero();
   rollout(iU_, iX_);
   ie_ = iX_.col(N_) - prob_.xf;
   // box multipliers that balance the gradient at the start (-grad f = z1 - z2 - z3 + z4): a box
   // that binds at the optimum otherwise needs many centering steps to grow its multipliers
-  lagrangian_gradient(iX_, iU_, pz_, true);
-  {
+  if (!warm) {
+    lagrangian_gradient(iX_, iU_, pz_, true);
     for (int k = 0; k < N_; ++k)
       for (int i = 0; i < nu_; ++i) Hg_(i, k) += rg_(i) * iU_(i, k);
     Eigen::Map<const ArrayXd> g0(Hg_.data(), n);

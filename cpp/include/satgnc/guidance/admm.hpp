@@ -372,7 +372,7 @@ class AdmmSolver {
   bool ipm_ok_ = false;  ///< no group-L2 / ball: the IPM applies
   /// Run the IPM from a cold start; true if its plan passes the gap / terminal tests, then the
   /// plan, its multipliers and X_flown are in res_. Leaves res_ U, Y, Lambda untouched otherwise.
-  bool ipm_solve() noexcept;
+  bool ipm_solve(bool warm) noexcept;  ///< warm: from ADMM's Y and Lambda
   void ipm_setup();
   bool ipm_factor() noexcept;
   template <int NX, int NU>
