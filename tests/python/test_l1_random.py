@@ -236,8 +236,8 @@ def test_no_false_solved(outcomes):
 
 # Issue 11 asks for 98 % solved with default settings. Measured on this suite: 390 / 391 = 99.7 % with
 # the interior-point endgame (docs/guidance.md, "Random suite"); the floor is that share less a margin
-# of 3 problems, so that a regression fails. The rest end max_iterations / solved_inaccurate with their true objective and
-# gap (never "solved").
+# of 3 problems, so that a regression fails. The rest end max_iterations / solved_inaccurate with
+# their true objective and gap (never "solved").
 MIN_SOLVED = 0.99
 
 
