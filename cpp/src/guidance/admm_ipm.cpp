@@ -2,9 +2,10 @@
 // the equilibrated L1 + box problem. Per entry j = (k, i) of U the L1 term is an epigraph t_j with
 // slacks s1 = t - u, s2 = t + u >= 0 (w_j > 0) and the box gives s3 = u - lo, s4 = hi - u >= 0. The
 // Newton system eliminates t, s and z entry by entry into a diagonal D added to R, which leaves one
-// equality-constrained LQR problem per step: the condensed nx x nx system (no stage Q, R diagonal,
-// x_N = x_N(0) + M u with M = PsiB_') or a time-varying Riccati recursion with the terminal-
-// constraint sensitivity. The plan is accepted only through the solver's own gap test (admm_gap.cpp).
+// equality-constrained LQR problem per step, solved by a time-varying Riccati recursion (with the
+// terminal-constraint sensitivity for x_N = x_f). The condensed nx x nx form of that step was tried
+// and dropped: ill-conditioned once D spans many decades (docs/guidance.md). The plan is accepted
+// only through the solver's own gap test (admm_gap.cpp).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -54,7 +55,6 @@ void AdmmSolver::ipm_setup() {
   for (MatrixXd* m : {&iP_, &iPn_, &iL_, &iLn_, &iAcl_, &iZ_}) m->setZero(nx_, nx_);
   iBtP_.setZero(nu_, nx_);
   iBtL_.setZero(nu_, nx_);
-  iZu_.setZero(nu_, nx_);
   iQuu_.setZero(nu_, nu_);
   iInu_ = MatrixXd::Identity(nu_, nu_);
   illt_ = Eigen::LLT<MatrixXd>(nu_);
@@ -79,7 +79,7 @@ bool AdmmSolver::ipm_riccati_factor() noexcept {
   const Index nx = nx_, nu = nu_;
   Eigen::Map<MXX> P(iP_.data(), nx, nx), Pn(iPn_.data(), nx, nx), L(iL_.data(), nx, nx),
       Ln(iLn_.data(), nx, nx), Acl(iAcl_.data(), nx, nx), Z(iZ_.data(), nx, nx);
-  Eigen::Map<MUX> BtP(iBtP_.data(), nu, nx), BtL(iBtL_.data(), nu, nx), Zu(iZu_.data(), nu, nx);
+  Eigen::Map<MUX> BtP(iBtP_.data(), nu, nx), BtL(iBtL_.data(), nu, nx);
   Eigen::Map<MUU> Quu(iQuu_.data(), nu, nu);
   std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
   P = prob_.Qf;

@@ -398,7 +398,7 @@ class AdmmSolver {
   Eigen::MatrixXd iS_;  ///< terminal sensitivity dx_N / dnu of the IPM's Riccati factorization
   Eigen::PartialPivLU<Eigen::MatrixXd> ilu_;
   // Riccati path: per stage K_k, Quu_k^-1, Qux_k, Knu_k (nu x nx N or nu x nu N), scratch
-  Eigen::MatrixXd iK_, iQi_, iQux_, iKnu_, iP_, iPn_, iL_, iLn_, iBtP_, iQuu_, iAcl_, iZ_, iZu_, iBtL_;
+  Eigen::MatrixXd iK_, iQi_, iQux_, iKnu_, iP_, iPn_, iL_, iLn_, iBtP_, iQuu_, iAcl_, iZ_, iBtL_;
   Eigen::MatrixXd ikff_;
   Eigen::VectorXd ip_, ipn_, iqu_, idx_, idxn_;
   Eigen::LLT<Eigen::MatrixXd> illt_;
