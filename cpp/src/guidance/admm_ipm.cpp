@@ -373,6 +373,22 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
     iz1_ = 0.5 * im1_ * wrep_;
     iz2_ = iz1_;
   }
+  // Mehrotra's shift toward the central path: s += 1/2 s'z / sum z, z += 1/2 s'z / sum s
+  const double sz0 = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
+  const double zs = (im1_ * (iz1_ + iz2_) + im3_ * iz3_ + im4_ * iz4_).sum();
+  const double ss = (im1_ * (is1_ + is2_) + im3_ * is3_ + im4_ * is4_).sum();
+  if (zs > 0.0 && ss > 0.0) {
+    const double ds = 0.5 * sz0 / zs, dz = 0.5 * sz0 / ss;
+    is1_ += im1_ * ds;
+    is2_ += im1_ * ds;
+    is3_ += im3_ * ds;
+    is4_ += im4_ * ds;
+    itv_ += im1_ * ds;  // keeps s1, s2 consistent with t
+    iz1_ += im1_ * dz;
+    iz2_ += im1_ * dz;
+    iz3_ += im3_ * dz;
+    iz4_ += im4_ * dz;
+  }
   inu_.setZero();
   rollout(iU_, iX_);
   ie_ = iX_.col(N_) - prob_.xf;
