@@ -6,7 +6,7 @@ Measures, in one run: (1) time to 1e-4 relative optimality vs Clarabel (solver t
 paper rho; (3) time per cached-gain iteration vs its flop count and this machine's measured flop rate;
 (4) the seeded random suite of tests/python/test_l1_random.py (default settings): solved share,
 iterations and solve time (median / 95th percentile) against Clarabel's own solve time.
-`--suite` runs only (4).
+`--suite` runs only (4); `--suite --method=ipm` (or admm) with another AdmmSettings.method.
 """
 
 from __future__ import annotations
@@ -101,16 +101,16 @@ def machine_flop_rate():
     return 2 * 600**3 / best
 
 
-def random_suite():
+def random_suite(settings=None):
     """(4): each problem solved once by satgnc (defaults) and by Clarabel (its own solve time)."""
     path = pathlib.Path(__file__).resolve().parents[1] / "tests" / "python" / "test_l1_random.py"
     spec = importlib.util.spec_from_file_location("l1_random_suite", path)
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod  # dataclasses look their module up there
     spec.loader.exec_module(mod)
-    its, ts, tcs, ratios, labels = [], [], [], [], []
+    its, ts, tcs, ratios, labels, ipm = [], [], [], [], [], []
     for case in mod.suite():
-        solver = L1Solver(**case.kw)
+        solver = L1Solver(**case.kw, settings=settings)
         res = solver.solve()
         ref, st = mod.clarabel(case.kw)
         label, _ = mod.check(case, res, ref, st)
@@ -119,6 +119,8 @@ def random_suite():
             continue
         t = time_solver(solver, 3)  # best of 3 of the same solve (solve()'s own clock)
         its.append(res.iterations)
+        if res.ipm_solved:
+            ipm.append(res.ipm_iterations)
         ts.append(t)
         tcs.append(ref[2])
         ratios.append(ref[2] / t)
@@ -132,6 +134,9 @@ def random_suite():
         q = lambda v, p: float(np.percentile(v, p))  # noqa: E731
         print("| solved problems | median | 95th percentile |\n|---|---|---|")
         print(f"| satgnc iterations | {q(its, 50):.0f} | {q(its, 95):.0f} |")
+        if ipm:
+            print(f"| IPM iterations (the {len(ipm)} solved by the IPM) | {q(ipm, 50):.0f} | "
+                  f"{q(ipm, 95):.0f} |")
         print(f"| satgnc solve time | {q(ts, 50) * 1e3:.3f} ms | {q(ts, 95) * 1e3:.3f} ms |")
         print(f"| Clarabel solve time | {q(tcs, 50) * 1e3:.3f} ms | {q(tcs, 95) * 1e3:.3f} ms |")
         print(f"| Clarabel time / satgnc time (per problem) | {q(ratios, 50):.2f}x | "
@@ -140,7 +145,9 @@ def random_suite():
 
 def main():
     if "--suite" in sys.argv:
-        random_suite()
+        # --method=ipm / admm: the suite with another AdmmSettings.method (default admm_ipm)
+        meth = [a.split("=", 1)[1] for a in sys.argv if a.startswith("--method=")]
+        random_suite({"method": meth[0]} if meth else None)
         return
     sc = scen.load()
     rows = []
@@ -165,7 +172,8 @@ def main():
         t_full = time_solver(L1Solver(**kw), 30)
         rows.append(dict(case=case, ref=ref, clarabel=clarabel_t, cvxpy=cvxpy_total, it_default=it_default,
                          it_fixed=it_fixed, t_default=t_default, full_it=full.iterations, t_full=t_full,
-                         full_gap=gap(full, ref), polished=full.polished))
+                         full_gap=gap(full, ref), polished=full.polished,
+                         ipm=full.ipm_iterations if full.ipm_solved else 0))
     # per-iteration time: fixed rho, no polish, all iterations run
     kw = scen.linear_problem(sc, "box")
     n_it = 4000
@@ -187,7 +195,8 @@ def main():
             kw = scen.linear_problem(sc, case)
             kw = {**kw, "Qf": kw["Qf"] * qs, "x0": kw["x0"] * xs}
             r = L1Solver(**kw).solve()
-            counts.append(f"Qf x{qs:g}, x0 x{xs:g}: {r.iterations}{'' if r.polished else ' (not polished)'}")
+            how = "" if r.polished else (f" + {r.ipm_iterations} IPM" if r.ipm_solved else " (not polished)")
+            counts.append(f"Qf x{qs:g}, x0 x{xs:g}: {r.iterations}{how}")
         print(f"  {case}: " + "; ".join(counts))
 
     print("\n| case | Clarabel optimum | Clarabel solver time | cvxpy total "
@@ -195,12 +204,13 @@ def main():
           "| ratio vs cvxpy total | iters to 1e-4 with fixed "
           "paper rho | satgnc exact (polished) iters / time / gap |")
     print("|---|---|---|---|---|---|---|---|---|---|")
+    how = lambda r: f"+ {r['ipm']} IPM iterations, gap" if r["ipm"] else "residuals"  # noqa: E731
     for r in rows:
         fixed = "> 20480" if r["it_fixed"] is None else str(r["it_fixed"])
         print(f"| {r['case']} | {r['ref']:.6f} | {r['clarabel'] * 1e3:.2f} ms | {r['cvxpy'] * 1e3:.1f} ms | "
               f"{r['it_default']} | {r['t_default'] * 1e3:.3f} ms | {r['clarabel'] / r['t_default']:.1f}x | "
               f"{r['cvxpy'] / r['t_default']:.1f}x | {fixed} | {r['full_it']} / {r['t_full'] * 1e3:.2f} ms / "
-              f"{r['full_gap']:.1e} ({'certified' if r['polished'] else 'residuals'}) |")
+              f"{r['full_gap']:.1e} ({'certified' if r['polished'] else how(r)}) |")
     print(f"\nper cached-gain iteration (nx = 6, nu = 3, N = {sc.horizon}, {fl} flops): "
           f"{t_it_cpu * 1e6:.2f} us thread CPU time ({t_it * 1e6:.2f} us best wall), "
           f"{fl / t_it_cpu / 1e9:.2f} Gflop/s achieved; single-thread dgemm on this machine "

@@ -51,6 +51,8 @@ py::dict result_to_dict(const guidance::AdmmResult& r) {
   d["duality_gap"] = i.duality_gap;
   d["certified"] = i.certified;
   d["workspace_bytes"] = i.workspace_bytes;
+  d["ipm_iterations"] = i.ipm_iterations;
+  d["ipm_solved"] = i.ipm_solved;
   d["infeasibility_certificate"] = r.infeasibility_certificate;
   return d;
 }
@@ -92,6 +94,10 @@ void init_guidance(py::module_& m) {
   py::enum_<guidance::StoppingRule>(m, "StoppingRule")
       .value("residuals", guidance::StoppingRule::kResiduals)
       .value("paper", guidance::StoppingRule::kPaper);
+  py::enum_<guidance::AdmmMethod>(m, "AdmmMethod")
+      .value("admm", guidance::AdmmMethod::kAdmm)
+      .value("admm_ipm", guidance::AdmmMethod::kAdmmIpm)
+      .value("ipm", guidance::AdmmMethod::kIpm);
   py::enum_<AdmmStatus>(m, "AdmmStatus")
       .value("solved", AdmmStatus::kSolved)
       .value("solved_paper_rule", AdmmStatus::kSolvedPaperRule)
@@ -139,7 +145,11 @@ void init_guidance(py::module_& m) {
       .def_readwrite("time_limit", &AdmmSettings::time_limit)
       .def_readwrite("max_workspace_bytes", &AdmmSettings::max_workspace_bytes)
       .def_readwrite("infeasibility_check_interval", &AdmmSettings::infeasibility_check_interval)
-      .def_readwrite("equilibrate", &AdmmSettings::equilibrate);
+      .def_readwrite("equilibrate", &AdmmSettings::equilibrate)
+      .def_readwrite("method", &AdmmSettings::method)
+      .def_readwrite("ipm_after", &AdmmSettings::ipm_after)
+      .def_readwrite("ipm_max_iterations", &AdmmSettings::ipm_max_iterations)
+      .def_readwrite("ipm_tolerance", &AdmmSettings::ipm_tolerance);
 
   py::class_<AdmmSolver>(m, "AdmmSolver")
       .def(py::init([](std::vector<Eigen::MatrixXd> A, std::vector<Eigen::MatrixXd> B,

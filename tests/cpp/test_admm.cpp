@@ -190,7 +190,9 @@ TEST(Admm, QpPolishCertifiesWithoutAllocating) {
       LtvProblem p = scenario_problem(box, terminal);
       p.l1_weights = VectorXd::Zero(3);
       p.R = Eigen::Vector3d(0.5, 1.0, 2.0).asDiagonal();
-      AdmmSolver s(p, AdmmSettings());
+      AdmmSettings st;
+      st.method = satgnc::guidance::AdmmMethod::kAdmm;  // the polish path (the IPM endgame would solve it)
+      AdmmSolver s(p, st);
       s.solve();  // warm-up (first-touch)
       g_allocs = 0;
       g_counting = true;
@@ -236,9 +238,11 @@ TEST(Admm, QpPolishCertifiesWithoutAllocating) {
 // The smoothed-dual Newton candidate (tried at iterations 50, 100, 200, ...) runs without allocation,
 // whether it certifies (soft terminal: the paper's unconstrained case stops at iteration 50) or not.
 TEST(Admm, DualNewtonPathDoesNotAllocate) {
+  AdmmSettings st;
+  st.method = satgnc::guidance::AdmmMethod::kAdmm;  // the polish path (the IPM endgame would solve it)
   for (bool terminal : {false, true}) {
-    AdmmSolver s(scenario_problem(true, terminal), AdmmSettings());
-    AdmmSolver s0(scenario_problem(false, false), AdmmSettings());
+    AdmmSolver s(scenario_problem(true, terminal), st);
+    AdmmSolver s0(scenario_problem(false, false), st);
     s.solve();  // warm-up (first-touch)
     s0.solve();
     g_allocs = 0;

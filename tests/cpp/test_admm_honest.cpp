@@ -93,6 +93,7 @@ TEST(AdmmHonest, GapIsAValidLowerBoundAtEveryIterationCount) {
     AdmmSettings st;
     st.max_iterations = it;
     st.polish = false;
+    st.method = satgnc::guidance::AdmmMethod::kAdmm;  // ADMM's own iterates (no endgame)
     AdmmSolver s(false_solved_problem(), st);
     const AdmmResult& r = s.solve();
     EXPECT_LE(r.info.dual_objective, opt * (1.0 + 1e-9)) << it;
@@ -110,6 +111,7 @@ TEST(AdmmHonest, SolvedInaccurateAtTheLimit) {
   st.eps_rel = 1e-12;
   st.inaccurate_factor = 1e9;
   st.max_iterations = 3000;
+  st.method = satgnc::guidance::AdmmMethod::kAdmm;  // ADMM's limit (the IPM endgame reaches 1e-12)
   AdmmSolver s(false_solved_problem(), st);
   const AdmmResult& r = s.solve();
   EXPECT_EQ(r.info.status, AdmmStatus::kSolvedInaccurate);

@@ -234,10 +234,11 @@ def test_no_false_solved(outcomes):
     assert bad == []
 
 
-# Issue 11 asks for 98 % solved with default settings. Measured on this suite: see docs/guidance.md
-# ("Random suite"); the floor below is the measured share less a margin, so that a regression fails.
-# The rest end max_iterations / solved_inaccurate with their true objective and gap (never "solved").
-MIN_SOLVED = 0.86
+# Issue 11 asks for 98 % solved with default settings. Measured on this suite: 390 / 391 = 99.7 % with
+# the interior-point endgame (docs/guidance.md, "Random suite"); the floor is that share less a margin
+# of 3 problems, so that a regression fails. The rest end max_iterations / solved_inaccurate with
+# their true objective and gap (never "solved").
+MIN_SOLVED = 0.99
 
 
 def test_solved_share_with_default_settings(outcomes):
@@ -342,6 +343,11 @@ def test_huge_horizon_is_a_clear_error_naming_the_memory():
     ("time_limit", -1.0, ValueError, "time_limit"),
     ("eps_gap", -1.0, ValueError, "eps_gap"),
     ("max_workspace_bytes", 0.0, ValueError, "max_workspace_bytes"),
+    ("method", "newton", ValueError, r"settings.method: must be one of \['admm', 'admm_ipm', 'ipm'\]"),
+    ("method", 1, TypeError, "settings.method: must be one of"),
+    ("ipm_after", -1, ValueError, "ipm_after: must be >= 0"),
+    ("ipm_max_iterations", 0, ValueError, "ipm_max_iterations: must be >= 1"),
+    ("ipm_tolerance", 0.0, ValueError, "ipm_tolerance"),
 ])
 def test_bad_settings_name_the_setting(key, val, exc, word):
     with pytest.raises(exc, match=word):
@@ -359,3 +365,38 @@ def test_certified_and_gap_on_a_polished_solve():
     r = g.L1Solver(**_repro_tiny_rho()).solve()
     assert r.status == "solved" and r.certified and r.polished
     assert abs(r.duality_gap) <= 1e-9
+
+
+# ---- the interior-point method (settings.method)
+
+@pytest.mark.parametrize("method", ["admm", "admm_ipm", "ipm"])
+def test_methods_reach_the_same_certified_optimum(method):
+    kw = _repro_false_solved()
+    (obj, _, _), st = clarabel(kw)
+    r = g.L1Solver(**kw, settings={"method": method}).solve()
+    assert r.status == "solved"
+    assert (r.objective - obj) / obj <= 1e-4 and r.duality_gap <= 1e-5
+    if method == "admm":
+        assert r.ipm_iterations == 0 and not r.ipm_solved
+    if method == "ipm":
+        assert r.iterations == 0 and r.ipm_solved and 0 < r.ipm_iterations <= 40
+
+
+def test_endgame_solves_what_admm_leaves_at_ipm_after():
+    # the x in m, u in mm/s^2 rendezvous: ADMM alone needs its polish after many iterations; an early
+    # endgame certifies at ipm_after through the same gap test (the paper's constrained case in
+    # test_guidance.py is certified at the default ipm_after = 50)
+    kw = _repro_mm(False)
+    (obj, _, _), st = clarabel(kw)
+    r_admm = g.L1Solver(**kw, settings={"method": "admm"}).solve()
+    r = g.L1Solver(**kw, settings={"ipm_after": 5}).solve()
+    assert r.status == "solved" and r.ipm_solved and r.iterations == 5 and r.ipm_iterations > 0
+    assert r_admm.status == "solved" and r_admm.iterations > 5
+    assert (r.objective - obj) / obj <= 1e-4 and r.duality_gap <= 1e-5
+
+
+def test_ipm_is_for_l1_and_box_problems_only():
+    A, B = g.cw_discretize(0.0011, 1, 30, "zoh")
+    with pytest.raises(ValueError, match="method: 'ipm' covers L1 and box problems only"):
+        g.L1Solver(A, B, np.ones(6), horizon=10, Qf=np.eye(6), group_l2_weight=1.0,
+                   settings={"method": "ipm"})

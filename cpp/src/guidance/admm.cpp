@@ -76,6 +76,11 @@ void AdmmSettings::validate() const {
   core::require_nonnegative(time_limit, "time_limit");
   core::require_positive(max_workspace_bytes, "max_workspace_bytes");
   require(infeasibility_check_interval >= 1, "infeasibility_check_interval", "must be >= 1");
+  require(method == AdmmMethod::kAdmm || method == AdmmMethod::kAdmmIpm || method == AdmmMethod::kIpm,
+          "method", "must be admm, admm_ipm or ipm");
+  require(ipm_after >= 0, "ipm_after", "must be >= 0");
+  require(ipm_max_iterations >= 1, "ipm_max_iterations", "must be >= 1");
+  core::require_positive(ipm_tolerance, "ipm_tolerance");
 }
 
 AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
@@ -311,6 +316,9 @@ AdmmSolver::AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings)
     seld_.assign(static_cast<std::size_t>(nx_ + 1), 0.0);
     seli_.assign(static_cast<std::size_t>(nx_ + 1), 0);
   }
+  ipm_setup();
+  require(set_.method != AdmmMethod::kIpm || ipm_ok_, "method",
+          "'ipm' covers L1 and box problems only (no group_l2_weight, no u_norm_max)", "use 'admm_ipm'");
 }
 
 void AdmmSolver::update_psib() noexcept {
@@ -1225,7 +1233,24 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   std::array<std::uint64_t, 16> yfailed{};  // rejected Y-pattern candidates (ring)
   int n_yfailed = 0, next_yfailed = 0;
   bool have_prev = false, have_tried = false, have_dprev = false, have_dtried = false;
-  while (ok && it < set_.max_iterations) {
+  // interior-point method: alone (kIpm) before any ADMM iteration, or as the endgame at ipm_after
+  const bool ipm_on = ipm_ok_ && !paper_rule && set_.method != AdmmMethod::kAdmm;
+  const int ipm_at = set_.method == AdmmMethod::kIpm ? 0 : set_.ipm_after;
+  bool ipm_only = false;
+  if (ok && ipm_on && ipm_at == 0) {
+    if (ipm_solve(false)) {
+      info.ipm_solved = true;
+      status = AdmmStatus::kSolved;
+    } else if (set_.method == AdmmMethod::kIpm) {
+      // no certificate: the IPM's plan is returned as it is, with its true objective and gap
+      ipm_only = true;
+      U = iU_;
+      Y = iU_;
+      L.setZero();
+      if (prob_.terminal_equality) res_.terminal_multiplier = inu_;
+    }
+  }
+  while (ok && !info.ipm_solved && !ipm_only && it < set_.max_iterations) {
     ++it;
     if (!r_valid) r_ = L - rho * Y;
     RiccatiStatus rs = RiccatiStatus::kOk;
@@ -1397,6 +1422,17 @@ const AdmmResult& AdmmSolver::solve() noexcept {
         }
       }
     }
+    if (ipm_on && it == ipm_at) {
+      // endgame: accepted only through the same gap / terminal tests; otherwise ADMM goes on
+      // warm from ADMM's iterate (measured: 386 -> 390 / 391 suite problems solved), cold if that
+      // fails or there is no plan yet (Y = 0)
+      const bool warm = res_.Y.cwiseAbs().maxCoeff() > 0.0;
+      if ((warm && ipm_solve(true)) || ipm_solve(false)) {
+        info.ipm_solved = true;
+        status = AdmmStatus::kSolved;
+        break;
+      }
+    }
     if (timed &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > set_.time_limit) {
       status = AdmmStatus::kTimeLimit;
@@ -1455,7 +1491,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     info.dual_residual = best_dual;
     info.paper_criterion = best_paper;
     rollout(U, X);
-  } else if (cond && !info.polished) {
+  } else if ((cond && !info.polished) || ipm_only) {
     rollout(U, X);  // the condensed step produces U only
   }
   if (!paper_rule && flat_ok_) info.paper_criterion = (U - Y).norm() / dimU;  // of the returned iterate
@@ -1463,15 +1499,17 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   info.rho = rho;
   info.condensed = cond;
   info.factorizations += ric_.factorizations() - fact0 + cond_facts;
-  if (prob_.terminal_equality && !info.polished)
+  if (prob_.terminal_equality && !info.polished && !info.ipm_solved && !ipm_only)
     res_.terminal_multiplier = cond ? cg_ : ric_.terminal_multiplier();
   rollout(Y, res_.X_flown);
   if (info.polished) polished_terminal();
+  if (info.ipm_solved && !prob_.terminal_equality) res_.X_flown.col(N_) = prob_.xf + ie_;  // as certified
   info.objective = trajectory_objective(res_.X_flown, Y);
   info.objective_u = trajectory_objective(X, U);
   info.certified = info.polished;
   {
-    dual_at_u_ = !info.polished;  // X, U: the (best) x/u iterate, rolled out above
+    dual_at_u_ =
+        !info.polished && !info.ipm_solved;  // X, U: the (best) x/u iterate (the plan itself for the IPM)
     const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
     evaluate_gap(res_.X_flown, Y, pm, info.objective);
   }

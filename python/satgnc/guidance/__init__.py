@@ -114,6 +114,10 @@ class L1Result:
     certified: bool = False
     #: "primal_infeasible": unit y (nx,) with y'(xf - x_N(0)) > max over the box of y' dx_N/dU U
     infeasibility_certificate: np.ndarray | None = None
+    #: interior-point iterations of this solve (0: the IPM did not run; settings.method)
+    ipm_iterations: int = 0
+    #: the plan is the interior-point method's, "solved" by the same gap test as ADMM's
+    ipm_solved: bool = False
 
     @property
     def converged(self) -> bool:
@@ -134,12 +138,14 @@ def _settings(settings: Any) -> Any:
                 if val not in ("residuals", "paper"):
                     raise ValueError("settings: stopping must be 'residuals' or 'paper'")
                 val = getattr(_satgnc.StoppingRule, val)
+            elif key == "method" and not isinstance(val, _satgnc.AdmmMethod):
+                val = getattr(_satgnc.AdmmMethod, one_of(val, "settings.method", ("admm", "admm_ipm", "ipm")))
             else:
                 # the type of the current value decides the check (no pybind11 signature dumps)
                 cur = getattr(st, key)
                 if isinstance(cur, bool):
                     val = _v.as_bool(val, f"settings.{key}")
-                elif isinstance(cur, int) and not isinstance(cur, _satgnc.StoppingRule):
+                elif isinstance(cur, int) and not isinstance(cur, (_satgnc.StoppingRule, _satgnc.AdmmMethod)):
                     val = _v.as_int(val, f"settings.{key}", low=-(2**31), high=2**31 - 1)
                 elif isinstance(cur, float):
                     val = _v.as_real(val, f"settings.{key}", finite=False)
@@ -251,7 +257,8 @@ class L1Solver:
             polish_attempts=d["polish_attempts"], solve_time=d["solve_time"], condensed=d["condensed"],
             primal_objective=d["primal_objective"], dual_objective=d["dual_objective"],
             duality_gap=d["duality_gap"], certified=d["certified"],
-            infeasibility_certificate=d["infeasibility_certificate"].copy())
+            infeasibility_certificate=d["infeasibility_certificate"].copy(),
+            ipm_iterations=d["ipm_iterations"], ipm_solved=d["ipm_solved"])
 
     def warm_start(self, Y, Lambda) -> None:
         """Start the next solve from Y, Lambda (N, nu) each, e.g. a shifted previous solution."""

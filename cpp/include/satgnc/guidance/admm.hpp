@@ -14,10 +14,12 @@
 /// unscaled multiplier of U - Y = 0. Usage:
 ///   AdmmSolver s(problem, settings);  // validates, allocates (throws std::invalid_argument)
 ///   const AdmmResult& r = s.solve();  // never throws, never allocates; see r.info.status
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "satgnc/guidance/riccati.hpp"
@@ -44,6 +46,13 @@ struct LtvProblem {
 enum class StoppingRule {
   kResiduals = 0,  ///< OSQP-like: primal ||U-Y||_inf and dual rho ||Y-Y_prev||_inf residuals
   kPaper = 1,      ///< published implementation: ||U - Y||_F / (N nu) <= paper_eps
+};
+
+/// Solution method (AdmmSettings::method).
+enum class AdmmMethod {
+  kAdmm = 0,     ///< ADMM with its polishes only (the published algorithm's path)
+  kAdmmIpm = 1,  ///< ADMM, and the interior-point endgame at iteration ipm_after if not yet solved
+  kIpm = 2,      ///< the interior-point method alone (L1 + box problems; no ADMM iterations)
 };
 
 /// Solver settings (plain struct; defaults solve the scenario cases to ~1e-6 relative).
@@ -109,6 +118,19 @@ struct AdmmSettings {
   /// are eliminated in the x/u step. Results are returned unscaled; the residuals and eps_primal /
   /// eps_dual in AdmmInfo are those of the scaled problem. See docs/guidance.md.
   bool equilibrate = true;
+  /// Method (residual rule only; the paper rule always runs plain ADMM). The interior-point method
+  /// (Mehrotra predictor-corrector on the equilibrated L1 + box problem, per-entry epigraph and box
+  /// slacks eliminated into a diagonal added to R, one structured LQR solve per step: the condensed
+  /// nx x nx system without stage Q and with diagonal R, a Riccati recursion otherwise) covers every
+  /// problem without group-L2 or ball. Its plan is `solved` only through the same independent tests
+  /// as ADMM's (relative duality gap <= eps_gap, terminal miss); otherwise ADMM goes on.
+  AdmmMethod method = AdmmMethod::kAdmmIpm;
+  int ipm_after = 50;           ///< ADMM iterations before the endgame (>= 0; measured: 50 keeps the
+                                ///< problems ADMM certifies by then on its cheaper path)
+  int ipm_max_iterations = 60;  ///< interior-point iterations per run (>= 1)
+  /// Interior-point stopping: complementarity sum s'z and the stationarity residuals below this
+  /// (relative to the objective and the gradient scale) trigger the independent gap test.
+  double ipm_tolerance = 1e-9;
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
 };
@@ -157,6 +179,8 @@ struct AdmmInfo {
   double duality_gap = 0.0;
   bool certified = false;        ///< the polish optimality certificate holds (same as polished)
   double workspace_bytes = 0.0;  ///< setup's estimate of the workspace (size check)
+  int ipm_iterations = 0;        ///< interior-point iterations in this solve (0: the IPM did not run)
+  bool ipm_solved = false;       ///< the returned plan is the interior-point method's (kSolved by its gap)
 };
 
 /// Result (all arrays allocated at setup).
@@ -352,6 +376,41 @@ class AdmmSolver {
   Eigen::MatrixXd Rf_;          ///< R - diag(rg_), kept in the smooth part f
   bool rf_on_ = false;          ///< Rf_ is nonzero
   Eigen::VectorXd pz_;          ///< the terminal multiplier used by the gap (zeros if soft terminal)
+  // interior-point method (admm_ipm.cpp): per-entry arrays over the N nu entries of U
+  bool ipm_ok_ = false;  ///< no group-L2 / ball: the IPM applies
+  /// Run the IPM from a cold start; true if its plan passes the gap / terminal tests, then the
+  /// plan, its multipliers and X_flown are in res_. Leaves res_ U, Y, Lambda untouched otherwise.
+  bool ipm_solve(bool warm) noexcept;  ///< warm: from ADMM's Y and Lambda
+  void ipm_setup();
+  bool ipm_factor() noexcept;
+  template <int NX, int NU>
+  bool ipm_riccati_factor() noexcept;
+  template <int NX, int NU>
+  void ipm_riccati_sweep() noexcept;
+  template <int NU>
+  auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
+                                                Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
+  double ipm_max_step() const noexcept;
+  bool ipm_newton(bool corrector, double sigma_mu) noexcept;
+  bool ipm_certify() noexcept;
+  int ipm_m_ = 0;                                                 ///< number of inequality constraints
+  Eigen::ArrayXd is1_, is2_, is3_, is4_, iz1_, iz2_, iz3_, iz4_;  ///< u, slacks, multipliers
+  Eigen::ArrayXd im1_, im3_, im4_;              ///< 1 where the L1 pair / lower / upper constraint exists
+  Eigen::ArrayXd id_, ilin_, irt_, idu_, idt_;  ///< diagonal D, linear term, r_t, steps
+  Eigen::ArrayXd ids1_, ids2_, ids3_, ids4_, idz1_, idz2_, idz3_, idz4_;
+  Eigen::ArrayXd ia1_, ia2_, ia3_, ia4_, ib1_, ib2_, ib3_, ib4_;  ///< affine steps (corrector terms)
+  Eigen::ArrayXd itv_, irp1_, irp2_, irp3_, irp4_;  ///< epigraph t and primal residuals c(u, t) - s
+  Eigen::VectorXd ie2_;                             ///< the multiplier of the flown plan (certification)
+  Eigen::MatrixXd iU_, iX_, idX_;                   ///< IPM plan nu x N, its states and state step nx x (N+1)
+  Eigen::VectorXd ie_, inu_, inun_, iep_;           ///< terminal error, multiplier, solved multiplier / error
+  Eigen::MatrixXd iS_;  ///< terminal sensitivity dx_N / dnu of the IPM's Riccati factorization
+  Eigen::PartialPivLU<Eigen::MatrixXd> ilu_;
+  // Riccati path: per stage K_k, Quu_k^-1, Qux_k, Knu_k (nu x nx N or nu x nu N), scratch
+  Eigen::MatrixXd iK_, iQi_, iQux_, iKnu_, iP_, iPn_, iL_, iLn_, iBtP_, iQuu_, iAcl_, iZ_, iBtL_;
+  Eigen::MatrixXd ikff_;
+  Eigen::VectorXd ip_, ipn_, iqu_, idx_, idxn_;
+  Eigen::LLT<Eigen::MatrixXd> illt_;
+  Eigen::MatrixXd iInu_;
 };
 
 }  // namespace satgnc::guidance

@@ -1,0 +1,509 @@
+// Interior-point method of the ADMM solver (AdmmSettings::method): Mehrotra predictor-corrector on
+// the equilibrated L1 + box problem. Per entry j = (k, i) of U the L1 term is an epigraph t_j with
+// slacks s1 = t - u, s2 = t + u >= 0 (w_j > 0) and the box gives s3 = u - lo, s4 = hi - u >= 0. The
+// Newton system eliminates t, s and z entry by entry into a diagonal D added to R, which leaves one
+// equality-constrained LQR problem per step, solved by a time-varying Riccati recursion (with the
+// terminal-constraint sensitivity for x_N = x_f). The condensed nx x nx form of that step was tried
+// and dropped: ill-conditioned once D spans many decades (docs/guidance.md). The plan is accepted
+// only through the solver's own gap test (admm_gap.cpp).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+#include "satgnc/guidance/admm.hpp"
+
+namespace satgnc::guidance {
+
+using Eigen::ArrayXd;
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}  // namespace
+
+void AdmmSolver::ipm_setup() {
+  ipm_ok_ = flat_ok_;  // L1 + box (no group-L2 or ball: second-order cones stay ADMM-only)
+  if (!ipm_ok_) return;
+  const Index n = static_cast<Index>(N_) * nu_;
+  for (ArrayXd* a :
+       {&is1_, &is2_,  &is3_,  &is4_,  &iz1_,  &iz2_,  &iz3_,  &iz4_,  &id_,   &ilin_, &irt_, &idu_,
+        &idt_, &ids1_, &ids2_, &ids3_, &ids4_, &idz1_, &idz2_, &idz3_, &idz4_, &ia1_,  &ia2_, &ia3_,
+        &ia4_, &ib1_,  &ib2_,  &ib3_,  &ib4_,  &itv_,  &irp1_, &irp2_, &irp3_, &irp4_})
+    a->setZero(n);
+  im1_ = (wrep_ > 0.0).cast<double>();
+  im3_ = (lorep_ > -kInf).cast<double>();
+  im4_ = (hirep_ < kInf).cast<double>();
+  ipm_m_ = static_cast<int>(2.0 * im1_.sum() + im3_.sum() + im4_.sum());
+  iU_.setZero(nu_, N_);
+  iX_.setZero(nx_, N_ + 1);
+  idX_.setZero(nx_, N_ + 1);
+  ie_.setZero(nx_);
+  inu_.setZero(nx_);
+  inun_.setZero(nx_);
+  iep_.setZero(nx_);
+  ie2_.setZero(nx_);
+  ilu_ = Eigen::PartialPivLU<MatrixXd>(nx_);
+  iS_.setZero(nx_, nx_);
+  iK_.setZero(nu_, nx_ * N_);
+  iQi_.setZero(nu_, nu_ * N_);
+  iQux_.setZero(nu_, nx_ * N_);
+  iKnu_.setZero(nu_, nx_ * N_);
+  ikff_.setZero(nu_, N_);
+  for (MatrixXd* m : {&iP_, &iPn_, &iL_, &iLn_, &iAcl_, &iZ_}) m->setZero(nx_, nx_);
+  iBtP_.setZero(nu_, nx_);
+  iBtL_.setZero(nu_, nx_);
+  iQuu_.setZero(nu_, nu_);
+  iInu_ = MatrixXd::Identity(nu_, nu_);
+  illt_ = Eigen::LLT<MatrixXd>(nu_);
+  ip_.setZero(nx_);
+  ipn_.setZero(nx_);
+  iqu_.setZero(nu_);
+  idx_.setZero(nx_);
+  idxn_.setZero(nx_);
+}
+
+// Stage views of the stored per-stage blocks, fixed-size for the (6, 3) CW case (the products then
+// unroll), dynamic otherwise; all storage is preallocated, nothing is allocated here.
+template <int NX, int NU>
+bool AdmmSolver::ipm_riccati_factor() noexcept {
+  using MXX = Eigen::Matrix<double, NX, NX>;
+  using MUX = Eigen::Matrix<double, NU, NX>;
+  using MXU = Eigen::Matrix<double, NX, NU>;
+  using MUU = Eigen::Matrix<double, NU, NU>;
+  const bool term = prob_.terminal_equality;
+  const LtvDynamics& d = prob_.dynamics;
+  const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
+  const Index nx = nx_, nu = nu_;
+  Eigen::Map<MXX> P(iP_.data(), nx, nx), Pn(iPn_.data(), nx, nx), L(iL_.data(), nx, nx),
+      Ln(iLn_.data(), nx, nx), Acl(iAcl_.data(), nx, nx), Z(iZ_.data(), nx, nx);
+  Eigen::Map<MUX> BtP(iBtP_.data(), nu, nx), BtL(iBtL_.data(), nu, nx);
+  Eigen::Map<MUU> Quu(iQuu_.data(), nu, nu);
+  std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
+  P = prob_.Qf;
+  if (term) {
+    L.setIdentity();
+    Z.setZero();  // W: the nu-nu block of the value function; at k = 0 it is S = dx_N / dnu
+  }
+  for (int k = N_ - 1; k >= 0; --k) {
+    const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
+    const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
+    Eigen::Map<MUU> Qi(iQi_.data() + k * nu * nu, nu, nu);
+    Eigen::Map<MUX> Qux(iQux_.data() + k * nu * nx, nu, nx), K(iK_.data() + k * nu * nx, nu, nx),
+        Knu(iKnu_.data() + k * nu * nx, nu, nx);
+    BtP.noalias() = B.transpose() * P;
+    Quu.noalias() = BtP * B;
+    if (has_r) Quu += prob_.R;
+    for (int i = 0; i < nu_; ++i) Quu(i, i) += id_(static_cast<Index>(k) * nu_ + i);
+    llt.compute(Quu);
+    // near the end D spans many decades and P_{k+1} may lose definiteness to rounding: a relative
+    // shift of the stage Hessian (the step stays a descent direction)
+    for (double shift = 1e-14; llt.info() != Eigen::Success; shift *= 100.0) {
+      if (shift > 1e-6) return false;
+      Quu.diagonal().array() += shift * Quu.diagonal().cwiseAbs().maxCoeff();
+      llt.compute(Quu);
+    }
+    Qi.setIdentity();
+    llt.solveInPlace(Qi);
+    Qux.noalias() = BtP * A;
+    K.noalias() = -Qi * Qux;
+    if (term) {
+      BtL.noalias() = B.transpose() * L;
+      Knu.noalias() = -Qi * BtL;
+      Z.noalias() += BtL.transpose() * Knu;  // W_k = W_{k+1} - (B'L)' Quu^-1 (B'L)
+      Acl = A;
+      Acl.noalias() += B * K;
+      Ln.noalias() = Acl.transpose() * L;
+      L = Ln;
+    }
+    if (k == 0) break;
+    Pn.noalias() = P * A;
+    P.noalias() = A.transpose() * Pn;
+    P.noalias() += Qux.transpose() * K;
+    if (has_q) P += prob_.Q;
+    Pn = P.transpose();
+    P += Pn;
+    P *= 0.5;
+  }
+  if (!P.allFinite()) return false;
+  if (term) {
+    // sensitivity S = dx_N / dnu = W_0 (envelope: x_N is the derivative of the value in nu)
+    iS_ = iZ_;
+  }
+  return true;
+}
+
+template <int NU>
+auto AdmmSolver::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&,
+                                                          Eigen::LLT<Eigen::Matrix<double, NU, NU>>> {
+  if constexpr (NU == Eigen::Dynamic) {
+    return illt_;
+  } else {
+    return Eigen::LLT<Eigen::Matrix<double, NU, NU>>();
+  }
+}
+
+// Affine backward sweep (linear terms: R u + lin on u, Q (x_k - x_f) on stage states, Qf e at N) and
+// forward rollout of the step; with a hard terminal state, the multiplier from the sensitivity and a
+// second forward pass.
+template <int NX, int NU>
+void AdmmSolver::ipm_riccati_sweep() noexcept {
+  using MXX = Eigen::Matrix<double, NX, NX>;
+  using MUX = Eigen::Matrix<double, NU, NX>;
+  using MXU = Eigen::Matrix<double, NX, NU>;
+  using MUU = Eigen::Matrix<double, NU, NU>;
+  using VX = Eigen::Matrix<double, NX, 1>;
+  using VU = Eigen::Matrix<double, NU, 1>;
+  const bool term = prob_.terminal_equality;
+  const LtvDynamics& d = prob_.dynamics;
+  const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
+  const Index nx = nx_, nu = nu_;
+  Eigen::Map<VX> p(ip_.data(), nx), pn(ipn_.data(), nx), dx(idx_.data(), nx);
+  Eigen::Map<VU> qu(iqu_.data(), nu);
+  p.noalias() = prob_.Qf * ie_;
+  for (int k = N_ - 1; k >= 0; --k) {
+    const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
+    const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
+    const Eigen::Map<const MUU> Qi(iQi_.data() + k * nu * nu, nu, nu);
+    const Eigen::Map<const MUX> Qux(iQux_.data() + k * nu * nx, nu, nx);
+    Eigen::Map<VU> kff(ikff_.data() + k * nu, nu);
+    qu = Eigen::Map<const VU>(ilin_.data() + k * nu, nu);
+    if (has_r) qu.noalias() += prob_.R * iU_.col(k);
+    qu.noalias() += B.transpose() * p;
+    kff.noalias() = -Qi * qu;
+    if (k == 0) break;
+    pn.noalias() = A.transpose() * p;
+    pn.noalias() += Qux.transpose() * kff;
+    if (has_q) {
+      dx = iX_.col(k) - prob_.xf;
+      pn.noalias() += prob_.Q * dx;
+    }
+    p = pn;
+  }
+  for (int pass = 0; pass < (term ? 2 : 1); ++pass) {
+    idX_.col(0).setZero();
+    for (int k = 0; k < N_; ++k) {
+      const Eigen::Map<const MXX> A(d.A_at(k).data(), nx, nx);
+      const Eigen::Map<const MXU> B(d.B_at(k).data(), nx, nu);
+      const Eigen::Map<const MUX> K(iK_.data() + k * nu * nx, nu, nx);
+      Eigen::Map<VU> du(idu_.data() + k * nu, nu);
+      const Eigen::Map<const VX> xk(idX_.data() + k * nx, nx);
+      Eigen::Map<VX> xn(idX_.data() + (k + 1) * nx, nx);
+      du = Eigen::Map<const VU>(ikff_.data() + k * nu, nu);
+      du.noalias() += K * xk;
+      if (pass == 1) du.noalias() += Eigen::Map<const MUX>(iKnu_.data() + k * nu * nx, nu, nx) * inun_;
+      xn.noalias() = A * xk;
+      xn.noalias() += B * du;
+    }
+    if (term && pass == 0) {
+      idx_ = -ie_ - idX_.col(N_);
+      inun_ = ilu_.solve(idx_);
+    }
+  }
+  iep_ = ie_ + idX_.col(N_);
+}
+
+template bool AdmmSolver::ipm_riccati_factor<6, 3>() noexcept;
+template bool AdmmSolver::ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
+template void AdmmSolver::ipm_riccati_sweep<6, 3>() noexcept;
+template void AdmmSolver::ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
+
+// D_j (the eliminated epigraph / box block) from the current slacks and multipliers, then the
+// factorization of the structured LQR step with R + diag(D).
+bool AdmmSolver::ipm_factor() noexcept {
+  const bool term = prob_.terminal_equality;
+  // pair block in the inverse ratios r_m = s_m / z_m (bounded where d_m = z_m / s_m overflows):
+  // D = 4 d1 d2 / (d1 + d2) = 4 / (r1 + r2)
+  id_ = (im1_ > 0.5).select(4.0 / (is1_ / iz1_ + is2_ / iz2_), 0.0) + im3_ * iz3_ / is3_ + im4_ * iz4_ / is4_;
+  if (!(nx_ == 6 && nu_ == 3 ? ipm_riccati_factor<6, 3>()
+                             : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
+    return false;
+  if (!term) return true;
+  ilu_.compute(iS_);
+  const auto piv = ilu_.matrixLU().diagonal().cwiseAbs();
+  return std::isfinite(piv.maxCoeff()) && piv.minCoeff() > 1e-13 * piv.maxCoeff();
+}
+
+// One Newton direction with complementarity targets rc = s z (predictor) or s z + ds_a dz_a - sigma
+// mu (corrector, smu = sigma mu): idu_, idt_, ids*, idz* and the terminal quantities iep_, inun_.
+bool AdmmSolver::ipm_newton(bool corrector, double smu) noexcept {
+  const bool term = prob_.terminal_equality;
+  const Index n = static_cast<Index>(N_) * nu_;
+  // q_m = (rc_m + z_m rp_m) / s_m (zero for absent constraints: s = 1, z = 0 there); infeasible
+  // start: rp = c(u, t) - s is driven to zero by the steps
+  if (!corrector) {
+    idz1_ = iz1_ + iz1_ * irp1_ / is1_;
+    idz2_ = iz2_ + iz2_ * irp2_ / is2_;
+    idz3_ = iz3_ + iz3_ * irp3_ / is3_;
+    idz4_ = iz4_ + iz4_ * irp4_ / is4_;
+  } else {
+    idz1_ = im1_ * (is1_ * iz1_ + ia1_ * ib1_ - smu + iz1_ * irp1_) / is1_;
+    idz2_ = im1_ * (is2_ * iz2_ + ia2_ * ib2_ - smu + iz2_ * irp2_) / is2_;
+    idz3_ = im3_ * (is3_ * iz3_ + ia3_ * ib3_ - smu + iz3_ * irp3_) / is3_;
+    idz4_ = im4_ * (is4_ * iz4_ + ia4_ * ib4_ - smu + iz4_ * irp4_) / is4_;
+  }
+  irt_ = im1_ * (wrep_ - iz1_ - iz2_);
+  idt_ = idz1_ + idz2_;  // g_t
+  // linear term of the reduced step: -sum z a + g_u - H_ut (r_t + g_t) / H_tt
+  ilin_ = iz1_ - iz2_ - iz3_ + iz4_ - idz1_ + idz2_ + idz3_ - idz4_ -
+          (im1_ > 0.5).select((is1_ / iz1_ - is2_ / iz2_) / (is1_ / iz1_ + is2_ / iz2_) * (irt_ + idt_), 0.0);
+  if (nx_ == 6 && nu_ == 3) {
+    ipm_riccati_sweep<6, 3>();
+  } else {
+    ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>();
+  }
+  if (!idu_.allFinite()) return false;
+  // back-substitution: dt, ds, dz
+  // dt = -(r_t + g_t) / H_tt - (H_ut / H_tt) du with 1 / H_tt = r1 r2 / (r1 + r2), H_ut / H_tt =
+  // (r1 - r2) / (r1 + r2)
+  idt_ = (im1_ > 0.5)
+             .select(-(irt_ + idt_) * (is1_ / iz1_) * (is2_ / iz2_) / (is1_ / iz1_ + is2_ / iz2_) -
+                         (is1_ / iz1_ - is2_ / iz2_) / (is1_ / iz1_ + is2_ / iz2_) * idu_,
+                     0.0);
+  ids1_ = im1_ * (idt_ - idu_);
+  ids2_ = im1_ * (idt_ + idu_);
+  ids3_ = im3_ * idu_;
+  ids4_ = -im4_ * idu_;
+  idz1_ = -idz1_ - iz1_ / is1_ * ids1_;
+  idz2_ = -idz2_ - iz2_ / is2_ * ids2_;
+  idz3_ = -idz3_ - iz3_ / is3_ * ids3_;
+  idz4_ = -idz4_ - iz4_ / is4_ * ids4_;
+  ids1_ += irp1_;
+  ids2_ += irp2_;
+  ids3_ += irp3_;
+  ids4_ += irp4_;
+  return true;
+}
+
+double AdmmSolver::ipm_max_step() const noexcept {
+  double a = kInf;
+  const auto lim = [&](const ArrayXd& v, const ArrayXd& dv) {
+    const Index n = v.size();
+    for (Index j = 0; j < n; ++j)
+      if (dv(j) < 0.0) a = std::min(a, -v(j) / dv(j));
+  };
+  lim(is1_, ids1_);
+  lim(is2_, ids2_);
+  lim(is3_, ids3_);
+  lim(is4_, ids4_);
+  lim(iz1_, idz1_);
+  lim(iz2_, idz2_);
+  lim(iz3_, idz3_);
+  lim(iz4_, idz4_);
+  return a;
+}
+
+// The independent acceptance test (the same as ADMM's): relative duality gap of the plan <= eps_gap
+// and the terminal miss, on the rolled-out plan.
+bool AdmmSolver::ipm_certify() noexcept {
+  const bool term = prob_.terminal_equality;
+  // the plan in the box (the slacks are carried apart from u: rounding may put u outside by an ulp)
+  for (int k = 0; k < N_; ++k)
+    for (int i = 0; i < nu_; ++i) iU_(i, k) = std::clamp(iU_(i, k), lo_(i), hi_(i));
+  rollout(iU_, res_.X_flown);
+  if (term) {
+    // the multiplier estimate for the flown plan: the IPM's costate at x_N is nu + Qf e with its
+    // carried e; with the rolled-out e the same costate needs nu + Qf (e_carried - e_rolled) (any
+    // multiplier gives a valid dual bound; this one keeps the IPM's stationarity)
+    xtmp_ = ie_ + prob_.xf - res_.X_flown.col(N_);
+    ie2_.noalias() = prob_.Qf * xtmp_;
+    ie2_ += inu_;
+  } else {
+    // the carried terminal error (updated by the linear steps, as the polish solves it) keeps its
+    // digits when it is small against x_N(0); it must agree with the rollout to rounding
+    xtmp_ = res_.X_flown.col(N_) - prob_.xf - ie_;
+    if (!(xtmp_.norm() <= 1e-9 * (xN0all_.norm() + prob_.xf.norm() + ie_.norm()))) return false;
+    res_.X_flown.col(N_) = prob_.xf + ie_;
+  }
+  dual_at_u_ = false;
+  const double P = trajectory_objective(res_.X_flown, iU_);
+  const VectorXd& pm = term ? ie2_ : pz_;
+  return evaluate_gap(res_.X_flown, iU_, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
+}
+
+bool AdmmSolver::ipm_solve(bool warm) noexcept {
+  const bool term = prob_.terminal_equality;
+  const Index n = static_cast<Index>(N_) * nu_;
+  AdmmInfo& info = res_.info;
+  Eigen::Map<ArrayXd> u(iU_.data(), n);
+  if (warm) {
+    // from ADMM's iterate: u = Y (in the box), multipliers from Lambda = -grad f at its fixed point
+    // (-grad f = z1 - z2 - z3 + z4): the L1 pair takes clamp(Lambda, -w, w), the box the rest;
+    // slacks and multipliers floored at a fraction of the plan's and the multipliers' scale
+    Eigen::Map<const ArrayXd> y(res_.Y.data(), n), lam(res_.Lambda.data(), n);
+    u = y.max(lorep_).min(hirep_);
+    const double tau = 1e-2 * std::max(u.abs().maxCoeff(), 1e-300);
+    const double zf = 1e-2 * std::max({w_.maxCoeff(), lam.abs().maxCoeff(), 1e-300});
+    itv_ = im1_ * (u.abs() + tau);
+    is1_ = im1_ * (itv_ - u) + (1.0 - im1_);
+    is2_ = im1_ * (itv_ + u) + (1.0 - im1_);
+    is3_ = im3_ * (u - lofin_).max(tau) + (1.0 - im3_);
+    is4_ = im4_ * (hifin_ - u).max(tau) + (1.0 - im4_);
+    ia1_ = lam.max(-wrep_).min(wrep_);  // scratch: the L1 part of Lambda
+    iz1_ = im1_ * (0.5 * (wrep_ + ia1_)).max(1e-2 * wrep_);
+    iz2_ = im1_ * (0.5 * (wrep_ - ia1_)).max(1e-2 * wrep_);
+    iz3_ = im3_ * ((ia1_ - lam).max(0.0) + zf);
+    iz4_ = im4_ * ((lam - ia1_).max(0.0) + zf);
+  } else {
+    // cold start: u = 0 (the box midpoint if 0 is not inside), t = |u| + 1, z1 = z2 = w / 2 (r_t = 0),
+    // box multipliers 1 / s
+    for (Index j = 0; j < n; ++j) {
+      const double lo = lorep_(j), hi = hirep_(j);
+      double v = 0.0;
+      if (!(lo < 0.0 && hi > 0.0)) {
+        if (std::isfinite(lo) && std::isfinite(hi)) {
+          v = 0.5 * (lo + hi);
+        } else if (std::isfinite(lo)) {
+          v = std::max(0.0, lo) + 1.0;
+        } else {
+          v = std::min(0.0, hi) - 1.0;
+        }
+      }
+      u(j) = v;
+    }
+    // infeasible start: t = |u| + 1 and slacks at least 1 (a box narrower than that starts outside,
+    // its residual c(u, t) - s decays with the steps), z1 = z2 = w / 2 (r_t = 0), box multipliers 1
+    itv_ = im1_ * (u.abs() + 1.0);
+    is1_ = im1_ * (itv_ - u).max(1.0) + (1.0 - im1_);
+    is2_ = im1_ * (itv_ + u).max(1.0) + (1.0 - im1_);
+    is3_ = im3_ * (u - lofin_).max(1.0) + (1.0 - im3_);
+    is4_ = im4_ * (hifin_ - u).max(1.0) + (1.0 - im4_);
+    iz1_ = 0.5 * im1_ * wrep_;
+    iz2_ = iz1_;
+  }
+  // Mehrotra's shift toward the central path: s += 1/2 s'z / sum z, z += 1/2 s'z / sum s
+  const double sz0 = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
+  const double zs = (im1_ * (iz1_ + iz2_) + im3_ * iz3_ + im4_ * iz4_).sum();
+  const double ss = (im1_ * (is1_ + is2_) + im3_ * is3_ + im4_ * is4_).sum();
+  if (zs > 0.0 && ss > 0.0) {
+    const double ds = 0.5 * sz0 / zs, dz = 0.5 * sz0 / ss;
+    is1_ += im1_ * ds;
+    is2_ += im1_ * ds;
+    is3_ += im3_ * ds;
+    is4_ += im4_ * ds;
+    itv_ += im1_ * ds;  // keeps s1, s2 consistent with t
+    iz1_ += im1_ * dz;
+    iz2_ += im1_ * dz;
+    iz3_ += im3_ * dz;
+    iz4_ += im4_ * dz;
+  }
+  inu_.setZero();
+  rollout(iU_, iX_);
+  ie_ = iX_.col(N_) - prob_.xf;
+  // box multipliers that balance the gradient at the start (-grad f = z1 - z2 - z3 + z4): a box
+  // that binds at the optimum otherwise needs many centering steps to grow its multipliers
+  if (!warm) {
+    lagrangian_gradient(iX_, iU_, pz_, true);
+    for (int k = 0; k < N_; ++k)
+      for (int i = 0; i < nu_; ++i) Hg_(i, k) += rg_(i) * iU_(i, k);
+    Eigen::Map<const ArrayXd> g0(Hg_.data(), n);
+    iz3_ = im3_ * (1.0 + (g0 - im1_ * wrep_).max(0.0));
+    iz4_ = im4_ * (1.0 + (-g0 - im1_ * wrep_).max(0.0));
+  }
+  xtmp2_ = xN0all_ - prob_.xf;
+  const double e_ref = 1e-2 * set_.terminal_tolerance * xtmp2_.norm();
+  const double m = std::max(ipm_m_, 1);
+  const double wmax = w_.maxCoeff();
+  int it = 0, cert_failures = 0;
+  double ru_prev = kInf;
+  bool ok = false;
+  for (; it <= set_.ipm_max_iterations; ++it) {
+    // residuals of the current point: stationarity r_u = grad f + M' nu - sum z a, r_t, complementarity
+    double P = 0.0, gpart = 0.0;  // gpart: the largest term of the gradient (they cancel in a QP)
+    Eigen::Map<ArrayXd> grad(Hg_.data(), n);
+    {
+      // states from the plan itself (stage terms), the terminal state from the carried error
+      rollout(iU_, iX_);
+      iX_.col(N_) = prob_.xf + ie_;
+      P = lagrangian_gradient(iX_, iU_, term ? inu_ : pz_, true);
+      gpart = grad.abs().maxCoeff();
+      for (Index j = 0; j < n; ++j) {
+        const double r = rg_(j % nu_);
+        gpart = std::max(gpart, std::abs(r * u(j)));
+        grad(j) += r * u(j);
+        P += 0.5 * r * u(j) * u(j);
+      }
+    }
+    P += (wrep_ * u.abs()).sum();
+    const double gscale = std::max({gpart, wmax, 1e-300});
+    const double ru = (grad + iz1_ - iz2_ - iz3_ + iz4_).abs().maxCoeff();
+    const double rt = (im1_ * (wrep_ - iz1_ - iz2_)).abs().maxCoeff();
+    const double sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
+    irp1_ = im1_ * (itv_ - u - is1_);
+    irp2_ = im1_ * (itv_ + u - is2_);
+    irp3_ = im3_ * (u - lofin_ - is3_);
+    irp4_ = im4_ * (hifin_ - u - is4_);
+    const double rp = std::max(
+        {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
+    const double uscale = std::max(
+        {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
+    if (!std::isfinite(P) || !std::isfinite(ru) || !std::isfinite(sz)) break;
+    const double tol = set_.ipm_tolerance;
+    // stationarity has a rounding floor when the gradient's terms cancel (stage Q far from x_f):
+    // once it stops decreasing, the independent gap test decides
+    const bool ru_ok = ru <= 1e3 * tol * gscale || (ru >= 0.5 * ru_prev && sz <= tol * tol * std::abs(P));
+    ru_prev = ru;
+    if (sz <= tol * std::abs(P) && rp <= 1e3 * tol * uscale && ru_ok &&
+        rt <= 1e3 * tol * std::max(wmax, 1e-300) && (!term || ie_.norm() <= e_ref)) {
+      if (ipm_certify()) {
+        ok = true;
+        break;
+      }
+      if (++cert_failures >= 3) break;
+    }
+    if (it == set_.ipm_max_iterations) break;
+    if (!ipm_factor() || !ipm_newton(false, 0.0)) break;
+    // predictor: affine step length and the centering parameter sigma = (mu_aff / mu)^3
+    const double mu = sz / m;
+    const double aa = std::min(1.0, ipm_max_step());
+    ia1_ = ids1_;
+    ia2_ = ids2_;
+    ia3_ = ids3_;
+    ia4_ = ids4_;
+    ib1_ = idz1_;
+    ib2_ = idz2_;
+    ib3_ = idz3_;
+    ib4_ = idz4_;
+    const double mu_aff =
+        (im1_ * ((is1_ + aa * ia1_) * (iz1_ + aa * ib1_) + (is2_ + aa * ia2_) * (iz2_ + aa * ib2_)) +
+         im3_ * (is3_ + aa * ia3_) * (iz3_ + aa * ib3_) + im4_ * (is4_ + aa * ia4_) * (iz4_ + aa * ib4_))
+            .sum() /
+        m;
+    const double sigma = mu > 0.0 ? std::clamp(std::pow(mu_aff / mu, 3.0), 0.0, 1.0) : 0.0;
+    if (!ipm_newton(true, sigma * mu)) break;
+    const double a = std::min(1.0, 0.99 * ipm_max_step());
+    if (!(a > 1e-12)) break;
+    u += a * idu_;
+    itv_ += a * idt_;
+    is1_ += a * ids1_;
+    is2_ += a * ids2_;
+    is3_ += a * ids3_;
+    is4_ += a * ids4_;
+    iz1_ += a * idz1_;
+    iz2_ += a * idz2_;
+    iz3_ += a * idz3_;
+    iz4_ += a * idz4_;
+    // absent constraints keep s = 1, z = 0
+    is1_ = im1_ * is1_ + (1.0 - im1_);
+    is2_ = im1_ * is2_ + (1.0 - im1_);
+    is3_ = im3_ * is3_ + (1.0 - im3_);
+    is4_ = im4_ * is4_ + (1.0 - im4_);
+    if (term) inu_ += a * (inun_ - inu_);
+    ie_ += a * (iep_ - ie_);
+  }
+  info.ipm_iterations += it;
+  if (!ok) return false;
+  // the certified plan: Lambda = -(grad f + M' p) from the gap's costate sweep (Hg_ without the
+  // diagonal of R moved into g)
+  res_.U = iU_;
+  res_.Y = iU_;
+  for (int k = 0; k < N_; ++k)
+    for (int i = 0; i < nu_; ++i) res_.Lambda(i, k) = -(Hg_(i, k) + rg_(i) * iU_(i, k));
+  res_.X = res_.X_flown;
+  if (term) res_.terminal_multiplier = ie2_;
+  return true;
+}
+
+}  // namespace satgnc::guidance
