@@ -71,10 +71,10 @@ def test_converged_matches_clarabel(case, references):
     assert r.status == "solved"
     assert abs(r.objective - ref_obj) / ref_obj <= 1e-4
     # issue 4 goal: at most 300 ADMM iterations with the defaults (measured 195 / 300 / 254, then
-    # 50 / 50 / 254 by the polish); the constrained case is now certified by the interior-point
-    # endgame at iteration ipm_after = 50 (13 IPM iterations), the others still by the polish
-    assert r.polished or r.ipm_solved
-    assert r.polished == (case != "constrained")
+    # 50 / 50 / 254 by the polish); all three are now certified by the interior-point endgame at
+    # iteration ipm_after = 50 (it runs before the smoothed-dual Newton polish there: cheaper)
+    assert r.polished != r.ipm_solved
+    assert r.ipm_solved and 0 < r.ipm_iterations <= 20
     assert r.iterations <= 50
     if "u_upper" in kw:
         assert np.abs(r.Y).max() <= kw["u_upper"][0] * (1 + 1e-12)

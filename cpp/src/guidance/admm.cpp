@@ -1370,7 +1370,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     }
     if (polish_on && dn_ok_ && set_.polish_dual && cond && it == next_dn_it) {
       next_dn_it *= 2;  // at 50, 100, 200, ... iterations: ADMM alone is slow on this problem
-      if (dual_newton()) {
+      // not at the endgame's iteration: the IPM is cheaper there (measured on the random suite:
+      // 146 -> 356 problems certified by the IPM, p95 solve time 2.9 -> 2.0 ms)
+      if (!(ipm_on && it == ipm_at) && dual_newton()) {
         if (polish_gap_ok()) {
           info.polished = true;
           status = AdmmStatus::kSolved;
@@ -1507,7 +1509,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   info.objective = trajectory_objective(res_.X_flown, Y);
   info.objective_u = trajectory_objective(X, U);
   info.certified = info.polished;
-  {
+  if (!((info.polished || info.ipm_solved) && gap_on)) {
+    // (a certified plan's gap was just evaluated on this same plan, flown states and multiplier)
     dual_at_u_ =
         !info.polished && !info.ipm_solved;  // X, U: the (best) x/u iterate (the plan itself for the IPM)
     const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
