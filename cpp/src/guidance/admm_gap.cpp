@@ -109,11 +109,12 @@ double AdmmSolver::evaluate_gap(const Eigen::Ref<const MatrixXd>& X, const Eigen
   double best = dual_bound(X, U, p);
   if (dual_at_u_) best = std::max(best, dual_bound(res_.X, res_.U, p));
   AdmmInfo& info = res_.info;
-  info.primal_objective = P;
+  if (std::isnan(best)) best = -kInf;  // overflowing states: no bound (a valid one, never NaN)
+  info.primal_objective = std::isnan(P) ? kInf : P;
   info.dual_objective = best;
   const double denom = std::max({std::abs(P), std::abs(best), set_.gap_floor});
   const double gap = denom > 0.0 ? (P - best) / denom : 0.0;
-  info.duality_gap = std::isfinite(gap) ? gap : kInf;
+  info.duality_gap = std::isfinite(gap) && std::isfinite(P) && std::isfinite(best) ? gap : kInf;
   return info.duality_gap;
 }
 
