@@ -137,7 +137,8 @@ double AdmmSolver::dual_bound(const Eigen::Ref<const MatrixXd>& X, const Eigen::
       for (int i = 0; i < nu_; ++i) {
         const double h = Hg_(i, k);
         if (rg_(i) > 0.0 || h == 0.0) continue;
-        if ((h < 0.0 && hi_(i) == kInf) || (h > 0.0 && lo_(i) == -kInf)) smax = std::min(smax, w_(i) / std::abs(h));
+        if ((h < 0.0 && hi_(i) == kInf) || (h > 0.0 && lo_(i) == -kInf))
+          smax = std::min(smax, w_(i) / std::abs(h));
       }
   }
   if (!std::isfinite(conj_g(smax))) {
