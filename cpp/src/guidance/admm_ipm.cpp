@@ -83,7 +83,8 @@ void AdmmSolver::ipm_setup() {
   iBtL_.setZero(nu_, nx_);
   iQuu_.setZero(nu_, nu_);
   iInu_ = MatrixXd::Identity(nu_, nu_);
-  illt_ = Eigen::LLT<MatrixXd>(nu_);
+  illt_.compute(MatrixXd::Identity(
+      nu_, nu_));  // sized and with its info set (a moved-from LLT(n) reads an unset info: UBSan)
   ip_.setZero(nx_);
   ipn_.setZero(nx_);
   iqu_.setZero(nu_);
