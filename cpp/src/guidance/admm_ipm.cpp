@@ -108,7 +108,6 @@ bool AdmmSolver::ipm_riccati_factor() noexcept {
       Ln(iLn_.data(), nx, nx), Acl(iAcl_.data(), nx, nx), Z(iZ_.data(), nx, nx);
   Eigen::Map<MUX> BtP(iBtP_.data(), nu, nx), BtL(iBtL_.data(), nu, nx);
   Eigen::Map<MUU> Quu(iQuu_.data(), nu, nu);
-  std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
   P = prob_.Qf;
   if (term) {
     L.setIdentity();
@@ -132,6 +131,7 @@ bool AdmmSolver::ipm_riccati_factor() noexcept {
         Quu.diagonal().array() += shift * Quu.diagonal().cwiseAbs().maxCoeff();
       }
     } else {
+      std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
       llt.compute(Quu);
       for (double shift = 1e-14; llt.info() != Eigen::Success; shift *= 100.0) {
         if (shift > 1e-6) return false;
