@@ -336,12 +336,14 @@ double AdmmSolver::ipm_max_step() const noexcept {
   };
   lim(is1_, ids1_);
   lim(is2_, ids2_);
-  lim(is3_, ids3_);
-  lim(is4_, ids4_);
   lim(iz1_, idz1_);
   lim(iz2_, idz2_);
-  lim(iz3_, idz3_);
-  lim(iz4_, idz4_);
+  if (has_box_) {  // without a box the box steps are exactly 0
+    lim(is3_, ids3_);
+    lim(is4_, ids4_);
+    lim(iz3_, idz3_);
+    lim(iz4_, idz4_);
+  }
   return a;
 }
 
@@ -464,8 +466,9 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
     double P = 0.0, gpart = 0.0;  // gpart: the largest term of the gradient (they cancel in a QP)
     Eigen::Map<ArrayXd> grad(Hg_.data(), n);
     {
-      // states from the plan itself (stage terms), the terminal state from the carried error
-      rollout(iU_, iX_);
+      // states from the plan itself (stage terms only: no rollout without a stage Q), the terminal
+      // state from the carried error
+      if (prob_.Q.size() != 0) rollout(iU_, iX_);
       iX_.col(N_) = prob_.xf + ie_;
       P = lagrangian_gradient(iX_, iU_, term ? inu_ : pz_, true);
       gpart = grad.abs().maxCoeff();
