@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -220,4 +221,38 @@ TEST(AdmmHonest, NewPathsDoNotAllocate) {
   EXPECT_EQ(sa, AdmmStatus::kSolved);
   EXPECT_EQ(sb, AdmmStatus::kPrimalInfeasible);
   EXPECT_EQ(sc, AdmmStatus::kSolved);
+}
+
+// fuzz pass: dynamics whose states overflow (x_N(0) ~ 1e180, P ~ 1e360) ended numerical_error with
+// a NaN objective and a NaN plan; now the zero plan (no finite iterate exists) with the residuals,
+// the objective and the gap at +inf, never NaN
+TEST(AdmmHonest, NumericalErrorReturnsAFinitePlanAndNoNan) {
+  LtvProblem p;
+  p.dynamics.A = {1e3 * MatrixXd::Identity(6, 6)};
+  MatrixXd B = MatrixXd::Zero(6, 3);
+  B.bottomRows(3).setIdentity();
+  p.dynamics.B = {B};
+  p.dynamics.horizon = 60;
+  p.x0 = VectorXd::Ones(6);
+  p.Qf = MatrixXd::Identity(6, 6);
+  p.l1_weights = VectorXd::Ones(3);
+  for (const auto method : {satgnc::guidance::AdmmMethod::kAdmmIpm, satgnc::guidance::AdmmMethod::kAdmm,
+                            satgnc::guidance::AdmmMethod::kIpm}) {
+    SCOPED_TRACE(static_cast<int>(method));
+    AdmmSettings s;
+    s.method = method;
+    AdmmSolver solver(p, s);
+    const AdmmResult& r = solver.solve();
+    EXPECT_EQ(r.info.status, AdmmStatus::kNumericalError);
+    EXPECT_TRUE(r.Y.allFinite());
+    EXPECT_TRUE(r.U.allFinite());
+    EXPECT_TRUE(r.Lambda.allFinite());
+    EXPECT_EQ(r.Y.cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_FALSE(std::isnan(r.info.objective));
+    EXPECT_EQ(r.info.objective, std::numeric_limits<double>::infinity());
+    EXPECT_EQ(r.info.duality_gap, std::numeric_limits<double>::infinity());
+    EXPECT_EQ(r.info.primal_residual, std::numeric_limits<double>::infinity());
+    EXPECT_FALSE(std::isnan(r.info.dual_objective));
+    EXPECT_FALSE(std::isnan(r.info.terminal_miss));
+  }
 }

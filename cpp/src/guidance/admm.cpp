@@ -1242,8 +1242,16 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       info.ipm_solved = true;
       status = AdmmStatus::kSolved;
     } else if (set_.method == AdmmMethod::kIpm) {
-      // no certificate: the IPM's plan is returned as it is, with its true objective and gap
-      ipm_only = true;
+      // no certificate: the IPM's plan is returned as it is, with its true objective and gap;
+      // states or an objective that overflow are a numerical error (no ADMM iteration follows either way)
+      rollout(iU_, X);
+      ipm_only = iU_.allFinite() && X.allFinite() && std::isfinite(trajectory_objective(X, iU_));
+      if (!ipm_only) {
+        ok = false;
+        status = AdmmStatus::kNumericalError;
+      }
+    }
+    if (ipm_only) {
       U = iU_;
       Y = iU_;
       L.setZero();
@@ -1370,7 +1378,9 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     }
     if (polish_on && dn_ok_ && set_.polish_dual && cond && it == next_dn_it) {
       next_dn_it *= 2;  // at 50, 100, 200, ... iterations: ADMM alone is slow on this problem
-      if (dual_newton()) {
+      // not at the endgame's iteration: the IPM is cheaper there (measured on the random suite:
+      // 146 -> 356 problems certified by the IPM, p95 solve time 2.9 -> 2.0 ms)
+      if (!(ipm_on && it == ipm_at) && dual_newton()) {
         if (polish_gap_ok()) {
           info.polished = true;
           status = AdmmStatus::kSolved;
@@ -1491,6 +1501,24 @@ const AdmmResult& AdmmSolver::solve() noexcept {
     info.dual_residual = best_dual;
     info.paper_criterion = best_paper;
     rollout(U, X);
+  } else if (status == AdmmStatus::kNumericalError) {
+    // never a non-finite plan: the best finite iterate with its residuals, else (the failure came
+    // before any finite iterate, e.g. dynamics that overflow) the zero plan, residuals infinite
+    if (set_.track_best && std::isfinite(best)) {
+      U = bU_;
+      Y = bY_;
+      L = bL_;
+      info.primal_residual = best_prim;
+      info.dual_residual = best_dual;
+      info.paper_criterion = best_paper;
+    } else {
+      U.setZero();
+      Y.setZero();
+      L.setZero();
+      info.primal_residual = std::numeric_limits<double>::infinity();
+      info.dual_residual = std::numeric_limits<double>::infinity();
+    }
+    rollout(U, X);
   } else if ((cond && !info.polished) || ipm_only) {
     rollout(U, X);  // the condensed step produces U only
   }
@@ -1506,8 +1534,12 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   if (info.ipm_solved && !prob_.terminal_equality) res_.X_flown.col(N_) = prob_.xf + ie_;  // as certified
   info.objective = trajectory_objective(res_.X_flown, Y);
   info.objective_u = trajectory_objective(X, U);
+  // overflowing states (possible only with numerical_error): +inf says so, never NaN
+  if (std::isnan(info.objective)) info.objective = std::numeric_limits<double>::infinity();
+  if (std::isnan(info.objective_u)) info.objective_u = std::numeric_limits<double>::infinity();
   info.certified = info.polished;
-  {
+  if (!((info.polished || info.ipm_solved) && gap_on)) {
+    // (a certified plan's gap was just evaluated on this same plan, flown states and multiplier)
     dual_at_u_ =
         !info.polished && !info.ipm_solved;  // X, U: the (best) x/u iterate (the plan itself for the IPM)
     const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
@@ -1528,6 +1560,7 @@ const AdmmResult& AdmmSolver::solve() noexcept {
   info.status = status;
   xtmp_ = res_.X_flown.col(N_) - prob_.xf;
   info.terminal_miss = xtmp_.norm();
+  if (std::isnan(info.terminal_miss)) info.terminal_miss = std::numeric_limits<double>::infinity();
   if (scaled_) unscale_result();
   info.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res_;

@@ -400,9 +400,13 @@ class AdmmSolver {
   Eigen::ArrayXd ids1_, ids2_, ids3_, ids4_, idz1_, idz2_, idz3_, idz4_;
   Eigen::ArrayXd ia1_, ia2_, ia3_, ia4_, ib1_, ib2_, ib3_, ib4_;  ///< affine steps (corrector terms)
   Eigen::ArrayXd itv_, irp1_, irp2_, irp3_, irp4_;  ///< epigraph t and primal residuals c(u, t) - s
-  Eigen::VectorXd ie2_;                             ///< the multiplier of the flown plan (certification)
-  Eigen::MatrixXd iU_, iX_, idX_;                   ///< IPM plan nu x N, its states and state step nx x (N+1)
-  Eigen::VectorXd ie_, inu_, inun_, iep_;           ///< terminal error, multiplier, solved multiplier / error
+  /// per-iteration ratios of ipm_factor, shared by the predictor and the corrector: 1 / s, z / s, and
+  /// of the eliminated epigraph pair H_ut / H_tt = (r1 - r2) / (r1 + r2), 1 / H_tt = r1 r2 / (r1 + r2)
+  /// (r = s / z, 0 where the pair is absent)
+  Eigen::ArrayXd isi1_, isi2_, isi3_, isi4_, izs1_, izs2_, izs3_, izs4_, ihut_, ihtt_;
+  Eigen::VectorXd ie2_;                    ///< the multiplier of the flown plan (certification)
+  Eigen::MatrixXd iU_, iX_, idX_;          ///< IPM plan nu x N, its states and state step nx x (N+1)
+  Eigen::VectorXd ie_, inu_, inun_, iep_;  ///< terminal error, multiplier, solved multiplier / error
   Eigen::MatrixXd iS_;  ///< terminal sensitivity dx_N / dnu of the IPM's Riccati factorization
   Eigen::PartialPivLU<Eigen::MatrixXd> ilu_;
   // Riccati path: per stage K_k, Quu_k^-1, Qux_k, Knu_k (nu x nx N or nu x nu N), scratch
