@@ -14,6 +14,7 @@
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+using satgnc::guidance::AdmmMethod;
 using satgnc::guidance::AdmmResult;
 using satgnc::guidance::AdmmSettings;
 using satgnc::guidance::AdmmSolver;
@@ -158,6 +159,26 @@ TEST(AdmmHonest, TimeLimit) {
   EXPECT_EQ(r.info.iterations, 1);
   EXPECT_TRUE(std::isfinite(r.info.objective));
   EXPECT_GT(r.info.objective, 0.0);
+}
+
+TEST(AdmmHonest, TimeLimitStopsTheInteriorPointMethod) {
+  // the IPM checks the limit per iteration: alone (method ipm) it ends time_limit after at most one
+  // iteration with its plan's true, finite objective; as the endgame it returns without running
+  AdmmSettings st;
+  st.time_limit = 1e-9;
+  st.method = AdmmMethod::kIpm;
+  AdmmSolver s(false_solved_problem(), st);
+  const AdmmResult& r = s.solve();
+  EXPECT_EQ(r.info.status, AdmmStatus::kTimeLimit);
+  EXPECT_FALSE(r.info.ipm_solved);
+  EXPECT_LE(r.info.ipm_iterations, 1);
+  EXPECT_TRUE(std::isfinite(r.info.objective));
+  EXPECT_TRUE(r.U.allFinite());
+  st.method = AdmmMethod::kAdmmIpm;
+  st.ipm_after = 0;
+  AdmmSolver s2(false_solved_problem(), st);
+  EXPECT_EQ(s2.solve().info.status, AdmmStatus::kTimeLimit);
+  EXPECT_LE(s2.result().info.ipm_iterations, 1);
 }
 
 TEST(AdmmHonest, HugeHorizonIsRejectedWithItsMemory) {

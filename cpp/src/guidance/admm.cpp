@@ -1158,6 +1158,7 @@ AdmmSolver::PassStats AdmmSolver::admm_pass_flat(double rho, double a, bool fro2
 
 const AdmmResult& AdmmSolver::solve() noexcept {
   const auto t0 = std::chrono::steady_clock::now();
+  solve_start_ = t0;
   AdmmInfo& info = res_.info;
   info = AdmmInfo();
   info.workspace_bytes = estimate_workspace_bytes(nx_, nu_, N_);
@@ -1249,6 +1250,8 @@ const AdmmResult& AdmmSolver::solve() noexcept {
       if (!ipm_only) {
         ok = false;
         status = AdmmStatus::kNumericalError;
+      } else if (out_of_time()) {
+        status = AdmmStatus::kTimeLimit;
       }
     }
     if (ipm_only) {

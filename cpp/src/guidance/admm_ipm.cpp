@@ -462,6 +462,7 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
   double ru_prev = kInf;
   bool ok = false;
   for (; it <= set_.ipm_max_iterations; ++it) {
+    if (out_of_time()) break;
     // residuals of the current point: stationarity r_u = grad f + M' nu - sum z a, r_t, complementarity
     double P = 0.0, gpart = 0.0;  // gpart: the largest term of the gradient (they cancel in a QP)
     Eigen::Map<ArrayXd> grad(Hg_.data(), n);

@@ -17,6 +17,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
@@ -380,7 +381,15 @@ class AdmmSolver {
   bool ipm_ok_ = false;  ///< no group-L2 / ball: the IPM applies
   /// Run the IPM from a cold start; true if its plan passes the gap / terminal tests, then the
   /// plan, its multipliers and X_flown are in res_. Leaves res_ U, Y, Lambda untouched otherwise.
-  bool ipm_solve(bool warm) noexcept;  ///< warm: from ADMM's Y and Lambda
+  bool ipm_solve(bool warm) noexcept;                    ///< warm: from ADMM's Y and Lambda
+  std::chrono::steady_clock::time_point solve_start_{};  ///< start of the running solve()
+  /// time_limit > 0 and exceeded since solve_start_ (the IPM checks it per iteration: at -O0 one run
+  /// of 60 iterations on N = 200 took seconds past a 0.5 s limit).
+  bool out_of_time() const noexcept {
+    return set_.time_limit > 0.0 &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_start_).count() >
+               set_.time_limit;
+  }
   void ipm_setup();
   bool ipm_factor() noexcept;
   template <int NX, int NU>
