@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 from satgnc import cli
-from satgnc.od import paper
+from satgnc.papers import od_newton_raphson as paper
 
 GUESS = ",".join(f"{v:.9g}" for v in paper.truth() + np.array([10, 0, 0, 0, 0, 0]))
 R0 = ",".join(f"{v:.9g}" for v in paper.station_state_table3()[:3])

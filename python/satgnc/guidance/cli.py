@@ -11,8 +11,8 @@ import pathlib
 
 
 def _run(args: argparse.Namespace) -> int:
+    from ..papers import l1_admm_rendezvous_linear as rv
     from ..scenarios import l1_rendezvous as scen
-    from . import rendezvous as rv
 
     if getattr(args, "model", "linear") == "nonlinear":
         from . import nonlinear

@@ -7,8 +7,8 @@ import dataclasses
 
 import numpy as np
 
+from ..guidance import L1Result, L1Solver
 from ..scenarios import l1_rendezvous as scen
-from . import L1Result, L1Solver
 
 
 @dataclasses.dataclass
@@ -39,7 +39,7 @@ def run_case(sc: scen.Scenario, case: str, reference: bool = True) -> CaseRun:
     conv = L1Solver(**kw, settings=dict(max_iterations=20000)).solve()
     ref_obj = ref_t = None
     if reference:
-        from .reference import solve_cvxpy
+        from ..guidance.reference import solve_cvxpy
 
         ref_obj, _, _, ref_t = solve_cvxpy(**kw)
     nz = lambda Y: int(np.count_nonzero(np.abs(Y) > 1e-9 * max(1.0, np.abs(Y).max())))  # noqa: E731

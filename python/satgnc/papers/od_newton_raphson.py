@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from ..data import paper_tables
-from . import (
+from ..od import (
     EARTH_MU,
     EARTH_OMEGA,
     OdStatus,
@@ -24,9 +24,9 @@ from . import (
     six_point_solver,
     station_inertial,
 )
-from . import ellipsoid as _ellipsoid
-from . import geodetic_to_ecef as _geodetic_to_ecef
-from .sweep import run_chunks, split
+from ..od import ellipsoid as _ellipsoid
+from ..od import geodetic_to_ecef as _geodetic_to_ecef
+from ..od.sweep import run_chunks, split
 
 SIGMA_RANGE = 1e-3  #: km (1 m) assumed for the paper's conditions
 SIGMA_RANGE_RATE = 1e-6  #: km/s (1 mm/s)
@@ -184,7 +184,7 @@ def short_arc_run(offset_km: float = 10.0, max_iterations: int = 20):
     """Newton with the paper's short-arc STM of eq. (19) (does not converge)."""
     rho, rhodot = observe()
     prop = make_propagator("kepler")
-    from . import ShortArcStmPropagator
+    from ..od import ShortArcStmPropagator
 
     sv = six_point_solver(
         times(),
@@ -291,8 +291,8 @@ def residual_shapes(runs=None) -> list[dict]:
 def _map_chunk(args):
     """Worker: solve the six-point Doppler problem from each guess (picklable, top level)."""
     spec, guesses = args
-    from . import six_point_solver as _sps
-    from . import station_inertial as _si
+    from ..od import six_point_solver as _sps
+    from ..od import station_inertial as _si
 
     st = _si(spec["r0"], spec["omega"])
     sv = _sps(

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import OdStatus, simulate, six_point_solver, solver
-from . import paper as p
-from .sweep import run_chunks, split
+from ..od import OdStatus, simulate, six_point_solver, solver
+from ..od.sweep import run_chunks, split
+from . import od_newton_raphson as p
 
 SIG_R = 1e-3
 SIG_RR = 1e-6
@@ -31,7 +31,7 @@ def _pass_times() -> np.ndarray:
 
 def second_station():
     """A second station ~1900 km from Table 3's, seeing the same pass."""
-    from . import station_inertial
+    from ..od import station_inertial
 
     return station_inertial([5200.0, 3000.0, 1900.0])
 

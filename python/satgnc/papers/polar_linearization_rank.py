@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import kalman_matrix, polar_linear_model
+from ..analysis import kalman_matrix, polar_linear_model
 
 # Section 4.1 / 4.2 as printed (w = omega).
 PRINTED = {

@@ -334,7 +334,7 @@ def _roots(p, quick) -> str:
 
 
 def _monte_carlo(quick) -> str:
-    from ..od import montecarlo
+    from ..papers import od_newton_raphson_mc as montecarlo
 
     n = 30 if quick else 200
     lines = ["### Noise: formal covariance against Monte Carlo", ""]
@@ -356,7 +356,7 @@ def _monte_carlo(quick) -> str:
 
 
 def build(ctx) -> str:
-    from ..od import paper as p
+    from ..papers import od_newton_raphson as p
 
     parts = [
         "Source: Gao Huai-bao & Luo Ker-zhuong, *The Newton-Raphson method in orbit determination*. "

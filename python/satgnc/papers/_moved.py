@@ -1,0 +1,33 @@
+"""Module shims for code that moved: the old module forwards every attribute to the new one with a
+``DeprecationWarning`` naming the new module (PEP 562 module ``__getattr__``)."""
+
+from __future__ import annotations
+
+import importlib
+import warnings
+
+
+def forward(old: str, new: str, renamed: dict[str, str] | None = None):
+    """``(__getattr__, __dir__)`` for the shim module ``old``: attribute ``x`` is ``new.x`` (or the
+    target named in ``renamed[x]``, ``"module:attr"``), fetched on access with a DeprecationWarning
+    ``"old.x is deprecated; use new.x"``. The values are the new module's own objects (same behaviour)."""
+    renamed = dict(renamed or {})
+
+    def __getattr__(name: str):
+        if name.startswith("__"):
+            raise AttributeError(f"module {old!r} has no attribute {name!r}")
+        target = renamed.get(name, f"{new}:{name}")
+        mod_name, _, attr = target.partition(":")
+        mod = importlib.import_module(mod_name)
+        try:
+            value = getattr(mod, attr)
+        except AttributeError:
+            raise AttributeError(f"module {old!r} has no attribute {name!r} (it moved to {new!r})") from None
+        warnings.warn(f"{old}.{name} is deprecated; use {mod_name}.{attr}", DeprecationWarning, stacklevel=2)
+        return value
+
+    def __dir__():
+        mod = importlib.import_module(new)
+        return sorted(set(dir(mod)) | set(renamed))
+
+    return __getattr__, __dir__
