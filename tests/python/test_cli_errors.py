@@ -304,11 +304,29 @@ CASES = [
     ),
     ("scenario-missing", ["rendezvous", "--scenario", "{d}/nope.toml", "--out", "{d}/rv"], 2, ["nope.toml"]),
     ("case-unknown", ["rendezvous", "--case", "boxx", "--out", "{d}/rv"], 2, ["--case: unknown 'boxx'"]),
-    (
+    (  # the nonlinear model reads the same scenario file (issue 12), with the same strict schema
         "nonlinear-scenario",
         ["rendezvous", "--model", "nonlinear", "--scenario", "{d}/bad.toml", "--out", "{d}/rv"],
         2,
-        ["--scenario: only with --model linear"],
+        ["bad.toml:", "key 'mu'", "[orbit]", "boolean true"],
+    ),
+    (
+        "nonlinear-scenario-typo",
+        ["rendezvous", "--model", "nonlinear", "--scenario", "{d}/typo.toml", "--out", "{d}/rv"],
+        2,
+        ["typo.toml:", "unknown section [orbt]", "did you mean [orbit]"],
+    ),
+    (
+        "nonlinear-case-unknown",
+        ["rendezvous", "--model", "nonlinear", "--case", "boxx", "--out", "{d}/rv"],
+        2,
+        ["--case: unknown 'boxx'"],
+    ),
+    (
+        "nonlinear-reference",
+        ["rendezvous", "--model", "nonlinear", "--reference", "--out", "{d}/rv"],
+        2,
+        ["--reference: only with --model linear"],
     ),
     (
         "closed-loop-linear",

@@ -7,11 +7,13 @@ import importlib
 import warnings
 
 
-def forward(old: str, new: str, renamed: dict[str, str] | None = None):
+def forward(old: str, new: str, renamed: dict[str, str] | None = None, hints: dict[str, str] | None = None):
     """``(__getattr__, __dir__)`` for the shim module ``old``: attribute ``x`` is ``new.x`` (or the
     target named in ``renamed[x]``, ``"module:attr"``), fetched on access with a DeprecationWarning
-    ``"old.x is deprecated; use new.x"``. The values are the new module's own objects (same behaviour)."""
+    ``"old.x is deprecated; use new.x"`` (+ ``hints[x]``). The values are the new module's own objects
+    (same behaviour)."""
     renamed = dict(renamed or {})
+    hints = dict(hints or {})
 
     def __getattr__(name: str):
         if name.startswith("__"):
@@ -23,7 +25,8 @@ def forward(old: str, new: str, renamed: dict[str, str] | None = None):
             value = getattr(mod, attr)
         except AttributeError:
             raise AttributeError(f"module {old!r} has no attribute {name!r} (it moved to {new!r})") from None
-        warnings.warn(f"{old}.{name} is deprecated; use {mod_name}.{attr}", DeprecationWarning, stacklevel=2)
+        warnings.warn(f"{old}.{name} is deprecated; use {mod_name}.{attr}{hints.get(name, '')}",
+                      DeprecationWarning, stacklevel=2)
         return value
 
     def __dir__():

@@ -1,6 +1,11 @@
-"""L1 (fuel-optimal) rendezvous guidance on the nonlinear two-satellite model.
+"""L1 (fuel-optimal) rendezvous on the nonlinear two-satellite model: the paper's nonlinear cases
+(Le Cleac'h & Manchester, Table 1, Figs. 4-5) and the tools the reproduction uses.
 
-The paper's nonlinear cases (Le Cleac'h & Manchester, Table 1, Figs. 4-5) and the tools around them:
+Every value of the paper's set-up is read from the scenario file ``scenarios/l1_rendezvous.toml`` (the
+one source; :mod:`satgnc.scenarios.rendezvous`): :data:`MU`, :data:`R_TARGET`, :data:`MASS`,
+:data:`TF`, :data:`N`, :data:`U_MAX` and the release state. The library does the work
+(:mod:`satgnc.guidance.plan`, :mod:`satgnc.guidance.flight`, time-major); this module keeps the
+reproduction's own API, in the paper's orientation (controls 3 x N, states 12 x (N+1)):
 
 * :func:`drift_state` -- the scenario's 1 h uncontrolled drift (RK4, 9999 steps), 12-state SI vector
   ``[r_t - r_c, r_t, v_t - v_c, v_t]`` (m, m/s);
@@ -8,8 +13,9 @@ The paper's nonlinear cases (Le Cleac'h & Manchester, Table 1, Figs. 4-5) and th
 * :func:`solve_paper` -- ADMM with one iLQR iteration per ADMM iteration and the paper's stopping rule;
 * :func:`solve_scp` -- sequential convex programming to the optimum of the same transcription;
 * :func:`summarize` -- fuel (delta-v), terminal miss, sparsity of a control sequence;
-* :func:`fly` -- propagate a plan on a finer "truth" model (J2 and drag switchable);
-* :func:`mpc` -- receding-horizon re-planning with warm start.
+* :func:`fly`, :func:`mpc`, :func:`linear_cw_plan` -- the library's flight, re-planning and CW plan on a
+  :class:`Case` (3 x N / 12 x (N+1));
+* :func:`run_cli` -- ``satgnc rendezvous --model nonlinear`` on the paper's scenario.
 
 Units: SI (m, m/s, N, kg, s) at this API; the solvers work in the scaled units of :class:`Case`.
 """
@@ -17,21 +23,40 @@ Units: SI (m, m/s, N, kg, s) at this API; the solvers work in the scaled units o
 from __future__ import annotations
 
 import dataclasses
-import re
-import time
 
 import numpy as np
 
-from satgnc import _satgnc as _c
-from satgnc._validate import as_bool, as_int, as_real, as_real_array, one_of
+from .. import _satgnc as _c
+from .._validate import as_bool, as_int, as_real, as_real_array, one_of
+from ..guidance import flight as _flight
+from ..guidance.plan import (  # noqa: F401  (the reproduction's names for the library's tables)
+    ILQR_ADMM_STATUS_NAMES,
+    QF_MASK,
+    SCP_STATUS_NAMES,
+    SCP_SUCCESS,
+    check_above_surface,
+    make_map,
+    rollout,
+    solve_ilqr_admm,
+    solve_linear_cw,
+    transcribe,
+)
+from ..guidance.plan import solve_scp as _solve_scp
+from ..guidance.problem import RendezvousProblem, satellite_params
+from ..scenarios import rendezvous as _scenario
 
-MU = 3.99e14  #: m^3/s^2, the scenario's gravitational parameter
-R_TARGET = 7231.0e3  #: m, target orbit radius (6731 km + 500 km, the implementation's typo kept)
-MASS = 4.6  #: kg, chaser and target
-TF = 6000.0  #: s, horizon
-N = 99  #: control intervals (100 knot points)
-U_MAX = 5e-3  #: N, per-axis bound of the constrained cases
-QF_MASK = np.array([1, 1, 1, 0, 0, 0, 1, 1, 1, 0, 0, 0], dtype=float)
+#: the paper's scenario (l1_rendezvous.toml), the one source of the values below
+SCENARIO = _scenario.load()
+_S = SCENARIO.sections
+MU = _S["orbit"]["mu"]  #: m^3/s^2, the scenario's gravitational parameter
+R_TARGET = _S["orbit"]["radius"]  #: m, target orbit radius (6731 km + 500 km, the implementation's typo kept)
+MASS = _S["chaser"]["mass"]  #: kg, chaser and target
+TF = _S["horizon"]["tf"]  #: s, horizon
+N = _S["horizon"]["knots"] - 1  #: control intervals (100 knot points)
+U_MAX = _S["cost"]["u_max"]  #: N, per-axis bound of the constrained cases
+ALPHA = _S["cost"]["alpha"]  #: L1 weight (scaled)
+QF = _S["cost"]["Qf"]  #: terminal weight (scaled), on the relative position and velocity
+DISCRETIZATIONS = ("rk3", "rk4", "dop853")
 
 __all__ = [
     "Case",
@@ -53,40 +78,33 @@ __all__ = [
     "SCP_SUCCESS",
 ]
 
-#: ScpStatus value -> name (docs/guidance_nonlinear.md says what each guarantees).
-SCP_STATUS_NAMES = {int(v): k for k, v in _c.ScpStatus.__members__.items()}
-#: IlqrAdmmStatus value -> name.
-ILQR_ADMM_STATUS_NAMES = {int(v): k for k, v in _c.IlqrAdmmStatus.__members__.items()}
-#: The SCP statuses whose plan a caller may fly as converged (the loose one included).
-SCP_SUCCESS = (_c.ScpStatus.solved, _c.ScpStatus.solved_inaccurate)
+
+def _case_name(constrained: bool) -> str:
+    return "constrained" if constrained else "unconstrained"
 
 
 def model_params(published: bool = True, j2: bool = False, drag: bool = True, rho0: float | None = None):
     """TwoSatelliteParams of the scenario. ``published`` selects the implementation's drag sign
     (v + omega x r); otherwise the physical co-rotating atmosphere (v - omega x r)."""
     published, j2, drag = as_bool(published, "published"), as_bool(j2, "j2"), as_bool(drag, "drag")
-    p = _c.TwoSatelliteParams()
-    p.mu = MU
-    p.atmosphere = _c.AtmosphereRotation.published if published else _c.AtmosphereRotation.co_rotating
-    p.j2_on = j2  # bool("x") was True
-    p.drag_on = drag
-    if rho0 is not None:
-        p.rho0 = as_real(rho0, "rho0", nonnegative=True)
-    return p
+    return satellite_params(
+        MU, j2=j2, drag=drag, atmosphere="published" if published else "co_rotating", rho0=rho0
+    )
 
 
 def release_state() -> np.ndarray:
     """Scenario release: target on a circular equatorial orbit at [R, 0, 0]; target minus chaser
     [20, 30, 10] m and [0.4, 0.6, -0.1] m/s (ECI)."""
-    vc = np.sqrt(MU / R_TARGET)
-    return np.array([20.0, 30.0, 10.0, R_TARGET, 0, 0, 0.4, 0.6, -0.1, 0, vc, 0])
+    return _scenario.release_state(SCENARIO)
 
 
-def drift_state(params=None, steps: int = 9999) -> np.ndarray:
+def drift_state(params=None, steps: int | None = None) -> np.ndarray:
     """12-state after 3600 s of uncontrolled RK4 (the implementation: 10000 nodes = 9999 steps)."""
+    rel = _S["release"]
+    steps = rel["drift_steps"] if steps is None else steps
     steps = as_int(steps, "steps", low=1, high=10**7)  # 2**70 was reported as a bad "scheme"
     model = _c.TwoSatelliteModel(params if params is not None else model_params())
-    return np.asarray(model.propagate(4, release_state(), 3600.0, steps))
+    return np.asarray(model.propagate(4, release_state(), rel["drift_time"], steps))
 
 
 @dataclasses.dataclass
@@ -119,14 +137,8 @@ class Case:
         return np.asarray(U) / np.asarray(self.scaling.control_scale)[:, None]
 
     def rollout_si(self, U_si: np.ndarray) -> np.ndarray:
-        """States (12 x N+1, SI) of the planning model under U_si (newtons)."""
-        x = self.problem.x0.copy()
-        X = [x]
-        U = self.from_si(U_si)
-        for k in range(U.shape[1]):
-            x, _, _ = self.dmap.step(k, x, U[:, k])
-            X.append(x)
-        return np.array(X).T * np.asarray(self.scaling.state_scale)[:, None]
+        """States (12 x N+1, SI) of the planning model under U_si (newtons, 3 x N)."""
+        return rollout(self, np.asarray(U_si).T).T
 
     def cost(self, U_si: np.ndarray) -> float:
         """True cost (scaled units, as minimized) of U_si on the planning model."""
@@ -136,39 +148,53 @@ class Case:
         return 0.5 * e @ np.asarray(self.problem.Qf) @ e + self.problem.stage_weight * np.abs(u).sum()
 
 
-DISCRETIZATIONS = ("rk3", "rk4", "dop853")
-
-
 def _check_case(case, needs=("dmap", "problem")) -> None:
     # Duck-typed (solve_scp needs only dmap and problem); None gave an AttributeError on 'dmap'.
     if not all(hasattr(case, a) for a in needs):
         raise TypeError(f"case: must be a Case (see paper_case()), got {type(case).__name__}")
 
 
-def make_map(model, dt: float, scaling, discretization: str = "rk3", substeps: int = 1, rtol: float = 1e-10):
-    """Discrete map of ``model`` over intervals of ``dt`` s with the case's scaling:
-    ``"rk3"`` (the published implementation's Kutta RK3, ``substeps`` per interval), ``"rk4"``
-    (classic RK4), or ``"dop853"`` (the flow itself: adaptive DOP853 on the state, STM and control
-    sensitivity, tolerance ``rtol`` on the scaled variables)."""
-    discretization = one_of(discretization, "discretization", DISCRETIZATIONS)
-    dt = as_real(dt, "dt", positive=True)
+def problem(
+    constrained: bool = False,
+    x0_si: np.ndarray | None = None,
+    params=None,
+    horizon: int = N,
+    tf: float = TF,
+    substeps: int = 1,
+    discretization: str = "rk3",
+    terminal_equality: bool = False,
+) -> RendezvousProblem:
+    """The library's :class:`~satgnc.guidance.RendezvousProblem` of a nonlinear case (arguments as
+    :func:`paper_case`)."""
+    constrained = as_bool(constrained, "constrained")
+    horizon = as_int(horizon, "horizon", low=1, high=10**6)
+    tf = as_real(tf, "tf", positive=True)
     substeps = as_int(substeps, "substeps", low=1, high=10**6)
-    rtol = as_real(rtol, "rtol", positive=True)
-    if discretization == "dop853":
-        ps = _c.PropagatedMapSettings()
-        ps.dt = dt
-        ps.rtol = rtol
-        ps.atol = rtol
-        ps.state_scale = scaling.state_scale
-        ps.control_scale = scaling.control_scale
-        return _c.PropagatedTwoSatelliteMap(model, ps)
-    ms = _c.TwoSatelliteMapSettings()
-    ms.dt = dt
-    ms.scheme = 3 if discretization == "rk3" else 4
-    ms.substeps = substeps
-    ms.state_scale = scaling.state_scale
-    ms.control_scale = scaling.control_scale
-    return _c.TwoSatelliteMap(model, ms)
+    discretization = one_of(discretization, "discretization", DISCRETIZATIONS)
+    terminal_equality = as_bool(terminal_equality, "terminal_equality")
+    if params is not None and not isinstance(params, _c.TwoSatelliteParams):
+        raise TypeError(
+            f"params: must be TwoSatelliteParams (see model_params()), got {type(params).__name__}"
+        )
+    p = params if params is not None else model_params()
+    x0 = drift_state() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,))
+    check_above_surface(x0, "x0_si", p)
+    return RendezvousProblem(
+        mu=MU,
+        radius=R_TARGET,
+        mass=MASS,
+        x0=np.asarray(_c.cw_relative_state(x0)),
+        tf=tf,
+        horizon=horizon,
+        alpha=ALPHA,
+        Qf=QF,
+        u_max=U_MAX if constrained else None,
+        terminal_equality=terminal_equality,
+        x0_eci=x0,
+        planner=p,
+        nonlinear_discretization=discretization,
+        substeps=substeps,
+    )
 
 
 def paper_case(
@@ -190,46 +216,22 @@ def paper_case(
     (its default linear ADMM inner); :func:`solve_paper` (iLQR-ADMM) raises ValueError."""
     # Checked here: complex / boolean x0_si was truncated or read as 0/1, horizon = 0 divided by zero,
     # and a bad horizon or tf was reported as a bad "dt".
-    constrained = as_bool(constrained, "constrained")
-    horizon = as_int(horizon, "horizon", low=1, high=10**6)
-    tf = as_real(tf, "tf", positive=True)
-    substeps = as_int(substeps, "substeps", low=1, high=10**6)
-    discretization = one_of(discretization, "discretization", DISCRETIZATIONS)
-    terminal_equality = as_bool(terminal_equality, "terminal_equality")
-    if params is not None and not isinstance(params, _c.TwoSatelliteParams):
-        raise TypeError(f"params: must be TwoSatelliteParams (see model_params()), "
-                        f"got {type(params).__name__}")
-    model = _c.TwoSatelliteModel(params if params is not None else model_params())
-    x0 = drift_state() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,))
-    _check_above_surface(x0, "x0_si", params if params is not None else model_params())
-    sc = _c.published_scaling(x0, MU, MASS)
-    dmap = make_map(model, tf / horizon, sc, discretization, substeps)
-    pr = _c.NonlinearL1Problem()
-    pr.horizon = horizon
-    pr.x0 = x0 / np.asarray(sc.state_scale)
-    pr.x_target = np.zeros(12)
-    pr.Qf = 1000.0 * np.diag(QF_MASK)
-    pr.alpha = np.ones(3)
-    pr.stage_weight = tf / horizon / sc.time_scale
-    pr.terminal_equality = terminal_equality
-    if constrained:
-        pr.cost = _c.ControlCost.l1_box
-        ub = U_MAX / np.asarray(sc.control_scale)
-        pr.u_min = -ub
-        pr.u_max = ub
-    name = "nonlinear constrained" if constrained else "nonlinear unconstrained"
+    pb = problem(constrained, x0_si, params, horizon, tf, substeps, discretization, terminal_equality)
+    tr = transcribe(pb, "x0_si")
+    nl = SCENARIO.cases[_case_name(pb.u_max is not None)]["nonlinear"]
+    name = "nonlinear constrained" if tr.constrained else "nonlinear unconstrained"
     return Case(
         name,
-        model,
-        dmap,
-        pr,
-        sc,
-        x0,
-        10.0 if constrained else 0.1,
-        5e-6 if constrained else 6e-5,
-        constrained,
-        discretization,
-        tf / horizon,
+        tr.model,
+        tr.dmap,
+        tr.problem,
+        tr.scaling,
+        tr.x0_si,
+        nl["rho"],
+        nl["eps"],
+        tr.constrained,
+        tr.discretization,
+        tr.dt,
     )
 
 
@@ -239,17 +241,15 @@ def solve_paper(
     """ADMM + iLQR with the published settings (paper stopping rule, multiplier row rescaling after
     iteration 1). Returns the solver (``.U``, ``.Y``, ``.X``, ``.info``; scaled units)."""
     _check_case(case)
-    st = _c.IlqrAdmmSettings()
-    st.rho = case.rho if rho is None else rho
-    st.stop = _c.StopRule.paper
-    st.eps_paper = case.eps if eps is None else eps
-    st.paper_multiplier_rescale = True
-    st.max_iter = max_iter
-    st.ilqr_iters = ilqr_iters
-    sol = _c.IlqrAdmmSolver(case.dmap, case.problem, st)
-    sol.set_initial_controls(np.zeros((3, case.problem.horizon)))
-    sol.solve()
-    return sol
+    return solve_ilqr_admm(
+        case,
+        case.rho if rho is None else rho,
+        case.eps if eps is None else eps,
+        max_iter=max_iter,
+        ilqr_iters=ilqr_iters,
+        stop="paper",
+        multiplier_rescale=True,
+    )
 
 
 def solve_scp(
@@ -277,37 +277,17 @@ def solve_scp(
     ``inner_infeasible`` with ``info.infeasibility_certificate`` and ``info.infeasibility_margin > 0``;
     ``time_limit`` also bounds each subproblem (the inner gets the remaining time)."""
     _check_case(case)
-    inner = one_of(inner, "inner", ("ilqr_admm", "linear_admm"))
-    globalization = one_of(globalization, "globalization", ("trust_region", "line_search"))
-    st = _c.ScpSettings()
-    st.tol = as_real(tol, "tol", nonnegative=True)
-    st.max_outer = as_int(max_outer, "max_outer", low=1)
-    st.time_limit = as_real(time_limit, "time_limit", nonnegative=True)
-    st.tol_inaccurate = max(st.tol_inaccurate, st.tol)
-    st.globalization = getattr(_c.ScpGlobalization, globalization)
-    eps = as_real(eps, "eps", nonnegative=True)
-    max_inner = as_int(max_inner, "max_inner", low=1)
-    if inner == "ilqr_admm":
-        st.inner_solver = _c.ScpInner.ilqr_admm
-        ii = st.inner_ilqr
-        ii.eps_abs = eps
-        ii.eps_rel = eps
-        ii.max_iter = max_inner
-        st.inner_ilqr = ii
-    else:
-        st.inner_solver = _c.ScpInner.linear_admm
-        ia = _c.ScpSettings().inner  # the SCP defaults (terminal_tolerance 1e-10)
-        ia.eps_abs = eps
-        ia.eps_rel = eps
-        if st.tol > 0:  # hard terminal state: the subproblem reaches x_f finer than the outer test
-            ia.terminal_tolerance = min(ia.terminal_tolerance, 0.1 * st.tol)
-        ia.max_iterations = max_inner
-        st.inner = ia
-    sol = _c.ScpSolver(case.dmap, case.problem, st)
-    if U0 is not None:
-        sol.set_initial_controls(U0)
-    sol.solve()
-    return sol
+    return _solve_scp(
+        case,
+        U0=U0,
+        tol=tol,
+        eps=eps,
+        max_outer=max_outer,
+        inner=inner,
+        max_inner=max_inner,
+        globalization=globalization,
+        time_limit=time_limit,
+    )
 
 
 def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
@@ -319,7 +299,7 @@ def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
     try:
         X = case.rollout_si(U)
     except RuntimeError as e:  # "step: the model failed on interval 0" named no argument
-        raise _model_failure("U_scaled", U_scaled, None, e) from None
+        raise _flight.model_failure("U_scaled", U_scaled, None, e) from None
     dv = float(np.abs(U).sum() * case.dt / MASS)
     thresh = zero_tol * max(np.abs(U).max(), 1e-30)
     return {
@@ -333,42 +313,8 @@ def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
     }
 
 
-def _check_above_surface(x: np.ndarray, name: str, params) -> None:
-    """ValueError naming ``name`` when the target or the chaser of the 12-state x (m) is at or below
-    the Earth's surface, the sphere of radius ``params.j2_radius`` (m); a start inside the Earth was a
-    CVODES RuntimeError (or, with RK4, a silent flight through the planet)."""
-    R = float(params.j2_radius)
-    rt = float(np.linalg.norm(x[3:6]))
-    rc = float(np.linalg.norm(x[3:6] - x[0:3]))
-    for body, r in (("target |r_t|", rt), ("chaser |r_t - d|", rc)):
-        if not r > R:
-            raise ValueError(f"{name}: the {body.split()[0]} starts at or below the Earth's surface: "
-                             f"{body} = {r:.6g} m <= R = {R:.6g} m (j2_radius); "
-                             "x = [d, r_t, w, v_t] in m, m/s")
-
-
-def _model_failure(name: str, U, k, err: Exception) -> Exception:
-    """The model's failure as an error naming the control argument when its size explains it."""
-    big = float(np.max(np.abs(U))) if np.size(U) else 0.0
-    where = f" in interval {k}" if k is not None else ""
-    if big >= 1e100:
-        return ValueError(f"{name}: controls up to {big:.3g} make the model's state overflow{where} "
-                          f"({err}); check the units")
-    return RuntimeError(f"{name}: the model failed{where} ({err})")
-
-
-def _above_surface(x: np.ndarray, params) -> bool:
-    """Both bodies of the 12-state x (m) above the sphere of radius params.j2_radius."""
-    R2 = float(params.j2_radius) ** 2
-    return bool(min(x[3:6] @ x[3:6], (x[3:6] - x[0:3]) @ (x[3:6] - x[0:3])) > R2)
-
-
-def _impact(message: str, t: float, X: np.ndarray):
-    from satgnc.propagation import PropagationError
-
-    err = PropagationError(message, status="impact", t_reached=t)
-    err.states = X  # the states reached, 12 x (k + 1), SI
-    return err
+def _truth_default():
+    return model_params(published=False, j2=True, drag=True)
 
 
 def fly(
@@ -387,41 +333,17 @@ def fly(
     (radius ``j2_radius`` of the truth parameters) is a ValueError naming ``x0_si``; reaching it is a
     :class:`satgnc.PropagationError` with ``status == "impact"``, ``t_reached`` the impact time (s
     from the start; CVODES root finding, or the end of the RK4 substep where it was first seen) and
-    ``states`` the states reached (12 x k)."""
+    ``states`` the states reached (12 x k). The library's time-major form is
+    :func:`satgnc.guidance.fly`."""
     _check_case(case)
-    integrator = one_of(integrator, "integrator", ("cvodes", "rk4"))
+    integrator = one_of(integrator, "integrator", _flight.INTEGRATORS)
     substeps = as_int(substeps, "substeps", low=1, high=10**6)
-    p = truth_params if truth_params is not None else model_params(published=False, j2=True, drag=True)
-    truth = _c.TwoSatelliteModel(p)
+    p = truth_params if truth_params is not None else _truth_default()
     x = case.x0_si.copy() if x0_si is None else as_real_array(x0_si, "x0_si", shape=(12,), copy=True)
     # complex U_si was truncated with a ComplexWarning and boolean read as 0/1 newtons
     U_si = as_real_array(U_si, "U_si", shape=(3, None))
-    _check_above_surface(x, "x0_si" if x0_si is not None else "case.x0_si", p)
-    if integrator == "cvodes":
-        r = _c.TwoSatelliteTruth(truth).fly(x, U_si, case.dt)
-        if r["impact"]:
-            k = int(r["failed_interval"])
-            raise _impact(f"fly: impact at t = {r['t_reached']:.6f} s: {r['message']}", float(r["t_reached"]),
-                          np.asarray(r["X"])[:, : k + 1])
-        if not r["ok"]:
-            raise RuntimeError(f"fly: CVODES truth failed: {r['message']}")
-        return np.asarray(r["X"])
-    h = case.dt / substeps
-    R2 = float(p.j2_radius) ** 2
-    X = [x.copy()]
-    for k in range(U_si.shape[1]):
-        for j in range(substeps):
-            try:
-                x = np.asarray(truth.rk_step(4, h, x, U_si[:, k]))
-            except RuntimeError as e:  # "rk_step: model evaluation failed" named no argument
-                raise _model_failure("U_si", U_si, k, e) from None
-            if min(x[3:6] @ x[3:6], (x[3:6] - x[0:3]) @ (x[3:6] - x[0:3])) <= R2:
-                t = k * case.dt + (j + 1) * h
-                raise _impact(f"fly: impact: a body reached the Earth's surface (radius j2_radius = "
-                              f"{p.j2_radius:.6g} m) in interval {k}, within the RK4 substep ending at t = "
-                              f"{t:.6f} s", t, np.array(X).T)
-        X.append(x.copy())
-    return np.array(X).T
+    check_above_surface(x, "x0_si" if x0_si is not None else "case.x0_si", p)
+    return _flight.fly_core(p, x, U_si.T, case.dt, substeps, integrator, "U_si", False).T
 
 
 def mpc(
@@ -441,115 +363,35 @@ def mpc(
     scale_iterations: bool = True,
     max_iter_cap: int = 120,
 ) -> dict:
-    """Receding-horizon flight (shrinking horizon to the fixed final time).
-
-    The first plan is solved to convergence (iLQR-ADMM, residual rule, adaptive rho; not timed as a
-    re-plan). Then every ``replan_every`` intervals -- every interval once at most ``endgame``
-    intervals remain -- the remaining horizon is re-planned from the measured truth state with at
-    most ``max_iter`` warm-started iLQR-ADMM iterations (U, Y, Lambda shifted; one Gauss-Newton step
-    per iteration), and the sparse plan Y -- inside the bounds by construction of the prox -- is flown
-    on the truth model. The terminal weight is ``qf_scale`` times the case's (a soft terminal
-    constraint stiff enough for sub-metre misses). With ``scale_iterations`` the iteration budget
-    grows as the horizon shrinks, ``max_iter * N / remaining`` (capped at ``max_iter_cap``), so every
-    re-plan costs about the same as the first full-horizon one (the cost of an iteration is
-    proportional to the horizon); with a fixed budget the short end-game re-plans stop short of
-    convergence and the terminal miss has a ~1 m floor (docs/guidance_nonlinear.md).
-    Planner: ``discretization`` (default: the case's) on ``planner_params`` (default: J2 on, drag);
-    truth: J2 and drag on, co-rotating atmosphere, integrated by ``integrator`` (``"cvodes"``:
-    satgnc's CVODES path re-initialised at each interval; ``"rk4"``: RK4 at dt/substeps). Returns
-    states (12 x N+1, SI), controls (3 x N, N), re-plan solve times (s, thread CPU time) and
-    iterations. A body reaching the Earth's surface (``j2_radius`` of the truth) raises
-    :class:`satgnc.PropagationError` with ``status == "impact"``, ``t_reached`` and ``states``, as
-    :func:`fly` does."""
+    """Receding-horizon flight of a case (see :func:`satgnc.guidance.mpc`, which this wraps on the
+    case's transcription). Planner default: J2 on, drag, co-rotating atmosphere; truth: the same.
+    Returns a dict: states ``X`` (12 x N+1, SI), controls ``U`` (3 x N, N), re-plan ``solve_times``
+    (s, thread CPU time), ``iterations`` and ``first_plan`` (the first solve's info). A body reaching
+    the Earth's surface raises :class:`satgnc.PropagationError` with ``status == "impact"``,
+    ``t_reached`` and ``states`` (12 x k)."""
     _check_case(case)
-    integrator = one_of(integrator, "integrator", ("cvodes", "rk4"))
-    replan_every = as_int(replan_every, "replan_every", low=1)
-    substeps = as_int(substeps, "substeps", low=1, high=10**6)  # substeps=0 divided by zero
-    tp = truth_params if truth_params is not None else model_params(published=False, j2=True, drag=True)
-    pp = planner_params if planner_params is not None else model_params(published=False, j2=True, drag=True)
-    truth = _c.TwoSatelliteModel(tp)
-    cv_truth = _c.TwoSatelliteTruth(truth) if integrator == "cvodes" else None
-    planner = _c.TwoSatelliteModel(pp)
-    dmap = make_map(planner, case.dt, case.scaling, discretization or case.discretization)
-    x = np.array(case.x0_si, dtype=float)
-    Nh = case.problem.horizon
-    h = case.dt / substeps
-    sc = np.asarray(case.scaling.state_scale)
-    U_all = np.zeros((3, Nh))
-    X = [x.copy()]
-    times, iters = [], []
-    prev = None  # (U, Y, Lambda) not yet executed, scaled
-    k = 0
-    first = None
-    while k < Nh:
-        rem = Nh - k
-        if prev is None or rem >= min_horizon:
-            pr = _c.NonlinearL1Problem()
-            pr.horizon = rem
-            pr.x0 = x / sc
-            pr.x_target = np.zeros(12)
-            pr.Qf = qf_scale * np.asarray(case.problem.Qf)
-            pr.alpha = case.problem.alpha
-            pr.stage_weight = case.problem.stage_weight
-            pr.cost = case.problem.cost
-            if case.constrained:
-                pr.u_min = case.problem.u_min
-                pr.u_max = case.problem.u_max
-            st = _c.IlqrAdmmSettings()
-            st.rho = rho
-            st.eps_abs = 1e-9
-            st.eps_rel = 1e-9
-            st.return_best = False
-            sol = None
-            if prev is None:
-                st.max_iter = first_max_iter
-                st.adaptive_rho = True
-                sol = _c.IlqrAdmmSolver(dmap, pr, st)
-                sol.set_initial_controls(np.zeros((3, rem)))
-                sol.solve()
-                first = sol.info
-                rho_run = sol.info.rho
-            else:
-                st.max_iter = min(max_iter_cap, -(-max_iter * Nh // rem)) if scale_iterations else max_iter
-                st.rho = rho_run
-                sol = _c.IlqrAdmmSolver(dmap, pr, st)
-                sol.warm_start(*prev)
-                t0 = time.thread_time()
-                sol.solve()
-                times.append(time.thread_time() - t0)
-                iters.append(sol.info.iterations)
-            prev = (np.asarray(sol.U), np.asarray(sol.Y), np.asarray(sol.Lambda))
-        nexec = min(1 if rem <= endgame else replan_every, rem)
-        for j in range(nexec):
-            u = case.to_si(prev[1][:, j : j + 1])[:, 0]
-            U_all[:, k + j] = u
-            t_start = (k + j) * case.dt
-            if cv_truth is not None:
-                try:
-                    x = np.asarray(cv_truth.step(x, u, case.dt))
-                except RuntimeError as e:  # an impact was a bare RuntimeError of the truth's step
-                    m = re.search(r"impact at t = ([-+0-9.eE]+)", str(e))
-                    if m is None:
-                        raise
-                    t_hit = t_start + float(m.group(1))
-                    raise _impact(f"mpc: impact at t = {t_hit:.6f} s: {e}", t_hit, np.array(X).T) from None
-            else:
-                for i in range(substeps):
-                    x = np.asarray(truth.rk_step(4, h, x, u))
-                    if not _above_surface(x, tp):
-                        t_hit = t_start + (i + 1) * h
-                        raise _impact(f"mpc: impact: a body reached the Earth's surface within the RK4 "
-                                      f"substep ending at t = {t_hit:.6f} s", t_hit, np.array(X).T)
-            X.append(x.copy())
-        prev = tuple(a[:, nexec:] for a in prev)
-        k += nexec
-    return {
-        "X": np.array(X).T,
-        "U": U_all,
-        "solve_times": np.array(times),
-        "iterations": np.array(iters),
-        "first_plan": first,
-    }
+    replan_every, substeps, integrator = _flight.check_mpc_args(replan_every, substeps, integrator)
+    tp = truth_params if truth_params is not None else _truth_default()
+    pp = planner_params if planner_params is not None else _truth_default()
+    X, U, times, iters, first = _flight.mpc_core(
+        case,
+        tp,
+        pp,
+        replan_every,
+        substeps,
+        max_iter,
+        min_horizon,
+        qf_scale,
+        rho,
+        first_max_iter,
+        integrator,
+        discretization,
+        endgame,
+        scale_iterations,
+        max_iter_cap,
+        False,
+    )
+    return {"X": X.T, "U": U.T, "solve_times": times, "iterations": iters, "first_plan": first}
 
 
 def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
@@ -558,42 +400,8 @@ def linear_cw_plan(case: Case, eps: float = 1e-9) -> dict:
     the nonlinear case's scaling so that Qf and alpha mean the same thing. Returns the plan in newtons
     (3 x N, target CW frame) and the solver's result dict."""
     _check_case(case)
-    eps = as_real(eps, "eps", positive=True)  # errors named the solver field "eps_abs"
-    sc = case.scaling
-    x0 = np.asarray(_c.cw_relative_state(case.x0_si))
-    n = np.sqrt(MU / np.linalg.norm(case.x0_si[3:6]) ** 3)
-    Ad, Bd = _c.cw_discretize(n, MASS, case.dt, "zoh")
-    s = np.concatenate([np.asarray(sc.state_scale)[0:3], np.asarray(sc.state_scale)[6:9]])
-    su = np.asarray(sc.control_scale)
-    As = Ad * s[None, :] / s[:, None]
-    Bs = Bd * su[None, :] / s[:, None]
-    st = _c.AdmmSettings()
-    st.eps_abs = eps
-    st.eps_rel = eps
-    st.max_iterations = 100000
-    w = case.problem.stage_weight
-    lo = np.asarray(case.problem.u_min) if case.constrained else np.zeros(0)
-    hi = np.asarray(case.problem.u_max) if case.constrained else np.zeros(0)
-    solver = _c.AdmmSolver(
-        [As],
-        [Bs],
-        [],
-        case.problem.horizon,
-        x0 / s,
-        np.zeros(6),
-        1000.0 * np.eye(6),
-        np.zeros((0, 0)),
-        np.zeros((0, 0)),
-        w * np.ones(3),
-        0.0,
-        lo,
-        hi,
-        0.0,
-        False,
-        st,
-    )
-    r = solver.solve()
-    return {"U": case.to_si(r["Y"]), "result": r, "x0_cw": x0}
+    U, r, x0, _ = solve_linear_cw(case, MU, MASS, eps, "zoh")
+    return {"U": U.T, "result": r, "x0_cw": x0}
 
 
 def miss(X: np.ndarray) -> tuple[float, float]:
@@ -601,66 +409,14 @@ def miss(X: np.ndarray) -> tuple[float, float]:
     X = as_real_array(X, "X", shape=(12, None))  # a complex X gave (0, 0), a 1-D X an IndexError
     if X.shape[1] == 0:
         raise ValueError("X: needs at least one column (state)")
-    return _norm(X[0:3, -1]), _norm(X[6:9, -1])
-
-
-def _norm(v: np.ndarray) -> float:
-    """|v| without overflow in the squares (X = 1e300 gave an infinite miss)."""
-    m = float(np.max(np.abs(v)))
-    return m * float(np.linalg.norm(v / m)) if m > 0 and np.isfinite(m) else float(np.linalg.norm(v))
+    return _flight.terminal_miss(X[:, -1])
 
 
 def run_cli(out, closed_loop: bool = False) -> int:
-    """``satgnc rendezvous --model nonlinear [--closed-loop]``: solve both nonlinear cases (paper
-    settings and converged SCP), plot, and with ``closed_loop`` fly them (open loop and MPC) on the
-    J2 + drag truth; writes PNGs and nonlinear_summary.json to ``out``."""
-    import json
-    import pathlib
-
-    from ..report.guidance_nonlinear import _figure, _flight_figure
+    """``satgnc rendezvous --model nonlinear [--closed-loop]`` on the paper's scenario: solve both
+    nonlinear cases (paper settings and converged SCP), plot, and with ``closed_loop`` fly them (open
+    loop and MPC) on the J2 + drag truth; writes PNGs and nonlinear_summary.json to ``out``."""
+    from ..guidance.cli import run_nonlinear
 
     closed_loop = as_bool(closed_loop, "closed_loop")  # "x" was True
-
-    out = pathlib.Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    summary = {}
-    for constrained in (False, True):
-        case = paper_case(constrained)
-        paper = solve_paper(case)
-        scp = solve_scp(case, eps=1e-7, tol=1e-8)
-        key = case.name.replace(" ", "_")
-        s_opt = summarize(case, scp.U)
-        summary[key] = {
-            "paper_iterations": paper.info.iterations,
-            "paper_miss_flown_Y_m": summarize(case, paper.Y)["miss_position"],
-            "scp_outer": scp.info.outer_iterations,
-            **{f"opt_{k}": v for k, v in s_opt.items()},
-        }
-        _figure(
-            case,
-            [("optimum (SCP)", case.to_si(scp.U), "-"), ("paper stop, dense U", case.to_si(paper.U), ":")],
-            out / f"{key}.png",
-            case.name,
-        )
-        print(
-            f"{case.name}: paper settings stop after {paper.info.iterations} iterations "
-            f"(sparse plan misses by {summary[key]['paper_miss_flown_Y_m'] / 1000:.2f} km); optimum in "
-            f"{scp.info.outer_iterations} SCP iterations, dv = {s_opt['delta_v']:.4f} m/s, "
-            f"miss = {s_opt['miss_position']:.2f} m"
-        )
-        if closed_loop:
-            lin = linear_cw_plan(case)
-            flights = [
-                ("CW plan, open loop", fly(case, lin["U"])),
-                ("nonlinear plan, open loop", fly(case, case.to_si(scp.U))),
-            ]
-            m = mpc(case)
-            flights.append(("MPC", m["X"]))
-            for label, X in flights:
-                summary[key][f"truth_miss_{label}"] = miss(X)[0]
-                print(f"  {label}: truth miss {miss(X)[0]:.2f} m")
-            summary[key]["mpc_replan_ms_max"] = float(np.max(m["solve_times"]) * 1e3)
-            _flight_figure(case, flights, out / f"{key}_flight.png")
-    (out / "nonlinear_summary.json").write_text(json.dumps(summary, indent=2, default=float))
-    print(f"plots and nonlinear_summary.json written to {out}")
-    return 0
+    return run_nonlinear(SCENARIO, None, out, closed_loop)
