@@ -13,6 +13,7 @@ import pytest
 import satgnc
 from satgnc import _satgnc as _c
 from satgnc import cli
+from satgnc._results import Result
 from satgnc.guidance import Flight, Plan, RendezvousProblem, fly, mpc, plan
 from satgnc.guidance.plan import transcribe
 from satgnc.papers import l1_admm_rendezvous as paper
@@ -87,6 +88,10 @@ def test_other_scenario_both_models_use_the_files_values(other):
         assert s["delta_v"] > 0 and 0 <= s["sparsity"] <= 1 and s["u_max"] <= 0.02 * (1 + 1e-9)
         with pytest.raises(ValueError, match="read-only"):
             p.U[0, 0] = 1.0
+        assert isinstance(p, Result)
+        msg = r"Plan\['X'\] \(dict access\) is deprecated; use the attribute"
+        with pytest.warns(DeprecationWarning, match=msg):
+            assert p["X"] is p.X
         with pytest.raises(dataclasses_frozen_error()):
             p.status = "x"
 

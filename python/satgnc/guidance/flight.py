@@ -14,6 +14,7 @@ import time
 import numpy as np
 
 from .. import _satgnc as _c
+from .._results import Result
 from .._validate import as_int, as_real, as_real_array, one_of
 from .plan import check_above_surface, make_map, transcribe
 from .problem import RendezvousProblem, satellite_params
@@ -22,12 +23,6 @@ __all__ = ["Flight", "MpcRun", "fly", "mpc", "INTEGRATORS"]
 
 #: "cvodes": satgnc's CVODES path re-initialised at each interval (rtol 1e-11); "rk4": fixed-step RK4.
 INTEGRATORS = ("cvodes", "rk4")
-
-
-def _readonly(a) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.flags.writeable = False
-    return a
 
 
 def _norm(v: np.ndarray) -> float:
@@ -42,7 +37,7 @@ def terminal_miss(x: np.ndarray) -> tuple[float, float]:
 
 
 @dataclasses.dataclass(frozen=True)
-class Flight:
+class Flight(Result):
     """An open-loop flight: ``t`` (N+1,) s from the start, ``X`` (N+1, 12) states (m, m/s, ECI),
     ``U`` (N, 3) the flown forces (N, CW frame), ``miss`` (position m, velocity m/s) at the end."""
 
@@ -51,13 +46,9 @@ class Flight:
     U: np.ndarray
     miss: tuple
 
-    def __post_init__(self):
-        for f in ("t", "X", "U"):
-            object.__setattr__(self, f, _readonly(getattr(self, f)))
-
 
 @dataclasses.dataclass(frozen=True)
-class MpcRun:
+class MpcRun(Result):
     """A receding-horizon flight: ``X`` (N+1, 12) truth states (m, m/s, ECI), ``U`` (N, 3) flown forces
     (N, CW frame), ``solve_times`` (s, thread CPU time per re-plan), ``iterations`` per re-plan,
     ``first_plan`` (the first solve's info), ``miss`` (m, m/s) at the end."""
@@ -70,11 +61,8 @@ class MpcRun:
     miss: tuple
 
     def __post_init__(self):
-        for f in ("X", "U", "solve_times"):
-            object.__setattr__(self, f, _readonly(getattr(self, f)))
-        it = np.array(self.iterations, dtype=np.int64)
-        it.flags.writeable = False
-        object.__setattr__(self, "iterations", it)
+        object.__setattr__(self, "iterations", np.array(self.iterations, dtype=np.int64))
+        super().__post_init__()
 
 
 def model_failure(name: str, U, k, err: Exception) -> Exception:

@@ -16,6 +16,7 @@ import dataclasses
 import numpy as np
 
 from .. import _satgnc as _c
+from .._results import Result
 from .._validate import as_int, as_real, as_real_array, one_of
 from .problem import LINEAR_DISCRETIZATIONS, NONLINEAR_DISCRETIZATIONS, RendezvousProblem
 
@@ -35,21 +36,15 @@ ILQR_ADMM_STATUS_NAMES = {int(v): k for k, v in _c.IlqrAdmmStatus.__members__.it
 SCP_SUCCESS = (_c.ScpStatus.solved, _c.ScpStatus.solved_inaccurate)
 
 
-def _readonly(a) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.flags.writeable = False
-    return a
-
-
 @dataclasses.dataclass(frozen=True)
-class Plan:
+class Plan(Result):
     """A planned rendezvous (read-only arrays, time-major).
 
     ``U`` (N, 3): force (N) per interval in the target's CW frame; ``X`` (N+1, nx): the planning
     model's states under ``U`` (linear: CW relative state, m, m/s; nonlinear: 12-state, m, m/s, ECI);
     ``dt`` (s), ``mass`` (kg); ``status`` (solver status name), ``iterations`` (ADMM iterations, or
     SCP outer iterations), ``objective`` (the minimized cost, scaled units), ``info`` (the solver's
-    info object or result dict), ``model`` and ``method``."""
+    info object or result dict), ``model`` and ``method``. A frozen :class:`satgnc._results.Result`."""
 
     model: str
     method: str
@@ -61,10 +56,6 @@ class Plan:
     iterations: int
     objective: float
     info: object = dataclasses.field(repr=False, default=None)
-
-    def __post_init__(self):
-        object.__setattr__(self, "U", _readonly(self.U))
-        object.__setattr__(self, "X", _readonly(self.X))
 
     @property
     def horizon(self) -> int:

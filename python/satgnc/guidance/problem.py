@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from .. import _satgnc as _c
+from .._results import readonly
 from .._validate import as_bool, as_int, as_real, as_real_array, one_of
 
 __all__ = [
@@ -54,12 +55,6 @@ def satellite_params(
     if rho0 is not None:
         p.rho0 = as_real(rho0, "rho0", nonnegative=True)
     return p
-
-
-def _readonly(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.flags.writeable = False
-    return a
 
 
 @dataclasses.dataclass(frozen=True)
@@ -105,7 +100,7 @@ class RendezvousProblem:
         s(self, "mu", as_real(self.mu, "mu", positive=True))
         s(self, "radius", as_real(self.radius, "radius", positive=True))
         s(self, "mass", as_real(self.mass, "mass", positive=True))
-        s(self, "x0", _readonly(as_real_array(self.x0, "x0", shape=(6,))))
+        s(self, "x0", readonly(as_real_array(self.x0, "x0", shape=(6,))))
         s(self, "tf", as_real(self.tf, "tf", positive=True))
         s(self, "horizon", as_int(self.horizon, "horizon", low=1, high=10**6))
         s(self, "alpha", as_real(self.alpha, "alpha", nonnegative=True))
@@ -114,7 +109,7 @@ class RendezvousProblem:
             s(self, "u_max", as_real(self.u_max, "u_max", positive=True))
         s(self, "terminal_equality", as_bool(self.terminal_equality, "terminal_equality"))
         if self.x0_eci is not None:
-            s(self, "x0_eci", _readonly(as_real_array(self.x0_eci, "x0_eci", shape=(12,))))
+            s(self, "x0_eci", readonly(as_real_array(self.x0_eci, "x0_eci", shape=(12,))))
         if self.planner is None:
             s(self, "planner", satellite_params(self.mu))
         elif not isinstance(self.planner, _c.TwoSatelliteParams):
