@@ -4,7 +4,8 @@
 from __future__ import annotations
 
 import importlib
-import warnings
+
+from .._results import deprecated
 
 
 def forward(old: str, new: str, renamed: dict[str, str] | None = None, hints: dict[str, str] | None = None):
@@ -25,8 +26,7 @@ def forward(old: str, new: str, renamed: dict[str, str] | None = None, hints: di
             value = getattr(mod, attr)
         except AttributeError:
             raise AttributeError(f"module {old!r} has no attribute {name!r} (it moved to {new!r})") from None
-        warnings.warn(f"{old}.{name} is deprecated; use {mod_name}.{attr}{hints.get(name, '')}",
-                      DeprecationWarning, stacklevel=2)
+        deprecated(f"{old}.{name}", f"{mod_name}.{attr}{hints.get(name, '')}", stacklevel=2)
         return value
 
     def __dir__():
