@@ -328,12 +328,6 @@ CASES = [
         2,
         ["--reference: only with --model linear"],
     ),
-    (
-        "closed-loop-linear",
-        ["rendezvous", "--closed-loop", "--out", "{d}/rv"],
-        2,
-        ["--closed-loop: only with --model nonlinear"],
-    ),
     # rank
     ("orbit-negative-space", ["rank", "--orbit", "-1,2"], 2, ["--orbit (sigma): must be > 0"]),
     ("orbit-negative-equals", ["rank", "--orbit=-1,2"], 2, ["--orbit (sigma): must be > 0"]),

@@ -14,7 +14,7 @@ import satgnc
 from satgnc import _satgnc as _c
 from satgnc import cli
 from satgnc._results import Result
-from satgnc.guidance import Flight, Plan, RendezvousProblem, fly, mpc, plan
+from satgnc.guidance import Flight, Plan, RendezvousProblem, fly, mpc, plan, satellite_params
 from satgnc.guidance.plan import transcribe
 from satgnc.papers import l1_admm_rendezvous as paper
 from satgnc.scenarios import rendezvous as rv
@@ -105,12 +105,12 @@ def dataclasses_frozen_error():
 def test_other_scenario_flight_uses_the_files_truth(other):
     sc = rv.load(other)
     tp = rv.truth_params(sc)
-    assert (tp.j2_on, tp.drag_on, tp.mu) == (True, False, 3.986004418e14)
+    assert (tp.j2_on, tp.drag_on, tp.mu, tp.mass_chaser) == (True, False, 3.986004418e14, 12.0)
     pb = rv.problem(sc, "hop", "nonlinear")
     p = plan(pb, "nonlinear")
     f = fly(tp, pb.state_eci(), p.U, pb.dt)
     assert isinstance(f, Flight) and f.X.shape == (13, 12) and f.t[-1] == pytest.approx(1200.0)
-    assert f.miss[0] < 50.0  # J2 over 20 min moves the open-loop arrival by metres, not hundreds
+    assert f.miss[0] < 5.0  # J2 over 20 min moves the open-loop arrival by metres, not hundreds
     np.testing.assert_array_equal(f.X[0], pb.state_eci())
     m = mpc(pb, truth=tp, max_iter=5, first_max_iter=200)
     assert m.X.shape == (13, 12) and m.U.shape == (12, 3) and len(m.solve_times) == len(m.iterations) == 3
@@ -136,12 +136,16 @@ def test_cli_other_scenario_nonlinear_and_linear(other, tmp_path, capsys):
     )
     s = json.loads((out / "nonlinear_summary.json").read_text())["nonlinear_hop"]
     assert s["horizon"] == 12 and s["opt_u_max"] <= 0.02 * (1 + 1e-9)
-    assert s["paper_iterations"] >= 1 and s["truth_miss_MPC"] < 50.0
+    assert s["paper_iterations"] >= 1 and s["truth_miss_MPC"] < 1.0
+    assert s["truth_miss_CW plan, open loop"] < 5.0 and s["truth_miss_nonlinear plan, open loop"] < 5.0
     assert (out / "nonlinear_hop.png").exists() and (out / "nonlinear_hop_flight.png").exists()
     out2 = tmp_path / "lin"
-    assert cli.main(["rendezvous", "--scenario", str(other), "--model", "linear", "--out", str(out2)]) == 0
+    assert cli.main(["rendezvous", "--scenario", str(other), "--model", "linear", "--out", str(out2),
+                     "--closed-loop"]) == 0
     lin = json.loads((out2 / "summary.json").read_text())["hop"]
     assert lin["max_abs_u_N"] <= 0.02 * (1 + 1e-9)
+    assert lin["conv_miss_m"] < 5.0 and lin["truth_miss_open_loop_m"] < 5.0  # the truth: J2 only, 20 min
+    assert (out2 / "hop_flight.png").exists()
     assert "nonlinear hop: paper settings stop after" in capsys.readouterr().out
 
 
@@ -199,6 +203,7 @@ def test_problem_checks_name_the_field():
         (dict(horizon=2.5), TypeError, "horizon: must be an integer"),
         (dict(u_max=0.0), ValueError, "u_max: must be > 0"),
         (dict(planner=3), TypeError, "planner: must be TwoSatelliteParams"),
+        (dict(planner=satellite_params(3.986e14)), ValueError, "planner: mass_chaser = 4.6 kg"),
         (dict(nonlinear_discretization="euler"), ValueError, "nonlinear_discretization"),
     ):
         with pytest.raises(exc, match=msg):

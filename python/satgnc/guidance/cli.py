@@ -28,9 +28,15 @@ def _run(args: argparse.Namespace) -> int:
                 raise ValueError(f"--case: unknown {case!r}; the scenario has {sorted(sc.cases)}")
         closed_loop = getattr(args, "closed_loop", False)
         return run_nonlinear(sc, cases, pathlib.Path(args.out), closed_loop=closed_loop)
-    if getattr(args, "closed_loop", False):
-        raise ValueError("--closed-loop: only with --model nonlinear")
     sc = scen._load(args.scenario, "scenario")
+    closed_loop = getattr(args, "closed_loop", False)
+    if closed_loop:  # the same file's nonlinear start and [truth] model
+        from .. import _plot
+        from ..scenarios import rendezvous
+        from .flight import fly
+
+        rsc = rendezvous.load(args.scenario, "scenario")
+        truth = rendezvous.truth_params(rsc)
     for case in args.case or []:
         if case not in sc.cases:
             raise ValueError(f"--case: unknown {case!r}; the scenario has {sorted(sc.cases)}")
@@ -55,6 +61,12 @@ def _run(args: argparse.Namespace) -> int:
               f"dv = {m['conv_dv']:.4f} m/s, "
               f"miss = {m['conv_miss_m']:.3f} m; paper rule: {m['paper_iterations']} iterations, "
               f"flown miss {m['paper_miss_flown_Y_m'] / 1000:.2f} km")
+        if closed_loop:
+            pb = rendezvous.problem(rsc, case, "linear")
+            flight = fly(truth, pb.state_eci(), run.converged.Y * sc.u_ref, pb.dt)
+            m["truth_miss_open_loop_m"] = flight.miss[0]
+            _plot.flight_figure(pb.dt, [("CW plan, open loop", flight.X)], out / f"{case}_flight.png")
+            print(f"  flown open loop on the scenario's truth model: miss {flight.miss[0]:.2f} m")
     if "unconstrained" in sc.cases:  # Fig. 1 is built from the unconstrained case
         dvq, dvl = rv.plot_fig1(sc, out / "quadratic_vs_l1.png")
         summary["quadratic_vs_l1_dv"] = {"quadratic": dvq, "l1": dvl}
@@ -106,7 +118,7 @@ def run_nonlinear(sc, cases, out, closed_loop: bool = False) -> int:
         if closed_loop:
             lin = plan(pb, "linear", discretization="zoh")
             x0 = pb.state_eci()
-            m = mpc(pb, truth=truth)
+            m = mpc(pb, truth=truth, planner=truth)
             flights = [
                 ("CW plan, open loop", fly(truth, x0, lin.U, pb.dt)),
                 ("nonlinear plan, open loop", fly(truth, x0, scp.U, pb.dt)),
@@ -137,5 +149,6 @@ def register(subparsers) -> None:
                    help="plan the scenario's cases on the linear CW model (default) or the nonlinear "
                         "two-satellite model (the same file's states, bounds, horizon and weights)")
     p.add_argument("--closed-loop", action="store_true",
-                   help="with --model nonlinear: fly the plans on a J2 + drag truth (open loop, MPC)")
+                   help="fly the plans on the scenario's [truth] model (linear: the converged plan open "
+                        "loop; nonlinear: the CW and nonlinear plans open loop, and MPC)")
     p.set_defaults(func=_run)

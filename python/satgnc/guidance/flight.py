@@ -286,24 +286,26 @@ def mpc(
     horizon is re-planned from the measured truth state with at most ``max_iter`` warm-started
     iLQR-ADMM iterations (``max_iter * N / remaining`` capped at ``max_iter_cap`` with
     ``scale_iterations``), and the sparse plan is flown on the truth. The terminal weight is
-    ``qf_scale`` times the problem's. ``truth`` and ``planner`` are ``TwoSatelliteParams`` (default:
-    J2 and drag on, co-rotating atmosphere, the problem's ``mu``); the planner's map is
+    ``qf_scale`` times the problem's. ``truth`` and ``planner`` are ``TwoSatelliteParams`` (truth default:
+    J2 and drag on, co-rotating atmosphere, the problem's ``mu`` and ``mass``; planner default: the
+    truth's); the planner's map is
     ``discretization`` (default: the problem's nonlinear one); the truth is integrated by ``integrator``
     (``"cvodes"`` or ``"rk4"`` at dt / ``substeps``). Returns an :class:`MpcRun` (time-major, SI). A
     body reaching the Earth's surface raises :class:`satgnc.PropagationError` (``status == "impact"``,
     ``t_reached``, ``states`` (k, 12))."""
     tr = transcribe(problem)
-    default = satellite_params(problem.mu, j2=True, drag=True, atmosphere="co_rotating")
+    default = satellite_params(problem.mu, j2=True, drag=True, atmosphere="co_rotating", mass=problem.mass)
     for name, p in (("truth", truth), ("planner", planner)):
         if p is not None and not isinstance(p, _c.TwoSatelliteParams):
             raise TypeError(
                 f"{name}: must be TwoSatelliteParams (see satellite_params()), got {type(p).__name__}"
             )
+    truth = default if truth is None else truth
     args = check_mpc_args(replan_every, substeps, integrator)
     X, U, times, iters, first = mpc_core(
         tr,
-        default if truth is None else truth,
-        default if planner is None else planner,
+        truth,
+        truth if planner is None else planner,
         args[0],
         args[1],
         max_iter,

@@ -42,12 +42,17 @@ def satellite_params(
     drag: bool = True,
     atmosphere: str = "co_rotating",
     rho0: float | None = None,
+    mass: float | None = None,
 ):
     """``TwoSatelliteParams`` of the nonlinear model: gravitational parameter ``mu`` (m^3/s^2), J2 and
-    drag switches, the drag's ``atmosphere`` (one of :data:`ATMOSPHERES`) and the optional density
-    scale ``rho0`` (kg/m^3); every other field keeps the engine's default."""
+    drag switches, the drag's ``atmosphere`` (one of :data:`ATMOSPHERES`), the optional density
+    scale ``rho0`` (kg/m^3) and the chaser's ``mass`` (kg; it turns the control force into an
+    acceleration); every other field keeps the engine's default (the l1 scenario's: target 4.6 kg,
+    0.01 m^2, Cd 1, the density model's 6731 km reference radius)."""
     p = _c.TwoSatelliteParams()
     p.mu = as_real(mu, "mu", positive=True)
+    if mass is not None:
+        p.mass_chaser = as_real(mass, "mass", positive=True)
     p.j2_on = as_bool(j2, "j2")
     p.drag_on = as_bool(drag, "drag")
     atmosphere = one_of(atmosphere, "atmosphere", ATMOSPHERES)
@@ -74,7 +79,8 @@ class RendezvousProblem:
       (m, m/s, ECI); ``None``: the target at ``[radius, 0, 0]`` on its circular equatorial orbit and the
       chaser at ``x0`` (see :meth:`state_eci`);
     * ``planner``: ``TwoSatelliteParams`` of the nonlinear planning model (``None``: point mass + drag,
-      co-rotating atmosphere, with this ``mu``; see :func:`satellite_params`);
+      co-rotating atmosphere, with this ``mu`` and ``mass``; see :func:`satellite_params`); its ``mu``
+      and ``mass_chaser`` must equal the problem's;
     * ``linear_discretization`` (:data:`LINEAR_DISCRETIZATIONS`), ``nonlinear_discretization``
       (:data:`NONLINEAR_DISCRETIZATIONS`) and ``substeps`` (RK steps per interval of the nonlinear map).
     """
@@ -111,11 +117,17 @@ class RendezvousProblem:
         if self.x0_eci is not None:
             s(self, "x0_eci", readonly(as_real_array(self.x0_eci, "x0_eci", shape=(12,))))
         if self.planner is None:
-            s(self, "planner", satellite_params(self.mu))
+            s(self, "planner", satellite_params(self.mu, mass=self.mass))
         elif not isinstance(self.planner, _c.TwoSatelliteParams):
             raise TypeError(
                 f"planner: must be TwoSatelliteParams (see satellite_params()), "
                 f"got {type(self.planner).__name__}"
+            )
+        if self.planner.mass_chaser != self.mass or self.planner.mu != self.mu:
+            raise ValueError(
+                f"planner: mass_chaser = {self.planner.mass_chaser} kg and mu = {self.planner.mu} m^3/s^2 "
+                f"must equal the problem's mass = {self.mass} kg and mu = {self.mu} m^3/s^2 "
+                "(see satellite_params())"
             )
         one_of(self.linear_discretization, "linear_discretization", LINEAR_DISCRETIZATIONS)
         one_of(self.nonlinear_discretization, "nonlinear_discretization", NONLINEAR_DISCRETIZATIONS)

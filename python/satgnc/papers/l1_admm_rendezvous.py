@@ -88,7 +88,7 @@ def model_params(published: bool = True, j2: bool = False, drag: bool = True, rh
     (v + omega x r); otherwise the physical co-rotating atmosphere (v - omega x r)."""
     published, j2, drag = as_bool(published, "published"), as_bool(j2, "j2"), as_bool(drag, "drag")
     return satellite_params(
-        MU, j2=j2, drag=drag, atmosphere="published" if published else "co_rotating", rho0=rho0
+        MU, j2=j2, drag=drag, atmosphere="published" if published else "co_rotating", rho0=rho0, mass=MASS
     )
 
 

@@ -16,7 +16,10 @@ file, the line, the key and its section). SI units (m, m/s, N, kg, s) except whe
 * optional ``[discretization]`` ``method`` (linear: midpoint / zoh / expm), ``nonlinear``
   (rk3 / rk4 / dop853), ``substeps`` (RK steps per interval);
 * optional ``[planner]`` and ``[truth]`` ``j2``, ``drag``, ``atmosphere`` (co_rotating / published): the
-  nonlinear planning model and the flight's truth model;
+  nonlinear planning model (default: point mass) and the flight's truth model (default: J2 and drag,
+  co-rotating); both take ``mu`` from ``[orbit]`` and the chaser's mass from ``[chaser]``, the rest from
+  the engine's ``TwoSatelliteParams`` defaults (drag: the l1 scenario's exponential density with its
+  6731 km reference radius, target 4.6 kg, 0.01 m^2);
 * ``[cases.<name>]`` ``rho``, ``eps``, ``box``, ``terminal_equality``, ``paper_lqr_passes`` (the linear
   model's ADMM settings), and optional ``[cases.<name>.nonlinear]`` ``rho``, ``eps``,
   ``terminal_equality``: the nonlinear model's iLQR-ADMM settings (paper stopping rule) and its
@@ -78,7 +81,7 @@ SECTIONS = {
     },
     "planner": {
         "j2": Key("bool", required=False, default=False),
-        "drag": Key("bool", required=False, default=True),
+        "drag": Key("bool", required=False, default=False),
         "atmosphere": Key("string", required=False, default="co_rotating", choices=_ATMOSPHERES),
     },
     "truth": {
@@ -185,15 +188,18 @@ def load(path=None, name: str = "path") -> RendezvousScenario:
     return RendezvousScenario(p, top.get("name"), secs, cases)
 
 
-def _params(table: dict, mu: float):
+def _params(sc: RendezvousScenario, section: str):
+    """TwoSatelliteParams of ``[planner]`` or ``[truth]`` with the file's mu and chaser mass."""
     from ..guidance.problem import satellite_params
 
-    return satellite_params(mu, j2=table["j2"], drag=table["drag"], atmosphere=table["atmosphere"])
+    t = sc.sections[section]
+    mu, mass = sc.sections["orbit"]["mu"], sc.sections["chaser"]["mass"]
+    return satellite_params(mu, j2=t["j2"], drag=t["drag"], atmosphere=t["atmosphere"], mass=mass)
 
 
 def truth_params(sc: RendezvousScenario):
     """``TwoSatelliteParams`` of the scenario's ``[truth]`` model (mu from ``[orbit]``)."""
-    return _params(sc.sections["truth"], sc.sections["orbit"]["mu"])
+    return _params(sc, "truth")
 
 
 def release_state(sc: RendezvousScenario) -> np.ndarray | None:
@@ -219,7 +225,7 @@ def start_state(sc: RendezvousScenario, planner=None) -> np.ndarray | None:
     rel = sc.sections["release"]
     if rel["drift_time"] == 0.0:
         return x
-    p = _params(sc.sections["planner"], sc.sections["orbit"]["mu"]) if planner is None else planner
+    p = _params(sc, "planner") if planner is None else planner
     return np.asarray(_c.TwoSatelliteModel(p).propagate(4, x, rel["drift_time"], rel["drift_steps"]))
 
 
@@ -245,7 +251,7 @@ def problem(sc: RendezvousScenario, case: str, model: str = "linear", x0_eci=Non
         and c["nonlinear"]["terminal_equality"] is not None
     ):
         te = c["nonlinear"]["terminal_equality"]
-    planner = _params(s["planner"], s["orbit"]["mu"])
+    planner = _params(sc, "planner")
     return RendezvousProblem(
         mu=s["orbit"]["mu"],
         radius=s["orbit"]["radius"],
