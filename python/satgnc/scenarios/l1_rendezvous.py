@@ -97,10 +97,12 @@ class Scenario:
 def load(path: str | pathlib.Path | None = None) -> Scenario:
     """Read a scenario TOML (default: the packaged Table 1 scenario).
 
-    The file is checked against a strict schema (sections [orbit], [chaser], [initial_state],
-    [horizon], [cost], optional [discretization], and one or more [cases.<name>]): a missing, unknown
-    or mistyped key is a :class:`satgnc.FileFormatError` (a ``ValueError``) naming the file, the line,
-    the key and its section. A missing file is ``FileNotFoundError``."""
+    The file is checked against the strict rendezvous schema (:mod:`satgnc.scenarios.rendezvous`:
+    sections [orbit], [chaser], [initial_state], [horizon], [cost], optional [discretization],
+    [release], [planner], [truth], and one or more [cases.<name>] with optional
+    [cases.<name>.nonlinear]): a missing, unknown or mistyped key is a :class:`satgnc.FileFormatError`
+    (a ``ValueError``) naming the file, the line, the key and its section. A missing file is
+    ``FileNotFoundError``. The returned :class:`Scenario` holds the linear model's part."""
     return _load(path, "path")
 
 
