@@ -144,21 +144,18 @@ class OffsetRun:
     condition_number: float
 
 
+def _paper_solver(rho, rhodot, method: str = "newton", propagator="kepler", **kw):
+    """The six-point Doppler solver of the paper's pass (Table 3 station, Table 4 times; ranges in km,
+    range-rates in km/s) with the paper's sigmas (:data:`SIGMA_RANGE`, :data:`SIGMA_RANGE_RATE`)."""
+    return six_point_solver(times(), rho, rhodot, station(), "doppler", method, propagator,
+                            sigma_range=SIGMA_RANGE, sigma_range_rate=SIGMA_RANGE_RATE, **kw)
+
+
 def solve_offsets(offsets=None, method: str = "newton", propagator="kepler") -> list[OffsetRun]:
     """Tables 5-11: Doppler conditions from full-precision synthetic data; Newton from x1 + offset."""
     offsets = tables()["table5_initial_x1_offsets_km"] if offsets is None else offsets
     rho, rhodot = observe()
-    sv = six_point_solver(
-        times(),
-        rho,
-        rhodot,
-        station(),
-        "doppler",
-        method,
-        propagator,
-        sigma_range=SIGMA_RANGE,
-        sigma_range_rate=SIGMA_RANGE_RATE,
-    )
+    sv = _paper_solver(rho, rhodot, method, propagator)
     out = []
     for d in offsets:
         g = truth().copy()
@@ -186,16 +183,7 @@ def short_arc_run(offset_km: float = 10.0, max_iterations: int = 20):
     prop = make_propagator("kepler")
     from ..od import ShortArcStmPropagator
 
-    sv = six_point_solver(
-        times(),
-        rho,
-        rhodot,
-        station(),
-        "doppler",
-        "newton",
-        ShortArcStmPropagator(prop),
-        max_iterations=max_iterations,
-    )
+    sv = _paper_solver(rho, rhodot, "newton", ShortArcStmPropagator(prop), max_iterations=max_iterations)
     g = truth().copy()
     g[0] += offset_km
     return sv.solve(g)
@@ -204,17 +192,7 @@ def short_arc_run(offset_km: float = 10.0, max_iterations: int = 20):
 def printed_table4_run(offset_km: float = 10.0, method: str = "newton"):
     """Newton on the printed Table 4 (range and range-rate columns), Table 3 station, guess x1 + 10 km."""
     t4 = tables()["table4_observations"]
-    sv = six_point_solver(
-        times(),
-        t4["range_km"],
-        t4["range_rate_km_s"],
-        station(),
-        "doppler",
-        method,
-        sigma_range=SIGMA_RANGE,
-        sigma_range_rate=SIGMA_RANGE_RATE,
-        max_iterations=50,
-    )
+    sv = _paper_solver(t4["range_km"], t4["range_rate_km_s"], method, max_iterations=50)
     g = truth().copy()
     g[0] += offset_km
     return sv.solve(g)
@@ -229,17 +207,7 @@ def rounding_sensitivity(n: int = 20, seed: int = 1, method: str = "levenberg_ma
     rng = np.random.default_rng(seed)
 
     def one(pr, prr):
-        sv = six_point_solver(
-            times(),
-            pr,
-            prr,
-            station(),
-            "doppler",
-            method,
-            max_iterations=300,
-            sigma_range=SIGMA_RANGE,
-            sigma_range_rate=SIGMA_RANGE_RATE,
-        )
+        sv = _paper_solver(pr, prr, method, max_iterations=300)
         r = sv.solve(truth())
         return r, float(np.linalg.norm(np.asarray(r.x0)[:3] - truth()[:3]))
 
