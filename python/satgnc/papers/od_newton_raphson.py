@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from .._satgnc import EARTH_RADIUS
 from ..data import paper_tables
 from ..od import (
     EARTH_MU,
@@ -126,7 +127,7 @@ def consistency() -> dict:
     # The "mirror" 2R - X of eq. (27).
     mirror = 2.0 * r3[:3] - x[:3]
     out["mirror_radius_km"] = float(np.linalg.norm(mirror))
-    out["mirror_altitude_km"] = float(np.linalg.norm(mirror) - 6378.1363)
+    out["mirror_altitude_km"] = float(np.linalg.norm(mirror) - EARTH_RADIUS)  # km
     return out
 
 

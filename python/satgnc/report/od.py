@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._satgnc import EARTH_RADIUS  # km
+
 TITLE = "Orbit determination: Newton-Raphson from one station (Gao & Luo)"
 
 
@@ -262,7 +264,7 @@ def _fig2(p, ctx, quick) -> str:
         )
     c = p.consistency()
     opp = og[flips == 6]
-    below = float(np.mean(np.linalg.norm(opp[:, :3], axis=1) < 6378.1363)) if len(opp) else float("nan")
+    below = float(np.mean(np.linalg.norm(opp[:, :3], axis=1) < EARTH_RADIUS)) if len(opp) else float("nan")
     lines += [
         "",
         f"Verdict: the mirror 2R - X lies {-c['mirror_altitude_km']:.0f} km below the surface, so no "
