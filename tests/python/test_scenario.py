@@ -298,3 +298,30 @@ def test_nonlinear_shim_keeps_all_names_with_warnings():
     with pytest.warns(DeprecationWarning):
         X = old.fly(case, np.zeros((3, 4)), integrator="rk4", substeps=4)
     assert X.shape == (12, 5)
+
+
+def test_fly_and_mpc_checks_name_the_argument():
+    tp = satellite_params(3.986e14, mass=10.0)
+    x0 = np.r_[10.0, 0, 0, 7.0e6, 0, 0, 0, 0, 0, 0, 7.5e3, 0]
+    U = np.zeros((4, 3))
+    for kw, exc, msg in (
+        (dict(params=3), TypeError, "params: must be TwoSatelliteParams"),
+        (dict(U=np.zeros((3, 4))), ValueError, r"U: must have shape \(n, 3\)"),
+        (dict(U=U + 0j), TypeError, "U: must be a real numeric array"),
+        (dict(dt=-1.0), ValueError, "dt: must be > 0"),
+        (dict(integrator="euler"), ValueError, "integrator"),
+        (dict(x0=np.r_[0.0, 0, 0, 6.0e6, 0, 0, 0, 0, 0, 0, 7.5e3, 0]), ValueError,
+         "x0: the target starts at or below the Earth's surface"),
+    ):
+        args = dict(params=tp, x0=x0, U=U, dt=60.0)
+        args.update(kw)
+        with pytest.raises(exc, match=msg):
+            fly(**args)
+    f = fly(tp, x0, U, 60.0, integrator="rk4", substeps=4)
+    assert f.X.shape == (5, 12) and f.U.shape == (4, 3) and f.t[-1] == 240.0
+    pb = RendezvousProblem(mu=3.986e14, radius=7.0e6, mass=10.0, x0=np.r_[-50.0, 10, 0, 0.05, 0, 0], tf=600.0,
+                           horizon=6, alpha=1.0, Qf=100.0)
+    with pytest.raises(TypeError, match="truth: must be TwoSatelliteParams"):
+        mpc(pb, truth=3)
+    with pytest.raises(TypeError, match="replan_every"):
+        mpc(pb, replan_every=1.5)
