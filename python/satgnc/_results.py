@@ -37,7 +37,7 @@ def readonly(value: Any) -> Any:
     """A read-only copy of ``value`` when it is a numpy array (lists and tuples: element-wise, the
     container type kept); any other value is returned as is."""
     if isinstance(value, np.ndarray):
-        arr = np.array(value, copy=True)
+        arr = np.array(value, copy=True, order="C")
         arr.flags.writeable = False
         return arr
     if isinstance(value, (list, tuple)) and any(isinstance(v, (np.ndarray, list, tuple)) for v in value):
@@ -99,6 +99,11 @@ class Result:
             frozen = readonly(value)
             if frozen is not value:
                 object.__setattr__(self, f.name, frozen)
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Unpickling and copy.copy / deepcopy keep the arrays read-only."""
+        for key, value in state.items():
+            object.__setattr__(self, key, readonly(value))
 
     # ------------------------------------------------------------------ deprecated dict access
     def _field_names(self) -> list[str]:

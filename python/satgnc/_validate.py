@@ -731,20 +731,34 @@ def _wrap_callable(f: Any, qualname: str) -> Any:
 
     doc = (getattr(f, "__doc__", None) or "").strip().splitlines()
     params = _parse_signature(doc[0]) if doc else []
-    # pybind11 accepts True for a float or an int, 1 for a bool and complex arrays for real ones:
-    # check those parameters before the call (the rest fail inside pybind11 and are diagnosed below).
-    checked = [(i, p[0], p[1]) for i, p in enumerate(params)
-               if _kind(p[1]) in ("array", "float", "int", "bool")]
-    by_name = {name: annot for _, name, annot in checked}
+    # An overloaded function (e.g. AdmmSolver(A, B, ...) beside AdmmSolver(problem, settings)) lists
+    # its signatures as "1. name(...)", "2. ..."; a call is checked against the first one it fits.
+    overloads = [_parse_signature(ln.split(".", 1)[1]) for ln in doc[1:] if re.match(r"\d+\.\s", ln)] \
+        if len(doc) > 1 and doc[1].strip() == "Overloaded function." else []
+
+    def checks_of(sig: list) -> tuple[list, dict]:
+        # pybind11 accepts True for a float or an int, 1 for a bool and complex arrays for real ones:
+        # check those parameters before the call (the rest fail inside pybind11 and are diagnosed below).
+        chk = [(i, p[0], p[1]) for i, p in enumerate(sig) if _kind(p[1]) in ("array", "float", "int", "bool")]
+        return chk, {name: annot for _, name, annot in chk}
+
+    checked, by_name = checks_of(params)
+    alternatives = [(sum(not p[2] for p in sig), len(sig), {p[0] for p in sig}, *checks_of(sig))
+                    for sig in overloads]
 
     @functools.wraps(f)
     def wrapper(*args, **kwargs):
-        for i, name, annot in checked:
+        chk, names = checked, by_name
+        for required, n, accepted, c, b in alternatives:
+            if required <= len(args) + len(kwargs) and len(args) <= n and all(k in accepted for k in kwargs):
+                chk, names = c, b
+                break
+        for i, name, annot in chk:
             if i < len(args):
                 _check_param(name, annot, args[i])
         if kwargs:
             for key, value in kwargs.items():
-                annot = by_name.get(key)
+                annot = names.get(key)
                 if annot is not None:
                     _check_param(key, annot, value)
         try:

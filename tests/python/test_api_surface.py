@@ -62,6 +62,10 @@ def test_guidance_keyword_settings_and_solver() -> None:
                                  l1_weights=np.ones(3))
     assert (problem.nx, problem.nu, problem.horizon) == (6, 3, 10)
     d = _satgnc.AdmmSolver(problem, st).solve()
+    empty = np.zeros(0)
+    with pytest.raises(TypeError, match="A: must be a real numeric array, got a complex array"):
+        _satgnc.AdmmSolver([Ad + 0j], [Bd], [], 10, np.array(x0), np.zeros(6), np.eye(6), np.zeros((0, 0)),
+                           np.zeros((0, 0)), np.ones(3), 0.0, empty, empty, 0.0, False, st)  # still checked
     np.testing.assert_array_equal(np.asarray(d["Y"]).T, r.Y)  # the keyword binding solves the same problem
     for cls in (_satgnc.IlqrAdmmSettings, _satgnc.ScpSettings, od.OdSettings):
         with pytest.raises(TypeError, match=f"bogus: unknown keyword of {cls.__name__}"):
