@@ -232,3 +232,32 @@ def test_every_public_function_is_called_here() -> None:
     for mod in (satgnc, prop, g, od, an):
         public = {n for n in mod.__all__ if inspect.isfunction(getattr(mod, n))}
         assert public == CALLED[mod.__name__], mod.__name__
+
+
+def test_stub_names_every_compiled_name() -> None:
+    """_satgnc.pyi is complete: every public name of the extension is declared (module level and class
+    members). A binding added without regenerating the stub fails here (see the stub's header)."""
+    import ast
+
+    stub = pathlib.Path(_satgnc.__file__).with_name("_satgnc.pyi")
+    tree = ast.parse(stub.read_text())
+    declared: dict[str, set[str]] = {"": set()}
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef):
+            declared[""].add(node.name)
+            members = {n.name for n in node.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))}
+            fields = {n.target.id for n in node.body
+                      if isinstance(n, ast.AnnAssign) and isinstance(n.target, ast.Name)}
+            declared[node.name] = members | fields
+        elif isinstance(node, ast.FunctionDef):
+            declared[""].add(node.name)
+        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+            declared[""].add(node.target.id)
+    compiled = {n for n in dir(_satgnc) if not n.startswith("_")}
+    assert compiled - declared[""] == set()
+    assert len(compiled) >= 90
+    for name in sorted(compiled):
+        obj = getattr(_satgnc, name)
+        if isinstance(obj, type) and not hasattr(obj, "__members__"):  # classes, not enums
+            members = {m for m in vars(obj) if not m.startswith("_")}
+            assert members - declared[name] == set(), name
