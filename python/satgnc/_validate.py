@@ -669,9 +669,17 @@ def _diagnose(qualname: str, message: str, args: tuple, kwargs: dict) -> str:
     """Turn a pybind11 overload dump into 'name: must be ..., got ...' for the first wrong argument."""
     lines = [ln.strip() for ln in message.splitlines() if re.match(r"\s*\d+\.\s", ln)]
     sigs = [_parse_signature(ln.split(".", 1)[1]) for ln in lines] or [[]]
-    params = sigs[0]
     # Methods list self; constructors do not, but are called with the new instance first.
-    is_method = (bool(params) and params[0][0] == "self") or "constructor" in message
+    is_method = (bool(sigs[0]) and sigs[0][0][0] == "self") or "constructor" in message
+    npos = len(args) - 1 if is_method and args else len(args)
+
+    def fits(sig: list) -> bool:  # the call's shape matches this overload (names, counts)
+        own = [p for p in sig if p[0] != "self"]
+        required = sum(not p[2] for p in own)
+        return (all(k in {p[0] for p in own} for k in kwargs) and npos <= len(own)
+                and required <= npos + len(kwargs))
+
+    params = next((sig for sig in sigs if fits(sig)), sigs[0])
     named = [p for p in params if p[0] != "self"]
     pos = list(args[1:] if is_method and args else args)
     names = [p[0] for p in named]
@@ -705,6 +713,8 @@ def _diagnose(qualname: str, message: str, args: tuple, kwargs: dict) -> str:
                 return f"{pname}: must have shape ({dims}{',' if len(want) == 1 else ''}), got {got}"
     for pname, annot, _ in named:
         if pname in bound and _kind(annot) == "other":
+            if type(bound[pname]).__name__ == annot.rsplit(".", 1)[-1]:
+                continue  # the right class: another argument is at fault
             return f"{pname}: must be {_short(annot)}, got {_describe(bound[pname])}"
     return f"{qualname}: arguments do not match its signature {lines[0] if lines else ''}"
 

@@ -62,6 +62,10 @@ def test_guidance_keyword_settings_and_solver() -> None:
                                  l1_weights=np.ones(3))
     assert (problem.nx, problem.nu, problem.horizon) == (6, 3, 10)
     d = _satgnc.AdmmSolver(problem, st).solve()
+    with pytest.raises(TypeError, match="problem: must be LtvProblem, got str"):
+        _satgnc.AdmmSolver(problem="x")  # type: ignore[call-overload]
+    with pytest.raises(TypeError, match="settings: must be AdmmSettings, got int"):
+        _satgnc.AdmmSolver(problem, 3)  # type: ignore[call-overload]
     empty = np.zeros(0)
     with pytest.raises(TypeError, match="A: must be a real numeric array, got a complex array"):
         _satgnc.AdmmSolver([Ad + 0j], [Bd], [], 10, np.array(x0), np.zeros(6), np.eye(6), np.zeros((0, 0)),
