@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import satgnc
 from satgnc import mission
+from satgnc._results import Result
 from satgnc.cli import main
 from satgnc.scenarios import mission as scen
 
@@ -82,6 +83,7 @@ def test_handoff_table_units(run):
     md = run.handoff_markdown()
     assert md.startswith("| stage | hands on | value | unit | frame |")
     assert md.count("\n") == len(run.handoff) + 1
+    assert all(line.count("|") == 6 for line in md.splitlines())  # no stray "|" inside a cell
 
 
 def test_results_are_read_only(run):
@@ -92,6 +94,19 @@ def test_results_are_read_only(run):
     with pytest.raises(dataclasses.FrozenInstanceError):
         run.flight.miss_position = 0.0
     assert not run.scenario.x0.flags.writeable
+    assert run.tracking.station.dtype.kind == "i"
+    for stage in (run.tracking, run.estimate, run.relative, run.plan, run.flight, run.checks, run):
+        assert isinstance(stage, Result)
+
+
+def test_bad_arguments_and_stage_failures(tmp_path):
+    with pytest.raises(TypeError, match=r"scenario: must be a path, a MissionScenario or None, got int"):
+        mission.run(3)
+    with pytest.raises(TypeError, match=r"quick: must be true or false \(a bool\), got str"):
+        mission.run(None, quick="yes")
+    p = _bad(tmp_path, "mask = 10.0", "mask = 89.9")
+    with pytest.raises(ValueError, match=r"tracking: [0-5] observations above the 89.9 deg mask .*least 6"):
+        mission.run(p)
 
 
 def test_quick_mission_time(run):

@@ -19,6 +19,7 @@ import numpy as np
 
 from .. import _satgnc as _c
 from .. import analysis, od
+from .._results import Result
 from ..guidance import L1Solver, cw_stm
 from ..propagation import ExponentialDrag, J2Gravity, propagate
 from ..scenarios import l1_rendezvous
@@ -51,22 +52,8 @@ class MissionError(ValueError):
     """A stage ended without the result the next one needs (OD not converged, plan not solved)."""
 
 
-def _ro(a) -> np.ndarray:
-    """A read-only copy (integer arrays stay integer, everything else is float)."""
-    a = np.asarray(a)
-    out = np.array(a, dtype=a.dtype if a.dtype.kind in "iu" else float)
-    out.flags.writeable = False
-    return out
-
-
-class _Frozen:
-    """Arrays of a frozen dataclass become read-only copies."""
-
-    def __post_init__(self):
-        for f in dataclasses.fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, np.ndarray):
-                object.__setattr__(self, f.name, _ro(v))
+class _Frozen(Result):
+    """A stage result: satgnc's one result style (frozen, read-only numpy copies)."""
 
 
 # ----------------------------------------------------------------------------- stage results
@@ -207,7 +194,7 @@ class Checks(_Frozen):
 
 
 @dataclasses.dataclass(frozen=True)
-class HandOff:
+class HandOff(Result):
     """One row of the hand-off table: what ``stage`` passed on, its value, unit and frame."""
 
     stage: str
@@ -218,7 +205,7 @@ class HandOff:
 
 
 @dataclasses.dataclass(frozen=True)
-class MissionRun:
+class MissionRun(Result):
     """Every stage result of :func:`run`, the hand-off table and the wall time per stage (s)."""
 
     scenario: _scen.MissionScenario
@@ -488,7 +475,7 @@ def _handoff(sc, tr: Tracking, est: OrbitEstimate, rel: RelativeState, pl: Plan,
                 f"{rel.radius:.1f}, {rel.mean_motion:.6e}",
                 "m, rad/s", "estimated target orbit"),
         HandOff("4 plan", f"U ({pl.U.shape[0]} x 3) over dt = {pl.dt:.3f} s ({pl.status}, {pl.iterations} "
-                "iterations)", f"delta-v {pl.delta_v:.4f}, max |u| {np.max(np.abs(pl.U)):.3e}", "m/s, N",
+                "iterations)", f"delta-v {pl.delta_v:.4f}, max abs(u) {np.max(np.abs(pl.U)):.3e}", "m/s, N",
                 "target CW"),
         HandOff("5 flight", f"miss at tf = {sc.tf:g} s on {fl.truth}",
                 f"{fl.miss_position:.2f} m, {fl.miss_velocity:.4f} m/s (tolerance {fl.tolerance:g} m, "
@@ -498,7 +485,7 @@ def _handoff(sc, tr: Tracking, est: OrbitEstimate, rel: RelativeState, pl: Plan,
                 f"{ck.controllability} (rank {ck.controllability_rank})", "-", "scaled CW"),
         HandOff("6 checks", "observability of the tracking geometry (OD model)",
                 f"{ck.observability} (rank {ck.observability_rank}, Gramian cond {ck.gramian_condition:.3g})",
-                "-", "ECI, state scaled by |r0|, |v0|"),
+                "-", "ECI, state scaled by norm(r0), norm(v0)"),
     )
 
 

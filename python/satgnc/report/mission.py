@@ -83,7 +83,7 @@ def markdown(run, figure_rel: str | None = None) -> str:
     lines = [
         f"Scenario `{sc.path.name}` ({sc.name}), epoch {sc.epoch} UTC, {len(sc.stations)} stations, "
         f"tracking {sc.times[0]:g}..{sc.times[-1]:g} s every {sc.times[1] - sc.times[0]:g} s"
-        f"{' (quick: every ' + str(sc.quick_thin) + '-th time)' if run.quick else ''}; plan from "
+        f"{f' (quick: 1 time in {sc.quick_thin})' if run.quick else ''}; plan from "
         f"t = {sc.start:g} s over {sc.tf:g} s ({sc.knots} knots). Orbit stages: km, km/s, ECI; relative "
         "stages: m, m/s, N, target CW frame (y radial, z orbit normal, x = y cross z).",
         "",

@@ -21,6 +21,7 @@ import pathlib
 
 import numpy as np
 
+from .._results import Result
 from .._validate import (
     FileFormatError,
     Key,
@@ -136,7 +137,7 @@ class DragSpec:
 
 
 @dataclasses.dataclass(frozen=True)
-class MissionScenario:
+class MissionScenario(Result):
     """A checked mission scenario (see the module docstring for units and frames)."""
 
     path: pathlib.Path
@@ -172,11 +173,6 @@ class MissionScenario:
     truth_j2: bool
     drag: DragSpec | None
 
-    def __post_init__(self):
-        for name in ("x0", "times", "guess_offset", "p0", "v0"):
-            a = np.array(getattr(self, name), dtype=float)
-            a.flags.writeable = False
-            object.__setattr__(self, name, a)
 
 
 def elements_to_state(a: float, e: float, i: float, raan: float, argp: float, ta: float,
