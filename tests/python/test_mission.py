@@ -184,3 +184,26 @@ def test_cli_bad_key_is_one_line_and_exit_code_2(tmp_path, capsys):
     assert str(p) in err and "unknown key 'sead' in section [tracking]" in err
     assert main(["mission", "--scenario", str(tmp_path / "missing.toml")]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_tracking_is_od_simulate_on_the_truth_states():
+    """Without drag (which od.simulate cannot take), stage 1 gives od.simulate's observations: same
+    noise draws (seed), mask and measurement model; the states differ only by the two CVODES set-ups."""
+    import dataclasses as dc
+
+    sc = dc.replace(scen.load(), drag=None)
+    tr = mission.track(sc, quick=True)
+    times = sc.times[:: sc.quick_thin]
+    obs = satgnc.od.simulate(sc.x0, list(tr.stations), times, types=sc.types, sigma_range=sc.sigma_range,
+                             sigma_range_rate=sc.sigma_range_rate, elevation_mask_deg=sc.mask, seed=sc.seed,
+                             propagator=satgnc.od.make_propagator("cvodes", j2=True))
+    assert len(obs) == tr.t.size == 58
+    a = np.lexsort((obs.station, obs.t))  # simulate orders by station, then time
+    np.testing.assert_array_equal(obs.t[a], tr.t)
+    np.testing.assert_array_equal(obs.station[a], tr.station)
+    np.testing.assert_array_equal(obs.sigma[a], tr.sigma)
+    rng = np.array([k == "range" for k in tr.type])
+    assert [str(k).split(".")[-1] for k in np.array(obs.type, dtype=object)[a]] == list(tr.type)
+    # 1 mm in range (sigma 5 m) and 1e-9 km/s in range-rate (sigma 1e-6): the two CVODES tolerances
+    np.testing.assert_allclose(obs.value[a][rng], tr.value[rng], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(obs.value[a][~rng], tr.value[~rng], rtol=0, atol=1e-9)

@@ -291,7 +291,8 @@ def track(sc: _scen.MissionScenario, quick: bool = False) -> Tracking:
     times = sc.times[:: sc.quick_thin] if quick else sc.times
     grid = np.union1d(np.r_[0.0, times], [sc.start])
     terms, forces = _truth_forces(sc)
-    traj = propagate(sc.x0, grid, t0=0.0, mu=_MU_KM, forces=terms or None, with_stm=False)
+    # rtol 1e-12: the truth is more accurate than the OD model's propagator (1e-11) and than the noise
+    traj = propagate(sc.x0, grid, t0=0.0, mu=_MU_KM, forces=terms or None, with_stm=False, rtol=1e-12)
     states = np.asarray(traj.states)
     stations = tuple(od.station_geodetic(s.lat, s.lon, s.height, sc.epoch) for s in sc.stations)
     rng = np.random.default_rng(sc.seed)
