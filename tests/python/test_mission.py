@@ -228,3 +228,15 @@ def test_od_covariance_consistency_over_seeds():
 
     assert 4.1 < mean_nees(drag=None) < 7.9
     assert 9.0 < mean_nees() < 16.0
+
+
+def test_a_stage_that_fails_stops_the_mission_with_one_line(tmp_path, capsys):
+    """A guess 5 km/s off: the OD ends 'diverged'; the mission stops there (MissionError, a ValueError)
+    and the CLI prints one line with exit code 2."""
+    old = "guess_offset = [5.0, -5.0, 3.0, 0.005, -0.004, 0.003]"
+    p = _bad(tmp_path, old, "guess_offset = [0.0, 0.0, 0.0, -5.0, 0.0, 0.0]")
+    with pytest.raises(mission.MissionError, match=r"od: the estimate did not converge \(status diverged\)"):
+        mission.run(p, quick=True)
+    assert main(["mission", "--quick", "--scenario", str(p), "--out", str(tmp_path / "m")]) == 2
+    err = capsys.readouterr().err
+    assert err == "satgnc: error: od: the estimate did not converge (status diverged); the mission stops\n"
