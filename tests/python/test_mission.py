@@ -29,6 +29,15 @@ def test_every_stage_status(run):
     assert run.tracking.t.size > 50  # three passes, range and range-rate, every 30 s (quick)
 
 
+def test_full_mission_without_quick():
+    r = mission.run(DEFAULT)
+    assert set(r.statuses.values()) == {"success", "converged", "solved"}
+    assert r.tracking.t.size == 170 and not r.quick
+    assert np.all(np.abs(r.estimate.error) <= 3.0 * r.estimate.sigma)
+    assert r.flight.miss_position < r.scenario.miss_tolerance
+    assert sum(r.timings.values()) < 20.0, r.timings
+
+
 def test_od_error_within_three_sigma_of_its_covariance(run):
     """Seeded (seed = 12): every component of x0 - truth is inside 3 sigma of the OD covariance, and so
     is the relative-state error inside 3 sigma of the mapped covariance (m, m/s)."""

@@ -333,7 +333,8 @@ def estimate(sc: _scen.MissionScenario, tracking: Tracking) -> OrbitEstimate:
     x0 = np.asarray(r.x0, dtype=float)
     P = np.asarray(r.covariance, dtype=float)
     model = "two-body + J2" if sc.od_j2 and sc.od_propagator == "cvodes" else "two-body"
-    return OrbitEstimate(status=r.status.name, iterations=int(r.iterations), x0=x0, covariance=P,
+    status = r.status if isinstance(r.status, str) else r.status.name  # enum today, a string after B
+    return OrbitEstimate(status=status, iterations=int(r.iterations), x0=x0, covariance=P,
                          rank=int(r.rank), condition_number=float(r.condition_number),
                          error=x0 - tracking.x0_true, sigma=np.sqrt(np.diag(P)), guess=guess,
                          normalized=np.asarray(r.normalized, dtype=float).ravel(),
