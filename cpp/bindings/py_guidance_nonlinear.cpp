@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 
+#include "checks.hpp"
 #include "satgnc/dynamics/two_satellite.hpp"
 #include "satgnc/guidance/ilqr_admm.hpp"
 #include "satgnc/guidance/nonlinear_model.hpp"
@@ -403,6 +404,8 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_property_readonly("U", [](const ScpSolver& s) { return s.result().U; })
       .def_property_readonly("Lambda", [](const ScpSolver& s) { return s.result().Lambda; })
       .def_property_readonly("info", [](const ScpSolver& s) { return s.result().info; });
+  checks::settings_from_kwargs<IlqrAdmmSettings>(m, "IlqrAdmmSettings");  // keyword constructors
+  checks::settings_from_kwargs<ScpSettings>(m, "ScpSettings");
 }
 
 }  // namespace satgnc::bindings

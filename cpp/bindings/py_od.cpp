@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "checks.hpp"
 #include "satgnc/od/measurement.hpp"
 #include "satgnc/od/propagator.hpp"
 #include "satgnc/od/solver.hpp"
@@ -293,6 +294,7 @@ void init_od(py::module_& m) {
         return out;
       },
       py::arg("center"), py::arg("half_width"), py::arg("n"), py::arg("seed"));
+  checks::settings_from_kwargs<OdSettings>(m, "OdSettings");  // OdSettings(method=..., ...)
 }
 
 }  // namespace satgnc::bindings

@@ -37,7 +37,7 @@ def readonly(value: Any) -> Any:
     """A read-only copy of ``value`` when it is a numpy array (lists and tuples: element-wise, the
     container type kept); any other value is returned as is."""
     if isinstance(value, np.ndarray):
-        arr = np.array(value, copy=True)
+        arr = value.copy()  # C order
         arr.flags.writeable = False
         return arr
     if isinstance(value, (list, tuple)) and any(isinstance(v, (np.ndarray, list, tuple)) for v in value):
@@ -85,6 +85,9 @@ def module_getattr(
     return __getattr__
 
 
+_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
+
+
 @dataclasses.dataclass(frozen=True)
 class Result:
     """Base of every satgnc result: a frozen dataclass with read-only numpy arrays.
@@ -94,11 +97,21 @@ class Result:
     deprecated: it warns and returns ``r.X``."""
 
     def __post_init__(self) -> None:
-        for f in dataclasses.fields(self):
-            value = getattr(self, f.name)
-            frozen = readonly(value)
-            if frozen is not value:
-                object.__setattr__(self, f.name, frozen)
+        # the hot path of every solve() that returns a Result: field names cached per class, and the
+        # instance dict written directly (what object.__setattr__ does for a frozen dataclass)
+        names = _FIELD_NAMES.get(type(self))
+        if names is None:
+            names = _FIELD_NAMES[type(self)] = tuple(f.name for f in dataclasses.fields(self))
+        d = self.__dict__
+        for name in names:
+            value = d[name]
+            if isinstance(value, (np.ndarray, list, tuple)):
+                d[name] = readonly(value)
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Unpickling and copy.copy / deepcopy keep the arrays read-only."""
+        for key, value in state.items():
+            object.__setattr__(self, key, readonly(value))
 
     # ------------------------------------------------------------------ deprecated dict access
     def _field_names(self) -> list[str]:

@@ -99,6 +99,19 @@ def test_deprecated_helpers_name_the_new_name():
         getattr_("other")
 
 
+def test_pickle_and_copies_stay_read_only():
+    import copy
+    import pickle
+
+    r, _ = _demo()
+    for back in (pickle.loads(pickle.dumps(r)), copy.deepcopy(r), copy.copy(r)):
+        assert isinstance(back, _Demo) and back.iterations == 7
+        np.testing.assert_array_equal(back.X, r.X)
+        assert back.X.flags.writeable is False
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            back.iterations = 1  # type: ignore[misc]
+
+
 def test_warning_points_at_the_caller():
     r, _ = _demo()
     with pytest.warns(DeprecationWarning) as rec:

@@ -3,6 +3,8 @@ at omega = 1, LEO and GEO; the paper's printed matrices; loss tables; Gramians o
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 TITLE = "Controllability and observability (polar_linearization_rank.md)"
@@ -38,7 +40,7 @@ def six_results() -> list[dict]:
                 if prop == "controllability":
                     X = B[:, idx]
                     u = polar_units(sigma, omega)
-                    u["input"] = u["input"][idx]
+                    u = dataclasses.replace(u, input=u.input[idx])
                     st = controllability(A, X)
                     sd = controllability(A, X, units=u)
                     K = kalman_matrix(A, B=X)
@@ -162,8 +164,8 @@ def build(ctx) -> str:
         A, B, _ = polar_linear_model(s, w)
         for label, idx in _CASES_C:
             d = distance_to_uncontrollability(A, B[:, idx])
-            out.append(f"| {oname} | {label} | {d['upper_bound']:.3g} | {d['refined']:.3g} | "
-                       f"{d['relative']:.3g} |")
+            out.append(f"| {oname} | {label} | {d.upper_bound:.3g} | {d.refined:.3g} | "
+                       f"{d.relative:.3g} |")
     out.append("")
     out.append("### Observability Gramian of single-station OD (od_newton_raphson.md Tables 1 and 3)")
     rise, set_ = visibility_pass()
