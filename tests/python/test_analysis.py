@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 import satgnc.analysis as an
-from satgnc.analysis.paper import PAPER_RANKS, compare
+from satgnc.papers.polar_linearization_rank import PAPER_RANKS, compare
 
 ORBITS = ["one", "leo", "geo"]
 CTRB = [("both", [0, 1]), ("radial only (u1)", [0]), ("tangential only (u2)", [1])]

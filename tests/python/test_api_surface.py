@@ -79,6 +79,22 @@ def test_guidance_keyword_settings_and_solver() -> None:
     assert od.OdSettings(method="gauss_newton").method == od.OdMethod.gauss_newton  # enum names as strings
 
 
+def test_guidance_rendezvous_library() -> None:
+    """plan / fly / mpc on a small explicit problem (m, m/s, N, kg, s; 12-states ECI)."""
+    tp = g.satellite_params(3.986e14, j2=True, drag=False, mass=10.0)
+    x0 = np.array([-50.0, 10.0, 0.0, 0.05, 0.0, 0.0])
+    pb = g.RendezvousProblem(mu=3.986e14, radius=7.0e6, mass=10.0, x0=x0, tf=600.0, horizon=6, alpha=1.0,
+                             Qf=100.0, u_max=0.05)
+    for model, nx in (("linear", 6), ("nonlinear", 12)):
+        p = g.plan(pb, model)
+        assert isinstance(p, g.Plan) and p.U.shape == (6, 3) and p.X.shape == (7, nx)
+        assert isinstance(p.status, str) and isinstance(p.summary()["delta_v"], float)
+    f = g.fly(tp, pb.state_eci(), p.U, pb.dt)
+    assert isinstance(f, g.Flight) and f.X.shape == (7, 12) and f.t.shape == (7,)
+    m = g.mpc(pb, truth=tp, max_iter=3, first_max_iter=100)
+    assert isinstance(m, g.MpcRun) and m.X.shape == (7, 12) and m.U.shape == (6, 3)
+
+
 # ----------------------------------------------------------------------------- satgnc.od
 def _station_obs() -> tuple[od.Station, od.Observations, npt.NDArray[np.float64]]:
     x0, r0 = an.paper_od_state()
@@ -215,7 +231,8 @@ def test_analysis_gramians_and_jacobians() -> None:
 CALLED = {
     "satgnc": {"propagate", "available_methods"},
     "satgnc.propagation": {"propagate", "available_methods"},
-    "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "solve_l1"},
+    "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "solve_l1", "plan", "fly", "mpc",
+                        "satellite_params"},
     "satgnc.od": {
         "julian_date", "gmst", "ellipsoid", "geodetic_to_ecef", "station_geodetic", "station_inertial",
         "implied_rotation_rate", "predict", "make_propagator", "read_csv", "solve", "six_point_conditions",

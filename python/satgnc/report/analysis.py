@@ -29,7 +29,7 @@ def six_results() -> list[dict]:
         polar_linear_model,
         polar_units,
     )
-    from ..analysis.paper import PAPER_RANKS
+    from ..papers.polar_linearization_rank import PAPER_RANKS
 
     rows = []
     for oname in ("one", "leo", "geo"):
@@ -76,7 +76,7 @@ def build(ctx) -> str:
         polar_linear_model,
         visibility_pass,
     )
-    from ..analysis.paper import compare
+    from ..papers.polar_linearization_rank import compare
 
     out = []
     out.append("The planar polar model r'' = r theta'^2 - k/r^2 + u1, theta'' = -2 theta' r'/r + u2/r is "
