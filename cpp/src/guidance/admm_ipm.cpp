@@ -11,9 +11,9 @@
 #include <limits>
 #include <type_traits>
 
-#include "satgnc/guidance/admm.hpp"
+#include "detail/admm_workspace.hpp"
 
-namespace satgnc::guidance {
+namespace satgnc::guidance::detail {
 
 using Eigen::ArrayXd;
 using Eigen::Index;
@@ -50,7 +50,7 @@ bool chol_inverse3(const M& a, Out& inv) noexcept {
 }
 }  // namespace
 
-void AdmmSolver::ipm_setup() {
+void AdmmWorkspace::ipm_setup() {
   ipm_ok_ = flat_ok_;  // L1 + box (no group-L2 or ball: second-order cones stay ADMM-only)
   if (!ipm_ok_) return;
   const Index n = static_cast<Index>(N_) * nu_;
@@ -95,7 +95,7 @@ void AdmmSolver::ipm_setup() {
 // Stage views of the stored per-stage blocks, fixed-size for the (6, 3) CW case (the products then
 // unroll), dynamic otherwise; all storage is preallocated, nothing is allocated here.
 template <int NX, int NU>
-bool AdmmSolver::ipm_riccati_factor() noexcept {
+bool AdmmWorkspace::ipm_riccati_factor() noexcept {
   using MXX = Eigen::Matrix<double, NX, NX>;
   using MUX = Eigen::Matrix<double, NU, NX>;
   using MXU = Eigen::Matrix<double, NX, NU>;
@@ -170,8 +170,8 @@ bool AdmmSolver::ipm_riccati_factor() noexcept {
 }
 
 template <int NU>
-auto AdmmSolver::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&,
-                                                          Eigen::LLT<Eigen::Matrix<double, NU, NU>>> {
+auto AdmmWorkspace::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&,
+                                                             Eigen::LLT<Eigen::Matrix<double, NU, NU>>> {
   if constexpr (NU == Eigen::Dynamic) {
     return illt_;
   } else {
@@ -183,7 +183,7 @@ auto AdmmSolver::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, 
 // forward rollout of the step; with a hard terminal state, the multiplier from the sensitivity and a
 // second forward pass.
 template <int NX, int NU>
-void AdmmSolver::ipm_riccati_sweep() noexcept {
+void AdmmWorkspace::ipm_riccati_sweep() noexcept {
   using MXX = Eigen::Matrix<double, NX, NX>;
   using MUX = Eigen::Matrix<double, NU, NX>;
   using MXU = Eigen::Matrix<double, NX, NU>;
@@ -239,14 +239,14 @@ void AdmmSolver::ipm_riccati_sweep() noexcept {
   iep_ = ie_ + idX_.col(N_);
 }
 
-template bool AdmmSolver::ipm_riccati_factor<6, 3>() noexcept;
-template bool AdmmSolver::ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
-template void AdmmSolver::ipm_riccati_sweep<6, 3>() noexcept;
-template void AdmmSolver::ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
+template bool AdmmWorkspace::ipm_riccati_factor<6, 3>() noexcept;
+template bool AdmmWorkspace::ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
+template void AdmmWorkspace::ipm_riccati_sweep<6, 3>() noexcept;
+template void AdmmWorkspace::ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
 
 // D_j (the eliminated epigraph / box block) from the current slacks and multipliers, then the
 // factorization of the structured LQR step with R + diag(D).
-bool AdmmSolver::ipm_factor() noexcept {
+bool AdmmWorkspace::ipm_factor() noexcept {
   const bool term = prob_.terminal_equality;
   // pair block in the inverse ratios r_m = s_m / z_m (bounded where d_m = z_m / s_m overflows):
   // D = 4 d1 d2 / (d1 + d2) = 4 / (r1 + r2)
@@ -284,7 +284,7 @@ bool AdmmSolver::ipm_factor() noexcept {
 
 // One Newton direction with complementarity targets rc = s z (predictor) or s z + ds_a dz_a - sigma
 // mu (corrector, smu = sigma mu): idu_, idt_, ids*, idz* and the terminal quantities iep_, inun_.
-bool AdmmSolver::ipm_newton(bool corrector, double smu) noexcept {
+bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   const bool term = prob_.terminal_equality;
   const Index n = static_cast<Index>(N_) * nu_;
   // q_m = (rc_m + z_m rp_m) / s_m (zero for absent constraints: s = 1, z = 0 there); infeasible
@@ -329,7 +329,7 @@ bool AdmmSolver::ipm_newton(bool corrector, double smu) noexcept {
   return true;
 }
 
-double AdmmSolver::ipm_max_step() const noexcept {
+double AdmmWorkspace::ipm_max_step() const noexcept {
   double a = kInf;
   const auto lim = [&](const ArrayXd& v, const ArrayXd& dv) {
     a = std::min(a, (dv < 0.0).select(-v / dv, kInf).minCoeff());  // branch-free: vectorized
@@ -349,7 +349,7 @@ double AdmmSolver::ipm_max_step() const noexcept {
 
 // The independent acceptance test (the same as ADMM's): relative duality gap of the plan <= eps_gap
 // and the terminal miss, on the rolled-out plan.
-bool AdmmSolver::ipm_certify() noexcept {
+bool AdmmWorkspace::ipm_certify() noexcept {
   const bool term = prob_.terminal_equality;
   // the plan in the box (the slacks are carried apart from u: rounding may put u outside by an ulp)
   for (int k = 0; k < N_; ++k)
@@ -375,7 +375,7 @@ bool AdmmSolver::ipm_certify() noexcept {
   return evaluate_gap(res_.X_flown, iU_, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
 }
 
-bool AdmmSolver::ipm_solve(bool warm) noexcept {
+bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
   const bool term = prob_.terminal_equality;
   const Index n = static_cast<Index>(N_) * nu_;
   AdmmInfo& info = res_.info;
@@ -560,4 +560,4 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
   return true;
 }
 
-}  // namespace satgnc::guidance
+}  // namespace satgnc::guidance::detail
