@@ -377,10 +377,51 @@ bool AdmmWorkspace::ipm_certify() noexcept {
 
 bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
   const bool term = prob_.terminal_equality;
-  const Index n = static_cast<Index>(N_) * nu_;
   AdmmInfo& info = res_.info;
+  if (warm)
+    ipm_start_warm();
+  else
+    ipm_start_cold();
+  ipm_center_and_balance(warm);
+  xtmp2_ = xN0all_ - prob_.xf;
+  const double e_ref = 1e-2 * set_.terminal_tolerance * xtmp2_.norm();
+  const double m = std::max(ipm_m_, 1);
+  const double wmax = w_.maxCoeff();
+  int it = 0, cert_failures = 0;
+  double ru_prev = kInf;
+  bool ok = false;
+  for (; it <= set_.ipm_max_iterations; ++it) {
+    if (out_of_time()) break;
+    const IpmResiduals r = ipm_residuals(wmax);
+    if (!std::isfinite(r.P) || !std::isfinite(r.ru) || !std::isfinite(r.sz)) break;
+    const double tol = set_.ipm_tolerance;
+    // stationarity has a rounding floor when the gradient's terms cancel (stage Q far from x_f):
+    // once it stops decreasing, the independent gap test decides
+    const bool ru_ok =
+        r.ru <= 1e3 * tol * r.gscale || (r.ru >= 0.5 * ru_prev && r.sz <= tol * tol * std::abs(r.P));
+    ru_prev = r.ru;
+    if (r.sz <= tol * std::abs(r.P) && r.rp <= 1e3 * tol * r.uscale && ru_ok &&
+        r.rt <= 1e3 * tol * std::max(wmax, 1e-300) && (!term || ie_.norm() <= e_ref)) {
+      if (ipm_certify()) {
+        ok = true;
+        break;
+      }
+      if (++cert_failures >= 3) break;
+    }
+    if (it == set_.ipm_max_iterations) break;
+    if (!ipm_predictor_corrector(r.sz, m)) break;
+  }
+  info.ipm_iterations += it;
+  if (!ok) return false;
+  ipm_accept();
+  return true;
+}
+
+// Warm start from ADMM's iterate.
+void AdmmWorkspace::ipm_start_warm() noexcept {
+  const Index n = static_cast<Index>(N_) * nu_;
   Eigen::Map<ArrayXd> u(iU_.data(), n);
-  if (warm) {
+  {
     // from ADMM's iterate: u = Y (in the box), multipliers from Lambda = -grad f at its fixed point
     // (-grad f = z1 - z2 - z3 + z4): the L1 pair takes clamp(Lambda, -w, w), the box the rest;
     // slacks and multipliers floored at a fraction of the plan's and the multipliers' scale
@@ -398,7 +439,14 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
     iz2_ = im1_ * (0.5 * (wrep_ - ia1_)).max(1e-2 * wrep_);
     iz3_ = im3_ * ((ia1_ - lam).max(0.0) + zf);
     iz4_ = im4_ * ((lam - ia1_).max(0.0) + zf);
-  } else {
+  }
+}
+
+// Cold start.
+void AdmmWorkspace::ipm_start_cold() noexcept {
+  const Index n = static_cast<Index>(N_) * nu_;
+  Eigen::Map<ArrayXd> u(iU_.data(), n);
+  {
     // cold start: u = 0 (the box midpoint if 0 is not inside), t = |u| + 1, z1 = z2 = w / 2 (r_t = 0),
     // box multipliers 1 / s
     for (Index j = 0; j < n; ++j) {
@@ -425,6 +473,11 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
     iz1_ = 0.5 * im1_ * wrep_;
     iz2_ = iz1_;
   }
+}
+
+// Mehrotra's shift of the start, its states and terminal error, and (cold) balanced box multipliers.
+void AdmmWorkspace::ipm_center_and_balance(bool warm) noexcept {
+  const Index n = static_cast<Index>(N_) * nu_;
   // Mehrotra's shift toward the central path: s += 1/2 s'z / sum z, z += 1/2 s'z / sum s
   const double sz0 = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
   const double zs = (im1_ * (iz1_ + iz2_) + im3_ * iz3_ + im4_ * iz4_).sum();
@@ -454,15 +507,15 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
     iz3_ = im3_ * (1.0 + (g0 - im1_ * wrep_).max(0.0));
     iz4_ = im4_ * (1.0 + (-g0 - im1_ * wrep_).max(0.0));
   }
-  xtmp2_ = xN0all_ - prob_.xf;
-  const double e_ref = 1e-2 * set_.terminal_tolerance * xtmp2_.norm();
-  const double m = std::max(ipm_m_, 1);
-  const double wmax = w_.maxCoeff();
-  int it = 0, cert_failures = 0;
-  double ru_prev = kInf;
-  bool ok = false;
-  for (; it <= set_.ipm_max_iterations; ++it) {
-    if (out_of_time()) break;
+}
+
+// Residuals of the current point and their scales.
+AdmmWorkspace::IpmResiduals AdmmWorkspace::ipm_residuals(double wmax) noexcept {
+  const bool term = prob_.terminal_equality;
+  const Index n = static_cast<Index>(N_) * nu_;
+  Eigen::Map<ArrayXd> u(iU_.data(), n);
+  IpmResiduals res;
+  {
     // residuals of the current point: stationarity r_u = grad f + M' nu - sum z a, r_t, complementarity
     double P = 0.0, gpart = 0.0;  // gpart: the largest term of the gradient (they cancel in a QP)
     Eigen::Map<ArrayXd> grad(Hg_.data(), n);
@@ -493,22 +546,24 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
         {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
     const double uscale = std::max(
         {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
-    if (!std::isfinite(P) || !std::isfinite(ru) || !std::isfinite(sz)) break;
-    const double tol = set_.ipm_tolerance;
-    // stationarity has a rounding floor when the gradient's terms cancel (stage Q far from x_f):
-    // once it stops decreasing, the independent gap test decides
-    const bool ru_ok = ru <= 1e3 * tol * gscale || (ru >= 0.5 * ru_prev && sz <= tol * tol * std::abs(P));
-    ru_prev = ru;
-    if (sz <= tol * std::abs(P) && rp <= 1e3 * tol * uscale && ru_ok &&
-        rt <= 1e3 * tol * std::max(wmax, 1e-300) && (!term || ie_.norm() <= e_ref)) {
-      if (ipm_certify()) {
-        ok = true;
-        break;
-      }
-      if (++cert_failures >= 3) break;
-    }
-    if (it == set_.ipm_max_iterations) break;
-    if (!ipm_factor() || !ipm_newton(false, 0.0)) break;
+    res.P = P;
+    res.gscale = gscale;
+    res.ru = ru;
+    res.rt = rt;
+    res.sz = sz;
+    res.rp = rp;
+    res.uscale = uscale;
+  }
+  return res;
+}
+
+// One Mehrotra predictor-corrector step from complementarity sz over m constraints; false stops.
+bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
+  const bool term = prob_.terminal_equality;
+  const Index n = static_cast<Index>(N_) * nu_;
+  Eigen::Map<ArrayXd> u(iU_.data(), n);
+  {
+    if (!ipm_factor() || !ipm_newton(false, 0.0)) return false;
     // predictor: affine step length and the centering parameter sigma = (mu_aff / mu)^3
     const double mu = sz / m;
     const double aa = std::min(1.0, ipm_max_step());
@@ -526,9 +581,9 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
             .sum() /
         m;
     const double sigma = mu > 0.0 ? std::clamp(std::pow(mu_aff / mu, 3.0), 0.0, 1.0) : 0.0;
-    if (!ipm_newton(true, sigma * mu)) break;
+    if (!ipm_newton(true, sigma * mu)) return false;
     const double a = std::min(1.0, 0.99 * ipm_max_step());
-    if (!(a > 1e-12)) break;
+    if (!(a > 1e-12)) return false;
     u += a * idu_;
     itv_ += a * idt_;
     is1_ += a * ids1_;
@@ -547,8 +602,12 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
     if (term) inu_ += a * (inun_ - inu_);
     ie_ += a * (iep_ - ie_);
   }
-  info.ipm_iterations += it;
-  if (!ok) return false;
+  return true;
+}
+
+// The certified plan into the result.
+void AdmmWorkspace::ipm_accept() noexcept {
+  const bool term = prob_.terminal_equality;
   // the certified plan: Lambda = -(grad f + M' p) from the gap's costate sweep (Hg_ without the
   // diagonal of R moved into g)
   res_.U = iU_;
@@ -557,7 +616,6 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
     for (int i = 0; i < nu_; ++i) res_.Lambda(i, k) = -(Hg_(i, k) + rg_(i) * iU_(i, k));
   res_.X = res_.X_flown;
   if (term) res_.terminal_multiplier = ie2_;
-  return true;
 }
 
 }  // namespace satgnc::guidance::detail

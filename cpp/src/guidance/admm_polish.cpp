@@ -225,10 +225,21 @@ bool AdmmWorkspace::polish_swaps(int& F) noexcept {
 // zero), free_idx_[0..F) and their signs fsign_[0..F).
 bool AdmmWorkspace::polish_solve(int F) noexcept {
   const bool term = prob_.terminal_equality;
-  bool fail = false;
   viol_j_ = -1;
   bad_a_ = -1;
-  double bad_out = 0.0;
+  const int M = polish_build_kkt(F);
+  if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
+  bool fail = polish_unpack(F);
+  if (polish_optimality_violated()) fail = true;
+  if (fail) return false;
+  accept_polished(term);
+  return true;
+}
+
+// The compact KKT system of the candidate (free entries, then nx more unknowns) in KKT_, rhs_;
+// returns its size F + nx.
+int AdmmWorkspace::polish_build_kkt(int F) noexcept {
+  const bool term = prob_.terminal_equality;
   const Eigen::Map<const VectorXd> up(Up_.data(), static_cast<Index>(N_) * nu_);
   xtmp_ = xN0_;
   xtmp_.noalias() += PsiB_.transpose() * up;  // fixed part x_N^fix
@@ -274,8 +285,15 @@ bool AdmmWorkspace::polish_solve(int F) noexcept {
     rhs_(F + j) = -xtmp_(j);
     if (!term) KKT_(F + j, F + j) = -1.0;
   }
-  if (!solve_dense_in_place(KKT_, rhs_, sol_, M)) return false;
-  const double tol = set_.polish_tolerance * (scaled_ ? w_.maxCoeff() : std::max(1.0, w_.maxCoeff()));
+  return M;
+}
+
+// The solved free entries into Up_ (true if one lies outside its sign / box: the furthest is
+// remembered in bad_a_, bad_val_ for a repair), then the terminal costate pN_ and the gradient.
+bool AdmmWorkspace::polish_unpack(int F) noexcept {
+  const bool term = prob_.terminal_equality;
+  bool fail = false;
+  double bad_out = 0.0;
   for (int a = 0; a < F; ++a) {
     const int k = free_idx_[static_cast<std::size_t>(a)] / nu_,
               i = free_idx_[static_cast<std::size_t>(a)] % nu_;
@@ -303,6 +321,14 @@ bool AdmmWorkspace::polish_solve(int F) noexcept {
     Eigen::Map<VectorXd> g(grad_.data(), static_cast<Index>(N_) * nu_);
     g.noalias() = PsiB_ * pN_;
   }
+  return fail;
+}
+
+// The L1 / box optimality conditions of the candidate in Up_ with the gradient grad_; true if one
+// fails (the most violated fixed entry, the one a swap would free, in viol_j_, viol_sign_).
+bool AdmmWorkspace::polish_optimality_violated() noexcept {
+  const double tol = set_.polish_tolerance * (scaled_ ? w_.maxCoeff() : std::max(1.0, w_.maxCoeff()));
+  bool fail = false;
   // gradient of the smooth part: B_k' Phi(N, k+1)' pN + R u_k; check the L1/box optimality conditions
   // and remember the most violated fixed entry (the one a swap would free)
   viol_j_ = -1;
@@ -332,9 +358,7 @@ bool AdmmWorkspace::polish_solve(int F) noexcept {
       }
     }
   }
-  if (fail) return false;
-  accept_polished(term);
-  return true;
+  return fail;
 }
 
 // Store the certified polish candidate Up_ (with its gradient and terminal multiplier) as the result.
@@ -430,8 +454,31 @@ bool AdmmWorkspace::qp_polish() noexcept {
 // iterates approach slowly. Returns true with the certified plan in res_ (as polish_solve).
 bool AdmmWorkspace::dual_newton() noexcept {
   const bool term = prob_.terminal_equality;
-  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
   dn_e_ = xN0_ - prob_.xf;
+  const double curv = dn_curvature();
+  if (!(curv > 0.0) || !std::isfinite(curv)) return false;
+  dn_nu_ = cg_;  // condensed step: Qf e (soft) or the terminal multiplier (hard)
+  int steps = 0;
+  constexpr int kMaxSteps = 120;
+  double eps = curv;
+  for (int level = 0; level < 14 && steps < kMaxSteps; ++level, eps *= 0.1) {
+    for (int t = 0; t < 30 && steps < kMaxSteps; ++t, ++steps) {
+      const int r = dn_newton_step(eps);
+      if (r < 0) return false;
+      if (r > 0) break;
+    }
+    const int F = dn_candidate(eps);
+    if (F == 0 || (term && F < nx_)) continue;
+    ++res_.info.polish_attempts;
+    if (polish_solve(F)) return true;
+  }
+  return false;
+}
+
+// Mean curvature of the smooth part along the N nu axes (the first smoothing eps).
+double AdmmWorkspace::dn_curvature() noexcept {
+  const bool term = prob_.terminal_equality;
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
   double curv = 0.0;
   for (Eigen::Index j = 0; j < n; ++j) {
     if (term) {
@@ -442,10 +489,14 @@ bool AdmmWorkspace::dual_newton() noexcept {
     }
   }
   curv /= static_cast<double>(n);
-  if (!(curv > 0.0) || !std::isfinite(curv)) return false;
-  dn_nu_ = cg_;  // condensed step: Qf e (soft) or the terminal multiplier (hard)
-  const auto evaluate = [&](const VectorXd& nu, double eps) {
-    // s, u(nu) into dn_s_, dn_u_; returns D(nu)
+  return curv;
+}
+
+// The smoothed dual D(nu) at eps; s = M' nu and the minimizer u(nu) into dn_s_, dn_u_.
+double AdmmWorkspace::dn_evaluate(const VectorXd& nu, double eps) noexcept {
+  const bool term = prob_.terminal_equality;
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+  {
     Eigen::Map<VectorXd> sv(dn_s_.data(), n);
     sv.noalias() = PsiB_ * nu;
     double D = nu.dot(dn_e_);
@@ -461,13 +512,16 @@ bool AdmmWorkspace::dual_newton() noexcept {
       D += sj * u + w * std::abs(u) + 0.5 * eps * u * u;
     }
     return D;
-  };
-  int steps = 0;
-  constexpr int kMaxSteps = 120;
-  double eps = curv;
-  for (int level = 0; level < 14 && steps < kMaxSteps; ++level, eps *= 0.1) {
-    for (int t = 0; t < 30 && steps < kMaxSteps; ++t, ++steps) {
-      const double D0 = evaluate(dn_nu_, eps);
+  }
+}
+
+// One damped Newton step on nu at eps: 0 moved, 1 converged or stalled (next level), -1 failed.
+int AdmmWorkspace::dn_newton_step(double eps) noexcept {
+  const bool term = prob_.terminal_equality;
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+  {
+    {
+      const double D0 = dn_evaluate(dn_nu_, eps);
       // gradient e0 + M u - Qf^-1 nu and Hessian (negated)
       dn_g_ = dn_e_;
       dn_g_.noalias() += PsiB_.transpose() * dn_u_;
@@ -489,7 +543,7 @@ bool AdmmWorkspace::dual_newton() noexcept {
       dn_H_.diagonal().array() += 1e-12 * std::max(tr, 1e-300) / nx_ + (term ? 1e-300 : 0.0);
       dn_lu_.compute(dn_H_);
       dn_d_ = dn_lu_.solve(dn_g_);
-      if (!dn_d_.allFinite()) return false;
+      if (!dn_d_.allFinite()) return -1;
       const double slope = dn_g_.dot(dn_d_);
       double step = 1.0;
       bool moved = false;
@@ -497,16 +551,24 @@ bool AdmmWorkspace::dual_newton() noexcept {
         dn_t_ = dn_nu_ + step * dn_d_;
         const VectorXd& trial = dn_t_;
         dn_g_ = trial;  // keep the trial point (evaluate overwrites dn_t_ in the soft case)
-        if (evaluate(dn_g_, eps) >= D0 + 1e-4 * step * slope) {
+        if (dn_evaluate(dn_g_, eps) >= D0 + 1e-4 * step * slope) {
           dn_nu_ = dn_g_;
           moved = true;
           break;
         }
       }
-      if (!moved || step * dn_d_.norm() <= 1e-13 * std::max(dn_nu_.norm(), 1e-300)) break;
+      if (!moved || step * dn_d_.norm() <= 1e-13 * std::max(dn_nu_.norm(), 1e-300)) return 1;
     }
-    // candidate: entries strictly inside (0, bound) free, the others fixed at 0 or the bound
-    evaluate(dn_nu_, eps);
+  }
+  return 0;
+}
+
+// The polish candidate at eps: entries strictly inside (0, bound) free, the others fixed at 0 or
+// the bound (Up_, free_idx_, fsign_); returns the free count, 0 if none or more than fit.
+int AdmmWorkspace::dn_candidate(double eps) noexcept {
+  const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
+  {
+    dn_evaluate(dn_nu_, eps);
     int F = 0;
     bool fits = true;
     for (Eigen::Index j = 0; j < n; ++j) {
@@ -522,11 +584,8 @@ bool AdmmWorkspace::dual_newton() noexcept {
       fsign_[static_cast<std::size_t>(F)] = u > 0.0 ? 1.0 : -1.0;
       ++F;
     }
-    if (!fits || F == 0 || (term && F < nx_)) continue;
-    ++res_.info.polish_attempts;
-    if (polish_solve(F)) return true;
+    return fits ? F : 0;
   }
-  return false;
 }
 
 void AdmmWorkspace::polished_terminal() noexcept {

@@ -268,13 +268,21 @@ struct AdmmWorkspace : AdmmProblemData,
   // polish (admm_polish.cpp)
   bool try_polish(bool rank_by_dual) noexcept;
   int dual_candidate(std::uint64_t& signature) noexcept;
+  /// Reduced KKT solve and optimality certificate for the candidate in Up_ (free_idx_, fsign_).
   bool polish_solve(int F) noexcept;
+  int polish_build_kkt(int F) noexcept;
+  bool polish_unpack(int F) noexcept;
+  bool polish_optimality_violated() noexcept;
   bool polish_swaps(int& F) noexcept;
   /// After a certified soft-terminal polish: X_flown's terminal column from the solved error pe_.
   void polished_terminal() noexcept;
   bool qp_polish() noexcept;
   void accept_polished(bool term) noexcept;
   bool dual_newton() noexcept;
+  double dn_curvature() noexcept;
+  double dn_evaluate(const Eigen::VectorXd& nu, double eps) noexcept;
+  int dn_newton_step(double eps) noexcept;
+  int dn_candidate(double eps) noexcept;
 
   // duality gap and infeasibility (admm_gap.cpp)
   /// Backward costate sweep at (X, U) with terminal costate Qf (x_N - x_f) + p: fills Hg_ with the
@@ -322,6 +330,16 @@ struct AdmmWorkspace : AdmmProblemData,
   double ipm_max_step() const noexcept;
   bool ipm_newton(bool corrector, double sigma_mu) noexcept;
   bool ipm_certify() noexcept;
+  void ipm_start_warm() noexcept;
+  void ipm_start_cold() noexcept;
+  void ipm_center_and_balance(bool warm) noexcept;
+  /// Residuals of the current interior point and their scales (ipm_residuals).
+  struct IpmResiduals {
+    double P = 0.0, gscale = 0.0, ru = 0.0, rt = 0.0, sz = 0.0, rp = 0.0, uscale = 0.0;
+  };
+  IpmResiduals ipm_residuals(double wmax) noexcept;
+  bool ipm_predictor_corrector(double sz, double m) noexcept;
+  void ipm_accept() noexcept;
 };
 
 }  // namespace satgnc::guidance::detail
