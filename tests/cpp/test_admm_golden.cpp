@@ -20,6 +20,8 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "satgnc/dynamics/cw.hpp"
@@ -379,4 +381,24 @@ TEST(AdmmGolden, FileCoversEveryCase) {
   EXPECT_GT(statuses[2], 50);  // max_iterations
   EXPECT_GT(statuses[1], 10);  // solved_paper_rule
   EXPECT_GT(statuses[7], 10);  // primal_infeasible (the Farkas test)
+}
+
+// AdmmSolver is move-only (its workspace is allocated once); a moved solver solves as before.
+TEST(AdmmGolden, MovedSolverGivesTheSameIterates) {
+  static_assert(!std::is_copy_constructible_v<AdmmSolver> && !std::is_copy_assignable_v<AdmmSolver>);
+  static_assert(std::is_nothrow_move_constructible_v<AdmmSolver> &&
+                std::is_nothrow_move_assignable_v<AdmmSolver>);
+  const std::map<std::string, Record> gold = read_golden(kFile);
+  AdmmSettings st;
+  st.rho = 1e-1;
+  AdmmSolver a(scenario_problem(true, true), st);
+  AdmmSolver b(std::move(a));
+  const Record got = record(b.solve());
+  const Record& want = gold.at("sequence/constrained/first");
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(close(got[i], want[i])) << "entry " << i;
+  AdmmSolver c(scenario_problem(false, false), st);
+  c = std::move(b);
+  EXPECT_EQ(c.horizon(), 99);
+  EXPECT_TRUE(close(c.result().info.objective, want[3]));
 }
