@@ -238,6 +238,7 @@ class AdmmSolver {
 
   /// The result of the last solve() (arrays sized at setup).
   const AdmmResult& result() const;
+  /// The settings in force (the last update_settings / set_time_limit included).
   const AdmmSettings& settings() const;
   /// The problem as given (unscaled; the solver works on an equilibrated copy).
   const LtvProblem& problem() const;
