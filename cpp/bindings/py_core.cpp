@@ -1,9 +1,11 @@
-// pybind11 wrappers for the core room: the status tables (read by tests and tools; each status enum
-// itself is bound in its room through bind_status).
+// pybind11 wrappers for the core room: the Earth constants (EARTH_*, defined once in
+// satgnc/core/constants.hpp) and the status tables (read by tests and tools; each status enum itself
+// is bound in its room through bind_status).
 #include <pybind11/pybind11.h>
 
 #include <string>
 
+#include "satgnc/core/constants.hpp"
 #include "satgnc/core/status.hpp"
 
 namespace py = pybind11;
@@ -21,6 +23,10 @@ py::list table_rows() {
 }  // namespace
 
 void init_core(py::module_& m) {
+  m.attr("EARTH_MU") = core::earth::mu;          // km^3/s^2
+  m.attr("EARTH_RADIUS") = core::earth::radius;  // km
+  m.attr("EARTH_J2") = core::earth::j2;          // dimensionless
+  m.attr("EARTH_OMEGA") = core::earth::omega;    // rad/s
   m.def(
       "status_tables",
       []() {
