@@ -8,6 +8,7 @@
 #include <string>
 
 #include "detail/quadratic.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -622,6 +623,7 @@ void IlqrAdmmSolver::prox(const MatrixXd& V, MatrixXd& Yout) const {
 }
 
 const IlqrAdmmResult& IlqrAdmmSolver::solve() {
+  SATGNC_NO_MALLOC_SCOPE;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
   solve_start_ = t0;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -187,6 +188,7 @@ bool RiccatiSolver::factor_stage(int k, double rho) noexcept {
 }
 
 bool RiccatiSolver::factor(double rho) noexcept {
+  SATGNC_NO_MALLOC_SCOPE;
   factored_ = false;
   if (nx_ == 0 || !(rho >= 0.0) || !std::isfinite(rho)) return false;
   const Index n = nx_, N = N_;
@@ -414,6 +416,7 @@ RiccatiStatus RiccatiSolver::apply_terminal(const Eigen::Ref<const VectorXd>& xf
 RiccatiStatus RiccatiSolver::solve(const Eigen::Ref<const VectorXd>& x0, const Eigen::Ref<const MatrixXd>& q,
                                    const Eigen::Ref<const MatrixXd>& r, const Eigen::Ref<const VectorXd>& xf,
                                    Eigen::Ref<MatrixXd> X, Eigen::Ref<MatrixXd> U) noexcept {
+  SATGNC_NO_MALLOC_SCOPE;
   if (!factored_) return RiccatiStatus::unsolved;
   if (nx_ == 6 && nu_ == 3) {
     affine_sweep_63(x0, q, r, X, U);

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "detail/quadratic.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -367,6 +368,7 @@ int ScpSolver::restore(double& J, double time_left) {
 }
 
 const ScpResult& ScpSolver::solve() noexcept {
+  SATGNC_NO_MALLOC_SCOPE;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
   ScpInfo& info = res_.info;

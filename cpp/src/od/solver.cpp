@@ -7,6 +7,7 @@
 #include <map>
 #include <random>
 
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::od {
@@ -358,6 +359,7 @@ void OdSolver::finish(const Vec6& x, bool buffers_valid) {
 void OdSolver::set_initial_guess(const Vec6& x0_guess) noexcept { guess_ = x0_guess; }
 
 const OdResult& OdSolver::solve() {
+  SATGNC_NO_MALLOC_SCOPE;
   const auto t_start = std::chrono::steady_clock::now();
   solve_iterate(guess_);
   // core::InfoBase mirrors of the result (read-only diagnostics, no effect on the iterates)

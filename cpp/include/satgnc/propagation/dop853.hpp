@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/solver.hpp"
 #include "satgnc/core/status.hpp"
 #include "satgnc/dynamics/force_model.hpp"
@@ -281,6 +282,7 @@ class Dop853 {
   template <class Output, class Event = Dop853NoEvent>
   Dop853Info solve(double t0, const Vec& y0, const double* t_out, std::size_t n_out, Output&& out,
                    const Event& event = Event()) {
+    SATGNC_NO_MALLOC_SCOPE;
     const auto start = std::chrono::steady_clock::now();
     Dop853Info info = run<Output, Event>(t0, y0, t_out, n_out, std::forward<Output>(out), event);
     info.iterations = static_cast<int>(info.steps);  // core::InfoBase mirror
