@@ -9,6 +9,7 @@
 #include "checks.hpp"
 #include "satgnc/dynamics/cw.hpp"
 #include "satgnc/guidance/admm.hpp"
+#include "status.hpp"
 
 namespace py = pybind11;
 
@@ -160,16 +161,7 @@ void init_guidance(py::module_& m) {
       .value("admm", guidance::AdmmMethod::kAdmm)
       .value("admm_ipm", guidance::AdmmMethod::kAdmmIpm)
       .value("ipm", guidance::AdmmMethod::kIpm);
-  py::enum_<AdmmStatus>(m, "AdmmStatus")
-      .value("solved", AdmmStatus::kSolved)
-      .value("solved_paper_rule", AdmmStatus::kSolvedPaperRule)
-      .value("max_iterations", AdmmStatus::kMaxIterations)
-      .value("terminal_unreachable", AdmmStatus::kTerminalUnreachable)
-      .value("numerical_error", AdmmStatus::kNumericalError)
-      .value("unsolved", AdmmStatus::kUnsolved)
-      .value("solved_inaccurate", AdmmStatus::kSolvedInaccurate)
-      .value("primal_infeasible", AdmmStatus::kPrimalInfeasible)
-      .value("time_limit", AdmmStatus::kTimeLimit);
+  bind_status<AdmmStatus>(m, "AdmmStatus");
   m.def("admm_status_message",
         [](int s) { return std::string(guidance::status_message(static_cast<AdmmStatus>(s))); });
 

@@ -14,30 +14,6 @@ namespace satgnc::guidance {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-const char* status_message(AdmmStatus s) noexcept {
-  switch (s) {
-    case AdmmStatus::kSolved:
-      return "solved: residuals and relative duality gap within tolerance, or certified active-set polish";
-    case AdmmStatus::kSolvedPaperRule:
-      return "stopped by the paper's rule ||U-Y||/dim(U) <= eps (not a convergence certificate)";
-    case AdmmStatus::kMaxIterations:
-      return "maximum iterations reached: best iterate returned, check the residuals";
-    case AdmmStatus::kTerminalUnreachable:
-      return "terminal state unreachable: x_f is outside the reachable set of the dynamics";
-    case AdmmStatus::kNumericalError:
-      return "numerical error: non-finite iterate or failed Riccati factorization";
-    case AdmmStatus::kUnsolved:
-      return "not solved yet";
-    case AdmmStatus::kSolvedInaccurate:
-      return "solved inaccurate: stopped at a limit with only the loose tolerances met";
-    case AdmmStatus::kPrimalInfeasible:
-      return "primal infeasible: the bounds and the terminal state cannot all hold (certificate given)";
-    case AdmmStatus::kTimeLimit:
-      return "time limit reached: best iterate returned, check the residuals";
-  }
-  return "unknown status";
-}
-
 void AdmmSettings::validate() const {
   using core::require;
   core::require_positive(rho, "rho");

@@ -29,9 +29,8 @@ __all__ = [
 ]
 
 AdmmSettings = _satgnc.AdmmSettings
-STATUS_NAMES = {0: "solved", 1: "solved_paper_rule", 2: "max_iterations", 3: "terminal_unreachable",
-                4: "numerical_error", 5: "unsolved", 6: "solved_inaccurate", 7: "primal_infeasible",
-                8: "time_limit"}
+# Read from the C++ status table (satgnc/core/status.hpp), never re-typed: value -> name.
+STATUS_NAMES = {int(v): k for k, v in _satgnc.AdmmStatus.__members__.items()}
 
 
 _OVERFLOW = "the solver's products overflow double precision (hint: scale the problem)"

@@ -24,6 +24,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "satgnc/core/solver.hpp"
+#include "satgnc/core/status.hpp"
 #include "satgnc/guidance/riccati.hpp"
 
 namespace satgnc::guidance {
@@ -141,26 +143,15 @@ struct AdmmSettings {
   void validate() const;
 };
 
-/// Solver status; status_message() gives the text.
-enum class AdmmStatus {
-  kSolved = 0,               ///< residual tolerances met
-  kSolvedPaperRule = 1,      ///< the paper's ||U-Y||/dim(U) <= eps met (not a convergence proof)
-  kMaxIterations = 2,        ///< max_iterations reached; best iterate returned
-  kTerminalUnreachable = 3,  ///< hard terminal state outside the reachable set
-  kNumericalError = 4,       ///< non-finite iterate or failed factorization
-  kUnsolved = 5,             ///< solve() not called yet
-  kSolvedInaccurate = 6,     ///< stopped at a limit with the loose tolerances met; best iterate
-  kPrimalInfeasible = 7,     ///< constraints cannot all hold (certificate in the result)
-  kTimeLimit = 8,            ///< AdmmSettings::time_limit reached; best iterate returned
-};
-const char* status_message(AdmmStatus s) noexcept;
+/// Solver status (core/status.hpp: snake_case, `unsolved` first; the old kSolved.. spellings are
+/// deprecated aliases); status_message() gives the text, status_name() the Python string.
+using core::AdmmStatus;
+using core::status_message;
+using core::status_name;
 
-/// Diagnostics of the last solve.
-struct AdmmInfo {
-  AdmmStatus status = AdmmStatus::kUnsolved;
-  int iterations = 0;
-  double primal_residual = 0.0;  ///< ||U - Y||_inf
-  double dual_residual = 0.0;    ///< rho ||Y - Y_prev||_inf
+/// Diagnostics of the last solve. From core::InfoBase: status, iterations, primal_residual
+/// (||U - Y||_inf), dual_residual (rho ||Y - Y_prev||_inf) and solve_time (wall time of solve, s).
+struct AdmmInfo : core::InfoBase<AdmmStatus> {
   double eps_primal = 0.0, eps_dual = 0.0;
   double paper_criterion = 0.0;  ///< ||U - Y||_F / (N nu)
   double objective = 0.0;      ///< objective of the flown sparse plan (Y rolled out), with its terminal cost
@@ -171,8 +162,7 @@ struct AdmmInfo {
   int rho_updates = 0;
   bool polished = false;  ///< the result is a certified active-set polish
   int polish_attempts = 0;
-  bool condensed = false;   ///< the condensed x/u step was used (AdmmSettings::condensed)
-  double solve_time = 0.0;  ///< wall time of solve (s)
+  bool condensed = false;  ///< the condensed x/u step was used (AdmmSettings::condensed)
   /// Objective P of the returned plan Y (= objective) and the Fenchel dual bound D <= optimum:
   /// smooth part f(U) = sum_j 1/2 ||A_j U + b_j||^2 (Qf, Q, R terms), hard terminal A_T U + b_T = 0,
   /// g = L1 + box (+ group-L2 / ball); D(nu) = sum_j [-1/2 ||nu_j||^2 + nu_j' b_j] + nu_T' b_T
