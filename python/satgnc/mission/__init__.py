@@ -25,10 +25,12 @@ from .pipeline import (
     check,
     estimate,
     fly,
+    od_force_model,
     plan,
     relative_state,
     run,
     track,
+    truth_force_model,
     truth_params,
 )
 
@@ -47,9 +49,11 @@ __all__ = [
     "estimate",
     "fly",
     "load",
+    "od_force_model",
     "plan",
     "relative_state",
     "run",
     "track",
+    "truth_force_model",
     "truth_params",
 ]

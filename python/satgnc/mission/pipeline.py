@@ -21,7 +21,7 @@ from .. import _satgnc as _c
 from .. import analysis, od
 from .._results import Result
 from ..guidance import L1Solver, cw_stm
-from ..propagation import ExponentialDrag, J2Gravity, propagate
+from ..propagation import ExponentialDrag, ForceModel, J2Gravity
 from ..scenarios import l1_rendezvous
 from ..scenarios import mission as _scen
 
@@ -42,6 +42,9 @@ __all__ = [
     "fly",
     "check",
     "run",
+    "truth_force_model",
+    "od_force_model",
+    "truth_params",
 ]
 
 _MU_KM = od.EARTH_MU  # km^3/s^2, every stage
@@ -108,7 +111,7 @@ class OrbitEstimate(_Frozen):
     guess: np.ndarray
     normalized: np.ndarray
     residuals: np.ndarray
-    model: str  #: the OD force model ("two-body" or "two-body + J2")
+    model: str  #: the OD force model ("point mass", "point mass + J2", "point mass + J2 + exponential drag")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -234,19 +237,29 @@ class MissionRun(Result):
 
 
 # ----------------------------------------------------------------------------- models
-def _truth_forces(sc: _scen.MissionScenario):
-    """(terms for satgnc.propagate, description) of the orbit-level truth: J2 and drag as the file says."""
-    terms, names = [], ["point mass"]
-    if sc.truth_j2:
-        terms.append(J2Gravity(mu=_MU_KM))
-        names.append("J2")
-    if sc.drag is not None:
-        d = sc.drag
-        terms.append(ExponentialDrag(rho0=d.rho0, h0=d.h0, scale_height=d.scale_height, cd=d.cd, area=d.area,
-                                     mass=d.mass, body_radius=od.EARTH_RADIUS,
-                                     omega=np.array([0.0, 0.0, od.EARTH_OMEGA])))
-        names.append("exponential drag")
-    return terms, " + ".join(names)
+def _drag_term(sc: _scen.MissionScenario) -> ExponentialDrag:
+    d = sc.drag
+    return ExponentialDrag(rho0=d.rho0, h0=d.h0, scale_height=d.scale_height, cd=d.cd, area=d.area,
+                           mass=d.mass, body_radius=od.EARTH_RADIUS,
+                           omega=np.array([0.0, 0.0, od.EARTH_OMEGA]))
+
+
+def _force_model(j2: bool, drag: bool, sc: _scen.MissionScenario) -> tuple[ForceModel, str]:
+    """(satgnc.ForceModel, description): point mass (EARTH_MU, km^3/s^2) + J2 + the file's drag."""
+    names = ["point mass"] + (["J2"] if j2 else []) + (["exponential drag"] if drag else [])
+    fm = ForceModel(mu=_MU_KM, j2=J2Gravity(mu=_MU_KM) if j2 else None, drag=_drag_term(sc) if drag else None)
+    return fm, " + ".join(names)
+
+
+def truth_force_model(sc: _scen.MissionScenario) -> tuple[ForceModel, str]:
+    """The orbit-level truth (km, km/s, s): J2 and drag as ``[truth]`` says, and its description."""
+    return _force_model(sc.truth_j2, sc.drag is not None, sc)
+
+
+def od_force_model(sc: _scen.MissionScenario) -> tuple[ForceModel, str]:
+    """The OD model: J2 and drag (the truth's atmosphere, known exactly) as ``[od]`` says."""
+    cvodes = sc.od_propagator == "cvodes"
+    return _force_model(sc.od_j2 and cvodes, sc.od_drag and cvodes, sc)
 
 
 def truth_params(sc: _scen.MissionScenario) -> _c.TwoSatelliteParams:
@@ -279,49 +292,40 @@ def truth_params(sc: _scen.MissionScenario) -> _c.TwoSatelliteParams:
 
 
 def _od_propagator(sc: _scen.MissionScenario):
-    return od.make_propagator(sc.od_propagator, _MU_KM, sc.od_j2 and sc.od_propagator == "cvodes")
+    if sc.od_propagator == "kepler":
+        return od.make_propagator("kepler", _MU_KM)
+    return od.make_propagator("cvodes", force_model=od_force_model(sc)[0])
 
 
 # ----------------------------------------------------------------------------- stages
 def track(sc: _scen.MissionScenario, quick: bool = False) -> Tracking:
-    """Stage 1: the truth orbit (``satgnc.propagate`` with J2 and drag) observed by every station.
-
-    Same measurement model, noise and mask rule as :func:`satgnc.od.simulate`, which cannot take drag
-    today (its propagators carry mu and J2 only): the states come from ``satgnc.propagate``."""
+    """Stage 1: :func:`satgnc.od.simulate` of every station on the truth force model (point mass, J2
+    and drag as ``[truth]`` says; CVODES, rtol 1e-11), ordered by time then station."""
     times = sc.times[:: sc.quick_thin] if quick else sc.times
     grid = np.union1d(np.r_[0.0, times], [sc.start])
-    terms, forces = _truth_forces(sc)
-    # rtol 1e-12: the truth is more accurate than the OD model's propagator (1e-11) and than the noise
-    traj = propagate(sc.x0, grid, t0=0.0, mu=_MU_KM, forces=terms or None, with_stm=False, rtol=1e-12)
-    states = np.asarray(traj.states)
+    fm, forces = truth_force_model(sc)
     stations = tuple(od.station_geodetic(s.lat, s.lon, s.height, sc.epoch) for s in sc.stations)
-    rng = np.random.default_rng(sc.seed)
-    rows: dict = {"t": [], "type": [], "value": [], "sigma": [], "station": []}
-    sig = {"range": sc.sigma_range, "range_rate": sc.sigma_range_rate}
-    index = {float(t): k for k, t in enumerate(grid)}
-    for i, st in enumerate(stations):
-        for tk in times:
-            xk = states[index[float(tk)]]
-            R = st.state(float(tk))
-            if od.elevation_deg(xk, R) < sc.mask:
-                continue
-            for kind in sc.types:
-                v, _ = od.predict(kind, xk, R)
-                rows["t"].append(float(tk))
-                rows["type"].append(kind)
-                rows["value"].append(v + rng.normal(0.0, sig[kind]))
-                rows["sigma"].append(sig[kind])
-                rows["station"].append(i)
-    if len(rows["t"]) < 6:
-        raise ValueError(f"tracking: {len(rows['t'])} observations above the {sc.mask} deg mask "
+    try:
+        obs = od.simulate(sc.x0, list(stations), times, types=sc.types, sigma_range=sc.sigma_range,
+                          sigma_range_rate=sc.sigma_range_rate, elevation_mask_deg=sc.mask, seed=sc.seed,
+                          propagator="cvodes", force_model=fm)
+    except ValueError as e:
+        if not str(e).startswith("elevation_mask_deg"):
+            raise
+        obs = None
+    n = 0 if obs is None else len(obs)
+    if n < 6:
+        raise ValueError(f"tracking: {n} observations above the {sc.mask} deg mask "
                          f"({sc.path}); the OD needs at least 6 (hint: station positions or the arc)")
-    order = np.lexsort((rows["station"], rows["t"]))
+    states, _ = od.make_propagator("cvodes", force_model=fm).propagate(sc.x0, list(grid))
+    order = np.lexsort((obs.station, obs.t))
+    kinds = [str(k).split(".")[-1] for k in obs.type]
     return Tracking(
-        t=np.asarray(rows["t"])[order], type=tuple(rows["type"][k] for k in order),
-        value=np.asarray(rows["value"])[order], sigma=np.asarray(rows["sigma"])[order],
-        station=np.asarray(rows["station"], dtype=int)[order], stations=stations,
+        t=np.asarray(obs.t)[order], type=tuple(kinds[k] for k in order),
+        value=np.asarray(obs.value)[order], sigma=np.asarray(obs.sigma)[order],
+        station=np.asarray(obs.station, dtype=int)[order], stations=stations,
         station_names=tuple(s.name for s in sc.stations), x0_true=sc.x0, truth_times=grid,
-        truth_states=states, forces=forces,
+        truth_states=np.asarray(states), forces=forces,
     )
 
 
@@ -332,7 +336,7 @@ def estimate(sc: _scen.MissionScenario, tracking: Tracking) -> OrbitEstimate:
                  propagator=_od_propagator(sc), mu=_MU_KM)
     x0 = np.asarray(r.x0, dtype=float)
     P = np.asarray(r.covariance, dtype=float)
-    model = "two-body + J2" if sc.od_j2 and sc.od_propagator == "cvodes" else "two-body"
+    model = od_force_model(sc)[1]
     status = r.status if isinstance(r.status, str) else r.status.name  # enum today, a string after B
     return OrbitEstimate(status=status, iterations=int(r.iterations), x0=x0, covariance=P,
                          rank=int(r.rank), condition_number=float(r.condition_number),

@@ -74,6 +74,8 @@ _OD = {
     "guess_offset": Key("vector", length=6, unit="km, km/s"),
     "propagator": Key("string", required=False, default="cvodes", choices=("kepler", "cvodes")),
     "j2": Key("bool", required=False, default=True),
+    # the truth's [truth.drag] atmosphere in the OD model (known exactly); needs propagator "cvodes"
+    "drag": Key("bool", required=False, default=False),
 }
 # The same keys as scenarios/l1_rendezvous.toml where they mean the same thing (flattened: the
 # file's [chaser] mass, [initial_state] position/velocity, [horizon] tf/knots, [cost] alpha/Qf/u_max,
@@ -156,6 +158,7 @@ class MissionScenario(Result):
     guess_offset: np.ndarray  #: km, km/s (6,)
     od_propagator: str
     od_j2: bool
+    od_drag: bool  #: the OD model has the truth's drag ([truth.drag])
     start: float  #: s from the epoch: the plan's first knot
     p0: np.ndarray  #: m, target CW frame (3,)
     v0: np.ndarray  #: m/s, target CW frame (3,)
@@ -283,6 +286,12 @@ def load(path: str | pathlib.Path | None = None, name: str = "path") -> MissionS
     if drag_raw is not None:
         c = check_toml_table(drag_raw, _DRAG, "truth.drag", p, text)
         drag = DragSpec(**c)
+    if od["drag"] and drag is None:
+        _fail(p, text, "od", "drag", "key 'drag' in section [od]: drag = true takes the atmosphere of "
+              "[truth.drag], which the file does not have")
+    if od["drag"] and od["propagator"] != "cvodes":
+        _fail(p, text, "od", "drag", "key 'drag' in section [od]: drag = true needs propagator = 'cvodes' "
+              "(the Kepler propagator is two-body only)")
     start = trk["stop"] if rv["start"] is None else rv["start"]
     if start < trk["stop"]:
         _fail(p, text, "rendezvous", "start", f"key 'start' in section [rendezvous] (s): the plan starts "
@@ -292,6 +301,7 @@ def load(path: str | pathlib.Path | None = None, name: str = "path") -> MissionS
         times=times, types=types, sigma_range=trk["sigma_range"], sigma_range_rate=trk["sigma_range_rate"],
         seed=trk["seed"], mask=trk["mask"], quick_thin=trk["quick_thin"], od_method=od["method"],
         guess_offset=np.array(od["guess_offset"]), od_propagator=od["propagator"], od_j2=od["j2"],
+        od_drag=od["drag"],
         start=float(start), p0=np.array(rv["position"]), v0=np.array(rv["velocity"]), mass=rv["mass"],
         tf=rv["tf"], knots=rv["knots"], alpha=rv["alpha"], Qf=rv["Qf"], u_max=rv["u_max"], box=rv["box"],
         terminal_equality=rv["terminal_equality"], method=rv["method"], rho=rv["rho"],
