@@ -167,7 +167,7 @@ def write(run, outdir) -> pathlib.Path:
 def build(ctx) -> str:
     from ..mission import run as run_mission
 
-    run = run_mission(None, quick=ctx.quick)
+    run = run_mission(None, quick=ctx.quick, closed_loop=True)
     path = ctx.figure_path("mission")
     figure(run, path)
     return markdown(run, f"figures/{path.name}")
