@@ -31,6 +31,8 @@ def figure(run, path) -> pathlib.Path:
         if stage is None:
             a.text(0.5, 0.5, f"not run (stages {run.scenario.first_stage}..{run.scenario.last_stage})",
                    ha="center", va="center", transform=a.transAxes)
+            a.set_xticks([])
+            a.set_yticks([])
             a.set_title(title)
     if est is not None:
         _od_panels(ax, tr, est)
