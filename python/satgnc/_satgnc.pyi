@@ -423,6 +423,7 @@ class KeplerStmPropagator(StmPropagator):
     def mu(self) -> float: ...
 
 class CvodesStmPropagator(StmPropagator):
+    @typing.overload
     def __init__(
         self,
         mu: typing.SupportsFloat | typing.SupportsIndex = 398600.4418,
@@ -430,6 +431,16 @@ class CvodesStmPropagator(StmPropagator):
         rtol: typing.SupportsFloat | typing.SupportsIndex = 1e-11,
         atol: typing.SupportsFloat | typing.SupportsIndex = 1e-12,
     ) -> None: ...
+    @typing.overload
+    def __init__(
+        self,
+        force_model: ForceModel,
+        rtol: typing.SupportsFloat | typing.SupportsIndex = 1e-11,
+        atol: typing.SupportsFloat | typing.SupportsIndex = 1e-12,
+    ) -> None:
+        """
+        STM propagator on a satgnc.ForceModel (km, km/s, s; J2 and ExponentialDrag optional).
+        """
 
 class ShortArcStmPropagator(StmPropagator):
     def __init__(self, inner: StmPropagator) -> None: ...
