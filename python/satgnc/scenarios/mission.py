@@ -113,9 +113,6 @@ _RENDEZVOUS = {
     "start": Key("number", required=False, nonnegative=True,
                  unit="s from the epoch (default: tracking stop)"),
     "model": Key("string", required=False, default="linear", choices=("linear", "nonlinear")),
-    # the L1Solver penalty of the plan before it went through guidance.plan (which sets its own):
-    # accepted so that older files load, not used
-    "rho": Key("number", required=False, default=0.1, positive=True, unit="unused"),
     "closed_loop": Key("bool", required=False, default=False),
     "miss_tolerance": Key("number", positive=True, unit="m"),
 }
@@ -197,7 +194,6 @@ class MissionScenario(Result):
     box: bool | None = None
     terminal_equality: bool | None = None
     method: str | None = None  #: CW discretization
-    rho: float | None = None  #: unused (guidance.plan sets its ADMM penalty); older files give it
     miss_tolerance: float | None = None  #: m
     model: str | None = None  #: the plan's model, "linear" (CW) or "nonlinear" (two-satellite)
     closed_loop: bool | None = None  #: fly with guidance.mpc too
@@ -371,14 +367,14 @@ def _tracking(p, text, d) -> dict:
 
 def _rendezvous(p, text, raw, times) -> dict:
     rv = check_toml_table(raw, _RENDEZVOUS, "rendezvous", p, text)
-    out = dict(model=rv["model"], rho=rv["rho"], closed_loop=rv["closed_loop"],
+    out = dict(model=rv["model"], closed_loop=rv["closed_loop"],
                miss_tolerance=rv["miss_tolerance"])
     if rv["scenario"] is not None:
         given = [k for k in _SHARED if rv[k] is not None] + [k for k in ("start",) if rv[k] is not None]
         if given:
             _fail(p, text, "rendezvous", given[0], f"key '{given[0]}' in section [rendezvous]: the "
                   f"rendezvous scenario {rv['scenario']!r} gives it (with `scenario`, only case, method, "
-                  "model, rho, closed_loop and miss_tolerance)")
+                  "model, closed_loop and miss_tolerance)")
         if rv["case"] is None:
             _fail(p, text, "rendezvous", None, "missing key 'case' in section [rendezvous]: a case of the "
                   "rendezvous scenario file")
