@@ -3,13 +3,9 @@ messages, `unsolved` first), and the strings users read are the ones they read b
 
 from __future__ import annotations
 
-import sys
-
 import pytest
-import satgnc.guidance.plan  # noqa: F401  (the library module that reads the C++ tables)
 from satgnc import _satgnc, guidance
-
-nl = sys.modules["satgnc.guidance.plan"]
+from satgnc.guidance import planning as nl  # the library module that reads the C++ tables
 
 TABLES = _satgnc.status_tables()
 BOUND = ["AdmmStatus", "IlqrAdmmStatus", "ScpStatus", "OdStatus"]

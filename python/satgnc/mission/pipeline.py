@@ -21,7 +21,7 @@ from .. import _satgnc as _c
 from .. import analysis, guidance, od
 from .._results import Result
 from ..guidance import cw_stm
-from ..guidance.plan import transcribe
+from ..guidance.planning import transcribe
 from ..guidance.problem import RendezvousProblem
 from ..propagation import ExponentialDrag, ForceModel, J2Gravity
 from ..scenarios import mission as _scen
@@ -461,7 +461,7 @@ def plan(sc: _scen.MissionScenario, rel: RelativeState | None) -> Plan:
     ss = np.asarray(tr.scaling.state_scale)
     s6 = np.r_[ss[0:3], ss[6:9]]
     su = np.asarray(tr.scaling.control_scale)
-    # the discrete CW pair of the plan in the solver's scaled units (guidance.plan.solve_linear_cw's)
+    # the discrete CW pair of the plan in the solver's scaled units (guidance.planning.solve_linear_cw's)
     n = math.sqrt(pb.mu / float(np.linalg.norm(tr.x0_si[3:6])) ** 3)
     Ad, Bd = _c.cw_discretize(n, pb.mass, tr.dt, pb.linear_discretization)
     A = np.asarray(Ad) * s6[None, :] / s6[:, None]
