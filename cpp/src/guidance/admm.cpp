@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "detail/admm_workspace.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -60,7 +61,10 @@ AdmmSolver::~AdmmSolver() = default;
 AdmmSolver::AdmmSolver(AdmmSolver&&) noexcept = default;
 AdmmSolver& AdmmSolver::operator=(AdmmSolver&&) noexcept = default;
 
-const AdmmResult& AdmmSolver::solve() noexcept { return ws_->solve(); }
+const AdmmResult& AdmmSolver::solve() noexcept {
+  SATGNC_NO_MALLOC_SCOPE;
+  return ws_->solve();
+}
 
 void AdmmSolver::warm_start(const Eigen::Ref<const MatrixXd>& Y, const Eigen::Ref<const MatrixXd>& Lambda) {
   ws_->warm_start(Y, Lambda);
