@@ -15,9 +15,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "cvodes_detail.hpp"
+#include "detail/cvodes.hpp"
+#include "detail/nvector.hpp"
 #include "satgnc/core/validate.hpp"
-#include "satgnc/propagation/nvector.hpp"
 
 namespace satgnc::propagation {
 

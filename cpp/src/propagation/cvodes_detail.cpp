@@ -1,11 +1,11 @@
 // CVODES plumbing shared by CvodesPropagator and CvodesOde.
-#include "cvodes_detail.hpp"
-
 #include <cvodes/cvodes_ls.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 #include <sunnonlinsol/sunnonlinsol_newton.h>
 
 #include <stdexcept>
+
+#include "detail/cvodes.hpp"
 
 namespace satgnc::propagation::detail {
 

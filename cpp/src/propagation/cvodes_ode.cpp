@@ -14,9 +14,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include "cvodes_detail.hpp"
+#include "detail/cvodes.hpp"
+#include "detail/nvector.hpp"
 #include "satgnc/core/validate.hpp"
-#include "satgnc/propagation/nvector.hpp"
 
 namespace satgnc::propagation {
 

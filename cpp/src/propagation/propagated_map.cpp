@@ -1,12 +1,13 @@
 // Two-satellite discrete map from DOP853 integration of the state, STM and control sensitivity.
+#include "satgnc/propagation/propagated_map.hpp"
+
 #include <cmath>
 #include <limits>
 
 #include "satgnc/core/validate.hpp"
-#include "satgnc/guidance/nonlinear_model.hpp"
 #include "satgnc/propagation/dop853.hpp"
 
-namespace satgnc::guidance {
+namespace satgnc::propagation {
 
 namespace {
 using dynamics::Mat12;
@@ -161,4 +162,4 @@ bool PropagatedTwoSatelliteMap::step(int k, const double* x, const double* u, do
   return info_.ok;
 }
 
-}  // namespace satgnc::guidance
+}  // namespace satgnc::propagation

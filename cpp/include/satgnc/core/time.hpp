@@ -1,7 +1,7 @@
 #pragma once
 /// @file time.hpp
 /// Calendar to Julian date and the IAU-1982 Greenwich mean sidereal time used to place a station.
-namespace satgnc::od {
+namespace satgnc::core {
 
 /// Julian date of a Gregorian calendar date and time (any time scale; the result is in that scale).
 /// Valid for 1900-03-01 .. 2100-02-28 (Vallado, "Fundamentals of Astrodynamics", 4th ed., Alg. 14).
@@ -19,4 +19,4 @@ inline constexpr double kMaxUt1MinusUtc = 0.9;
 /// naming ut1_minus_utc_s unless |ut1_minus_utc_s| < kMaxUt1MinusUtc.
 double gmst_from_utc(double jd_utc, double ut1_minus_utc_s = 0.0);
 
-}  // namespace satgnc::od
+}  // namespace satgnc::core

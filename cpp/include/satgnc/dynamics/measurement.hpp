@@ -10,7 +10,7 @@
 
 #include "satgnc/dynamics/types.hpp"
 
-namespace satgnc::od {
+namespace satgnc::dynamics {
 
 /// Observable kind.
 enum class MeasurementType {
@@ -49,4 +49,4 @@ bool predict_measurement(MeasurementType type, const Vec6& x, const Vec6& statio
 /// the same time. Throws std::invalid_argument naming "measurements[i].<field>".
 void validate_measurements(const std::vector<Measurement>& meas, int n_stations);
 
-}  // namespace satgnc::od
+}  // namespace satgnc::dynamics

@@ -10,7 +10,7 @@
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/dynamics/types.hpp"
 
-namespace satgnc::od {
+namespace satgnc::dynamics {
 
 /// Reference ellipsoid: equatorial radius a (km) and flattening f.
 struct Ellipsoid {
@@ -64,4 +64,4 @@ struct Station {
 /// least-squares omega = (z x R) . V / |z x R|^2. Used to check the paper's Table 3.
 double implied_rotation_rate(const Vec6& station_state);
 
-}  // namespace satgnc::od
+}  // namespace satgnc::dynamics

@@ -14,7 +14,7 @@
 #include "satgnc/dynamics/two_satellite.hpp"
 #include "satgnc/propagation/cvodes_ode.hpp"
 
-namespace satgnc::guidance {
+namespace satgnc::propagation {
 
 /// CVODES settings suited to the 12-state in SI: rtol 1e-11, per-component atol 1e-6 m (positions)
 /// and 1e-9 m/s (velocities).
@@ -63,4 +63,4 @@ class TwoSatelliteTruth {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace satgnc::guidance
+}  // namespace satgnc::propagation
