@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "detail/map_scaling.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::propagation {
@@ -16,16 +17,7 @@ TwoSatelliteMap::TwoSatelliteMap(const dynamics::TwoSatelliteModel& model,
   core::require_positive(s_.dt, "dt");
   require(s_.scheme == 3 || s_.scheme == 4, "scheme", "must be 3 (Kutta RK3) or 4 (classic RK4)");
   require(s_.substeps >= 1, "substeps", "must be >= 1");
-  require(s_.state_scale.size() == 0 || s_.state_scale.size() == 12, "state_scale",
-          "must be empty or have 12 entries");
-  require(s_.control_scale.size() == 0 || s_.control_scale.size() == 3, "control_scale",
-          "must be empty or have 3 entries");
-  sx_.setOnes();
-  su_.setOnes();
-  if (s_.state_scale.size() == 12) sx_ = s_.state_scale;
-  if (s_.control_scale.size() == 3) su_ = s_.control_scale;
-  require(sx_.allFinite() && (sx_.array() > 0.0).all(), "state_scale", "entries must be finite and > 0");
-  require(su_.allFinite() && (su_.array() > 0.0).all(), "control_scale", "entries must be finite and > 0");
+  detail::set_map_scaling(s_.state_scale, s_.control_scale, sx_, su_);
   inv_sx_ = sx_.cwiseInverse();
   for (int j = 0; j < 12; ++j)
     for (int i = 0; i < 12; ++i) a_ratio_(i, j) = sx_(j) / sx_(i);
