@@ -22,7 +22,7 @@ endif
 SOURCES := $(shell find cpp python tests/cpp examples/cpp cmake -type f \
              -not -name '*.so' -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml
 
-.PHONY: demo test setup install cpp-test py-test example sanitize bench lint format clean
+.PHONY: demo test setup install cpp-test py-test example sanitize bench lint typecheck format clean
 .DEFAULT_GOAL := test
 
 build/.system-stamp: scripts/setup-system.sh
@@ -75,7 +75,11 @@ bench: install
 
 CXX_SOURCES = $$(find cpp tests/cpp examples/cpp bench/cpp -name '*.hpp' -o -name '*.cpp')
 
-lint: setup
+# mypy --strict over the examples and the call-every-public-function script, against the installed stubs.
+typecheck: install
+	$(VENV)/bin/mypy --strict examples/python tests/python/test_api_surface.py
+
+lint: setup typecheck
 	$(VENV)/bin/ruff check python tests bench examples
 	$(VENV)/bin/clang-format --dry-run --Werror $(CXX_SOURCES)
 

@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 from satgnc import _satgnc as _c
-from satgnc.guidance import nonlinear as nl
+from satgnc.papers import l1_admm_rendezvous as nl
 
 
 def timed(fn, repeats=3):

@@ -24,7 +24,7 @@ import time
 import numpy as np
 from _timing import timeit
 from satgnc import od
-from satgnc.od import paper
+from satgnc.papers import od_newton_raphson as paper
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 

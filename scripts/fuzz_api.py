@@ -37,8 +37,8 @@ import satgnc
 from satgnc import analysis as an
 from satgnc import guidance as g
 from satgnc import od
-from satgnc.guidance import nonlinear as nl
 from satgnc.od import tdm
+from satgnc.papers import l1_admm_rendezvous as nl
 from satgnc.scenarios import l1_rendezvous as l1s
 
 TMP = pathlib.Path(tempfile.mkdtemp(prefix="satgnc_fuzz_"))

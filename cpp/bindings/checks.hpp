@@ -146,4 +146,45 @@ inline long long int_arg(py::handle h, const std::string& name, long long low, l
   return i.cast<long long>();
 }
 
+/// Names of the settable fields (properties with a setter) of the Python class `cls`, sorted.
+inline std::vector<std::string> settable_fields(py::handle cls) {
+  std::vector<std::string> out;
+  const py::object property = py::module_::import("builtins").attr("property");
+  for (py::handle name : py::list(py::module_::import("builtins").attr("dir")(cls))) {
+    const std::string n = py::str(name);
+    if (n.rfind("_", 0) == 0) continue;
+    const py::object attr = py::getattr(cls, name, py::none());
+    if (py::isinstance(attr, property) && !attr.attr("fset").is_none()) out.push_back(n);
+  }
+  return out;
+}
+
+/// Add a keyword constructor `Name(field=value, ...)` to the bound settings class `name` of `m`
+/// (beside its `Name()`): each keyword is assigned through the class's Python property, so it gets
+/// the same checks as `s.field = value` (types, NaN, the class's own validate() rule for that field,
+/// enum names as strings). An unknown keyword is a TypeError naming it and the accepted fields.
+template <typename T>
+void settings_from_kwargs(py::module_& m, const char* name) {
+  py::class_<T> cls(m.attr(name));
+  const std::string cls_name = name;
+  cls.def(py::init([cls_name](const py::kwargs& kwargs) {
+            py::object obj = py::cast(T{});
+            const py::handle type = obj.get_type();
+            const std::vector<std::string> fields = settable_fields(type);
+            for (const auto& item : kwargs) {
+              const std::string key = py::str(item.first);
+              bool known = false;
+              for (const std::string& f : fields) known = known || f == key;
+              if (!known) {
+                std::string list;
+                for (const std::string& f : fields) list += (list.empty() ? "" : ", ") + f;
+                throw py::type_error(key + ": unknown keyword of " + cls_name + " (accepted: " + list + ")");
+              }
+              py::setattr(obj, item.first, item.second);
+            }
+            return obj.cast<T>();
+          }),
+          "Keyword construction: every keyword is a field name (checked as an assignment would be).");
+}
+
 }  // namespace satgnc::bindings::checks

@@ -2,6 +2,7 @@
 #include <pybind11/pybind11.h>
 
 namespace satgnc::bindings {
+void init_core(pybind11::module_& m);
 void init_dynamics(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
 void init_propagation_analytic(pybind11::module_& m);
@@ -15,6 +16,7 @@ PYBIND11_MODULE(_satgnc, m) {
   m.doc() = "satgnc C++ engine (use the satgnc package, not this module directly)";
   m.attr("__version__") = SATGNC_VERSION_STRING;
   namespace b = satgnc::bindings;
+  b::init_core(m);
   b::init_dynamics(m);
   b::init_propagation(m);
   b::init_propagation_analytic(m);

@@ -81,7 +81,7 @@ py::dict report(const an::RankReport& r) {
   d["margin"] = r.margin;
   d["gap"] = r.gap;
   d["method"] = r.method;
-  d["verdict"] = an::verdict_name(r.verdict);
+  d["verdict"] = core::status_message(r.verdict);
   d["verdict_text"] = an::verdict_text(r.verdict, r.property);
   d["reason"] = r.reason;
   return d;
@@ -267,7 +267,7 @@ void init_analysis(py::module_& m) {
           x["controllable"] = md.controllable;
           x["ct_stable"] = md.ct_stable;
           x["dt_stable"] = md.dt_stable;
-          x["verdict"] = an::verdict_name(md.verdict);
+          x["verdict"] = core::status_message(md.verdict);
           modes.append(x);
         }
         d["modes"] = modes;
@@ -333,7 +333,7 @@ void init_analysis(py::module_& m) {
           py::dict x;
           x["channels"] = r.channels;
           x["rank"] = r.rank;
-          x["verdict"] = an::verdict_name(r.verdict);
+          x["verdict"] = core::status_message(r.verdict);
           x["verdict_text"] = an::verdict_text(r.verdict, pp);
           x["margin"] = r.margin;
           x["kalman_rank"] = r.kalman_rank;

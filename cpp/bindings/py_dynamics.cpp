@@ -1,4 +1,4 @@
-// pybind11 wrappers for the dynamics room: force-model terms and Earth constants.
+// pybind11 wrappers for the dynamics room: force-model terms (Earth constants: py_core.cpp).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -37,10 +37,6 @@ const T& finite_result(const T& value, const Vec3& r) {
 
 void init_dynamics(py::module_& m) {
   using namespace satgnc::dynamics;
-  m.attr("EARTH_MU") = earth::mu;
-  m.attr("EARTH_RADIUS") = earth::radius;
-  m.attr("EARTH_J2") = earth::j2;
-  m.attr("EARTH_OMEGA") = earth::omega;
 
   py::class_<J2Gravity>(m, "J2Gravity", "Zonal J2 term: mu km^3/s^2, j2, radius km.")
       .def(py::init([](double mu, double j2, double radius) {

@@ -9,6 +9,7 @@
 #include "checks.hpp"
 #include "satgnc/dynamics/cw.hpp"
 #include "satgnc/guidance/admm.hpp"
+#include "status.hpp"
 
 namespace py = pybind11;
 
@@ -56,6 +57,68 @@ py::dict result_to_dict(const guidance::AdmmResult& r) {
   d["infeasibility_certificate"] = r.infeasibility_certificate;
   return d;
 }
+
+/// Keyword API: `AdmmSettings(eps_abs=...)`, `LtvProblem(A=..., B=..., x0=..., ...)` and
+/// `AdmmSolver(problem, settings)` beside the 16-positional constructor.
+void bind_keyword_api(py::module_& m) {
+  checks::settings_from_kwargs<AdmmSettings>(m, "AdmmSettings");
+  using Vec = Eigen::VectorXd;
+  using Mat = Eigen::MatrixXd;
+  py::class_<LtvProblem>(
+      m, "LtvProblem",
+      "Discrete LTV L1 problem (guidance/admm.hpp), in the caller's units. A, B, c hold 1 or "
+      "horizon matrices (nx x nx, nx x nu, nx); x0, xf (nx); Qf, Q (nx x nx), R (nu x nu), "
+      "l1_weights, u_lower, u_upper (nu); empty = none.")
+      .def(py::init([](std::vector<Mat> A, std::vector<Mat> B, std::vector<Vec> c, int horizon, Vec x0,
+                       Vec xf, Mat Qf, Mat Q, Mat R, Vec l1_weights, double group_l2_weight, Vec u_lower,
+                       Vec u_upper, double u_norm_max, bool terminal_equality) {
+             LtvProblem p;
+             p.dynamics.A = std::move(A);
+             p.dynamics.B = std::move(B);
+             p.dynamics.c = std::move(c);
+             p.dynamics.horizon = horizon;
+             p.x0 = std::move(x0);
+             p.xf = std::move(xf);
+             p.Qf = std::move(Qf);
+             p.Q = std::move(Q);
+             p.R = std::move(R);
+             p.l1_weights = std::move(l1_weights);
+             p.group_l2_weight = group_l2_weight;
+             p.u_lower = std::move(u_lower);
+             p.u_upper = std::move(u_upper);
+             p.u_norm_max = u_norm_max;
+             p.terminal_equality = terminal_equality;
+             return p;
+           }),
+           py::kw_only(), py::arg("A"), py::arg("B"), py::arg("c") = std::vector<Vec>{}, py::arg("horizon"),
+           py::arg("x0"), py::arg("xf") = Vec(), py::arg("Qf") = Mat(), py::arg("Q") = Mat(),
+           py::arg("R") = Mat(), py::arg("l1_weights") = Vec(), py::arg("group_l2_weight") = 0.0,
+           py::arg("u_lower") = Vec(), py::arg("u_upper") = Vec(), py::arg("u_norm_max") = 0.0,
+           py::arg("terminal_equality") = false)
+      .def_property_readonly("A", [](const LtvProblem& p) { return p.dynamics.A; })
+      .def_property_readonly("B", [](const LtvProblem& p) { return p.dynamics.B; })
+      .def_property_readonly("c", [](const LtvProblem& p) { return p.dynamics.c; })
+      .def_property_readonly("horizon", [](const LtvProblem& p) { return p.dynamics.horizon; })
+      .def_property_readonly("nx", [](const LtvProblem& p) { return p.dynamics.nx(); })
+      .def_property_readonly("nu", [](const LtvProblem& p) { return p.dynamics.nu(); })
+      .def_readonly("x0", &LtvProblem::x0)
+      .def_readonly("xf", &LtvProblem::xf)
+      .def_readonly("Qf", &LtvProblem::Qf)
+      .def_readonly("Q", &LtvProblem::Q)
+      .def_readonly("R", &LtvProblem::R)
+      .def_readonly("l1_weights", &LtvProblem::l1_weights)
+      .def_readonly("group_l2_weight", &LtvProblem::group_l2_weight)
+      .def_readonly("u_lower", &LtvProblem::u_lower)
+      .def_readonly("u_upper", &LtvProblem::u_upper)
+      .def_readonly("u_norm_max", &LtvProblem::u_norm_max)
+      .def_readonly("terminal_equality", &LtvProblem::terminal_equality);
+  py::class_<AdmmSolver> solver(m.attr("AdmmSolver"));
+  solver.def(py::init([](const LtvProblem& problem, const AdmmSettings& settings) {
+               return new AdmmSolver(problem, settings);  // GIL released by the call guard below
+             }),
+             py::arg("problem"), py::arg("settings") = AdmmSettings(),
+             py::call_guard<py::gil_scoped_release>());
+}
 }  // namespace
 
 void init_guidance(py::module_& m) {
@@ -98,16 +161,7 @@ void init_guidance(py::module_& m) {
       .value("admm", guidance::AdmmMethod::kAdmm)
       .value("admm_ipm", guidance::AdmmMethod::kAdmmIpm)
       .value("ipm", guidance::AdmmMethod::kIpm);
-  py::enum_<AdmmStatus>(m, "AdmmStatus")
-      .value("solved", AdmmStatus::kSolved)
-      .value("solved_paper_rule", AdmmStatus::kSolvedPaperRule)
-      .value("max_iterations", AdmmStatus::kMaxIterations)
-      .value("terminal_unreachable", AdmmStatus::kTerminalUnreachable)
-      .value("numerical_error", AdmmStatus::kNumericalError)
-      .value("unsolved", AdmmStatus::kUnsolved)
-      .value("solved_inaccurate", AdmmStatus::kSolvedInaccurate)
-      .value("primal_infeasible", AdmmStatus::kPrimalInfeasible)
-      .value("time_limit", AdmmStatus::kTimeLimit);
+  bind_status<AdmmStatus>(m, "AdmmStatus");
   m.def("admm_status_message",
         [](int s) { return std::string(guidance::status_message(static_cast<AdmmStatus>(s))); });
 
@@ -205,6 +259,7 @@ void init_guidance(py::module_& m) {
       .def_property_readonly("nx", &AdmmSolver::nx)
       .def_property_readonly("nu", &AdmmSolver::nu)
       .def_property_readonly("horizon", &AdmmSolver::horizon);
+  bind_keyword_api(m);
 }
 
 }  // namespace satgnc::bindings

@@ -5,12 +5,14 @@
 
 #include <stdexcept>
 
+#include "checks.hpp"
 #include "satgnc/dynamics/two_satellite.hpp"
 #include "satgnc/guidance/ilqr_admm.hpp"
 #include "satgnc/guidance/nonlinear_model.hpp"
 #include "satgnc/guidance/scp.hpp"
 #include "satgnc/guidance/two_satellite_truth.hpp"
 #include "satgnc/propagation/cvodes_ode.hpp"
+#include "status.hpp"
 
 namespace py = pybind11;
 
@@ -223,14 +225,7 @@ void init_guidance_nonlinear(py::module_& m) {
       .value("l1_box", ControlCost::l1_box)
       .value("group_l2", ControlCost::group_l2);
   py::enum_<StopRule>(m, "StopRule").value("residuals", StopRule::residuals).value("paper", StopRule::paper);
-  py::enum_<IlqrAdmmStatus>(m, "IlqrAdmmStatus")
-      .value("solved", IlqrAdmmStatus::solved)
-      .value("max_iterations", IlqrAdmmStatus::max_iterations)
-      .value("propagation_failed", IlqrAdmmStatus::propagation_failed)
-      .value("ilqr_failed", IlqrAdmmStatus::ilqr_failed)
-      .value("not_run", IlqrAdmmStatus::not_run)
-      .value("solved_inaccurate", IlqrAdmmStatus::solved_inaccurate)
-      .value("time_limit", IlqrAdmmStatus::time_limit);
+  bind_status<IlqrAdmmStatus>(m, "IlqrAdmmStatus", {{"not_run", IlqrAdmmStatus::unsolved}});
   m.def("ilqr_admm_status_message", [](IlqrAdmmStatus s) { return std::string(status_message(s)); });
 
   py::class_<NonlinearL1Problem>(m, "NonlinearL1Problem")
@@ -304,7 +299,9 @@ void init_guidance_nonlinear(py::module_& m) {
       .def("set_time_limit", &IlqrAdmmSolver::set_time_limit, py::arg("seconds"))
       .def("set_stage_bounds", &IlqrAdmmSolver::set_stage_bounds, py::arg("lo"), py::arg("hi"))
       .def("clear_stage_bounds", &IlqrAdmmSolver::clear_stage_bounds)
-      .def("solve", &IlqrAdmmSolver::solve, py::call_guard<py::gil_scoped_release>())
+      .def(
+          "solve", [](IlqrAdmmSolver& s) { return s.solve().info.status; },
+          py::call_guard<py::gil_scoped_release>())
       .def("true_cost", &IlqrAdmmSolver::true_cost, py::arg("U"), py::call_guard<py::gil_scoped_release>())
       .def(
           "rollout",
@@ -327,16 +324,7 @@ void init_guidance_nonlinear(py::module_& m) {
       .def_property_readonly("Y", [](const IlqrAdmmSolver& s) { return s.result().Y; })
       .def_property_readonly("Lambda", [](const IlqrAdmmSolver& s) { return s.result().Lambda; })
       .def_property_readonly("info", [](const IlqrAdmmSolver& s) { return s.result().info; });
-  py::enum_<ScpStatus>(m, "ScpStatus")
-      .value("solved", ScpStatus::solved)
-      .value("max_outer", ScpStatus::max_outer)
-      .value("propagation_failed", ScpStatus::propagation_failed)
-      .value("inner_failed", ScpStatus::inner_failed)
-      .value("line_search_failed", ScpStatus::line_search_failed)
-      .value("not_run", ScpStatus::not_run)
-      .value("solved_inaccurate", ScpStatus::solved_inaccurate)
-      .value("inner_infeasible", ScpStatus::inner_infeasible)
-      .value("time_limit", ScpStatus::time_limit);
+  bind_status<ScpStatus>(m, "ScpStatus", {{"not_run", ScpStatus::unsolved}});
   m.def("scp_status_message", [](ScpStatus s) { return std::string(status_message(s)); });
   py::enum_<ScpGlobalization>(m, "ScpGlobalization")
       .value("trust_region", ScpGlobalization::trust_region)
@@ -398,11 +386,15 @@ void init_guidance_nonlinear(py::module_& m) {
            py::call_guard<py::gil_scoped_release>())
       .def("set_initial_controls", &ScpSolver::set_initial_controls, py::arg("U0"))
       .def("set_initial_state", &ScpSolver::set_initial_state, py::arg("x0"))
-      .def("solve", &ScpSolver::solve, py::call_guard<py::gil_scoped_release>())
+      .def(
+          "solve", [](ScpSolver& s) { return s.solve().info.status; },
+          py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("X", [](const ScpSolver& s) { return s.result().X; })
       .def_property_readonly("U", [](const ScpSolver& s) { return s.result().U; })
       .def_property_readonly("Lambda", [](const ScpSolver& s) { return s.result().Lambda; })
       .def_property_readonly("info", [](const ScpSolver& s) { return s.result().info; });
+  checks::settings_from_kwargs<IlqrAdmmSettings>(m, "IlqrAdmmSettings");  // keyword constructors
+  checks::settings_from_kwargs<ScpSettings>(m, "ScpSettings");
 }
 
 }  // namespace satgnc::bindings

@@ -3,11 +3,13 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "checks.hpp"
 #include "satgnc/od/measurement.hpp"
 #include "satgnc/od/propagator.hpp"
 #include "satgnc/od/solver.hpp"
 #include "satgnc/od/station.hpp"
 #include "satgnc/od/time.hpp"
+#include "status.hpp"
 
 namespace py = pybind11;
 
@@ -137,16 +139,10 @@ void init_od(py::module_& m) {
       .value("newton", OdMethod::newton)
       .value("gauss_newton", OdMethod::gauss_newton)
       .value("levenberg_marquardt", OdMethod::levenberg_marquardt);
-  py::enum_<OdStatus>(m, "OdStatus")
-      .value("converged", OdStatus::converged)
-      .value("max_iterations", OdStatus::max_iterations)
-      .value("singular", OdStatus::singular)
-      .value("diverged", OdStatus::diverged)
-      .value("propagation_failed", OdStatus::propagation_failed)
-      .value("degenerate_geometry", OdStatus::degenerate_geometry)
-      .value("unsolved", OdStatus::unsolved)
-      .value("stalled", OdStatus::stalled);
-  m.def("od_status_message", &od_status_message, py::arg("status"));
+  bind_status<OdStatus>(m, "OdStatus");
+  m.def(
+      "od_status_message", [](OdStatus s) { return std::string(core::status_message(s)); },
+      py::arg("status"));
   py::enum_<ConditionType>(m, "ConditionType")
       .value("range", ConditionType::range)
       .value("doppler", ConditionType::doppler);
@@ -192,7 +188,7 @@ void init_od(py::module_& m) {
   py::class_<OdResult>(m, "OdResult")
       .def_readonly("status", &OdResult::status)
       .def_property_readonly("message",
-                             [](const OdResult& r) { return std::string(od_status_message(r.status)); })
+                             [](const OdResult& r) { return std::string(core::status_message(r.status)); })
       .def_readonly("iterations", &OdResult::iterations)
       .def_readonly("evaluations", &OdResult::evaluations)
       .def_readonly("x0", &OdResult::x0)
@@ -293,6 +289,7 @@ void init_od(py::module_& m) {
         return out;
       },
       py::arg("center"), py::arg("half_width"), py::arg("n"), py::arg("seed"));
+  checks::settings_from_kwargs<OdSettings>(m, "OdSettings");  // OdSettings(method=..., ...)
 }
 
 }  // namespace satgnc::bindings

@@ -18,28 +18,6 @@ namespace satgnc::bindings {
 namespace {
 using namespace satgnc::propagation;
 
-const char* status_name(PropagationStatus s) {
-  switch (s) {
-    case PropagationStatus::success:
-      return "success";
-    case PropagationStatus::too_much_work:
-      return "too_much_work";
-    case PropagationStatus::too_much_accuracy:
-      return "too_much_accuracy";
-    case PropagationStatus::error_test_failures:
-      return "error_test_failures";
-    case PropagationStatus::convergence_failures:
-      return "convergence_failures";
-    case PropagationStatus::rhs_failure:
-      return "rhs_failure";
-    case PropagationStatus::solver_failure:
-      return "solver_failure";
-    case PropagationStatus::impact:
-      return "impact";
-  }
-  return "unknown";
-}
-
 CvodesSettings make_settings(const std::string& method, double rtol, py::object atol, bool with_stm,
                              long max_steps, int max_order, const std::string& corrector,
                              const std::string& vector, double initial_step, double max_step,
@@ -145,9 +123,8 @@ void init_propagation(py::module_& m) {
       });
 
   m.def("status_message", [](const std::string& name) {
-    for (int i = 0; i <= static_cast<int>(PropagationStatus::impact); ++i)
-      if (name == status_name(static_cast<PropagationStatus>(i)))
-        return std::string(status_message(static_cast<PropagationStatus>(i)));
+    for (const core::StatusEntry& row : core::status_table<PropagationStatus>())
+      if (name == row.name) return std::string(row.message);
     throw std::invalid_argument("status: unknown status '" + name + "'");
   });
 

@@ -10,6 +10,7 @@ times = np.linspace(0.0, 7200.0, 5)
 traj = satgnc.propagate(x0, times, forces=[satgnc.J2Gravity(), drag])
 print("states (km, km/s):")
 print(np.array2string(traj.states, precision=6, suppress_small=True))
+assert traj.stms is not None  # with_stm=True (the default); None without the STM
 print("det Phi(2 h) =", np.linalg.det(traj.stms[-1]), "(< 1: drag dissipates)")
 print("stats:", traj.stats)
 

@@ -32,9 +32,16 @@ __all__ = [
     "FileFormatError",
     "Key",
     "as_bool",
+    "as_finite_positive",
+    "as_float_array",
     "as_int",
+    "as_matrix",
     "as_real",
     "as_real_array",
+    "as_scale",
+    "as_series",
+    "as_vector",
+    "check_magnitude",
     "check_toml_table",
     "did_you_mean",
     "harden_module",
@@ -160,6 +167,100 @@ def one_of(value: Any, name: str, choices: Sequence[str]) -> str:
     if value not in choices:
         raise ValueError(f"{name}: must be one of {list(choices)}, got {value!r}")
     return value
+
+
+
+# ----------------------------------------------------------------------------- room-specific wordings
+# The rooms' former private checkers, kept here with their exact messages (tests match them).
+
+
+def check_magnitude(arr: np.ndarray, name: str, limit: float, why: str, *, subject: str = "entries",
+                    detail: str | None = None, limit_text: str | None = None) -> np.ndarray:
+    """``arr``, or ``ValueError("<name>: <subject> must be below <limit> in magnitude (<detail>): <why>")``
+    when ``max |arr| >= limit`` (``detail`` defaults to ``got {big}``, where ``{big}`` is the largest
+    magnitude; ``limit`` prints as ``1e100`` unless ``limit_text`` is given)."""
+    big = float(np.max(np.abs(arr))) if np.size(arr) else 0.0
+    if big >= limit:
+        lim = limit_text if limit_text is not None else f"{limit:.0e}".replace("e+", "e")
+        det = (detail if detail is not None else "got {big}").replace("{big}", f"{big:.3g}")
+        raise ValueError(f"{name}: {subject} must be below {lim} in magnitude ({det}): {why}")
+    return arr
+
+
+def as_matrix(value: Any, name: str, ndim: int = 2, *, allow_empty: bool = False,
+              vector_as: str | None = None) -> np.ndarray:
+    """A finite real ``ndim``-D array (``"<name>: must be 2-D, got shape ..."``); ``vector_as``
+    ``"column"`` / ``"row"`` reads a 1-D input as an (n, 1) / (1, n) matrix. Empty is refused unless
+    ``allow_empty``."""
+    a = as_real_array(value, name, finite=False)
+    if ndim == 2 and a.ndim == 1 and vector_as == "column":
+        a = a.reshape(-1, 1)
+    if ndim == 2 and a.ndim == 1 and vector_as == "row":
+        a = a.reshape(1, -1)
+    if a.ndim != ndim:
+        raise ValueError(f"{name}: must be {ndim}-D, got shape {a.shape}")
+    if a.size == 0 and not allow_empty:
+        raise ValueError(f"{name}: must not be empty (shape {a.shape})")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name}: must be finite (no NaN or Inf)")
+    return a
+
+
+def as_scale(value: Any, name: str, unit: str, *, limit: float = 1e100) -> float:
+    """A positive rate or length in ``[1/limit, limit]`` (its powers up to the third stay normal
+    doubles); ``unit`` is named in the message."""
+    v = as_real(value, name, positive=True)
+    if not 1.0 / limit <= v <= limit:
+        raise ValueError(f"{name}: must be in [1e-100, 1e100] {unit}, got {v:.3g} (its square or cube in the "
+                         "model would overflow or underflow; hint: check the units)")
+    return v
+
+
+def as_vector(value: Any, n: int, name: str) -> np.ndarray:
+    """A finite real (n,) vector of km / km/s components below 1e100 in magnitude (the OD wording)."""
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name}: must be a sequence of {n} numbers, got {type(value).__name__}")
+    a = as_real_array(value, name, shape=(n,))
+    # predict(x = 1e300) returned a NaN range: r^2 overflowed
+    return check_magnitude(a, name, 1e100, "its square overflows double precision (hint: check the units)",
+                           subject="every component", detail="km, km/s")
+
+
+def as_series(value: Any, name: str) -> np.ndarray:
+    """A real 1-D array (a scalar becomes one entry); ``"<name>: must be one-dimensional"`` otherwise."""
+    a = np.atleast_1d(as_real_array(value, name, finite=False))
+    if a.ndim != 1:
+        raise ValueError(f"{name}: must be one-dimensional, got shape {a.shape}")
+    return a
+
+
+def as_float_array(value: Any, name: str) -> np.ndarray:
+    """A float64 copy of a real array, in the propagation wording: ``"<name>: must be an array of real
+    numbers"`` / ``"must be real, got complex dtype"`` (TypeError); a ragged or object input is a
+    ValueError."""
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name}: must be an array of real numbers, got {type(value).__name__}")
+    try:
+        arr = np.asarray(value)
+    except Exception as e:  # ragged nested sequences and the like
+        raise ValueError(f"{name}: cannot be read as an array ({e})") from None
+    if arr.dtype == object:
+        raise ValueError(f"{name}: must be a regular array of real numbers (got a ragged or object array)")
+    if np.iscomplexobj(arr):
+        raise TypeError(f"{name}: must be real, got complex dtype {arr.dtype}")
+    if arr.dtype == np.bool_ or arr.dtype.kind not in _REAL_KINDS:
+        raise TypeError(f"{name}: must be an array of real numbers, got dtype {arr.dtype}")
+    return arr.astype(np.float64)
+
+
+def as_finite_positive(value: Any, name: str, *, positive: bool = True) -> float:
+    """A finite float, > 0 when ``positive``: ``"<name>: must be finite and > 0, got ..."``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name}: must be a real number, got {type(value).__name__}")
+    v = float(value)
+    if not np.isfinite(v) or (positive and v <= 0.0):
+        raise ValueError(f"{name}: must be finite and > 0, got {value!r}")
+    return v
 
 
 # ----------------------------------------------------------------------------- files
@@ -568,9 +669,17 @@ def _diagnose(qualname: str, message: str, args: tuple, kwargs: dict) -> str:
     """Turn a pybind11 overload dump into 'name: must be ..., got ...' for the first wrong argument."""
     lines = [ln.strip() for ln in message.splitlines() if re.match(r"\s*\d+\.\s", ln)]
     sigs = [_parse_signature(ln.split(".", 1)[1]) for ln in lines] or [[]]
-    params = sigs[0]
     # Methods list self; constructors do not, but are called with the new instance first.
-    is_method = (bool(params) and params[0][0] == "self") or "constructor" in message
+    is_method = (bool(sigs[0]) and sigs[0][0][0] == "self") or "constructor" in message
+    npos = len(args) - 1 if is_method and args else len(args)
+
+    def fits(sig: list) -> bool:  # the call's shape matches this overload (names, counts)
+        own = [p for p in sig if p[0] != "self"]
+        required = sum(not p[2] for p in own)
+        return (all(k in {p[0] for p in own} for k in kwargs) and npos <= len(own)
+                and required <= npos + len(kwargs))
+
+    params = next((sig for sig in sigs if fits(sig)), sigs[0])
     named = [p for p in params if p[0] != "self"]
     pos = list(args[1:] if is_method and args else args)
     names = [p[0] for p in named]
@@ -604,6 +713,8 @@ def _diagnose(qualname: str, message: str, args: tuple, kwargs: dict) -> str:
                 return f"{pname}: must have shape ({dims}{',' if len(want) == 1 else ''}), got {got}"
     for pname, annot, _ in named:
         if pname in bound and _kind(annot) == "other":
+            if type(bound[pname]).__name__ == annot.rsplit(".", 1)[-1]:
+                continue  # the right class: another argument is at fault
             return f"{pname}: must be {_short(annot)}, got {_describe(bound[pname])}"
     return f"{qualname}: arguments do not match its signature {lines[0] if lines else ''}"
 
@@ -630,20 +741,34 @@ def _wrap_callable(f: Any, qualname: str) -> Any:
 
     doc = (getattr(f, "__doc__", None) or "").strip().splitlines()
     params = _parse_signature(doc[0]) if doc else []
-    # pybind11 accepts True for a float or an int, 1 for a bool and complex arrays for real ones:
-    # check those parameters before the call (the rest fail inside pybind11 and are diagnosed below).
-    checked = [(i, p[0], p[1]) for i, p in enumerate(params)
-               if _kind(p[1]) in ("array", "float", "int", "bool")]
-    by_name = {name: annot for _, name, annot in checked}
+    # An overloaded function (e.g. AdmmSolver(A, B, ...) beside AdmmSolver(problem, settings)) lists
+    # its signatures as "1. name(...)", "2. ..."; a call is checked against the first one it fits.
+    overloads = [_parse_signature(ln.split(".", 1)[1]) for ln in doc[1:] if re.match(r"\d+\.\s", ln)] \
+        if len(doc) > 1 and doc[1].strip() == "Overloaded function." else []
+
+    def checks_of(sig: list) -> tuple[list, dict]:
+        # pybind11 accepts True for a float or an int, 1 for a bool and complex arrays for real ones:
+        # check those parameters before the call (the rest fail inside pybind11 and are diagnosed below).
+        chk = [(i, p[0], p[1]) for i, p in enumerate(sig) if _kind(p[1]) in ("array", "float", "int", "bool")]
+        return chk, {name: annot for _, name, annot in chk}
+
+    checked, by_name = checks_of(params)
+    alternatives = [(sum(not p[2] for p in sig), len(sig), {p[0] for p in sig}, *checks_of(sig))
+                    for sig in overloads]
 
     @functools.wraps(f)
     def wrapper(*args, **kwargs):
-        for i, name, annot in checked:
+        chk, names = checked, by_name
+        for required, n, accepted, c, b in alternatives:
+            if required <= len(args) + len(kwargs) and len(args) <= n and all(k in accepted for k in kwargs):
+                chk, names = c, b
+                break
+        for i, name, annot in chk:
             if i < len(args):
                 _check_param(name, annot, args[i])
         if kwargs:
             for key, value in kwargs.items():
-                annot = by_name.get(key)
+                annot = names.get(key)
                 if annot is not None:
                     _check_param(key, annot, value)
         try:

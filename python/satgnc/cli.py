@@ -15,7 +15,7 @@ import re
 import sys
 
 # Modules that provide ``register(subparsers)``; a missing one simply contributes no subcommand.
-_COMMAND_MODULES = ["satgnc.od.cli", "satgnc.guidance.cli", "satgnc.analysis.cli"]
+_COMMAND_MODULES = ["satgnc.od.cli", "satgnc.guidance.cli", "satgnc.analysis.cli", "satgnc.mission.cli"]
 
 # A token that is a negative number or a list of numbers (-3026.7,1265 / -.5 / -1e3 / -inf / -nan).
 _NEGATIVE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)

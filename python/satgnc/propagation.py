@@ -21,7 +21,7 @@ from ._satgnc import (
     J2Gravity,
     Trajectory,
 )
-from ._validate import as_real
+from ._validate import as_finite_positive, as_float_array, as_real, check_magnitude
 
 __all__ = [
     "propagate",
@@ -62,34 +62,6 @@ def available_methods() -> list[str]:
     if hasattr(_satgnc, "propagate_kepler"):
         out.append("kepler")
     return out
-
-
-def _real_array(value, name: str) -> np.ndarray:
-    if isinstance(value, (str, bytes)):
-        raise TypeError(f"{name}: must be an array of real numbers, got {type(value).__name__}")
-    try:
-        arr = np.asarray(value)
-    except Exception as e:  # ragged nested sequences and the like
-        raise ValueError(f"{name}: cannot be read as an array ({e})") from None
-    if arr.dtype == object:
-        raise ValueError(f"{name}: must be a regular array of real numbers (got a ragged or object array)")
-    if np.iscomplexobj(arr):
-        raise TypeError(f"{name}: must be real, got complex dtype {arr.dtype}")
-    if not (np.issubdtype(arr.dtype, np.floating) or np.issubdtype(arr.dtype, np.integer)
-            or arr.dtype == np.bool_):
-        raise TypeError(f"{name}: must be an array of real numbers, got dtype {arr.dtype}")
-    if arr.dtype == np.bool_:
-        raise TypeError(f"{name}: must be an array of real numbers, got dtype bool")
-    return arr.astype(np.float64)
-
-
-def _real_scalar(value, name: str, *, positive: bool = True) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name}: must be a real number, got {type(value).__name__}")
-    v = float(value)
-    if not np.isfinite(v) or (positive and v <= 0.0):
-        raise ValueError(f"{name}: must be finite and > 0, got {value!r}")
-    return v
 
 
 def _force_model(forces, mu: float, mu_given: bool) -> ForceModel:
@@ -193,17 +165,17 @@ def propagate(
         The integrator stopped early (or the orbit hit the surface: ``status == "impact"``); the
         message says the time reached and why, and ``err.trajectory`` holds the outputs reached.
     """
-    x = _real_array(x0, "x0")
+    x = as_float_array(x0, "x0")
     if x.shape != (6,):
         raise ValueError(f"x0: must have shape (6,) = [r km, v km/s], got {x.shape}")
     if not np.all(np.isfinite(x)):
         raise ValueError("x0: must be finite (no NaN or Inf)")
     if not np.any(x[:3] != 0.0):
         raise ValueError("x0: position must be nonzero (|r| = 0)")
-    if np.max(np.abs(x)) >= 1e100:  # x0 = 1e300 was a "force model failed" PropagationError at t0
-        raise ValueError("x0: every component must be below 1e100 in magnitude (km, km/s): |r|^3 overflows "
-                         "double precision in the force model (hint: check the units)")
-    t = _real_array(times, "times")
+    # x0 = 1e300 was a "force model failed" PropagationError at t0
+    check_magnitude(x, "x0", 1e100, "|r|^3 overflows double precision in the force model "
+                    "(hint: check the units)", subject="every component", detail="km, km/s")
+    t = as_float_array(times, "times")
     if t.ndim == 0:
         t = t.reshape(1)
     if t.ndim != 1:
@@ -215,7 +187,7 @@ def propagate(
     d = np.diff(t)
     if d.size and not (np.all(d > 0) or np.all(d < 0)):
         raise ValueError("times: must be strictly monotone (sorted, no duplicates), forward or backward")
-    t0f = float(t[0]) if t0 is None else _real_scalar(t0, "t0", positive=False)
+    t0f = float(t[0]) if t0 is None else as_finite_positive(t0, "t0", positive=False)
     # A span no orbit integration can cover (1e300 s) is the times' fault, not the force model's.
     span = float(np.max(np.abs(t - t0f)))
     if span > _MAX_SPAN:
@@ -223,14 +195,14 @@ def propagate(
         raise ValueError(f"{name}: span |t - t0| = {span:.3g} s exceeds {_MAX_SPAN:.0e} s (~3e4 years); "
                          "check the units (s) and t0")
     mu_given = mu is not _DEFAULT
-    muf = _real_scalar(EARTH_MU if not mu_given else mu, "mu")
-    rtolf = _real_scalar(rtol, "rtol")
+    muf = as_finite_positive(EARTH_MU if not mu_given else mu, "mu")
+    rtolf = as_finite_positive(rtol, "rtol")
     if not rtolf < 1.0:  # rtol = 1e300 "succeeded" with a trajectory no tolerance controlled
         raise ValueError(f"rtol: must be < 1 (a relative tolerance of 100 % controls nothing), got {rtol!r}")
     if isinstance(atol, numbers.Real) and not isinstance(atol, bool):
-        atolv: float | list[float] = _real_scalar(atol, "atol")
+        atolv: float | list[float] = as_finite_positive(atol, "atol")
     else:
-        a = _real_array(atol, "atol")
+        a = as_float_array(atol, "atol")
         if a.ndim != 1 or a.size not in (6, 42):
             raise ValueError(f"atol: must be a scalar or have 6 or 42 entries, got shape {a.shape}")
         if not np.all(np.isfinite(a) & (a > 0)):

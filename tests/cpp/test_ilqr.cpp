@@ -156,9 +156,12 @@ TEST(IlqrAdmm, ConvergesOnLinearProblemToResidualTolerance) {
   set.adaptive_rho = true;
   IlqrAdmmSolver solver(model, di_problem(N), set);
   solver.set_initial_controls(MatrixXd::Zero(3, N));
-  EXPECT_EQ(solver.solve(), IlqrAdmmStatus::solved);
+  const IlqrAdmmResult& res = solver.solve();
+  EXPECT_EQ(&res, &solver.result());  // solve() returns the result (core/solver.hpp contract)
+  EXPECT_EQ(res.info.status, IlqrAdmmStatus::solved);
   const auto& info = solver.result().info;
   EXPECT_LE(info.primal_residual, 1e-6);
+  EXPECT_GT(info.iterations, 0);
   // objective at U and at Y agree once U = Y
   SATGNC_EXPECT_REL(info.objective_u, info.objective_y, 1e-6);
 }
@@ -215,7 +218,7 @@ TEST(IlqrAdmm, PropagationFailureNamesTheInterval) {
   const FailingModel model(7, 1e9);
   IlqrAdmmSolver solver(model, di_problem(20));
   solver.set_initial_controls(MatrixXd::Zero(3, 20));
-  EXPECT_EQ(solver.solve(), IlqrAdmmStatus::propagation_failed);
+  EXPECT_EQ(solver.solve().info.status, IlqrAdmmStatus::propagation_failed);
   EXPECT_EQ(solver.result().info.failed_interval, 7);
   EXPECT_NE(std::string(status_message(IlqrAdmmStatus::propagation_failed)).find("failed_interval"),
             std::string::npos);
@@ -228,7 +231,7 @@ TEST(IlqrAdmm, LineSearchBacktracksWhenTheFullStepFails) {
   set.max_iter = 30;
   IlqrAdmmSolver solver(model, di_problem(20), set);
   solver.set_initial_controls(MatrixXd::Zero(3, 20));
-  const auto st = solver.solve();
+  const auto st = solver.solve().info.status;
   EXPECT_TRUE(st == IlqrAdmmStatus::max_iterations || st == IlqrAdmmStatus::solved ||
               st == IlqrAdmmStatus::ilqr_failed);
   EXPECT_TRUE(solver.result().U.allFinite());
@@ -244,7 +247,7 @@ TEST(IlqrAdmm, MaxIterationsReturnsBestIterate) {
   set.max_iter = 3;
   IlqrAdmmSolver solver(model, di_problem(20), set);
   solver.set_initial_controls(MatrixXd::Zero(3, 20));
-  EXPECT_EQ(solver.solve(), IlqrAdmmStatus::max_iterations);
+  EXPECT_EQ(solver.solve().info.status, IlqrAdmmStatus::max_iterations);
   const auto& r = solver.result();
   EXPECT_EQ(r.info.iterations, 3);
   EXPECT_NEAR(r.info.primal_residual, (r.U - r.Y).norm(), 1e-12);
@@ -348,7 +351,7 @@ TEST(IlqrAdmm, PaperNonlinearUnconstrainedStopsAfter60Iterations) {
   s.max_iter = 300;
   IlqrAdmmSolver solver(map, p, s);
   solver.set_initial_controls(MatrixXd::Zero(3, 99));
-  EXPECT_EQ(solver.solve(), IlqrAdmmStatus::solved);
+  EXPECT_EQ(solver.solve().info.status, IlqrAdmmStatus::solved);
   EXPECT_EQ(solver.result().info.iterations, 60);  // Table 1: 120 LQR passes = 2 x 60
   EXPECT_EQ(solver.result().info.lqr_passes, 120);
 }
@@ -492,18 +495,18 @@ TEST(IlqrAdmm, LimitsReturnTheBestIterateWithAnHonestStatus) {
   set.eps_abs = set.eps_rel = 1e-9;
   IlqrAdmmSolver full(model, p, set);
   full.set_initial_controls(MatrixXd::Zero(3, 20));
-  ASSERT_EQ(full.solve(), IlqrAdmmStatus::solved);
+  ASSERT_EQ(full.solve().info.status, IlqrAdmmStatus::solved);
   const int n = full.result().info.iterations;
   // stopped before convergence: solved_inaccurate when the loose test holds, else max_iterations
   set.max_iter = n / 2;
   set.inaccurate_factor = 1e9;
   IlqrAdmmSolver loose(model, p, set);
   loose.set_initial_controls(MatrixXd::Zero(3, 20));
-  EXPECT_EQ(loose.solve(), IlqrAdmmStatus::solved_inaccurate);
+  EXPECT_EQ(loose.solve().info.status, IlqrAdmmStatus::solved_inaccurate);
   set.inaccurate_factor = 1.0;
   IlqrAdmmSolver strict(model, p, set);
   strict.set_initial_controls(MatrixXd::Zero(3, 20));
-  EXPECT_EQ(strict.solve(), IlqrAdmmStatus::max_iterations);
+  EXPECT_EQ(strict.solve().info.status, IlqrAdmmStatus::max_iterations);
   EXPECT_TRUE(std::isfinite(strict.result().info.objective_y));
   EXPECT_GT(strict.result().info.objective_y, 0.0);
   // time limit: stops after the first iteration, best iterate with its true cost
@@ -511,7 +514,7 @@ TEST(IlqrAdmm, LimitsReturnTheBestIterateWithAnHonestStatus) {
   t.time_limit = 1e-12;
   IlqrAdmmSolver timed(model, p, t);
   timed.set_initial_controls(MatrixXd::Zero(3, 20));
-  EXPECT_EQ(timed.solve(), IlqrAdmmStatus::time_limit);
+  EXPECT_EQ(timed.solve().info.status, IlqrAdmmStatus::time_limit);
   EXPECT_EQ(timed.result().info.iterations, 1);
   EXPECT_TRUE(std::isfinite(timed.result().info.objective_u));
   EXPECT_TRUE(std::isfinite(timed.result().info.terminal_miss));
@@ -525,7 +528,7 @@ TEST(IlqrAdmm, IlqrFailureReturnsAFiniteIterateWithItsTrueCost) {
   set.reg_max = 1e2;
   IlqrAdmmSolver solver(model, di_problem(10), set);
   solver.set_initial_controls(MatrixXd::Zero(3, 10));
-  EXPECT_EQ(solver.solve(), IlqrAdmmStatus::ilqr_failed);
+  EXPECT_EQ(solver.solve().info.status, IlqrAdmmStatus::ilqr_failed);
   const auto& r = solver.result();
   EXPECT_TRUE(r.U.allFinite());
   const double J0 = r.info.objective_u;

@@ -335,7 +335,7 @@ TEST(KeplerBadInput, StepReturnsStatusWithoutThrowing) {
   Vec6 inf_state = good;
   inf_state(0) = INFINITY;
   EXPECT_EQ(kepler_step(inf_state, 10.0, kMu, x, &phi), KeplerStatus::invalid_input);
-  EXPECT_STREQ(satgnc::propagation::kepler_status_message(KeplerStatus::invalid_input),
+  EXPECT_STREQ(satgnc::propagation::status_message(KeplerStatus::invalid_input),
                "invalid input: non-finite state, time or mu, mu <= 0, or |r0| = 0");
 }
 

@@ -72,7 +72,7 @@ TEST(OdSolver, PaperDopplerNewtonConvergesForAllOffsets) {
     Vec6 guess = paper_truth();
     guess(0) += dx1;
     const OdResult& r = solver.solve(guess);
-    EXPECT_EQ(r.status, OdStatus::converged) << od_status_message(r.status);
+    EXPECT_EQ(r.status, OdStatus::converged) << status_message(r.status);
     EXPECT_LE(r.iterations, 5) << "offset " << dx1;         // the goal: <= 5 iterations
     EXPECT_LT(std::abs(r.x0(0) - paper_truth()(0)), 1e-4);  // < 10 cm in x1
     EXPECT_LT((r.x0 - paper_truth()).head<3>().norm(), 1e-4);
@@ -148,7 +148,7 @@ TEST(OdSolver, BatchTwoStationsCovarianceAndLm) {
     guess.head<3>() += Vec3(50.0, -40.0, 30.0);
     guess.tail<3>() += Vec3(0.02, -0.01, 0.03);
     const OdResult& r = solver.solve(guess);
-    EXPECT_EQ(r.status, OdStatus::converged) << od_status_message(r.status);
+    EXPECT_EQ(r.status, OdStatus::converged) << status_message(r.status);
     // The cost never rises along the GN / LM iterations.
     for (int k = 1; k <= r.iterations; ++k) EXPECT_LE(r.history_cost(k), r.history_cost(k - 1));
     EXPECT_LT((r.x0 - paper_truth()).head<3>().norm(), 1e-6);
@@ -173,7 +173,7 @@ TEST(OdSolver, LmRecoversFromFarGuessWhereNewtonFails) {
   guess.head<3>() += Vec3(150.0, -120.0, 100.0);
   guess.tail<3>() += Vec3(-0.15, 0.12, 0.1);
   const OdResult& rl = lm.solve(guess);
-  EXPECT_EQ(rl.status, OdStatus::converged) << od_status_message(rl.status);
+  EXPECT_EQ(rl.status, OdStatus::converged) << status_message(rl.status);
   EXPECT_TRUE(rl.fits);
   const OdResult& rn = newton.solve(guess);
   // Newton may or may not converge from here; if it does, it must also fit.
@@ -313,9 +313,34 @@ TEST(OdSolver, ResultDefaultsToUnsolvedAndStatusesKeepTheirValues) {
   EXPECT_EQ(static_cast<int>(OdStatus::degenerate_geometry), 5);
   EXPECT_EQ(static_cast<int>(OdStatus::unsolved), 6);
   EXPECT_EQ(static_cast<int>(OdStatus::stalled), 7);
-  EXPECT_EQ(std::string(od_status_message(OdStatus::unsolved)), "not solved yet");
+  EXPECT_EQ(std::string(status_message(OdStatus::unsolved)), "not solved yet");
   auto solver = OdSolver::from_conditions({paper_station()}, doppler_conditions(), prop());
   EXPECT_EQ(solver.result().status, OdStatus::unsolved);
+}
+
+// The solver contract (core/solver.hpp): set_initial_guess + solve() is solve(guess); info mirrors
+// the result and carries the residuals and the run time.
+TEST(OdSolver, SetInitialGuessThenSolveIsSolveOfTheGuess) {
+  OdSettings s;
+  s.method = OdMethod::newton;
+  auto a = OdSolver::from_conditions({paper_station()}, doppler_conditions(), prop(), s);
+  auto b = OdSolver::from_conditions({paper_station()}, doppler_conditions(), prop(), s);
+  EXPECT_EQ(a.result().info.status, OdStatus::unsolved);
+  Vec6 guess = paper_truth();
+  guess(0) += 20.0;
+  const OdResult& ra = a.solve(guess);
+  b.set_initial_guess(guess);
+  const OdResult& rb = b.solve();
+  EXPECT_EQ(&rb, &b.result());
+  ASSERT_EQ(rb.status, OdStatus::converged);
+  EXPECT_EQ(ra.iterations, rb.iterations);
+  EXPECT_EQ((ra.x0 - rb.x0).norm(), 0.0);  // same iterates
+  EXPECT_EQ(rb.info.status, rb.status);
+  EXPECT_EQ(rb.info.iterations, rb.iterations);
+  EXPECT_NEAR(rb.info.primal_residual, std::sqrt(2.0 * rb.cost / b.rows()), 1e-15);
+  EXPECT_GT(rb.info.dual_residual, 0.0);  // the last Newton step
+  EXPECT_LT(rb.info.dual_residual, 1e-3);
+  EXPECT_GT(rb.info.solve_time, 0.0);
 }
 
 TEST(OdSolver, RankDeficientIsSingularForEveryMethod) {

@@ -95,13 +95,12 @@ class RiccatiDense : public ::testing::TestWithParam<std::tuple<int, int, int, b
 TEST_P(RiccatiDense, MatchesCondensedKkt) {
   const auto [nx, nu, N, tv, terminal] = GetParam();
   const Case cs = make_case(nx, nu, N, tv, 7u + nx * 13 + nu * 7 + N);
-  RiccatiSolver ric;
-  ric.setup(cs.dyn, cs.Q, cs.R, cs.Qf, terminal);
+  RiccatiSolver ric({cs.dyn, cs.Q, cs.R, cs.Qf, terminal});
   const double rho = 0.7;
   ASSERT_TRUE(ric.factor(rho));
   MatrixXd X(nx, N + 1), U(nu, N), Xf(nx, N + 1), Uf(nu, N), Xd, Ud;
-  ASSERT_EQ(ric.solve(cs.x0, cs.q, cs.r, cs.xf, X, U), RiccatiStatus::kOk);
-  ASSERT_EQ(ric.solve_full(rho, cs.x0, cs.q, cs.r, cs.xf, Xf, Uf), RiccatiStatus::kOk);
+  ASSERT_EQ(ric.solve(cs.x0, cs.q, cs.r, cs.xf, X, U), RiccatiStatus::solved);
+  ASSERT_EQ(ric.solve_full(rho, cs.x0, cs.q, cs.r, cs.xf, Xf, Uf), RiccatiStatus::solved);
   dense_solve(cs, rho, terminal, Xd, Ud);
   SATGNC_EXPECT_REL(U, Ud, 1e-9);
   SATGNC_EXPECT_REL(X, Xd, 1e-9);
@@ -125,41 +124,60 @@ TEST(Riccati, UnreachableTerminalIsStatusNotNan) {
   d.A = {A};
   d.B = {B};
   d.horizon = 6;
-  RiccatiSolver ric;
-  ric.setup(d, MatrixXd(), MatrixXd(), MatrixXd::Identity(3, 3), true);
+  RiccatiSolver ric({d, MatrixXd(), MatrixXd(), MatrixXd::Identity(3, 3), true});
   ASSERT_TRUE(ric.factor(1.0));
   EXPECT_EQ(ric.terminal_rank(), 2);
   MatrixXd X(3, 7), U(1, 6);
   VectorXd x0 = VectorXd::Zero(3), xf(3);
   xf << 1.0, 0.0, 2.0;
   EXPECT_EQ(ric.solve(x0, MatrixXd::Zero(3, 7), MatrixXd::Zero(1, 6), xf, X, U),
-            RiccatiStatus::kTerminalUnreachable);
+            RiccatiStatus::terminal_unreachable);
   EXPECT_TRUE(X.allFinite());
   EXPECT_TRUE(U.allFinite());
   // reachable components are still met by the least-squares multiplier
   EXPECT_NEAR(X(0, 6), 1.0, 1e-10);
   // and a reachable target in the same subspace is solved
   xf(2) = 0.0;
-  EXPECT_EQ(ric.solve(x0, MatrixXd::Zero(3, 7), MatrixXd::Zero(1, 6), xf, X, U), RiccatiStatus::kOk);
+  EXPECT_EQ(ric.solve(x0, MatrixXd::Zero(3, 7), MatrixXd::Zero(1, 6), xf, X, U), RiccatiStatus::solved);
   EXPECT_NEAR((X.col(6) - xf).norm(), 0.0, 1e-10);
 }
 
 TEST(Riccati, BadInput) {
   Case cs = make_case(3, 2, 4, false, 1u);
-  RiccatiSolver ric;
   LtvDynamics bad = cs.dyn;
   bad.B[0] = MatrixXd::Zero(2, 2);
-  EXPECT_THROW(ric.setup(bad, cs.Q, cs.R, cs.Qf, false), std::invalid_argument);
+  EXPECT_THROW((RiccatiSolver({bad, cs.Q, cs.R, cs.Qf, false})), std::invalid_argument);
   bad = cs.dyn;
   bad.A[0](0, 0) = std::nan("");
-  EXPECT_THROW(ric.setup(bad, cs.Q, cs.R, cs.Qf, false), std::invalid_argument);
+  EXPECT_THROW((RiccatiSolver({bad, cs.Q, cs.R, cs.Qf, false})), std::invalid_argument);
   MatrixXd negQf = -cs.Qf;
-  EXPECT_THROW(ric.setup(cs.dyn, cs.Q, cs.R, negQf, false), std::invalid_argument);
+  EXPECT_THROW((RiccatiSolver({cs.dyn, cs.Q, cs.R, negQf, false})), std::invalid_argument);
   bad = cs.dyn;
   bad.horizon = 0;
-  EXPECT_THROW(ric.setup(bad, cs.Q, cs.R, cs.Qf, false), std::invalid_argument);
-  ric.setup(cs.dyn, cs.Q, MatrixXd(), cs.Qf, false);
+  EXPECT_THROW((RiccatiSolver({bad, cs.Q, cs.R, cs.Qf, false})), std::invalid_argument);
+  RiccatiSolver ric({cs.dyn, cs.Q, MatrixXd(), cs.Qf, false});
   EXPECT_FALSE(ric.factor(-1.0));
   MatrixXd X(3, 5), U(2, 4);
-  EXPECT_EQ(ric.solve(cs.x0, cs.q, cs.r, cs.xf, X, U), RiccatiStatus::kNotFactored);
+  EXPECT_EQ(ric.solve(cs.x0, cs.q, cs.r, cs.xf, X, U), RiccatiStatus::unsolved);
 }
+
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+#endif
+TEST(Riccati, DeprecatedTwoStepSetupStillWorks) {
+  const Case cs = make_case(4, 2, 6, false, 3u);
+  RiccatiSolver old_style;
+  old_style.setup(cs.dyn, cs.Q, cs.R, cs.Qf, true);
+  RiccatiSolver new_style({cs.dyn, cs.Q, cs.R, cs.Qf, true});
+  ASSERT_TRUE(old_style.factor(0.5));
+  ASSERT_TRUE(new_style.factor(0.5));
+  MatrixXd X1(4, 7), U1(2, 6), X2(4, 7), U2(2, 6);
+  EXPECT_EQ(old_style.solve(cs.x0, cs.q, cs.r, cs.xf, X1, U1), RiccatiStatus::solved);
+  EXPECT_EQ(new_style.solve(cs.x0, cs.q, cs.r, cs.xf, X2, U2), RiccatiStatus::solved);
+  EXPECT_EQ((U1 - U2).norm(), 0.0);  // same code path, same numbers
+  EXPECT_EQ((X1 - X2).norm(), 0.0);
+}
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif

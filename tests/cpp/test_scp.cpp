@@ -141,7 +141,7 @@ TEST(Scp, RandomCubicSuiteNeverFalselySolved) {
       set.inner.eps_abs = set.inner.eps_rel = 1e-9;
       set.inner.max_iterations = 50000;
       ScpSolver s(model, d.prob, set);
-      const ScpStatus st = s.solve();
+      const ScpStatus st = s.solve().info.status;
       expect_honest(model, d.prob, s.result(), tag);
       if (s.result().info.rejected_steps > 0) ++with_rejections;
       if (st == ScpStatus::solved) {
@@ -182,8 +182,12 @@ TEST(Scp, TrustRegionRejectsTheOvershootingFirstStep) {
   ScpSettings set;
   set.inner_solver = ScpInner::ilqr_admm;  // the exact box trust region inside the subproblem
   ScpSolver s(model, p, set);
-  EXPECT_EQ(s.solve(), ScpStatus::solved);
+  const ScpResult& res = s.solve();
+  EXPECT_EQ(&res, &s.result());  // solve() returns the result (core/solver.hpp contract)
+  EXPECT_EQ(res.info.status, ScpStatus::solved);
   const ScpInfo& info = s.result().info;
+  EXPECT_EQ(info.iterations, info.outer_iterations);  // core::InfoBase mirrors
+  EXPECT_EQ(info.primal_residual, info.terminal_constraint_miss);
   EXPECT_GE(info.rejected_steps, 1);
   EXPECT_EQ(info.merit_history[1], info.merit_history[0]);  // rejected: unchanged
   expect_honest(model, p, s.result(), "cubic g=100");
@@ -194,7 +198,7 @@ TEST(Scp, TrustRegionRejectsTheOvershootingFirstStep) {
   ls.globalization = ScpGlobalization::line_search;
   ls.max_outer = 100;
   ScpSolver s2(model, p, ls);
-  const ScpStatus st2 = s2.solve();
+  const ScpStatus st2 = s2.solve().info.status;
   EXPECT_TRUE(success(st2));
   SATGNC_EXPECT_REL(s2.result().info.objective, info.objective, 1e-6);
 }
@@ -208,7 +212,7 @@ TEST(Scp, TooFewIterationsIsNotSolvedAndReturnsTheBestIterate) {
     ScpSettings set;
     set.max_outer = 1;
     ScpSolver s(model, d.prob, set);
-    const ScpStatus st = s.solve();
+    const ScpStatus st = s.solve().info.status;
     EXPECT_NE(st, ScpStatus::solved);
     expect_honest(model, d.prob, s.result(), "max_outer 1");
     EXPECT_EQ(s.result().info.outer_iterations, 1);
@@ -224,7 +228,7 @@ TEST(Scp, SubproblemThatDidNotSolveNeverYieldsSolved) {
     a.inner_solver = ScpInner::ilqr_admm;
     a.inner_ilqr.max_iter = 2;  // the inner iLQR-ADMM stops at max_iterations every time
     ScpSolver s(model, d.prob, a);
-    const ScpStatus st = s.solve();
+    const ScpStatus st = s.solve().info.status;
     EXPECT_NE(st, ScpStatus::solved) << t;
     EXPECT_FALSE(s.result().info.inner_solved);
     EXPECT_NE(s.result().info.inner_ilqr_status, IlqrAdmmStatus::solved);
@@ -234,8 +238,8 @@ TEST(Scp, SubproblemThatDidNotSolveNeverYieldsSolved) {
     b.inner.max_iterations = 2;
     b.inner.polish = false;
     ScpSolver s2(model, d.prob, b);
-    EXPECT_NE(s2.solve(), ScpStatus::solved) << t;
-    EXPECT_NE(s2.result().info.inner_status, AdmmStatus::kSolved);
+    EXPECT_NE(s2.solve().info.status, ScpStatus::solved) << t;
+    EXPECT_NE(s2.result().info.inner_status, AdmmStatus::solved);
     expect_honest(model, d.prob, s2.result(), "inner admm max_iterations 2");
   }
 }
@@ -247,7 +251,7 @@ TEST(Scp, TimeLimitReturnsTheInitialIterateWithItsTrueCost) {
   ScpSettings set;
   set.time_limit = 1e-12;
   ScpSolver s(model, d.prob, set);
-  EXPECT_EQ(s.solve(), ScpStatus::time_limit);
+  EXPECT_EQ(s.solve().info.status, ScpStatus::time_limit);
   expect_honest(model, d.prob, s.result(), "time limit");
   EXPECT_GT(s.result().info.objective, 0.0);
   EXPECT_NE(std::string(status_message(ScpStatus::time_limit)).find("time_limit"), std::string::npos);
@@ -306,7 +310,7 @@ TEST(Scp, TwoSatelliteRendezvousSuite) {
       set.inner.eps_abs = set.inner.eps_rel = 1e-9;
       set.inner.max_iterations = 50000;
       ScpSolver s(map, p, set);
-      const ScpStatus st = s.solve();
+      const ScpStatus st = s.solve().info.status;
       ++runs;
       const std::string tag = "rendezvous " + std::to_string(t);
       expect_honest(map, p, s.result(), tag);
@@ -480,7 +484,7 @@ TEST(ScpTerminal, RandomCubicSuiteReachesTheTargetOrProvesItUnreachable) {
     set.inner.terminal_tolerance = 1e-11;
     set.inner.max_iterations = 50000;
     ScpSolver s(model, d.prob, set);
-    const ScpStatus st = s.solve();
+    const ScpStatus st = s.solve().info.status;
     const ScpInfo& info = s.result().info;
     EXPECT_TRUE(std::isfinite(info.objective)) << tag;
     EXPECT_TRUE(s.result().U.allFinite()) << tag;
@@ -542,7 +546,7 @@ TEST(ScpTerminal, RandomCubicSuiteReachesTheTargetOrProvesItUnreachable) {
       }
     ScpSolver s3(model, d.prob, set);
     s3.set_initial_controls(U0);
-    if (s3.solve() == ScpStatus::solved &&
+    if (s3.solve().info.status == ScpStatus::solved &&
         std::abs(s3.result().info.objective - J) <= 1e-6 * std::max(1.0, J))
       ++other_start_agree;
   }
@@ -578,11 +582,11 @@ TEST(ScpTerminal, LinearModelFeasibleAndInfeasibleAgainstTheCertificate) {
     p.u_max = VectorXd::Constant(3, b);
     const bool unreachable = cubic_target_unreachable(CubicModel(0.0), 0.0, p);
     ScpSolver s(model, p);
-    const ScpStatus st = s.solve();
+    const ScpStatus st = s.solve().info.status;
     const ScpInfo& info = s.result().info;
     if (unreachable) {
       EXPECT_EQ(st, ScpStatus::inner_infeasible) << "b " << b;
-      EXPECT_EQ(info.inner_status, AdmmStatus::kPrimalInfeasible) << "b " << b;
+      EXPECT_EQ(info.inner_status, AdmmStatus::primal_infeasible) << "b " << b;
       EXPECT_GT(info.infeasibility_margin, 0.0) << "b " << b;
       EXPECT_NE(std::string(status_message(st)).find("infeasibility_certificate"), std::string::npos);
     } else {
@@ -635,7 +639,7 @@ TEST(ScpTerminal, TwoSatelliteRendezvousWithExactArrival) {
     set.inner.terminal_tolerance = 1e-11;
     set.inner.max_iterations = 50000;
     ScpSolver s(map, p, set);
-    const ScpStatus st = s.solve();
+    const ScpStatus st = s.solve().info.status;
     const ScpInfo& info = s.result().info;
     const std::string tag = "rendezvous " + std::to_string(t);
     if (st == ScpStatus::solved) ++solved;
@@ -708,13 +712,13 @@ TEST(ScpTerminal, TimeLimitReachesIntoTheInnerSolver) {
       set.inner_ilqr.eps_abs = set.inner_ilqr.eps_rel = 1e-300;
       set.inner_ilqr.max_iter = 100000000;
       ScpSolver s(model, p, set);
-      const ScpStatus st = s.solve();
+      const ScpStatus st = s.solve().info.status;
       const ScpInfo& info = s.result().info;
       const std::string tag =
           std::string(inner == ScpInner::ilqr_admm ? "ilqr" : "admm") + (hard ? " hard" : "");
       EXPECT_EQ(st, ScpStatus::time_limit) << tag;
       if (inner == ScpInner::linear_admm)
-        EXPECT_EQ(info.inner_status, AdmmStatus::kTimeLimit) << tag;
+        EXPECT_EQ(info.inner_status, AdmmStatus::time_limit) << tag;
       else
         EXPECT_EQ(info.inner_ilqr_status, IlqrAdmmStatus::time_limit) << tag;
       // a bound that shows the inner stopped (minutes otherwise), not a speed assertion
@@ -752,7 +756,7 @@ TEST(ScpTerminal, HardTerminalAndTimedSolvesDoNotAllocate) {
         s.set_initial_controls(MatrixXd::Zero(3, p.horizon));
         g_mallocs = 0;
         g_count = true;
-        const ScpStatus st = s.solve();
+        const ScpStatus st = s.solve().info.status;
         g_count = false;
         EXPECT_EQ(g_mallocs.load(), 0)
             << "globalization " << static_cast<int>(g) << " cost " << static_cast<int>(cost) << " b " << b
@@ -798,7 +802,7 @@ TEST(ScpTerminal, HardTerminalAndTimedSolvesDoNotAllocate) {
     s.set_initial_controls(MatrixXd::Zero(3, q.horizon));
     g_mallocs = 0;
     g_count = true;
-    const ScpStatus st = s.solve();
+    const ScpStatus st = s.solve().info.status;
     g_count = false;
     EXPECT_EQ(g_mallocs.load(), 0) << "two-satellite hard terminal";
     EXPECT_EQ(st, ScpStatus::solved);
@@ -848,7 +852,7 @@ TEST(ScpTerminal, InfeasibleFirstLinearizationOfAReachableTargetIsRestored) {
     ScpSettings set;
     set.max_outer = 60;
     ScpSolver s(model, p, set);
-    const ScpStatus st = s.solve();
+    const ScpStatus st = s.solve().info.status;
     const ScpInfo& info = s.result().info;
     const std::string tag = "fraction " + std::to_string(frac);
     EXPECT_NE(st, ScpStatus::inner_infeasible) << tag;
@@ -877,7 +881,7 @@ TEST(ScpTerminal, InfeasibleFirstLinearizationOfAReachableTargetIsRestored) {
   ScpSettings set;
   set.max_outer = 60;
   ScpSolver s(model, p, set);
-  EXPECT_EQ(s.solve(), ScpStatus::inner_infeasible);
+  EXPECT_EQ(s.solve().info.status, ScpStatus::inner_infeasible);
   const ScpInfo& info = s.result().info;
   EXPECT_GE(info.restoration_steps, 1);
   EXPECT_GT(info.infeasibility_margin, 0.0);

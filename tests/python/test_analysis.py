@@ -3,12 +3,13 @@ python-control cross-check; Kalman-with-loose-tolerance failure; duality / simil
 ill-conditioned pair; planted random systems; loss tables; Jacobians vs FD; Gramians vs quadrature; OD
 Gramian conditioning; CLI; bad input."""
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 import satgnc.analysis as an
-from satgnc.analysis.paper import PAPER_RANKS, compare
+from satgnc.papers.polar_linearization_rank import PAPER_RANKS, compare
 
 ORBITS = ["one", "leo", "geo"]
 CTRB = [("both", [0, 1]), ("radial only (u1)", [0]), ("tangential only (u2)", [1])]
@@ -87,7 +88,7 @@ def test_kalman_loose_tolerance_wrong_staircase_dimensionless_robust():
         assert sv[-1] / sv[0] == pytest.approx(ratio, rel=2e-3)  # 3 printed digits
         assert np.linalg.matrix_rank(K, tol=1e-8 * sv[0]) == 3  # wrong: the system is controllable
         u = an.polar_units(s, w)
-        u["input"] = u["input"][[1]]
+        u = dataclasses.replace(u, input=u.input[[1]])
         r = an.controllability(A, B[:, [1]], units=u)
         assert r.rank == 4 and r.verdict == "full rank"
         assert r.margin > 1e12
@@ -159,17 +160,17 @@ def test_loss_tables_polar_and_cw():
     s, w = an.orbit("geo")
     A, B, C = an.polar_linear_model(s, w)
     rows = an.loss_table(A, B=B)
-    assert [r["channels"] for r in rows] == [[0, 1], [0], [1]]
-    assert [r["rank"] for r in rows] == [4, 3, 4]
+    assert [r.channels for r in rows] == [[0, 1], [0], [1]]
+    assert [r.rank for r in rows] == [4, 3, 4]
     txt = an.format_loss_table(rows, ["u1", "u2"], 4)
     assert "| u1 + u2 | 4/4 | controllable |" in txt
     A, B, C = an.cw_model(1.13e-3)
     want = [6, 4, 5, 6, 3, 4, 2]  # {x,y,z},{x,y},{x,z},{y,z},{x},{y},{z}
-    assert [r["rank"] for r in an.loss_table(A, B=B)] == want
-    assert [r["rank"] for r in an.loss_table(A, C=C)] == want
+    assert [r.rank for r in an.loss_table(A, B=B)] == want
+    assert [r.rank for r in an.loss_table(A, C=C)] == want
     # dimensionless units give the same verdicts
     u = an.cw_units(1.13e-3, 100.0, n_outputs=3)
-    assert [r["rank"] for r in an.loss_table(A, B=B, units=u)] == want
+    assert [r.rank for r in an.loss_table(A, B=B, units=u)] == want
 
 
 def test_pbh_defective_zero_pair_and_stabilizability():
@@ -187,11 +188,11 @@ def test_distance_to_uncontrollability_brackets():
     A = rng.standard_normal((4, 4))
     B = rng.standard_normal((4, 1))
     d = an.distance_to_uncontrollability(A, B)
-    assert 0 < d["refined"] <= d["upper_bound"]
+    assert 0 < d.refined <= d.upper_bound
     xs = np.linspace(-4, 4, 161)
     grid = min(np.linalg.svd(np.hstack([A - complex(x, y) * np.eye(4), B]), compute_uv=False)[-1]
                for x in xs for y in np.linspace(0, 4, 81))
-    assert d["refined"] <= grid * 1.01
+    assert d.refined <= grid * 1.01
 
 
 def test_jacobians_vs_fd():
@@ -206,7 +207,7 @@ def test_jacobians_vs_fd():
     x = np.array([6780.0, 0.01, 0.3, 1.1e-3])
     res = an.linearize(f, jac, 0.0, x, np.array([1e-6, 2e-6]), x_scale=[6778.0, 7.0, 1.0, 1e-3],
                        u_scale=[1e-5, 1e-5])
-    assert res["rel_err_A"] < 1e-8 and res["rel_err_B"] < 1e-8
+    assert res.rel_err_A < 1e-8 and res.rel_err_B < 1e-8
     # CW against the nonlinear relative two-body motion in the Hill frame
     a, mu = 6778.137e3, 398600.4418e9
     n = math.sqrt(mu / a**3)
@@ -335,10 +336,10 @@ def test_bad_input(call, match, exc):
 def test_od_linear_model_A_from_stm():
     h = 1e-3
     m = an.od_linear_model([100.0 - h, 100.0, 100.0 + h])
-    dphi = (m["stms"][2] - m["stms"][0]) / (2 * h)
-    A_fd = dphi @ np.linalg.inv(m["stms"][1])  # A(t) = dPhi/dt Phi^-1
-    np.testing.assert_allclose(m["A"][1], A_fd, rtol=0, atol=1e-6 * np.abs(m["A"][1]).max())
-    np.testing.assert_allclose(m["transitions"][0] @ m["stms"][0], m["stms"][1], atol=1e-9)
+    dphi = (m.stms[2] - m.stms[0]) / (2 * h)
+    A_fd = dphi @ np.linalg.inv(m.stms[1])  # A(t) = dPhi/dt Phi^-1
+    np.testing.assert_allclose(m.A[1], A_fd, rtol=0, atol=1e-6 * np.abs(m.A[1]).max())
+    np.testing.assert_allclose(m.transitions[0] @ m.stms[0], m.stms[1], atol=1e-9)
     with pytest.raises(ValueError, match="times:"):
         an.od_linear_model([1.0, 0.5])
 

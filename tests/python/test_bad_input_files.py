@@ -12,8 +12,8 @@ import satgnc
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as hs
 from satgnc import od
-from satgnc.od import paper
 from satgnc.od.tdm import read_tdm, write_tdm
+from satgnc.papers import od_newton_raphson as paper
 
 HEADER = "t,type,value,sigma,station"
 ROW = "0,range,1321.1,0.001,0"

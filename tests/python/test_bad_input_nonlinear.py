@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from _bad_input import ARGNAMES, case_ids, check_bad_input
-from satgnc.guidance import nonlinear as nl
+from satgnc.papers import l1_admm_rendezvous as nl
 from satgnc.scenarios import l1_rendezvous as l1s
 
 H = 6  # a short horizon keeps every row fast

@@ -10,7 +10,7 @@ import sys
 import numpy as np
 import pytest
 from satgnc import cli
-from satgnc.od import paper
+from satgnc.papers import od_newton_raphson as paper
 
 GUESS = ",".join(f"{v:.9g}" for v in paper.truth() + np.array([10, 0, 0, 0, 0, 0]))
 R0 = ",".join(f"{v:.9g}" for v in paper.station_state_table3()[:3])
@@ -304,17 +304,29 @@ CASES = [
     ),
     ("scenario-missing", ["rendezvous", "--scenario", "{d}/nope.toml", "--out", "{d}/rv"], 2, ["nope.toml"]),
     ("case-unknown", ["rendezvous", "--case", "boxx", "--out", "{d}/rv"], 2, ["--case: unknown 'boxx'"]),
-    (
+    (  # the nonlinear model reads the same scenario file (issue 12), with the same strict schema
         "nonlinear-scenario",
         ["rendezvous", "--model", "nonlinear", "--scenario", "{d}/bad.toml", "--out", "{d}/rv"],
         2,
-        ["--scenario: only with --model linear"],
+        ["bad.toml:", "key 'mu'", "[orbit]", "boolean true"],
     ),
     (
-        "closed-loop-linear",
-        ["rendezvous", "--closed-loop", "--out", "{d}/rv"],
+        "nonlinear-scenario-typo",
+        ["rendezvous", "--model", "nonlinear", "--scenario", "{d}/typo.toml", "--out", "{d}/rv"],
         2,
-        ["--closed-loop: only with --model nonlinear"],
+        ["typo.toml:", "unknown section [orbt]", "did you mean [orbit]"],
+    ),
+    (
+        "nonlinear-case-unknown",
+        ["rendezvous", "--model", "nonlinear", "--case", "boxx", "--out", "{d}/rv"],
+        2,
+        ["--case: unknown 'boxx'"],
+    ),
+    (
+        "nonlinear-reference",
+        ["rendezvous", "--model", "nonlinear", "--reference", "--out", "{d}/rv"],
+        2,
+        ["--reference: only with --model linear"],
     ),
     # rank
     ("orbit-negative-space", ["rank", "--orbit", "-1,2"], 2, ["--orbit (sigma): must be > 0"]),

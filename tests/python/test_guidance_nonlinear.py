@@ -4,7 +4,7 @@ optimality against an independent local solver (scipy SLSQP), flying the plans, 
 import numpy as np
 import pytest
 from satgnc import _satgnc as _c
-from satgnc.guidance import nonlinear as nl
+from satgnc.papers import l1_admm_rendezvous as nl
 from scipy.optimize import minimize
 
 

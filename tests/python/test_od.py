@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 from satgnc import od
-from satgnc.od import paper
 from satgnc.od.tdm import read_tdm, write_tdm
+from satgnc.papers import od_newton_raphson as paper
 
 
 def test_gmst_vallado_example_3_5():

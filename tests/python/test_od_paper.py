@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from satgnc import od
-from satgnc.od import paper
+from satgnc.papers import od_newton_raphson as paper
 
 
 @pytest.fixture(scope="module")

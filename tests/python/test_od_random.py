@@ -208,7 +208,7 @@ def test_converged_estimates_match_independent_scipy_least_squares(passes):
 def _rank_deficient_cases():
     """Rank 2 (one station listed three times, range and range-rate at t = 0: rows [u, 0] and
     [w, u] only) and rank 3 (six ranges at one instant from six stations: velocity unobservable)."""
-    from satgnc.od import paper
+    from satgnc.papers import od_newton_raphson as paper
 
     x, st = paper.truth(), paper.station()
     vals, kinds, idx = [], [], []
@@ -228,7 +228,7 @@ def _rank_deficient_cases():
 @pytest.mark.parametrize("method", ["newton", "gauss_newton", "levenberg_marquardt"])
 @pytest.mark.parametrize("case", [0, 1])
 def test_rank_deficient_data_is_singular_never_converged(method, case):
-    from satgnc.od import paper
+    from satgnc.papers import od_newton_raphson as paper
 
     obs, sts, rank = _rank_deficient_cases()[case]
     r = od.solve(obs, sts, paper.truth() + np.r_[1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3], method=method)
@@ -242,7 +242,7 @@ def test_rank_deficient_data_is_singular_never_converged(method, case):
 def test_gao_luo_pass_gauss_newton_from_the_truth_never_reports_garbage():
     # Issue 11: on the 300 s Gao-Luo pass with 1 m / 1 mm/s noise, undamped GN from the truth went
     # from cost 2.98e1 to 2.2e10 in one step, then reported cost 0, a NaN covariance and a NaN row.
-    from satgnc.od import paper
+    from satgnc.papers import od_newton_raphson as paper
 
     for seed in range(1, 6):
         obs = od.simulate(paper.truth(), paper.station(), np.arange(0, 301, 10.0), seed=seed)
@@ -290,7 +290,7 @@ def test_gao_luo_pass_from_the_truth_converges_for_every_noise_seed(method):
     # 0.13 m, condition 3e8). Before the valley corrector and the extrapolation, GN converged for
     # 4 of these 10 seeds and LM for 6 within 100 iterations; now 10 / 10 each (GN 2-8 iterations,
     # LM 12-18, measured).
-    from satgnc.od import paper
+    from satgnc.papers import od_newton_raphson as paper
 
     T, st = paper.truth(), paper.station()
     converged, iters = 0, []
@@ -319,7 +319,7 @@ def test_gao_luo_pass_gauss_newton_and_lm_reach_the_same_minimum():
     # agree in cost to 3.5e-5 (a chi-square difference of 7e-5) but may lie up to 0.9 km apart
     # along the flat valley (0.025 of its 35 km formal sigma); cost_tol = 1e-10 brings them to
     # <= 18 m (0.018 formal sigma), measured.
-    from satgnc.od import paper
+    from satgnc.papers import od_newton_raphson as paper
 
     T, st = paper.truth(), paper.station()
     for seed in range(1, 11):
@@ -377,7 +377,7 @@ def test_exact_six_point_problem_lm_reaches_the_truth_in_the_default_budget(sour
     # Issue 11: LM's default of 30 iterations stopped 39 m off; the default budget is now 100 and
     # the geodesic LM needed 12-41 iterations from these guesses, 11-15 with the valley corrector
     # (measured).
-    from satgnc.od import paper
+    from satgnc.papers import od_newton_raphson as paper
 
     rho, rhodot = paper.observe()
     T = paper.truth()
@@ -394,7 +394,7 @@ def test_exact_six_point_problem_lm_reaches_the_truth_in_the_default_budget(sour
 
 
 def test_hopeless_starts_report_the_best_iterate_with_finite_cost_and_history():
-    from satgnc.od import paper
+    from satgnc.papers import od_newton_raphson as paper
 
     p = make_pass(3)
     far = p["x0"] + np.r_[800.0, -600.0, 500.0, 0.5, -0.4, 0.3]

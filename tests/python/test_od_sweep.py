@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from satgnc.od import montecarlo, paper
 from satgnc.od.sweep import dask_available, run_chunks, split
+from satgnc.papers import od_newton_raphson as paper
+from satgnc.papers import od_newton_raphson_mc as montecarlo
 
 
 def _square(xs):

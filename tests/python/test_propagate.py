@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import satgnc
 from satgnc import _satgnc
+from satgnc.papers.reference import kepler_ellipse  # the pure-Python oracle (was a local copy)
 
 MU = satgnc.EARTH_MU
 
@@ -27,32 +28,6 @@ def coe_to_state(a, e, inc, raan, argp, nu, mu=MU):
 
     R = rz(raan) @ rx(inc) @ rz(argp)
     return np.concatenate([R @ rp, R @ vp])
-
-
-def kepler_ellipse(x0, dt, mu=MU):
-    """Test-local analytic two-body solution (Kepler's equation, Lagrange f and g)."""
-    r0, v0 = x0[:3], x0[3:]
-    rn0 = np.linalg.norm(r0)
-    a = 1.0 / (2.0 / rn0 - v0 @ v0 / mu)
-    n = math.sqrt(mu / a**3)
-    ecos, esin = 1 - rn0 / a, (r0 @ v0) / math.sqrt(mu * a)
-    e = math.hypot(ecos, esin)
-    E0 = math.atan2(esin, ecos)
-    M = math.remainder(E0 - esin + n * dt, 2 * math.pi)
-    E = M + e * math.sin(M)
-    for _ in range(50):
-        d = (E - e * math.sin(E) - M) / (1 - e * math.cos(E))
-        E -= d
-        if abs(d) < 1e-16:
-            break
-    dE = E - E0
-    f = 1 - a / rn0 * (1 - math.cos(dE))
-    g = (math.sin(dE) - e * (math.sin(E) - math.sin(E0))) / n
-    r = f * r0 + g * v0
-    rn = np.linalg.norm(r)
-    fd = -math.sqrt(mu * a) * math.sin(dE) / (rn * rn0)
-    gd = 1 - a / rn * (1 - math.cos(dE))
-    return np.concatenate([r, fd * r0 + gd * v0])
 
 
 X0 = coe_to_state(7000.0, 0.01, math.radians(51.6), math.radians(30), math.radians(40), math.radians(10))

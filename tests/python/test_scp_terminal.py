@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 from satgnc import _satgnc as _c
-from satgnc.guidance import nonlinear as nl
+from satgnc.papers import l1_admm_rendezvous as nl
 from test_guidance_nonlinear import _random_rendezvous
 
 ENDO = np.array([0, 1, 2, 6, 7, 8])  # the chaser's relative position and velocity (constrained)

@@ -31,7 +31,7 @@ Vec6 propagate(const Vec6& x0, double t, double mu, Mat6* stm) {
   Vec6 x;
   const propagation::KeplerStatus st = propagation::kepler_step(x0, t, mu, x, stm);
   core::require(st == propagation::KeplerStatus::success, "x0",
-                std::string("Kepler propagation failed: ") + propagation::kepler_status_message(st));
+                std::string("Kepler propagation failed: ") + core::status_message(st));
   return x;
 }
 

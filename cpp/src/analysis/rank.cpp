@@ -24,18 +24,6 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
-const char* verdict_name(Verdict v) {
-  switch (v) {
-    case Verdict::full_rank:
-      return "full rank";
-    case Verdict::rank_deficient:
-      return "rank deficient";
-    case Verdict::not_robustly_decidable:
-      return "not robustly decidable";
-  }
-  return "unknown";
-}
-
 const char* verdict_text(Verdict v, Property p) {
   const bool c = p == Property::controllability;
   switch (v) {

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
-#include "satgnc/guidance/admm.hpp"
+#include "detail/admm_workspace.hpp"
 
-namespace satgnc::guidance {
+namespace satgnc::guidance::detail {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -16,7 +16,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
-double AdmmSolver::estimate_workspace_bytes(int nx, int nu, int N) noexcept {
+double AdmmWorkspace::estimate_workspace_bytes(int nx, int nu, int N) noexcept {
   // per stage: Riccati (P, K, closed-loop A and A', Quu^-1, Quu^-1 B', Z, affine terms), the ADMM
   // iterates, best / warm copies, the condensed / polish matrices and the flat per-entry arrays
   const double n = nx, m = nu;
@@ -25,9 +25,9 @@ double AdmmSolver::estimate_workspace_bytes(int nx, int nu, int N) noexcept {
   return 8.0 * (per_stage * (static_cast<double>(N) + 1.0) + 64.0 * (n + m) * (n + m) + 512.0 * n * n);
 }
 
-double AdmmSolver::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
-                                       const Eigen::Ref<const MatrixXd>& U,
-                                       const Eigen::Ref<const VectorXd>& p, bool with_cost) noexcept {
+double AdmmWorkspace::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
+                                          const Eigen::Ref<const MatrixXd>& U,
+                                          const Eigen::Ref<const VectorXd>& p, bool with_cost) noexcept {
   const LtvDynamics& d = prob_.dynamics;
   double f = 0.0;
   lam_ = p;
@@ -61,7 +61,7 @@ double AdmmSolver::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
 
 // g*(z) at z = -s Hg_: per entry sup over [lo, hi] of z u - r/2 u^2 - w |u| (r the part of R moved
 // into g, diagonal), per stage for group-L2 (+ ball).
-double AdmmSolver::conj_g(double s) const noexcept {
+double AdmmWorkspace::conj_g(double s) const noexcept {
   double total = 0.0;
   if (has_group_ || has_ball_) {
     const double wg = prob_.group_l2_weight, umax = prob_.u_norm_max;
@@ -102,8 +102,8 @@ double AdmmSolver::conj_g(double s) const noexcept {
   return total;
 }
 
-double AdmmSolver::evaluate_gap(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
-                                const Eigen::Ref<const VectorXd>& p, double P) noexcept {
+double AdmmWorkspace::evaluate_gap(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
+                                   const Eigen::Ref<const VectorXd>& p, double P) noexcept {
   // two dual candidates: residuals at the plan Y, and at the x/u iterate U, whose Lagrangian gradient
   // is -(Lambda + rho (U - Y_prev)), nearly inside the dual box of g by construction
   double best = dual_bound(X, U, p);
@@ -118,8 +118,8 @@ double AdmmSolver::evaluate_gap(const Eigen::Ref<const MatrixXd>& X, const Eigen
   return info.duality_gap;
 }
 
-double AdmmSolver::dual_bound(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
-                              const Eigen::Ref<const VectorXd>& p) noexcept {
+double AdmmWorkspace::dual_bound(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
+                                 const Eigen::Ref<const VectorXd>& p) noexcept {
   const double f = lagrangian_gradient(X, U, p, true);
   double c1 = 2.0 * f;
   for (int k = 0; k < N_; ++k) c1 -= Hg_.col(k).dot(U.col(k));
@@ -179,7 +179,7 @@ double AdmmSolver::dual_bound(const Eigen::Ref<const MatrixXd>& X, const Eigen::
   return best;
 }
 
-bool AdmmSolver::check_infeasible(const Eigen::Ref<const VectorXd>& y) noexcept {
+bool AdmmWorkspace::check_infeasible(const Eigen::Ref<const VectorXd>& y) noexcept {
   const double ny = y.norm();
   if (!(ny > 0.0) || !std::isfinite(ny)) return false;
   ycand_ = y / ny;
@@ -205,4 +205,4 @@ bool AdmmSolver::check_infeasible(const Eigen::Ref<const VectorXd>& y) noexcept 
   return true;
 }
 
-}  // namespace satgnc::guidance
+}  // namespace satgnc::guidance::detail

@@ -11,9 +11,9 @@
 #include <limits>
 #include <type_traits>
 
-#include "satgnc/guidance/admm.hpp"
+#include "detail/admm_workspace.hpp"
 
-namespace satgnc::guidance {
+namespace satgnc::guidance::detail {
 
 using Eigen::ArrayXd;
 using Eigen::Index;
@@ -50,7 +50,7 @@ bool chol_inverse3(const M& a, Out& inv) noexcept {
 }
 }  // namespace
 
-void AdmmSolver::ipm_setup() {
+void AdmmWorkspace::ipm_setup() {
   ipm_ok_ = flat_ok_;  // L1 + box (no group-L2 or ball: second-order cones stay ADMM-only)
   if (!ipm_ok_) return;
   const Index n = static_cast<Index>(N_) * nu_;
@@ -95,7 +95,7 @@ void AdmmSolver::ipm_setup() {
 // Stage views of the stored per-stage blocks, fixed-size for the (6, 3) CW case (the products then
 // unroll), dynamic otherwise; all storage is preallocated, nothing is allocated here.
 template <int NX, int NU>
-bool AdmmSolver::ipm_riccati_factor() noexcept {
+bool AdmmWorkspace::ipm_riccati_factor() noexcept {
   using MXX = Eigen::Matrix<double, NX, NX>;
   using MUX = Eigen::Matrix<double, NU, NX>;
   using MXU = Eigen::Matrix<double, NX, NU>;
@@ -170,8 +170,8 @@ bool AdmmSolver::ipm_riccati_factor() noexcept {
 }
 
 template <int NU>
-auto AdmmSolver::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&,
-                                                          Eigen::LLT<Eigen::Matrix<double, NU, NU>>> {
+auto AdmmWorkspace::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&,
+                                                             Eigen::LLT<Eigen::Matrix<double, NU, NU>>> {
   if constexpr (NU == Eigen::Dynamic) {
     return illt_;
   } else {
@@ -183,7 +183,7 @@ auto AdmmSolver::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, 
 // forward rollout of the step; with a hard terminal state, the multiplier from the sensitivity and a
 // second forward pass.
 template <int NX, int NU>
-void AdmmSolver::ipm_riccati_sweep() noexcept {
+void AdmmWorkspace::ipm_riccati_sweep() noexcept {
   using MXX = Eigen::Matrix<double, NX, NX>;
   using MUX = Eigen::Matrix<double, NU, NX>;
   using MXU = Eigen::Matrix<double, NX, NU>;
@@ -239,14 +239,14 @@ void AdmmSolver::ipm_riccati_sweep() noexcept {
   iep_ = ie_ + idX_.col(N_);
 }
 
-template bool AdmmSolver::ipm_riccati_factor<6, 3>() noexcept;
-template bool AdmmSolver::ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
-template void AdmmSolver::ipm_riccati_sweep<6, 3>() noexcept;
-template void AdmmSolver::ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
+template bool AdmmWorkspace::ipm_riccati_factor<6, 3>() noexcept;
+template bool AdmmWorkspace::ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
+template void AdmmWorkspace::ipm_riccati_sweep<6, 3>() noexcept;
+template void AdmmWorkspace::ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>() noexcept;
 
 // D_j (the eliminated epigraph / box block) from the current slacks and multipliers, then the
 // factorization of the structured LQR step with R + diag(D).
-bool AdmmSolver::ipm_factor() noexcept {
+bool AdmmWorkspace::ipm_factor() noexcept {
   const bool term = prob_.terminal_equality;
   // pair block in the inverse ratios r_m = s_m / z_m (bounded where d_m = z_m / s_m overflows):
   // D = 4 d1 d2 / (d1 + d2) = 4 / (r1 + r2)
@@ -284,7 +284,7 @@ bool AdmmSolver::ipm_factor() noexcept {
 
 // One Newton direction with complementarity targets rc = s z (predictor) or s z + ds_a dz_a - sigma
 // mu (corrector, smu = sigma mu): idu_, idt_, ids*, idz* and the terminal quantities iep_, inun_.
-bool AdmmSolver::ipm_newton(bool corrector, double smu) noexcept {
+bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   const bool term = prob_.terminal_equality;
   const Index n = static_cast<Index>(N_) * nu_;
   // q_m = (rc_m + z_m rp_m) / s_m (zero for absent constraints: s = 1, z = 0 there); infeasible
@@ -329,7 +329,7 @@ bool AdmmSolver::ipm_newton(bool corrector, double smu) noexcept {
   return true;
 }
 
-double AdmmSolver::ipm_max_step() const noexcept {
+double AdmmWorkspace::ipm_max_step() const noexcept {
   double a = kInf;
   const auto lim = [&](const ArrayXd& v, const ArrayXd& dv) {
     a = std::min(a, (dv < 0.0).select(-v / dv, kInf).minCoeff());  // branch-free: vectorized
@@ -349,7 +349,7 @@ double AdmmSolver::ipm_max_step() const noexcept {
 
 // The independent acceptance test (the same as ADMM's): relative duality gap of the plan <= eps_gap
 // and the terminal miss, on the rolled-out plan.
-bool AdmmSolver::ipm_certify() noexcept {
+bool AdmmWorkspace::ipm_certify() noexcept {
   const bool term = prob_.terminal_equality;
   // the plan in the box (the slacks are carried apart from u: rounding may put u outside by an ulp)
   for (int k = 0; k < N_; ++k)
@@ -375,12 +375,53 @@ bool AdmmSolver::ipm_certify() noexcept {
   return evaluate_gap(res_.X_flown, iU_, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
 }
 
-bool AdmmSolver::ipm_solve(bool warm) noexcept {
+bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
   const bool term = prob_.terminal_equality;
-  const Index n = static_cast<Index>(N_) * nu_;
   AdmmInfo& info = res_.info;
+  if (warm)
+    ipm_start_warm();
+  else
+    ipm_start_cold();
+  ipm_center_and_balance(warm);
+  xtmp2_ = xN0all_ - prob_.xf;
+  const double e_ref = 1e-2 * set_.terminal_tolerance * xtmp2_.norm();
+  const double m = std::max(ipm_m_, 1);
+  const double wmax = w_.maxCoeff();
+  int it = 0, cert_failures = 0;
+  double ru_prev = kInf;
+  bool ok = false;
+  for (; it <= set_.ipm_max_iterations; ++it) {
+    if (out_of_time()) break;
+    const IpmResiduals r = ipm_residuals(wmax);
+    if (!std::isfinite(r.P) || !std::isfinite(r.ru) || !std::isfinite(r.sz)) break;
+    const double tol = set_.ipm_tolerance;
+    // stationarity has a rounding floor when the gradient's terms cancel (stage Q far from x_f):
+    // once it stops decreasing, the independent gap test decides
+    const bool ru_ok =
+        r.ru <= 1e3 * tol * r.gscale || (r.ru >= 0.5 * ru_prev && r.sz <= tol * tol * std::abs(r.P));
+    ru_prev = r.ru;
+    if (r.sz <= tol * std::abs(r.P) && r.rp <= 1e3 * tol * r.uscale && ru_ok &&
+        r.rt <= 1e3 * tol * std::max(wmax, 1e-300) && (!term || ie_.norm() <= e_ref)) {
+      if (ipm_certify()) {
+        ok = true;
+        break;
+      }
+      if (++cert_failures >= 3) break;
+    }
+    if (it == set_.ipm_max_iterations) break;
+    if (!ipm_predictor_corrector(r.sz, m)) break;
+  }
+  info.ipm_iterations += it;
+  if (!ok) return false;
+  ipm_accept();
+  return true;
+}
+
+// Warm start from ADMM's iterate.
+void AdmmWorkspace::ipm_start_warm() noexcept {
+  const Index n = static_cast<Index>(N_) * nu_;
   Eigen::Map<ArrayXd> u(iU_.data(), n);
-  if (warm) {
+  {
     // from ADMM's iterate: u = Y (in the box), multipliers from Lambda = -grad f at its fixed point
     // (-grad f = z1 - z2 - z3 + z4): the L1 pair takes clamp(Lambda, -w, w), the box the rest;
     // slacks and multipliers floored at a fraction of the plan's and the multipliers' scale
@@ -398,7 +439,14 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
     iz2_ = im1_ * (0.5 * (wrep_ - ia1_)).max(1e-2 * wrep_);
     iz3_ = im3_ * ((ia1_ - lam).max(0.0) + zf);
     iz4_ = im4_ * ((lam - ia1_).max(0.0) + zf);
-  } else {
+  }
+}
+
+// Cold start.
+void AdmmWorkspace::ipm_start_cold() noexcept {
+  const Index n = static_cast<Index>(N_) * nu_;
+  Eigen::Map<ArrayXd> u(iU_.data(), n);
+  {
     // cold start: u = 0 (the box midpoint if 0 is not inside), t = |u| + 1, z1 = z2 = w / 2 (r_t = 0),
     // box multipliers 1 / s
     for (Index j = 0; j < n; ++j) {
@@ -425,6 +473,11 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
     iz1_ = 0.5 * im1_ * wrep_;
     iz2_ = iz1_;
   }
+}
+
+// Mehrotra's shift of the start, its states and terminal error, and (cold) balanced box multipliers.
+void AdmmWorkspace::ipm_center_and_balance(bool warm) noexcept {
+  const Index n = static_cast<Index>(N_) * nu_;
   // Mehrotra's shift toward the central path: s += 1/2 s'z / sum z, z += 1/2 s'z / sum s
   const double sz0 = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
   const double zs = (im1_ * (iz1_ + iz2_) + im3_ * iz3_ + im4_ * iz4_).sum();
@@ -454,15 +507,15 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
     iz3_ = im3_ * (1.0 + (g0 - im1_ * wrep_).max(0.0));
     iz4_ = im4_ * (1.0 + (-g0 - im1_ * wrep_).max(0.0));
   }
-  xtmp2_ = xN0all_ - prob_.xf;
-  const double e_ref = 1e-2 * set_.terminal_tolerance * xtmp2_.norm();
-  const double m = std::max(ipm_m_, 1);
-  const double wmax = w_.maxCoeff();
-  int it = 0, cert_failures = 0;
-  double ru_prev = kInf;
-  bool ok = false;
-  for (; it <= set_.ipm_max_iterations; ++it) {
-    if (out_of_time()) break;
+}
+
+// Residuals of the current point and their scales.
+AdmmWorkspace::IpmResiduals AdmmWorkspace::ipm_residuals(double wmax) noexcept {
+  const bool term = prob_.terminal_equality;
+  const Index n = static_cast<Index>(N_) * nu_;
+  Eigen::Map<ArrayXd> u(iU_.data(), n);
+  IpmResiduals res;
+  {
     // residuals of the current point: stationarity r_u = grad f + M' nu - sum z a, r_t, complementarity
     double P = 0.0, gpart = 0.0;  // gpart: the largest term of the gradient (they cancel in a QP)
     Eigen::Map<ArrayXd> grad(Hg_.data(), n);
@@ -493,22 +546,24 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
         {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
     const double uscale = std::max(
         {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
-    if (!std::isfinite(P) || !std::isfinite(ru) || !std::isfinite(sz)) break;
-    const double tol = set_.ipm_tolerance;
-    // stationarity has a rounding floor when the gradient's terms cancel (stage Q far from x_f):
-    // once it stops decreasing, the independent gap test decides
-    const bool ru_ok = ru <= 1e3 * tol * gscale || (ru >= 0.5 * ru_prev && sz <= tol * tol * std::abs(P));
-    ru_prev = ru;
-    if (sz <= tol * std::abs(P) && rp <= 1e3 * tol * uscale && ru_ok &&
-        rt <= 1e3 * tol * std::max(wmax, 1e-300) && (!term || ie_.norm() <= e_ref)) {
-      if (ipm_certify()) {
-        ok = true;
-        break;
-      }
-      if (++cert_failures >= 3) break;
-    }
-    if (it == set_.ipm_max_iterations) break;
-    if (!ipm_factor() || !ipm_newton(false, 0.0)) break;
+    res.P = P;
+    res.gscale = gscale;
+    res.ru = ru;
+    res.rt = rt;
+    res.sz = sz;
+    res.rp = rp;
+    res.uscale = uscale;
+  }
+  return res;
+}
+
+// One Mehrotra predictor-corrector step from complementarity sz over m constraints; false stops.
+bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
+  const bool term = prob_.terminal_equality;
+  const Index n = static_cast<Index>(N_) * nu_;
+  Eigen::Map<ArrayXd> u(iU_.data(), n);
+  {
+    if (!ipm_factor() || !ipm_newton(false, 0.0)) return false;
     // predictor: affine step length and the centering parameter sigma = (mu_aff / mu)^3
     const double mu = sz / m;
     const double aa = std::min(1.0, ipm_max_step());
@@ -526,9 +581,9 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
             .sum() /
         m;
     const double sigma = mu > 0.0 ? std::clamp(std::pow(mu_aff / mu, 3.0), 0.0, 1.0) : 0.0;
-    if (!ipm_newton(true, sigma * mu)) break;
+    if (!ipm_newton(true, sigma * mu)) return false;
     const double a = std::min(1.0, 0.99 * ipm_max_step());
-    if (!(a > 1e-12)) break;
+    if (!(a > 1e-12)) return false;
     u += a * idu_;
     itv_ += a * idt_;
     is1_ += a * ids1_;
@@ -547,8 +602,12 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
     if (term) inu_ += a * (inun_ - inu_);
     ie_ += a * (iep_ - ie_);
   }
-  info.ipm_iterations += it;
-  if (!ok) return false;
+  return true;
+}
+
+// The certified plan into the result.
+void AdmmWorkspace::ipm_accept() noexcept {
+  const bool term = prob_.terminal_equality;
   // the certified plan: Lambda = -(grad f + M' p) from the gap's costate sweep (Hg_ without the
   // diagonal of R moved into g)
   res_.U = iU_;
@@ -557,7 +616,6 @@ bool AdmmSolver::ipm_solve(bool warm) noexcept {
     for (int i = 0; i < nu_; ++i) res_.Lambda(i, k) = -(Hg_(i, k) + rg_(i) * iU_(i, k));
   res_.X = res_.X_flown;
   if (term) res_.terminal_multiplier = ie2_;
-  return true;
 }
 
-}  // namespace satgnc::guidance
+}  // namespace satgnc::guidance::detail

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "satgnc/guidance/admm.hpp"
+#include "detail/admm_workspace.hpp"
 
-namespace satgnc::guidance {
+namespace satgnc::guidance::detail {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-void AdmmSolver::equilibrate_problem() {
+void AdmmWorkspace::equilibrate_problem() {
   LtvDynamics& d = prob_.dynamics;
   // sizes are validated later by the Riccati setup: leave a malformed problem unscaled
   if (prob_.Qf.rows() != nx_ || prob_.Qf.cols() != nx_) return;
@@ -78,7 +78,7 @@ void AdmmSolver::equilibrate_problem() {
   prob_.u_norm_max /= du_(0);
 }
 
-void AdmmSolver::unscale_result() noexcept {
+void AdmmWorkspace::unscale_result() noexcept {
   // u = D_u u~, Lambda = Lambda~ / (c D_u), p = p~ / c, J = J~ / c; states are not scaled
   AdmmResult& r = res_;
   // explicit loops: a broadcast of an expression would evaluate it into a heap temporary
@@ -97,4 +97,4 @@ void AdmmSolver::unscale_result() noexcept {
   i.dual_objective /= cscale_;
 }
 
-}  // namespace satgnc::guidance
+}  // namespace satgnc::guidance::detail

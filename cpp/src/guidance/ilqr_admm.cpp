@@ -9,6 +9,7 @@
 
 #include "detail/cholesky.hpp"
 #include "detail/quadratic.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -189,26 +190,6 @@ bool backward_reduced(int N, const int* ci, const int* ti, const std::vector<Mat
 }
 
 }  // namespace
-
-const char* status_message(IlqrAdmmStatus s) {
-  switch (s) {
-    case IlqrAdmmStatus::solved:
-      return "solved: stopping rule met and the plan rolls out on the model";
-    case IlqrAdmmStatus::max_iterations:
-      return "max_iter reached; best iterate (smallest ||U - Y||) returned";
-    case IlqrAdmmStatus::propagation_failed:
-      return "the dynamics failed (initial rollout or the returned plan; see failed_interval)";
-    case IlqrAdmmStatus::ilqr_failed:
-      return "iLQR made no progress up to reg_max; best iterate returned";
-    case IlqrAdmmStatus::not_run:
-      return "solve() not called";
-    case IlqrAdmmStatus::solved_inaccurate:
-      return "stopped at a limit with the residual rule met at inaccurate_factor x eps; best iterate";
-    case IlqrAdmmStatus::time_limit:
-      return "time_limit reached; best iterate returned";
-  }
-  return "unknown status";
-}
 
 void IlqrAdmmSettings::validate() const {
   core::require_positive(rho, "rho");
@@ -584,7 +565,8 @@ void IlqrAdmmSolver::prox(const MatrixXd& V, MatrixXd& Yout) const {
     }
 }
 
-IlqrAdmmStatus IlqrAdmmSolver::solve() {
+const IlqrAdmmResult& IlqrAdmmSolver::solve() {
+  SATGNC_NO_MALLOC_SCOPE;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
   solve_start_ = t0;
@@ -602,7 +584,7 @@ IlqrAdmmStatus IlqrAdmmSolver::solve() {
     info.rho = rho_;
     info.objective_u = info.objective_y = info.terminal_miss = std::numeric_limits<double>::infinity();
     info.solve_time = elapsed();
-    return info.status;
+    return res_;
   }
   double best_primal = std::numeric_limits<double>::infinity(), best_dual = best_primal;
   IlqrAdmmStatus status = IlqrAdmmStatus::max_iterations;
@@ -713,7 +695,7 @@ IlqrAdmmStatus IlqrAdmmSolver::solve() {
   }
   info.status = status;
   info.solve_time = elapsed();
-  return status;
+  return res_;
 }
 
 }  // namespace satgnc::guidance

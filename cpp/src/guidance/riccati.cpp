@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -98,8 +99,12 @@ void require_psd(const MatrixXd& M, Index n, const std::string& name, bool allow
 }
 }  // namespace
 
-void RiccatiSolver::setup(const LtvDynamics& dyn, const MatrixXd& Q, const MatrixXd& R, const MatrixXd& Qf,
-                          bool terminal_equality) {
+RiccatiSolver::RiccatiSolver(const RiccatiProblem& problem) {
+  init(problem.dynamics, problem.Q, problem.R, problem.Qf, problem.terminal_equality);
+}
+
+void RiccatiSolver::init(const LtvDynamics& dyn, const MatrixXd& Q, const MatrixXd& R, const MatrixXd& Qf,
+                         bool terminal_equality) {
   dyn.validate();
   nx_ = dyn.nx();
   nu_ = dyn.nu();
@@ -194,6 +199,7 @@ bool RiccatiSolver::factor_stage(int k, double rho) noexcept {
 }
 
 bool RiccatiSolver::factor(double rho) noexcept {
+  SATGNC_NO_MALLOC_SCOPE;
   factored_ = false;
   if (nx_ == 0 || !(rho >= 0.0) || !std::isfinite(rho)) return false;
   const Index n = nx_, N = N_;
@@ -413,21 +419,22 @@ RiccatiStatus RiccatiSolver::apply_terminal(const Eigen::Ref<const VectorXd>& xf
   if (rank_ < n) {
     const double after = (xf - X.col(N)).norm();
     if (after > 1e-6 * std::max(miss0, xf.norm()) && after > 1e-300)
-      return RiccatiStatus::kTerminalUnreachable;
+      return RiccatiStatus::terminal_unreachable;
   }
-  return RiccatiStatus::kOk;
+  return RiccatiStatus::solved;
 }
 
 RiccatiStatus RiccatiSolver::solve(const Eigen::Ref<const VectorXd>& x0, const Eigen::Ref<const MatrixXd>& q,
                                    const Eigen::Ref<const MatrixXd>& r, const Eigen::Ref<const VectorXd>& xf,
                                    Eigen::Ref<MatrixXd> X, Eigen::Ref<MatrixXd> U) noexcept {
-  if (!factored_) return RiccatiStatus::kNotFactored;
+  SATGNC_NO_MALLOC_SCOPE;
+  if (!factored_) return RiccatiStatus::unsolved;
   if (nx_ == 6 && nu_ == 3) {
     affine_sweep_63(x0, q, r, X, U);
-    return terminal_ ? apply_terminal<6, 3>(xf, X, U) : RiccatiStatus::kOk;
+    return terminal_ ? apply_terminal<6, 3>(xf, X, U) : RiccatiStatus::solved;
   }
   affine_sweep<Dynamic, Dynamic>(x0, q, r, X, U);
-  return terminal_ ? apply_terminal<Dynamic, Dynamic>(xf, X, U) : RiccatiStatus::kOk;
+  return terminal_ ? apply_terminal<Dynamic, Dynamic>(xf, X, U) : RiccatiStatus::solved;
 }
 
 RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const VectorXd>& x0,
@@ -435,7 +442,7 @@ RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const Vecto
                                         const Eigen::Ref<const MatrixXd>& r,
                                         const Eigen::Ref<const VectorXd>& xf, Eigen::Ref<MatrixXd> X,
                                         Eigen::Ref<MatrixXd> U) noexcept {
-  if (terminal_ && !factored_) return RiccatiStatus::kNotFactored;
+  if (terminal_ && !factored_) return RiccatiStatus::unsolved;
   const Index n = nx_, m = nu_, N = N_;
   // value function V_k(x) = 1/2 x' P x + p' x, recomputed from scratch (eqs. (12)-(21) of the paper)
   if (terminal_) {  // see factor()
@@ -462,7 +469,7 @@ RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const Vecto
     tmp_nu_ = r.col(k);
     tmp_nu_.noalias() += B.transpose() * w_;  // qu
     llt_.compute(Quu_);
-    if (llt_.info() != Eigen::Success) return RiccatiStatus::kNotFactored;
+    if (llt_.info() != Eigen::Success) return RiccatiStatus::unsolved;
     K2_.middleCols(k * n, n) = Qux_;
     auto Kk = K2_.middleCols(k * n, n);
     llt_.solveInPlace(Kk);
@@ -495,7 +502,7 @@ RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const Vecto
   if (terminal_) {
     return nx_ == 6 && nu_ == 3 ? apply_terminal<6, 3>(xf, X, U) : apply_terminal<Dynamic, Dynamic>(xf, X, U);
   }
-  return RiccatiStatus::kOk;
+  return RiccatiStatus::solved;
 }
 
 void jacobi_eigen(Eigen::Ref<MatrixXd> S, Eigen::Ref<MatrixXd> V, Eigen::Ref<VectorXd> w) noexcept {

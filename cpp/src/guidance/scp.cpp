@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "detail/quadratic.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::guidance {
@@ -28,19 +29,19 @@ enum class Inner {
 // No default: a new enumerator is a compiler warning (-Wswitch) until it is mapped here.
 Inner classify(AdmmStatus s) {
   switch (s) {
-    case AdmmStatus::kSolved:
+    case AdmmStatus::solved:
       return Inner::solved;
-    case AdmmStatus::kSolvedPaperRule:  // ||U - Y|| small is not an optimality test
-    case AdmmStatus::kSolvedInaccurate:
+    case AdmmStatus::solved_paper_rule:  // ||U - Y|| small is not an optimality test
+    case AdmmStatus::solved_inaccurate:
       return Inner::inaccurate;
-    case AdmmStatus::kMaxIterations:
-    case AdmmStatus::kTimeLimit:
+    case AdmmStatus::max_iterations:
+    case AdmmStatus::time_limit:
       return Inner::not_converged;
-    case AdmmStatus::kTerminalUnreachable:
-    case AdmmStatus::kPrimalInfeasible:
+    case AdmmStatus::terminal_unreachable:
+    case AdmmStatus::primal_infeasible:
       return Inner::infeasible;
-    case AdmmStatus::kNumericalError:
-    case AdmmStatus::kUnsolved:
+    case AdmmStatus::numerical_error:
+    case AdmmStatus::unsolved:
       return Inner::failed;
   }
   return Inner::failed;
@@ -57,39 +58,13 @@ Inner classify(IlqrAdmmStatus s, StopRule rule) {
       return Inner::not_converged;
     case IlqrAdmmStatus::propagation_failed:
     case IlqrAdmmStatus::ilqr_failed:
-    case IlqrAdmmStatus::not_run:
+    case IlqrAdmmStatus::unsolved:
       return Inner::failed;
   }
   return Inner::failed;
 }
 
 }  // namespace
-
-const char* status_message(ScpStatus s) {
-  switch (s) {
-    case ScpStatus::solved:
-      return "solved: predicted decrease <= tol * max(1, J) on a solved subproblem, trust region inactive";
-    case ScpStatus::max_outer:
-      return "max_outer reached; best iterate returned";
-    case ScpStatus::propagation_failed:
-      return "the dynamics failed (see failed_interval); best iterate returned";
-    case ScpStatus::inner_failed:
-      return "the convex subproblem solver failed (see inner_status); best iterate returned";
-    case ScpStatus::line_search_failed:
-      return "no acceptable step (line search exhausted or trust radius below tr_min); best iterate returned";
-    case ScpStatus::not_run:
-      return "solve() not called";
-    case ScpStatus::solved_inaccurate:
-      return "stopped at a limit with predicted decrease <= tol_inaccurate * max(1, J); best iterate";
-    case ScpStatus::inner_infeasible:
-      return "the linearized subproblem is infeasible (x_f outside what the box reaches; see "
-             "infeasibility_certificate / infeasibility_margin) and no restoration step lowers the "
-             "terminal miss; best iterate returned";
-    case ScpStatus::time_limit:
-      return "time_limit reached; best iterate returned";
-  }
-  return "unknown status";
-}
 
 void ScpSettings::validate() const {
   core::require(max_outer >= 1, "max_outer", "must be >= 1");
@@ -360,7 +335,7 @@ int ScpSolver::restore(double& J, double time_left) {
   }
   const AdmmResult& r = elastic_->solve();
   res_.info.inner_iterations += r.info.iterations;
-  if (time_left > 0.0 && r.info.status == AdmmStatus::kTimeLimit) return -2;
+  if (time_left > 0.0 && r.info.status == AdmmStatus::time_limit) return -2;
   const Inner in = classify(r.info.status);
   if (in == Inner::failed || in == Inner::infeasible || !r.Y.allFinite()) return -1;
   // predicted / actual decrease of 1/2 ||e_c||^2 along U + t (Y - U); the model is exact at U
@@ -392,7 +367,8 @@ int ScpSolver::restore(double& J, double time_left) {
   return 2;
 }
 
-ScpStatus ScpSolver::solve() noexcept {
+const ScpResult& ScpSolver::solve() noexcept {
+  SATGNC_NO_MALLOC_SCOPE;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
   ScpInfo& info = res_.info;
@@ -431,8 +407,11 @@ ScpStatus ScpSolver::solve() noexcept {
     for (int i = 0; i < nu_; ++i)
       viol = std::max(viol, std::max(lo_(i) - res_.U(i, k), res_.U(i, k) - hi_(i)));
   info.bound_violation = viol;
+  info.iterations = info.outer_iterations;  // core::InfoBase mirrors
+  info.primal_residual = info.terminal_constraint_miss;
+  info.dual_residual = info.predicted_decrease;
   info.solve_time = std::chrono::duration<double>(Clock::now() - t0).count();
-  return st;
+  return res_;
 }
 
 ScpStatus ScpSolver::solve_impl() {
@@ -504,7 +483,7 @@ ScpStatus ScpSolver::solve_impl() {
         if (reduced_) reduce_linearization();
         const LtvDynamics& d = reduced_ ? red_.dynamics : sub_.dynamics;
         if (!admm_->update_dynamics(d.A, d.B, d.c)) {
-          info.inner_status = AdmmStatus::kNumericalError;
+          info.inner_status = AdmmStatus::numerical_error;
           return ScpStatus::inner_failed;
         }
       }
@@ -537,7 +516,7 @@ ScpStatus ScpSolver::solve_impl() {
         inner_->set_initial_controls(res_.U);
       else
         inner_->warm_start(res_.U, Ywarm_, Lwarm_);
-      const IlqrAdmmStatus ist = inner_->solve();
+      const IlqrAdmmStatus ist = inner_->solve().info.status;
       const IlqrAdmmResult& r = inner_->result();
       info.inner_iterations += r.info.iterations;
       info.inner_ilqr_status = ist;
@@ -560,7 +539,7 @@ ScpStatus ScpSolver::solve_impl() {
       info.inner_iterations += r.info.iterations;
       info.inner_status = r.info.status;
       in = classify(r.info.status);
-      inner_out_of_time = r.info.status == AdmmStatus::kTimeLimit;
+      inner_out_of_time = r.info.status == AdmmStatus::time_limit;
       if (in != Inner::failed && in != Inner::infeasible) {
         Ywarm_ = r.Y;
         Lwarm_ = r.Lambda;
@@ -582,7 +561,7 @@ ScpStatus ScpSolver::solve_impl() {
     }
     first_inner = false;
     info.inner_solved = in == Inner::solved;
-    if (in == Inner::infeasible && elastic_ && info.inner_status == AdmmStatus::kPrimalInfeasible) {
+    if (in == Inner::infeasible && elastic_ && info.inner_status == AdmmStatus::primal_infeasible) {
       // Infeasible on this linearization, which may be an artifact of it (the box reaches further
       // elsewhere on a nonlinear model): lower the true miss first; report only at a stationary point.
       const int rs = restore(J, timed ? std::max(set_.time_limit - elapsed(), 1e-300) : 0.0);

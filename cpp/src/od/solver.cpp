@@ -1,12 +1,14 @@
 #include "satgnc/od/solver.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <random>
 
 #include "detail/root.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::od {
@@ -22,28 +24,6 @@ constexpr double kExtrapMin = 2.0;      // extrapolate an accepted step only whe
 constexpr double kExtrapMax = 10.0;     // ... and at most this far
 constexpr int kGnPlainTrials = 3;       // GN: uncorrected trials t = 1, 1/2, 1/4 before the corrected ones
 }  // namespace
-
-const char* od_status_message(OdStatus s) {
-  switch (s) {
-    case OdStatus::converged:
-      return "converged";
-    case OdStatus::max_iterations:
-      return "maximum number of iterations reached";
-    case OdStatus::singular:
-      return "Jacobian is rank deficient (see rank): the data do not determine the state";
-    case OdStatus::diverged:
-      return "diverged: an iterate went below the minimum radius or became unbound (energy >= 0)";
-    case OdStatus::propagation_failed:
-      return "propagation failed";
-    case OdStatus::degenerate_geometry:
-      return "zero range: the satellite is at the station, range-rate is undefined";
-    case OdStatus::unsolved:
-      return "not solved yet";
-    case OdStatus::stalled:
-      return "stalled: no trial step lowered the cost and the convergence test does not hold";
-  }
-  return "unknown status";
-}
 
 void OdSettings::validate() const {
   using core::require;
@@ -377,7 +357,26 @@ void OdSolver::finish(const Vec6& x, bool buffers_valid) {
   if (res_.rank < 6 && (stopped || res_.status == OdStatus::converged)) res_.status = OdStatus::singular;
 }
 
-const OdResult& OdSolver::solve(const Vec6& guess) {
+void OdSolver::set_initial_guess(const Vec6& x0_guess) noexcept { guess_ = x0_guess; }
+
+const OdResult& OdSolver::solve() {
+  SATGNC_NO_MALLOC_SCOPE;
+  const auto t_start = std::chrono::steady_clock::now();
+  solve_iterate(guess_);
+  // core::InfoBase mirrors of the result (read-only diagnostics, no effect on the iterates)
+  OdInfo& info = res_.info;
+  info.status = res_.status;
+  info.iterations = res_.iterations;
+  info.primal_residual = rows() > 0 ? std::sqrt(2.0 * res_.cost / rows()) : 0.0;
+  info.dual_residual =
+      res_.iterations > 0 && res_.iterations < res_.history_x0.rows()
+          ? (res_.history_x0.row(res_.iterations) - res_.history_x0.row(res_.iterations - 1)).norm()
+          : 0.0;
+  info.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return res_;
+}
+
+void OdSolver::solve_iterate(const Vec6& guess) {
   res_.status = OdStatus::unsolved;
   res_.iterations = 0;
   res_.evaluations = 0;
@@ -411,7 +410,7 @@ const OdResult& OdSolver::solve(const Vec6& guess) {
     res_.history_x0.row(0) = guess.transpose();
     res_.history_cost(0) = kInf;
     res_.history_lambda(0) = 0.0;
-    return res_;
+    return;
   }
   record(0, 0.0);
   Vec6 x = guess;
@@ -428,7 +427,6 @@ const OdResult& OdSolver::solve(const Vec6& guess) {
       break;
   }
   finish(x, buffers_valid);
-  return res_;
 }
 
 // -argmin |R d + b|^2 + lambda |D d|^2 by a fixed-size QR of [R b; sqrt(lambda) D 0].

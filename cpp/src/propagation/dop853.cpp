@@ -1,6 +1,7 @@
 // Setup-time validation and status mapping shared by the DOP853 orbital wrappers.
 #include "satgnc/propagation/dop853.hpp"
 
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -21,6 +22,22 @@ void dop853_validate_settings(const Dop853Settings& s) {
   core::require(s.beta >= 0.0 && s.beta <= 0.2, "beta", "must lie in [0, 0.2]");
   core::require(s.rtol > 10.0 * std::numeric_limits<double>::epsilon(), "rtol",
                 "must exceed 10 machine epsilons (2.2e-15)", "double precision cannot deliver less");
+}
+
+// The ranges of dop853_check_settings (the integrator's own, looser than the orbit wrapper's
+// dop853_validate_settings: rtol = 1 is a fixed-step run), one field at a time.
+void Dop853Settings::validate() const {
+  using core::require;
+  require(std::isfinite(rtol) && rtol > 10.0 * std::numeric_limits<double>::epsilon(), "rtol",
+          "must be finite and exceed 10 machine epsilons (2.2e-15), got " + std::to_string(rtol));
+  require(std::isfinite(atol) && atol >= 0.0, "atol", "must be finite and >= 0, got " + std::to_string(atol));
+  require(max_steps > 0, "max_steps", "must be > 0, got " + std::to_string(max_steps));
+  require(std::isfinite(h0) && h0 >= 0.0, "h0", "must be finite and >= 0 (0 = automatic)");
+  require(std::isfinite(h_max) && h_max >= 0.0, "h_max", "must be finite and >= 0 (0 = |t_end - t0|)");
+  require(safety > 1e-4 && safety < 1.0, "safety", "must lie in (1e-4, 1)");
+  require(fac_min > 0.0 && fac_min <= 1.0, "fac_min", "must lie in (0, 1]");
+  require(std::isfinite(fac_max) && fac_max >= 1.0, "fac_max", "must be finite and >= 1");
+  require(beta >= 0.0 && beta <= 0.2, "beta", "must lie in [0, 0.2]");
 }
 
 void dop853_validate_orbit_input(const Vec6& x0, double t0, const std::vector<double>& times) {
@@ -48,6 +65,7 @@ PropagationStatus dop853_to_propagation_status(Dop853Status s) {
       return PropagationStatus::rhs_failure;
     case Dop853Status::event:
       return PropagationStatus::impact;
+    case Dop853Status::unsolved:
     case Dop853Status::invalid_settings:
     case Dop853Status::invalid_input:
       return PropagationStatus::solver_failure;

@@ -39,20 +39,6 @@ constexpr InvFactorials kInvFact{};
 
 }  // namespace
 
-const char* kepler_status_message(KeplerStatus s) {
-  switch (s) {
-    case KeplerStatus::success:
-      return "success";
-    case KeplerStatus::invalid_input:
-      return "invalid input: non-finite state, time or mu, mu <= 0, or |r0| = 0";
-    case KeplerStatus::no_convergence:
-      return "universal Kepler equation did not converge within the iteration limit";
-    case KeplerStatus::overflow:
-      return "hyperbolic functions overflowed (time of flight too long for this hyperbola)";
-  }
-  return "unknown status";
-}
-
 void stumpff(double psi, double c[6]) {
   if (std::abs(psi) < 4.0) {
     // c4, c5 by Horner in (-psi); lower orders by c_k = 1/k! - psi c_{k+2} (no cancellation here).
@@ -264,7 +250,7 @@ std::string kepler_failure_message(KeplerStatus s, double alpha, double dt) {
            (alpha > 0.0 ? "ellipse" : "parabola") + " (dt = " + std::to_string(dt) +
            " s; a degenerate, nearly radial orbit)";
   }
-  return kepler_status_message(s);
+  return status_message(s);
 }
 
 namespace {
@@ -375,6 +361,7 @@ Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>
                 "starts below the surface: |r0| = " + std::to_string(x0.head<3>().norm()) +
                     " km <= surface_radius = " + std::to_string(surface_radius) + " km");
   Trajectory tr;
+  tr.status = PropagationStatus::success;
   tr.times.reserve(times.size());
   tr.states.reserve(times.size());
   if (with_stm) tr.stms.reserve(times.size());

@@ -1,4 +1,4 @@
-// Message table of PropagationStatus.
+// Orbit-arc input checks shared by the propagators.
 #include "satgnc/propagation/trajectory.hpp"
 
 #include <cmath>
@@ -7,28 +7,6 @@
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::propagation {
-
-const char* status_message(PropagationStatus s) {
-  switch (s) {
-    case PropagationStatus::success:
-      return "success";
-    case PropagationStatus::too_much_work:
-      return "too much work: the step budget (max_steps) was exhausted before the last requested time";
-    case PropagationStatus::too_much_accuracy:
-      return "too much accuracy requested: the tolerances are below what double precision delivers";
-    case PropagationStatus::error_test_failures:
-      return "repeated local error test failures (the step size collapsed)";
-    case PropagationStatus::convergence_failures:
-      return "the corrector failed to converge repeatedly";
-    case PropagationStatus::rhs_failure:
-      return "the force model failed (|r| reached 0 or the acceleration was not finite)";
-    case PropagationStatus::solver_failure:
-      return "integrator failure";
-    case PropagationStatus::impact:
-      return "impact: the trajectory reached the surface radius (or the centre, r = 0) at t_reached";
-  }
-  return "unknown status";
-}
 
 void validate_state_magnitude(const Vec6& x0) {
   if (!(x0.cwiseAbs().maxCoeff() < kMaxStateComponent))

@@ -13,11 +13,13 @@ import dataclasses
 import math
 import numbers
 from collections.abc import Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
 from .. import _satgnc as _s
-from .._validate import as_int, as_real, as_real_array, one_of
+from .._results import Result, deprecated, readonly
+from .._validate import as_int, as_matrix, as_real, as_real_array, as_scale, check_magnitude, one_of
 
 MU_EARTH = 398600.4418  # km^3/s^2 (EGM-96)
 EARTH_RATE_PAPER = 7.27e-5  # rad/s: the rotation rate implied by od_newton_raphson.md Table 3
@@ -25,7 +27,8 @@ EARTH_RATE_PAPER = 7.27e-5  # rad/s: the rotation rate implied by od_newton_raph
 PolarModel = _s.PolarModel
 
 __all__ = [
-    "PolarModel", "RankReport", "StaircaseReport", "PbhReport", "GramianReport", "orbit",
+    "PolarModel", "RankReport", "StaircaseReport", "PbhReport", "GramianReport", "DistanceReport", "LossRow",
+    "Units", "Linearization", "LinearModel", "orbit",
     "polar_model", "polar_linear_model", "cw_model", "polar_units", "cw_units", "nondimensionalize",
     "staircase", "controllability", "observability", "pbh", "kalman_rank", "kalman_matrix",
     "distance_to_uncontrollability", "loss_table", "format_loss_table", "controllability_gramian",
@@ -35,42 +38,15 @@ __all__ = [
 
 
 # ----------------------------------------------------------------------------- validation helpers
-def _matrix(value, name: str, ndim: int = 2, allow_empty: bool = False) -> np.ndarray:
-    # as_real_array refuses complex / boolean / object / string arrays (numpy would truncate or
-    # read them as 0/1) with a TypeError naming the argument.
-    a = as_real_array(value, name, finite=False)
-    if ndim == 2 and a.ndim == 1 and name in ("B",):
-        a = a.reshape(-1, 1)
-    if ndim == 2 and a.ndim == 1 and name in ("C",):
-        a = a.reshape(1, -1)
-    if a.ndim != ndim:
-        raise ValueError(f"{name}: must be {ndim}-D, got shape {a.shape}")
-    if a.size == 0 and not allow_empty:
-        raise ValueError(f"{name}: must not be empty (shape {a.shape})")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name}: must be finite (no NaN or Inf)")
-    return a
-
-
-def _scalar(value, name: str, positive: bool = False, nonnegative: bool = False) -> float:
-    return as_real(value, name, positive=positive, nonnegative=nonnegative)
-
-
 _MAX_SCALE = 1e100  # rates and lengths: their squares and cubes stay finite (1e300 gave inf matrices)
 
 
-def _scale(value, name: str, unit: str) -> float:
-    """A positive rate or length whose powers up to the third are normal doubles."""
-    v = as_real(value, name, positive=True)
-    if not 1.0 / _MAX_SCALE <= v <= _MAX_SCALE:
-        raise ValueError(f"{name}: must be in [1e-100, 1e100] {unit}, got {v:.3g} (its square or cube in the "
-                         "model would overflow or underflow; hint: check the units)")
-    return v
-
-
 def _units(units):
+    """The C++ units dict of a :class:`Units` (or of a dict with 'time' and 'state'), or None."""
     if units is None:
         return None
+    if isinstance(units, Units):
+        return {"time": units.time, "state": units.state, "input": units.input, "output": units.output}
     if not isinstance(units, dict) or "time" not in units or "state" not in units:
         raise TypeError("units: must be a dict with 'time' and 'state' (see polar_units / cw_units)")
     return units
@@ -107,12 +83,12 @@ def _orbit(spec, name: str) -> tuple[float, float]:
             sigma, omega = spec
         except (TypeError, ValueError):
             raise TypeError(f"{name}: must be a string or a (sigma, omega) pair, got {spec!r}") from None
-    return _scalar(sigma, f"{name} (sigma)", positive=True), _scalar(omega, f"{name} (omega)", positive=True)
+    return as_real(sigma, f"{name} (sigma)", positive=True), as_real(omega, f"{name} (omega)", positive=True)
 
 
 def polar_model(sigma: float, omega: float) -> PolarModel:
     """Polar model about the circle r = sigma (km), theta = omega t (rad/s); k = sigma^3 omega^2."""
-    return PolarModel(_scale(sigma, "sigma", "km"), _scale(omega, "omega", "rad/s"))
+    return PolarModel(as_scale(sigma, "sigma", "km"), as_scale(omega, "omega", "rad/s"))
 
 
 def polar_linear_model(sigma: float, omega: float, measured: Sequence[int] = (0, 2),
@@ -143,29 +119,33 @@ def _indices(idx, n: int, name: str) -> list[int]:
 def cw_model(mean_motion: float, measured: Sequence[int] = (0, 1, 2)):
     """(A, B, C) of Clohessy-Wiltshire in a Hill frame: x radial, y along-track, z orbit normal;
     state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity."""
-    n = _scale(mean_motion, "mean_motion", "rad/s")
+    n = as_scale(mean_motion, "mean_motion", "rad/s")
     return _s._cw_model(n, _indices(measured, 6, "measured"))
 
 
-def polar_units(sigma: float, omega: float, n_outputs: int = 0) -> dict:
+def polar_units(sigma: float, omega: float, n_outputs: int = 0) -> Units:
     """Dimensionless units for the polar model: time 1/omega, length sigma."""
-    return _s._polar_units(_scale(sigma, "sigma", "km"), _scale(omega, "omega", "rad/s"),
-                           as_int(n_outputs, "n_outputs", low=0, high=10**6))
+    return _make_units(_s._polar_units(as_scale(sigma, "sigma", "km"), as_scale(omega, "omega", "rad/s"),
+                           as_int(n_outputs, "n_outputs", low=0, high=10**6)))
 
 
-def cw_units(mean_motion: float, length: float = 1.0, n_outputs: int = 0) -> dict:
+def _make_units(d: dict) -> Units:
+    return Units(time=d["time"], state=d["state"], input=d["input"], output=d["output"])
+
+
+def cw_units(mean_motion: float, length: float = 1.0, n_outputs: int = 0) -> Units:
     """Dimensionless units for CW: time 1/n, length ``length`` (m)."""
-    return _s._cw_units(_scale(mean_motion, "mean_motion", "rad/s"),
-                        _scale(length, "length", "m"),
-                        as_int(n_outputs, "n_outputs", low=0, high=10**6))
+    return _make_units(_s._cw_units(as_scale(mean_motion, "mean_motion", "rad/s"),
+                        as_scale(length, "length", "m"),
+                        as_int(n_outputs, "n_outputs", low=0, high=10**6)))
 
 
-def nondimensionalize(A, B, C, units: dict):
+def nondimensionalize(A, B, C, units: Units | dict):
     """(A~, B~, C~) in ``units`` (see :func:`polar_units`)."""
-    A = _matrix(A, "A")
+    A = as_matrix(A, "A")
     n = A.shape[0]
-    B = _matrix(B, "B", allow_empty=True) if np.size(B) else np.zeros((n, 0))
-    C = _matrix(C, "C", allow_empty=True) if np.size(C) else np.zeros((0, n))
+    B = as_matrix(B, "B", vector_as="column", allow_empty=True) if np.size(B) else np.zeros((n, 0))
+    C = as_matrix(C, "C", vector_as="row", allow_empty=True) if np.size(C) else np.zeros((0, n))
     # A B or C of the wrong size was a bare numpy "cannot reshape array of size 9 into shape (4,newaxis)"
     if B.shape[0] != n:
         raise ValueError(f"B: must have n = {n} rows (A is {n} x {n}), got shape {B.shape}")
@@ -175,8 +155,8 @@ def nondimensionalize(A, B, C, units: dict):
 
 
 # ----------------------------------------------------------------------------- reports
-@dataclasses.dataclass
-class RankReport:
+@dataclasses.dataclass(frozen=True)
+class RankReport(Result):
     """Result of a rank test (see the module docstring)."""
 
     property: str
@@ -204,7 +184,7 @@ class RankReport:
 _RANK_FIELDS = [f.name for f in dataclasses.fields(RankReport)]
 
 
-@dataclasses.dataclass
+@dataclasses.dataclass(frozen=True)
 class StaircaseReport(RankReport):
     """Staircase form: stairs, indices, Q (first ``rank`` columns span the controllable / observable
     subspace), the staircase matrices, the uncontrollable (unobservable) block and its modes."""
@@ -218,7 +198,7 @@ class StaircaseReport(RankReport):
     uncontrollable_modes: np.ndarray | None = None
 
 
-@dataclasses.dataclass
+@dataclasses.dataclass(frozen=True)
 class PbhReport(RankReport):
     """PBH per clustered eigenvalue, with stabilizability (CT: Re >= 0 modes; DT: |lambda| >= 1)."""
 
@@ -228,8 +208,8 @@ class PbhReport(RankReport):
     distance_upper_bound: float = 0.0
 
 
-@dataclasses.dataclass
-class GramianReport:
+@dataclasses.dataclass(frozen=True)
+class GramianReport(Result):
     """Symmetric PSD Gramian, ascending eigenvalues, condition number, weakest / strongest directions."""
 
     W: np.ndarray
@@ -238,6 +218,81 @@ class GramianReport:
     weakest: np.ndarray
     strongest: np.ndarray
     extra: dict = dataclasses.field(default_factory=dict)
+
+
+@dataclasses.dataclass(frozen=True)
+class DistanceReport(Result):
+    """Distance to uncontrollability (unobservability): ``upper_bound`` (PBH, at ``lambda_upper``),
+    ``refined`` (Nelder-Mead, at ``lambda_refined``), ``relative`` = refined / ||[A B]||_F,
+    ``evaluations`` of sigma_min and the ``method`` used. Was a dict (``r["refined"]`` warns)."""
+
+    upper_bound: float
+    lambda_upper: complex
+    refined: float
+    lambda_refined: complex
+    relative: float
+    evaluations: int
+    method: str
+
+
+@dataclasses.dataclass(frozen=True)
+class LossRow(Result):
+    """One row of :func:`loss_table`: the kept ``channels``, staircase ``rank``, ``verdict`` (and its
+    text), ``margin``, ``kalman_rank`` (numpy tolerance) and ``kalman_ratio`` (smin / smax of the
+    Kalman matrix). Was a dict (``row["rank"]`` warns)."""
+
+    channels: list
+    rank: int
+    verdict: str
+    verdict_text: str
+    margin: float
+    kalman_rank: int
+    kalman_ratio: float
+
+
+@dataclasses.dataclass(frozen=True)
+class Units(Result):
+    """Dimensionless units (see :func:`polar_units`, :func:`cw_units`): ``time`` (s per unit), and per
+    state / input / output component the length or rate that scales it (empty: not scaled). Was a
+    dict (``u["time"]`` warns); :func:`nondimensionalize` and the rank tests take both."""
+
+    time: float
+    state: np.ndarray
+    input: np.ndarray
+    output: np.ndarray
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        """Deprecated (units were a mutable dict): use ``dataclasses.replace(u, input=...)``. Sets the
+        field (arrays stored read-only) so that old code keeps working for now."""
+        if key not in ("time", "state", "input", "output"):
+            raise KeyError(key)
+        deprecated(f"Units[{key!r}] = ... (dict assignment)", f"dataclasses.replace(units, {key}=...)")
+        object.__setattr__(self, key, readonly(value))
+
+
+@dataclasses.dataclass(frozen=True)
+class Linearization(Result):
+    """:func:`linearize`: analytic ``A``, ``B`` beside the finite-difference ``A_fd``, ``B_fd`` and
+    the relative errors ``rel_err_A``, ``rel_err_B`` (max |a - b| / max |a|). Was a dict."""
+
+    A: np.ndarray
+    B: np.ndarray
+    A_fd: np.ndarray
+    B_fd: np.ndarray
+    rel_err_A: float
+    rel_err_B: float
+
+
+@dataclasses.dataclass(frozen=True)
+class LinearModel(Result):
+    """:func:`od_linear_model`: ``times`` (N,) s, ``states`` (N, 6) km, km/s, ``stms`` Phi(t_j, t0)
+    (N, 6, 6), ``A`` = A(t_j) (N, 6, 6) and ``transitions`` Phi(t_{j+1}, t_j) (N-1, 6, 6). Was a dict."""
+
+    times: np.ndarray
+    states: np.ndarray
+    stms: np.ndarray
+    A: np.ndarray
+    transitions: np.ndarray
 
 
 def _prop(p: str) -> str:
@@ -250,24 +305,25 @@ def _prop(p: str) -> str:
 
 def _args(A, BC, prop, rtol, fuzz, stair, cluster_rtol, units):
     prop = _prop(prop)
-    A = _matrix(A, "A")
+    A = as_matrix(A, "A")
     name = "B" if prop == "controllability" else "C"
-    BC = _matrix(BC, name, allow_empty=True)
+    BC = as_matrix(BC, name, allow_empty=True, vector_as="column" if name == "B" else "row")
     if BC.size == 0:
         raise ValueError(f"{name}: empty {'input' if name == 'B' else 'output'} set (needs at least one "
                          f"{'column' if name == 'B' else 'row'})")
-    rtol = 0.0 if rtol is None else _scalar(rtol, "rtol", nonnegative=True)
-    fuzz = _scalar(fuzz, "fuzz")
+    rtol = 0.0 if rtol is None else as_real(rtol, "rtol", nonnegative=True)
+    fuzz = as_real(fuzz, "fuzz")
     if fuzz <= 1:
         raise ValueError(f"fuzz: must be > 1, got {fuzz}")
     if stair not in ("svd", "qrcp"):
         raise ValueError(f"stair: must be 'svd' or 'qrcp', got {stair!r}")
-    cluster_rtol = _scalar(cluster_rtol, "cluster_rtol", nonnegative=True)
+    cluster_rtol = as_real(cluster_rtol, "cluster_rtol", nonnegative=True)
     return A, BC, prop, rtol, fuzz, stair, cluster_rtol, _units(units)
 
 
 def staircase(A, BC, property: str = "controllability", *, rtol: float | None = None, fuzz: float = 100.0,
-              stair: str = "svd", cluster_rtol: float = 1e-6, units: dict | None = None) -> StaircaseReport:
+              stair: str = "svd", cluster_rtol: float = 1e-6,
+              units: Units | dict | None = None) -> StaircaseReport:
     """Orthogonal staircase reduction of (A, B), or of (A^T, C^T) for observability (pass C)."""
     d = _s._staircase(*_args(A, BC, property, rtol, fuzz, stair, cluster_rtol, units))
     return StaircaseReport(**d)
@@ -284,14 +340,14 @@ def observability(A, C, **kw) -> StaircaseReport:
 
 
 def pbh(A, BC, property: str = "controllability", *, rtol: float | None = None, fuzz: float = 100.0,
-        cluster_rtol: float = 1e-6, units: dict | None = None) -> PbhReport:
+        cluster_rtol: float = 1e-6, units: Units | dict | None = None) -> PbhReport:
     """PBH test: rank of [A - lambda I, B] per clustered eigenvalue, tolerance rtol ||[A B]||_F."""
     d = _s._pbh(*_args(A, BC, property, rtol, fuzz, "svd", cluster_rtol, units))
     return PbhReport(**d)
 
 
 def kalman_rank(A, BC, property: str = "controllability", *, rtol: float | None = None, fuzz: float = 100.0,
-                units: dict | None = None) -> RankReport:
+                units: Units | dict | None = None) -> RankReport:
     """SVD rank of the Kalman matrix, tolerance rtol * sigma_max (default numpy's). Comparison only."""
     return RankReport(**_s._kalman_rank(*_args(A, BC, property, rtol, fuzz, "svd", 1e-6, units)))
 
@@ -300,23 +356,23 @@ def kalman_matrix(A, B=None, C=None) -> np.ndarray:
     """[B, AB, ..., A^{n-1} B] (pass B) or [C; CA; ...; C A^{n-1}] (pass C). For display."""
     if (B is None) == (C is None):
         raise ValueError("B, C: pass exactly one of them")
-    A = _matrix(A, "A")
+    A = as_matrix(A, "A")
     if B is not None:
-        return _s._kalman_controllability_matrix(A, _matrix(B, "B"))
-    return _s._kalman_observability_matrix(A, _matrix(C, "C"))
+        return _s._kalman_controllability_matrix(A, as_matrix(B, "B", vector_as="column"))
+    return _s._kalman_observability_matrix(A, as_matrix(C, "C", vector_as="row"))
 
 
 def distance_to_uncontrollability(A, BC, property: str = "controllability", *, max_iter: int = 200,
-                                  cluster_rtol: float = 1e-6) -> dict:
+                                  cluster_rtol: float = 1e-6) -> DistanceReport:
     """min over complex lambda of sigma_min([A - lambda I, B]): PBH upper bound and Nelder-Mead
     refinement from every eigenvalue cluster (dict: upper_bound, refined, relative, lambda_*)."""
     a = _args(A, BC, property, None, 100.0, "svd", cluster_rtol, None)
     max_iter = as_int(max_iter, "max_iter", low=0, high=10**7)
-    return _s._distance_to_uncontrollability(*a, max_iter)
+    return DistanceReport(**_s._distance_to_uncontrollability(*a, max_iter))
 
 
 def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 100.0,
-               units: dict | None = None) -> list[dict]:
+               units: Units | dict | None = None) -> list[LossRow]:
     """Actuator (pass B) or sensor (pass C) loss table: every non-empty subset of the channels, full set
     first; each row: channels, rank, verdict, margin, kalman_rank (numpy tolerance), kalman_ratio."""
     if (B is None) == (C is None):
@@ -329,13 +385,14 @@ def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 10
                          f"one ~1 kB row each, ~{2**m * 1e3 / 1e9:.3g} GB); at most {_MAX_LOSS_CHANNELS} "
                          "channels")
     _squarable(args[1], name)  # B = 1e300 gave NaN Kalman ratios (inf / inf)
-    return _s._loss_table(*args)
+    return [LossRow(**row) for row in _s._loss_table(*args)]
 
 
 _MAX_LOSS_CHANNELS = 20
 
 
-def format_loss_table(rows: list[dict], names: Sequence[str], n: int, title: str = "") -> str:
+def format_loss_table(rows: Sequence[LossRow | Mapping], names: Sequence[str], n: int,
+                      title: str = "") -> str:
     """Plain-text (Markdown) table of :func:`loss_table` rows with channel ``names`` (one name per
     channel of the B columns / C rows) and state dimension ``n`` (>= 1)."""
     # Checks: names="ab" printed channel letters, a short names list raised a bare IndexError, rows of
@@ -349,14 +406,19 @@ def format_loss_table(rows: list[dict], names: Sequence[str], n: int, title: str
         if not isinstance(nm, str):
             raise TypeError(f"names[{i}]: must be a string, got {type(nm).__name__}")
     if isinstance(rows, (str, bytes, dict)) or not isinstance(rows, Sequence):
-        raise TypeError(f"rows: must be the list of dicts returned by loss_table, got {type(rows).__name__}")
+        raise TypeError(f"rows: must be the list of dicts returned by loss_table (LossRow rows), "
+                        f"got {type(rows).__name__}")
     keys = ("channels", "rank", "verdict_text", "margin", "kalman_rank", "kalman_ratio")
+    table = []
     for i, r in enumerate(rows):
-        if not isinstance(r, Mapping):
-            raise TypeError(f"rows[{i}]: must be a dict from loss_table, got {type(r).__name__}")
+        if isinstance(r, LossRow):
+            r = {k: getattr(r, k) for k in keys}
+        elif not isinstance(r, Mapping):
+            raise TypeError(f"rows[{i}]: must be a dict from loss_table (a LossRow), got {type(r).__name__}")
         missing = [k for k in keys if k not in r]
         if missing:
             raise ValueError(f"rows[{i}]: missing key(s) {missing}; pass the rows returned by loss_table")
+        table.append(r)
         for c in r["channels"]:
             if isinstance(c, bool) or not isinstance(c, numbers.Integral) or not 0 <= c < len(names):
                 raise ValueError(f"names: {len(names)} name(s) given, but rows[{i}] uses channel {c!r} "
@@ -364,7 +426,7 @@ def format_loss_table(rows: list[dict], names: Sequence[str], n: int, title: str
     lines = [title] if title else []
     lines += ["| kept | rank | verdict | margin | Kalman rank (numpy tol) | Kalman smin/smax |",
               "|---|---|---|---|---|---|"]
-    for r in rows:
+    for r in table:
         kept = " + ".join(names[i] for i in r["channels"])
         lines.append(f"| {kept} | {r['rank']}/{n} | {r['verdict_text']} | {r['margin']:.3g} | "
                      f"{r['kalman_rank']} | {r['kalman_ratio']:.3g} |")
@@ -397,26 +459,25 @@ def _horizon(A: np.ndarray, T: float) -> float:
 
 def _squarable(M: np.ndarray, name: str) -> np.ndarray:
     """M, or a ValueError naming it when M M^T overflows (B = 1e300 was blamed on T)."""
-    big = float(np.max(np.abs(M))) if M.size else 0.0
-    if big >= _MAX_FACTOR:
-        raise ValueError(f"{name}: entries must be below {_MAX_FACTOR:.0e} in magnitude (max |{name}_ij| = "
-                         f"{big:.3g}): the Gramian's {name}-product overflows double precision "
-                         "(hint: nondimensionalize the model)")
-    return M
+    return check_magnitude(M, name, _MAX_FACTOR, f"the Gramian's {name}-product overflows double precision "
+                           "(hint: nondimensionalize the model)", detail=f"max |{name}_ij| = {{big}}",
+                           limit_text=f"{_MAX_FACTOR:.0e}")
 
 
 def controllability_gramian(A, B, T: float) -> GramianReport:
     """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential (T in s)."""
-    T = _scalar(T, "T", positive=True)
-    A = _matrix(A, "A")
-    return _gramian(_s._controllability_gramian(A, _squarable(_matrix(B, "B"), "B"), _horizon(A, T)))
+    T = as_real(T, "T", positive=True)
+    A = as_matrix(A, "A")
+    B = _squarable(as_matrix(B, "B", vector_as="column"), "B")
+    return _gramian(_s._controllability_gramian(A, B, _horizon(A, T)))
 
 
 def observability_gramian(A, C, T: float) -> GramianReport:
     """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential (T in s)."""
-    T = _scalar(T, "T", positive=True)
-    A = _matrix(A, "A")
-    return _gramian(_s._observability_gramian(A, _squarable(_matrix(C, "C"), "C"), _horizon(A, T)))
+    T = as_real(T, "T", positive=True)
+    A = as_matrix(A, "A")
+    C = _squarable(as_matrix(C, "C", vector_as="row"), "C")
+    return _gramian(_s._observability_gramian(A, C, _horizon(A, T)))
 
 
 def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
@@ -426,9 +487,9 @@ def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
             if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
                 raise TypeError(f"{name}: must be a sequence of matrices (one per time), "
                                 f"got {type(value).__name__}")
-    stms = [_matrix(p, "stms") for p in stms]
-    H = [_matrix(h, "H") for h in H]
-    w = [] if weights is None else [_scalar(x, "weights", nonnegative=True) for x in weights]
+    stms = [as_matrix(p, "stms") for p in stms]
+    H = [as_matrix(h, "H") for h in H]
+    w = [] if weights is None else [as_real(x, "weights", nonnegative=True) for x in weights]
     try:
         return _gramian(_s._ltv_observability_gramian(stms, H, w))
     except ValueError as e:  # "W: must be finite" named the result, not the inputs that overflowed
@@ -439,7 +500,7 @@ def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
 
 def minimum_energy(W, x_f) -> float:
     """x_f^T W^+ x_f (inf if x_f leaves the range of W). W: a Gramian (symmetric PSD)."""
-    W = _matrix(W, "W")
+    W = as_matrix(W, "W")
     if W.shape[0] == W.shape[1]:
         # A non-PSD W (e.g. -I) gave inf ("unreachable") instead of an error.
         scale = float(np.max(np.abs(W)))
@@ -448,13 +509,13 @@ def minimum_energy(W, x_f) -> float:
         ev = np.linalg.eigvalsh(0.5 * (W + W.T))
         if ev[0] < -1e-8 * max(scale, float(np.max(np.abs(ev)))):
             raise ValueError(f"W: must be positive semidefinite (a Gramian), smallest eigenvalue {ev[0]:.3g}")
-    x_f = _squarable(_matrix(x_f, "x_f", ndim=1), "x_f")  # 1e300 gave inf, read as "unreachable"
+    x_f = _squarable(as_matrix(x_f, "x_f", ndim=1), "x_f")  # 1e300 gave inf, read as "unreachable"
     return _s._minimum_energy(W, x_f)
 
 
 def expm(M) -> np.ndarray:
     """Matrix exponential (scaling and squaring, Pade)."""
-    M = _matrix(M, "M")
+    M = as_matrix(M, "M")
     E = np.asarray(_s._expm(M))
     if not np.all(np.isfinite(E)):  # was a silent NaN matrix for expm(1e308 I)
         raise ValueError(f"M: exp(M) overflows double precision (max |M_ij| = {np.max(np.abs(M)):.3g}; "
@@ -468,26 +529,26 @@ def fd_jacobian(f: Callable, t: float, x, u, *, rel_step: float = 6.055454452393
     """Central finite-difference Jacobians (A, B) of f(t, x, u); step rel_step * max(|z_j|, scale_j)."""
     if not callable(f):
         raise TypeError("f: must be callable f(t, x, u) -> array")
-    x = _matrix(x, "x", ndim=1)
-    u = _matrix(u, "u", ndim=1, allow_empty=True)
-    xs = np.ones(0) if x_scale is None else _matrix(x_scale, "x_scale", ndim=1)
-    us = np.ones(0) if u_scale is None else _matrix(u_scale, "u_scale", ndim=1)
+    x = as_matrix(x, "x", ndim=1)
+    u = as_matrix(u, "u", ndim=1, allow_empty=True)
+    xs = np.ones(0) if x_scale is None else as_matrix(x_scale, "x_scale", ndim=1)
+    us = np.ones(0) if u_scale is None else as_matrix(u_scale, "u_scale", ndim=1)
 
     def g(tt, xx, uu):
         # A complex value was truncated, a boolean read as 0/1 and NaN gave a NaN Jacobian silently.
         return as_real_array(f(tt, xx, uu), "f", finite=True)
 
-    return _s._fd_jacobian(g, _scalar(t, "t"), x, u, _scalar(rel_step, "rel_step", positive=True), xs, us)
+    return _s._fd_jacobian(g, as_real(t, "t"), x, u, as_real(rel_step, "rel_step", positive=True), xs, us)
 
 
-def linearize(f: Callable, jac: Callable, t: float, x, u, **fd) -> dict:
+def linearize(f: Callable, jac: Callable, t: float, x, u, **fd) -> Linearization:
     """Analytic Jacobians jac(t, x, u) -> (A, B) checked against :func:`fd_jacobian`: dict with A, B,
     A_fd, B_fd, rel_err_A, rel_err_B."""
     if not callable(jac):
         raise TypeError("jac: must be callable jac(t, x, u) -> (A, B)")
     A_fd, B_fd = fd_jacobian(f, t, x, u, **fd)
     A, B = jac(t, np.asarray(x, float), np.asarray(u, float))
-    A = _matrix(A, "jac(A)", allow_empty=True).reshape(A_fd.shape) if np.shape(A) == A_fd.shape else None
+    A = as_matrix(A, "jac(A)", allow_empty=True).reshape(A_fd.shape) if np.shape(A) == A_fd.shape else None
     B = np.asarray(B, float)
     if A is None or B.shape != B_fd.shape:
         raise ValueError(f"jac: must return A {A_fd.shape} and B {B_fd.shape}")
@@ -495,7 +556,7 @@ def linearize(f: Callable, jac: Callable, t: float, x, u, **fd) -> dict:
     def rel(a, b):
         return float(np.max(np.abs(a - b)) / max(np.max(np.abs(a)), 1e-300)) if a.size else 0.0
 
-    return {"A": A, "B": B, "A_fd": A_fd, "B_fd": B_fd, "rel_err_A": rel(A, A_fd), "rel_err_B": rel(B, B_fd)}
+    return Linearization(A=A, B=B, A_fd=A_fd, B_fd=B_fd, rel_err_A=rel(A, A_fd), rel_err_B=rel(B, B_fd))
 
 
 # ----------------------------------------------------------------------------- OD observability
@@ -544,42 +605,42 @@ def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_R
     station Table 3 rotating at 7.27e-5 rad/s). extra: jacobi_condition (unit-free), times."""
     kind = one_of(kind, "kind", ("range", "range_rate", "both"))
     px, pr = paper_od_state()
-    x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
-    r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
-    times = _span_checked(_matrix(times, "times", ndim=1))
+    x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
+    r0 = pr if station_r0 is None else as_matrix(station_r0, "station_r0", ndim=1)
+    times = _span_checked(as_matrix(times, "times", ndim=1))
     with _kepler_blame("times"):
-        return _gramian(_s._od_observability_gramian(x0, r0, _scalar(rate, "rate"), list(times), kind,
-                                                     _scalar(mu, "mu", positive=True)))
+        return _gramian(_s._od_observability_gramian(x0, r0, as_real(rate, "rate"), list(times), kind,
+                                                     as_real(mu, "mu", positive=True)))
 
 
 def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu: float = MU_EARTH,
                     t_max: float = 3600.0, dt: float = 10.0) -> tuple[float, float]:
     """(rise, set) times (s) of the pass containing the epoch (elevation above the geocentric horizon)."""
     px, pr = paper_od_state()
-    x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
-    r0 = pr if station_r0 is None else _matrix(station_r0, "station_r0", ndim=1)
+    x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
+    r0 = pr if station_r0 is None else as_matrix(station_r0, "station_r0", ndim=1)
     if not np.linalg.norm(r0) > 0:  # was reported as "x0: the satellite is not visible"
         raise ValueError("station_r0: the station is at the centre of the Earth (|station_r0| = 0)")
-    t_max = _scalar(t_max, "t_max", positive=True)
-    dt = _scalar(dt, "dt", positive=True)
+    t_max = as_real(t_max, "t_max", positive=True)
+    dt = as_real(dt, "dt", positive=True)
     if dt > t_max:
         raise ValueError(f"dt: the search step must be <= t_max = {t_max} s, got {dt}")
-    mu = _scalar(mu, "mu", positive=True)
+    mu = as_real(mu, "mu", positive=True)
     with _kepler_blame("t_max"):
-        return tuple(_s._visibility_pass(x0, r0, _scalar(rate, "rate"), mu, t_max, dt))
+        return tuple(_s._visibility_pass(x0, r0, as_real(rate, "rate"), mu, t_max, dt))
 
 
-def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> dict:
+def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> LinearModel:
     """Linear (LTV) model of the OD problem along the two-body orbit of x0 (default Table 1):
     ``states`` (N x 6), ``stms`` Phi(t_j, t0) (N x 6 x 6, analytic Kepler STM), ``A`` = A(t_j) =
     d Phi/dt Phi^-1 = [[0, I], [mu/r^3 (3 r r^T/r^2 - I), 0]] (N x 6 x 6), and ``transitions``
     Phi(t_{j+1}, t_j) = Phi_{j+1} Phi_j^-1 ((N-1) x 6 x 6) for the discrete LTV model."""
     px, _ = paper_od_state()
-    x0 = px if x0 is None else _matrix(x0, "x0", ndim=1)
-    times = _span_checked(_matrix(times, "times", ndim=1))
+    x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
+    times = _span_checked(as_matrix(times, "times", ndim=1))
     if np.any(np.diff(times) <= 0):
         raise ValueError("times: must be strictly increasing")
-    mu = _scalar(mu, "mu", positive=True)
+    mu = as_real(mu, "mu", positive=True)
     tr = _s.propagate_kepler(x0, 0.0, list(times), mu, True)
     states = np.asarray(tr.states)
     stms = np.asarray(tr.stms)
@@ -587,4 +648,4 @@ def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> dict:
         raise ValueError(f"x0, mu, times: Kepler propagation stopped early ({tr.message})")
     A = np.array([_s._two_body_jacobian(x[:3], mu) for x in states])
     trans = np.array([stms[j + 1] @ np.linalg.inv(stms[j]) for j in range(len(times) - 1)])
-    return {"times": times, "states": states, "stms": stms, "A": A, "transitions": trans}
+    return LinearModel(times=times, states=states, stms=stms, A=A, transitions=trans)

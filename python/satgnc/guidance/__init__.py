@@ -14,7 +14,8 @@ import numpy as np
 
 from .. import _satgnc
 from .. import _validate as _v
-from .._validate import as_bool, as_real, as_real_array, one_of
+from .._results import Result
+from .._validate import as_bool, as_real, as_real_array, check_magnitude, one_of
 
 __all__ = [
     "AdmmSettings",
@@ -28,31 +29,19 @@ __all__ = [
 ]
 
 AdmmSettings = _satgnc.AdmmSettings
-STATUS_NAMES = {0: "solved", 1: "solved_paper_rule", 2: "max_iterations", 3: "terminal_unreachable",
-                4: "numerical_error", 5: "unsolved", 6: "solved_inaccurate", 7: "primal_infeasible",
-                8: "time_limit"}
+# Read from the C++ status table (satgnc/core/status.hpp), never re-typed: value -> name.
+STATUS_NAMES = {int(v): k for k, v in _satgnc.AdmmStatus.__members__.items()}
 
 
-def _as_array(value: Any, name: str, ndim: int | tuple[int, ...], shape: tuple | None = None) -> np.ndarray:
-    # Shared checks: complex / boolean / object / string arrays are a TypeError naming the argument.
-    arr = as_real_array(value, name, finite=False)
-    ndims = (ndim,) if isinstance(ndim, int) else ndim
-    if arr.ndim not in ndims:
-        want = " or ".join(map(str, ndims))
-        raise ValueError(f"{name}: must have {want} dimensions, got shape {arr.shape}")
-    if shape is not None and arr.shape != shape:
-        raise ValueError(f"{name}: must have shape {shape}, got {arr.shape}")
-    return arr
+_OVERFLOW = "the solver's products overflow double precision (hint: scale the problem)"
 
 
-def _finite(arr: np.ndarray, name: str) -> np.ndarray:
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: must be finite (no NaN or Inf)")
-    # A = 1e300 gave a numerical_error with a NaN objective, x0 = 1e300 an infinite one
-    if arr.size and np.max(np.abs(arr)) >= 1e100:
-        raise ValueError(f"{name}: entries must be below 1e100 in magnitude (got {np.max(np.abs(arr)):.3g}): "
-                         "the solver's products overflow double precision (hint: scale the problem)")
-    return arr
+def _array(value: Any, name: str, ndim: int | tuple[int, ...], shape: tuple[int, ...] | None = None,
+           *, finite: bool = True) -> np.ndarray:
+    # finite: no NaN / Inf, and |entries| < 1e100 (A = 1e300 gave a numerical_error with a NaN
+    # objective, x0 = 1e300 an infinite one)
+    arr = as_real_array(value, name, ndim=ndim, shape=shape, finite=finite)
+    return check_magnitude(arr, name, 1e100, _OVERFLOW) if finite else arr
 
 
 def cw_matrices(n: float, mass: float) -> tuple[np.ndarray, np.ndarray]:
@@ -75,11 +64,13 @@ def cw_discretize(n: float, mass: float, dt: float, method: str = "zoh") -> tupl
                                  as_real(dt, "dt", positive=True), method)
 
 
-@dataclasses.dataclass
-class L1Result:
-    """Solution of :func:`solve_l1`. Arrays are time-major: X (N+1, nx), U/Y/Lambda (N, nu).
+@dataclasses.dataclass(frozen=True)
+class L1Result(Result):
+    """Solution of :func:`solve_l1`, read-only. Arrays are time-major: X (N+1, nx), U/Y/Lambda (N, nu).
 
-    ``Y`` is the sparse plan to fly; ``X_flown`` its rollout; ``U``/``X`` the LQR iterate."""
+    ``Y`` is the sparse plan to fly; ``X_flown`` its rollout; ``U``/``X`` the LQR iterate. ``status``
+    is one of :data:`STATUS_NAMES` (``"solved"``, ...), ``message`` its text, ``iterations`` the ADMM
+    iterations. Arrays are read-only copies (``r.Y.copy()`` gives a writeable one)."""
 
     status: str
     message: str
@@ -170,8 +161,8 @@ class L1Solver:
     def __init__(self, A, B, x0, *, horizon: int | None = None, c=None, xf=None, Qf=None, Q=None, R=None,
                  l1_weights=None, group_l2_weight: float = 0.0, u_lower=None, u_upper=None,
                  u_norm_max: float = 0.0, terminal_equality: bool = False, settings=None):
-        A = _finite(_as_array(A, "A", (2, 3)), "A")
-        B = _finite(_as_array(B, "B", (2, 3)), "B")
+        A = _array(A, "A", (2, 3))
+        B = _array(B, "B", (2, 3))
         if A.ndim == 3 and horizon is None:
             horizon = A.shape[0]
         if B.ndim == 3 and horizon is None:
@@ -199,23 +190,23 @@ class L1Solver:
         if c is None:
             cs = []
         else:
-            c = _finite(_as_array(c, "c", (1, 2)), "c")
+            c = _array(c, "c", (1, 2))
             cs = [c] if c.ndim == 1 else list(c)
             if cs[0].shape != (nx,):
                 raise ValueError(f"c: must have nx = {nx} entries per step, got {cs[0].shape}")
-        x0 = _finite(_as_array(x0, "x0", 1, (nx,)), "x0")
-        xf = np.zeros(nx) if xf is None else _finite(_as_array(xf, "xf", 1, (nx,)), "xf")
-        Qf = np.zeros((nx, nx)) if Qf is None else _finite(_as_array(Qf, "Qf", 2, (nx, nx)), "Qf")
-        Q = np.zeros((0, 0)) if Q is None else _finite(_as_array(Q, "Q", 2, (nx, nx)), "Q")
-        R = np.zeros((0, 0)) if R is None else _finite(_as_array(R, "R", 2, (nu, nu)), "R")
+        x0 = _array(x0, "x0", 1, (nx,))
+        xf = np.zeros(nx) if xf is None else _array(xf, "xf", 1, (nx,))
+        Qf = np.zeros((nx, nx)) if Qf is None else _array(Qf, "Qf", 2, (nx, nx))
+        Q = np.zeros((0, 0)) if Q is None else _array(Q, "Q", 2, (nx, nx))
+        R = np.zeros((0, 0)) if R is None else _array(R, "R", 2, (nu, nu))
         if l1_weights is None:
             w = np.ones(nu) if group_l2_weight == 0 else np.zeros(0)
         else:
-            w = _finite(_as_array(l1_weights, "l1_weights", 1, (nu,)), "l1_weights")
+            w = _array(l1_weights, "l1_weights", 1, (nu,))
             if np.any(w < 0):
                 raise ValueError("l1_weights: must be >= 0 (a fuel weight cannot be negative)")
-        lo = np.zeros(0) if u_lower is None else _as_array(u_lower, "u_lower", 1, (nu,))
-        hi = np.zeros(0) if u_upper is None else _as_array(u_upper, "u_upper", 1, (nu,))
+        lo = np.zeros(0) if u_lower is None else _array(u_lower, "u_lower", 1, (nu,), finite=False)
+        hi = np.zeros(0) if u_upper is None else _array(u_upper, "u_upper", 1, (nu,), finite=False)
         if np.any(np.isnan(lo)) or np.any(np.isnan(hi)):
             raise ValueError("u_lower/u_upper: must not be NaN")
         if lo.size and hi.size and np.any(lo > hi):
@@ -247,8 +238,8 @@ class L1Solver:
         d = self._solver.solve()
         return L1Result(
             status=STATUS_NAMES[d["status"]], message=d["status_name"], iterations=d["iterations"],
-            X=d["X"].T.copy(), U=d["U"].T.copy(), Y=d["Y"].T.copy(), Lambda=d["Lambda"].T.copy(),
-            X_flown=d["X_flown"].T.copy(), terminal_multiplier=d["terminal_multiplier"].copy(),
+            X=d["X"].T, U=d["U"].T, Y=d["Y"].T, Lambda=d["Lambda"].T,  # read-only copies (Result)
+            X_flown=d["X_flown"].T, terminal_multiplier=d["terminal_multiplier"],
             objective=d["objective"], objective_u=d["objective_u"], terminal_miss=d["terminal_miss"],
             primal_residual=d["primal_residual"], dual_residual=d["dual_residual"],
             eps_primal=d["eps_primal"],
@@ -257,18 +248,18 @@ class L1Solver:
             polish_attempts=d["polish_attempts"], solve_time=d["solve_time"], condensed=d["condensed"],
             primal_objective=d["primal_objective"], dual_objective=d["dual_objective"],
             duality_gap=d["duality_gap"], certified=d["certified"],
-            infeasibility_certificate=d["infeasibility_certificate"].copy(),
+            infeasibility_certificate=d["infeasibility_certificate"],
             ipm_iterations=d["ipm_iterations"], ipm_solved=d["ipm_solved"])
 
     def warm_start(self, Y, Lambda) -> None:
         """Start the next solve from Y, Lambda (N, nu) each, e.g. a shifted previous solution."""
-        Y = _finite(_as_array(Y, "Y", 2, (self.horizon, self.nu)), "Y")
-        L = _finite(_as_array(Lambda, "Lambda", 2, (self.horizon, self.nu)), "Lambda")
+        Y = _array(Y, "Y", 2, (self.horizon, self.nu))
+        L = _array(Lambda, "Lambda", 2, (self.horizon, self.nu))
         self._solver.warm_start(np.ascontiguousarray(Y.T), np.ascontiguousarray(L.T))
 
     def set_x0(self, x0) -> None:
         """New initial state (receding horizon); the Riccati gains are reused."""
-        self._solver.set_x0(_finite(_as_array(x0, "x0", 1, (self.nx,)), "x0"))
+        self._solver.set_x0(_array(x0, "x0", 1, (self.nx,)))
 
     def update_settings(self, settings) -> None:
         self._solver.update_settings(_settings(settings))
@@ -285,23 +276,33 @@ class L1Solver:
         if na != N or nb != N or nc not in (0, N):
             raise ValueError(f"A, B: update_dynamics needs a solver built with horizon = {N} matrices of A "
                              f"and of B (and of c if any); this one holds {na} / {nb} / {nc}")
-        A = _finite(_as_array(A, "A", 3, (N, nx, nx)), "A")
-        B = _finite(_as_array(B, "B", 3, (N, nx, nu)), "B")
+        A = _array(A, "A", 3, (N, nx, nx))
+        B = _array(B, "B", 3, (N, nx, nu))
         if nc == 0 and c is not None:
             raise ValueError("c: the solver was built without c; pass c=None")
         if nc == N and c is None:
             raise ValueError(f"c: required, shape ({N}, {nx}) (the solver was built with c)")
-        cs = [] if c is None else list(_finite(_as_array(c, "c", 2, (N, nx)), "c"))
+        cs = [] if c is None else list(_array(c, "c", 2, (N, nx)))
         if not self._solver.update_dynamics(list(A), list(B), cs):
             raise ValueError("A, B: the updated problem cannot be factored at the current rho "
                              "(R + rho I must stay positive definite)")
 
     def objective_of(self, U) -> float:
         """Objective of flying U (N, nu) from x0."""
-        U = _finite(_as_array(U, "U", 2, (self.horizon, self.nu)), "U")
+        U = _array(U, "U", 2, (self.horizon, self.nu))
         return self._solver.objective_of(np.ascontiguousarray(U.T))
 
 
 def solve_l1(A, B, x0, **kwargs) -> L1Result:
     """One-shot :class:`L1Solver` set-up and solve (same arguments)."""
     return L1Solver(A, B, x0, **kwargs).solve()
+
+
+# Issue 12: the rendezvous library (explicit problem and model parameters, time-major read-only results);
+# guidance.nonlinear is its deprecated paper-bound form. ``plan`` is the function (the module is
+# satgnc.guidance.plan in sys.modules).
+from .flight import Flight, MpcRun, fly, mpc  # noqa: E402
+from .plan import Plan, plan  # noqa: E402
+from .problem import RendezvousProblem, satellite_params  # noqa: E402
+
+__all__ += ["Flight", "MpcRun", "Plan", "RendezvousProblem", "fly", "mpc", "plan", "satellite_params"]

@@ -28,7 +28,17 @@ from collections.abc import Sequence
 import numpy as np
 
 from .. import _satgnc as _c
-from .._validate import FileFormatError, as_bool, as_int, as_real, as_real_array, did_you_mean, read_text_file
+from .._validate import (
+    FileFormatError,
+    as_bool,
+    as_int,
+    as_real,
+    as_real_array,
+    as_series,
+    as_vector,
+    did_you_mean,
+    read_text_file,
+)
 
 EARTH_MU = 398600.4418  #: km^3/s^2 (EGM-96)
 EARTH_OMEGA = 7.292115e-5  #: rad/s
@@ -96,39 +106,6 @@ _METHODS = {
 }
 
 
-# ----------------------------------------------------------------------------- validation helpers
-def _vector(x, n: int, name: str) -> np.ndarray:
-    if isinstance(x, (str, bytes)):
-        raise TypeError(f"{name}: must be a sequence of {n} numbers, got {type(x).__name__}")
-    a = as_real_array(x, name, finite=False)  # complex / boolean / object arrays: TypeError
-    if a.shape != (n,):
-        raise ValueError(f"{name}: must have shape ({n},), got {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name}: must be finite (no NaN or Inf)")
-    if np.max(np.abs(a)) >= 1e100:  # predict(x = 1e300) returned a NaN range: r^2 overflowed
-        raise ValueError(f"{name}: every component must be below 1e100 in magnitude (km, km/s): its square "
-                         "overflows double precision (hint: check the units)")
-    return a
-
-
-def _array1(x, name: str) -> np.ndarray:
-    a = np.atleast_1d(as_real_array(x, name, finite=False))  # complex / boolean / object: TypeError
-    if a.ndim != 1:
-        raise ValueError(f"{name}: must be one-dimensional, got shape {a.shape}")
-    return a
-
-
-def _finite_scalar(x, name: str, positive: bool = False) -> float:
-    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name}: must be a number, got {type(x).__name__}")
-    v = float(x)
-    if not math.isfinite(v):
-        raise ValueError(f"{name}: must be finite, got {v}")
-    if positive and v <= 0:
-        raise ValueError(f"{name}: must be > 0, got {v}")
-    return v
-
-
 # ----------------------------------------------------------------------------- time and stations
 _JD_MIN = 2415079.5  # 1900-03-01T00:00 (od_julian_date's lower bound)
 _JD_MAX = 2488069.5  # 2100-03-01T00:00
@@ -161,7 +138,7 @@ def julian_date(epoch) -> float:
 
 
 def _ut1_minus_utc(value) -> float:
-    v = _finite_scalar(value, "ut1_minus_utc")
+    v = as_real(value, "ut1_minus_utc")
     if not abs(v) < _MAX_DUT1:  # 5 s was accepted: a unit or sign error, never a real offset
         raise ValueError(f"ut1_minus_utc: |UT1 - UTC| must be < {_MAX_DUT1} s (IERS keeps it so with leap "
                          f"seconds), got {v} s")
@@ -187,15 +164,15 @@ def _as_ellipsoid(e) -> Ellipsoid:
 
 def geodetic_to_ecef(lat_deg: float, lon_deg: float, height_km: float, ellipsoid="WGS-84") -> np.ndarray:
     """Earth-fixed position (km) of geodetic latitude/longitude (deg) and height (km)."""
-    lat = _finite_scalar(lat_deg, "lat_deg")
-    lon = _finite_scalar(lon_deg, "lon_deg")
+    lat = as_real(lat_deg, "lat_deg")
+    lon = as_real(lon_deg, "lon_deg")
     if abs(lat) > 90:
         raise ValueError(f"lat_deg: must be within [-90, 90], got {lat}")
     return np.asarray(
         _c.od_geodetic_to_ecef(
             math.radians(lat),
             math.radians(lon),
-            _finite_scalar(height_km, "height_km"),
+            as_real(height_km, "height_km"),
             _as_ellipsoid(ellipsoid),
         )
     )
@@ -212,28 +189,28 @@ def station_geodetic(
 ) -> Station:
     """Station at geodetic (deg, deg, km) on the named ellipsoid; inertial position at the UTC
     ``epoch`` through GMST (IAU-1982), rotating about +z at ``omega`` (rad/s)."""
-    lat = _finite_scalar(lat_deg, "lat_deg")
+    lat = as_real(lat_deg, "lat_deg")
     if abs(lat) > 90:
         raise ValueError(f"lat_deg: must be within [-90, 90], got {lat}")
     return Station.from_geodetic(
         lat,
-        _finite_scalar(lon_deg, "lon_deg"),
-        _finite_scalar(height_km, "height_km"),
+        as_real(lon_deg, "lon_deg"),
+        as_real(height_km, "height_km"),
         julian_date(epoch),
         _ut1_minus_utc(ut1_minus_utc),
         _as_ellipsoid(ellipsoid),
-        _finite_scalar(omega, "omega"),
+        as_real(omega, "omega"),
     )
 
 
 def station_inertial(r0, omega: float = EARTH_OMEGA) -> Station:
     """The paper's station: inertial position ``r0`` (km) at t = 0 rotating about +z at ``omega``."""
-    return Station.from_inertial(_vector(r0, 3, "r0"), _finite_scalar(omega, "omega"))
+    return Station.from_inertial(as_vector(r0, 3, "r0"), as_real(omega, "omega"))
 
 
 def implied_rotation_rate(station_state) -> float:
     """Rotation rate (rad/s) that makes a printed station state [R, V] satisfy V = omega z x R."""
-    return _c.od_implied_rotation_rate(_vector(station_state, 6, "station_state"))
+    return _c.od_implied_rotation_rate(as_vector(station_state, 6, "station_state"))
 
 
 def _mtype(kind, name: str = "type") -> MeasurementType:
@@ -251,7 +228,7 @@ def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
     """Predicted observable (km or km/s) of satellite state ``x`` from ``station_state`` and its
     partials d h / d x (6,). Raises ValueError when the satellite is at the station."""
     v, g = _c.od_predict_measurement(
-        _mtype(kind, "kind"), _vector(x, 6, "x"), _vector(station_state, 6, "station_state")
+        _mtype(kind, "kind"), as_vector(x, 6, "x"), as_vector(station_state, 6, "station_state")
     )
     return float(v), np.asarray(g).ravel()
 
@@ -265,7 +242,7 @@ def make_propagator(kind: str = "kepler", mu: float = EARTH_MU, j2: bool = False
 
 def _make_propagator(kind, mu, j2=False, name: str = "propagator"):
     """make_propagator with errors naming the caller's argument (``propagator`` in solve/simulate)."""
-    mu = _finite_scalar(mu, "mu", positive=True)
+    mu = as_real(mu, "mu", positive=True)
     j2 = as_bool(j2, "j2")  # bool("no") is True
     if isinstance(kind, _c.StmPropagator):
         return kind  # already a propagator object
@@ -311,11 +288,11 @@ class Observations:
     station: np.ndarray
 
     def __post_init__(self):
-        self.t = _array1(self.t, "t")
+        self.t = as_series(self.t, "t")
         n = self.t.size
-        self.value = _array1(self.value, "value")
+        self.value = as_series(self.value, "value")
         sig = as_real_array(self.sigma, "sigma", finite=False)  # complex sigma was truncated silently
-        self.sigma = np.full(n, float(sig)) if sig.ndim == 0 else _array1(sig, "sigma")
+        self.sigma = np.full(n, float(sig)) if sig.ndim == 0 else as_series(sig, "sigma")
         st = np.asarray(self.station)
         if st.dtype.kind not in "iu" and not (st.dtype.kind == "f" and np.all(st == np.round(st))):
             raise TypeError("station: must be integer station indices")
@@ -521,7 +498,7 @@ def solve(
     ``stalled``, ``max_iterations``, ... otherwise, see
     docs/od.md), x0 = the best iterate with its cost, residuals and covariance, and a history of
     ``iterations + 1`` rows."""
-    x0 = _vector(x0_guess, 6, "x0_guess")
+    x0 = as_vector(x0_guess, 6, "x0_guess")
     return solver(observations, stations, method, propagator, mu, **kw).solve(x0)
 
 
@@ -536,8 +513,8 @@ def six_point_conditions(
 ) -> list:
     """The paper's six implicit conditions: ``mode`` 'doppler' (eq. 11 with the observed range),
     'range' (eq. 9) or a list of six of them (mixed)."""
-    t = _array1(t, "t")
-    rho = _array1(rho, "rho")
+    t = as_series(t, "t")
+    rho = as_series(rho, "rho")
     if not np.all(np.isfinite(t)):
         raise ValueError("t: must be finite (no NaN or Inf)")
     if not np.all(np.isfinite(rho)) or np.any(rho <= 0):
@@ -560,7 +537,7 @@ def six_point_conditions(
     if any(ty == ConditionType.doppler for ty in types):
         if rhodot is None:
             raise ValueError("rhodot: Doppler conditions need the observed range-rates")
-        rhodot = _array1(rhodot, "rhodot")
+        rhodot = as_series(rhodot, "rhodot")
         if rhodot.shape != t.shape:
             raise ValueError(f"rhodot: must have 6 values, got {rhodot.size}")
         if not np.all(np.isfinite(rhodot)):
@@ -569,8 +546,8 @@ def six_point_conditions(
         rhodot = np.zeros(6)
     if len(np.unique(t)) != 6 and len({(a, b) for a, b in zip(t, modes)}) != 6:
         raise ValueError("t: duplicate times for the same condition type")
-    sr = _finite_scalar(sigma_range, "sigma_range", positive=True)
-    srr = _finite_scalar(sigma_range_rate, "sigma_range_rate", positive=True)
+    sr = as_real(sigma_range, "sigma_range", positive=True)
+    srr = as_real(sigma_range_rate, "sigma_range_rate", positive=True)
     return [
         BoundaryCondition(float(t[i]), types[i], float(rho[i]), float(rhodot[i]), sr, srr, int(station))
         for i in range(6)
@@ -611,7 +588,7 @@ def solve_six_point(
 ) -> OdResult:
     """The paper's Newton-Raphson on six implicit boundary conditions (eqs. 9-18) with the exact STM.
     ``t`` six times (s), ``rho`` observed ranges (km), ``rhodot`` observed range-rates (km/s)."""
-    x0 = _vector(x0_guess, 6, "x0_guess")
+    x0 = as_vector(x0_guess, 6, "x0_guess")
     return six_point_solver(t, rho, rhodot, station, mode, method, propagator, mu, **kw).solve(x0)
 
 
@@ -619,13 +596,13 @@ def box_guesses(center, half_width, n: int, seed: int = 0) -> np.ndarray:
     """(n, 6) guesses uniform in ``center +- half_width`` (km, km/s), reproducible from ``seed``."""
     if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"n: must be an integer >= 1, got {n!r}")
-    hw = _vector(half_width, 6, "half_width")
+    hw = as_vector(half_width, 6, "half_width")
     if np.any(hw < 0):
         raise ValueError("half_width: must be >= 0")
     seed = as_int(seed, "seed", low=0, high=2**64 - 1)  # was a pybind11 signature dump for seed=-1
     if n > 10**7:
         raise ValueError(f"n: must be <= 1e7 guesses ({48 * n / 1e9:.3g} GB), got {n}")
-    return np.asarray(_c.od_box_guesses(_vector(center, 6, "center"), hw, int(n), seed))
+    return np.asarray(_c.od_box_guesses(as_vector(center, 6, "center"), hw, int(n), seed))
 
 
 def root_search(
@@ -647,9 +624,9 @@ def root_search(
     if not np.all(np.isfinite(g)):
         raise ValueError("guesses: must be finite")
     s = RootSearchSettings()
-    s.distinct_sigma = _finite_scalar(distinct_sigma, "distinct_sigma")
-    s.distinct_position_km = _finite_scalar(distinct_position_km, "distinct_position_km", positive=True)
-    s.distinct_velocity_kms = _finite_scalar(distinct_velocity_kms, "distinct_velocity_kms", positive=True)
+    s.distinct_sigma = as_real(distinct_sigma, "distinct_sigma")
+    s.distinct_position_km = as_real(distinct_position_km, "distinct_position_km", positive=True)
+    s.distinct_velocity_kms = as_real(distinct_velocity_kms, "distinct_velocity_kms", positive=True)
     return _c.od_root_search(solver_, np.ascontiguousarray(g), s)
 
 
@@ -684,7 +661,7 @@ def simulate(
     (:data:`EARTH_RADIUS`) at any of ``times`` when ``mu`` is the Earth's (r = 0 for any ``mu``), an
     empty or repeated ``types``, a NaN or out-of-range ``elevation_mask_deg``, non-finite biases, a
     negative ``seed``, and a mask that leaves no observation."""
-    x0 = _vector(x0, 6, "x0")  # also bounds |x0_i| < 1e100 (a 1e300 state blamed the propagator)
+    x0 = as_vector(x0, 6, "x0")  # also bounds |x0_i| < 1e100 (a 1e300 state blamed the propagator)
     st = _stations(stations)
     times = as_real_array(times, "times", ndim=(0, 1))
     times = np.atleast_1d(times)

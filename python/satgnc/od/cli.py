@@ -208,7 +208,8 @@ def _solve(args) -> int:
 def _simulate(args) -> int:
     import datetime as dt
 
-    from . import paper, simulate
+    from ..papers import od_newton_raphson as paper
+    from . import simulate
     from .tdm import write_tdm
 
     x0 = paper.truth() if args.state is None else np.array(_floats(args.state, 6, "--state"))

@@ -13,7 +13,7 @@ import time
 
 from .._progress import Progress
 
-SECTIONS = ["propagation", "od", "guidance", "guidance_nonlinear", "analysis"]
+SECTIONS = ["propagation", "od", "guidance", "guidance_nonlinear", "analysis", "mission"]
 
 
 @dataclasses.dataclass

@@ -3,6 +3,8 @@ at omega = 1, LEO and GEO; the paper's printed matrices; loss tables; Gramians o
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 TITLE = "Controllability and observability (polar_linearization_rank.md)"
@@ -27,7 +29,7 @@ def six_results() -> list[dict]:
         polar_linear_model,
         polar_units,
     )
-    from ..analysis.paper import PAPER_RANKS
+    from ..papers.polar_linearization_rank import PAPER_RANKS
 
     rows = []
     for oname in ("one", "leo", "geo"):
@@ -38,7 +40,7 @@ def six_results() -> list[dict]:
                 if prop == "controllability":
                     X = B[:, idx]
                     u = polar_units(sigma, omega)
-                    u["input"] = u["input"][idx]
+                    u = dataclasses.replace(u, input=u.input[idx])
                     st = controllability(A, X)
                     sd = controllability(A, X, units=u)
                     K = kalman_matrix(A, B=X)
@@ -74,7 +76,7 @@ def build(ctx) -> str:
         polar_linear_model,
         visibility_pass,
     )
-    from ..analysis.paper import compare
+    from ..papers.polar_linearization_rank import compare
 
     out = []
     out.append("The planar polar model r'' = r theta'^2 - k/r^2 + u1, theta'' = -2 theta' r'/r + u2/r is "
@@ -162,8 +164,8 @@ def build(ctx) -> str:
         A, B, _ = polar_linear_model(s, w)
         for label, idx in _CASES_C:
             d = distance_to_uncontrollability(A, B[:, idx])
-            out.append(f"| {oname} | {label} | {d['upper_bound']:.3g} | {d['refined']:.3g} | "
-                       f"{d['relative']:.3g} |")
+            out.append(f"| {oname} | {label} | {d.upper_bound:.3g} | {d.refined:.3g} | "
+                       f"{d.relative:.3g} |")
     out.append("")
     out.append("### Observability Gramian of single-station OD (od_newton_raphson.md Tables 1 and 3)")
     rise, set_ = visibility_pass()

@@ -10,7 +10,7 @@ TITLE = "L1 rendezvous guidance by ADMM (l1_admm_rendezvous.md, Table 1, linear 
 def build(ctx) -> str:
     from importlib import resources
 
-    from ..guidance import rendezvous as rv
+    from ..papers import l1_admm_rendezvous_linear as rv
     from ..scenarios import l1_rendezvous as scen
 
     tables = json.loads(resources.files("satgnc.data").joinpath("paper_tables.json").read_text())

@@ -16,64 +16,25 @@ def _fmt(v, d=3):
 
 
 def _figure(case, sols, path, title):
-    import matplotlib
+    """Fig. 4/5 of a case: sols = [(label, U (3 x N, newtons), line style)], rolled out on the case's map."""
+    from .. import _plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from satgnc.guidance import nonlinear as nl
-
-    t = np.arange(case.problem.horizon + 1) * case.dt
-    fig, ax = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
-    for label, U, ls in sols:
-        X = case.rollout_si(U)
-        cw = np.array([nl._c.cw_relative_state(X[:, k]) for k in range(X.shape[1])]).T
-        for i, c in enumerate("xyz"):
-            ax[0].plot(t, cw[i], ls, label=f"{c} {label}", color=f"C{i}")
-            ax[1].plot(t, cw[3 + i], ls, color=f"C{i}")
-            ax[2].step(t[:-1], U[i], ls, where="post", color=f"C{i}", label=f"u{i + 1} {label}")
-    ax[0].set_ylabel("relative position (CW), m")
-    ax[1].set_ylabel("relative velocity (CW), m/s")
-    ax[2].set_ylabel("control force, N")
-    ax[2].set_xlabel("time, s")
-    ax[0].legend(fontsize=7, ncol=2)
-    ax[2].legend(fontsize=7, ncol=2)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _plot.plan_figure(case.dt, [(label, case.rollout_si(U).T, np.asarray(U).T, ls) for label, U, ls in sols],
+                      path, title)
 
 
 def _flight_figure(case, flights, path):
-    import matplotlib
+    """Flights of a case: [(label, X (12 x N+1))]."""
+    from .. import _plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from satgnc.guidance import nonlinear as nl
-
-    t = np.arange(case.problem.horizon + 1) * case.dt
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
-    for label, X in flights:
-        d = np.linalg.norm(X[0:3], axis=0)
-        ax[0].semilogy(t, np.maximum(d, 1e-3), label=label)
-        cw = np.array([nl._c.cw_relative_state(X[:, k]) for k in range(X.shape[1])]).T
-        ax[1].plot(cw[0], cw[1], label=label)
-    ax[0].set_xlabel("time, s")
-    ax[0].set_ylabel("range to target, m")
-    ax[1].set_xlabel("x (CW, minus along-track), m")
-    ax[1].set_ylabel("y (radial), m")
-    ax[0].legend(fontsize=8)
-    fig.suptitle("Flying the plans on the truth model (J2 + drag, CVODES)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _plot.flight_figure(case.dt, [(label, np.asarray(X).T) for label, X in flights], path)
 
 
 def build(ctx) -> str:
-    from satgnc import _satgnc as _c
     from satgnc.data import __file__ as data_file  # noqa: F401
-    from satgnc.guidance import nonlinear as nl
+
+    from .. import _satgnc as _c
+    from ..papers import l1_admm_rendezvous as nl
 
     out = []
     x = nl.drift_state()

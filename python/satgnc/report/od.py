@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._satgnc import EARTH_RADIUS  # km
+
 TITLE = "Orbit determination: Newton-Raphson from one station (Gao & Luo)"
 
 
@@ -262,7 +264,7 @@ def _fig2(p, ctx, quick) -> str:
         )
     c = p.consistency()
     opp = og[flips == 6]
-    below = float(np.mean(np.linalg.norm(opp[:, :3], axis=1) < 6378.1363)) if len(opp) else float("nan")
+    below = float(np.mean(np.linalg.norm(opp[:, :3], axis=1) < EARTH_RADIUS)) if len(opp) else float("nan")
     lines += [
         "",
         f"Verdict: the mirror 2R - X lies {-c['mirror_altitude_km']:.0f} km below the surface, so no "
@@ -334,7 +336,7 @@ def _roots(p, quick) -> str:
 
 
 def _monte_carlo(quick) -> str:
-    from ..od import montecarlo
+    from ..papers import od_newton_raphson_mc as montecarlo
 
     n = 30 if quick else 200
     lines = ["### Noise: formal covariance against Monte Carlo", ""]
@@ -356,7 +358,7 @@ def _monte_carlo(quick) -> str:
 
 
 def build(ctx) -> str:
-    from ..od import paper as p
+    from ..papers import od_newton_raphson as p
 
     parts = [
         "Source: Gao Huai-bao & Luo Ker-zhuong, *The Newton-Raphson method in orbit determination*. "

@@ -7,33 +7,9 @@ import time
 
 import numpy as np
 
+from ..papers.reference import kepler_ellipse
+
 TITLE = "Propagation: two-body, J2 and drag with the state transition matrix"
-
-
-def _kepler_ellipse(x0: np.ndarray, dt: float, mu: float) -> np.ndarray:
-    """Independent analytic two-body reference (Kepler's equation, Lagrange f and g)."""
-    r0, v0 = x0[:3], x0[3:]
-    rn0 = float(np.linalg.norm(r0))
-    a = 1.0 / (2.0 / rn0 - float(v0 @ v0) / mu)
-    n = math.sqrt(mu / a**3)
-    ecos, esin = 1 - rn0 / a, float(r0 @ v0) / math.sqrt(mu * a)
-    e = math.hypot(ecos, esin)
-    E0 = math.atan2(esin, ecos)
-    M = math.remainder(E0 - esin + n * dt, 2 * math.pi)
-    E = M + e * math.sin(M)
-    for _ in range(50):
-        d = (E - e * math.sin(E) - M) / (1 - e * math.cos(E))
-        E -= d
-        if abs(d) < 1e-16:
-            break
-    dE = E - E0
-    f = 1 - a / rn0 * (1 - math.cos(dE))
-    g = (math.sin(dE) - e * (math.sin(E) - math.sin(E0))) / n
-    r = f * r0 + g * v0
-    rn = float(np.linalg.norm(r))
-    fd = -math.sqrt(mu * a) * math.sin(dE) / (rn * rn0)
-    gd = 1 - a / rn * (1 - math.cos(dE))
-    return np.concatenate([r, fd * r0 + gd * v0])
 
 
 def _leo() -> np.ndarray:
@@ -75,7 +51,7 @@ def build(ctx) -> str:
 
     # ---- accuracy against the analytic two-body solution over one day
     times = np.linspace(0.0, 86400.0, 97 if ctx.quick else 289)
-    ref = np.array([_kepler_ellipse(x0, t, mu) for t in times])
+    ref = np.array([kepler_ellipse(x0, t, mu) for t in times])
     runs = [("adams", 1e-10), ("adams", 1e-12), ("adams", 1e-14), ("bdf", 1e-12)]
     if "dop853" in satgnc.available_methods():
         runs.append(("dop853", 1e-12))

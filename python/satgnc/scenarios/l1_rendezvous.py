@@ -14,90 +14,27 @@ import pathlib
 
 import numpy as np
 
-from .._validate import (
-    FileFormatError,
-    Key,
-    as_bool,
-    check_toml_table,
-    did_you_mean,
-    load_toml,
-    read_text_file,
-    toml_line,
-)
+from .._validate import as_bool
+from . import rendezvous as _rv
 
-DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
+DEFAULT = _rv.DEFAULT
 
 
-# Strict schema of a scenario file: every key typed, unknown keys and sections are errors (a typo
-# must not silently fall back to a default). SI units (m, m/s, N, kg, s) except where marked.
-_TOP = {"name": Key("string", required=False), "source": Key("string", required=False)}
-_SECTIONS = {
-    "orbit": {
-        "mu": Key("number", positive=True, low=1.0, high=1e22, unit="m^3/s^2"),
-        "radius": Key("number", positive=True, low=1.0, high=1e13, unit="m"),
-    },
-    "chaser": {"mass": Key("number", positive=True, high=1e9, unit="kg")},
-    "initial_state": {
-        "position": Key("vector", length=3, nonzero=True, unit="m"),
-        "velocity": Key("vector", length=3, nonzero=True, unit="m/s"),
-    },
-    "horizon": {
-        "tf": Key("number", positive=True, high=1e9, unit="s"),
-        "knots": Key("integer", low=2, high=10**6, unit="knot points"),
-    },
-    "cost": {
-        "alpha": Key("number", nonnegative=True, unit="scaled units"),
-        "Qf": Key("number", nonnegative=True, unit="scaled units"),
-        "u_max": Key("number", positive=True, unit="N"),
-    },
-    "discretization": {
-        "method": Key("string", required=False, default="midpoint", choices=("midpoint", "zoh", "expm")),
-    },
-}
-_OPTIONAL_SECTIONS = ("discretization",)
-_CASE = {
-    "rho": Key("number", positive=True),
-    "eps": Key("number", positive=True),
-    "box": Key("bool", required=False, default=False),
-    "terminal_equality": Key("bool", required=False, default=False),
-    "paper_lqr_passes": Key("integer", required=False, low=0),
-}
+# The strict schema is the one rendezvous schema (scenarios/rendezvous.py), read by both models; this
+# module reads the linear model's part of it.
+_TOP = _rv._TOP
+_SECTIONS = _rv.SECTIONS
+_OPTIONAL_SECTIONS = _rv.OPTIONAL_SECTIONS
+_CASE = _rv.CASE
 
 
 def _read(path: pathlib.Path, name: str = "path"):
-    """(path, text, checked sections, cases) of a scenario file; FileFormatError on any bad entry.
-    ``name`` is the caller's argument in errors about the path itself (``path``, the CLI's scenario)."""
-    p, text, d = load_toml(path, name)
-    known = [*_TOP, *_SECTIONS, "cases"]
-    for key, value in d.items():
-        if key not in known:
-            what = "section" if isinstance(value, dict) else "key"
-            shown = f"[{key}]" if what == "section" else f"'{key}'"
-            line = toml_line(text, key) if what == "section" else toml_line(text, "", key)
-            hint = did_you_mean(key, known, "[{}]" if what == "section" else "'{}'")
-            raise FileFormatError(
-                p, line, f"unknown {what} {shown} at the top level{hint}; known sections: "
-                + ", ".join(f"[{k}]" for k in [*_SECTIONS, "cases"]), key=key,
-            )
-    top = check_toml_table({k: v for k, v in d.items() if k in _TOP}, _TOP, "", p, text)
-    secs = {}
-    for name, schema in _SECTIONS.items():
-        if name not in d:
-            if name in _OPTIONAL_SECTIONS:
-                d[name] = {}
-            else:
-                raise FileFormatError(p, None, f"missing section [{name}] (keys: {', '.join(schema)})",
-                                      key=name)
-        secs[name] = check_toml_table(d[name], schema, name, p, text)
-    cases_raw = d.get("cases")
-    if cases_raw is None:
-        raise FileFormatError(p, None, "missing section [cases.<name>]: the scenario needs at least one case",
-                              key="cases")
-    if not isinstance(cases_raw, dict) or not cases_raw:
-        raise FileFormatError(p, toml_line(text, "cases"),
-                              "[cases] must hold at least one [cases.<name>] table",
-                              key="cases")
-    cases = {name: check_toml_table(c, _CASE, f"cases.{name}", p, text) for name, c in cases_raw.items()}
+    """(path, top, checked sections, cases) of a scenario file; FileFormatError on any bad entry.
+    ``name`` is the caller's argument in errors about the path itself (``path``, the CLI's scenario).
+    The cases hold the linear model's keys (their ``[cases.<name>.nonlinear]`` tables are checked and
+    left out)."""
+    p, _, top, secs, cases = _rv.read(path, name)
+    cases = {n: {k: v for k, v in c.items() if k != "nonlinear"} for n, c in cases.items()}
     return p, top, secs, cases
 
 
@@ -160,10 +97,12 @@ class Scenario:
 def load(path: str | pathlib.Path | None = None) -> Scenario:
     """Read a scenario TOML (default: the packaged Table 1 scenario).
 
-    The file is checked against a strict schema (sections [orbit], [chaser], [initial_state],
-    [horizon], [cost], optional [discretization], and one or more [cases.<name>]): a missing, unknown
-    or mistyped key is a :class:`satgnc.FileFormatError` (a ``ValueError``) naming the file, the line,
-    the key and its section. A missing file is ``FileNotFoundError``."""
+    The file is checked against the strict rendezvous schema (:mod:`satgnc.scenarios.rendezvous`:
+    sections [orbit], [chaser], [initial_state], [horizon], [cost], optional [discretization],
+    [release], [planner], [truth], and one or more [cases.<name>] with optional
+    [cases.<name>.nonlinear]): a missing, unknown or mistyped key is a :class:`satgnc.FileFormatError`
+    (a ``ValueError``) naming the file, the line, the key and its section. A missing file is
+    ``FileNotFoundError``. The returned :class:`Scenario` holds the linear model's part."""
     return _load(path, "path")
 
 
@@ -171,12 +110,6 @@ def _load(path, name: str) -> Scenario:
     p, _, s, cases = _read(DEFAULT if path is None else path, name)
     # Cases keep only the keys the file gave, plus the defaults of box and terminal_equality.
     cases = {n: {k: v for k, v in c.items() if v is not None} for n, c in cases.items()}
-    n = float(np.sqrt(s["orbit"]["mu"] / s["orbit"]["radius"] ** 3))
-    if n * s["horizon"]["tf"] > 1e9:  # the CW matrices' bound (guidance.cw_stm); the error named "dt"
-        raise FileFormatError(
-            p, toml_line(read_text_file(p)[1], "horizon", "tf"),
-            f"key 'tf' in section [horizon] (s): n tf = {n * s['horizon']['tf']:.3g} rad exceeds 1e9 rad "
-            f"(n = sqrt(mu / radius^3) = {n:.3g} rad/s): the CW matrices keep no correct digit", key="tf")
     return Scenario(
         mu=s["orbit"]["mu"], radius=s["orbit"]["radius"], mass=s["chaser"]["mass"],
         p0=np.array(s["initial_state"]["position"]), v0=np.array(s["initial_state"]["velocity"]),

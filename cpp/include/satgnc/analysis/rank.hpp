@@ -17,22 +17,25 @@
 #include <vector>
 
 #include "satgnc/analysis/linearize.hpp"
+#include "satgnc/core/status.hpp"
 
 namespace satgnc::analysis {
 
 /// Which property a report is about.
 enum class Property { controllability = 0, observability };
 
-/// Verdict of a rank test.
-enum class Verdict {
-  full_rank = 0,           ///< controllable / observable, with margin >= fuzz
-  rank_deficient,          ///< uncontrollable / unobservable, with margin >= fuzz
-  not_robustly_decidable,  ///< a singular value sits in the fuzz band, or the verdict hinges on data
-                           ///< entries below the tolerance (see RankReport::reason)
-};
+/// Verdict of a rank test (core/status.hpp; an intended exception to "unsolved first": a verdict,
+/// not a run outcome). full_rank: controllable / observable, with margin >= fuzz; rank_deficient:
+/// uncontrollable / unobservable, with margin >= fuzz; not_robustly_decidable: a singular value sits
+/// in the fuzz band, or the verdict hinges on data entries below the tolerance (RankReport::reason).
+using core::status_message;
+using core::status_name;
+using core::Verdict;
 
-/// "full rank", "rank deficient", "not robustly decidable".
-const char* verdict_name(Verdict v);
+/// "full rank", "rank deficient", "not robustly decidable" (the table's message).
+[[deprecated("use status_message")]] inline const char* verdict_name(Verdict v) {
+  return core::status_message(v);
+}
 /// "controllable" / "uncontrollable" / "observable" / ... / "not robustly decidable".
 const char* verdict_text(Verdict v, Property p);
 

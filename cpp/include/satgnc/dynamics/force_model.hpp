@@ -5,18 +5,13 @@
 #include <Eigen/Geometry>
 #include <optional>
 
+#include "satgnc/core/constants.hpp"
 #include "satgnc/dynamics/types.hpp"
 
 namespace satgnc::dynamics {
 
-/// Earth constants (EGM-96 / WGS-84 values as used by Vallado, "Fundamentals of Astrodynamics and
-/// Applications", 4th ed., Table D-1 / D-3).
-namespace earth {
-inline constexpr double mu = 398600.4418;      ///< gravitational parameter, km^3/s^2 (EGM-96)
-inline constexpr double radius = 6378.1363;    ///< equatorial radius, km (EGM-96)
-inline constexpr double j2 = 1.0826266835e-3;  ///< unnormalized J2 (EGM-96, -C20 * sqrt(5))
-inline constexpr double omega = 7.292115e-5;   ///< rotation rate, rad/s (IERS, mean)
-}  // namespace earth
+/// Earth constants: core::earth (satgnc/core/constants.hpp), kept here under their old name.
+namespace earth = core::earth;
 
 /// Zonal J2 perturbation of a body with gravitational parameter mu (km^3/s^2) and radius (km).
 struct J2Gravity {

@@ -20,12 +20,19 @@
 #include <chrono>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <type_traits>
 #include <vector>
 
+#include "satgnc/core/solver.hpp"
+#include "satgnc/core/status.hpp"
 #include "satgnc/guidance/riccati.hpp"
 
 namespace satgnc::guidance {
+
+namespace detail {
+struct AdmmWorkspace;  // src/guidance/detail/admm_workspace.hpp: all private data and steps
+}  // namespace detail
 
 /// Constant problem data (see file comment). Time-invariant A, B: pass one matrix each.
 struct LtvProblem {
@@ -136,26 +143,15 @@ struct AdmmSettings {
   void validate() const;
 };
 
-/// Solver status; status_message() gives the text.
-enum class AdmmStatus {
-  kSolved = 0,               ///< residual tolerances met
-  kSolvedPaperRule = 1,      ///< the paper's ||U-Y||/dim(U) <= eps met (not a convergence proof)
-  kMaxIterations = 2,        ///< max_iterations reached; best iterate returned
-  kTerminalUnreachable = 3,  ///< hard terminal state outside the reachable set
-  kNumericalError = 4,       ///< non-finite iterate or failed factorization
-  kUnsolved = 5,             ///< solve() not called yet
-  kSolvedInaccurate = 6,     ///< stopped at a limit with the loose tolerances met; best iterate
-  kPrimalInfeasible = 7,     ///< constraints cannot all hold (certificate in the result)
-  kTimeLimit = 8,            ///< AdmmSettings::time_limit reached; best iterate returned
-};
-const char* status_message(AdmmStatus s) noexcept;
+/// Solver status (core/status.hpp: snake_case, `unsolved` first; the old kSolved.. spellings are
+/// deprecated aliases); status_message() gives the text, status_name() the Python string.
+using core::AdmmStatus;
+using core::status_message;
+using core::status_name;
 
-/// Diagnostics of the last solve.
-struct AdmmInfo {
-  AdmmStatus status = AdmmStatus::kUnsolved;
-  int iterations = 0;
-  double primal_residual = 0.0;  ///< ||U - Y||_inf
-  double dual_residual = 0.0;    ///< rho ||Y - Y_prev||_inf
+/// Diagnostics of the last solve. From core::InfoBase: status, iterations, primal_residual
+/// (||U - Y||_inf), dual_residual (rho ||Y - Y_prev||_inf) and solve_time (wall time of solve, s).
+struct AdmmInfo : core::InfoBase<AdmmStatus> {
   double eps_primal = 0.0, eps_dual = 0.0;
   double paper_criterion = 0.0;  ///< ||U - Y||_F / (N nu)
   double objective = 0.0;      ///< objective of the flown sparse plan (Y rolled out), with its terminal cost
@@ -166,8 +162,7 @@ struct AdmmInfo {
   int rho_updates = 0;
   bool polished = false;  ///< the result is a certified active-set polish
   int polish_attempts = 0;
-  bool condensed = false;   ///< the condensed x/u step was used (AdmmSettings::condensed)
-  double solve_time = 0.0;  ///< wall time of solve (s)
+  bool condensed = false;  ///< the condensed x/u step was used (AdmmSettings::condensed)
   /// Objective P of the returned plan Y (= objective) and the Fenchel dual bound D <= optimum:
   /// smooth part f(U) = sum_j 1/2 ||A_j U + b_j||^2 (Qf, Q, R terms), hard terminal A_T U + b_T = 0,
   /// g = L1 + box (+ group-L2 / ball); D(nu) = sum_j [-1/2 ||nu_j||^2 + nu_j' b_j] + nu_T' b_T
@@ -199,10 +194,17 @@ struct AdmmResult {
 };
 
 /// ADMM solver: setup in the constructor, solve() allocation-free and exception-free.
+/// Move-only: its workspace (detail::AdmmWorkspace) is allocated once in the constructor; a
+/// moved-from solver may only be destroyed or assigned to.
 class AdmmSolver {
  public:
   /// Validate (std::invalid_argument "name: rule (hint: ...)") and allocate everything.
   AdmmSolver(const LtvProblem& problem, const AdmmSettings& settings = AdmmSettings());
+  ~AdmmSolver();
+  AdmmSolver(AdmmSolver&&) noexcept;
+  AdmmSolver& operator=(AdmmSolver&&) noexcept;
+  AdmmSolver(const AdmmSolver&) = delete;
+  AdmmSolver& operator=(const AdmmSolver&) = delete;
 
   /// Run ADMM from the warm start (if set) or from Y = Lambda = 0. Never throws.
   const AdmmResult& solve() noexcept;
@@ -213,7 +215,7 @@ class AdmmSolver {
   void warm_start(const Eigen::Ref<const Eigen::MatrixXd>& Y,
                   const Eigen::Ref<const Eigen::MatrixXd>& Lambda);
   /// Drop the warm start (next solve from zeros).
-  void cold_start() noexcept { warm_ = false; }
+  void cold_start() noexcept;
   /// Change the initial state (receding horizon); gains are reused. Throws on wrong size / NaN.
   void set_x0(const Eigen::Ref<const Eigen::VectorXd>& x0);
   /// Change the target state; gains are reused. Throws on wrong size / NaN.
@@ -222,25 +224,24 @@ class AdmmSolver {
   void update_settings(const AdmmSettings& settings);
   /// Set AdmmSettings::time_limit (s, 0 = none) without allocating (SCP passes its remaining time);
   /// a negative or non-finite value is ignored (returns false).
-  bool set_time_limit(double seconds) noexcept {
-    if (!(seconds >= 0.0 && seconds < std::numeric_limits<double>::infinity())) return false;
-    set_.time_limit = seconds;
-    return true;
-  }
+  bool set_time_limit(double seconds) noexcept;
 
-  const AdmmResult& result() const { return res_; }
-  const AdmmSettings& settings() const { return set_; }
+  /// The result of the last solve() (arrays sized at setup).
+  const AdmmResult& result() const;
+  /// The settings in force (the last update_settings / set_time_limit included).
+  const AdmmSettings& settings() const;
   /// The problem as given (unscaled; the solver works on an equilibrated copy).
-  const LtvProblem& problem() const { return orig_; }
+  const LtvProblem& problem() const;
   /// Control scaling D_u (nu; u = D_u u~) and cost scaling c of the equilibration (ones / 1 if off).
-  const Eigen::VectorXd& control_scaling() const { return du_; }
-  double cost_scaling() const { return cscale_; }
-  const RiccatiSolver& riccati() const { return ric_; }
+  const Eigen::VectorXd& control_scaling() const;
+  double cost_scaling() const;
+  /// The Riccati kernel (on the equilibrated problem).
+  const RiccatiSolver& riccati() const;
   /// Dual estimate -grad f(U) of the last iteration (nu x N, scaled problem; used by the polish).
-  const Eigen::MatrixXd& dual_estimate() const { return Gd_; }
-  int nx() const { return nx_; }
-  int nu() const { return nu_; }
-  int horizon() const { return N_; }
+  const Eigen::MatrixXd& dual_estimate() const;
+  int nx() const;       ///< state dimension
+  int nu() const;       ///< control dimension
+  int horizon() const;  ///< N (control steps)
 
   /// Objective of a control sequence (nu x N) flown from x0 (no constraint checks); allocates.
   double objective_of(const Eigen::Ref<const Eigen::MatrixXd>& U) const;
@@ -254,176 +255,7 @@ class AdmmSolver {
                        const std::vector<Eigen::VectorXd>& c) noexcept;
 
  private:
-  double control_cost(const Eigen::Ref<const Eigen::VectorXd>& u) const noexcept;
-  double trajectory_objective(const Eigen::Ref<const Eigen::MatrixXd>& X,
-                              const Eigen::Ref<const Eigen::MatrixXd>& U) const noexcept;
-  void rollout(const Eigen::Ref<const Eigen::MatrixXd>& U, Eigen::Ref<Eigen::MatrixXd> X) const noexcept;
-  void update_linear_terms() noexcept;
-  bool try_polish(bool rank_by_dual) noexcept;
-  int dual_candidate(std::uint64_t& signature) noexcept;
-  bool polish_solve(int F) noexcept;
-  bool polish_swaps(int& F) noexcept;
-  void update_psib() noexcept;
-  /// Backward costate sweep at (X, U) with terminal costate Qf (x_N - x_f) + p: fills Hg_ with the
-  /// Lagrangian gradient grad f(U) + M' p (nu x N) and returns the smooth part f(U).
-  double lagrangian_gradient(const Eigen::Ref<const Eigen::MatrixXd>& X,
-                             const Eigen::Ref<const Eigen::MatrixXd>& U,
-                             const Eigen::Ref<const Eigen::VectorXd>& p, bool with_cost) noexcept;
-  /// Conjugate g*(s z) of the nonsmooth part at z = -Hg_ (infinite if outside its domain).
-  double conj_g(double s) const noexcept;
-  /// Fenchel dual bound D at the plan (X, U) with terminal multiplier p (see AdmmInfo); sets
-  /// info primal/dual objective and duality_gap, returns the relative gap.
-  double evaluate_gap(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
-                      const Eigen::Ref<const Eigen::VectorXd>& p, double P) noexcept;
-  /// The Fenchel dual bound D built from the residuals at (X, U) (any control sequence).
-  double dual_bound(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
-                    const Eigen::Ref<const Eigen::VectorXd>& p) noexcept;
-  bool dual_at_u_ = false;  ///< res_.X, res_.U hold the x/u iterate: also try the dual bound there
-  /// Farkas test of candidate y for x_f unreachable within the box; true and stores it if it holds.
-  bool check_infeasible(const Eigen::Ref<const Eigen::VectorXd>& y) noexcept;
-  double terminal_miss_ratio() noexcept;
-  static double estimate_workspace_bytes(int nx, int nu, int N) noexcept;
-  bool cond_factor(double rho) noexcept;
-  void cond_step() noexcept;
-  /// Per-iteration statistics of the fused relaxation / prox / multiplier pass.
-  struct PassStats {
-    double prim = 0.0, dual = 0.0, fro2 = 0.0, nU = 0.0, nY = 0.0, nL = 0.0;
-    std::uint64_t signature = 0;  ///< hash of the active set of Y (zero / bound / free sign)
-    int nfree = 0;
-  };
-  template <int NU>
-  PassStats admm_pass(double rho, double a) noexcept;
-  /// The same pass for L1 (+ box) without group-L2 or ball, as array expressions over all N nu
-  /// entries (vectorized; identical values, the signature is a weighted sum instead of a hash).
-  PassStats admm_pass_flat(double rho, double a, bool fro2) noexcept;
-
-  void equilibrate_problem();
-  void unscale_result() noexcept;
-  LtvProblem orig_;      ///< as given
-  LtvProblem prob_;      ///< equilibrated (the solver's)
-  Eigen::VectorXd du_;   ///< control scaling D_u
-  double cscale_ = 1.0;  ///< cost scaling c
-  bool scaled_ = false;
-  AdmmSettings set_;
-  RiccatiSolver ric_;
-  int nx_ = 0, nu_ = 0, N_ = 0;
-  bool has_box_ = false, has_l1_ = false, has_group_ = false, has_ball_ = false;
-  bool warm_ = false;
-  bool first_solve_ = true;
-  Eigen::VectorXd w_, lo_, hi_;
-  Eigen::MatrixXd q_;             ///< linear state terms nx x (N+1) from Q, Qf and x_f
-  Eigen::MatrixXd r_;             ///< linear control terms nu x N (Lambda - rho Y)
-  Eigen::MatrixXd Yws_, Lws_;     ///< warm start
-  Eigen::MatrixXd bU_, bY_, bL_;  ///< best iterate (X recomputed from U)
-  Eigen::VectorXd v_, ynew_, uhat_, utmp_;
-  mutable Eigen::VectorXd xtmp_, xtmp2_;  ///< scratch of the const objective evaluation
-  AdmmResult res_;
-  // polish workspace
-  bool polish_ok_ = false;
-  int fmax_ = 0;
-  Eigen::MatrixXd Psi_;   ///< Phi(N, k+1), nx x nx N
-  Eigen::MatrixXd PsiB_;  ///< (Phi(N, k+1) B_k)' stacked, N nu x nx
-  Eigen::VectorXd xN0_;   ///< x_N for U = 0 (set at the start of each solve)
-  Eigen::MatrixXd GF_, KKT_, Up_, Xp_, grad_;
-  Eigen::VectorXd rhs_, sol_, pN_;
-  Eigen::VectorXd pe_;  ///< terminal error x_N - x_f solved by the last soft-terminal polish
-  /// After a certified soft-terminal polish: X_flown's terminal column from the solved error pe_.
-  void polished_terminal() noexcept;
-  bool qp_polish() noexcept;
-  void accept_polished(bool term) noexcept;
-  bool dual_newton() noexcept;
-  bool dn_ok_ = false;  ///< smoothed-dual Newton candidates apply (plain L1 + box, condensed map)
-  Eigen::MatrixXd dn_qi_, dn_H_;
-  Eigen::VectorXd dn_s_, dn_u_, dn_nu_, dn_g_, dn_d_, dn_t_, dn_e_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> dn_lu_;
-  bool qp_polish_ok_ = false;  ///< QP polish applies (no L1, R diagonal > 0, Q = 0)
-  Eigen::MatrixXd Hq_, Sq_;    ///< H_F and the nx x nx system of the QP polish
-  Eigen::VectorXd qb_;         ///< its right-hand side
-  Eigen::PartialPivLU<Eigen::MatrixXd> q_lu_;
-  std::vector<int> free_idx_;
-  std::vector<double> fsign_;
-  int gap_F_ = 0;    ///< free count of the dual guess by the largest jump in distance
-  int viol_j_ = -1;  ///< most violated fixed entry of the last rejected polish (k nu + i)
-  double viol_sign_ = 0.0;
-  int bad_a_ = -1;        ///< free entry (position) furthest outside its sign / box
-  double bad_val_ = 0.0;  ///< where it is fixed by the repair
-  bool dual_ok_ = false;  ///< all L1 weights > 0: active-set guess from the dual estimate
-  Eigen::MatrixXd Gd_;    ///< dual estimate -grad f(U) = Lambda + rho (U - Y_prev), nu x N
-  Eigen::VectorXd winv_;
-  std::vector<double> seld_;
-  std::vector<int> seli_;
-  // condensed x/u step (AdmmSettings::condensed)
-  bool cond_ok_ = false;   ///< Q = 0 and R empty or diagonal: M = PsiB_' is stored
-  bool psi_ok_ = false;    ///< Psi_, PsiB_, xN0_ are allocated (polish or condensed step)
-  Eigen::VectorXd dinv_;   ///< diagonal of (R + rho I)^-1, nu
-  Eigen::MatrixXd Gax_;    ///< per-axis Gram matrices sum_k m_ki m_ki', nx x nx nu
-  Eigen::MatrixXd Hc_;     ///< H = M D^-1 M', nx x nx
-  Eigen::MatrixXd Sc_;     ///< I + H Qf (soft terminal) or H (hard), factored by cond_lu_
-  double cond_rho_ = 0.0;  ///< rho of the current condensed factorization
-  bool cond_rho_valid_ = false;
-  Eigen::PartialPivLU<Eigen::MatrixXd> cond_lu_;
-  Eigen::VectorXd cb_, ce_, cg_;  ///< right-hand side, terminal error / multiplier, Qf e
-  Eigen::MatrixXd Tc_;            ///< D^-1 r, nu x N
-  // flat (vectorized) passes: per-entry weights and bounds replicated over the horizon
-  bool flat_ok_ = false;
-  Eigen::ArrayXd wrep_, lorep_, hirep_, sigw_, fa_, fb_;
-  Eigen::ArrayXd winvrep_, hifin_, lofin_;  ///< 1/w, finite bounds (0 where infinite), N nu
-  // duality gap and infeasibility check
-  Eigen::MatrixXd Hg_;          ///< Lagrangian gradient, nu x N
-  Eigen::VectorXd lam_, lam2_;  ///< costate scratch, nx
-  Eigen::VectorXd xN0all_;      ///< x_N for U = 0 (always computed)
-  Eigen::VectorXd ycand_;       ///< infeasibility candidate, nx
-  Eigen::VectorXd rg_;          ///< diagonal part of R moved into g for the dual bound (nu; zeros if none)
-  Eigen::MatrixXd Rf_;          ///< R - diag(rg_), kept in the smooth part f
-  bool rf_on_ = false;          ///< Rf_ is nonzero
-  Eigen::VectorXd pz_;          ///< the terminal multiplier used by the gap (zeros if soft terminal)
-  // interior-point method (admm_ipm.cpp): per-entry arrays over the N nu entries of U
-  bool ipm_ok_ = false;  ///< no group-L2 / ball: the IPM applies
-  /// Run the IPM from a cold start; true if its plan passes the gap / terminal tests, then the
-  /// plan, its multipliers and X_flown are in res_. Leaves res_ U, Y, Lambda untouched otherwise.
-  bool ipm_solve(bool warm) noexcept;                    ///< warm: from ADMM's Y and Lambda
-  std::chrono::steady_clock::time_point solve_start_{};  ///< start of the running solve()
-  /// time_limit > 0 and exceeded since solve_start_ (the IPM checks it per iteration: at -O0 one run
-  /// of 60 iterations on N = 200 took seconds past a 0.5 s limit).
-  bool out_of_time() const noexcept {
-    return set_.time_limit > 0.0 &&
-           std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_start_).count() >
-               set_.time_limit;
-  }
-  void ipm_setup();
-  bool ipm_factor() noexcept;
-  template <int NX, int NU>
-  bool ipm_riccati_factor() noexcept;
-  template <int NX, int NU>
-  void ipm_riccati_sweep() noexcept;
-  template <int NU>
-  auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
-                                                Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
-  double ipm_max_step() const noexcept;
-  bool ipm_newton(bool corrector, double sigma_mu) noexcept;
-  bool ipm_certify() noexcept;
-  int ipm_m_ = 0;                                                 ///< number of inequality constraints
-  Eigen::ArrayXd is1_, is2_, is3_, is4_, iz1_, iz2_, iz3_, iz4_;  ///< u, slacks, multipliers
-  Eigen::ArrayXd im1_, im3_, im4_;              ///< 1 where the L1 pair / lower / upper constraint exists
-  Eigen::ArrayXd id_, ilin_, irt_, idu_, idt_;  ///< diagonal D, linear term, r_t, steps
-  Eigen::ArrayXd ids1_, ids2_, ids3_, ids4_, idz1_, idz2_, idz3_, idz4_;
-  Eigen::ArrayXd ia1_, ia2_, ia3_, ia4_, ib1_, ib2_, ib3_, ib4_;  ///< affine steps (corrector terms)
-  Eigen::ArrayXd itv_, irp1_, irp2_, irp3_, irp4_;  ///< epigraph t and primal residuals c(u, t) - s
-  /// per-iteration ratios of ipm_factor, shared by the predictor and the corrector: 1 / s, z / s, and
-  /// of the eliminated epigraph pair H_ut / H_tt = (r1 - r2) / (r1 + r2), 1 / H_tt = r1 r2 / (r1 + r2)
-  /// (r = s / z, 0 where the pair is absent)
-  Eigen::ArrayXd isi1_, isi2_, isi3_, isi4_, izs1_, izs2_, izs3_, izs4_, ihut_, ihtt_;
-  Eigen::VectorXd ie2_;                    ///< the multiplier of the flown plan (certification)
-  Eigen::MatrixXd iU_, iX_, idX_;          ///< IPM plan nu x N, its states and state step nx x (N+1)
-  Eigen::VectorXd ie_, inu_, inun_, iep_;  ///< terminal error, multiplier, solved multiplier / error
-  Eigen::MatrixXd iS_;  ///< terminal sensitivity dx_N / dnu of the IPM's Riccati factorization
-  Eigen::PartialPivLU<Eigen::MatrixXd> ilu_;
-  // Riccati path: per stage K_k, Quu_k^-1, Qux_k, Knu_k (nu x nx N or nu x nu N), scratch
-  Eigen::MatrixXd iK_, iQi_, iQux_, iKnu_, iP_, iPn_, iL_, iLn_, iBtP_, iQuu_, iAcl_, iZ_, iBtL_;
-  Eigen::MatrixXd ikff_;
-  Eigen::VectorXd ip_, ipn_, iqu_, idx_, idxn_;
-  Eigen::LLT<Eigen::MatrixXd> illt_;
-  Eigen::MatrixXd iInu_;
+  std::unique_ptr<detail::AdmmWorkspace> ws_;
 };
 
 }  // namespace satgnc::guidance

@@ -20,6 +20,8 @@
 #include <chrono>
 #include <vector>
 
+#include "satgnc/core/solver.hpp"
+#include "satgnc/core/status.hpp"
 #include "satgnc/guidance/nonlinear_model.hpp"
 
 namespace satgnc::guidance {
@@ -89,30 +91,18 @@ struct IlqrAdmmSettings {
   void validate() const;
 };
 
-/// Outcome (docs/guidance_nonlinear.md has the table of what each status guarantees). Appended
-/// values keep the numbers of the old ones.
-enum class IlqrAdmmStatus {
-  solved = 0,          ///< stopping rule met at the returned iterate and U and Y both roll out on the model
-  max_iterations,      ///< max_iter reached; the best iterate (smallest primal residual) is returned
-  propagation_failed,  ///< the model failed on interval Info::failed_interval (initial rollout, or
-                       ///< the returned plan Y does not roll out although the rule holds)
-  ilqr_failed,         ///< iLQR could not make progress even at reg_max; best iterate returned
-  not_run,
-  solved_inaccurate,  ///< stopped at a limit; the residual rule holds with inaccurate_factor x eps
-  time_limit,         ///< IlqrAdmmSettings::time_limit reached; best iterate returned
-};
-
-/// Message table for statuses.
-const char* status_message(IlqrAdmmStatus s);
+/// Outcome (core/status.hpp; docs/guidance_nonlinear.md has the table of what each status
+/// guarantees). `unsolved` (solve() not called) was `not_run`, kept as a deprecated alias.
+using core::IlqrAdmmStatus;
+using core::status_message;
+using core::status_name;
 
 /// Iteration statistics.
-struct IlqrAdmmInfo {
-  IlqrAdmmStatus status = IlqrAdmmStatus::not_run;
-  int iterations = 0;       ///< ADMM iterations
+/// From core::InfoBase: status, iterations (ADMM iterations), primal_residual (||U - Y||_2),
+/// dual_residual (w rho ||Y - Y_prev||_2) and solve_time (wall time of solve(), s).
+struct IlqrAdmmInfo : core::InfoBase<IlqrAdmmStatus> {
   int ilqr_iterations = 0;  ///< total iLQR (backward + forward) iterations
   int lqr_passes = 0;       ///< the implementation's count: ilqr_iterations + one rollout per ADMM iteration
-  double primal_residual = 0;  ///< ||U - Y||_2
-  double dual_residual = 0;    ///< w rho ||Y - Y_prev||_2
   double paper_criterion = 0;  ///< ||U - Y||_2 / (N nu)
   double objective_u = 0;      ///< true cost at the dense iterate U (rolled out)
   double objective_y = 0;      ///< true cost at the sparse iterate Y (rolled out; +inf if that fails)
@@ -121,7 +111,6 @@ struct IlqrAdmmInfo {
   int failed_interval = -1;  ///< interval k where the model failed (propagation_failed), else -1
   double max_regularization = 0;
   double terminal_miss = 0;  ///< ||x_N - x_f||_2 when Y is flown on the model (+inf if that fails)
-  double solve_time = 0;     ///< wall time of solve(), s
 };
 
 /// Solution (iterates) and info.
@@ -131,6 +120,8 @@ struct IlqrAdmmResult {
   Eigen::MatrixXd Y;       ///< nu x N, sparse (prox) iterate
   Eigen::MatrixXd Lambda;  ///< nu x N, multipliers of u = y
   IlqrAdmmInfo info;
+  /// Old shape of IlqrAdmmSolver::solve(), which returned the status.
+  [[deprecated("use solve().info.status")]] operator IlqrAdmmStatus() const noexcept { return info.status; }
 };
 
 /// ADMM with an iLQR step. Workspace allocated in the constructor; solve() does not allocate.
@@ -162,10 +153,11 @@ class IlqrAdmmSolver {
   /// Drop the per-stage bounds.
   void clear_stage_bounds() { stage_bounds_ = false; }
 
-  /// Run ADMM. No heap allocation, no exceptions.
-  IlqrAdmmStatus solve();
+  /// Run ADMM. No heap allocation, no exceptions (not marked noexcept: a user model's exception
+  /// propagates as before). The reference stays valid until the next solve().
+  const IlqrAdmmResult& solve();
 
-  const IlqrAdmmResult& result() const { return res_; }
+  const IlqrAdmmResult& result() const noexcept { return res_; }
   const NonlinearL1Problem& problem() const { return prob_; }
   const IlqrAdmmSettings& settings() const { return set_; }
 

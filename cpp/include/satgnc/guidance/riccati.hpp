@@ -14,6 +14,8 @@
 #include <Eigen/Eigenvalues>
 #include <vector>
 
+#include "satgnc/core/status.hpp"
+
 namespace satgnc::guidance {
 
 /// Discrete linear time-varying dynamics x_{k+1} = A_k x_k + B_k u_k + c_k, k = 0..N-1.
@@ -33,27 +35,44 @@ struct LtvDynamics {
   void validate() const;
 };
 
-/// Outcome of one Riccati solve.
-enum class RiccatiStatus {
-  kOk = 0,                   ///< solved (and x_N = x_f when the terminal constraint is on)
-  kTerminalUnreachable = 1,  ///< x_f is outside the reachable set; least-squares multiplier used
-  kNotFactored = 2,          ///< factor() was not called or failed
+/// Outcome of one Riccati solve (core/status.hpp: unsolved = factor() not called or failed,
+/// solved, terminal_unreachable; kOk, kTerminalUnreachable, kNotFactored are deprecated aliases).
+using core::RiccatiStatus;
+
+/// Constant data of the Riccati step (units of the caller).
+struct RiccatiProblem {
+  LtvDynamics dynamics;  ///< validated by the solver
+  Eigen::MatrixXd Q;     ///< stage state weight nx x nx (PSD) or 0x0 for none; applied to x_1..x_{N-1}
+  Eigen::MatrixXd R;     ///< stage control weight nu x nu (PSD) or 0x0 for none
+  Eigen::MatrixXd Qf;    ///< terminal weight nx x nx (PSD)
+  bool terminal_equality = false;  ///< enforce x_N = x_f exactly in solve()
 };
 
-/// Riccati recursion with cached gains. setup() allocates; factor() and solve() do not.
+/// Riccati recursion with cached gains: a kernel inside ADMM (as OSQP's linear-system solver), not a
+/// user solver. The constructor allocates; factor() and solve() do not.
 class RiccatiSolver {
  public:
-  RiccatiSolver() = default;
-
   /// Copy the constant data and allocate the workspace.
+  /// @throws std::invalid_argument on inconsistent sizes, non-finite data or non-symmetric weights
+  explicit RiccatiSolver(const RiccatiProblem& problem);
+
+  /// Old two-step construction: an empty solver, then setup().
+  [[deprecated("use RiccatiSolver(const RiccatiProblem&)")]] RiccatiSolver() = default;
+
+  /// Copy the constant data and allocate the workspace (the old two-step construction).
   /// @param dyn  dynamics (validated)
   /// @param Q    stage state weight nx x nx (PSD) or 0x0 for none; applied to x_1..x_{N-1}
   /// @param R    stage control weight nu x nu (PSD) or 0x0 for none
   /// @param Qf   terminal weight nx x nx (PSD)
   /// @param terminal_equality  enforce x_N = x_f exactly in solve()
   /// @throws std::invalid_argument on inconsistent sizes, non-finite data or non-symmetric weights
-  void setup(const LtvDynamics& dyn, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
-             const Eigen::MatrixXd& Qf, bool terminal_equality);
+  [[deprecated("use RiccatiSolver(const RiccatiProblem&)")]] void setup(const LtvDynamics& dyn,
+                                                                        const Eigen::MatrixXd& Q,
+                                                                        const Eigen::MatrixXd& R,
+                                                                        const Eigen::MatrixXd& Qf,
+                                                                        bool terminal_equality) {
+    init(dyn, Q, R, Qf, terminal_equality);
+  }
 
   /// Riccati backward recursion for the control weight R + rho I: caches the gains K_k,
   /// (R + rho I + B'PB)^-1, the closed-loop matrices and, with the terminal constraint, the
@@ -101,6 +120,8 @@ class RiccatiSolver {
                           const Eigen::Ref<const Eigen::VectorXd>& c) noexcept;
 
  private:
+  void init(const LtvDynamics& dyn, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
+            const Eigen::MatrixXd& Qf, bool terminal_equality);
   template <int NX, int NU>
   void affine_sweep(const Eigen::Ref<const Eigen::VectorXd>& x0, const Eigen::Ref<const Eigen::MatrixXd>& q,
                     const Eigen::Ref<const Eigen::MatrixXd>& r, Eigen::Ref<Eigen::MatrixXd> X,

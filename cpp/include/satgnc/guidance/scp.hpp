@@ -30,6 +30,8 @@
 #include <memory>
 #include <vector>
 
+#include "satgnc/core/solver.hpp"
+#include "satgnc/core/status.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "satgnc/guidance/ilqr_admm.hpp"
 
@@ -108,37 +110,29 @@ struct ScpSettings {
   void validate() const;
 };
 
-/// Outcome. Whatever the status, the returned U is the iterate of lowest true cost seen (never NaN;
-/// ScpInfo::objective is its true cost, +inf only when even the initial guess does not roll out).
-/// Appended values keep the numbers of the old ones.
-enum class ScpStatus {
-  /// predicted decrease <= tol * max(1, J) on a subproblem that was solved (inner solved status),
-  /// not limited by the trust region, at an iterate inside the bounds that rolls out on the model
-  /// (hard terminal state: and ||e_c|| <= terminal_tol * r, see ScpSettings::terminal_tol)
-  solved = 0,
-  max_outer,           ///< max_outer reached without the test above
-  propagation_failed,  ///< the model failed on ScpInfo::failed_interval (initial rollout or linearization)
-  inner_failed,        ///< the convex subproblem solver failed (ScpInfo::inner_status / inner_ilqr_status)
-  line_search_failed,  ///< no acceptable step (line search exhausted or trust radius below tr_min)
-  not_run,
-  solved_inaccurate,  ///< stopped at a limit with predicted <= tol_inaccurate * max(1, J)
-  /// the linearized subproblem is infeasible: hard terminal state outside what the box reaches
-  /// (Farkas certificate and margin in ScpInfo) or outside the reachable subspace (certificate 0)
-  inner_infeasible,
-  time_limit,  ///< ScpSettings::time_limit reached
-};
-const char* status_message(ScpStatus s);
+/// Outcome (core/status.hpp). Whatever the status, the returned U is the iterate of lowest true cost
+/// seen (never NaN; ScpInfo::objective is its true cost, +inf only when even the initial guess does
+/// not roll out). `solved`: predicted decrease <= tol * max(1, J) on a subproblem that was solved
+/// (inner solved status), not limited by the trust region, at an iterate inside the bounds that
+/// rolls out on the model (hard terminal state: and ||e_c|| <= terminal_tol * r, see
+/// ScpSettings::terminal_tol). `unsolved` (solve() not called) was `not_run`, kept as a deprecated
+/// alias.
+using core::ScpStatus;
+using core::status_message;
+using core::status_name;
 
-struct ScpInfo {
-  ScpStatus status = ScpStatus::not_run;
+/// Diagnostics of the last solve. From core::InfoBase: status, iterations (= outer_iterations,
+/// mirrored), primal_residual (= terminal_constraint_miss, mirrored), dual_residual
+/// (= predicted_decrease, mirrored) and solve_time (wall time of solve(), s).
+struct ScpInfo : core::InfoBase<ScpStatus> {
   int outer_iterations = 0;
   int inner_iterations = 0;         ///< total ADMM iterations over all subproblems
   double objective = 0.0;           ///< true cost of U (rolled out on the model)
   double predicted_decrease = 0.0;  ///< of the last subproblem
   double last_step = 0.0;           ///< accepted t of the last outer iteration
   int failed_interval = -1;
-  AdmmStatus inner_status = AdmmStatus::kUnsolved;             ///< linear_admm inner, last subproblem
-  IlqrAdmmStatus inner_ilqr_status = IlqrAdmmStatus::not_run;  ///< ilqr_admm inner, last subproblem
+  AdmmStatus inner_status = AdmmStatus::unsolved;               ///< linear_admm inner, last subproblem
+  IlqrAdmmStatus inner_ilqr_status = IlqrAdmmStatus::unsolved;  ///< ilqr_admm inner, last subproblem
   bool inner_solved = false;   ///< the last subproblem's inner status was an accurate "solved"
   double terminal_miss = 0.0;  ///< ||x_N - x_f||_2 of the returned iterate (model units)
   /// ||e_c||_2: x_N - x_f on the non-exogenous states (what a hard terminal state constrains)
@@ -157,7 +151,6 @@ struct ScpInfo {
   /// ||e_c||; the merit may rise).
   int restoration_steps = 0;
   double trust_radius = 0.0;  ///< final Delta (+inf while unrestricted)
-  double solve_time = 0.0;    ///< wall time of solve(), s
   /// True cost J of the iterate: entry 0 the initial guess, entry i after outer iteration i
   /// (unchanged by a rejected step). Non-increasing. Capacity reserved at setup. With a hard
   /// terminal state the merit J + mu ||e_c||_2 at the mu of that iteration: non-increasing when
@@ -166,11 +159,14 @@ struct ScpInfo {
   std::vector<double> merit_history;
 };
 
+/// Solution and info (arrays sized at setup).
 struct ScpResult {
   Eigen::MatrixXd X;       ///< nx x (N+1), rollout of U on the model
   Eigen::MatrixXd U;       ///< nu x N
   Eigen::MatrixXd Lambda;  ///< multipliers of the last subproblem
   ScpInfo info;
+  /// Old shape of ScpSolver::solve(), which returned the status.
+  [[deprecated("use solve().info.status")]] operator ScpStatus() const noexcept { return info.status; }
 };
 
 /// Sequential convex programming solver. solve() does not allocate with either inner solver (the
@@ -184,9 +180,9 @@ class ScpSolver {
   void set_initial_controls(const Eigen::Ref<const Eigen::MatrixXd>& U0);
   /// Initial state (receding horizon).
   void set_initial_state(const Eigen::Ref<const Eigen::VectorXd>& x0);
-  /// Run SCP (never throws).
-  ScpStatus solve() noexcept;
-  const ScpResult& result() const { return res_; }
+  /// Run SCP (never throws). The reference stays valid until the next solve().
+  const ScpResult& solve() noexcept;
+  const ScpResult& result() const noexcept { return res_; }
 
  private:
   int rollout(const Eigen::MatrixXd& U, Eigen::MatrixXd& X) const;

@@ -28,6 +28,8 @@
 #include <memory>
 #include <vector>
 
+#include "satgnc/core/solver.hpp"
+#include "satgnc/core/status.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/dynamics/types.hpp"
 #include "satgnc/od/measurement.hpp"
@@ -39,22 +41,20 @@ namespace satgnc::od {
 /// Iteration scheme.
 enum class OdMethod { newton = 0, gauss_newton = 1, levenberg_marquardt = 2 };
 
-/// Outcome of a solve (message table: od_status_message; guarantees: docs/od.md, "Statuses").
-/// Values are stable: new statuses are appended.
-enum class OdStatus {
-  converged = 0,        ///< the convergence test of the method holds at x0 (see OdSettings) and rank = 6
-  max_iterations,       ///< iteration budget exhausted; x0 is the best iterate
-  singular,             ///< Jacobian rank < 6 at x0 (OdResult::rank holds the numerical rank)
-  diverged,             ///< an iterate left the physical region: |r| < min_radius or unbound (E >= 0)
-  propagation_failed,   ///< the propagator reported a failure
-  degenerate_geometry,  ///< zero range (satellite at the station): range-rate and partials undefined
-  unsolved,             ///< the result of a solver that has not solved yet
-  stalled,              ///< no trial step lowered the cost (GN: gn_max_halvings halvings, LM:
-                        ///< lm_max_rejections damping increases) and the convergence test does not hold
-};
+/// Outcome of a solve (core/status.hpp; guarantees: docs/od.md, "Statuses"). Values are stable:
+/// new statuses are appended. converged: the convergence test of the method holds at x0 (see
+/// OdSettings) and rank = 6; max_iterations: budget exhausted, x0 is the best iterate; singular:
+/// Jacobian rank < 6 at x0 (OdResult::rank); diverged: an iterate left the physical region;
+/// propagation_failed; degenerate_geometry: zero range; unsolved: not solved yet; stalled: no trial
+/// step lowered the cost and the convergence test does not hold.
+using core::OdStatus;
+using core::status_message;
+using core::status_name;
 
 /// Message for a status.
-const char* od_status_message(OdStatus s);
+[[deprecated("use status_message")]] inline const char* od_status_message(OdStatus s) {
+  return core::status_message(s);
+}
 
 /// The paper's implicit boundary condition kind (eqs. 9 and 11).
 enum class ConditionType { range = 0, doppler = 1 };
@@ -133,12 +133,18 @@ struct OdSettings {
 /// singular: its last iterate) and cost, residuals,
 /// covariance and rank are evaluated at it; when not even the guess can be evaluated (diverged,
 /// propagation_failed or degenerate_geometry with iterations = 0) cost and max_abs_normalized are +inf.
+/// Diagnostics of the last solve. From core::InfoBase: status, iterations (accepted steps),
+/// primal_residual (RMS of the normalized residuals at x0, sqrt(2 cost / rows)), dual_residual
+/// (|x0 - previous iterate|_2 of the last accepted step, km/km/s mixed; 0 without a step) and
+/// solve_time (wall time of solve(), s).
+struct OdInfo : core::InfoBase<OdStatus> {};
+
 struct OdResult {
-  OdStatus status = OdStatus::unsolved;
-  int iterations = 0;              ///< accepted steps
-  int evaluations = 0;             ///< propagations (LM counts rejected trials)
-  Vec6 x0 = Vec6::Zero();          ///< final estimate at t = 0
-  Mat6 covariance = Mat6::Zero();  ///< formal (J^T W J)^-1 at x0 (km, km/s); +inf diagonal if rank < 6
+  OdStatus status = OdStatus::unsolved;  ///< mirrors info.status
+  int iterations = 0;                    ///< accepted steps (mirrors info.iterations)
+  int evaluations = 0;                   ///< propagations (LM counts rejected trials)
+  Vec6 x0 = Vec6::Zero();                ///< final estimate at t = 0
+  Mat6 covariance = Mat6::Zero();        ///< formal (J^T W J)^-1 at x0 (km, km/s); +inf diagonal if rank < 6
   Mat6 correlation = Mat6::Zero();
   Vec6 singular_values = Vec6::Zero();  ///< of the row-normalized Jacobian dr/dx0 (km, km/s columns)
   int rank = 0;                         ///< numerical rank of that Jacobian
@@ -156,6 +162,7 @@ struct OdResult {
   Eigen::MatrixXd history_range_rate_residuals;  ///< km/s
   Eigen::VectorXd history_cost;                  ///< 0.5 sum normalized^2
   Eigen::VectorXd history_lambda;                ///< LM damping used for the step into the row (0 otherwise)
+  OdInfo info;                                   ///< status, iterations, residuals, solve time
 };
 
 /// The solver: constant problem (stations, rows, unique times) + workspace sized once.
@@ -170,9 +177,19 @@ class OdSolver {
   static OdSolver from_conditions(std::vector<Station> stations, const std::vector<BoundaryCondition>& conds,
                                   std::shared_ptr<StmPropagator> propagator, const OdSettings& settings = {});
 
-  /// Iterate from the guess x0 (km, km/s); never throws, never allocates (given a non-allocating
+  /// Initial guess x0 (km, km/s) of the next solve() (default: zeros). Not checked here, as before:
+  /// a guess without residuals (non-finite, inside the body) ends in a failure status, not a throw.
+  void set_initial_guess(const Vec6& x0_guess) noexcept;
+
+  /// Iterate from the initial guess; never throws, never allocates (given a non-allocating
   /// propagator). The returned reference stays valid until the next solve().
-  const OdResult& solve(const Vec6& x0_guess);
+  const OdResult& solve();
+
+  /// set_initial_guess(x0_guess), then solve() (the old shape, kept).
+  const OdResult& solve(const Vec6& x0_guess) {
+    set_initial_guess(x0_guess);
+    return solve();
+  }
 
   /// Residual rows and, if jac is non-null, their Jacobian w.r.t. x0 (rows x 6, raw units) at x0.
   /// Returns converged when the evaluation is valid, otherwise the failure status.
@@ -198,6 +215,7 @@ class OdSolver {
   OdSolver() = default;
   void setup(std::vector<Station> stations, std::vector<Row> rows, std::vector<double> row_times,
              Eigen::VectorXd sigma, std::shared_ptr<StmPropagator> propagator, const OdSettings& settings);
+  void solve_iterate(const Vec6& guess);            // solve() without the timing and info mirrors
   OdStatus eval_at(const Vec6& x0, bool with_jac);  // fills r_, rn_, jn_, range/rate residuals
   bool physical(const Vec6& x) const;
   void factor();  // QR of [jn_ | rn_] -> R_, c_, SVD
@@ -252,6 +270,7 @@ class OdSolver {
   Vec6 c_;
   Eigen::JacobiSVD<Mat6> svd_;
   OdResult res_;
+  Vec6 guess_ = Vec6::Zero();  // set_initial_guess
 };
 
 /// Distinct-root search settings.

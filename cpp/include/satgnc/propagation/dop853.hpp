@@ -8,13 +8,18 @@
 /// Units are the caller's (orbital wrapper: km, km/s, s).
 #include <Eigen/Core>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
+#include "satgnc/core/no_malloc.hpp"
+#include "satgnc/core/solver.hpp"
+#include "satgnc/core/status.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/dynamics/types.hpp"
 #include "satgnc/propagation/trajectory.hpp"
@@ -32,18 +37,16 @@ struct Dop853Settings {
   double fac_min = 0.333;   ///< smallest step-size ratio h_new / h per step, in (0, 1]
   double fac_max = 6.0;     ///< largest step-size ratio h_new / h per step, >= 1
   double beta = 0.0;        ///< PI-control (Lund) stabilisation, in [0, 0.2]
+  /// Throws std::invalid_argument("field: rule") unless every field is in its documented range.
+  void validate() const;
 };
 
-/// Outcome of Dop853::solve.
-enum class Dop853Status {
-  success = 0,
-  invalid_settings,     ///< a Settings field violates its documented range
-  invalid_input,        ///< non-finite t0/y0/output time, or output times not monotone away from t0
-  max_steps,            ///< Settings::max_steps exhausted before the last output time
-  step_size_too_small,  ///< |h| fell below the resolution of t (tolerance too tight or singularity)
-  rhs_failure,          ///< the right-hand side returned a non-finite derivative at an accepted point
-  event,                ///< the event function reached zero (Dop853Info::t_reached = its time)
-};
+/// Outcome of Dop853::solve (core/status.hpp): success, invalid_settings (kept for its number; the
+/// constructor validates the settings), invalid_input (non-finite t0/y0/output time, or output times
+/// not monotone away from t0), max_steps, step_size_too_small (tolerance too tight or singularity),
+/// rhs_failure (non-finite derivative at an accepted point), event (the event function reached zero,
+/// Dop853Info::t_reached = its time); unsolved before the first solve.
+using core::Dop853Status;
 
 /// The default event of Dop853::solve: none.
 struct Dop853NoEvent {
@@ -54,31 +57,13 @@ struct Dop853NoEvent {
 };
 
 /// Human-readable message for a Dop853Status.
-inline const char* dop853_status_message(Dop853Status s) {
-  switch (s) {
-    case Dop853Status::success:
-      return "success";
-    case Dop853Status::invalid_settings:
-      return "invalid settings: need rtol > 10 eps, atol >= 0, max_steps > 0, h0 >= 0, h_max >= 0, "
-             "0 < safety < 1, 0 < fac_min <= 1 <= fac_max, 0 <= beta <= 0.2";
-    case Dop853Status::invalid_input:
-      return "invalid input: non-finite t0, y0 or output time, or output times not monotone away "
-             "from t0";
-    case Dop853Status::max_steps:
-      return "step budget (max_steps) exhausted before the last output time";
-    case Dop853Status::step_size_too_small:
-      return "step size became smaller than the resolution of t";
-    case Dop853Status::rhs_failure:
-      return "right-hand side returned a non-finite derivative";
-    case Dop853Status::event:
-      return "the event function reached zero (e.g. the surface was reached)";
-  }
-  return "unknown status";
+[[deprecated("use status_message")]] inline const char* dop853_status_message(Dop853Status s) {
+  return core::status_message(s);
 }
 
-/// Statistics and status of one solve.
-struct Dop853Info {
-  Dop853Status status = Dop853Status::success;
+/// Statistics and status of one solve. From core::InfoBase: status (unsolved before a solve),
+/// iterations (= steps, mirrored), solve_time (wall time of solve(), s); the residuals are unused (0).
+struct Dop853Info : core::InfoBase<Dop853Status> {
   long steps = 0;           ///< accepted steps
   long rejected = 0;        ///< rejected steps
   long rhs_evals = 0;       ///< right-hand-side evaluations
@@ -282,8 +267,9 @@ class Dop853 {
   using Vec = Eigen::Matrix<double, N, 1>;
 
   /// @param rhs right-hand side (referenced, must outlive the integrator)
-  /// @param settings tolerances and controller parameters (checked by solve())
-  Dop853(Rhs& rhs, const Dop853Settings& settings) : rhs_(rhs), s_(settings) {}
+  /// @param settings tolerances and controller parameters
+  /// @throws std::invalid_argument naming the field when a setting is out of range (Settings::validate)
+  Dop853(Rhs& rhs, const Dop853Settings& settings) : rhs_(rhs), s_(settings) { s_.validate(); }
 
   /// Integrate from (t0, y0) through the output times t_out[0..n_out), which must be finite and
   /// monotone away from t0 (all >= t0 or all <= t0; values equal to t0 are allowed), calling
@@ -295,9 +281,19 @@ class Dop853 {
   /// ends: an excursion below zero and back within one step is not seen.
   template <class Output, class Event = Dop853NoEvent>
   Dop853Info solve(double t0, const Vec& y0, const double* t_out, std::size_t n_out, Output&& out,
-                   const Event& event = Event());
+                   const Event& event = Event()) {
+    SATGNC_NO_MALLOC_SCOPE;
+    const auto start = std::chrono::steady_clock::now();
+    Dop853Info info = run<Output, Event>(t0, y0, t_out, n_out, std::forward<Output>(out), event);
+    info.iterations = static_cast<int>(info.steps);  // core::InfoBase mirror
+    info.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return info;
+  }
 
  private:
+  template <class Output, class Event>
+  Dop853Info run(double t0, const Vec& y0, const double* t_out, std::size_t n_out, Output&& out,
+                 const Event& event);
   double error_norm(double h) const;
   double initial_step(double t, double dir, double h_max);
   void prepare_dense(double t, double h);
@@ -397,10 +393,11 @@ void Dop853<N, Rhs>::interpolate(double s, Vec& y) const {
 
 template <int N, class Rhs>
 template <class Output, class Event>
-Dop853Info Dop853<N, Rhs>::solve(double t0, const Vec& y0, const double* t_out, std::size_t n_out,
-                                 Output&& out, const Event& event) {
+Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, std::size_t n_out, Output&& out,
+                               const Event& event) {
   namespace tb = dop853_tableau;
   Dop853Info info;
+  info.status = Dop853Status::success;
   info.t_reached = t0;
   nfev_ = 0;
   if (dop853_check_settings(s_) != Dop853Status::success) {
@@ -691,6 +688,7 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
   std::vector<Mat6> stms(with_stm ? n : 0);
   std::vector<char> done(n, 0);
   Trajectory tr;
+  tr.status = PropagationStatus::success;
   tr.t_reached = t0;
   bool failed = false;
   auto arc = [&](const std::vector<std::size_t>& idx, const char* name) {
@@ -727,7 +725,7 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
     } else if (info.status != Dop853Status::success) {
       failed = true;
       tr.status = dop853_to_propagation_status(info.status);
-      tr.message = std::string("propagate_dop853 (") + name + " arc): " + dop853_status_message(info.status) +
+      tr.message = std::string("propagate_dop853 (") + name + " arc): " + status_message(info.status) +
                    "; reached t = " + std::to_string(info.t_reached) + " s of " + std::to_string(ts.back()) +
                    " s after " + std::to_string(info.steps) + " steps";
     }

@@ -8,21 +8,22 @@
 #include <string>
 #include <vector>
 
+#include "satgnc/core/status.hpp"
 #include "satgnc/dynamics/types.hpp"
 #include "satgnc/propagation/trajectory.hpp"
 
 namespace satgnc::propagation {
 
-/// Outcome of kepler_step (no exceptions on this path: embedded use).
-enum class KeplerStatus {
-  success = 0,
-  invalid_input,   ///< non-finite x0/dt/mu, mu <= 0 or |r0| = 0
-  no_convergence,  ///< the universal Kepler equation did not converge in KeplerLimits::max_iterations
-  overflow,        ///< hyperbolic functions overflowed (|dt| far beyond the asymptote's reach)
-};
+/// Outcome of kepler_step (core/status.hpp; no exceptions on this path: embedded use): success,
+/// invalid_input (non-finite x0/dt/mu, mu <= 0 or |r0| = 0), no_convergence (the universal Kepler
+/// equation did not converge in KeplerLimits::max_iterations), overflow (hyperbolic functions
+/// overflowed, |dt| far beyond the asymptote's reach); unsolved before a step ran.
+using core::KeplerStatus;
 
 /// Human-readable message for a KeplerStatus.
-const char* kepler_status_message(KeplerStatus s);
+[[deprecated("use status_message")]] inline const char* kepler_status_message(KeplerStatus s) {
+  return core::status_message(s);
+}
 
 /// Fixed iteration limits of the Kepler solver (constexpr: the solver has no settings to tune).
 struct KeplerLimits {

@@ -4,24 +4,20 @@
 #include <string>
 #include <vector>
 
+#include "satgnc/core/status.hpp"
 #include "satgnc/dynamics/types.hpp"
 
 namespace satgnc::propagation {
 
-/// Outcome of a propagation. Anything but success means the arc ended early at Trajectory::t_reached.
-enum class PropagationStatus {
-  success = 0,
-  too_much_work,         ///< step budget (Settings::max_steps) exhausted
-  too_much_accuracy,     ///< tolerances below what double precision can deliver
-  error_test_failures,   ///< repeated local error test failures (step size collapsed)
-  convergence_failures,  ///< corrector did not converge repeatedly
-  rhs_failure,           ///< the force model failed (e.g. |r| reached 0, non-finite acceleration)
-  solver_failure,        ///< any other integrator failure
-  impact,                ///< the trajectory reached the surface radius (or r = 0); t_reached = impact time
-};
-
-/// Human-readable message for a status (message table, as OSQP does).
-const char* status_message(PropagationStatus s);
+/// Outcome of a propagation (core/status.hpp). Anything but success means the arc ended early at
+/// Trajectory::t_reached: too_much_work (Settings::max_steps exhausted), too_much_accuracy
+/// (tolerances below double precision), error_test_failures (step size collapsed),
+/// convergence_failures (corrector), rhs_failure (the force model failed, e.g. |r| reached 0),
+/// solver_failure (any other), impact (surface radius or r = 0 reached; t_reached = impact time).
+/// A fresh Trajectory is unsolved. status_message() gives the text (message table, as OSQP does).
+using core::PropagationStatus;
+using core::status_message;
+using core::status_name;
 
 /// Largest |component| of an initial state x0 = [r km, v km/s] a propagator accepts: the force
 /// model's |r|^3 overflows double precision near 5e102 km (x0 = 1e300 was a "force model failed"
@@ -55,9 +51,9 @@ struct Trajectory {
   std::vector<Vec6> states;   ///< [r km, v km/s] at each time
   std::vector<Mat6> stms;     ///< d x(t_i) / d x(t0); empty when the STM was not requested
   PropagationStats stats;
-  PropagationStatus status = PropagationStatus::success;
-  double t_reached = 0.0;  ///< last time the integrator reached, s
-  std::string message;     ///< why it stopped, when status != success
+  PropagationStatus status = PropagationStatus::unsolved;  ///< unsolved until a propagator fills it
+  double t_reached = 0.0;                                  ///< last time the integrator reached, s
+  std::string message;                                     ///< why it stopped, when status != success
 };
 
 }  // namespace satgnc::propagation

@@ -1,0 +1,145 @@
+"""The one result style of satgnc (private).
+
+Every result a public function returns is a frozen dataclass derived from :class:`Result`:
+
+* fields are attributes (``r.status``, ``r.iterations``, ``r.X``); assigning one raises
+  :class:`dataclasses.FrozenInstanceError`;
+* numpy arrays are copied at construction and stored read-only (``flags.writeable = False``), also
+  inside list and tuple fields: writing into one raises ``ValueError``. ``r.X.copy()`` gives a
+  writeable array;
+* results that used to be dicts still answer ``r["X"]`` (and ``"X" in r``, ``r.keys()``,
+  ``r.get("X")``), with a ``DeprecationWarning`` that names the attribute to use instead; the value is
+  the attribute itself (``r["X"] is r.X``);
+* solver results carry ``status: str`` (a snake_case name such as ``"solved"``), ``message: str``
+  and ``iterations: int``.
+
+:func:`deprecated`, :func:`deprecated_function` and :func:`module_getattr` give renamed or moved
+public names their deprecated aliases: the old name keeps its old behaviour and warns with the new
+name.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import warnings
+from collections.abc import Callable, Iterator, Mapping
+from typing import Any, TypeVar
+
+import numpy as np
+
+__all__ = ["Result", "deprecated", "deprecated_function", "module_getattr", "readonly"]
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def readonly(value: Any) -> Any:
+    """A read-only copy of ``value`` when it is a numpy array (lists and tuples: element-wise, the
+    container type kept); any other value is returned as is."""
+    if isinstance(value, np.ndarray):
+        arr = value.copy()  # C order
+        arr.flags.writeable = False
+        return arr
+    if isinstance(value, (list, tuple)) and any(isinstance(v, (np.ndarray, list, tuple)) for v in value):
+        items = [readonly(v) for v in value]
+        return items if isinstance(value, list) else type(value)(items)
+    return value
+
+
+def deprecated(old: str, new: str, *, stacklevel: int = 2) -> None:
+    """Emit ``DeprecationWarning("<old> is deprecated; use <new>")`` at the caller's caller
+    (``stacklevel`` as in :func:`warnings.warn`, counted from the function calling this one)."""
+    warnings.warn(f"{old} is deprecated; use {new}", DeprecationWarning, stacklevel=stacklevel + 1)
+
+
+def deprecated_function(func: _F, old: str, new: str) -> _F:
+    """``func`` wrapped so that every call first warns "<old> is deprecated; use <new>"."""
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        deprecated(old, new, stacklevel=2)
+        return func(*args, **kwargs)
+
+    return wrapper  # type: ignore[return-value]
+
+
+def module_getattr(
+    module: str, aliases: Mapping[str, tuple[str, Callable[[], Any]]]
+) -> Callable[[str], Any]:
+    """A module ``__getattr__`` serving deprecated names.
+
+    ``aliases`` maps an old name to ``(new, load)``: reading ``module.old`` warns
+    "<module>.<old> is deprecated; use <new>" and returns ``load()`` (the old object, unchanged).
+    Any other missing name is an ``AttributeError`` as usual. Use as
+    ``__getattr__ = module_getattr(__name__, {...})``."""
+    table = dict(aliases)
+
+    def __getattr__(name: str) -> Any:
+        entry = table.get(name)
+        if entry is None:
+            raise AttributeError(f"module {module!r} has no attribute {name!r}")
+        new, load = entry
+        deprecated(f"{module}.{name}", new, stacklevel=2)
+        return load()
+
+    return __getattr__
+
+
+_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
+
+
+@dataclasses.dataclass(frozen=True)
+class Result:
+    """Base of every satgnc result: a frozen dataclass with read-only numpy arrays.
+
+    Subclasses are declared with ``@dataclasses.dataclass(frozen=True)``; a subclass that defines
+    ``__post_init__`` calls ``super().__post_init__()`` first. Dict-style access (``r["X"]``) is
+    deprecated: it warns and returns ``r.X``."""
+
+    def __post_init__(self) -> None:
+        # the hot path of every solve() that returns a Result: field names cached per class, and the
+        # instance dict written directly (what object.__setattr__ does for a frozen dataclass)
+        names = _FIELD_NAMES.get(type(self))
+        if names is None:
+            names = _FIELD_NAMES[type(self)] = tuple(f.name for f in dataclasses.fields(self))
+        d = self.__dict__
+        for name in names:
+            value = d[name]
+            if isinstance(value, (np.ndarray, list, tuple)):
+                d[name] = readonly(value)
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Unpickling and copy.copy / deepcopy keep the arrays read-only."""
+        for key, value in state.items():
+            object.__setattr__(self, key, readonly(value))
+
+    # ------------------------------------------------------------------ deprecated dict access
+    def _field_names(self) -> list[str]:
+        return [f.name for f in dataclasses.fields(self)]
+
+    def __getitem__(self, key: str) -> Any:
+        cls = type(self).__name__
+        if not isinstance(key, str) or key not in self._field_names():
+            raise KeyError(key)
+        deprecated(f"{cls}[{key!r}] (dict access)", f"the attribute {cls}.{key}", stacklevel=2)
+        return getattr(self, key)
+
+    def __contains__(self, key: object) -> bool:
+        deprecated(f"'key' in {type(self).__name__} (dict access)", "hasattr() or the attribute",
+                   stacklevel=2)
+        return isinstance(key, str) and key in self._field_names()
+
+    def get(self, key: str, default: Any = None) -> Any:
+        """Deprecated dict-style ``get``: use the attribute."""
+        cls = type(self).__name__
+        deprecated(f"{cls}.get({key!r}) (dict access)", f"the attribute {cls}.{key}", stacklevel=2)
+        return getattr(self, key) if key in self._field_names() else default
+
+    def keys(self) -> list[str]:
+        """Deprecated dict-style ``keys``: the field names (see :func:`dataclasses.fields`)."""
+        deprecated(f"{type(self).__name__}.keys() (dict access)", "dataclasses.fields()", stacklevel=2)
+        return self._field_names()
+
+    def __iter__(self) -> Iterator[str]:
+        deprecated(f"iterating a {type(self).__name__} (dict access)", "dataclasses.fields()", stacklevel=2)
+        return iter(self._field_names())

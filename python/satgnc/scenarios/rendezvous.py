@@ -1,0 +1,271 @@
+"""One rendezvous scenario file, read by both models (linear CW and nonlinear two-satellite).
+
+Schema (strict: an unknown, missing or mistyped key is a :class:`satgnc.FileFormatError` naming the
+file, the line, the key and its section). SI units (m, m/s, N, kg, s) except where marked.
+
+* ``[orbit]`` ``mu`` (m^3/s^2), ``radius`` (m): the target's circular orbit;
+* ``[chaser]`` ``mass`` (kg);
+* ``[initial_state]`` ``position`` (m), ``velocity`` (m/s): the chaser relative to the target in the
+  target's CW frame (y radial, z normal, x = y cross z);
+* optional ``[release]`` ``relative_position`` (m), ``relative_velocity`` (m/s), ``drift_time`` (s),
+  ``drift_steps``: the nonlinear model's start: target minus chaser (ECI) at release, the target at
+  ``[radius, 0, 0]`` on its circular equatorial orbit, then ``drift_time`` s of uncontrolled RK4
+  (``drift_steps`` steps) on the planner model; without it the nonlinear start is ``[initial_state]``;
+* ``[horizon]`` ``tf`` (s), ``knots`` (knot points: knots - 1 control intervals);
+* ``[cost]`` ``alpha``, ``Qf`` (scaled units), ``u_max`` (N per axis, applied by cases with ``box``);
+* optional ``[discretization]`` ``method`` (linear: midpoint / zoh / expm), ``nonlinear``
+  (rk3 / rk4 / dop853), ``substeps`` (RK steps per interval);
+* optional ``[planner]`` and ``[truth]`` ``j2``, ``drag``, ``atmosphere`` (co_rotating / published): the
+  nonlinear planning model (default: point mass) and the flight's truth model (default: J2 and drag,
+  co-rotating); both take ``mu`` from ``[orbit]`` and the chaser's mass from ``[chaser]``, the rest from
+  the engine's ``TwoSatelliteParams`` defaults (drag: the l1 scenario's exponential density with its
+  6731 km reference radius, target 4.6 kg, 0.01 m^2);
+* ``[cases.<name>]`` ``rho``, ``eps``, ``box``, ``terminal_equality``, ``paper_lqr_passes`` (the linear
+  model's ADMM settings), and optional ``[cases.<name>.nonlinear]`` ``rho``, ``eps``,
+  ``terminal_equality``: the nonlinear model's iLQR-ADMM settings (paper stopping rule) and its
+  terminal condition (default: the case's).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import pathlib
+
+import numpy as np
+
+from .._validate import (
+    FileFormatError,
+    Key,
+    check_toml_table,
+    did_you_mean,
+    load_toml,
+    read_text_file,
+    toml_line,
+)
+
+__all__ = ["RendezvousScenario", "load", "problem", "truth_params", "DEFAULT"]
+
+DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
+
+_ATMOSPHERES = ("co_rotating", "published")
+_TOP = {"name": Key("string", required=False), "source": Key("string", required=False)}
+SECTIONS = {
+    "orbit": {
+        "mu": Key("number", positive=True, low=1.0, high=1e22, unit="m^3/s^2"),
+        "radius": Key("number", positive=True, low=1.0, high=1e13, unit="m"),
+    },
+    "chaser": {"mass": Key("number", positive=True, high=1e9, unit="kg")},
+    "initial_state": {
+        "position": Key("vector", length=3, nonzero=True, unit="m"),
+        "velocity": Key("vector", length=3, nonzero=True, unit="m/s"),
+    },
+    "release": {
+        "relative_position": Key("vector", length=3, unit="m"),
+        "relative_velocity": Key("vector", length=3, unit="m/s"),
+        "drift_time": Key("number", required=False, default=0.0, nonnegative=True, high=1e9, unit="s"),
+        "drift_steps": Key("integer", required=False, default=1, low=1, high=10**7, unit="RK4 steps"),
+    },
+    "horizon": {
+        "tf": Key("number", positive=True, high=1e9, unit="s"),
+        "knots": Key("integer", low=2, high=10**6, unit="knot points"),
+    },
+    "cost": {
+        "alpha": Key("number", nonnegative=True, unit="scaled units"),
+        "Qf": Key("number", nonnegative=True, unit="scaled units"),
+        "u_max": Key("number", positive=True, unit="N"),
+    },
+    "discretization": {
+        "method": Key("string", required=False, default="midpoint", choices=("midpoint", "zoh", "expm")),
+        "nonlinear": Key("string", required=False, default="rk3", choices=("rk3", "rk4", "dop853")),
+        "substeps": Key("integer", required=False, default=1, low=1, high=10**6),
+    },
+    "planner": {
+        "j2": Key("bool", required=False, default=False),
+        "drag": Key("bool", required=False, default=False),
+        "atmosphere": Key("string", required=False, default="co_rotating", choices=_ATMOSPHERES),
+    },
+    "truth": {
+        "j2": Key("bool", required=False, default=True),
+        "drag": Key("bool", required=False, default=True),
+        "atmosphere": Key("string", required=False, default="co_rotating", choices=_ATMOSPHERES),
+    },
+}
+#: sections a file may leave out (all their keys have defaults; [release] absent means no release).
+OPTIONAL_SECTIONS = ("release", "discretization", "planner", "truth")
+CASE = {
+    "rho": Key("number", positive=True),
+    "eps": Key("number", positive=True),
+    "box": Key("bool", required=False, default=False),
+    "terminal_equality": Key("bool", required=False, default=False),
+    "paper_lqr_passes": Key("integer", required=False, low=0),
+}
+CASE_NONLINEAR = {
+    "rho": Key("number", positive=True),
+    "eps": Key("number", positive=True),
+    "terminal_equality": Key("bool", required=False),
+}
+
+
+def read(path, name: str = "path"):
+    """``(path, text, top, sections, cases)`` of a scenario file, every entry checked; a case's
+    ``"nonlinear"`` entry is its checked ``[cases.<name>.nonlinear]`` table or None; an absent
+    ``[release]`` is None. ``name`` is the caller's argument in errors about the path itself."""
+    p, text, d = load_toml(path, name)
+    known = [*_TOP, *SECTIONS, "cases"]
+    for key, value in d.items():
+        if key not in known:
+            what = "section" if isinstance(value, dict) else "key"
+            shown = f"[{key}]" if what == "section" else f"'{key}'"
+            line = toml_line(text, key) if what == "section" else toml_line(text, "", key)
+            hint = did_you_mean(key, known, "[{}]" if what == "section" else "'{}'")
+            raise FileFormatError(
+                p,
+                line,
+                f"unknown {what} {shown} at the top level{hint}; known sections: "
+                + ", ".join(f"[{k}]" for k in [*SECTIONS, "cases"]),
+                key=key,
+            )
+    top = check_toml_table({k: v for k, v in d.items() if k in _TOP}, _TOP, "", p, text)
+    secs = {}
+    for sec, schema in SECTIONS.items():
+        if sec not in d:
+            if sec not in OPTIONAL_SECTIONS:
+                raise FileFormatError(
+                    p, None, f"missing section [{sec}] (keys: {', '.join(schema)})", key=sec
+                )
+            secs[sec] = None if sec == "release" else check_toml_table({}, schema, sec, p, text)
+            continue
+        secs[sec] = check_toml_table(d[sec], schema, sec, p, text)
+    cases_raw = d.get("cases")
+    if cases_raw is None:
+        raise FileFormatError(
+            p, None, "missing section [cases.<name>]: the scenario needs at least one case", key="cases"
+        )
+    if not isinstance(cases_raw, dict) or not cases_raw:
+        raise FileFormatError(
+            p, toml_line(text, "cases"), "[cases] must hold at least one [cases.<name>] table", key="cases"
+        )
+    cases = {}
+    for cname, c in cases_raw.items():
+        nl = None
+        if isinstance(c, dict) and "nonlinear" in c:
+            c = dict(c)
+            nl = check_toml_table(c.pop("nonlinear"), CASE_NONLINEAR, f"cases.{cname}.nonlinear", p, text)
+        checked = check_toml_table(c, CASE, f"cases.{cname}", p, text)
+        checked["nonlinear"] = nl
+        cases[cname] = checked
+    n = float(np.sqrt(secs["orbit"]["mu"] / secs["orbit"]["radius"] ** 3))
+    if n * secs["horizon"]["tf"] > 1e9:  # the CW matrices' bound (guidance.cw_stm); the error named "dt"
+        raise FileFormatError(
+            p,
+            toml_line(read_text_file(p)[1], "horizon", "tf"),
+            f"key 'tf' in section [horizon] (s): n tf = {n * secs['horizon']['tf']:.3g} rad exceeds 1e9 rad "
+            f"(n = sqrt(mu / radius^3) = {n:.3g} rad/s): the CW matrices keep no correct digit",
+            key="tf",
+        )
+    return p, text, top, secs, cases
+
+
+@dataclasses.dataclass(frozen=True)
+class RendezvousScenario:
+    """A checked scenario file: ``path``, ``name``, ``sections`` (section -> {key: value}; ``release``
+    None when absent) and ``cases`` (case -> {key: value}, ``"nonlinear"`` a table or None)."""
+
+    path: pathlib.Path
+    name: str | None
+    sections: dict
+    cases: dict
+
+    def nonlinear_cases(self) -> list[str]:
+        """The cases with a ``[cases.<name>.nonlinear]`` table, or every case when none has one."""
+        named = [c for c, v in self.cases.items() if v["nonlinear"] is not None]
+        return named or list(self.cases)
+
+
+def load(path=None, name: str = "path") -> RendezvousScenario:
+    """Read and check a rendezvous scenario file (default: the packaged l1_rendezvous.toml)."""
+    p, _, top, secs, cases = read(DEFAULT if path is None else path, name)
+    return RendezvousScenario(p, top.get("name"), secs, cases)
+
+
+def _params(sc: RendezvousScenario, section: str):
+    """TwoSatelliteParams of ``[planner]`` or ``[truth]`` with the file's mu and chaser mass."""
+    from ..guidance.problem import satellite_params
+
+    t = sc.sections[section]
+    mu, mass = sc.sections["orbit"]["mu"], sc.sections["chaser"]["mass"]
+    return satellite_params(mu, j2=t["j2"], drag=t["drag"], atmosphere=t["atmosphere"], mass=mass)
+
+
+def truth_params(sc: RendezvousScenario):
+    """``TwoSatelliteParams`` of the scenario's ``[truth]`` model (mu from ``[orbit]``)."""
+    return _params(sc, "truth")
+
+
+def release_state(sc: RendezvousScenario) -> np.ndarray | None:
+    """The ``[release]`` 12-state ``[r_t - r_c, r_t, v_t - v_c, v_t]`` (m, m/s, ECI) before the drift:
+    target at ``[radius, 0, 0]`` with velocity ``[0, sqrt(mu / radius), 0]``; None without [release]."""
+    rel = sc.sections["release"]
+    if rel is None:
+        return None
+    mu, R = sc.sections["orbit"]["mu"], sc.sections["orbit"]["radius"]
+    vc = np.sqrt(mu / R)
+    d, w = rel["relative_position"], rel["relative_velocity"]
+    return np.array([d[0], d[1], d[2], R, 0, 0, w[0], w[1], w[2], 0, vc, 0])
+
+
+def start_state(sc: RendezvousScenario, planner=None) -> np.ndarray | None:
+    """The nonlinear start: the release state after ``drift_time`` s of RK4 (``drift_steps`` steps) on
+    the planner model (default: the scenario's ``[planner]``); None without [release]."""
+    from .. import _satgnc as _c
+
+    x = release_state(sc)
+    if x is None:
+        return None
+    rel = sc.sections["release"]
+    if rel["drift_time"] == 0.0:
+        return x
+    p = _params(sc, "planner") if planner is None else planner
+    return np.asarray(_c.TwoSatelliteModel(p).propagate(4, x, rel["drift_time"], rel["drift_steps"]))
+
+
+def problem(sc: RendezvousScenario, case: str, model: str = "linear", x0_eci=None):
+    """The :class:`satgnc.guidance.RendezvousProblem` of ``case`` for ``model`` (``"linear"`` or
+    ``"nonlinear"``: the nonlinear model takes the case's ``[cases.<name>.nonlinear]`` terminal
+    condition when given). ``x0_eci``: the nonlinear start (default: :func:`start_state`)."""
+    from .._validate import one_of
+    from ..guidance.problem import RendezvousProblem
+
+    if not isinstance(sc, RendezvousScenario):
+        raise TypeError(f"sc: must be a RendezvousScenario (see load()), got {type(sc).__name__}")
+    model = one_of(model, "model", ("linear", "nonlinear"))
+    if not isinstance(case, str):
+        raise TypeError(f"case: must be a case name (str), got {type(case).__name__}")
+    if case not in sc.cases:
+        raise ValueError(f"case: unknown {case!r}; choose from {sorted(sc.cases)}")
+    s, c = sc.sections, sc.cases[case]
+    te = c["terminal_equality"]
+    if (
+        model == "nonlinear"
+        and c["nonlinear"] is not None
+        and c["nonlinear"]["terminal_equality"] is not None
+    ):
+        te = c["nonlinear"]["terminal_equality"]
+    planner = _params(sc, "planner")
+    return RendezvousProblem(
+        mu=s["orbit"]["mu"],
+        radius=s["orbit"]["radius"],
+        mass=s["chaser"]["mass"],
+        x0=np.r_[s["initial_state"]["position"], s["initial_state"]["velocity"]],
+        tf=s["horizon"]["tf"],
+        horizon=s["horizon"]["knots"] - 1,
+        alpha=s["cost"]["alpha"],
+        Qf=s["cost"]["Qf"],
+        u_max=s["cost"]["u_max"] if c["box"] else None,
+        terminal_equality=te,
+        x0_eci=start_state(sc, planner) if x0_eci is None else x0_eci,
+        planner=planner,
+        linear_discretization=s["discretization"]["method"],
+        nonlinear_discretization=s["discretization"]["nonlinear"],
+        substeps=s["discretization"]["substeps"],
+    )

@@ -1,0 +1,120 @@
+"""The one result style (satgnc._results): frozen dataclasses, read-only arrays, deprecated dict access."""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pytest
+from satgnc import _results
+from satgnc._results import Result, deprecated, deprecated_function, module_getattr
+
+
+@dataclasses.dataclass(frozen=True)
+class _Demo(Result):
+    status: str
+    iterations: int
+    X: np.ndarray
+    parts: list = dataclasses.field(default_factory=list)
+
+
+def _demo() -> tuple[_Demo, np.ndarray]:
+    X = np.arange(6.0).reshape(3, 2)
+    return _Demo(status="solved", iterations=7, X=X, parts=[np.ones(2), 3]), X
+
+
+def test_arrays_are_read_only_copies():
+    r, X = _demo()
+    assert r.X.shape == (3, 2)
+    assert r.X.flags.writeable is False
+    assert r.X is not X and np.shares_memory(r.X, X) is False
+    X[0, 0] = 99.0  # the caller's array stays the caller's
+    assert r.X[0, 0] == 0.0
+    with pytest.raises(ValueError, match="read-only"):
+        r.X[0, 0] = 1.0
+    with pytest.raises(ValueError, match="read-only"):
+        r.parts[0][1] = 5.0
+    assert r.parts[1] == 3
+    w = r.X.copy()
+    w[0, 0] = 2.0
+    assert w[0, 0] == 2.0 and r.X[0, 0] == 0.0
+
+
+def test_attribute_assignment_is_refused():
+    r, _ = _demo()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.status = "max_iterations"  # type: ignore[misc]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.X = np.zeros((3, 2))  # type: ignore[misc]
+    assert r.status == "solved" and r.iterations == 7
+
+
+def test_dict_access_warns_and_returns_the_attribute():
+    r, _ = _demo()
+    msg = r"_Demo\['X'\] \(dict access\) is deprecated; use the attribute _Demo.X"
+    with pytest.warns(DeprecationWarning, match=msg):
+        x = r["X"]
+    assert x is r.X
+    with pytest.warns(DeprecationWarning, match="use the attribute _Demo.status"):
+        assert r["status"] == "solved"
+    with pytest.warns(DeprecationWarning):
+        assert r.get("iterations") == 7
+    with pytest.warns(DeprecationWarning):
+        assert r.get("nothing", 5) == 5
+    with pytest.warns(DeprecationWarning):
+        assert "X" in r
+    with pytest.warns(DeprecationWarning):
+        assert list(r.keys()) == ["status", "iterations", "X", "parts"]
+    with pytest.warns(DeprecationWarning):
+        assert dict(r)["iterations"] == 7  # keys() + __getitem__: **r and dict(r) still work
+    with pytest.raises(KeyError, match="nothing"):
+        r["nothing"]
+
+
+def test_attribute_access_does_not_warn():
+    r, _ = _demo()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert r.iterations == 7 and r.X.shape == (3, 2)
+        assert dataclasses.replace(r, iterations=8).iterations == 8
+
+
+def test_deprecated_helpers_name_the_new_name():
+    with pytest.warns(DeprecationWarning, match=r"^old\.f is deprecated; use new\.g$"):
+        deprecated("old.f", "new.g")
+
+    def f(a, b=1):
+        return a + b
+
+    g = deprecated_function(f, "m.f", "m.h")
+    with pytest.warns(DeprecationWarning, match="m.f is deprecated; use m.h"):
+        assert g(1, b=2) == 3
+    assert g.__name__ == "f"
+
+    getattr_ = module_getattr("satgnc.old", {"thing": ("satgnc.new.thing", lambda: 42)})
+    with pytest.warns(DeprecationWarning, match=r"satgnc\.old\.thing is deprecated; use satgnc\.new\.thing"):
+        assert getattr_("thing") == 42
+    with pytest.raises(AttributeError, match="has no attribute 'other'"):
+        getattr_("other")
+
+
+def test_pickle_and_copies_stay_read_only():
+    import copy
+    import pickle
+
+    r, _ = _demo()
+    for back in (pickle.loads(pickle.dumps(r)), copy.deepcopy(r), copy.copy(r)):
+        assert isinstance(back, _Demo) and back.iterations == 7
+        np.testing.assert_array_equal(back.X, r.X)
+        assert back.X.flags.writeable is False
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            back.iterations = 1  # type: ignore[misc]
+
+
+def test_warning_points_at_the_caller():
+    r, _ = _demo()
+    with pytest.warns(DeprecationWarning) as rec:
+        r["X"]
+    assert rec[0].filename == __file__
+    assert _results.__name__ == "satgnc._results"
