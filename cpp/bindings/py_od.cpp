@@ -63,7 +63,18 @@ void init_od(py::module_& m) {
              return std::make_shared<CvodesStmPropagator>(fm, s);
            }),
            py::arg("mu") = dynamics::earth::mu, py::arg("j2") = false, py::arg("rtol") = 1e-11,
-           py::arg("atol") = 1e-12);
+           py::arg("atol") = 1e-12)
+      // Any force model (point mass + optional J2 + optional ExponentialDrag; km, km/s, s): the STM
+      // integrates the drag's analytic Jacobians too. The model is checked here (ForceModel::validate).
+      .def(py::init([](const dynamics::ForceModel& force_model, double rtol, double atol) {
+             force_model.validate();
+             propagation::CvodesSettings s;
+             s.rtol = rtol;
+             s.atol = atol;
+             return std::make_shared<CvodesStmPropagator>(force_model, s);
+           }),
+           py::arg("force_model"), py::arg("rtol") = 1e-11, py::arg("atol") = 1e-12,
+           "STM propagator on a satgnc.ForceModel (km, km/s, s; J2 and ExponentialDrag optional).");
   py::class_<ShortArcStmPropagator, StmPropagator, std::shared_ptr<ShortArcStmPropagator>>(
       m, "ShortArcStmPropagator")
       .def(py::init<std::shared_ptr<StmPropagator>>(), py::arg("inner"));

@@ -106,6 +106,7 @@ __all__: list[str] = [
     "published_scaling",
     "scp_status_message",
     "status_message",
+    "status_tables",
     "two_satellite_state",
 ]
 
@@ -422,6 +423,7 @@ class KeplerStmPropagator(StmPropagator):
     def mu(self) -> float: ...
 
 class CvodesStmPropagator(StmPropagator):
+    @typing.overload
     def __init__(
         self,
         mu: typing.SupportsFloat | typing.SupportsIndex = 398600.4418,
@@ -429,6 +431,16 @@ class CvodesStmPropagator(StmPropagator):
         rtol: typing.SupportsFloat | typing.SupportsIndex = 1e-11,
         atol: typing.SupportsFloat | typing.SupportsIndex = 1e-12,
     ) -> None: ...
+    @typing.overload
+    def __init__(
+        self,
+        force_model: ForceModel,
+        rtol: typing.SupportsFloat | typing.SupportsIndex = 1e-11,
+        atol: typing.SupportsFloat | typing.SupportsIndex = 1e-12,
+    ) -> None:
+        """
+        STM propagator on a satgnc.ForceModel (km, km/s, s; J2 and ExponentialDrag optional).
+        """
 
 class ShortArcStmPropagator(StmPropagator):
     def __init__(self, inner: StmPropagator) -> None: ...
@@ -471,23 +483,25 @@ class OdMethod:
 
 class OdStatus:
     """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
     Members:
 
-      converged
+      unsolved : not solved yet
 
-      max_iterations
+      converged : converged
 
-      singular
+      max_iterations : maximum number of iterations reached
 
-      diverged
+      singular : Jacobian is rank deficient (see rank): the data do not determine the state
 
-      propagation_failed
+      diverged : diverged: an iterate went below the minimum radius or became unbound (energy >= 0)
 
-      degenerate_geometry
+      propagation_failed : propagation failed
 
-      unsolved
+      degenerate_geometry : zero range: the satellite is at the station, range-rate is undefined
 
-      stalled
+      stalled : stalled: no trial step lowered the cost and the convergence test does not hold
     """
 
     __members__: typing.ClassVar[dict[str, OdStatus]]
@@ -515,6 +529,8 @@ class OdStatus:
     def __repr__(self) -> str: ...
     def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
     def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
     @property
     def name(self) -> str: ...
     @property
@@ -898,25 +914,28 @@ class AdmmMethod:
 
 class AdmmStatus:
     """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
     Members:
 
-      solved
+      unsolved : not solved yet
 
-      solved_paper_rule
+      solved : solved: residuals and relative duality gap within tolerance, or certified active-set polish
 
-      max_iterations
+      solved_paper_rule : stopped by the paper's rule ||U-Y||/dim(U) <= eps (not a convergence certificate)
 
-      terminal_unreachable
+      max_iterations : maximum iterations reached: best iterate returned, check the residuals
 
-      numerical_error
+      terminal_unreachable : terminal state unreachable: x_f is outside the reachable set of the dynamics
 
-      unsolved
+      numerical_error : numerical error: non-finite iterate or failed Riccati factorization
 
-      solved_inaccurate
+      solved_inaccurate : solved inaccurate: stopped at a limit with only the loose tolerances met
 
-      primal_infeasible
+      primal_infeasible : primal infeasible: the bounds and the terminal state cannot all hold (certificate
+      given)
 
-      time_limit
+      time_limit : time limit reached: best iterate returned, check the residuals
     """
 
     __members__: typing.ClassVar[dict[str, AdmmStatus]]
@@ -945,6 +964,8 @@ class AdmmStatus:
     def __repr__(self) -> str: ...
     def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
     def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
     @property
     def name(self) -> str: ...
     @property
@@ -1622,21 +1643,26 @@ class StopRule:
 
 class IlqrAdmmStatus:
     """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
     Members:
 
-      solved
+      unsolved : solve() not called
 
-      max_iterations
+      solved : solved: stopping rule met and the plan rolls out on the model
 
-      propagation_failed
+      max_iterations : max_iter reached; best iterate (smallest ||U - Y||) returned
 
-      ilqr_failed
+      propagation_failed : the dynamics failed (initial rollout or the returned plan; see failed_interval)
+
+      ilqr_failed : iLQR made no progress up to reg_max; best iterate returned
+
+      solved_inaccurate : stopped at a limit with the residual rule met at inaccurate_factor x eps; best
+      iterate
+
+      time_limit : time_limit reached; best iterate returned
 
       not_run
-
-      solved_inaccurate
-
-      time_limit
     """
 
     __members__: typing.ClassVar[dict[str, IlqrAdmmStatus]]
@@ -1647,6 +1673,7 @@ class IlqrAdmmStatus:
     solved: typing.ClassVar[IlqrAdmmStatus]
     solved_inaccurate: typing.ClassVar[IlqrAdmmStatus]
     time_limit: typing.ClassVar[IlqrAdmmStatus]
+    unsolved: typing.ClassVar[IlqrAdmmStatus]
     @typing.overload
     def __eq__(self, other: IlqrAdmmStatus) -> bool: ...
     @typing.overload
@@ -1663,6 +1690,8 @@ class IlqrAdmmStatus:
     def __repr__(self) -> str: ...
     def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
     def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
     @property
     def name(self) -> str: ...
     @property
@@ -1897,25 +1926,33 @@ class IlqrAdmmSolver:
 
 class ScpStatus:
     """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
     Members:
 
-      solved
+      unsolved : solve() not called
 
-      max_outer
+      solved : solved: predicted decrease <= tol * max(1, J) on a solved subproblem, trust region inactive
 
-      propagation_failed
+      max_outer : max_outer reached; best iterate returned
 
-      inner_failed
+      propagation_failed : the dynamics failed (see failed_interval); best iterate returned
 
-      line_search_failed
+      inner_failed : the convex subproblem solver failed (see inner_status); best iterate returned
+
+      line_search_failed : no acceptable step (line search exhausted or trust radius below tr_min); best
+      iterate returned
+
+      solved_inaccurate : stopped at a limit with predicted decrease <= tol_inaccurate * max(1, J); best
+      iterate
+
+      inner_infeasible : the linearized subproblem is infeasible (x_f outside what the box reaches; see
+      infeasibility_certificate / infeasibility_margin) and no restoration step lowers the terminal miss; best
+      iterate returned
+
+      time_limit : time_limit reached; best iterate returned
 
       not_run
-
-      solved_inaccurate
-
-      inner_infeasible
-
-      time_limit
     """
 
     __members__: typing.ClassVar[dict[str, ScpStatus]]
@@ -1928,6 +1965,7 @@ class ScpStatus:
     solved: typing.ClassVar[ScpStatus]
     solved_inaccurate: typing.ClassVar[ScpStatus]
     time_limit: typing.ClassVar[ScpStatus]
+    unsolved: typing.ClassVar[ScpStatus]
     @typing.overload
     def __eq__(self, other: ScpStatus) -> bool: ...
     @typing.overload
@@ -1944,6 +1982,8 @@ class ScpStatus:
     def __repr__(self) -> str: ...
     def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
     def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
     @property
     def name(self) -> str: ...
     @property
@@ -2504,6 +2544,12 @@ def published_scaling(
 ) -> ReferenceScaling: ...
 def scp_status_message(arg0: ScpStatus) -> str: ...
 def status_message(arg0: str) -> str: ...
+def status_tables() -> dict[str, typing.Any]:
+    """
+    Every C++ status table (satgnc/core/status.hpp): {enum name: [(value, name, message), ...]} in declaration
+    order.
+    """
+
 def two_satellite_state(
     r_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"],
     v_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"],

@@ -93,7 +93,10 @@ class FailingModel final : public DiscreteModel {
     if (k == fail_at_) return false;
     Eigen::Map<const VectorXd> uv(u, 3);
     if (uv.cwiseAbs().maxCoeff() > u_limit_) return false;
-    Eigen::Map<VectorXd>(xn, 6) = A_ * Eigen::Map<const VectorXd>(x, 6) + B_ * uv;
+    // products in place: the solver's no-allocation guard (core/no_malloc.hpp) covers model steps
+    Eigen::Map<VectorXd> xv(xn, 6);
+    xv.noalias() = A_ * Eigen::Map<const VectorXd>(x, 6);
+    xv.noalias() += B_ * uv;
     if (A) Eigen::Map<MatrixXd>(A, 6, 6) = A_;
     if (B) Eigen::Map<MatrixXd>(B, 6, 3) = B_;
     return true;

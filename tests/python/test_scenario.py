@@ -15,7 +15,7 @@ from satgnc import _satgnc as _c
 from satgnc import cli
 from satgnc._results import Result
 from satgnc.guidance import Flight, Plan, RendezvousProblem, fly, mpc, plan, satellite_params
-from satgnc.guidance.plan import transcribe
+from satgnc.guidance.planning import transcribe
 from satgnc.papers import l1_admm_rendezvous as paper
 from satgnc.scenarios import rendezvous as rv
 
@@ -283,7 +283,7 @@ def test_nonlinear_shim_keeps_all_names_with_warnings():
         msg = str(w[0].message)
         assert msg.startswith(f"satgnc.guidance.nonlinear.{name} is deprecated; use satgnc."), msg
         if name == "make_map":
-            from satgnc.guidance.plan import make_map
+            from satgnc.guidance.planning import make_map
 
             assert value is make_map
         else:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 from satgnc import _satgnc, guidance
-from satgnc.guidance import nonlinear as nl
+from satgnc.guidance import planning as nl  # the library module that reads the C++ tables
 
 TABLES = _satgnc.status_tables()
 BOUND = ["AdmmStatus", "IlqrAdmmStatus", "ScpStatus", "OdStatus"]

@@ -299,10 +299,10 @@ def solve_l1(A, B, x0, **kwargs) -> L1Result:
 
 
 # Issue 12: the rendezvous library (explicit problem and model parameters, time-major read-only results);
-# guidance.nonlinear is its deprecated paper-bound form. ``plan`` is the function (the module is
-# satgnc.guidance.plan in sys.modules).
+# guidance.nonlinear is its deprecated paper-bound form. ``plan`` is the function; its module is
+# satgnc.guidance.planning.
 from .flight import Flight, MpcRun, fly, mpc  # noqa: E402
-from .plan import Plan, plan  # noqa: E402
+from .planning import Plan, plan  # noqa: E402
 from .problem import RendezvousProblem, satellite_params  # noqa: E402
 
 __all__ += ["Flight", "MpcRun", "Plan", "RendezvousProblem", "fly", "mpc", "plan", "satellite_params"]

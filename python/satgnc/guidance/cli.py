@@ -87,7 +87,7 @@ def run_nonlinear(sc, cases, out, closed_loop: bool = False) -> int:
     from .. import _plot
     from ..scenarios import rendezvous
     from .flight import fly, mpc
-    from .plan import plan
+    from .planning import plan
 
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)

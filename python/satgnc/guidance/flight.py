@@ -16,7 +16,7 @@ import numpy as np
 from .. import _satgnc as _c
 from .._results import Result
 from .._validate import as_int, as_real, as_real_array, one_of
-from .plan import check_above_surface, make_map, transcribe
+from .planning import check_above_surface, make_map, transcribe
 from .problem import RendezvousProblem, satellite_params
 
 __all__ = ["Flight", "MpcRun", "fly", "mpc", "INTEGRATORS"]

@@ -27,6 +27,6 @@ _TIME_MAJOR = {
 __getattr__, __dir__ = _forward(
     "satgnc.guidance.nonlinear",
     "satgnc.papers.l1_admm_rendezvous",
-    renamed={"make_map": "satgnc.guidance.plan:make_map"},
+    renamed={"make_map": "satgnc.guidance.planning:make_map"},
     hints=_TIME_MAJOR,
 )

@@ -3,7 +3,7 @@
 simulated tracking of the target -> OD estimate and covariance -> relative state -> L1 plan -> flight
 on the J2 + drag truth -> controllability and observability checks of the models that were used.
 
-``run(scenario) -> MissionRun`` runs every stage on a mission scenario TOML
+``run(scenario, quick=False, closed_loop=None) -> MissionRun`` runs the stages on a mission scenario TOML
 (:mod:`satgnc.scenarios.mission`); each stage is also a function of its own taking the previous
 stages' read-only results (:func:`track`, :func:`estimate`, :func:`relative_state`, :func:`plan`,
 :func:`fly`, :func:`check`). ``satgnc mission --scenario X.toml --out DIR`` is the command line.
@@ -14,6 +14,7 @@ from __future__ import annotations
 from ..scenarios.mission import MissionScenario, load
 from .pipeline import (
     Checks,
+    ClosedLoop,
     Flight,
     HandOff,
     MissionError,
@@ -24,16 +25,22 @@ from .pipeline import (
     Tracking,
     check,
     estimate,
+    flight_truth,
     fly,
+    fly_closed_loop,
+    od_force_model,
     plan,
+    problem,
     relative_state,
     run,
     track,
+    truth_force_model,
     truth_params,
 )
 
 __all__ = [
     "Checks",
+    "ClosedLoop",
     "Flight",
     "HandOff",
     "MissionError",
@@ -46,10 +53,15 @@ __all__ = [
     "check",
     "estimate",
     "fly",
+    "fly_closed_loop",
+    "flight_truth",
     "load",
+    "od_force_model",
     "plan",
+    "problem",
     "relative_state",
     "run",
     "track",
+    "truth_force_model",
     "truth_params",
 ]

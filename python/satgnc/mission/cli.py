@@ -14,7 +14,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..report import mission as report
     from . import run
 
-    result = run(args.scenario, quick=args.quick)
+    result = run(args.scenario, quick=args.quick, closed_loop=True if args.closed_loop else None)
     out = pathlib.Path(args.out)
     path = report.write(result, out)
     fl, est, pl = result.flight, result.estimate, result.plan
@@ -34,4 +34,6 @@ def register(subparsers) -> None:
                    help="mission scenario TOML (default: the packaged mission_leo.toml)")
     p.add_argument("--out", default="satgnc-mission", help="output directory (mission.md, figures/)")
     p.add_argument("--quick", action="store_true", help="thin the tracking times (the file's quick_thin)")
+    p.add_argument("--closed-loop", action="store_true",
+                   help="also fly the plan's problem with guidance.mpc (re-planning from the true state)")
     p.set_defaults(func=_run)

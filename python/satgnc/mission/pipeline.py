@@ -18,12 +18,14 @@ import time
 import numpy as np
 
 from .. import _satgnc as _c
-from .. import analysis, od
+from .. import analysis, guidance, od
 from .._results import Result
-from ..guidance import L1Solver, cw_stm
-from ..propagation import ExponentialDrag, J2Gravity, propagate
-from ..scenarios import l1_rendezvous
+from ..guidance import cw_stm
+from ..guidance.planning import transcribe
+from ..guidance.problem import RendezvousProblem
+from ..propagation import ExponentialDrag, ForceModel, J2Gravity
 from ..scenarios import mission as _scen
+from ..scenarios import rendezvous as _rv
 
 __all__ = [
     "Tracking",
@@ -40,8 +42,15 @@ __all__ = [
     "relative_state",
     "plan",
     "fly",
+    "fly_closed_loop",
     "check",
     "run",
+    "ClosedLoop",
+    "problem",
+    "flight_truth",
+    "truth_force_model",
+    "od_force_model",
+    "truth_params",
 ]
 
 _MU_KM = od.EARTH_MU  # km^3/s^2, every stage
@@ -108,7 +117,7 @@ class OrbitEstimate(_Frozen):
     guess: np.ndarray
     normalized: np.ndarray
     residuals: np.ndarray
-    model: str  #: the OD force model ("two-body" or "two-body + J2")
+    model: str  #: the OD force model ("point mass", "point mass + J2", "point mass + J2 + exponential drag")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -132,27 +141,36 @@ class RelativeState(_Frozen):
     radius: float
     mean_motion: float
     x12_true: np.ndarray  #: [r_t - r_c, r_t, v_t - v_c, v_t] (m, m/s, ECI) of the truth at t
+    x12: np.ndarray  #: the same with the ESTIMATED target: the plan's start (m, m/s, ECI)
     status: str = "success"
 
 
 @dataclasses.dataclass(frozen=True)
 class Plan(_Frozen):
-    """Stage 4: the L1 plan on the discrete CW model of the estimated orbit.
+    """Stage 4: :func:`satgnc.guidance.plan` of the rendezvous problem (:func:`problem`) from the plan's
+    start (the estimated relative state, or a rendezvous file's start).
 
     ``U`` (N, 3) N in the target CW frame, piecewise constant over ``dt`` (s); ``X`` (N+1, 6) the
-    planned states (m, m/s, CW); ``A``, ``B`` the discrete model as solved (scaled units, ``scales``
-    = (length m, speed m/s, time s, force N)); ``delta_v`` = sum ||u_k||_1 dt / mass (m/s)."""
+    planned CW states (m, m/s; the nonlinear model's 12-states mapped by ``cw_relative_state``);
+    ``Y`` (N, 3) the solver's sparse iterate in its scaled units (control scale ``scales[1]``);
+    ``A``, ``B`` the discrete CW model of the plan in those scaled units (``scales`` = (state scale
+    (6,) m, m/s; control scale (3,) N; time scale s)); ``delta_v`` = sum ||u_k||_1 dt / mass (m/s);
+    ``model`` "linear" (CW, ADMM) or "nonlinear" (two-satellite, SCP); ``problem`` the
+    :class:`satgnc.guidance.RendezvousProblem` that was solved."""
 
     status: str
     iterations: int
     U: np.ndarray
     X: np.ndarray
+    Y: np.ndarray
     dt: float
     delta_v: float
     A: np.ndarray
     B: np.ndarray
     scales: tuple
-    solve_time: float
+    solve_time: float  #: s, wall
+    model: str
+    problem: object = dataclasses.field(repr=False, default=None)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -176,6 +194,30 @@ class Flight(_Frozen):
 
 
 @dataclasses.dataclass(frozen=True)
+class ClosedLoop(_Frozen):
+    """Stage 5, closed loop: :func:`satgnc.guidance.mpc` on the same truth from the same TRUE start.
+
+    What the MPC sees: the true 12-state of the truth at every re-plan (perfect relative navigation
+    after the OD hand-off; the OD error enters only through the open-loop plan, not here). It re-plans
+    on the nonlinear two-satellite model with the truth's own terms (J2 and drag) every
+    ``replan_every`` intervals. ``X`` (N+1, 12) m, m/s ECI; ``X_cw`` (N+1, 6) CW; ``U`` (N, 3) N;
+    ``miss_position`` (m), ``miss_velocity`` (m/s); ``delta_v`` (m/s); ``replans`` and the summed
+    re-plan ``solve_time`` (s, thread CPU)."""
+
+    status: str
+    X: np.ndarray
+    X_cw: np.ndarray
+    U: np.ndarray
+    miss_position: float
+    miss_velocity: float
+    delta_v: float
+    replans: int
+    replan_every: int
+    solve_time: float
+    tolerance: float
+
+
+@dataclasses.dataclass(frozen=True)
 class Checks(_Frozen):
     """Stage 6: controllability of the plan's discrete CW model and observability of the tracking
     geometry used (rows H_j Phi_j / sigma_j of the OD model at the estimate, state columns scaled by
@@ -184,10 +226,10 @@ class Checks(_Frozen):
     controllability: str  #: verdict of analysis.controllability
     controllability_rank: int
     controllability_sv: np.ndarray  #: singular values of [B, AB, ..] / the largest
-    observability: str  #: verdict of analysis.observability (static map: A = I, C = O)
-    observability_rank: int
-    observability_sv: np.ndarray  #: singular values of O / the largest
-    gramian_condition: float  #: of analysis.ltv_observability_gramian (scaled state)
+    observability: str  #: verdict of analysis.observability (static map: A = I, C = O); "not run"
+    observability_rank: int  #: 0 when the chain has no tracking
+    observability_sv: np.ndarray  #: singular values of O / the largest (empty: no tracking)
+    gramian_condition: float  #: of analysis.ltv_observability_gramian (scaled state); nan: no tracking
     od_rank: int
     od_condition: float
     status: str = "success"
@@ -206,25 +248,27 @@ class HandOff(Result):
 
 @dataclasses.dataclass(frozen=True)
 class MissionRun(Result):
-    """Every stage result of :func:`run`, the hand-off table and the wall time per stage (s)."""
+    """Every stage result of :func:`run` (None for a stage the chain did not run), the hand-off table
+    and the wall time per stage (s)."""
 
     scenario: _scen.MissionScenario
-    tracking: Tracking
-    estimate: OrbitEstimate
-    relative: RelativeState
-    plan: Plan
-    flight: Flight
-    checks: Checks
+    tracking: Tracking | None
+    estimate: OrbitEstimate | None
+    relative: RelativeState | None
+    plan: Plan | None
+    flight: Flight | None
+    checks: Checks | None
     handoff: tuple
     timings: dict
     quick: bool
+    closed_loop: ClosedLoop | None = None
 
     @property
     def statuses(self) -> dict:
-        """Stage name -> status string."""
-        return {"tracking": self.tracking.status, "od": self.estimate.status,
-                "relative": self.relative.status,
-                "plan": self.plan.status, "flight": self.flight.status, "checks": self.checks.status}
+        """Stage name -> status string, for the stages that ran."""
+        named = {"tracking": self.tracking, "od": self.estimate, "relative": self.relative, "plan": self.plan,
+                 "flight": self.flight, "closed_loop": self.closed_loop, "checks": self.checks}
+        return {k: v.status for k, v in named.items() if v is not None}
 
     def handoff_markdown(self) -> str:
         """The hand-off table as Markdown."""
@@ -234,19 +278,29 @@ class MissionRun(Result):
 
 
 # ----------------------------------------------------------------------------- models
-def _truth_forces(sc: _scen.MissionScenario):
-    """(terms for satgnc.propagate, description) of the orbit-level truth: J2 and drag as the file says."""
-    terms, names = [], ["point mass"]
-    if sc.truth_j2:
-        terms.append(J2Gravity(mu=_MU_KM))
-        names.append("J2")
-    if sc.drag is not None:
-        d = sc.drag
-        terms.append(ExponentialDrag(rho0=d.rho0, h0=d.h0, scale_height=d.scale_height, cd=d.cd, area=d.area,
-                                     mass=d.mass, body_radius=od.EARTH_RADIUS,
-                                     omega=np.array([0.0, 0.0, od.EARTH_OMEGA])))
-        names.append("exponential drag")
-    return terms, " + ".join(names)
+def _drag_term(sc: _scen.MissionScenario) -> ExponentialDrag:
+    d = sc.drag
+    return ExponentialDrag(rho0=d.rho0, h0=d.h0, scale_height=d.scale_height, cd=d.cd, area=d.area,
+                           mass=d.mass, body_radius=od.EARTH_RADIUS,
+                           omega=np.array([0.0, 0.0, od.EARTH_OMEGA]))
+
+
+def _force_model(j2: bool, drag: bool, sc: _scen.MissionScenario) -> tuple[ForceModel, str]:
+    """(satgnc.ForceModel, description): point mass (EARTH_MU, km^3/s^2) + J2 + the file's drag."""
+    names = ["point mass"] + (["J2"] if j2 else []) + (["exponential drag"] if drag else [])
+    fm = ForceModel(mu=_MU_KM, j2=J2Gravity(mu=_MU_KM) if j2 else None, drag=_drag_term(sc) if drag else None)
+    return fm, " + ".join(names)
+
+
+def truth_force_model(sc: _scen.MissionScenario) -> tuple[ForceModel, str]:
+    """The orbit-level truth (km, km/s, s): J2 and drag as ``[truth]`` says, and its description."""
+    return _force_model(sc.truth_j2, sc.drag is not None, sc)
+
+
+def od_force_model(sc: _scen.MissionScenario) -> tuple[ForceModel, str]:
+    """The OD model: J2 and drag (the truth's atmosphere, known exactly) as ``[od]`` says."""
+    cvodes = sc.od_propagator == "cvodes"
+    return _force_model(sc.od_j2 and cvodes, sc.od_drag and cvodes, sc)
 
 
 def truth_params(sc: _scen.MissionScenario) -> _c.TwoSatelliteParams:
@@ -279,49 +333,40 @@ def truth_params(sc: _scen.MissionScenario) -> _c.TwoSatelliteParams:
 
 
 def _od_propagator(sc: _scen.MissionScenario):
-    return od.make_propagator(sc.od_propagator, _MU_KM, sc.od_j2 and sc.od_propagator == "cvodes")
+    if sc.od_propagator == "kepler":
+        return od.make_propagator("kepler", _MU_KM)
+    return od.make_propagator("cvodes", force_model=od_force_model(sc)[0])
 
 
 # ----------------------------------------------------------------------------- stages
 def track(sc: _scen.MissionScenario, quick: bool = False) -> Tracking:
-    """Stage 1: the truth orbit (``satgnc.propagate`` with J2 and drag) observed by every station.
-
-    Same measurement model, noise and mask rule as :func:`satgnc.od.simulate`, which cannot take drag
-    today (its propagators carry mu and J2 only): the states come from ``satgnc.propagate``."""
+    """Stage 1: :func:`satgnc.od.simulate` of every station on the truth force model (point mass, J2
+    and drag as ``[truth]`` says; CVODES, rtol 1e-11), ordered by time then station."""
     times = sc.times[:: sc.quick_thin] if quick else sc.times
-    grid = np.union1d(np.r_[0.0, times], [sc.start])
-    terms, forces = _truth_forces(sc)
-    # rtol 1e-12: the truth is more accurate than the OD model's propagator (1e-11) and than the noise
-    traj = propagate(sc.x0, grid, t0=0.0, mu=_MU_KM, forces=terms or None, with_stm=False, rtol=1e-12)
-    states = np.asarray(traj.states)
+    grid = np.union1d(np.r_[0.0, times], [] if sc.start is None else [sc.start])  # + the plan epoch
+    fm, forces = truth_force_model(sc)
     stations = tuple(od.station_geodetic(s.lat, s.lon, s.height, sc.epoch) for s in sc.stations)
-    rng = np.random.default_rng(sc.seed)
-    rows: dict = {"t": [], "type": [], "value": [], "sigma": [], "station": []}
-    sig = {"range": sc.sigma_range, "range_rate": sc.sigma_range_rate}
-    index = {float(t): k for k, t in enumerate(grid)}
-    for i, st in enumerate(stations):
-        for tk in times:
-            xk = states[index[float(tk)]]
-            R = st.state(float(tk))
-            if od.elevation_deg(xk, R) < sc.mask:
-                continue
-            for kind in sc.types:
-                v, _ = od.predict(kind, xk, R)
-                rows["t"].append(float(tk))
-                rows["type"].append(kind)
-                rows["value"].append(v + rng.normal(0.0, sig[kind]))
-                rows["sigma"].append(sig[kind])
-                rows["station"].append(i)
-    if len(rows["t"]) < 6:
-        raise ValueError(f"tracking: {len(rows['t'])} observations above the {sc.mask} deg mask "
+    try:
+        obs = od.simulate(sc.x0, list(stations), times, types=sc.types, sigma_range=sc.sigma_range,
+                          sigma_range_rate=sc.sigma_range_rate, elevation_mask_deg=sc.mask, seed=sc.seed,
+                          propagator="cvodes", force_model=fm)
+    except ValueError as e:
+        if not str(e).startswith("elevation_mask_deg"):
+            raise
+        obs = None
+    n = 0 if obs is None else len(obs)
+    if n < 6:
+        raise ValueError(f"tracking: {n} observations above the {sc.mask} deg mask "
                          f"({sc.path}); the OD needs at least 6 (hint: station positions or the arc)")
-    order = np.lexsort((rows["station"], rows["t"]))
+    states, _ = od.make_propagator("cvodes", force_model=fm).propagate(sc.x0, list(grid))
+    order = np.lexsort((obs.station, obs.t))
+    kinds = [str(k).split(".")[-1] for k in obs.type]
     return Tracking(
-        t=np.asarray(rows["t"])[order], type=tuple(rows["type"][k] for k in order),
-        value=np.asarray(rows["value"])[order], sigma=np.asarray(rows["sigma"])[order],
-        station=np.asarray(rows["station"], dtype=int)[order], stations=stations,
+        t=np.asarray(obs.t)[order], type=tuple(kinds[k] for k in order),
+        value=np.asarray(obs.value)[order], sigma=np.asarray(obs.sigma)[order],
+        station=np.asarray(obs.station, dtype=int)[order], stations=stations,
         station_names=tuple(s.name for s in sc.stations), x0_true=sc.x0, truth_times=grid,
-        truth_states=states, forces=forces,
+        truth_states=np.asarray(states), forces=forces,
     )
 
 
@@ -332,7 +377,7 @@ def estimate(sc: _scen.MissionScenario, tracking: Tracking) -> OrbitEstimate:
                  propagator=_od_propagator(sc), mu=_MU_KM)
     x0 = np.asarray(r.x0, dtype=float)
     P = np.asarray(r.covariance, dtype=float)
-    model = "two-body + J2" if sc.od_j2 and sc.od_propagator == "cvodes" else "two-body"
+    model = od_force_model(sc)[1]
     status = r.status if isinstance(r.status, str) else r.status.name  # enum today, a string after B
     return OrbitEstimate(status=status, iterations=int(r.iterations), x0=x0, covariance=P,
                          rank=int(r.rank), condition_number=float(r.condition_number),
@@ -373,46 +418,111 @@ def relative_state(sc: _scen.MissionScenario, tracking: Tracking, est: OrbitEsti
     radius = float(np.linalg.norm(target[:3])) * 1e3
     return RelativeState(t=float(t), x=x, covariance=J @ P_target @ J.T, x_true=x_true, error=x - x_true,
                          target=target, target_covariance=P_target, stm=Phi, jacobian=J, radius=radius,
-                         mean_motion=math.sqrt(_MU_M / radius**3), x12_true=x12_true)
+                         mean_motion=math.sqrt(_MU_M / radius**3), x12_true=x12_true,
+                         x12=_x12(target, chaser))
 
 
-def plan(sc: _scen.MissionScenario, rel: RelativeState) -> Plan:
-    """Stage 4: :class:`satgnc.guidance.L1Solver` on the CW model of the estimated orbit, through the
-    L1 scenario's problem builder (its scaling, weights and bounds), from the estimated state.
-
-    One small function so that ``guidance.plan(problem, model)`` can replace its body."""
-    cw = l1_rendezvous.Scenario(
-        mu=_MU_M, radius=rel.radius, mass=sc.mass, p0=rel.x[:3].copy(), v0=rel.x[3:].copy(), tf=sc.tf,
-        knots=sc.knots, alpha=sc.alpha, Qf=sc.Qf, u_max=sc.u_max, method=sc.method,
-        cases={"mission": {"rho": sc.rho, "box": sc.box, "terminal_equality": sc.terminal_equality}})
-    kw = l1_rendezvous.linear_problem(cw, "mission")
-    r = L1Solver(**kw, settings={"rho": sc.rho}).solve()
-    U = np.asarray(r.Y) * cw.u_ref
-    X = cw.to_si(X=np.asarray(r.X_flown))
-    dv = float(np.abs(U).sum() * cw.dt / sc.mass)
-    return Plan(status=r.status, iterations=int(r.iterations), U=U, X=X, dt=cw.dt, delta_v=dv, A=kw["A"],
-                B=kw["B"], scales=(cw.l_ref, cw.v_ref, cw.t_ref, cw.u_ref), solve_time=float(r.solve_time))
+def flight_truth(sc: _scen.MissionScenario) -> _c.TwoSatelliteParams:
+    """The flight's truth (SI): :func:`truth_params` of the mission file, or the ``[truth]`` of its
+    rendezvous scenario file (``[rendezvous] scenario``)."""
+    return truth_params(sc) if sc.rendezvous is None else _rv.truth_params(sc.rendezvous)
 
 
-def fly(sc: _scen.MissionScenario, rel: RelativeState, pl: Plan) -> Flight:
-    """Stage 5: ``TwoSatelliteTruth.fly`` (CVODES) of the plan from the TRUE 12-state at the plan epoch.
+def problem(sc: _scen.MissionScenario, rel: RelativeState | None) -> RendezvousProblem:
+    """The :class:`satgnc.guidance.RendezvousProblem` of stage 4.
 
-    One small function so that ``guidance.fly(...)`` can replace its body."""
-    p = truth_params(sc)
-    r = _c.TwoSatelliteTruth(_c.TwoSatelliteModel(p)).fly(rel.x12_true, np.ascontiguousarray(pl.U.T), pl.dt)
-    if not r["ok"]:
-        raise RuntimeError(f"fly: the two-satellite truth failed: {r['message']}")
-    X = np.asarray(r["X"]).T
-    X_cw = np.array([np.asarray(_c.cw_relative_state(x)) for x in X])
-    Phi = np.asarray(cw_stm(rel.mean_motion, sc.tf))
-    Pf = Phi @ rel.covariance @ Phi.T
-    pred = 3.0 * math.sqrt(max(float(np.linalg.eigvalsh(Pf[:3, :3])[-1]), 0.0))
+    From the mission file: the CW orbit of the ESTIMATED target (radius |r| at the plan epoch), the
+    estimated relative state ``rel.x`` and its 12-state ``rel.x12`` (the nonlinear model's start), the
+    flight truth as the nonlinear planner. From ``[rendezvous] scenario``:
+    :func:`satgnc.scenarios.rendezvous.problem` of the file's case and the mission's ``model``, with the
+    mission's ``method`` (linear discretization) when it gives one."""
+    if sc.rendezvous is not None:
+        pb = _rv.problem(sc.rendezvous, sc.case, sc.model)
+        if pb.linear_discretization != sc.method:
+            pb = dataclasses.replace(pb, linear_discretization=sc.method)
+        return pb
+    if rel is None:
+        raise ValueError("rel: the plan needs the relative state of stage 3 (or [rendezvous] scenario)")
+    return RendezvousProblem(
+        mu=_MU_M, radius=rel.radius, mass=sc.mass, x0=rel.x, tf=sc.tf, horizon=sc.knots - 1, alpha=sc.alpha,
+        Qf=sc.Qf, u_max=sc.u_max if sc.box else None, terminal_equality=sc.terminal_equality, x0_eci=rel.x12,
+        planner=truth_params(sc), linear_discretization=sc.method)
+
+
+def plan(sc: _scen.MissionScenario, rel: RelativeState | None) -> Plan:
+    """Stage 4: :func:`satgnc.guidance.plan` of :func:`problem` on the file's ``model`` ("linear": the
+    CW optimum by ADMM; "nonlinear": SCP on the two-satellite model), in the library's transcription
+    (its scaling of states and controls, the weights ``alpha`` and ``Qf`` in those units)."""
+    pb = problem(sc, rel)
+    t0 = time.perf_counter()
+    r = guidance.plan(pb, sc.model)
+    wall = time.perf_counter() - t0
+    tr = transcribe(pb)
+    ss = np.asarray(tr.scaling.state_scale)
+    s6 = np.r_[ss[0:3], ss[6:9]]
+    su = np.asarray(tr.scaling.control_scale)
+    # the discrete CW pair of the plan in the solver's scaled units (guidance.planning.solve_linear_cw's)
+    n = math.sqrt(pb.mu / float(np.linalg.norm(tr.x0_si[3:6])) ** 3)
+    Ad, Bd = _c.cw_discretize(n, pb.mass, tr.dt, pb.linear_discretization)
+    A = np.asarray(Ad) * s6[None, :] / s6[:, None]
+    B = np.asarray(Bd) * su[None, :] / s6[:, None]
+    if r.model == "linear":
+        X = np.asarray(r.X)
+        Y = np.asarray(r.info["Y"]).T
+    else:
+        X = np.array([np.asarray(_c.cw_relative_state(x)) for x in r.X])
+        Y = np.asarray(r.U) / su[None, :]
+    dv = float(np.abs(r.U).sum() * r.dt / pb.mass)
+    return Plan(status=r.status, iterations=int(r.iterations), U=np.asarray(r.U), X=X, Y=Y, dt=r.dt,
+                delta_v=dv,
+                A=A, B=B, scales=(s6, su, float(tr.scaling.time_scale)), solve_time=wall, model=r.model,
+                problem=pb)
+
+
+def _truth_name(p) -> str:
     terms = ["point mass"] + (["J2"] if p.j2_on else []) + (["exponential drag"] if p.drag_on else [])
-    miss = float(np.linalg.norm(X[-1, 0:3]))
+    return " + ".join(terms)
+
+
+def _start_true(rel: RelativeState | None, pl: Plan) -> np.ndarray:
+    """The flight's TRUE 12-state (m, m/s, ECI): the truth at the plan epoch, or the rendezvous file's
+    start (no OD: the plan's start is the truth)."""
+    return np.asarray(rel.x12_true) if rel is not None else pl.problem.state_eci()
+
+
+def fly(sc: _scen.MissionScenario, rel: RelativeState | None, pl: Plan) -> Flight:
+    """Stage 5: :func:`satgnc.guidance.fly` (CVODES) of the plan, open loop, from the TRUE 12-state."""
+    p = flight_truth(sc)
+    f = guidance.fly(p, _start_true(rel, pl), pl.U, pl.dt)
+    X = np.asarray(f.X)
+    X_cw = np.array([np.asarray(_c.cw_relative_state(x)) for x in X])
+    pred = 0.0
+    if rel is not None:
+        Phi = np.asarray(cw_stm(rel.mean_motion, sc.tf))
+        Pf = Phi @ rel.covariance @ Phi.T
+        pred = 3.0 * math.sqrt(max(float(np.linalg.eigvalsh(Pf[:3, :3])[-1]), 0.0))
+    miss, vmiss = f.miss
     return Flight(status="success" if miss <= sc.miss_tolerance else "miss_above_tolerance", X=X, X_cw=X_cw,
-                  t=np.arange(X.shape[0]) * pl.dt, miss_position=miss,
-                  miss_velocity=float(np.linalg.norm(X[-1, 6:9])), predicted_3sigma=pred,
-                  tolerance=sc.miss_tolerance, truth=" + ".join(terms))
+                  t=np.asarray(f.t), miss_position=float(miss), miss_velocity=float(vmiss),
+                  predicted_3sigma=pred, tolerance=sc.miss_tolerance, truth=_truth_name(p))
+
+
+def fly_closed_loop(sc: _scen.MissionScenario, rel: RelativeState | None, pl: Plan,
+                    replan_every: int = 3) -> ClosedLoop:
+    """Stage 5, closed loop: :func:`satgnc.guidance.mpc` of the plan's problem from the TRUE 12-state on
+    the flight truth, re-planning every ``replan_every`` intervals from the true state (what the MPC
+    sees, see :class:`ClosedLoop`) on the nonlinear model with the truth's terms (J2 and drag)."""
+    p = flight_truth(sc)
+    pb = dataclasses.replace(pl.problem, x0_eci=_start_true(rel, pl), planner=p)
+    m = guidance.mpc(pb, truth=p, replan_every=replan_every)
+    X = np.asarray(m.X)
+    X_cw = np.array([np.asarray(_c.cw_relative_state(x)) for x in X])
+    miss, vmiss = m.miss
+    return ClosedLoop(status="success" if miss <= sc.miss_tolerance else "miss_above_tolerance", X=X,
+                      X_cw=X_cw, U=np.asarray(m.U), miss_position=float(miss), miss_velocity=float(vmiss),
+                      delta_v=float(np.abs(m.U).sum() * pl.dt / pb.mass), replans=int(len(m.iterations)) + 1,
+                      replan_every=replan_every, solve_time=float(np.sum(m.solve_times)),
+                      tolerance=sc.miss_tolerance)
 
 
 def _singular(M: np.ndarray) -> np.ndarray:
@@ -420,12 +530,18 @@ def _singular(M: np.ndarray) -> np.ndarray:
     return s / s[0]
 
 
-def check(sc: _scen.MissionScenario, tracking: Tracking, est: OrbitEstimate, pl: Plan) -> Checks:
+def check(sc: _scen.MissionScenario, tracking: Tracking | None, est: OrbitEstimate | None,
+          pl: Plan) -> Checks:
     """Stage 6: the staircase controllability test of the plan's (A, B), and the observability of the
     tracking geometry: the whitened, scaled sensitivity O = [H_j Phi_j D / sigma_j] of the OD model at
     the estimate, tested as the static pair (I, O) (rank O = 6 <=> observable) and as the LTV Gramian."""
     ctrl = analysis.controllability(pl.A, pl.B)
     K = analysis.kalman_matrix(pl.A, B=pl.B)
+    if tracking is None or est is None:  # a chain that starts at the plan has no tracking to check
+        return Checks(controllability=ctrl.verdict, controllability_rank=int(ctrl.rank),
+                      controllability_sv=_singular(K), observability="not run", observability_rank=0,
+                      observability_sv=np.zeros(0), gramian_condition=float("nan"), od_rank=0,
+                      od_condition=float("nan"))
     times = np.unique(tracking.t)
     states, stms = _od_propagator(sc).propagate(est.x0, list(times))
     k_of = {float(t): k for k, t in enumerate(times)}
@@ -449,51 +565,80 @@ def check(sc: _scen.MissionScenario, tracking: Tracking, est: OrbitEstimate, pl:
                   od_condition=est.condition_number)
 
 
-def _handoff(sc, tr: Tracking, est: OrbitEstimate, rel: RelativeState, pl: Plan, fl: Flight,
-             ck: Checks) -> tuple:
+def _handoff(sc, tr: Tracking | None, est: OrbitEstimate | None, rel: RelativeState | None, pl: Plan | None,
+             fl: Flight | None, cl: ClosedLoop | None, ck: Checks | None) -> tuple:
     def v(a, fmt=".4g"):
         return "[" + ", ".join(format(float(x), fmt) for x in a) + "]"
 
-    n_st = len(set(tr.station.tolist()))
-    sr = np.sqrt(np.linalg.eigvalsh(rel.covariance[:3, :3])[-1])
-    sv = np.sqrt(np.linalg.eigvalsh(rel.covariance[3:, 3:])[-1])
-    return (
-        HandOff("1 tracking", f"{tr.t.size} observations ({', '.join(sc.types)}) from {n_st} stations, "
-                f"t in [{tr.t[0]:.0f}, {tr.t[-1]:.0f}]",
-                f"sigma {sc.sigma_range:g} / {sc.sigma_range_rate:g}",
-                "km / km/s", "station to target (topocentric line of sight)"),
-        HandOff("1 tracking", "truth force model of the observations", tr.forces, "-", "ECI"),
-        HandOff("2 OD", f"x0 estimate ({est.status}, {est.iterations} iterations, rank {est.rank}, "
-                f"cond {est.condition_number:.3g})", v(est.x0, ".6f"), "km, km/s", "ECI at the epoch"),
-        HandOff("2 OD", "1-sigma of x0 (sqrt diag P0)", v(est.sigma, ".3g"), "km, km/s", "ECI at the epoch"),
-        HandOff("2 OD", "x0 error vs truth, in sigmas", v(est.error / est.sigma, ".2f"), "-",
-                "ECI at the epoch"),
-        HandOff("3 relative", f"chaser relative state at t = {rel.t:.0f} s", v(rel.x, ".4f"), "m, m/s",
-                "target CW (y radial, z normal)"),
-        HandOff("3 relative", "1-sigma (largest axis) of position / velocity", f"{sr:.3g} / {sv:.3g}",
-                "m / m/s",
-                "target CW"),
-        HandOff("3 relative", "CW model: orbit radius, mean motion",
-                f"{rel.radius:.1f}, {rel.mean_motion:.6e}",
-                "m, rad/s", "estimated target orbit"),
-        HandOff("4 plan", f"U ({pl.U.shape[0]} x 3) over dt = {pl.dt:.3f} s ({pl.status}, {pl.iterations} "
-                "iterations)", f"delta-v {pl.delta_v:.4f}, max abs(u) {np.max(np.abs(pl.U)):.3e}", "m/s, N",
-                "target CW"),
-        HandOff("5 flight", f"miss at tf = {sc.tf:g} s on {fl.truth}",
-                f"{fl.miss_position:.2f} m, {fl.miss_velocity:.4f} m/s (tolerance {fl.tolerance:g} m, "
-                f"OD 3-sigma "
-                f"{fl.predicted_3sigma:.2f} m)", "m, m/s", "ECI relative (d = r_t - r_c)"),
-        HandOff("6 checks", "controllability of the plan's discrete CW (A, B)",
-                f"{ck.controllability} (rank {ck.controllability_rank})", "-", "scaled CW"),
-        HandOff("6 checks", "observability of the tracking geometry (OD model)",
-                f"{ck.observability} (rank {ck.observability_rank}, Gramian cond {ck.gramian_condition:.3g})",
-                "-", "ECI, state scaled by norm(r0), norm(v0)"),
-    )
+    rows = []
+    if tr is not None:
+        n_st = len(set(tr.station.tolist()))
+        rows += [
+            HandOff("1 tracking", f"{tr.t.size} observations ({', '.join(sc.types)}) from {n_st} stations, "
+                    f"t in [{tr.t[0]:.0f}, {tr.t[-1]:.0f}]",
+                    f"sigma {sc.sigma_range:g} / {sc.sigma_range_rate:g}",
+                    "km / km/s", "station to target (topocentric line of sight)"),
+            HandOff("1 tracking", "truth force model of the observations", tr.forces, "-", "ECI"),
+        ]
+    if est is not None:
+        rows += [
+            HandOff("2 OD", f"x0 estimate ({est.status}, {est.iterations} iterations, rank {est.rank}, "
+                    f"cond {est.condition_number:.3g})", v(est.x0, ".6f"), "km, km/s", "ECI at the epoch"),
+            HandOff("2 OD", "OD force model", est.model, "-", "ECI"),
+            HandOff("2 OD", "1-sigma of x0 (sqrt diag P0)", v(est.sigma, ".3g"), "km, km/s",
+                    "ECI at the epoch"),
+            HandOff("2 OD", "x0 error vs truth, in sigmas", v(est.error / est.sigma, ".2f"), "-",
+                    "ECI at the epoch"),
+        ]
+    if rel is not None:
+        sr = np.sqrt(np.linalg.eigvalsh(rel.covariance[:3, :3])[-1])
+        sv = np.sqrt(np.linalg.eigvalsh(rel.covariance[3:, 3:])[-1])
+        rows += [
+            HandOff("3 relative", f"chaser relative state at t = {rel.t:.0f} s", v(rel.x, ".4f"), "m, m/s",
+                    "target CW (y radial, z normal)"),
+            HandOff("3 relative", "1-sigma (largest axis) of position / velocity", f"{sr:.3g} / {sv:.3g}",
+                    "m / m/s", "target CW"),
+            HandOff("3 relative", "CW model: orbit radius, mean motion",
+                    f"{rel.radius:.1f}, {rel.mean_motion:.6e}",
+                    "m, rad/s", "estimated target orbit"),
+        ]
+    if pl is not None:
+        src = (f"{sc.rendezvous.path.name} case {sc.case}" if sc.rendezvous is not None
+               else "the estimated relative state")
+        rows += [
+            HandOff("4 plan", f"plan start ({src})", v(pl.X[0], ".4f"), "m, m/s", "target CW"),
+            HandOff("4 plan", f"U ({pl.U.shape[0]} x 3) over dt = {pl.dt:.3f} s (guidance.plan, {pl.model}, "
+                    f"{pl.status}, {pl.iterations} iterations)",
+                    f"delta-v {pl.delta_v:.4f}, max abs(u) {np.max(np.abs(pl.U)):.3e}", "m/s, N",
+                    "target CW"),
+        ]
+    if fl is not None:
+        rows.append(HandOff("5 flight", f"open-loop miss at tf = {sc.tf:g} s on {fl.truth}",
+                            f"{fl.miss_position:.2f} m, {fl.miss_velocity:.4f} m/s (tolerance "
+                            f"{fl.tolerance:g} m, OD 3-sigma {fl.predicted_3sigma:.2f} m)", "m, m/s",
+                            "ECI relative (d = r_t - r_c)"))
+    if cl is not None:
+        rows.append(HandOff("5 flight", f"closed-loop miss (guidance.mpc, re-plan every {cl.replan_every} "
+                            "intervals from the true state)",
+                            f"{cl.miss_position:.2f} m, {cl.miss_velocity:.4f} m/s, delta-v "
+                            f"{cl.delta_v:.4f} m/s",
+                            "m, m/s", "ECI relative (d = r_t - r_c)"))
+    if ck is not None:
+        rows.append(HandOff("6 checks", "controllability of the plan's discrete CW (A, B)",
+                            f"{ck.controllability} (rank {ck.controllability_rank})", "-", "scaled CW"))
+        if ck.observability != "not run":
+            rows.append(HandOff("6 checks", "observability of the tracking geometry (OD model)",
+                                f"{ck.observability} (rank {ck.observability_rank}, Gramian cond "
+                                f"{ck.gramian_condition:.3g})", "-",
+                                "ECI, state scaled by norm(r0), norm(v0)"))
+    return tuple(rows)
 
 
-def run(scenario=None, quick: bool = False) -> MissionRun:
-    """Run the six stages on a scenario (a path, a loaded :class:`MissionScenario`, or None for the
-    packaged ``mission_leo.toml``). ``quick`` keeps every ``quick_thin``-th tracking time."""
+def run(scenario=None, quick: bool = False, closed_loop: bool | None = None) -> MissionRun:
+    """Run the scenario's stages (``first_stage`` .. ``last_stage``, all six by default) on a scenario
+    (a path, a loaded :class:`MissionScenario`, or None for the packaged ``mission_leo.toml``).
+    ``quick`` keeps every ``quick_thin``-th tracking time; ``closed_loop`` (default: the file's
+    ``[rendezvous] closed_loop``) also flies :func:`fly_closed_loop` after the open-loop flight."""
     if isinstance(scenario, _scen.MissionScenario):
         sc = scenario
     elif scenario is None or isinstance(scenario, (str, pathlib.Path)):
@@ -502,28 +647,40 @@ def run(scenario=None, quick: bool = False) -> MissionRun:
         raise TypeError(f"scenario: must be a path, a MissionScenario or None, got {type(scenario).__name__}")
     if not isinstance(quick, bool):
         raise TypeError(f"quick: must be true or false (a bool), got {type(quick).__name__}")
-    timings = {}
-    t0 = time.perf_counter()
-    tr = track(sc, quick)
-    timings["tracking"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    est = estimate(sc, tr)
-    timings["od"] = time.perf_counter() - t0
-    if est.status != "converged":
-        raise MissionError(f"od: the estimate did not converge (status {est.status}); the mission stops")
-    t0 = time.perf_counter()
-    rel = relative_state(sc, tr, est)
-    timings["relative"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    pl = plan(sc, rel)
-    timings["plan"] = time.perf_counter() - t0
-    if pl.status != "solved":
-        raise MissionError(f"plan: the L1 plan is not solved (status {pl.status}); the mission stops")
-    t0 = time.perf_counter()
-    fl = fly(sc, rel, pl)
-    timings["flight"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    ck = check(sc, tr, est, pl)
-    timings["checks"] = time.perf_counter() - t0
-    return MissionRun(scenario=sc, tracking=tr, estimate=est, relative=rel, plan=pl, flight=fl, checks=ck,
-                      handoff=_handoff(sc, tr, est, rel, pl, fl, ck), timings=timings, quick=quick)
+    if closed_loop is not None and not isinstance(closed_loop, bool):
+        raise TypeError(f"closed_loop: must be None, true or false (a bool), got "
+                        f"{type(closed_loop).__name__}")
+    closed = bool(sc.closed_loop) if closed_loop is None else closed_loop
+    stages = sc.stages
+    timings: dict = {}
+    out: dict = dict.fromkeys(("tr", "est", "rel", "pl", "fl", "cl", "ck"))
+
+    def timed(name, f, *args):
+        t0 = time.perf_counter()
+        r = f(*args)
+        timings[name] = time.perf_counter() - t0
+        return r
+
+    if "track" in stages:
+        out["tr"] = timed("tracking", track, sc, quick)
+    if "estimate" in stages:
+        out["est"] = est = timed("od", estimate, sc, out["tr"])
+        if est.status != "converged":
+            raise MissionError(f"od: the estimate did not converge (status {est.status}); the mission stops")
+    if "relative_state" in stages:
+        out["rel"] = timed("relative", relative_state, sc, out["tr"], out["est"])
+    if "plan" in stages:
+        out["pl"] = pl = timed("plan", plan, sc, out["rel"])
+        if pl.status != "solved":
+            raise MissionError(f"plan: the L1 plan is not solved (status {pl.status}); the mission stops")
+    if "fly" in stages:
+        out["fl"] = timed("flight", fly, sc, out["rel"], out["pl"])
+        if closed:
+            out["cl"] = timed("closed_loop", fly_closed_loop, sc, out["rel"], out["pl"])
+    if "check" in stages:
+        out["ck"] = timed("checks", check, sc, out["tr"], out["est"], out["pl"])
+    o = out
+    return MissionRun(scenario=sc, tracking=o["tr"], estimate=o["est"], relative=o["rel"], plan=o["pl"],
+                      flight=o["fl"], checks=o["ck"], closed_loop=o["cl"],
+                      handoff=_handoff(sc, o["tr"], o["est"], o["rel"], o["pl"], o["fl"], o["cl"], o["ck"]),
+                      timings=timings, quick=quick)

@@ -233,17 +233,26 @@ def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
     return float(v), np.asarray(g).ravel()
 
 
-def make_propagator(kind: str = "kepler", mu: float = EARTH_MU, j2: bool = False):
+def make_propagator(kind: str = "kepler", mu: float = EARTH_MU, j2: bool = False, force_model=None):
     """STM propagator: 'kepler' (analytic two-body, default) or 'cvodes' (numerical; ``j2`` optional).
     A propagator object (KeplerStmPropagator, CvodesStmPropagator, ShortArcStmPropagator) is returned
-    as is."""
-    return _make_propagator(kind, mu, j2, "kind")
+    as is.
+
+    ``force_model``: a :class:`satgnc.ForceModel` (point mass + optional ``J2Gravity`` + optional
+    ``ExponentialDrag``; km, km/s, s, drag's density kg/m^3, area m^2, mass kg) for ``"cvodes"``: the
+    states and the STM (with the drag's analytic Jacobians) are integrated on that model. It replaces
+    ``mu`` and ``j2``: give J2 in the model, and leave ``mu`` at :data:`EARTH_MU` or equal to
+    ``force_model.mu`` (km^3/s^2). TypeError for another type; ValueError for ``"kepler"``, for
+    ``j2=True`` beside it, for a different ``mu``, or for a model that fails ``ForceModel.validate``."""
+    return _make_propagator(kind, mu, j2, "kind", force_model)
 
 
-def _make_propagator(kind, mu, j2=False, name: str = "propagator"):
+def _make_propagator(kind, mu, j2=False, name: str = "propagator", force_model=None):
     """make_propagator with errors naming the caller's argument (``propagator`` in solve/simulate)."""
     mu = as_real(mu, "mu", positive=True)
     j2 = as_bool(j2, "j2")  # bool("no") is True
+    if force_model is not None:
+        return _force_model_propagator(kind, mu, j2, name, force_model)
     if isinstance(kind, _c.StmPropagator):
         return kind  # already a propagator object
     if not isinstance(kind, str):  # 3 was returned as the "propagator" and failed later
@@ -256,6 +265,25 @@ def _make_propagator(kind, mu, j2=False, name: str = "propagator"):
     if kind == "cvodes":
         return CvodesStmPropagator(mu, bool(j2))
     raise ValueError(f"{name}: unknown propagator {kind!r} (hint: 'kepler' or 'cvodes')")
+
+
+def _force_model_propagator(kind, mu: float, j2: bool, name: str, fm):
+    """CvodesStmPropagator(force_model) with the rules of :func:`make_propagator`."""
+    if not isinstance(fm, _c.ForceModel):
+        raise TypeError(f"force_model: must be a satgnc.ForceModel (mu, j2, drag), got {type(fm).__name__}")
+    if not (isinstance(kind, str) and kind == "cvodes"):
+        shown = repr(kind) if isinstance(kind, str) else type(kind).__name__
+        raise ValueError(f"{name}: a force_model needs the 'cvodes' propagator, got {shown}")
+    if j2:
+        raise ValueError("j2: give J2 in force_model (ForceModel(j2=J2Gravity(...))), not beside it")
+    if mu != EARTH_MU and mu != fm.mu:
+        raise ValueError(f"mu: {mu} km^3/s^2 differs from force_model.mu = {fm.mu} km^3/s^2 (hint: leave "
+                         "mu out; the force model's is used)")
+    try:
+        fm.validate()
+    except ValueError as e:
+        raise ValueError(f"force_model: {e}") from None
+    return CvodesStmPropagator(force_model=fm)  # by keyword: the first overload takes mu first
 
 
 def settings(method: str = "levenberg_marquardt", **kw) -> OdSettings:
@@ -651,11 +679,14 @@ def simulate(
     seed: int | None = 0,
     propagator="kepler",
     mu: float = EARTH_MU,
+    force_model=None,
 ) -> Observations:
     """Synthetic observations of the orbit from ``x0`` (at t = 0) by every station at ``times`` (s):
     each type in ``types`` per visible time, Gaussian noise (sigmas in km, km/s; seed=None for none),
     constant biases (km, km/s), and an elevation mask (deg in [-90, 90], geocentric horizontal) that
-    drops low passes.
+    drops low passes. ``force_model``: the truth the observed orbit follows, a :class:`satgnc.ForceModel`
+    (J2 and ``ExponentialDrag`` optional; km, km/s, s) integrated by ``propagator="cvodes"`` (see
+    :func:`make_propagator`); its ``mu`` is the orbit's.
 
     Raises ``ValueError`` naming the argument for: an orbit that is below the Earth's surface
     (:data:`EARTH_RADIUS`) at any of ``times`` when ``mu`` is the Earth's (r = 0 for any ``mu``), an
@@ -692,12 +723,13 @@ def simulate(
     if len(set(int(k) for k in kinds)) != len(kinds):
         raise ValueError(f"types: a measurement type is repeated in {list(types)}")
     mu = as_real(mu, "mu", positive=True)
-    floor = EARTH_RADIUS if mu == EARTH_MU else 0.0
+    mu_orbit = float(force_model.mu) if isinstance(force_model, _c.ForceModel) else mu
+    floor = EARTH_RADIUS if mu_orbit == EARTH_MU else 0.0
     r0 = float(np.linalg.norm(x0[:3]))
     if not r0 > floor:
         where = "below the Earth's surface" if floor else "at the centre of attraction"
         raise ValueError(f"x0: the satellite is {where} (|r| = {r0:.6g} km, Earth radius {floor} km)")
-    prop = _make_propagator(propagator, mu)
+    prop = _make_propagator(propagator, mu, False, "propagator", force_model)
     try:
         states, _ = prop.propagate(x0, list(times))
     except ValueError:

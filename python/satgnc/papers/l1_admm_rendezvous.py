@@ -4,7 +4,7 @@
 Every value of the paper's set-up is read from the scenario file ``scenarios/l1_rendezvous.toml`` (the
 one source; :mod:`satgnc.scenarios.rendezvous`): :data:`MU`, :data:`R_TARGET`, :data:`MASS`,
 :data:`TF`, :data:`N`, :data:`U_MAX` and the release state. The library does the work
-(:mod:`satgnc.guidance.plan`, :mod:`satgnc.guidance.flight`, time-major); this module keeps the
+(:mod:`satgnc.guidance.planning`, :mod:`satgnc.guidance.flight`, time-major); this module keeps the
 reproduction's own API, in the paper's orientation (controls 3 x N, states 12 x (N+1)):
 
 * :func:`drift_state` -- the scenario's 1 h uncontrolled drift (RK4, 9999 steps), 12-state SI vector
@@ -29,7 +29,7 @@ import numpy as np
 from .. import _satgnc as _c
 from .._validate import as_bool, as_int, as_real, as_real_array, one_of
 from ..guidance import flight as _flight
-from ..guidance.plan import (  # noqa: F401  (the reproduction's names for the library's tables)
+from ..guidance.planning import (  # noqa: F401  (the reproduction's names for the library's tables)
     ILQR_ADMM_STATUS_NAMES,
     QF_MASK,
     SCP_STATUS_NAMES,
@@ -41,7 +41,7 @@ from ..guidance.plan import (  # noqa: F401  (the reproduction's names for the l
     solve_linear_cw,
     transcribe,
 )
-from ..guidance.plan import solve_scp as _solve_scp
+from ..guidance.planning import solve_scp as _solve_scp
 from ..guidance.problem import RendezvousProblem, satellite_params
 from ..scenarios import rendezvous as _scenario
 

@@ -1,8 +1,9 @@
 """Report section: the main job as one path (``satgnc mission``, docs/mission.md).
 
 The hand-off table (what each stage passes to the next, with units and frames) and one 4-panel figure:
-OD residuals, estimate error against 3 sigma, planned against flown trajectory, and the singular values
-of the controllability and observability matrices.
+OD residuals, estimate error against 3 sigma, planned against flown (open and closed loop) trajectory,
+and the singular values of the controllability and observability matrices. A partial chain
+(``first_stage`` / ``last_stage``) keeps the four panels; a stage that did not run says so in its panel.
 """
 
 from __future__ import annotations
@@ -23,7 +24,55 @@ def figure(run, path) -> pathlib.Path:
     import matplotlib.pyplot as plt
 
     tr, est, pl, fl, ck = run.tracking, run.estimate, run.plan, run.flight, run.checks
+    cl = run.closed_loop
     fig, ax = plt.subplots(2, 2, figsize=(11, 8))
+    for a, stage, title in ((ax[0, 0], est, "1-2 OD residuals"), (ax[0, 1], est, "2 OD estimate error"),
+                            (ax[1, 0], pl, "4-5 plan vs flight"), (ax[1, 1], ck, "6 singular values")):
+        if stage is None:
+            a.text(0.5, 0.5, f"not run (stages {run.scenario.first_stage}..{run.scenario.last_stage})",
+                   ha="center", va="center", transform=a.transAxes)
+            a.set_xticks([])
+            a.set_yticks([])
+            a.set_title(title)
+    if est is not None:
+        _od_panels(ax, tr, est)
+    if pl is not None:
+        a = ax[1, 0]
+        src = "CW model, estimated start" if run.relative is not None else "CW model"
+        a.plot(pl.X[:, 0], pl.X[:, 1], "-", label=f"planned ({pl.model}: {src})")
+        title = "4 plan"
+        if fl is not None:
+            a.plot(fl.X_cw[:, 0], fl.X_cw[:, 1], "--", label=f"flown open loop ({fl.truth})")
+            title = (f"4-5 plan vs flight, open-loop miss {fl.miss_position:.1f} m "
+                     f"(tolerance {fl.tolerance:g} m)")
+        if cl is not None:
+            a.plot(cl.X_cw[:, 0], cl.X_cw[:, 1], ":",
+                   label=f"flown closed loop (MPC), miss {cl.miss_position:.2f} m")
+        a.plot([0], [0], "k+", ms=12)
+        a.set_xlabel("x = y cross z (m)")
+        a.set_ylabel("y radial (m)")
+        a.set_title(title, fontsize=9)
+        a.legend(fontsize=8)
+    if ck is not None:
+        a = ax[1, 1]
+        a.semilogy(np.arange(1, ck.controllability_sv.size + 1), ck.controllability_sv, "o-",
+                   label=f"controllability [B, AB, ..] ({ck.controllability})")
+        if ck.observability_sv.size:
+            a.semilogy(np.arange(1, ck.observability_sv.size + 1), ck.observability_sv, "s-",
+                       label=f"observability O ({ck.observability})")
+        a.set_xlabel("index")
+        a.set_ylabel("sigma_i / sigma_1")
+        a.set_title("6 singular values of the models used")
+        a.legend(fontsize=8)
+    fig.tight_layout()
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _od_panels(ax, tr, est) -> None:
     a = ax[0, 0]
     rng = np.array([k == "range" for k in tr.type])
     for mask, label, mk in ((rng, "range", "o"), (~rng, "range-rate", "x")):
@@ -51,41 +100,21 @@ def figure(run, path) -> pathlib.Path:
     a.set_title("2 OD estimate error vs 3 sigma (ECI, epoch)")
     a.legend(fontsize=8)
 
-    a = ax[1, 0]
-    a.plot(pl.X[:, 0], pl.X[:, 1], "-", label="planned (CW model, estimated start)")
-    a.plot(fl.X_cw[:, 0], fl.X_cw[:, 1], "--", label=f"flown ({fl.truth})")
-    a.plot([0], [0], "k+", ms=12)
-    a.set_xlabel("x = y cross z (m)")
-    a.set_ylabel("y radial (m)")
-    a.set_title(f"4-5 plan vs flight, miss {fl.miss_position:.1f} m (tolerance {fl.tolerance:g} m)")
-    a.legend(fontsize=8)
-
-    a = ax[1, 1]
-    a.semilogy(np.arange(1, ck.controllability_sv.size + 1), ck.controllability_sv, "o-",
-               label=f"controllability [B, AB, ..] ({ck.controllability})")
-    a.semilogy(np.arange(1, ck.observability_sv.size + 1), ck.observability_sv, "s-",
-               label=f"observability O ({ck.observability})")
-    a.set_xlabel("index")
-    a.set_ylabel("sigma_i / sigma_1")
-    a.set_title("6 singular values of the models used")
-    a.legend(fontsize=8)
-    fig.tight_layout()
-    path = pathlib.Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
-
 
 def markdown(run, figure_rel: str | None = None) -> str:
     """The section body: scenario line, hand-off table, stage times and (optionally) the figure link."""
     sc = run.scenario
+    parts = [f"Scenario `{sc.path.name}` ({sc.name}), stages {', '.join(sc.stages)}"]
+    if run.tracking is not None:
+        parts.append(f"epoch {sc.epoch} UTC, {len(sc.stations)} stations, tracking {sc.times[0]:g}.."
+                     f"{sc.times[-1]:g} s every {sc.times[1] - sc.times[0]:g} s"
+                     f"{f' (quick: 1 time in {sc.quick_thin})' if run.quick else ''}")
+    if run.plan is not None:
+        src = f" ({sc.rendezvous.path.name}, case {sc.case})" if sc.rendezvous is not None else ""
+        parts.append(f"plan{src} from t = {sc.start:g} s over {sc.tf:g} s ({sc.knots} knots)")
     lines = [
-        f"Scenario `{sc.path.name}` ({sc.name}), epoch {sc.epoch} UTC, {len(sc.stations)} stations, "
-        f"tracking {sc.times[0]:g}..{sc.times[-1]:g} s every {sc.times[1] - sc.times[0]:g} s"
-        f"{f' (quick: 1 time in {sc.quick_thin})' if run.quick else ''}; plan from "
-        f"t = {sc.start:g} s over {sc.tf:g} s ({sc.knots} knots). Orbit stages: km, km/s, ECI; relative "
-        "stages: m, m/s, N, target CW frame (y radial, z orbit normal, x = y cross z).",
+        "; ".join(parts) + ". Orbit stages: km, km/s, ECI; relative stages: m, m/s, N, target CW frame "
+        "(y radial, z orbit normal, x = y cross z).",
         "",
         run.handoff_markdown(),
         "",
@@ -98,25 +127,31 @@ def markdown(run, figure_rel: str | None = None) -> str:
 
 
 def summary(run) -> dict:
-    """Numbers of the run for JSON (statuses, errors, miss, verdicts, times)."""
-    return {
-        "scenario": str(run.scenario.path),
-        "statuses": run.statuses,
-        "observations": int(run.tracking.t.size),
-        "od_iterations": run.estimate.iterations,
-        "od_error_sigmas": (run.estimate.error / run.estimate.sigma).tolist(),
-        "relative_state_m": run.relative.x.tolist(),
-        "relative_error_m": run.relative.error.tolist(),
-        "plan_iterations": run.plan.iterations,
-        "delta_v_m_s": run.plan.delta_v,
-        "miss_position_m": run.flight.miss_position,
-        "miss_velocity_m_s": run.flight.miss_velocity,
-        "miss_tolerance_m": run.flight.tolerance,
-        "od_3sigma_at_tf_m": run.flight.predicted_3sigma,
-        "controllability": run.checks.controllability,
-        "observability": run.checks.observability,
-        "timings_s": run.timings,
-    }
+    """Numbers of the run for JSON (statuses, errors, miss, verdicts, times); the stages that ran."""
+    out: dict = {"scenario": str(run.scenario.path), "stages": list(run.scenario.stages),
+                 "statuses": run.statuses}
+    tr, est, rel, pl, fl, cl, ck = (run.tracking, run.estimate, run.relative, run.plan, run.flight,
+                                    run.closed_loop, run.checks)
+    if tr is not None:
+        out["observations"] = int(tr.t.size)
+    if est is not None:
+        out.update(od_iterations=est.iterations, od_model=est.model,
+                   od_error_sigmas=(est.error / est.sigma).tolist())
+    if rel is not None:
+        out.update(relative_state_m=rel.x.tolist(), relative_error_m=rel.error.tolist())
+    if pl is not None:
+        out.update(plan_model=pl.model, plan_iterations=pl.iterations, delta_v_m_s=pl.delta_v)
+    if fl is not None:
+        out.update(miss_position_m=fl.miss_position, miss_velocity_m_s=fl.miss_velocity,
+                   miss_tolerance_m=fl.tolerance, od_3sigma_at_tf_m=fl.predicted_3sigma)
+    if cl is not None:
+        out.update(closed_loop_miss_position_m=cl.miss_position,
+                   closed_loop_miss_velocity_m_s=cl.miss_velocity,
+                   closed_loop_delta_v_m_s=cl.delta_v, closed_loop_replans=cl.replans)
+    if ck is not None:
+        out.update(controllability=ck.controllability, observability=ck.observability)
+    out["timings_s"] = run.timings
+    return out
 
 
 def write(run, outdir) -> pathlib.Path:
@@ -134,7 +169,7 @@ def write(run, outdir) -> pathlib.Path:
 def build(ctx) -> str:
     from ..mission import run as run_mission
 
-    run = run_mission(None, quick=ctx.quick)
+    run = run_mission(None, quick=ctx.quick, closed_loop=True)
     path = ctx.figure_path("mission")
     figure(run, path)
     return markdown(run, f"figures/{path.name}")

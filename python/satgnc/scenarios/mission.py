@@ -30,13 +30,20 @@ from .._validate import (
     load_toml,
     toml_line,
 )
+from . import rendezvous as _rv
 
 DEFAULT = pathlib.Path(__file__).with_name("mission_leo.toml")
 
+#: the six stages, in order (satgnc.mission.run runs first_stage..last_stage).
+STAGES = ("track", "estimate", "relative_state", "plan", "fly", "check")
+#: where a partial chain may start: the tracking, or a plan from a rendezvous scenario file.
+ENTRY_STAGES = ("track", "plan")
 _TOP = {
     "name": Key("string", required=False),
     "source": Key("string", required=False),
-    "epoch": Key("string", unit="UTC, ISO-8601"),
+    "epoch": Key("string", required=False, unit="UTC, ISO-8601 (needed by the tracking)"),
+    "first_stage": Key("string", required=False, default="track", choices=ENTRY_STAGES),
+    "last_stage": Key("string", required=False, default="check", choices=STAGES),
 }
 _TARGET = {
     # either an ECI state ...
@@ -74,25 +81,39 @@ _OD = {
     "guess_offset": Key("vector", length=6, unit="km, km/s"),
     "propagator": Key("string", required=False, default="cvodes", choices=("kepler", "cvodes")),
     "j2": Key("bool", required=False, default=True),
+    # the truth's [truth.drag] atmosphere in the OD model (known exactly); needs propagator "cvodes"
+    "drag": Key("bool", required=False, default=False),
 }
-# The same keys as scenarios/l1_rendezvous.toml where they mean the same thing (flattened: the
-# file's [chaser] mass, [initial_state] position/velocity, [horizon] tf/knots, [cost] alpha/Qf/u_max,
-# [discretization] method, [cases.*] rho/box/terminal_equality).
+# [rendezvous]: the keys that mean what they mean in a rendezvous scenario file
+# (scenarios/rendezvous.py, e.g. l1_rendezvous.toml) are that schema's keys, flattened: [chaser] mass,
+# [initial_state] position / velocity, [horizon] tf / knots, [cost] alpha / Qf / u_max,
+# [discretization] method, [cases.*] box / terminal_equality. Or `scenario` names such a file and
+# `case` one of its cases: the file is read by scenarios.rendezvous.load (one reader) and gives every
+# one of those keys; the mission file then gives only the keys below that the file has no meaning for.
+_RVS, _RVC = _rv.SECTIONS, _rv.CASE
+_SHARED = {
+    "position": _RVS["initial_state"]["position"],
+    # a zero relative velocity is a valid start here (the rendezvous file requires nonzero)
+    "velocity": dataclasses.replace(_RVS["initial_state"]["velocity"], nonzero=False),
+    "mass": _RVS["chaser"]["mass"],
+    "tf": _RVS["horizon"]["tf"],
+    "knots": _RVS["horizon"]["knots"],
+    "alpha": _RVS["cost"]["alpha"],
+    "Qf": _RVS["cost"]["Qf"],
+    "u_max": _RVS["cost"]["u_max"],
+    "box": dataclasses.replace(_RVC["box"], default=True),
+    "terminal_equality": _RVC["terminal_equality"],
+}
 _RENDEZVOUS = {
+    # required (and defaulted) as in _SHARED when there is no `scenario`
+    **{k: dataclasses.replace(v, required=False, default=None) for k, v in _SHARED.items()},
+    "method": dataclasses.replace(_RVS["discretization"]["method"], required=False, default=None),
+    "scenario": Key("string", required=False, unit="a rendezvous scenario TOML (relative to this file)"),
+    "case": Key("string", required=False, unit="a [cases.<name>] of that file"),
     "start": Key("number", required=False, nonnegative=True,
                  unit="s from the epoch (default: tracking stop)"),
-    "position": Key("vector", length=3, nonzero=True, unit="m, target CW frame"),
-    "velocity": Key("vector", length=3, unit="m/s, target CW frame"),
-    "mass": Key("number", positive=True, high=1e9, unit="kg"),
-    "tf": Key("number", positive=True, high=1e7, unit="s"),
-    "knots": Key("integer", low=2, high=10**5, unit="knot points"),
-    "alpha": Key("number", nonnegative=True, unit="scaled units"),
-    "Qf": Key("number", nonnegative=True, unit="scaled units"),
-    "u_max": Key("number", positive=True, unit="N"),
-    "box": Key("bool", required=False, default=True),
-    "terminal_equality": Key("bool", required=False, default=False),
-    "method": Key("string", required=False, default="zoh", choices=("midpoint", "zoh", "expm")),
-    "rho": Key("number", required=False, default=0.1, positive=True, unit="scaled units"),
+    "model": Key("string", required=False, default="linear", choices=("linear", "nonlinear")),
+    "closed_loop": Key("bool", required=False, default=False),
     "miss_tolerance": Key("number", positive=True, unit="m"),
 }
 _TRUTH = {
@@ -138,41 +159,53 @@ class DragSpec:
 
 @dataclasses.dataclass(frozen=True)
 class MissionScenario(Result):
-    """A checked mission scenario (see the module docstring for units and frames)."""
+    """A checked mission scenario (see the module docstring for units and frames). The fields of a
+    section the chain does not read (``first_stage`` .. ``last_stage``) and that the file leaves out
+    are None."""
 
     path: pathlib.Path
     name: str
-    epoch: str  #: UTC, ISO-8601
-    x0: np.ndarray  #: target ECI state at the epoch [km, km/s] (6,)
-    stations: tuple  #: StationSpec per station
-    times: np.ndarray  #: tracking times, s from the epoch
-    types: tuple  #: ("range", "range_rate") or one of them
-    sigma_range: float  #: km
-    sigma_range_rate: float  #: km/s
-    seed: int
-    mask: float  #: deg elevation
-    quick_thin: int
-    od_method: str
-    guess_offset: np.ndarray  #: km, km/s (6,)
-    od_propagator: str
-    od_j2: bool
-    start: float  #: s from the epoch: the plan's first knot
-    p0: np.ndarray  #: m, target CW frame (3,)
-    v0: np.ndarray  #: m/s, target CW frame (3,)
-    mass: float  #: kg, chaser
-    tf: float  #: s
-    knots: int
-    alpha: float
-    Qf: float
-    u_max: float  #: N per axis
-    box: bool
-    terminal_equality: bool
-    method: str  #: CW discretization
-    rho: float  #: ADMM penalty (scaled units)
-    miss_tolerance: float  #: m
-    truth_j2: bool
-    drag: DragSpec | None
+    first_stage: str = "track"  #: one of ENTRY_STAGES
+    last_stage: str = "check"  #: one of STAGES
+    epoch: str | None = None  #: UTC, ISO-8601
+    x0: np.ndarray | None = None  #: target ECI state at the epoch [km, km/s] (6,)
+    stations: tuple | None = None  #: StationSpec per station
+    times: np.ndarray | None = None  #: tracking times, s from the epoch
+    types: tuple | None = None  #: ("range", "range_rate") or one of them
+    sigma_range: float | None = None  #: km
+    sigma_range_rate: float | None = None  #: km/s
+    seed: int | None = None
+    mask: float | None = None  #: deg elevation
+    quick_thin: int | None = None
+    od_method: str | None = None
+    guess_offset: np.ndarray | None = None  #: km, km/s (6,)
+    od_propagator: str | None = None
+    od_j2: bool | None = None
+    od_drag: bool | None = None  #: the OD model has the truth's drag ([truth.drag])
+    start: float | None = None  #: s from the epoch: the plan's first knot
+    p0: np.ndarray | None = None  #: m, target CW frame (3,)
+    v0: np.ndarray | None = None  #: m/s, target CW frame (3,)
+    mass: float | None = None  #: kg, chaser
+    tf: float | None = None  #: s
+    knots: int | None = None
+    alpha: float | None = None
+    Qf: float | None = None
+    u_max: float | None = None  #: N per axis
+    box: bool | None = None
+    terminal_equality: bool | None = None
+    method: str | None = None  #: CW discretization
+    miss_tolerance: float | None = None  #: m
+    model: str | None = None  #: the plan's model, "linear" (CW) or "nonlinear" (two-satellite)
+    closed_loop: bool | None = None  #: fly with guidance.mpc too
+    rendezvous: object | None = None  #: the RendezvousScenario of [rendezvous] scenario, else None
+    case: str | None = None  #: its case
+    truth_j2: bool | None = None
+    drag: DragSpec | None = None
 
+    @property
+    def stages(self) -> tuple:
+        """The stages :func:`satgnc.mission.run` runs, in order."""
+        return STAGES[STAGES.index(self.first_stage): STAGES.index(self.last_stage) + 1]
 
 
 def elements_to_state(a: float, e: float, i: float, raan: float, argp: float, ta: float,
@@ -205,9 +238,10 @@ def load(path: str | pathlib.Path | None = None, name: str = "path") -> MissionS
 
     Sections: ``[target]`` (``position``/``velocity`` km, km/s ECI, or elements ``a e i raan argp ta``),
     ``[tracking]`` with one or more ``[[tracking.stations]]``, ``[od]``, ``[rendezvous]``, ``[truth]``
-    with an optional ``[truth.drag]``. Every error is a :class:`satgnc.FileFormatError` naming the
-    file, the line and the key; a missing file is ``FileNotFoundError``. ``name`` is the caller's
-    argument in errors about the path itself."""
+    with an optional ``[truth.drag]``; the top-level ``first_stage`` / ``last_stage`` (see
+    :data:`STAGES`) choose a partial chain, and only the sections its stages read are required. Every
+    error is a :class:`satgnc.FileFormatError` naming the file, the line and the key; a missing file
+    is ``FileNotFoundError``. ``name`` is the caller's argument in errors about the path itself."""
     from ..od import EARTH_MU, EARTH_RADIUS, julian_date
 
     p, text, d = load_toml(DEFAULT if path is None else path, name)
@@ -222,24 +256,66 @@ def load(path: str | pathlib.Path | None = None, name: str = "path") -> MissionS
                 f"unknown {'section' if sec else 'key'} {shown} at the top level{hint}; known sections: "
                 + ", ".join(f"[{k}]" for k in _SECTIONS), key=key)
     top = check_toml_table({k: v for k, v in d.items() if k in _TOP}, _TOP, "", p, text)
-    try:
-        julian_date(top["epoch"])
-    except ValueError as e:
-        _fail(p, text, "", "epoch", f"key 'epoch' (UTC, ISO-8601): {str(e).removeprefix('epoch: ')}")
+    first, last = top["first_stage"], top["last_stage"]
+    if STAGES.index(last) < STAGES.index(first):
+        _fail(p, text, "", "last_stage", f"key 'last_stage': {last!r} comes before first_stage = {first!r} "
+              f"(stages in order: {', '.join(STAGES)})")
+    runs = STAGES[STAGES.index(first): STAGES.index(last) + 1]
+    rv_raw = d.get("rendezvous")
+    from_file = isinstance(rv_raw, dict) and "scenario" in rv_raw
+    needed = {"target": "track" in runs, "tracking": "track" in runs, "od": "estimate" in runs,
+              "rendezvous": len(runs) > 2 or first == "plan",
+              "truth": "track" in runs or (first == "track" and len(runs) > 3)}
+    if needed["tracking"] and top["epoch"] is None:
+        _fail(p, text, "", None, "missing key 'epoch' (UTC, ISO-8601): the tracking needs it")
+    if top["epoch"] is not None:
+        try:
+            julian_date(top["epoch"])
+        except ValueError as e:
+            _fail(p, text, "", "epoch", f"key 'epoch' (UTC, ISO-8601): {str(e).removeprefix('epoch: ')}")
     for sec in _SECTIONS:
-        if sec not in d:
-            raise FileFormatError(p, None, f"missing section [{sec}] (keys: {', '.join(_SECTIONS[sec])})",
-                                  key=sec)
-    tr_raw = dict(d["tracking"]) if isinstance(d["tracking"], dict) else d["tracking"]
-    stations_raw = tr_raw.pop("stations", None) if isinstance(tr_raw, dict) else None
-    truth_raw = dict(d["truth"]) if isinstance(d["truth"], dict) else d["truth"]
-    drag_raw = truth_raw.pop("drag", None) if isinstance(truth_raw, dict) else None
-    tgt = check_toml_table(d["target"], _TARGET, "target", p, text)
-    trk = check_toml_table(tr_raw, _TRACKING, "tracking", p, text)
-    od = check_toml_table(d["od"], _OD, "od", p, text)
-    rv = check_toml_table(d["rendezvous"], _RENDEZVOUS, "rendezvous", p, text)
-    tru = check_toml_table(truth_raw, _TRUTH, "truth", p, text)
+        if needed[sec] and sec not in d:
+            raise FileFormatError(p, None, f"missing section [{sec}] (keys: {', '.join(_SECTIONS[sec])}; "
+                                  f"stages {', '.join(runs)})", key=sec)
+    if first == "plan" and not from_file:
+        _fail(p, text, "rendezvous" if "rendezvous" in d else "", None,
+              "first_stage = 'plan' needs [rendezvous] scenario = <a rendezvous scenario TOML> and case "
+              "(the plan's start without the tracking and the OD)")
+    if first == "track" and from_file:
+        _fail(p, text, "rendezvous", "scenario", "key 'scenario' in section [rendezvous]: a rendezvous "
+              "scenario file gives its own orbit; it starts the chain at first_stage = 'plan'")
+    if from_file and "truth" in d:
+        _fail(p, text, "truth", None, "section [truth]: with [rendezvous] scenario, the flight's truth is "
+              "that file's [truth] (remove this section)")
+    f: dict = {"first_stage": first, "last_stage": last, "epoch": top["epoch"]}
+    if "track" in runs or "target" in d:
+        f.update(_target(p, text, d, EARTH_MU, EARTH_RADIUS))
+    if "track" in runs or "tracking" in d:
+        f.update(_tracking(p, text, d))
+    if "estimate" in runs or "od" in d:
+        od = check_toml_table(d["od"], _OD, "od", p, text)
+        f.update(od_method=od["method"], guess_offset=np.array(od["guess_offset"]),
+                 od_propagator=od["propagator"], od_j2=od["j2"], od_drag=od["drag"])
+    if "truth" in d:
+        truth_raw = dict(d["truth"]) if isinstance(d["truth"], dict) else d["truth"]
+        drag_raw = truth_raw.pop("drag", None) if isinstance(truth_raw, dict) else None
+        tru = check_toml_table(truth_raw, _TRUTH, "truth", p, text)
+        drag = None if drag_raw is None else DragSpec(
+            **check_toml_table(drag_raw, _DRAG, "truth.drag", p, text))
+        f.update(truth_j2=tru["j2"], drag=drag)
+    if f.get("od_drag") and f.get("drag") is None:
+        _fail(p, text, "od", "drag", "key 'drag' in section [od]: drag = true takes the atmosphere of "
+              "[truth.drag], which the file does not have")
+    if f.get("od_drag") and f["od_propagator"] != "cvodes":
+        _fail(p, text, "od", "drag", "key 'drag' in section [od]: drag = true needs propagator = 'cvodes' "
+              "(the Kepler propagator is two-body only)")
+    if needed["rendezvous"] or "rendezvous" in d:
+        f.update(_rendezvous(p, text, d["rendezvous"], f.get("times")))
+    return MissionScenario(path=p, name=top["name"] or p.stem, **f)
 
+
+def _target(p, text, d, mu, radius) -> dict:
+    tgt = check_toml_table(d["target"], _TARGET, "target", p, text)
     has_state = tgt["position"] is not None or tgt["velocity"] is not None
     given = [k for k in _ELEMENTS if tgt[k] is not None]
     if has_state and given:
@@ -257,12 +333,18 @@ def load(path: str | pathlib.Path | None = None, name: str = "path") -> MissionS
         if missing:
             _fail(p, text, "target", None, f"missing key '{missing[0]}' in section [target]: give position "
                   "and velocity (km, km/s) or all six elements a, e, i, raan, argp, ta (km, deg)")
-        x0 = elements_to_state(*(tgt[k] for k in _ELEMENTS), mu=EARTH_MU)
-    if not np.linalg.norm(x0[:3]) > EARTH_RADIUS:
+        x0 = elements_to_state(*(tgt[k] for k in _ELEMENTS), mu=mu)
+    if not np.linalg.norm(x0[:3]) > radius:
         _fail(p, text, "target", "position" if has_state else "a",
               "section [target]: the target is below the Earth's surface "
               f"(|r| = {np.linalg.norm(x0[:3]):.6g} km)")
+    return {"x0": x0}
 
+
+def _tracking(p, text, d) -> dict:
+    tr_raw = dict(d["tracking"]) if isinstance(d["tracking"], dict) else d["tracking"]
+    stations_raw = tr_raw.pop("stations", None) if isinstance(tr_raw, dict) else None
+    trk = check_toml_table(tr_raw, _TRACKING, "tracking", p, text)
     if not trk["stop"] > trk["start"]:
         _fail(p, text, "tracking", "stop", f"key 'stop' in section [tracking] (s): must be > start = "
               f"{trk['start']}, got {trk['stop']}")
@@ -278,22 +360,54 @@ def load(path: str | pathlib.Path | None = None, name: str = "path") -> MissionS
         c = check_toml_table(s, _STATION, "tracking.stations", p, text)
         stations.append(StationSpec(c["name"] or f"station {k}", c["lat"], c["lon"], c["height"]))
     types = ("range", "range_rate") if trk["types"] == "both" else (trk["types"],)
+    return dict(stations=tuple(stations), times=times, types=types, sigma_range=trk["sigma_range"],
+                sigma_range_rate=trk["sigma_range_rate"], seed=trk["seed"], mask=trk["mask"],
+                quick_thin=trk["quick_thin"])
 
-    drag = None
-    if drag_raw is not None:
-        c = check_toml_table(drag_raw, _DRAG, "truth.drag", p, text)
-        drag = DragSpec(**c)
-    start = trk["stop"] if rv["start"] is None else rv["start"]
-    if start < trk["stop"]:
+
+def _rendezvous(p, text, raw, times) -> dict:
+    rv = check_toml_table(raw, _RENDEZVOUS, "rendezvous", p, text)
+    out = dict(model=rv["model"], closed_loop=rv["closed_loop"],
+               miss_tolerance=rv["miss_tolerance"])
+    if rv["scenario"] is not None:
+        given = [k for k in _SHARED if rv[k] is not None] + [k for k in ("start",) if rv[k] is not None]
+        if given:
+            _fail(p, text, "rendezvous", given[0], f"key '{given[0]}' in section [rendezvous]: the "
+                  f"rendezvous scenario {rv['scenario']!r} gives it (with `scenario`, only case, method, "
+                  "model, closed_loop and miss_tolerance)")
+        if rv["case"] is None:
+            _fail(p, text, "rendezvous", None, "missing key 'case' in section [rendezvous]: a case of the "
+                  "rendezvous scenario file")
+        rp = pathlib.Path(rv["scenario"])
+        rp = rp if rp.is_absolute() else (p.parent / rp)
+        rsc = _rv.load(rp, "scenario")
+        if rv["case"] not in rsc.cases:
+            _fail(p, text, "rendezvous", "case", f"key 'case' in section [rendezvous]: unknown case "
+                  f"{rv['case']!r} of {rp.name}; choose from {sorted(rsc.cases)}")
+        sec, case = rsc.sections, rsc.cases[rv["case"]]
+        out.update(rendezvous=rsc, case=rv["case"], start=0.0,
+                   p0=np.array(sec["initial_state"]["position"]),
+                   v0=np.array(sec["initial_state"]["velocity"]), mass=sec["chaser"]["mass"],
+                   tf=sec["horizon"]["tf"], knots=sec["horizon"]["knots"], alpha=sec["cost"]["alpha"],
+                   Qf=sec["cost"]["Qf"], u_max=sec["cost"]["u_max"], box=case["box"],
+                   terminal_equality=case["terminal_equality"],
+                   method=rv["method"] or sec["discretization"]["method"])
+        return out
+    if rv["case"] is not None:
+        _fail(p, text, "rendezvous", "case", "key 'case' in section [rendezvous]: only with `scenario`")
+    for k, key in _SHARED.items():
+        if rv[k] is None and key.required:
+            unit = f" ({key.unit})" if key.unit else ""
+            _fail(p, text, "rendezvous", None, f"missing key '{k}' in section [rendezvous]{unit}")
+        if rv[k] is None:
+            rv[k] = key.default
+    stop = float(times[-1]) if times is not None else 0.0
+    start = stop if rv["start"] is None else rv["start"]
+    if start < stop:
         _fail(p, text, "rendezvous", "start", f"key 'start' in section [rendezvous] (s): the plan starts "
-              f"after the tracking ends (stop = {trk['stop']} s), got {start}")
-    return MissionScenario(
-        path=p, name=top["name"] or p.stem, epoch=top["epoch"], x0=x0, stations=tuple(stations),
-        times=times, types=types, sigma_range=trk["sigma_range"], sigma_range_rate=trk["sigma_range_rate"],
-        seed=trk["seed"], mask=trk["mask"], quick_thin=trk["quick_thin"], od_method=od["method"],
-        guess_offset=np.array(od["guess_offset"]), od_propagator=od["propagator"], od_j2=od["j2"],
-        start=float(start), p0=np.array(rv["position"]), v0=np.array(rv["velocity"]), mass=rv["mass"],
-        tf=rv["tf"], knots=rv["knots"], alpha=rv["alpha"], Qf=rv["Qf"], u_max=rv["u_max"], box=rv["box"],
-        terminal_equality=rv["terminal_equality"], method=rv["method"], rho=rv["rho"],
-        miss_tolerance=rv["miss_tolerance"], truth_j2=tru["j2"], drag=drag,
-    )
+              f"after the tracking ends (stop = {stop} s), got {start}")
+    out.update(start=float(start), p0=np.array(rv["position"]), v0=np.array(rv["velocity"]),
+               mass=rv["mass"], tf=rv["tf"], knots=rv["knots"], alpha=rv["alpha"], Qf=rv["Qf"],
+               u_max=rv["u_max"], box=rv["box"],
+               terminal_equality=rv["terminal_equality"], method=rv["method"] or "zoh")
+    return out
