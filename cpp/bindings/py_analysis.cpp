@@ -24,12 +24,6 @@ namespace {
 namespace an = satgnc::analysis;
 namespace dy = satgnc::dynamics;
 
-dy::PolarCoordinates coords(const std::string& c) {
-  if (c == "scaled") return dy::PolarCoordinates::scaled;
-  if (c == "raw") return dy::PolarCoordinates::raw;
-  throw std::invalid_argument("coordinates: must be 'scaled' or 'raw', got '" + c + "'");
-}
-
 an::Property property(const std::string& p) {
   if (p == "controllability") return an::Property::controllability;
   if (p == "observability") return an::Property::observability;
@@ -107,68 +101,6 @@ py::dict gramian(const an::GramianReport& g) {
 }  // namespace
 
 void init_analysis(py::module_& m) {
-  using V4 = Eigen::Vector4d;
-  using V2 = Eigen::Vector2d;
-  namespace ck = checks;
-  py::class_<dy::PolarModel>(m, "PolarModel", "Planar polar-coordinate satellite model (km, s)")
-      .def(py::init([](py::handle sigma, py::handle omega) {
-             return dy::PolarModel(ck::real_arg(sigma, "sigma"), ck::real_arg(omega, "omega"));
-           }),
-           py::arg("sigma"), py::arg("omega"))
-      .def_static(
-          "from_mu",
-          [](py::handle sigma, py::handle mu) {
-            return dy::PolarModel::from_mu(ck::real_arg(sigma, "sigma"), ck::real_arg(mu, "mu"));
-          },
-          py::arg("sigma"), py::arg("mu"))
-      .def_property_readonly("sigma", &dy::PolarModel::sigma)
-      .def_property_readonly("omega", &dy::PolarModel::omega)
-      .def_property_readonly("k", &dy::PolarModel::k)
-      .def(
-          "rhs",
-          [](const dy::PolarModel& p, py::handle t, py::handle s, py::handle u) {
-            return p.rhs(ck::real_arg(t, "t"), ck::eigen_arg<V4>(s, "s"), ck::eigen_arg<V2>(u, "u"));
-          },
-          py::arg("t"), py::arg("s"), py::arg("u"))
-      .def(
-          "jacobians",
-          [](const dy::PolarModel& p, py::handle t, py::handle s, py::handle u) {
-            dy::PolarModel::MatA A;
-            dy::PolarModel::MatB B;
-            p.jacobians(ck::real_arg(t, "t"), ck::eigen_arg<V4>(s, "s"), ck::eigen_arg<V2>(u, "u"), A, B);
-            return py::make_tuple(MatrixXd(A), MatrixXd(B));
-          },
-          py::arg("t"), py::arg("s"), py::arg("u"))
-      .def(
-          "reference",
-          [](const dy::PolarModel& p, py::handle t) { return p.reference(ck::real_arg(t, "t")); },
-          py::arg("t"))
-      .def(
-          "to_deviation",
-          [](const dy::PolarModel& p, py::handle t, py::handle s, const std::string& c) {
-            return p.to_deviation(ck::real_arg(t, "t"), ck::eigen_arg<V4>(s, "s"), coords(c));
-          },
-          py::arg("t"), py::arg("s"), py::arg("coordinates") = "scaled")
-      .def(
-          "from_deviation",
-          [](const dy::PolarModel& p, py::handle t, py::handle x, const std::string& c) {
-            return p.from_deviation(ck::real_arg(t, "t"), ck::eigen_arg<V4>(x, "x"), coords(c));
-          },
-          py::arg("t"), py::arg("x"), py::arg("coordinates") = "scaled")
-      .def(
-          "deviation_rhs",
-          [](const dy::PolarModel& p, py::handle t, py::handle x, py::handle u, const std::string& c) {
-            return p.deviation_rhs(ck::real_arg(t, "t"), ck::eigen_arg<V4>(x, "x"), ck::eigen_arg<V2>(u, "u"),
-                                   coords(c));
-          },
-          py::arg("t"), py::arg("x"), py::arg("u"), py::arg("coordinates") = "scaled")
-      .def(
-          "A", [](const dy::PolarModel& p, const std::string& c) { return MatrixXd(p.A(coords(c))); },
-          py::arg("coordinates") = "scaled")
-      .def(
-          "B", [](const dy::PolarModel& p, const std::string& c) { return MatrixXd(p.B(coords(c))); },
-          py::arg("coordinates") = "scaled");
-
   m.def(
       "_polar_units", [](double s, double w, int p) { return units_to(an::polar_units(s, w, p)); },
       py::arg("sigma"), py::arg("omega"), py::arg("n_outputs") = 0);
@@ -409,7 +341,7 @@ void init_analysis(py::module_& m) {
         an::OdGramianReport r;
         {
           py::gil_scoped_release release;
-          r = an::od_observability_gramian(x0, an::RotatingStation{r0, rate}, times, k, mu);
+          r = an::od_observability_gramian(x0, dy::Station{r0, rate}, times, k, mu);
         }
         py::dict d = gramian(r.gramian);
         d["jacobi_condition"] = r.jacobi_condition;
@@ -424,8 +356,7 @@ void init_analysis(py::module_& m) {
   m.def(
       "_visibility_pass",
       [](const Eigen::Matrix<double, 6, 1>& x0, const Eigen::Vector3d& r0, double rate, double mu,
-         double t_max,
-         double dt) { return an::visibility_pass(x0, an::RotatingStation{r0, rate}, mu, t_max, dt); },
+         double t_max, double dt) { return an::visibility_pass(x0, dy::Station{r0, rate}, mu, t_max, dt); },
       py::arg("x0"), py::arg("station_r0"), py::arg("rate"), py::arg("mu"), py::arg("t_max") = 3600.0,
       py::arg("dt") = 10.0, py::call_guard<py::gil_scoped_release>());
 }

@@ -7,7 +7,6 @@
 #include <string>
 
 #include "checks.hpp"
-#include "satgnc/dynamics/cw.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "status.hpp"
 
@@ -122,38 +121,6 @@ void bind_keyword_api(py::module_& m) {
 }  // namespace
 
 void init_guidance(py::module_& m) {
-  namespace dyn = satgnc::dynamics;
-  m.def(
-      "cw_matrices",
-      [](double n, double mass) {
-        dyn::CwModel cw(n, mass);
-        return py::make_tuple(Eigen::MatrixXd(cw.A()), Eigen::MatrixXd(cw.B()));
-      },
-      py::arg("n"), py::arg("mass"));
-  m.def(
-      "cw_stm",
-      [](py::handle n, py::handle t) {  // checks: cw_stm(t=nan) was a NaN matrix, complex t was truncated
-        return Eigen::MatrixXd(dyn::CwModel(checks::real_arg(n, "n"), 1.0).stm(checks::real_arg(t, "t")));
-      },
-      py::arg("n"), py::arg("t"));
-  m.def(
-      "cw_discretize",
-      [](double n, double mass, double dt, const std::string& method) {
-        dyn::CwModel cw(n, mass);
-        dyn::CwDiscrete d;
-        if (method == "zoh") {
-          d = dyn::cw_discretize_zoh(cw, dt);
-        } else if (method == "expm") {
-          d = dyn::cw_discretize_expm(cw, dt);
-        } else if (method == "midpoint") {
-          d = dyn::cw_discretize_midpoint(cw, dt);
-        } else {
-          throw std::invalid_argument("method: must be 'zoh', 'expm' or 'midpoint', got '" + method + "'");
-        }
-        return py::make_tuple(Eigen::MatrixXd(d.Ad), Eigen::MatrixXd(d.Bd));
-      },
-      py::arg("n"), py::arg("mass"), py::arg("dt"), py::arg("method") = "zoh");
-
   py::enum_<guidance::StoppingRule>(m, "StoppingRule")
       .value("residuals", guidance::StoppingRule::kResiduals)
       .value("paper", guidance::StoppingRule::kPaper);

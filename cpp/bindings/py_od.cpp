@@ -23,77 +23,10 @@ Eigen::MatrixXd rows_of(const Eigen::MatrixXd& m, int n) { return m.topRows(n); 
 }  // namespace
 
 void init_od(py::module_& m) {
-  py::class_<Ellipsoid>(m, "Ellipsoid")
-      .def(py::init([](const std::string& name, double a, double f) {
-             // Names must outlive the struct: keep known names, else a static copy pool.
-             static std::vector<std::unique_ptr<std::string>> pool;
-             pool.push_back(std::make_unique<std::string>(name));
-             return Ellipsoid{pool.back()->c_str(), a, f};
-           }),
-           py::arg("name"), py::arg("a"), py::arg("f"))
-      .def_property_readonly("name", [](const Ellipsoid& e) { return std::string(e.name); })
-      .def_readonly("a", &Ellipsoid::a)
-      .def_readonly("f", &Ellipsoid::f)
-      .def("__repr__", [](const Ellipsoid& e) {
-        return "Ellipsoid(" + std::string(e.name) + ", a=" + std::to_string(e.a) +
-               " km, 1/f=" + (e.f > 0 ? std::to_string(1.0 / e.f) : std::string("inf")) + ")";
-      });
-  m.def("od_ellipsoid_by_name", &ellipsoid_by_name, py::arg("name"));
-  m.def("od_geodetic_to_ecef", &geodetic_to_ecef, py::arg("lat_rad"), py::arg("lon_rad"),
-        py::arg("height_km"), py::arg("ellipsoid") = ellipsoids::wgs84);
-  m.def("od_rot_z", &rot_z, py::arg("theta"));
   m.def("od_julian_date", &julian_date, py::arg("year"), py::arg("month"), py::arg("day"), py::arg("hour"),
         py::arg("minute"), py::arg("second"));
   m.def("od_gmst_iau1982", &gmst_iau1982, py::arg("jd_ut1"));
   m.def("od_gmst_from_utc", &gmst_from_utc, py::arg("jd_utc"), py::arg("ut1_minus_utc_s") = 0.0);
-  m.def("od_implied_rotation_rate", &implied_rotation_rate, py::arg("station_state"));
-
-  py::class_<Station>(m, "Station")
-      .def(py::init<>())
-      .def_readwrite("r0", &Station::r0)
-      .def_readwrite("omega", &Station::omega)
-      .def_static("from_geodetic", &Station::from_geodetic, py::arg("lat_deg"), py::arg("lon_deg"),
-                  py::arg("height_km"), py::arg("jd_utc"), py::arg("ut1_minus_utc_s") = 0.0,
-                  py::arg("ellipsoid") = ellipsoids::wgs84, py::arg("omega") = dynamics::earth::omega)
-      .def_static("from_ecef", &Station::from_ecef, py::arg("ecef"), py::arg("theta0_rad"),
-                  py::arg("omega") = dynamics::earth::omega)
-      .def_static("from_inertial", &Station::from_inertial, py::arg("r0"),
-                  py::arg("omega") = dynamics::earth::omega)
-      .def("validate", &Station::validate)
-      .def("state", &Station::state, py::arg("t"))
-      .def("__repr__", [](const Station& s) {
-        return "Station(r0=[" + std::to_string(s.r0(0)) + ", " + std::to_string(s.r0(1)) + ", " +
-               std::to_string(s.r0(2)) + "] km, omega=" + std::to_string(s.omega) + " rad/s)";
-      });
-
-  py::enum_<MeasurementType>(m, "MeasurementType")
-      .value("range", MeasurementType::range)
-      .value("range_rate", MeasurementType::range_rate);
-  m.def("od_parse_measurement_type", &parse_measurement_type, py::arg("text"));
-  py::class_<Measurement>(m, "Measurement")
-      .def(py::init([](double t, MeasurementType type, double value, double sigma, int station) {
-             return Measurement{t, type, value, sigma, station};
-           }),
-           py::arg("t"), py::arg("type"), py::arg("value"), py::arg("sigma"), py::arg("station") = 0)
-      .def_readwrite("t", &Measurement::t)
-      .def_readwrite("type", &Measurement::type)
-      .def_readwrite("value", &Measurement::value)
-      .def_readwrite("sigma", &Measurement::sigma)
-      .def_readwrite("station", &Measurement::station);
-  m.def("od_validate_measurements", &validate_measurements, py::arg("measurements"), py::arg("n_stations"));
-  m.def(
-      "od_predict_measurement",
-      [](MeasurementType type, const Vec6& x, const Vec6& station_state, double min_range) {
-        double v = 0.0;
-        Row6 g;
-        if (!predict_measurement(type, x, station_state, v, &g, min_range))
-          throw std::invalid_argument(
-              "station_state: the satellite is at the station (zero range); range-rate and partials are "
-              "undefined");
-        return py::make_tuple(v, Eigen::Matrix<double, 6, 1>(g.transpose()));
-      },
-      py::arg("type"), py::arg("x"), py::arg("station_state"), py::arg("min_range") = 1e-6);
-
   py::class_<StmPropagator, std::shared_ptr<StmPropagator>>(m, "StmPropagator")
       .def(
           "propagate",

@@ -9,7 +9,11 @@
 
 #include "checks.hpp"
 #include "satgnc/propagation/cvodes.hpp"
+#include "satgnc/propagation/cvodes_ode.hpp"
+#include "satgnc/propagation/propagated_map.hpp"
 #include "satgnc/propagation/trajectory.hpp"
+#include "satgnc/propagation/two_satellite_map.hpp"
+#include "satgnc/propagation/two_satellite_truth.hpp"
 
 namespace py = pybind11;
 
@@ -58,6 +62,101 @@ CvodesSettings make_settings(const std::string& method, double rtol, py::object 
   s.max_step = max_step;
   s.surface_radius = surface_radius;
   return s;
+}
+
+// The two-satellite discrete maps and the CVODES truth flight (blocks moved from
+// py_guidance_nonlinear.cpp, issue 12).
+void init_two_satellite_maps(py::module_& m) {
+  using namespace satgnc::dynamics;
+
+  py::class_<TwoSatelliteMapSettings>(m, "TwoSatelliteMapSettings")
+      .def(py::init<>())
+      .def_readwrite("dt", &TwoSatelliteMapSettings::dt)
+      .def_readwrite("scheme", &TwoSatelliteMapSettings::scheme)
+      .def_readwrite("substeps", &TwoSatelliteMapSettings::substeps)
+      .def_readwrite("state_scale", &TwoSatelliteMapSettings::state_scale)
+      .def_readwrite("control_scale", &TwoSatelliteMapSettings::control_scale);
+
+  py::class_<TwoSatelliteMap, DiscreteModel>(m, "TwoSatelliteMap")
+      .def(py::init<const TwoSatelliteModel&, const TwoSatelliteMapSettings&>(), py::arg("model"),
+           py::arg("settings"))
+      .def_property_readonly("state_scale", &TwoSatelliteMap::state_scale)
+      .def_property_readonly("control_scale", &TwoSatelliteMap::control_scale);
+
+  py::class_<PropagatedMapSettings>(m, "PropagatedMapSettings")
+      .def(py::init<>())
+      .def_readwrite("dt", &PropagatedMapSettings::dt)
+      .def_readwrite("rtol", &PropagatedMapSettings::rtol)
+      .def_readwrite("atol", &PropagatedMapSettings::atol)
+      .def_readwrite("max_steps", &PropagatedMapSettings::max_steps)
+      .def_readwrite("min_radius", &PropagatedMapSettings::min_radius)
+      .def_readwrite("state_scale", &PropagatedMapSettings::state_scale)
+      .def_readwrite("control_scale", &PropagatedMapSettings::control_scale);
+  py::class_<PropagatedMapInfo>(m, "PropagatedMapInfo")
+      .def_readonly("ok", &PropagatedMapInfo::ok)
+      .def_readonly("interval", &PropagatedMapInfo::interval)
+      .def_readonly("status", &PropagatedMapInfo::status)
+      .def_readonly("steps", &PropagatedMapInfo::steps)
+      .def_readonly("rejected", &PropagatedMapInfo::rejected)
+      .def_readonly("rhs_evals", &PropagatedMapInfo::rhs_evals)
+      .def_readonly("t_reached", &PropagatedMapInfo::t_reached);
+  py::class_<PropagatedTwoSatelliteMap, DiscreteModel>(m, "PropagatedTwoSatelliteMap")
+      .def(py::init<const TwoSatelliteModel&, const PropagatedMapSettings&>(), py::arg("model"),
+           py::arg("settings"))
+      .def_property_readonly("state_scale", &PropagatedTwoSatelliteMap::state_scale)
+      .def_property_readonly("control_scale", &PropagatedTwoSatelliteMap::control_scale)
+      .def_property_readonly("last_info", &PropagatedTwoSatelliteMap::last_info);
+
+  py::class_<propagation::CvodesOdeSettings>(m, "CvodesOdeSettings")
+      .def(py::init<>())
+      .def_readwrite("rtol", &propagation::CvodesOdeSettings::rtol)
+      .def_readwrite("atol", &propagation::CvodesOdeSettings::atol)
+      .def_readwrite("atol_components", &propagation::CvodesOdeSettings::atol_components)
+      .def_readwrite("max_steps", &propagation::CvodesOdeSettings::max_steps)
+      .def_readwrite("max_order", &propagation::CvodesOdeSettings::max_order)
+      .def_readwrite("max_step", &propagation::CvodesOdeSettings::max_step);
+  m.def("default_truth_settings", &default_truth_settings);
+  py::class_<TwoSatelliteTruth>(m, "TwoSatelliteTruth")
+      .def(py::init<const TwoSatelliteModel&, const propagation::CvodesOdeSettings&>(), py::arg("model"),
+           py::arg("settings") = default_truth_settings())
+      .def(
+          "step",
+          [](TwoSatelliteTruth& t, const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt) {
+            if (x.size() != 12) throw py::value_error("x: must have 12 entries [d, r_t, w, v_t] (m, m/s)");
+            if (u.size() != 3) throw py::value_error("u: must have 3 entries (N)");
+            if (!(dt > 0.0)) throw py::value_error("dt: must be > 0 (s)");
+            Eigen::VectorXd y = x;
+            if (t.step(y, u, dt) != propagation::PropagationStatus::success)
+              throw std::runtime_error("TwoSatelliteTruth.step: " + t.message());
+            return y;
+          },
+          py::arg("x"), py::arg("u"), py::arg("dt"))
+      .def(
+          "fly",
+          [](TwoSatelliteTruth& t, const Eigen::VectorXd& x0, const Eigen::MatrixXd& U, double dt) {
+            TruthFlight f;
+            {
+              py::gil_scoped_release rel;
+              f = t.fly(x0, U, dt);
+            }
+            py::dict d;
+            d["X"] = f.X;
+            d["ok"] = f.status == propagation::PropagationStatus::success;
+            d["failed_interval"] = f.failed_interval;
+            d["message"] = f.message;
+            d["impact"] = f.status == propagation::PropagationStatus::impact;
+            d["t_reached"] = f.t_reached;
+            d["steps"] = f.steps;
+            d["rhs_evals"] = f.rhs_evals;
+            return d;
+          },
+          py::arg("x0"), py::arg("U"), py::arg("dt"));
+
+  py::class_<ReferenceScaling>(m, "ReferenceScaling")
+      .def_readonly("state_scale", &ReferenceScaling::state_scale)
+      .def_readonly("control_scale", &ReferenceScaling::control_scale)
+      .def_readonly("time_scale", &ReferenceScaling::time_scale);
+  m.def("published_scaling", &published_scaling, py::arg("x0"), py::arg("mu"), py::arg("mass_chaser"));
 }
 }  // namespace
 
@@ -152,6 +251,8 @@ void init_propagation(py::module_& m) {
             return p.propagate(x, t, ts);
           },
           py::arg("x0"), py::arg("t0"), py::arg("times"));
+
+  init_two_satellite_maps(m);
 }
 
 }  // namespace satgnc::bindings

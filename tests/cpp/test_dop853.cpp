@@ -119,6 +119,18 @@ double block_rel_err(const Mat6& a, const Mat6& b) {
   return e;
 }
 
+// Fixed steps of h0 s: controller frozen (fac_min = fac_max = 1) and a tolerance loose enough that
+// every step is accepted.
+Dop853Settings fixed_step_settings(double h0) {
+  Dop853Settings s;
+  s.rtol = 1.0;
+  s.atol = 1e3;
+  s.h0 = h0;
+  s.fac_min = 1.0;
+  s.fac_max = 1.0;
+  return s;
+}
+
 }  // namespace
 
 TEST(Dop853, EighthOrderWithFixedSteps) {
@@ -130,12 +142,7 @@ TEST(Dop853, EighthOrderWithFixedSteps) {
   double errs[3];
   const double hs[3] = {T / 40.0, T / 80.0, T / 160.0};
   for (int i = 0; i < 3; ++i) {
-    Dop853Settings s;
-    s.rtol = 1.0;
-    s.atol = 1e3;
-    s.h0 = hs[i];
-    s.fac_min = 1.0;
-    s.fac_max = 1.0;
+    const Dop853Settings s = fixed_step_settings(hs[i]);
     Dop853Info info;
     errs[i] = (run6(x0, {T}, s, &info)[0] - ref).head<3>().norm();
     EXPECT_EQ(info.rejected, 0);
@@ -156,12 +163,7 @@ TEST(Dop853, DenseOutputIsSeventhOrder) {
   double errs[2];
   const double hs[2] = {T / 40.0, T / 80.0};
   for (int i = 0; i < 2; ++i) {
-    Dop853Settings s;
-    s.rtol = 1.0;
-    s.atol = 1e3;
-    s.h0 = hs[i];
-    s.fac_min = 1.0;
-    s.fac_max = 1.0;
+    const Dop853Settings s = fixed_step_settings(hs[i]);
     std::vector<double> times;
     for (int j = 0; j < 20; ++j)
       times.push_back((j + 0.37) * T / 20.0);  // h divides T / 20  // never on a step boundary

@@ -6,6 +6,8 @@
 #include <string>
 
 #include "satgnc/core/validate.hpp"
+#include "satgnc/dynamics/cw.hpp"
+#include "satgnc/dynamics/measurement.hpp"
 
 namespace satgnc::analysis {
 
@@ -156,15 +158,12 @@ LinearModel polar_linear_model(const dynamics::PolarModel& m, const std::vector<
 
 LinearModel cw_model(double n, const std::vector<int>& measured) {
   core::require_positive(n, "mean_motion");
+  // dynamics::CwModel's matrices in the Hill frame with unit mass (B = I: thrust accelerations).
+  const dynamics::CwMatrices hill =
+      dynamics::cw_linear_model(dynamics::CwModel(n, 1.0), dynamics::CwFrame::hill);
   LinearModel m;
-  m.A = MatrixXd::Zero(6, 6);
-  m.A.topRightCorner(3, 3).setIdentity();
-  m.A(3, 0) = 3.0 * n * n;
-  m.A(3, 4) = 2.0 * n;
-  m.A(4, 3) = -2.0 * n;
-  m.A(5, 2) = -n * n;
-  m.B = MatrixXd::Zero(6, 3);
-  m.B.bottomRows(3).setIdentity();
+  m.A = hill.A;
+  m.B = hill.B;
   m.C = selector(measured, 6, "measured");
   return m;
 }
@@ -181,24 +180,31 @@ Eigen::Matrix<double, 6, 6> two_body_jacobian(const Eigen::Vector3d& r, double m
   return A;
 }
 
+namespace {
+// dynamics::predict_measurement with its degenerate-geometry test moved to rho > 0 exactly (the
+// smallest positive double as min_range), throwing as these functions always did.
+double predict_or_throw(dynamics::MeasurementType type, const Vec6& x, const Vec6& station,
+                        Eigen::Matrix<double, 1, 6>& H) {
+  double value = 0.0;
+  if (!dynamics::predict_measurement(type, x, station, value, &H, std::numeric_limits<double>::denorm_min()))
+    core::require(false, "r", "satellite coincides with the station (range 0)");
+  return value;
+}
+}  // namespace
+
 double range_partial(const Eigen::Vector3d& r, const Eigen::Vector3d& R, Eigen::Matrix<double, 1, 6>& H) {
-  const Eigen::Vector3d d = r - R;
-  const double rho = d.norm();
-  core::require(rho > 0.0, "r", "satellite coincides with the station (range 0)");
-  H.setZero();
-  H.head<3>() = d.transpose() / rho;
-  return rho;
+  Vec6 x, s;
+  x << r, Vec3::Zero();
+  s << R, Vec3::Zero();
+  return predict_or_throw(dynamics::MeasurementType::range, x, s, H);
 }
 
 double range_rate_partial(const Eigen::Vector3d& r, const Eigen::Vector3d& v, const Eigen::Vector3d& R,
                           const Eigen::Vector3d& V, Eigen::Matrix<double, 1, 6>& H) {
-  const Eigen::Vector3d d = r - R, w = v - V;
-  const double rho = d.norm();
-  core::require(rho > 0.0, "r", "satellite coincides with the station (range 0)");
-  const double rhod = d.dot(w) / rho;
-  H.head<3>() = (w.transpose() - rhod * d.transpose() / rho) / rho;
-  H.tail<3>() = d.transpose() / rho;
-  return rhod;
+  Vec6 x, s;
+  x << r, v;
+  s << R, V;
+  return predict_or_throw(dynamics::MeasurementType::range_rate, x, s, H);
 }
 
 }  // namespace satgnc::analysis

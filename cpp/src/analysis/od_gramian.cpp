@@ -12,12 +12,19 @@
 
 namespace satgnc::analysis {
 
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+#endif
 Vec3 RotatingStation::position(double t) const {
   const double c = std::cos(rate * t), s = std::sin(rate * t);
   return Vec3(c * r0.x() - s * r0.y(), s * r0.x() + c * r0.y(), r0.z());
 }
 
 Vec3 RotatingStation::velocity(double t) const { return Vec3(0.0, 0.0, rate).cross(position(t)); }
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 namespace {
 Vec6 propagate(const Vec6& x0, double t, double mu, Mat6* stm) {
@@ -27,14 +34,15 @@ Vec6 propagate(const Vec6& x0, double t, double mu, Mat6* stm) {
                 std::string("Kepler propagation failed: ") + core::status_message(st));
   return x;
 }
-}  // namespace
 
-OdGramianReport od_observability_gramian(const Vec6& x0, const RotatingStation& station,
-                                         const std::vector<double>& times, OdMeasurement kind, double mu) {
+// rate_name: the station's rate field as the caller knows it (station.omega, or station.rate for the
+// deprecated RotatingStation overload).
+OdGramianReport gramian_of(const Vec6& x0, const dynamics::Station& station, const std::vector<double>& times,
+                           OdMeasurement kind, double mu, const char* rate_name) {
   core::require_finite(x0, "x0");
   core::require_positive(mu, "mu");
   core::require_finite(station.r0, "station.r0");
-  core::require_finite(station.rate, "station.rate");
+  core::require_finite(station.omega, rate_name);
   core::require(!times.empty(), "times", "needs at least one observation time");
   for (size_t j = 0; j < times.size(); ++j) {
     core::require_finite(times[j], "times");
@@ -44,7 +52,8 @@ OdGramianReport od_observability_gramian(const Vec6& x0, const RotatingStation& 
   for (double t : times) {
     Mat6 phi;
     const Vec6 x = propagate(x0, t, mu, &phi);
-    const Vec3 R = station.position(t), V = station.velocity(t);
+    const Vec6 s = station.state(t);
+    const Vec3 R = s.head<3>(), V = s.tail<3>();
     Eigen::Matrix<double, 1, 6> hr, hd;
     range_partial(x.head<3>(), R, hr);
     range_rate_partial(x.head<3>(), x.tail<3>(), R, V, hd);
@@ -79,15 +88,33 @@ OdGramianReport od_observability_gramian(const Vec6& x0, const RotatingStation& 
   rep.jacobi_condition = analyze_gramian(d.asDiagonal() * rep.gramian.W * d.asDiagonal()).condition;
   return rep;
 }
+}  // namespace
 
-double elevation(const Vec6& x0, const RotatingStation& station, double t, double mu) {
+OdGramianReport od_observability_gramian(const Vec6& x0, const dynamics::Station& station,
+                                         const std::vector<double>& times, OdMeasurement kind, double mu) {
+  return gramian_of(x0, station, times, kind, mu, "station.omega");
+}
+
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+#endif
+OdGramianReport od_observability_gramian(const Vec6& x0, const RotatingStation& station,
+                                         const std::vector<double>& times, OdMeasurement kind, double mu) {
+  return gramian_of(x0, dynamics::Station(station), times, kind, mu, "station.rate");
+}
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+
+double elevation(const Vec6& x0, const dynamics::Station& station, double t, double mu) {
   const Vec6 x = propagate(x0, t, mu, nullptr);
-  const Vec3 R = station.position(t);
+  const Vec3 R = station.state(t).head<3>();
   const Vec3 d = x.head<3>() - R;
   return std::asin(d.dot(R) / (d.norm() * R.norm()));
 }
 
-std::pair<double, double> visibility_pass(const Vec6& x0, const RotatingStation& station, double mu,
+std::pair<double, double> visibility_pass(const Vec6& x0, const dynamics::Station& station, double mu,
                                           double t_max, double dt) {
   core::require_positive(t_max, "t_max");
   core::require_positive(dt, "dt");

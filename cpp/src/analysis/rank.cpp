@@ -172,6 +172,18 @@ void compress(const MatrixXd& block, StairMethod method, MatrixXd& hv, VectorXd&
   }
 }
 
+// The summary fields staircase() and pbh() set before their first rank decision (n states, m
+// inputs or outputs of the prepared pair).
+void init_summary(RankReport& rep, Property p, Eigen::Index n, Eigen::Index m, const RankSettings& s,
+                  const char* method) {
+  rep.property = p;
+  rep.n = static_cast<int>(n);
+  rep.rtol = default_rtol(s, n, m);
+  rep.method = method;
+  rep.sigma_r = kInf;
+  rep.sigma_next = 0.0;
+}
+
 }  // namespace
 
 StaircaseReport staircase(const MatrixXd& A_in, const MatrixXd& BC, Property p, const RankSettings& s) {
@@ -179,12 +191,7 @@ StaircaseReport staircase(const MatrixXd& A_in, const MatrixXd& BC, Property p, 
   const Eigen::Index n = pr.A.rows(), m = pr.B.cols();
   StaircaseReport out;
   RankReport& rep = out.summary;
-  rep.property = p;
-  rep.n = static_cast<int>(n);
-  rep.rtol = default_rtol(s, n, m);
-  rep.method = s.stair == StairMethod::svd ? "staircase-svd" : "staircase-qrcp";
-  rep.sigma_r = kInf;
-  rep.sigma_next = 0.0;
+  init_summary(rep, p, n, m, s, s.stair == StairMethod::svd ? "staircase-svd" : "staircase-qrcp");
   double min_margin = kInf;
 
   const double normA = safe_norm(pr.A), normB = safe_norm(pr.B);
@@ -351,12 +358,7 @@ PbhReport pbh(const MatrixXd& A_in, const MatrixXd& BC, Property p, const RankSe
   const Eigen::Index n = pr.A.rows(), m = pr.B.cols();
   PbhReport out;
   RankReport& rep = out.summary;
-  rep.property = p;
-  rep.n = static_cast<int>(n);
-  rep.rtol = default_rtol(s, n, m);
-  rep.method = "pbh";
-  rep.sigma_r = kInf;
-  rep.sigma_next = 0.0;
+  init_summary(rep, p, n, m, s, "pbh");
   MatrixXd AB(n, n + m);
   AB << pr.A, pr.B;
   const double normAB = safe_norm(AB), normA = pr.A.norm();

@@ -48,6 +48,22 @@ Mat63 CwModel::B() const {
   return b;
 }
 
+CwMatrices cw_linear_model(const CwModel& model, CwFrame frame) {
+  const CwMatrices paper{model.A(), model.B()};
+  if (frame == CwFrame::paper) return paper;
+  // hill component i = sign[i] * paper component perm[i] (states: x, y, z, vx, vy, vz; controls: first 3).
+  constexpr int perm[6] = {1, 0, 2, 4, 3, 5};
+  constexpr double sign[6] = {1.0, -1.0, 1.0, 1.0, -1.0, 1.0};
+  // -0.0 for a zero entry under a sign flip would still compare equal; keep +0.0 all the same.
+  auto flip = [](double v, double s) { return s < 0.0 && v != 0.0 ? -v : v; };
+  CwMatrices hill;
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) hill.A(i, j) = flip(paper.A(perm[i], perm[j]), sign[i] * sign[j]);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 6; ++i) hill.B(i, j) = flip(paper.B(perm[i], perm[j]), sign[i] * sign[j]);
+  return hill;
+}
+
 Vec6 CwModel::rhs(const Vec6& x, const Vec3& u) const {
   Vec6 d;
   d.head<3>() = x.tail<3>();

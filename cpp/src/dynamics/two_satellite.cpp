@@ -14,6 +14,23 @@ Mat3 skew(const Vec3& a) {
   return s;
 }
 
+// The CW frame R = [e_x e_y e_z] of the target (e_y = r/|r|, e_z = e_y x v / |e_y x v|, e_x = e_y x e_z)
+// with |r| and |e_y x v|; false (R untouched) when either is not > 0. Shared by cw_frame and
+// cw_frame_derivatives so that both compute R identically.
+bool cw_axes(const Vec3& r_t, const Vec3& v_t, Mat3& R, double& rn, double& hn) {
+  rn = r_t.norm();
+  if (!(rn > 0.0)) return false;
+  const Vec3 ey = r_t / rn;
+  Vec3 ez = ey.cross(v_t);
+  hn = ez.norm();
+  if (!(hn > 0.0)) return false;
+  ez /= hn;
+  R.col(0) = ey.cross(ez);
+  R.col(1) = ey;
+  R.col(2) = ez;
+  return true;
+}
+
 // Butcher tableaux (explicit, up to 4 stages).
 struct Tableau {
   int stages;
@@ -108,32 +125,16 @@ bool TwoSatelliteModel::body_acceleration(const Vec3& r, const Vec3& v, double c
 }
 
 bool TwoSatelliteModel::cw_frame(const Vec3& r_t, const Vec3& v_t, Mat3& R) {
-  const double rn = r_t.norm();
-  if (!(rn > 0.0)) return false;
-  const Vec3 ey = r_t / rn;
-  Vec3 ez = ey.cross(v_t);
-  const double hn = ez.norm();
-  if (!(hn > 0.0)) return false;
-  ez /= hn;
-  R.col(0) = ey.cross(ez);
-  R.col(1) = ey;
-  R.col(2) = ez;
-  return R.allFinite();
+  double rn, hn;
+  return cw_axes(r_t, v_t, R, rn, hn) && R.allFinite();
 }
 
 bool TwoSatelliteModel::cw_frame_derivatives(const Vec3& r_t, const Vec3& v_t, const Vec3& u, Mat3& R,
                                              Mat3& dRu_dr, Mat3& dRu_dv) {
   // R = [e_x e_y e_z] exactly as cw_frame computes it.
-  const double rn = r_t.norm();
-  if (!(rn > 0.0)) return false;
-  const Vec3 ey = r_t / rn;
-  Vec3 ez = ey.cross(v_t);
-  const double hn = ez.norm();
-  if (!(hn > 0.0)) return false;
-  ez /= hn;
-  R.col(0) = ey.cross(ez);
-  R.col(1) = ey;
-  R.col(2) = ez;
+  double rn, hn;
+  if (!cw_axes(r_t, v_t, R, rn, hn)) return false;
+  const Vec3 ey = R.col(1), ez = R.col(2);
   // With P = de_y/dr = (I - e_y e_y^T)/|r|, h = e_y x v, de_z/dh = (I - e_z e_z^T)/|h|,
   // dh/dr = -skew(v) P, dh/dv = skew(e_y), de_x = skew(e_y) de_z - skew(e_z) de_y:
   //   d(R u)/dv = C skew(e_y),  d(R u)/dr = (-C skew(v) + u_y I - u_x skew(e_z)) P,

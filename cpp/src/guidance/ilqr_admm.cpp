@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "detail/cholesky.hpp"
 #include "detail/quadratic.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
@@ -18,42 +19,6 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 namespace {
-
-// In-place Cholesky M = L L^T (lower triangle of M overwritten). False if not positive definite.
-bool cholesky_inplace(MatrixXd& M) {
-  const int n = static_cast<int>(M.rows());
-  for (int j = 0; j < n; ++j) {
-    double diag = M(j, j);
-    for (int p = 0; p < j; ++p) diag -= M(j, p) * M(j, p);
-    if (!(diag > 0.0) || !std::isfinite(diag)) return false;
-    const double ljj = std::sqrt(diag);
-    M(j, j) = ljj;
-    for (int i = j + 1; i < n; ++i) {
-      double v = M(i, j);
-      for (int p = 0; p < j; ++p) v -= M(i, p) * M(j, p);
-      M(i, j) = v / ljj;
-    }
-  }
-  return true;
-}
-
-// Solve L L^T X = B in place (B is n x m).
-template <typename Derived>
-void cholesky_solve_inplace(const MatrixXd& L, Eigen::MatrixBase<Derived>& B) {
-  const int n = static_cast<int>(L.rows());
-  for (int c = 0; c < B.cols(); ++c) {
-    for (int i = 0; i < n; ++i) {
-      double v = B(i, c);
-      for (int p = 0; p < i; ++p) v -= L(i, p) * B(p, c);
-      B(i, c) = v / L(i, i);
-    }
-    for (int i = n - 1; i >= 0; --i) {
-      double v = B(i, c);
-      for (int p = i + 1; p < n; ++p) v -= L(p, i) * B(p, c);
-      B(i, c) = v / L(i, i);
-    }
-  }
-}
 
 // Checks on the calls ScpSolver makes inside its solve loop (warm start, stage bounds): the message
 // strings are built only on failure, so a passing check does not allocate.
@@ -68,33 +33,11 @@ void check_finite(const Eigen::Ref<const MatrixXd>& M, const char* name) {
 double soft(double v, double t) { return v > t ? v - t : (v < -t ? v + t : 0.0); }
 
 // Cholesky of a small fixed-size SPD matrix and solve L L^T X = R in place; false if not positive
-// definite (plain loops: Eigen's LLT solve with a multi-column right-hand side takes its blocked path).
+// definite.
 template <int NU, typename MU, typename RHS>
 bool small_cholesky_solve(MU& M, RHS& R) {
-  for (int j = 0; j < NU; ++j) {
-    double diag = M(j, j);
-    for (int p = 0; p < j; ++p) diag -= M(j, p) * M(j, p);
-    if (!(diag > 0.0) || !std::isfinite(diag)) return false;
-    const double ljj = std::sqrt(diag);
-    M(j, j) = ljj;
-    for (int i = j + 1; i < NU; ++i) {
-      double v = M(i, j);
-      for (int p = 0; p < j; ++p) v -= M(i, p) * M(j, p);
-      M(i, j) = v / ljj;
-    }
-  }
-  for (int c = 0; c < R.cols(); ++c) {
-    for (int i = 0; i < NU; ++i) {
-      double v = R(i, c);
-      for (int p = 0; p < i; ++p) v -= M(i, p) * R(p, c);
-      R(i, c) = v / M(i, i);
-    }
-    for (int i = NU - 1; i >= 0; --i) {
-      double v = R(i, c);
-      for (int p = i + 1; p < NU; ++p) v -= M(p, i) * R(p, c);
-      R(i, c) = v / M(i, i);
-    }
-  }
+  if (!detail::cholesky_factor_inplace<NU>(M)) return false;
+  detail::cholesky_solve_inplace<NU>(M, R);
   return true;
 }
 
@@ -500,13 +443,13 @@ bool IlqrAdmmSolver::backward_pass(double reg, double& dv1, double& dv2) {
     Qux_.noalias() = B.transpose() * SA_;
     L_ = Quu_;
     L_.diagonal().array() += reg;
-    if (!cholesky_inplace(L_)) return false;
+    if (!detail::cholesky_factor_inplace<Eigen::Dynamic>(L_)) return false;
     MatrixXd& K = K_[k];
     K = -Qux_;
-    cholesky_solve_inplace(L_, K);
+    detail::cholesky_solve_inplace<Eigen::Dynamic>(L_, K);
     auto d = d_.col(k);
     d = -Qu_;
-    cholesky_solve_inplace(L_, d);
+    detail::cholesky_solve_inplace<Eigen::Dynamic>(L_, d);
     tmpu_.noalias() = Quu_ * d;
     dv1 += d.dot(Qu_);
     dv2 += 0.5 * d.dot(tmpu_);

@@ -17,6 +17,24 @@ using Eigen::Matrix;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
+namespace {
+// One backward Riccati stage before symmetrization, shared by the cached factorization and the full
+// recursion (same operations in the same order): out = Q_k + A' P A - Qux' K, with Q_k = Q when
+// use_q (Q acts on x_1..x_{N-1}) and 0 otherwise. AtP is scratch (receives A' P). No allocation.
+template <class KBlock>
+inline void riccati_stage(bool use_q, const MatrixXd& Q, const MatrixXd& A, const MatrixXd& P,
+                          const MatrixXd& Qux, const KBlock& K, MatrixXd& AtP, MatrixXd& out) {
+  AtP.noalias() = A.transpose() * P;
+  if (use_q) {
+    out = Q;
+  } else {
+    out.setZero();
+  }
+  out.noalias() += AtP * A;
+  out.noalias() -= Qux.transpose() * K;
+}
+}  // namespace
+
 void LtvDynamics::validate() const {
   using core::require;
   require(horizon >= 1, "horizon", "must be >= 1, got " + std::to_string(horizon));
@@ -169,14 +187,7 @@ bool RiccatiSolver::factor_stage(int k, double rho) noexcept {
   Acl_.middleCols(k * n, n) = tmp_nx_nx_;
   AclT_.middleCols(k * n, n) = tmp_nx_nx_.transpose();
   // P_k = Q + A'P A - Qux' K (Q acts on x_1..x_{N-1})
-  AtP_.noalias() = A.transpose() * Pn_;
-  if (Q_.size() != 0 && k >= 1) {
-    tmp_nx_nx_ = Q_;
-  } else {
-    tmp_nx_nx_.setZero();
-  }
-  tmp_nx_nx_.noalias() += AtP_ * A;
-  tmp_nx_nx_.noalias() -= Qux_.transpose() * K_.middleCols(k * n, n);
+  riccati_stage(Q_.size() != 0 && k >= 1, Q_, A, Pn_, Qux_, K_.middleCols(k * n, n), AtP_, tmp_nx_nx_);
   AtP_ = tmp_nx_nx_.transpose();
   tmp_nx_nx_ += AtP_;
   P_.middleCols(k * n, n) = 0.5 * tmp_nx_nx_;
@@ -469,14 +480,7 @@ RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const Vecto
     p_ = q.col(k);
     p_.noalias() += A.transpose() * w_;
     p_.noalias() -= Qux_.transpose() * D2_.col(k);
-    AtP_.noalias() = A.transpose() * W_;
-    if (Q_.size() != 0 && k >= 1) {
-      Wn_ = Q_;
-    } else {
-      Wn_.setZero();
-    }
-    Wn_.noalias() += AtP_ * A;
-    Wn_.noalias() -= Qux_.transpose() * K2_.middleCols(k * n, n);
+    riccati_stage(Q_.size() != 0 && k >= 1, Q_, A, W_, Qux_, K2_.middleCols(k * n, n), AtP_, Wn_);
     W_ = Wn_.transpose();
     W_ += Wn_;
     W_ *= 0.5;

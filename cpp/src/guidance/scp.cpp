@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "detail/quadratic.hpp"
+#include "detail/scp_inner.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
@@ -522,10 +523,7 @@ ScpStatus ScpSolver::solve_impl() {
       info.inner_ilqr_status = ist;
       in = classify(ist, set_.inner_ilqr.stop);
       inner_out_of_time = ist == IlqrAdmmStatus::time_limit;
-      if (in != Inner::failed && in != Inner::infeasible) {
-        Ywarm_ = r.Y;
-        Lwarm_ = r.Lambda;
-      }
+      detail::keep_warm_start(r, in != Inner::failed && in != Inner::infeasible, Ywarm_, Lwarm_);
     } else {
       if (timed) {
         const double own = set_.inner.time_limit;
@@ -540,10 +538,7 @@ ScpStatus ScpSolver::solve_impl() {
       info.inner_status = r.info.status;
       in = classify(r.info.status);
       inner_out_of_time = r.info.status == AdmmStatus::time_limit;
-      if (in != Inner::failed && in != Inner::infeasible) {
-        Ywarm_ = r.Y;
-        Lwarm_ = r.Lambda;
-      }
+      detail::keep_warm_start(r, in != Inner::failed && in != Inner::infeasible, Ywarm_, Lwarm_);
       if (in == Inner::infeasible) {
         // in full coordinates (zeros on the exogenous states when the inner saw the others only)
         const VectorXd& y = r.infeasibility_certificate;

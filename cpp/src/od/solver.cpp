@@ -7,6 +7,7 @@
 #include <map>
 #include <random>
 
+#include "detail/root.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::od {
@@ -527,6 +528,18 @@ bool OdSolver::residual_small() const {
 
 // The paper's undamped Newton-Raphson (eqs. 9-18), kept exactly: full steps, converged when the step
 // just taken is small. On failure x becomes the lowest-cost iterate.
+bool OdSolver::take_step(bool accepted, const Vec6& xt, int k, double lambda, Vec6& x) {
+  if (!accepted) {
+    res_.status = OdStatus::stalled;
+    return false;
+  }
+  x = xt;
+  res_.x0 = x;
+  res_.iterations = k;
+  record(k, lambda);
+  return true;
+}
+
 bool OdSolver::solve_newton(Vec6& x) {
   res_.status = OdStatus::max_iterations;
   bool buffers_valid = true;
@@ -635,14 +648,7 @@ bool OdSolver::solve_gauss_newton(Vec6& x) {
         break;
       }
     }
-    if (!accepted) {
-      res_.status = OdStatus::stalled;
-      return false;
-    }
-    x = xt;
-    res_.x0 = x;
-    res_.iterations = k;
-    record(k, 0.0);
+    if (!take_step(accepted, xt, k, 0.0, x)) return false;
   }
   return true;
 }
@@ -717,14 +723,7 @@ bool OdSolver::solve_lm(Vec6& x) {
       }
       lambda = std::max(lambda * settings_.lm_increase, kLambdaFloor);
     }
-    if (!accepted) {
-      res_.status = OdStatus::stalled;
-      return false;
-    }
-    x = xt;
-    res_.x0 = x;
-    res_.iterations = k;
-    record(k, lambda);
+    if (!take_step(accepted, xt, k, lambda, x)) return false;
     // Slow creep along a curved, nearly flat valley: try undamped Newton steps from here.
     const double new_cost = 0.5 * rn_.squaredNorm();
     stall = (cost - new_cost < settings_.lm_stall_tol * cost) ? stall + 1 : 0;
@@ -829,27 +828,12 @@ RootSearchResult root_search(OdSolver& solver, const std::vector<Vec6>& guesses,
     }
     if (found < 0) {
       Root root;
-      root.x0 = r.x0;
-      root.covariance = r.covariance;
-      root.residuals = r.residuals;
-      root.normalized = r.normalized;
-      root.max_abs_normalized = r.max_abs_normalized;
-      root.condition_number = r.condition_number;
-      root.fits = r.fits;
-      root.converged = r.status == OdStatus::converged;
+      detail::take_solution(r, root);
       root.first_guess = static_cast<int>(g);
       out.roots.push_back(root);
       found = static_cast<int>(out.roots.size()) - 1;
     } else if (r.max_abs_normalized < out.roots[static_cast<std::size_t>(found)].max_abs_normalized) {
-      Root& root = out.roots[static_cast<std::size_t>(found)];
-      root.x0 = r.x0;
-      root.covariance = r.covariance;
-      root.residuals = r.residuals;
-      root.normalized = r.normalized;
-      root.max_abs_normalized = r.max_abs_normalized;
-      root.condition_number = r.condition_number;
-      root.fits = r.fits;
-      root.converged = r.status == OdStatus::converged;
+      detail::take_solution(r, out.roots[static_cast<std::size_t>(found)]);
     }
     ++out.roots[static_cast<std::size_t>(found)].hits;
     out.guess_root[g] = found;

@@ -15,9 +15,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "cvodes_detail.hpp"
+#include "detail/cvodes.hpp"
+#include "detail/nvector.hpp"
 #include "satgnc/core/validate.hpp"
-#include "satgnc/propagation/nvector.hpp"
 
 namespace satgnc::propagation {
 
@@ -99,8 +99,7 @@ struct CvodesPropagator::Impl {
   long lin_setups = 0;
   double lu_t = 0.0, lu_gamma = 0.0;
   // Failure bookkeeping (written only on failure).
-  bool rhs_failed = false;
-  double rhs_fail_t = 0.0;
+  detail::RhsFailure rhs_failure;
   realtype tret_ = 0.0;  // time CVode returned (the root's time on CV_ROOT_RETURN)
   std::string cv_message;
 
@@ -126,9 +125,7 @@ struct CvodesPropagator::Impl {
     double* fd = N_VGetArrayPointer(ydot);
     const Eigen::Map<const Vec3> r(yd), v(yd + 3);
     if (!(r.squaredNorm() > 0.0) || !std::isfinite(r.squaredNorm() + v.squaredNorm())) {
-      p->rhs_failed = true;
-      p->rhs_fail_t = t;
-      return 1;  // recoverable: CVODES retries with a smaller step, then reports a failure
+      return p->rhs_failure.record(t);  // recoverable: CVODES retries with a smaller step, then fails
     }
     Vec3 a;
     if (p->n == kStateDim) {
@@ -144,11 +141,7 @@ struct CvodesPropagator::Impl {
       else
         dphi.bottomRows<3>().noalias() = g * phi.topRows<3>();
     }
-    if (!a.allFinite()) {
-      p->rhs_failed = true;
-      p->rhs_fail_t = t;
-      return 1;
-    }
+    if (!a.allFinite()) return p->rhs_failure.record(t);
     fd[0] = yd[3];
     fd[1] = yd[4];
     fd[2] = yd[5];
@@ -276,7 +269,7 @@ struct CvodesPropagator::Impl {
     out.status = PropagationStatus::success;
     out.message.clear();
     out.t_reached = t0;
-    rhs_failed = false;
+    rhs_failure.failed = false;
     lin_setups = 0;
 
     double* yd = N_VGetArrayPointer(y);
@@ -344,7 +337,7 @@ struct CvodesPropagator::Impl {
     out.message = std::string("CVODES stopped at t = ") + fmt(tcur) +
                   " s before reaching t = " + fmt(target) + " s (" + std::to_string(out.times.size()) +
                   " of " + std::to_string(n_requested) + " outputs returned): " + status_message(out.status);
-    if (rhs_failed) out.message += "; the force model failed at t = " + fmt(rhs_fail_t) + " s";
+    rhs_failure.describe(out.message, "the force model", " s");
     if (!cv_message.empty()) out.message += " [CVODES: " + cv_message + "]";
     cv_message.clear();
   }

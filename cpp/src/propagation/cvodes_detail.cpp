@@ -1,13 +1,22 @@
 // CVODES plumbing shared by CvodesPropagator and CvodesOde.
-#include "cvodes_detail.hpp"
-
 #include <cvodes/cvodes_ls.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 #include <sunnonlinsol/sunnonlinsol_newton.h>
 
+#include <cstdio>
 #include <stdexcept>
+#include <string>
+
+#include "detail/cvodes.hpp"
 
 namespace satgnc::propagation::detail {
+
+void RhsFailure::describe(std::string& message, const char* what, const char* unit) const {
+  if (!failed) return;
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.17g", t);
+  message += std::string("; ") + what + " failed at t = " + buf + unit;
+}
 
 PropagationStatus cvodes_flag_status(int flag) {
   switch (flag) {

@@ -14,9 +14,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include "cvodes_detail.hpp"
+#include "detail/cvodes.hpp"
+#include "detail/nvector.hpp"
 #include "satgnc/core/validate.hpp"
-#include "satgnc/propagation/nvector.hpp"
 
 namespace satgnc::propagation {
 
@@ -65,8 +65,7 @@ struct CvodesOde::Impl {
   std::string message;
   std::string cv_message;
   double t_reached = 0.0;
-  bool rhs_failed = false;
-  double rhs_fail_t = 0.0;
+  detail::RhsFailure rhs_failure;
   ImpactFunction impact;
 
   Impl(int dim, Rhs rhs, const CvodesOdeSettings& s, Jacobian j)
@@ -87,11 +86,7 @@ struct CvodesOde::Impl {
     double* fd = N_VGetArrayPointer(ydot);
     bool ok = p->f(t, N_VGetArrayPointer(yv), fd);
     for (int i = 0; ok && i < p->n; ++i) ok = std::isfinite(fd[i]);
-    if (!ok) {
-      p->rhs_failed = true;
-      p->rhs_fail_t = t;
-      return 1;  // recoverable: CVODES retries with a smaller step, then reports a failure
-    }
+    if (!ok) return p->rhs_failure.record(t);  // recoverable: CVODES retries with a smaller step, then fails
     return 0;
   }
 
@@ -179,7 +174,7 @@ struct CvodesOde::Impl {
     stats = PropagationStats{};
     message.clear();
     cv_message.clear();
-    rhs_failed = false;
+    rhs_failure.failed = false;
     lu_valid = false;
     t_reached = t0;
     if (yin.size() != n || !yin.allFinite() || !std::isfinite(t0) || !std::isfinite(t1) || t1 == t0) {
@@ -209,7 +204,7 @@ struct CvodesOde::Impl {
       message = "CVODES stopped at t = " + fmt(tcur) + " before reaching t = " + fmt(t1) + ": " +
                 status_message(st);
       if (flag == CV_TOO_MUCH_WORK) message += " (max_steps = " + std::to_string(settings.max_steps) + ")";
-      if (rhs_failed) message += "; the right-hand side failed at t = " + fmt(rhs_fail_t);
+      rhs_failure.describe(message, "the right-hand side", "");
       if (!cv_message.empty()) message += " [CVODES: " + cv_message + "]";
       if (stats.steps > 0) yin = yv;  // last accepted state
       return st;

@@ -3,7 +3,7 @@
 // falls back to sequences of N_VScale / N_VLinearSum / N_VDotProd / N_VWrmsNorm). The fused kernels
 // below are single-pass versions of those fall-backs, so results are bitwise identical while the loops
 // are compiled with our flags instead of Debian's unoptimised libsundials.
-#include "satgnc/propagation/nvector.hpp"
+#include "detail/nvector.hpp"
 
 #include <cmath>
 #include <cstdlib>

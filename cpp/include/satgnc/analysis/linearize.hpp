@@ -80,15 +80,20 @@ LinearModel polar_linear_model(const dynamics::PolarModel& m, const std::vector<
 /// thrust accelerations [ax ay az] (m/s^2), mean motion n (rad/s):
 ///   x'' = 3 n^2 x + 2 n y' + ax,  y'' = -2 n x' + ay,  z'' = -n^2 z + az.
 /// C = rows of the identity for `measured` (default: the three relative-position components).
+/// Built from dynamics::CwModel(n, 1 kg) by dynamics::cw_linear_model(..., CwFrame::hill): the same
+/// entries as the paper-frame model, permuted. Throws std::invalid_argument naming mean_motion unless
+/// n > 0 (and, from CwModel, n in [1e-100, 1e100] rad/s), or naming measured on a bad index.
 LinearModel cw_model(double mean_motion, const std::vector<int>& measured = {0, 1, 2});
 
 /// Two-body variational matrix A(t) = [[0, I], [mu/r^3 (3 r r^T / r^2 - I), 0]] at position r (km).
 Eigen::Matrix<double, 6, 6> two_body_jacobian(const Eigen::Vector3d& r, double mu);
 
-/// Range rho = |r - R| (km) and its partial d rho / d[r v] (1 x 6). Computed here for the Gramian
-/// analysis; satgnc/od owns the measurement models used by the estimators.
+/// Range rho = |r - R| (km) and its partial d rho / d[r v] (1 x 6): a thin wrapper of
+/// dynamics::predict_measurement (satgnc/dynamics/measurement.hpp, the one measurement model) that
+/// throws std::invalid_argument naming r when the satellite coincides with the station (rho = 0).
 double range_partial(const Eigen::Vector3d& r, const Eigen::Vector3d& R, Eigen::Matrix<double, 1, 6>& H);
-/// Range rate rho' = (r - R).(v - V) / rho (km/s) and its partial d rho' / d[r v] (1 x 6).
+/// Range rate rho' = (r - R).(v - V) / rho (km/s) and its partial d rho' / d[r v] (1 x 6); wrapper of
+/// dynamics::predict_measurement as range_partial (same exception at rho = 0).
 double range_rate_partial(const Eigen::Vector3d& r, const Eigen::Vector3d& v, const Eigen::Vector3d& R,
                           const Eigen::Vector3d& V, Eigen::Matrix<double, 1, 6>& H);
 

@@ -41,6 +41,22 @@ struct CwModel {
   Mat63 input_integral(double t) const;
 };
 
+/// Frame of a CW state. paper: the frame above (y radial, z orbit normal, x = y cross z, minus
+/// along-track). hill: x radial (outward), y along-track (direction of the target's velocity), z orbit
+/// normal; state [x y z vx vy vz] (m, m/s).
+enum class CwFrame { paper, hill };
+
+/// Continuous-time CW matrices x' = A x + B u in one frame: A (1/s, 1/s^2), B (1/kg, control = force N).
+struct CwMatrices {
+  Mat6 A;
+  Mat63 B;
+};
+
+/// The model's A() and B() in `frame`. The hill matrices are the paper ones with the radial and
+/// along-track axes exchanged and the along-track sign flipped (hill x = paper y, hill y = -paper x):
+/// the same entries, only permuted (no arithmetic; no negative zeros). No allocation.
+CwMatrices cw_linear_model(const CwModel& model, CwFrame frame = CwFrame::paper);
+
 /// Discrete model x_{k+1} = Ad x_k + Bd u_k for a zero-order-held control over dt seconds.
 struct CwDiscrete {
   Mat6 Ad;

@@ -220,6 +220,8 @@ class OdSolver {
   bool physical(const Vec6& x) const;
   void factor();  // QR of [jn_ | rn_] -> R_, c_, SVD
   void record(int k, double lambda);
+  // End of a GN / LM iteration k: stalled (false) without an accepted trial, else x = xt as iterate k.
+  bool take_step(bool accepted, const Vec6& xt, int k, double lambda, Vec6& x);
   void finish(const Vec6& x, bool buffers_valid);
   bool small_step(const Vec6& dx, const Vec6& x) const;
   bool residual_small() const;

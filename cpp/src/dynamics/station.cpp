@@ -1,13 +1,13 @@
-#include "satgnc/od/station.hpp"
+#include "satgnc/dynamics/station.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 
+#include "satgnc/core/time.hpp"
 #include "satgnc/core/validate.hpp"
-#include "satgnc/od/time.hpp"
 
-namespace satgnc::od {
+namespace satgnc::dynamics {
 
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
@@ -55,7 +55,7 @@ Mat3 rot_z(double theta) {
 Station Station::from_geodetic(double lat_deg, double lon_deg, double height_km, double jd_utc,
                                double ut1_minus_utc_s, const Ellipsoid& ell, double omega) {
   const Vec3 ecef = geodetic_to_ecef(lat_deg * kDeg, lon_deg * kDeg, height_km, ell);
-  return from_ecef(ecef, gmst_from_utc(jd_utc, ut1_minus_utc_s), omega);
+  return from_ecef(ecef, core::gmst_from_utc(jd_utc, ut1_minus_utc_s), omega);
 }
 
 Station Station::from_ecef(const Vec3& ecef, double theta0_rad, double omega) {
@@ -102,4 +102,4 @@ double implied_rotation_rate(const Vec6& x) {
   return (zx * x(3) + zy * x(4)) / den;
 }
 
-}  // namespace satgnc::od
+}  // namespace satgnc::dynamics

@@ -1,12 +1,14 @@
 // Two-satellite discrete map from DOP853 integration of the state, STM and control sensitivity.
+#include "satgnc/propagation/propagated_map.hpp"
+
 #include <cmath>
 #include <limits>
 
+#include "detail/map_scaling.hpp"
 #include "satgnc/core/validate.hpp"
-#include "satgnc/guidance/nonlinear_model.hpp"
 #include "satgnc/propagation/dop853.hpp"
 
-namespace satgnc::guidance {
+namespace satgnc::propagation {
 
 namespace {
 using dynamics::Mat12;
@@ -96,16 +98,7 @@ PropagatedTwoSatelliteMap::PropagatedTwoSatelliteMap(const dynamics::TwoSatellit
   core::require_nonnegative(s_.atol, "atol");
   require(s_.max_steps > 0, "max_steps", "must be > 0");
   require(std::isfinite(s_.min_radius) && s_.min_radius >= 0.0, "min_radius", "must be finite and >= 0 (m)");
-  require(s_.state_scale.size() == 0 || s_.state_scale.size() == 12, "state_scale",
-          "must be empty or have 12 entries");
-  require(s_.control_scale.size() == 0 || s_.control_scale.size() == 3, "control_scale",
-          "must be empty or have 3 entries");
-  sx_.setOnes();
-  su_.setOnes();
-  if (s_.state_scale.size() == 12) sx_ = s_.state_scale;
-  if (s_.control_scale.size() == 3) su_ = s_.control_scale;
-  require(sx_.allFinite() && (sx_.array() > 0.0).all(), "state_scale", "entries must be finite and > 0");
-  require(su_.allFinite() && (su_.array() > 0.0).all(), "control_scale", "entries must be finite and > 0");
+  detail::set_map_scaling(s_.state_scale, s_.control_scale, sx_, su_);
   propagation::Dop853Settings ds;
   ds.rtol = s_.rtol;
   ds.atol = s_.atol;
@@ -161,4 +154,4 @@ bool PropagatedTwoSatelliteMap::step(int k, const double* x, const double* u, do
   return info_.ok;
 }
 
-}  // namespace satgnc::guidance
+}  // namespace satgnc::propagation

@@ -12,6 +12,23 @@
 
 namespace satgnc::propagation::detail {
 
+/// Right-hand-side failure bookkeeping shared by CvodesPropagator and CvodesOde: written only when
+/// an evaluation fails, read to explain a failed integration.
+struct RhsFailure {
+  bool failed = false;
+  double t = 0.0;  ///< time of the last failed evaluation, s
+
+  /// Record a failed evaluation at time `at` (s) and return 1, CVODES' "recoverable" right-hand-side
+  /// flag: CVODES retries with a smaller step, then reports a failure. No allocation.
+  int record(double at) noexcept {
+    failed = true;
+    t = at;
+    return 1;
+  }
+  /// Append "; <what> failed at t = <t, %.17g><unit>" to message when a failure was recorded.
+  void describe(std::string& message, const char* what, const char* unit) const;
+};
+
 /// CVode() return flag -> PropagationStatus.
 PropagationStatus cvodes_flag_status(int flag);
 

@@ -1,4 +1,4 @@
-#include "satgnc/od/measurement.hpp"
+#include "satgnc/dynamics/measurement.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -7,7 +7,7 @@
 
 #include "satgnc/core/validate.hpp"
 
-namespace satgnc::od {
+namespace satgnc::dynamics {
 
 const char* measurement_type_name(MeasurementType t) {
   switch (t) {
@@ -88,4 +88,4 @@ void validate_measurements(const std::vector<Measurement>& meas, int n_stations)
   }
 }
 
-}  // namespace satgnc::od
+}  // namespace satgnc::dynamics

@@ -1,11 +1,11 @@
-#include "satgnc/od/time.hpp"
+#include "satgnc/core/time.hpp"
 
 #include <cmath>
 #include <string>
 
 #include "satgnc/core/validate.hpp"
 
-namespace satgnc::od {
+namespace satgnc::core {
 
 double julian_date(int year, int month, int day, int hour, int minute, double second) {
   using core::require;
@@ -50,4 +50,4 @@ double gmst_from_utc(double jd_utc, double ut1_minus_utc_s) {
   return gmst_iau1982(jd_utc + ut1_minus_utc_s / 86400.0);
 }
 
-}  // namespace satgnc::od
+}  // namespace satgnc::core

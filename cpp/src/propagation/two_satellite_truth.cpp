@@ -1,5 +1,5 @@
 // CVODES truth flight of the two-satellite model (see two_satellite_truth.hpp).
-#include "satgnc/guidance/two_satellite_truth.hpp"
+#include "satgnc/propagation/two_satellite_truth.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,12 +8,11 @@
 
 #include "satgnc/core/validate.hpp"
 
-namespace satgnc::guidance {
+namespace satgnc::propagation {
 
 using dynamics::Mat12;
 using dynamics::Mat12x3;
 using dynamics::Vec12;
-using propagation::PropagationStatus;
 
 propagation::CvodesOdeSettings default_truth_settings() {
   propagation::CvodesOdeSettings s;
@@ -126,4 +125,4 @@ const std::string& TwoSatelliteTruth::message() const { return impl_->message; }
 const propagation::CvodesOde& TwoSatelliteTruth::integrator() const { return impl_->ode; }
 const dynamics::TwoSatelliteModel& TwoSatelliteTruth::model() const { return impl_->data->model; }
 
-}  // namespace satgnc::guidance
+}  // namespace satgnc::propagation

@@ -1,5 +1,5 @@
 #pragma once
-/// @file nvector.hpp
+/// @file nvector.hpp (private to the propagation room; not installed)
 /// satgnc's own serial N_Vector: contiguous double storage, the SUNDIALS 6.4 N_Vector ops table,
 /// compiled with satgnc's optimisation flags. Every operation reproduces the floating-point
 /// operation order of SUNDIALS' NVECTOR_SERIAL (with its fused operations disabled, i.e. the generic
