@@ -354,7 +354,7 @@ double kepler_time_to_radius(const Vec6& x0, double dt, double mu, double surfac
 
 Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>& times, double mu,
                             bool with_stm, double surface_radius) {
-  validate_orbit_arc_input(x0, t0, times, "the two-body problem is singular at the centre of the body");
+  validate_orbit_arc_input(x0, t0, times, kTwoSidedArc, "the two-body problem is singular at the centre of the body");
   core::require_positive(mu, "mu");
   core::require_nonnegative(surface_radius, "surface_radius");
   core::require(x0.head<3>().norm() > surface_radius, "x0",
