@@ -44,7 +44,9 @@ class Plan(Result):
     model's states under ``U`` (linear: CW relative state, m, m/s; nonlinear: 12-state, m, m/s, ECI);
     ``dt`` (s), ``mass`` (kg); ``status`` (solver status name), ``iterations`` (ADMM iterations, or
     SCP outer iterations), ``objective`` (the minimized cost, scaled units), ``info`` (the solver's
-    info object or result dict), ``model`` and ``method``. A frozen :class:`satgnc._results.Result`."""
+    run record: linear, a read-only :class:`satgnc.guidance.AdmmInfo`, as ``L1Result.info``, whose
+    ``raw`` is the extension's result dict this field used to be; nonlinear, the C++ ``ScpInfo`` or
+    ``IlqrAdmmInfo``), ``model`` and ``method``. A frozen :class:`satgnc._results.Result`."""
 
     model: str
     method: str
@@ -355,7 +357,7 @@ def plan(problem: RendezvousProblem, model: str = "linear", method: str | None =
             LINEAR_DISCRETIZATIONS,
         )
         U, r, x0, s = solve_linear_cw(tr, problem.mu, problem.mass, options.get("eps", 1e-9), disc)
-        from . import STATUS_NAMES
+        from . import STATUS_NAMES, _admm_info
 
         X = np.asarray(r["X_flown"]).T * s[None, :]
         return Plan(
@@ -368,7 +370,7 @@ def plan(problem: RendezvousProblem, model: str = "linear", method: str | None =
             STATUS_NAMES.get(int(r["status"]), str(r["status"])),
             int(r["iterations"]),
             float(r["objective"]),
-            r,
+            _admm_info(r, keep_raw=True),
         )
     if method == "scp":
         opts = dict(options)

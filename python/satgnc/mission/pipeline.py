@@ -468,7 +468,7 @@ def plan(sc: _scen.MissionScenario, rel: RelativeState | None) -> Plan:
     B = np.asarray(Bd) * su[None, :] / s6[:, None]
     if r.model == "linear":
         X = np.asarray(r.X)
-        Y = np.asarray(r.info["Y"]).T
+        Y = np.asarray(r.info.raw["Y"]).T  # guidance.AdmmInfo: the solver's scaled plan, nu x N
     else:
         X = np.array([np.asarray(_c.cw_relative_state(x)) for x in r.X])
         Y = np.asarray(r.U) / su[None, :]
