@@ -17,6 +17,7 @@
 
 #include "detail/cvodes.hpp"
 #include "detail/nvector.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::propagation {
@@ -338,6 +339,9 @@ Trajectory CvodesPropagator::propagate(const Vec6& x0, double t0, const std::vec
 
 void CvodesPropagator::propagate(const Vec6& x0, double t0, const std::vector<double>& times,
                                  Trajectory& out) {
+  // Allocation-free into a reused Trajectory (test_cvodes.cpp counts operator new); the guard sees
+  // Eigen only: CVODES's own mallocs (none after setup in this path) are seen by that counter.
+  SATGNC_NO_MALLOC_SCOPE;
   impl_->run(x0, t0, times, out);
 }
 

@@ -27,8 +27,8 @@ std::string fmt(double x) {
 
 std::string entry(std::size_t i, double t) { return "times[" + std::to_string(i) + "] = " + fmt(t); }
 
-// dir > 0: b follows a in increasing order; dir < 0: in decreasing order. Comparisons, not the sign
-// of (b - a) * dir, so no subtraction can overflow (the two are equal on finite input).
+// Whether b may follow a: in increasing (ascending) or decreasing order, strictly or not. Comparisons,
+// not the sign of (b - a) * dir as CVODES's check had it (the two agree on finite input).
 bool ordered(double a, double b, bool ascending, bool strict) {
   if (strict) return ascending ? b > a : b < a;
   return ascending ? b >= a : b <= a;

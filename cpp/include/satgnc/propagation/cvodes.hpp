@@ -83,7 +83,9 @@ class CvodesPropagator {
   /// and a message saying why.
   Trajectory propagate(const Vec6& x0, double t0, const std::vector<double>& times);
 
-  /// Same, writing into `out` (whose vectors keep their capacity across calls).
+  /// Same, writing into `out` (whose vectors keep their capacity across calls): allocation-free
+  /// once `out` has the capacity (test_cvodes.cpp counts operator new), and run under
+  /// SATGNC_NO_MALLOC_SCOPE (core/no_malloc.hpp; it sees Eigen only, not CVODES's malloc calls).
   void propagate(const Vec6& x0, double t0, const std::vector<double>& times, Trajectory& out);
 
   const dynamics::ForceModel& model() const;
