@@ -239,8 +239,20 @@ def solve_scp(
     globalization: str = "trust_region",
     time_limit: float = 0.0,
 ):
-    """Sequential convex programming on the transcription ``tr`` (arguments and statuses as
-    :func:`satgnc.papers.l1_admm_rendezvous.solve_scp` documents). Returns the solver (scaled, nu x N)."""
+    """Sequential convex programming on the transcription ``tr`` (a Case of the papers, or
+    :func:`transcribe`'s): re-linearize (exact map Jacobians), solve the convex L1
+    subproblem (``inner="ilqr_admm"``: satgnc's iLQR-ADMM on the affine model, which is exact
+    LQR-ADMM there, allocation-free, with the trust region as per-stage bounds; ``"linear_admm"``:
+    the linear guidance AdmmSolver, the step scaled into the trust region), and accept steps by a
+    trust-region ratio test (``globalization="trust_region"``) or an Armijo line search
+    (``"line_search"``) on the true cost. ``time_limit``: seconds (0 = none). Returns the solver
+    (``.U``, ``.X``, ``.info``; scaled units); ``info.status`` is ``solved`` only when the convex
+    model predicts a decrease <= ``tol`` max(1, J) on a solved subproblem (table in
+    docs/guidance_nonlinear.md). With ``tr.problem.terminal_equality`` (hard terminal state; the
+    linear_admm inner only, ``inner="ilqr_admm"`` raises ValueError) ``solved`` also needs
+    ``info.terminal_constraint_miss <= 1e-6 info.terminal_reference``, and an unreachable target ends
+    ``inner_infeasible`` with ``info.infeasibility_certificate`` and ``info.infeasibility_margin > 0``;
+    ``time_limit`` also bounds each subproblem (the inner gets the remaining time)."""
     inner = one_of(inner, "inner", ("ilqr_admm", "linear_admm"))
     globalization = one_of(globalization, "globalization", ("trust_region", "line_search"))
     st = _c.ScpSettings()
