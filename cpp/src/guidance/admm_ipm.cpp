@@ -63,6 +63,11 @@ void AdmmWorkspace::ipm_setup() {
   im3_ = (lorep_ > -kInf).cast<double>();
   im4_ = (hirep_ < kInf).cast<double>();
   ipm_m_ = static_cast<int>(2.0 * im1_.sum() + im3_.sum() + im4_.sum());
+  // the gap's vectorized conjugate (conj_g_flat, admm_gap.cpp): the same products as conj_g
+  gch_ = wrep_ * hifin_.abs();
+  gcl_ = wrep_ * lofin_.abs();
+  gzok_ = (lorep_ <= 0.0 && hirep_ >= 0.0).cast<double>();
+  gbuf_.setZero(n);
   iU_.setZero(nu_, N_);
   iX_.setZero(nx_, N_ + 1);
   idX_.setZero(nx_, N_ + 1);
