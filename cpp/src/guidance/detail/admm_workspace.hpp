@@ -328,6 +328,7 @@ struct AdmmWorkspace : AdmmProblemData,
   bool ipm_factor() noexcept;
   template <int NX, int NU>
   bool ipm_riccati_factor() noexcept;
+  bool ipm_riccati_factor_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   template <int NX, int NU>
   void ipm_riccati_sweep() noexcept;
   template <int NU>
