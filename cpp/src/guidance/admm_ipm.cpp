@@ -284,6 +284,95 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
   return true;
 }
 
+// The (6, 3) CW case of ipm_riccati_sweep written out (the products as axpys over contiguous
+// columns, A' from ipm_riccati_factor_63 when the dynamics are time-invariant).
+void AdmmWorkspace::ipm_riccati_sweep_63() noexcept {
+  const bool term = prob_.terminal_equality;
+  const LtvDynamics& d = prob_.dynamics;
+  const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
+  const bool lti = d.A.size() == 1;
+  const double* Qf = prob_.Qf.data();
+  double p[6], pn[6], qu[3];
+  for (int i = 0; i < 6; ++i) p[i] = 0.0;
+  for (int l = 0; l < 6; ++l)
+    for (int i = 0; i < 6; ++i) p[i] += Qf[i + 6 * l] * ie_(l);
+  for (int k = N_ - 1; k >= 0; --k) {
+    const double* A = d.A_at(k).data();
+    const double* B = d.B_at(k).data();
+    const double* Qi = iQi_.data() + k * 9;
+    const double* Qux = iQux_.data() + k * 18;
+    double* kff = ikff_.data() + k * 3;
+    const double* lin = ilin_.data() + k * 3;
+    for (int i = 0; i < 3; ++i) {
+      double acc = lin[i];
+      if (has_r) {
+        double ru = 0.0;
+        for (int l = 0; l < 3; ++l) ru += prob_.R(i, l) * iU_(l, k);
+        acc += ru;
+      }
+      double bp = 0.0;
+      for (int l = 0; l < 6; ++l) bp += B[l + 6 * i] * p[l];
+      qu[i] = acc + bp;
+    }
+    for (int i = 0; i < 3; ++i) kff[i] = -(Qi[i] * qu[0] + Qi[i + 3] * qu[1] + Qi[i + 6] * qu[2]);
+    if (k == 0) break;
+    if (lti) {
+      const double* At = iAcl_.data();  // A' (ipm_riccati_factor_63)
+      for (int i = 0; i < 6; ++i) pn[i] = 0.0;
+      for (int l = 0; l < 6; ++l)
+        for (int i = 0; i < 6; ++i) pn[i] += At[i + 6 * l] * p[l];
+    } else {
+      for (int i = 0; i < 6; ++i) {
+        double acc = 0.0;
+        for (int l = 0; l < 6; ++l) acc += A[l + 6 * i] * p[l];
+        pn[i] = acc;
+      }
+    }
+    for (int i = 0; i < 6; ++i) pn[i] += Qux[3 * i] * kff[0] + Qux[1 + 3 * i] * kff[1] + Qux[2 + 3 * i] * kff[2];
+    if (has_q) {
+      for (int i = 0; i < 6; ++i) {
+        double acc = 0.0;
+        for (int l = 0; l < 6; ++l) acc += prob_.Q(i, l) * (iX_(l, k) - prob_.xf(l));
+        pn[i] += acc;
+      }
+    }
+    for (int i = 0; i < 6; ++i) p[i] = pn[i];
+  }
+  for (int pass = 0; pass < (term ? 2 : 1); ++pass) {
+    double* X = idX_.data();
+    for (int i = 0; i < 6; ++i) X[i] = 0.0;
+    for (int k = 0; k < N_; ++k) {
+      const double* A = d.A_at(k).data();
+      const double* B = d.B_at(k).data();
+      const double* K = iK_.data() + k * 18;
+      const double* kff = ikff_.data() + k * 3;
+      double* du = idu_.data() + k * 3;
+      const double* xk = X + 6 * k;
+      double* xn = X + 6 * (k + 1);
+      double u[3] = {kff[0], kff[1], kff[2]};
+      for (int l = 0; l < 6; ++l)
+        for (int i = 0; i < 3; ++i) u[i] += K[i + 3 * l] * xk[l];
+      if (pass == 1) {
+        const double* Knu = iKnu_.data() + k * 18;
+        for (int l = 0; l < 6; ++l)
+          for (int i = 0; i < 3; ++i) u[i] += Knu[i + 3 * l] * inun_(l);
+      }
+      for (int i = 0; i < 3; ++i) du[i] = u[i];
+      double x[6] = {};
+      for (int l = 0; l < 6; ++l)
+        for (int i = 0; i < 6; ++i) x[i] += A[i + 6 * l] * xk[l];
+      for (int l = 0; l < 3; ++l)
+        for (int i = 0; i < 6; ++i) x[i] += B[i + 6 * l] * u[l];
+      for (int i = 0; i < 6; ++i) xn[i] = x[i];
+    }
+    if (term && pass == 0) {
+      idx_ = -ie_ - idX_.col(N_);
+      inun_ = ilu_.solve(idx_);
+    }
+  }
+  iep_ = ie_ + idX_.col(N_);
+}
+
 template <int NU>
 auto AdmmWorkspace::llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&,
                                                              Eigen::LLT<Eigen::Matrix<double, NU, NU>>> {
@@ -417,8 +506,10 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   idt_ = idz1_ + idz2_;  // g_t
   // linear term of the reduced step: -sum z a + g_u - H_ut (r_t + g_t) / H_tt
   ilin_ = iz1_ - iz2_ - iz3_ + iz4_ - idz1_ + idz2_ + idz3_ - idz4_ - ihut_ * (irt_ + idt_);
-  if (nx_ == 6 && nu_ == 3) {
-    ipm_riccati_sweep<6, 3>();
+  if (nx_ == 6 && nu_ == 3 && prob_.Q.size() == 0) {
+    ipm_riccati_sweep_63();
+  } else if (nx_ == 6 && nu_ == 3) {
+    ipm_riccati_sweep<6, 3>();  // stage Q: Eigen's kernels (the written-out sweep lost one suite problem)
   } else {
     ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>();
   }

@@ -331,6 +331,7 @@ struct AdmmWorkspace : AdmmProblemData,
   bool ipm_riccati_factor_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   template <int NX, int NU>
   void ipm_riccati_sweep() noexcept;
+  void ipm_riccati_sweep_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   template <int NU>
   auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
                                                 Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
