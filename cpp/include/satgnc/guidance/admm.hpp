@@ -140,8 +140,10 @@ struct AdmmSettings {
   int ipm_after = 35;
   int ipm_max_iterations = 60;  ///< interior-point iterations per run (>= 1)
   /// Interior-point stopping: complementarity sum s'z and the stationarity residuals below this
-  /// (relative to the objective and the gradient scale) trigger the independent gap test.
-  double ipm_tolerance = 1e-9;
+  /// (relative to the objective and the gradient scale) trigger the independent gap test (which
+  /// alone decides `solved`). Measured on the suite: 1e-9 / 1e-7 / 1e-6 -> 390 / 391 / 389 of 391
+  /// solved, median 11 / 10 / 10 IPM iterations.
+  double ipm_tolerance = 1e-7;
   /// Validates ranges (std::invalid_argument naming the field).
   void validate() const;
 };
