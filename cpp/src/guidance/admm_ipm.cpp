@@ -506,10 +506,8 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   idt_ = idz1_ + idz2_;  // g_t
   // linear term of the reduced step: -sum z a + g_u - H_ut (r_t + g_t) / H_tt
   ilin_ = iz1_ - iz2_ - iz3_ + iz4_ - idz1_ + idz2_ + idz3_ - idz4_ - ihut_ * (irt_ + idt_);
-  if (nx_ == 6 && nu_ == 3 && prob_.Q.size() == 0) {
+  if (nx_ == 6 && nu_ == 3) {
     ipm_riccati_sweep_63();
-  } else if (nx_ == 6 && nu_ == 3) {
-    ipm_riccati_sweep<6, 3>();  // stage Q: Eigen's kernels (the written-out sweep lost one suite problem)
   } else {
     ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>();
   }
