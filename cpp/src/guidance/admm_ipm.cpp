@@ -233,10 +233,10 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
     double* Qi = iQi_.data() + k * 9;
     double* Qux = iQux_.data() + k * 18;
     double* K = iK_.data() + k * 18;
-    mm<6, 6, 3>(P, B, PB);      // P B
-    mm<3, 6, 3>(Bt, PB, Quu);   // B'PB
-    mm<6, 6, 6>(P, A, PA);      // P A
-    mm<3, 6, 6>(Bt, PA, Qux);   // B'PA
+    mm<6, 6, 3>(P, B, PB);     // P B
+    mm<3, 6, 3>(Bt, PB, Quu);  // B'PB
+    mm<6, 6, 6>(P, A, PA);     // P A
+    mm<3, 6, 6>(Bt, PA, Qux);  // B'PA
     Eigen::Map<Eigen::Matrix3d> QuuM(Quu), QiM(Qi);
     QuuM = (0.5 * (QuuM + QuuM.transpose())).eval();
     if (has_r) QuuM += prob_.R;
@@ -328,7 +328,8 @@ void AdmmWorkspace::ipm_riccati_sweep_63() noexcept {
         pn[i] = acc;
       }
     }
-    for (int i = 0; i < 6; ++i) pn[i] += Qux[3 * i] * kff[0] + Qux[1 + 3 * i] * kff[1] + Qux[2 + 3 * i] * kff[2];
+    for (int i = 0; i < 6; ++i)
+      pn[i] += Qux[3 * i] * kff[0] + Qux[1 + 3 * i] * kff[1] + Qux[2 + 3 * i] * kff[2];
     if (has_q) {
       for (int i = 0; i < 6; ++i) {
         double acc = 0.0;
@@ -476,7 +477,8 @@ bool AdmmWorkspace::ipm_factor() noexcept {
     ihtt_(j) = htt;
   }
   id_ += im3_ * izs3_ + im4_ * izs4_;
-  if (!(nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63() : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
+  if (!(nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63()
+                             : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
     return false;
   if (!term) return true;
   ilu_.compute(iS_);
