@@ -62,3 +62,15 @@ def test_strings_users_read_are_unchanged():
         _satgnc.status_message("nope")
     assert _satgnc.IlqrAdmmStatus.not_run == _satgnc.IlqrAdmmStatus.unsolved
     assert _satgnc.ScpStatus.not_run == _satgnc.ScpStatus.unsolved
+
+
+def test_earth_constants_are_the_extension_s():
+    """Issue 12 (I5): the Earth constants are defined once in C++ (core/constants.hpp); the Python
+    modules re-export the extension's values, they do not re-type them."""
+    from satgnc import analysis, od
+
+    assert od.EARTH_MU is _satgnc.EARTH_MU
+    assert od.EARTH_OMEGA is _satgnc.EARTH_OMEGA
+    assert od.EARTH_RADIUS is _satgnc.EARTH_RADIUS
+    assert analysis.MU_EARTH is _satgnc.EARTH_MU
+    assert (_satgnc.EARTH_MU, _satgnc.EARTH_RADIUS, _satgnc.EARTH_OMEGA) == (398600.4418, 6378.1363, 7.292115e-5)

@@ -21,7 +21,7 @@ from .. import _satgnc as _s
 from .._results import Result, deprecated, readonly
 from .._validate import as_int, as_matrix, as_real, as_real_array, as_scale, check_magnitude, one_of
 
-MU_EARTH = 398600.4418  # km^3/s^2 (EGM-96)
+MU_EARTH = _s.EARTH_MU  # km^3/s^2 (EGM-96), defined once in C++ (core/constants.hpp)
 EARTH_RATE_PAPER = 7.27e-5  # rad/s: the rotation rate implied by od_newton_raphson.md Table 3
 
 PolarModel = _s.PolarModel

@@ -40,9 +40,10 @@ from .._validate import (
     read_text_file,
 )
 
-EARTH_MU = 398600.4418  #: km^3/s^2 (EGM-96)
-EARTH_OMEGA = 7.292115e-5  #: rad/s
-EARTH_RADIUS = 6378.1363  #: km
+# The Earth constants are defined once, in C++ (core/constants.hpp), and exported by the extension.
+EARTH_MU = _c.EARTH_MU  #: km^3/s^2 (EGM-96)
+EARTH_OMEGA = _c.EARTH_OMEGA  #: rad/s
+EARTH_RADIUS = _c.EARTH_RADIUS  #: km
 
 Station = _c.Station
 Ellipsoid = _c.Ellipsoid

@@ -34,7 +34,7 @@ def _floats(text: str, n: int | None, name: str) -> list[float]:
 def _stations(args, epoch, names=None):
     """Stations from --station / --station-inertial, in the order of the file's station names when
     the file has names (TDM PARTICIPANT_1): labelled options must then match those names."""
-    from . import station_geodetic, station_inertial
+    from . import EARTH_OMEGA, station_geodetic, station_inertial
 
     out, labels = [], []
     for spec in args.station or []:
@@ -51,7 +51,7 @@ def _stations(args, epoch, names=None):
         if not 6340.0 <= r <= 6400.0:  # a ground station: the Earth's radius is 6357-6378 km
             raise ValueError(f"--station-inertial: |r| = {r:.6g} km is not on the Earth's surface "
                              f"(6340-6400 km; hint: x,y,z in km) in {spec!r}")
-        out.append(station_inertial(v[:3], v[3] if len(v) == 4 else 7.292115e-5))
+        out.append(station_inertial(v[:3], v[3] if len(v) == 4 else EARTH_OMEGA))
         labels.append(label)
     if not out:
         raise ValueError("--station/--station-inertial: give at least one station")
