@@ -118,3 +118,23 @@ def test_warning_points_at_the_caller():
         r["X"]
     assert rec[0].filename == __file__
     assert _results.__name__ == "satgnc._results"
+
+
+def test_adopt_freezes_fresh_arrays_in_place_and_only_for_its_own_fields():
+    """adopt() (for arrays the extension just returned) marks them read-only without a copy; the flag
+    does not leak to the next result, which copies again."""
+    X = np.arange(6.0).reshape(3, 2)
+    parts = [np.ones(2), np.zeros(3)]
+    r = _results.adopt(_Demo, status="solved", iterations=1, X=X, parts=parts)
+    assert r.X is X and X.flags.writeable is False
+    assert r.parts[0] is parts[0] and r.parts[1].flags.writeable is False
+    Y = np.ones((2, 2))
+    s = _Demo(status="solved", iterations=1, X=Y)
+    assert s.X is not Y and Y.flags.writeable is True and s.X.flags.writeable is False
+
+
+def test_list_of_scalars_is_kept_and_list_of_arrays_frozen():
+    r = _Demo(status="solved", iterations=1, X=np.ones(1), parts=[1, 2, 3])
+    assert r.parts == [1, 2, 3]
+    r2 = _Demo(status="solved", iterations=1, X=np.ones(1), parts=[np.ones(2), np.ones(2)])
+    assert all(p.flags.writeable is False for p in r2.parts)

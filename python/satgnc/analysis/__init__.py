@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from .. import _satgnc as _s
-from .._results import Result, deprecated, readonly
+from .._results import Result, adopt, deprecated, readonly
 from .._validate import as_int, as_matrix, as_real, as_real_array, as_scale, check_magnitude, one_of
 
 MU_EARTH = _s.EARTH_MU  # km^3/s^2 (EGM-96), defined once in C++ (core/constants.hpp)
@@ -326,7 +326,7 @@ def staircase(A, BC, property: str = "controllability", *, rtol: float | None = 
               units: Units | dict | None = None) -> StaircaseReport:
     """Orthogonal staircase reduction of (A, B), or of (A^T, C^T) for observability (pass C)."""
     d = _s._staircase(*_args(A, BC, property, rtol, fuzz, stair, cluster_rtol, units))
-    return StaircaseReport(**d)
+    return adopt(StaircaseReport, **d)
 
 
 def controllability(A, B, **kw) -> StaircaseReport:
@@ -343,13 +343,13 @@ def pbh(A, BC, property: str = "controllability", *, rtol: float | None = None, 
         cluster_rtol: float = 1e-6, units: Units | dict | None = None) -> PbhReport:
     """PBH test: rank of [A - lambda I, B] per clustered eigenvalue, tolerance rtol ||[A B]||_F."""
     d = _s._pbh(*_args(A, BC, property, rtol, fuzz, "svd", cluster_rtol, units))
-    return PbhReport(**d)
+    return adopt(PbhReport, **d)
 
 
 def kalman_rank(A, BC, property: str = "controllability", *, rtol: float | None = None, fuzz: float = 100.0,
                 units: Units | dict | None = None) -> RankReport:
     """SVD rank of the Kalman matrix, tolerance rtol * sigma_max (default numpy's). Comparison only."""
-    return RankReport(**_s._kalman_rank(*_args(A, BC, property, rtol, fuzz, "svd", 1e-6, units)))
+    return adopt(RankReport, **_s._kalman_rank(*_args(A, BC, property, rtol, fuzz, "svd", 1e-6, units)))
 
 
 def kalman_matrix(A, B=None, C=None) -> np.ndarray:

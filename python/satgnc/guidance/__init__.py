@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import _satgnc
 from .. import _validate as _v
-from .._results import Result, deprecated
+from .._results import Result, adopt, deprecated
 from .._validate import as_bool, as_real, as_real_array, check_magnitude, one_of
 
 __all__ = [
@@ -314,9 +314,10 @@ class L1Solver:
     def solve(self) -> L1Result:
         """Run ADMM (never raises for solver outcomes: check ``result.status``)."""
         d = self._solver.solve()
-        return L1Result(
+        return adopt(
+            L1Result,  # the extension's fresh arrays, made read-only in place (no copy)
             status=STATUS_NAMES[d["status"]], message=d["status_name"], iterations=d["iterations"],
-            X=d["X"].T, U=d["U"].T, Y=d["Y"].T, Lambda=d["Lambda"].T,  # read-only copies (Result)
+            X=d["X"].T, U=d["U"].T, Y=d["Y"].T, Lambda=d["Lambda"].T,
             X_flown=d["X_flown"].T, terminal_multiplier=d["terminal_multiplier"],
             objective=d["objective"], objective_u=d["objective_u"], terminal_miss=d["terminal_miss"],
             primal_residual=d["primal_residual"], dual_residual=d["dual_residual"],
