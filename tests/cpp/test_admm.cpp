@@ -10,53 +10,9 @@
 #include <random>
 
 #include "admm_fixture.hpp"
+#include "malloc_counter.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "testing.hpp"
-
-// ---- allocation counters for this test binary: operator new always, and malloc itself (which
-// Eigen uses) when not under AddressSanitizer (whose interceptors own malloc).
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocs{0};
-}  // namespace
-
-#if !defined(__SANITIZE_ADDRESS__)
-void* operator new(std::size_t n) {
-  if (g_counting) ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void* malloc(std::size_t n) {
-  if (g_counting) ++g_allocs;
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t a, std::size_t b) {
-  if (g_counting) ++g_allocs;
-  return __libc_calloc(a, b);
-}
-void* realloc(void* p, std::size_t n) {
-  if (g_counting) ++g_allocs;
-  return __libc_realloc(p, n);
-}
-int posix_memalign(void** p, std::size_t al, std::size_t n) {
-  if (g_counting) ++g_allocs;
-  *p = __libc_memalign(al, n);
-  return *p ? 0 : 12;
-}
-void* aligned_alloc(std::size_t al, std::size_t n) {
-  if (g_counting) ++g_allocs;
-  return __libc_memalign(al, n);
-}
-}
-#endif
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -108,12 +64,12 @@ TEST(Admm, SolveDoesNotAllocate) {
     AdmmSolver s(admm_scenario_problem(true, terminal), st);
     s.solve();                                                        // warm-up (first-touch)
     AdmmSolver s2(random_ltv_problem(5, 2, 30, 3u, true, terminal), st);  // dynamic-size path
-    g_allocs = 0;
-    g_counting = true;
+    g_mallocs = 0;
+    g_count = true;
     const AdmmResult& r = s.solve();
     const AdmmResult& r2 = s2.solve();
-    g_counting = false;
-    EXPECT_EQ(g_allocs.load(), 0) << "terminal=" << terminal;
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "terminal=" << terminal;
     EXPECT_GT(r.info.iterations + r2.info.iterations, 2);
     EXPECT_GT(r.info.polish_attempts + r2.info.polish_attempts, 0) << "polish path exercised";
     EXPECT_GT(r.info.rho_updates + r2.info.rho_updates, 0) << "refactorization path exercised";
@@ -133,11 +89,11 @@ TEST(Admm, QpPolishCertifiesWithoutAllocating) {
       st.method = satgnc::guidance::AdmmMethod::kAdmm;  // the polish path (the IPM endgame would solve it)
       AdmmSolver s(p, st);
       s.solve();  // warm-up (first-touch)
-      g_allocs = 0;
-      g_counting = true;
+      g_mallocs = 0;
+      g_count = true;
       const AdmmResult& r = s.solve();
-      g_counting = false;
-      EXPECT_EQ(g_allocs.load(), 0) << "box=" << box << " terminal=" << terminal;
+      g_count = false;
+      EXPECT_EQ(g_mallocs.load(), 0) << "box=" << box << " terminal=" << terminal;
       EXPECT_EQ(r.info.status, AdmmStatus::kSolved) << "box=" << box << " terminal=" << terminal;
       EXPECT_TRUE(r.info.polished) << "box=" << box << " terminal=" << terminal;
       EXPECT_LE(std::abs(r.info.duality_gap), 1e-5);
@@ -184,12 +140,12 @@ TEST(Admm, DualNewtonPathDoesNotAllocate) {
     AdmmSolver s0(admm_scenario_problem(false, false), st);
     s.solve();  // warm-up (first-touch)
     s0.solve();
-    g_allocs = 0;
-    g_counting = true;
+    g_mallocs = 0;
+    g_count = true;
     const AdmmResult& r = s.solve();
     const AdmmResult& r0 = s0.solve();
-    g_counting = false;
-    EXPECT_EQ(g_allocs.load(), 0) << "terminal=" << terminal;
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "terminal=" << terminal;
     EXPECT_GE(r.info.iterations, 50) << "the dual Newton call at iteration 50 is reached";
     EXPECT_EQ(r0.info.status, AdmmStatus::kSolved);
     EXPECT_TRUE(r0.info.polished);
