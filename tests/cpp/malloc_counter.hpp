@@ -2,9 +2,9 @@
 // Allocation counter for the no-heap-in-solve tests. Include it in exactly one test file per binary:
 // the binary interposes malloc, calloc, realloc, posix_memalign and aligned_alloc (glibc forwards to
 // __libc_*), which also sees operator new / new[] and Eigen's aligned allocations. Count with
-// `g_mallocs = 0; g_count = true; ...; g_count = false;`. Under AddressSanitizer malloc belongs to ASan (mixing in
-// __libc_malloc crashes), so the interposer is compiled out there and the counts stay 0; the release
-// build is where the proof runs.
+// `g_mallocs = 0; g_count = true; ...; g_count = false;`. Under AddressSanitizer malloc belongs to
+// ASan (mixing in __libc_malloc crashes), so the interposer is compiled out there and the counts stay
+// 0; the release build is where the proof runs.
 #include <atomic>
 #include <cstddef>
 #include <cstdlib>  // glibc declares the allocators noexcept: the definitions below match

@@ -62,7 +62,7 @@ TEST(Admm, SolveDoesNotAllocate) {
     st.adaptive_rho_interval = 10;
     st.rho = 50.0;  // far from where adaptation takes it: refactorizations certainly happen
     AdmmSolver s(admm_scenario_problem(true, terminal), st);
-    s.solve();                                                        // warm-up (first-touch)
+    s.solve();                                                            // warm-up (first-touch)
     AdmmSolver s2(random_ltv_problem(5, 2, 30, 3u, true, terminal), st);  // dynamic-size path
     g_mallocs = 0;
     g_count = true;
@@ -155,7 +155,8 @@ TEST(Admm, DualNewtonPathDoesNotAllocate) {
 
 TEST(Admm, CachedGainsMatchFullRiccatiIterateByIterate) {
   for (bool terminal : {false, true}) {
-    const LtvProblem p = terminal ? admm_scenario_problem(true, true) : random_ltv_problem(4, 2, 25, 11u, true, false);
+    const LtvProblem p =
+        terminal ? admm_scenario_problem(true, true) : random_ltv_problem(4, 2, 25, 11u, true, false);
     for (int it = 1; it <= 40; ++it) {
       AdmmSettings st;
       st.rho = 0.5;
@@ -187,7 +188,8 @@ TEST(Admm, CondensedStepMatchesRiccatiIterateByIterate) {
   rp.R = Eigen::Vector2d(0.3, 0.05).asDiagonal();
   LtvProblem rpt = random_ltv_problem(4, 2, 25, 12u, false, true);
   rpt.Q = MatrixXd();
-  for (const LtvProblem& p : {admm_scenario_problem(true, false), admm_scenario_problem(true, true), rp, rpt}) {
+  for (const LtvProblem& p :
+       {admm_scenario_problem(true, false), admm_scenario_problem(true, true), rp, rpt}) {
     for (int it : {1, 2, 7, 40, 120}) {
       AdmmSettings st;
       st.rho = 0.5;
@@ -238,7 +240,7 @@ TEST(Admm, BoxAndTerminalAreSatisfied) {
   const AdmmResult& r = s.solve();
   const double ub = 5e-3 / admm_scenario().u_ref;
   EXPECT_LE(r.Y.cwiseAbs().maxCoeff(), ub * (1 + 1e-15));
-  EXPECT_LE((r.X.col(99)).norm(), 1e-9);                    // LQR iterate meets x_N = 0 exactly
+  EXPECT_LE((r.X.col(99)).norm(), 1e-9);                         // LQR iterate meets x_N = 0 exactly
   EXPECT_LT(r.info.terminal_miss * admm_scenario().l_ref, 5.0);  // flown Y: metres (reported)
 }
 

@@ -213,7 +213,8 @@ std::map<std::string, Record> compute_all() {
                      {5, 2, 30, 4u, true, true, false},
                      {4, 2, 30, 9u, false, false, true}};
   for (const Ltv& l : ltv) {
-    const LtvProblem p = random_ltv_problem(l.nx, l.nu, l.N, l.seed, l.box, l.terminal, LtvDraw::kConstantOffset, l.group);
+    const LtvProblem p =
+        random_ltv_problem(l.nx, l.nu, l.N, l.seed, l.box, l.terminal, LtvDraw::kConstantOffset, l.group);
     for (AdmmMethod m : methods) {
       for (bool cache : {true, false}) {
         AdmmSettings st;
