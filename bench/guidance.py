@@ -183,13 +183,15 @@ def main():
                          it_fixed=it_fixed, t_default=t_default, full_it=full.iterations, t_full=t_full,
                          full_gap=gap(full, ref), polished=full.polished,
                          ipm=full.ipm_iterations if full.ipm_solved else 0))
-    # per-iteration time: fixed rho, no polish, all iterations run
+    # per-iteration time: fixed rho, no polish, no interior-point endgame (it would stop the run at
+    # ipm_after), all iterations run
     kw = scen.linear_problem(sc, "box")
     n_it = 4000
     per_it = {}
     for condensed in (False, True):
         s = L1Solver(**kw, settings=dict(max_iterations=n_it, adaptive_rho=False, polish=False, eps_abs=0.0,
-                                         eps_rel=1e-300, track_best=False, condensed=condensed))
+                                         eps_rel=1e-300, track_best=False, condensed=condensed,
+                                         method="admm"))
         per_it[condensed] = (time_solver(s, 7) / n_it, cpu_time_solver(s, 7) / n_it)
     t_it, t_it_cpu = per_it[False]
     fl = flops_per_iteration(6, 3, sc.horizon)

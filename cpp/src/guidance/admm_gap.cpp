@@ -102,6 +102,17 @@ double AdmmWorkspace::conj_g(double s) const noexcept {
   return total;
 }
 
+double AdmmWorkspace::conj_g_flat(double s) noexcept {
+  const Eigen::Map<const Eigen::ArrayXd> h(Hg_.data(), gbuf_.size());
+  const double ns = -s;
+  gbuf_ = (im4_ > 0.5).select(ns * h * hifin_ - gch_, -kInf);
+  gbuf_ = gbuf_.max((im3_ > 0.5).select(ns * h * lofin_ - gcl_, -kInf));
+  gbuf_ = gbuf_.max((gzok_ > 0.5).select(Eigen::ArrayXd::Zero(gbuf_.size()), -kInf));
+  double total = 0.0;
+  for (Eigen::Index j = 0; j < gbuf_.size(); ++j) total += gbuf_(j);  // conj_g's summation order
+  return total;
+}
+
 double AdmmWorkspace::evaluate_gap(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
                                    const Eigen::Ref<const VectorXd>& p, double P) noexcept {
   // two dual candidates: residuals at the plan Y, and at the x/u iterate U, whose Lagrangian gradient
@@ -127,7 +138,9 @@ double AdmmWorkspace::dual_bound(const Eigen::Ref<const MatrixXd>& X, const Eige
     xtmp_ = X.col(N_) - prob_.xf;
     c1 += p.dot(xtmp_);
   }
-  const auto D = [&](double s) { return -s * s * f + s * c1 - conj_g(s); };
+  // L1 + box without R in g: the vectorized conjugate (finite on [0, smax], where D is evaluated)
+  const bool flat = flat_ok_ && !has_group_ && !has_ball_ && (rg_.array() == 0.0).all() && Hg_.allFinite();
+  const auto D = [&](double s) { return -s * s * f + s * c1 - (flat ? conj_g_flat(s) : conj_g(s)); };
   // largest s with g* finite (bisection: finiteness is monotone in s), capped at 2
   double smax = 2.0;
   if (!has_group_ && !has_ball_) {

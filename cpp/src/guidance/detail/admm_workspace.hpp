@@ -111,6 +111,8 @@ struct AdmmCondensedData {
 struct AdmmFlatData {
   Eigen::ArrayXd wrep_, lorep_, hirep_, sigw_, fa_, fb_;
   Eigen::ArrayXd winvrep_, hifin_, lofin_;  ///< 1/w, finite bounds (0 where infinite), N nu
+  /// conj_g_flat's constants: w |hi|, w |lo| (0 where infinite), 1 where lo <= 0 <= hi; its scratch
+  Eigen::ArrayXd gch_, gcl_, gzok_, gbuf_;
 };
 
 /// Duality gap and infeasibility check (admm_gap.cpp).
@@ -292,6 +294,10 @@ struct AdmmWorkspace : AdmmProblemData,
                              const Eigen::Ref<const Eigen::VectorXd>& p, bool with_cost) noexcept;
   /// Conjugate g*(s z) of the nonsmooth part at z = -Hg_ (infinite if outside its domain).
   double conj_g(double s) const noexcept;
+  /// conj_g for L1 + box without a diagonal R part (flat_ok_, rg_ = 0) at an s where it is finite
+  /// (s in [0, smax]): the per-entry terms as array expressions, summed in conj_g's order (the same
+  /// value to the bit).
+  double conj_g_flat(double s) noexcept;
   /// Fenchel dual bound D at the plan (X, U) with terminal multiplier p (see AdmmInfo); sets
   /// info primal/dual objective and duality_gap, returns the relative gap.
   double evaluate_gap(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
@@ -322,8 +328,10 @@ struct AdmmWorkspace : AdmmProblemData,
   bool ipm_factor() noexcept;
   template <int NX, int NU>
   bool ipm_riccati_factor() noexcept;
+  bool ipm_riccati_factor_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   template <int NX, int NU>
   void ipm_riccati_sweep() noexcept;
+  void ipm_riccati_sweep_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   template <int NU>
   auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
                                                 Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
