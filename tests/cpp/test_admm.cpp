@@ -40,7 +40,7 @@ TEST(AdmmPaper, UnconstrainedStopsAfter43Iterations) {
   // rho = 1e-2, eps = 4.5e-3: an exact integer, so exact equality.
   AdmmSolver s(admm_scenario_problem(false, false), paper_settings(1e-2, 4.5e-3));
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kSolvedPaperRule);
+  EXPECT_EQ(r.info.status, AdmmStatus::solved_paper_rule);
   EXPECT_EQ(r.info.iterations, 43);
   EXPECT_EQ(2 * r.info.iterations, 86);
   // flying the sparse iterate Y at that point misses the target by kilometres
@@ -94,7 +94,7 @@ TEST(Admm, QpPolishCertifiesWithoutAllocating) {
       const AdmmResult& r = s.solve();
       g_count = false;
       EXPECT_EQ(g_mallocs.load(), 0) << "box=" << box << " terminal=" << terminal;
-      EXPECT_EQ(r.info.status, AdmmStatus::kSolved) << "box=" << box << " terminal=" << terminal;
+      EXPECT_EQ(r.info.status, AdmmStatus::solved) << "box=" << box << " terminal=" << terminal;
       EXPECT_TRUE(r.info.polished) << "box=" << box << " terminal=" << terminal;
       EXPECT_LE(std::abs(r.info.duality_gap), 1e-5);
       if (box) {
@@ -147,7 +147,7 @@ TEST(Admm, DualNewtonPathDoesNotAllocate) {
     g_count = false;
     EXPECT_EQ(g_mallocs.load(), 0) << "terminal=" << terminal;
     EXPECT_GE(r.info.iterations, 50) << "the dual Newton call at iteration 50 is reached";
-    EXPECT_EQ(r0.info.status, AdmmStatus::kSolved);
+    EXPECT_EQ(r0.info.status, AdmmStatus::solved);
     EXPECT_TRUE(r0.info.polished);
     EXPECT_EQ(r0.info.iterations, 50);
   }
@@ -249,7 +249,7 @@ TEST(Admm, MaxIterationsReturnsBestIterateAndResiduals) {
   st.max_iterations = 5;
   AdmmSolver s(admm_scenario_problem(false, false), st);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kMaxIterations);
+  EXPECT_EQ(r.info.status, AdmmStatus::max_iterations);
   EXPECT_EQ(r.info.iterations, 5);
   EXPECT_GT(r.info.primal_residual, 0.0);
   EXPECT_GT(r.info.dual_residual, 0.0);
@@ -275,7 +275,7 @@ TEST(Admm, UnreachableTerminalStateIsAStatus) {
   p.terminal_equality = true;
   AdmmSolver s(p);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kTerminalUnreachable);
+  EXPECT_EQ(r.info.status, AdmmStatus::terminal_unreachable);
   EXPECT_FALSE(r.info.condensed);  // the Riccati step reports the unreachable target
   EXPECT_TRUE(r.Y.allFinite());
   EXPECT_TRUE(r.X.allFinite());
@@ -285,12 +285,12 @@ TEST(Admm, UnreachableTerminalStateIsAStatus) {
 TEST(Admm, WarmStartFromSolutionConvergesQuickly) {
   AdmmSolver s(random_ltv_problem(4, 2, 30, 5u, true, false));
   const AdmmResult& r = s.solve();
-  ASSERT_EQ(r.info.status, AdmmStatus::kSolved);
+  ASSERT_EQ(r.info.status, AdmmStatus::solved);
   const int cold = r.info.iterations;
   const MatrixXd Y = r.Y, L = r.Lambda;
   s.warm_start(Y, L);
   const AdmmResult& r2 = s.solve();
-  EXPECT_EQ(r2.info.status, AdmmStatus::kSolved);
+  EXPECT_EQ(r2.info.status, AdmmStatus::solved);
   EXPECT_LT(r2.info.iterations, cold / 5 + 2);
 }
 
@@ -351,6 +351,6 @@ TEST(Admm, GroupL2WithNormBound) {
   p.u_norm_max = 0.4;
   AdmmSolver s(p);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kSolved);
+  EXPECT_EQ(r.info.status, AdmmStatus::solved);
   for (int k = 0; k < 30; ++k) EXPECT_LE(r.Y.col(k).norm(), 0.4 * (1 + 1e-12));
 }

@@ -59,8 +59,8 @@ TEST(AdmmUpdateDynamics, EquilibratedSolverReachesTheSameOptimum) {
   const AdmmResult r1 = updated.solve();
   AdmmSolver fresh(p2x);
   const AdmmResult& r2 = fresh.solve();
-  ASSERT_EQ(r1.info.status, AdmmStatus::kSolved);
-  ASSERT_EQ(r2.info.status, AdmmStatus::kSolved);
+  ASSERT_EQ(r1.info.status, AdmmStatus::solved);
+  ASSERT_EQ(r2.info.status, AdmmStatus::solved);
   EXPECT_LE(std::abs(r1.info.objective - r2.info.objective), 2e-5 * std::abs(r2.info.objective));
 }
 
