@@ -73,4 +73,5 @@ def test_earth_constants_are_the_extension_s():
     assert od.EARTH_OMEGA is _satgnc.EARTH_OMEGA
     assert od.EARTH_RADIUS is _satgnc.EARTH_RADIUS
     assert analysis.MU_EARTH is _satgnc.EARTH_MU
-    assert (_satgnc.EARTH_MU, _satgnc.EARTH_RADIUS, _satgnc.EARTH_OMEGA) == (398600.4418, 6378.1363, 7.292115e-5)
+    assert (_satgnc.EARTH_MU, _satgnc.EARTH_RADIUS, _satgnc.EARTH_OMEGA) == (
+        398600.4418, 6378.1363, 7.292115e-5)
