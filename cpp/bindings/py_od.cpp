@@ -129,7 +129,20 @@ void init_od(py::module_& m) {
       .def_readwrite("lm_polish_iterations", &OdSettings::lm_polish_iterations)
       .def("validate", &OdSettings::validate);
 
+  py::class_<OdInfo>(m, "OdInfo",
+                     "Run record of OdSolver.solve (core::InfoBase): status, iterations (accepted steps), "
+                     "primal_residual (RMS of the normalized residuals at x0), dual_residual (|dx0| of the "
+                     "last accepted step, km and km/s mixed; 0 without a step), solve_time (s). Read-only.")
+      .def_readonly("status", &OdInfo::status)
+      .def_property_readonly("message",
+                             [](const OdInfo& i) { return std::string(core::status_message(i.status)); })
+      .def_readonly("iterations", &OdInfo::iterations)
+      .def_readonly("primal_residual", &OdInfo::primal_residual)
+      .def_readonly("dual_residual", &OdInfo::dual_residual)
+      .def_readonly("solve_time", &OdInfo::solve_time);
+
   py::class_<OdResult>(m, "OdResult")
+      .def_readonly("info", &OdResult::info)
       .def_readonly("status", &OdResult::status)
       .def_property_readonly("message",
                              [](const OdResult& r) { return std::string(core::status_message(r.status)); })

@@ -48,6 +48,7 @@ __all__: list[str] = [
     "Measurement",
     "MeasurementType",
     "NonlinearL1Problem",
+    "OdInfo",
     "OdMethod",
     "OdResult",
     "OdSettings",
@@ -1088,6 +1089,25 @@ class OdSettings:
     @valley_corrections.setter
     def valley_corrections(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None: ...
 
+class OdInfo:
+    """
+    Run record of OdSolver.solve (core::InfoBase): status, iterations (accepted steps), primal_residual (RMS
+    of the normalized residuals at x0), dual_residual (|dx0| of the last accepted step, km and km/s mixed; 0
+    without a step), solve_time (s). Read-only.
+    """
+    @property
+    def dual_residual(self) -> float: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def primal_residual(self) -> float: ...
+    @property
+    def solve_time(self) -> float: ...
+    @property
+    def status(self) -> OdStatus: ...
+
 class OdResult:
     @property
     def condition_number(self) -> float: ...
@@ -1115,6 +1135,8 @@ class OdResult:
     def history_residuals(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
     @property
     def history_x0(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    @property
+    def info(self) -> OdInfo: ...
     @property
     def iterations(self) -> int: ...
     @property

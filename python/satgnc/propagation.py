@@ -226,7 +226,7 @@ def propagate(
     if not np.all(np.isfinite(x)):
         raise ValueError("x0: must be finite (no NaN or Inf)")
     if not np.any(x[:3] != 0.0):
-        raise ValueError("x0: position must be nonzero (|r| = 0)")
+        raise ValueError("x0: position must be non-zero (|r0| = 0)")
     # x0 = 1e300 was a "force model failed" PropagationError at t0
     check_magnitude(x, "x0", 1e100, "|r|^3 overflows double precision in the force model "
                     "(hint: check the units)", subject="every component", detail="km, km/s")

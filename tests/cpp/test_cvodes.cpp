@@ -504,7 +504,7 @@ TEST(Cvodes, BadInputThrowsNamingTheArgument) {
             std::string::npos);
   Vec6 zero = x0;
   zero.head<3>().setZero();
-  EXPECT_NE(invalid_message([&] { p.propagate(zero, 0.0, {10.0}); }).find("x0: position must be nonzero"),
+  EXPECT_NE(invalid_message([&] { p.propagate(zero, 0.0, {10.0}); }).find("x0: position must be non-zero"),
             std::string::npos);
   EXPECT_NE(invalid_message([&] { p.propagate(x0, 0.0, {10.0, 5.0, 20.0}); }).find("times: must be strictly"),
             std::string::npos);

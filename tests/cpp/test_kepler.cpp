@@ -349,6 +349,21 @@ TEST(KeplerFailure, NonConvergenceIsReportedAsStatus) {
   EXPECT_EQ(info.iterations, 1);
 }
 
+TEST(KeplerInfoStatus, UnsolvedUntilAStepRunsThenWhatTheStepReturned) {
+  KeplerInfo info;
+  EXPECT_EQ(info.status, KeplerStatus::unsolved);
+  const Vec6 x0 = conic_state(7000.0, 0.1, 0.3);
+  Vec6 x;
+  EXPECT_EQ(kepler_step(x0, 600.0, kMu, x, nullptr, &info), KeplerStatus::success);
+  EXPECT_EQ(info.status, KeplerStatus::success);
+  EXPECT_GT(info.iterations, 0);
+  EXPECT_EQ(kepler_step(x0, 600.0, -1.0, x, nullptr, &info), KeplerStatus::invalid_input);
+  EXPECT_EQ(info.status, KeplerStatus::invalid_input);
+  EXPECT_EQ(kepler_step(conic_state(7000.0, 0.7, 2.5), 3.2 * period(7000.0, 0.7), kMu, x, nullptr, &info, 1),
+            KeplerStatus::no_convergence);
+  EXPECT_EQ(info.status, KeplerStatus::no_convergence);
+}
+
 TEST(KeplerFailure, HyperbolicOverflowIsReportedAsStatus) {
   // A hyperbola with |a| ~ 4e-5 km (v0 = 1e5 km/s) needs cosh(s > 710) for dt = 1e300 s: no finite
   // double represents the answer, and the step says so instead of returning Inf/NaN.

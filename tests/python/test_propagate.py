@@ -209,7 +209,7 @@ def test_force_model_jacobians_match_finite_differences():
 @pytest.mark.parametrize("x0, exc, text", [
     ([7000.0, 0, 0, 0, 7.5, float("nan")], ValueError, "x0: must be finite"),
     ([7000.0, 0, 0, 0, float("inf"), 0], ValueError, "x0: must be finite"),
-    ([0.0, 0, 0, 0, 7.5, 0], ValueError, "x0: position must be nonzero"),
+    ([0.0, 0, 0, 0, 7.5, 0], ValueError, "x0: position must be non-zero"),
     ([7000.0, 0, 0, 0, 7.5], ValueError, "x0: must have shape (6,)"),
     (np.zeros((6, 1)) + 7000.0, ValueError, "x0: must have shape (6,)"),
     (np.array([7000, 0, 0, 0, 7.5, 0], dtype=complex), TypeError, "x0: must be real"),

@@ -16,6 +16,7 @@
 
 #include "detail/cvodes.hpp"
 #include "detail/nvector.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::propagation {
@@ -227,6 +228,9 @@ CvodesOde::CvodesOde(CvodesOde&&) noexcept = default;
 CvodesOde& CvodesOde::operator=(CvodesOde&&) noexcept = default;
 
 PropagationStatus CvodesOde::integrate(double t0, Eigen::Ref<Eigen::VectorXd> y, double t1) noexcept {
+  // Eigen allocates nothing here after setup (J, M and the LU are sized in the constructor) as long as
+  // the caller's rhs and Jacobian do not; the failure messages (std::string) are outside Eigen's view.
+  SATGNC_NO_MALLOC_SCOPE;
   try {
     return impl_->integrate(t0, y, t1);
   } catch (...) {

@@ -40,10 +40,6 @@ void Dop853Settings::validate() const {
   require(beta >= 0.0 && beta <= 0.2, "beta", "must lie in [0, 0.2]");
 }
 
-void dop853_validate_orbit_input(const Vec6& x0, double t0, const std::vector<double>& times) {
-  validate_orbit_arc_input(x0, t0, times, "gravity is singular at the centre of the body");
-}
-
 void dop853_validate_surface(const Vec6& x0, double surface_radius) {
   core::require_nonnegative(surface_radius, "surface_radius");
   if (surface_radius > 0.0 && !(x0.head<3>().norm() > surface_radius))

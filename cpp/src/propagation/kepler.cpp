@@ -76,8 +76,9 @@ void stumpff(double psi, double c[6]) {
   c[5] = (1.0 / 6.0 - c[3]) / psi;
 }
 
-KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* stm, KeplerInfo* info,
-                         int max_iterations) {
+namespace {
+KeplerStatus kepler_step_impl(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* stm, KeplerInfo* info,
+                              int max_iterations) {
   if (info) *info = KeplerInfo{};
   if (!(std::isfinite(mu) && mu > 0.0) || !std::isfinite(dt) || !x0.allFinite())
     return KeplerStatus::invalid_input;
@@ -243,6 +244,14 @@ KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* st
   if (!P.allFinite()) return KeplerStatus::overflow;
   return KeplerStatus::success;
 }
+}  // namespace
+
+KeplerStatus kepler_step(const Vec6& x0, double dt, double mu, Vec6& x, Mat6* stm, KeplerInfo* info,
+                         int max_iterations) {
+  const KeplerStatus status = kepler_step_impl(x0, dt, mu, x, stm, info, max_iterations);
+  if (info) info->status = status;
+  return status;
+}
 
 std::string kepler_failure_message(KeplerStatus s, double alpha, double dt) {
   if (s == KeplerStatus::overflow && !(alpha < 0.0)) {
@@ -354,7 +363,8 @@ double kepler_time_to_radius(const Vec6& x0, double dt, double mu, double surfac
 
 Trajectory propagate_kepler(const Vec6& x0, double t0, const std::vector<double>& times, double mu,
                             bool with_stm, double surface_radius) {
-  validate_orbit_arc_input(x0, t0, times, "the two-body problem is singular at the centre of the body");
+  validate_orbit_arc_input(x0, t0, times, kTwoSidedArc,
+                           "the two-body problem is singular at the centre of the body");
   core::require_positive(mu, "mu");
   core::require_nonnegative(surface_radius, "surface_radius");
   core::require(x0.head<3>().norm() > surface_radius, "x0",

@@ -8,16 +8,18 @@ implementation's scaled units, see :mod:`satgnc.scenarios.l1_rendezvous`). The C
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
 from .. import _satgnc
 from .. import _validate as _v
-from .._results import Result
+from .._results import Result, deprecated
 from .._validate import as_bool, as_real, as_real_array, check_magnitude, one_of
 
 __all__ = [
+    "AdmmInfo",
     "AdmmSettings",
     "L1Result",
     "L1Solver",
@@ -62,6 +64,76 @@ def cw_discretize(n: float, mass: float, dt: float, method: str = "zoh") -> tupl
     method = one_of(method, "method", ("zoh", "expm", "midpoint"))
     return _satgnc.cw_discretize(as_real(n, "n", positive=True), as_real(mass, "mass", positive=True),
                                  as_real(dt, "dt", positive=True), method)
+
+
+#: The fields of AdmmInfo, in order; each is also an L1Result attribute of the same name and value.
+_INFO_FIELDS = (
+    "status", "message", "iterations", "primal_residual", "dual_residual", "solve_time", "eps_primal",
+    "eps_dual", "paper_criterion", "objective", "objective_u", "terminal_miss", "rho", "factorizations",
+    "rho_updates", "polished", "polish_attempts", "condensed", "primal_objective", "dual_objective",
+    "duality_gap", "certified", "ipm_iterations", "ipm_solved",
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class AdmmInfo(Result):
+    """Run record of one ADMM solve, read-only: the C++ ``AdmmInfo`` (``core::InfoBase`` of the solver
+    contract) as ``L1Result.info`` and, for linear plans, ``guidance.Plan.info``.
+
+    ``status`` is a name of :data:`STATUS_NAMES` (``"solved"``, ...), ``message`` its text,
+    ``iterations`` the ADMM iterations, ``primal_residual`` / ``dual_residual`` the residuals at the
+    returned iterate and ``eps_primal`` / ``eps_dual`` their tolerances (the problem's units),
+    ``solve_time`` the wall time of the solve (s); then the ADMM extras (``rho``, ``factorizations``,
+    ``polished``, the objectives and ``duality_gap``, ...) and the interior-point fields
+    ``ipm_iterations`` (0: the IPM did not run) and ``ipm_solved``."""
+
+    status: str
+    message: str
+    iterations: int
+    primal_residual: float
+    dual_residual: float
+    solve_time: float
+    eps_primal: float
+    eps_dual: float
+    paper_criterion: float
+    objective: float
+    objective_u: float
+    terminal_miss: float
+    rho: float
+    factorizations: int
+    rho_updates: int
+    polished: bool
+    polish_attempts: int
+    condensed: bool
+    primal_objective: float
+    dual_objective: float
+    duality_gap: float
+    certified: bool
+    ipm_iterations: int
+    ipm_solved: bool
+    #: linear guidance.Plan only: the extension's result dict (scaled units, arrays nu x N), what
+    #: ``Plan.info`` was before it became this object; None otherwise
+    raw: Mapping[str, Any] | None = dataclasses.field(default=None, repr=False, compare=False)
+
+    @property
+    def converged(self) -> bool:
+        return self.status == "solved"
+
+    def __getitem__(self, key: str) -> Any:
+        # Plan.info was the result dict: its keys still answer, unchanged, with a warning
+        if self.raw is not None and isinstance(key, str) and key in self.raw:
+            deprecated(f"Plan.info[{key!r}] (the ADMM result dict)",
+                       f"Plan.info.{key}" if key in _INFO_FIELDS[2:] else f"Plan.info.raw[{key!r}]",
+                       stacklevel=2)
+            return self.raw[key]
+        return super().__getitem__(key)
+
+
+def _admm_info(d: Mapping[str, Any], *, keep_raw: bool = False) -> AdmmInfo:
+    """AdmmInfo from the extension's result dict ``d`` (AdmmSolver.solve()); ``keep_raw``: d as ``raw``."""
+    vals = {k: d[k] for k in _INFO_FIELDS[2:]}
+    return AdmmInfo(status=STATUS_NAMES[d["status"]], message=d["status_name"], **vals,
+                    raw=d if keep_raw else None)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -113,6 +185,12 @@ class L1Result(Result):
     @property
     def converged(self) -> bool:
         return self.status == "solved"
+
+    @property
+    def info(self) -> AdmmInfo:
+        """The run record (status, iterations, residuals, solve time, ADMM and IPM fields) as one
+        read-only :class:`AdmmInfo`; each of its fields equals the attribute of the same name here."""
+        return AdmmInfo(**{k: getattr(self, k) for k in _INFO_FIELDS})
 
 
 def _settings(settings: Any) -> Any:

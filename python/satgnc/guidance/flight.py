@@ -8,6 +8,7 @@ dataclasses with read-only arrays.
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import re
 import time
 
@@ -301,26 +302,24 @@ def mpc(
                 f"{name}: must be TwoSatelliteParams (see satellite_params()), got {type(p).__name__}"
             )
     truth = default if truth is None else truth
-    args = check_mpc_args(replan_every, substeps, integrator)
-    X, U, times, iters, first = mpc_core(
-        tr,
-        truth,
-        truth if planner is None else planner,
-        args[0],
-        args[1],
-        max_iter,
-        min_horizon,
-        qf_scale,
-        rho,
-        first_max_iter,
-        args[2],
-        discretization,
-        endgame,
-        scale_iterations,
-        max_iter_cap,
-        True,
-    )
+    X, U, times, iters, first = mpc_on(
+        tr, truth, truth if planner is None else planner, replan_every, substeps, max_iter, min_horizon,
+        qf_scale, rho, first_max_iter, integrator, discretization, endgame, scale_iterations, max_iter_cap)
     return MpcRun(X, U, times, iters, first, terminal_miss(X[-1]))
+
+
+def mpc_on(tr, truth, planner, *args, time_major: bool = True, **options):
+    """:func:`mpc` on the transcription ``tr`` with ``truth`` and ``planner`` (TwoSatelliteParams):
+    the options after ``planner`` (positional or by keyword) and their defaults are :func:`mpc`'s, read
+    from its signature (one place). ``time_major``: orientation of the states of a PropagationError.
+    Returns ``(X (N+1, 12), U (N, 3), solve_times, iterations, first_info)``."""
+    bound = inspect.signature(mpc).bind(None, truth, planner, *args, **options)
+    bound.apply_defaults()
+    a = bound.arguments
+    replan_every, substeps, integrator = check_mpc_args(a["replan_every"], a["substeps"], a["integrator"])
+    return mpc_core(tr, truth, planner, replan_every, substeps, a["max_iter"], a["min_horizon"],
+                    a["qf_scale"], a["rho"], a["first_max_iter"], integrator, a["discretization"],
+                    a["endgame"], a["scale_iterations"], a["max_iter_cap"], time_major)
 
 
 def check_mpc_args(replan_every, substeps, integrator):

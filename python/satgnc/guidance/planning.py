@@ -44,7 +44,9 @@ class Plan(Result):
     model's states under ``U`` (linear: CW relative state, m, m/s; nonlinear: 12-state, m, m/s, ECI);
     ``dt`` (s), ``mass`` (kg); ``status`` (solver status name), ``iterations`` (ADMM iterations, or
     SCP outer iterations), ``objective`` (the minimized cost, scaled units), ``info`` (the solver's
-    info object or result dict), ``model`` and ``method``. A frozen :class:`satgnc._results.Result`."""
+    run record: linear, a read-only :class:`satgnc.guidance.AdmmInfo`, as ``L1Result.info``, whose
+    ``raw`` is the extension's result dict this field used to be; nonlinear, the C++ ``ScpInfo`` or
+    ``IlqrAdmmInfo``), ``model`` and ``method``. A frozen :class:`satgnc._results.Result`."""
 
     model: str
     method: str
@@ -237,8 +239,20 @@ def solve_scp(
     globalization: str = "trust_region",
     time_limit: float = 0.0,
 ):
-    """Sequential convex programming on the transcription ``tr`` (arguments and statuses as
-    :func:`satgnc.papers.l1_admm_rendezvous.solve_scp` documents). Returns the solver (scaled, nu x N)."""
+    """Sequential convex programming on the transcription ``tr`` (a Case of the papers, or
+    :func:`transcribe`'s): re-linearize (exact map Jacobians), solve the convex L1
+    subproblem (``inner="ilqr_admm"``: satgnc's iLQR-ADMM on the affine model, which is exact
+    LQR-ADMM there, allocation-free, with the trust region as per-stage bounds; ``"linear_admm"``:
+    the linear guidance AdmmSolver, the step scaled into the trust region), and accept steps by a
+    trust-region ratio test (``globalization="trust_region"``) or an Armijo line search
+    (``"line_search"``) on the true cost. ``time_limit``: seconds (0 = none). Returns the solver
+    (``.U``, ``.X``, ``.info``; scaled units); ``info.status`` is ``solved`` only when the convex
+    model predicts a decrease <= ``tol`` max(1, J) on a solved subproblem (table in
+    docs/guidance_nonlinear.md). With ``tr.problem.terminal_equality`` (hard terminal state; the
+    linear_admm inner only, ``inner="ilqr_admm"`` raises ValueError) ``solved`` also needs
+    ``info.terminal_constraint_miss <= 1e-6 info.terminal_reference``, and an unreachable target ends
+    ``inner_infeasible`` with ``info.infeasibility_certificate`` and ``info.infeasibility_margin > 0``;
+    ``time_limit`` also bounds each subproblem (the inner gets the remaining time)."""
     inner = one_of(inner, "inner", ("ilqr_admm", "linear_admm"))
     globalization = one_of(globalization, "globalization", ("trust_region", "line_search"))
     st = _c.ScpSettings()
@@ -355,7 +369,7 @@ def plan(problem: RendezvousProblem, model: str = "linear", method: str | None =
             LINEAR_DISCRETIZATIONS,
         )
         U, r, x0, s = solve_linear_cw(tr, problem.mu, problem.mass, options.get("eps", 1e-9), disc)
-        from . import STATUS_NAMES
+        from . import STATUS_NAMES, _admm_info
 
         X = np.asarray(r["X_flown"]).T * s[None, :]
         return Plan(
@@ -368,7 +382,7 @@ def plan(problem: RendezvousProblem, model: str = "linear", method: str | None =
             STATUS_NAMES.get(int(r["status"]), str(r["status"])),
             int(r["iterations"]),
             float(r["objective"]),
-            r,
+            _admm_info(r, keep_raw=True),
         )
     if method == "scp":
         opts = dict(options)

@@ -468,15 +468,25 @@ def plan(sc: _scen.MissionScenario, rel: RelativeState | None) -> Plan:
     B = np.asarray(Bd) * su[None, :] / s6[:, None]
     if r.model == "linear":
         X = np.asarray(r.X)
-        Y = np.asarray(r.info["Y"]).T
+        Y = np.asarray(r.info.raw["Y"]).T  # guidance.AdmmInfo: the solver's scaled plan, nu x N
     else:
-        X = np.array([np.asarray(_c.cw_relative_state(x)) for x in r.X])
+        X = _cw_states(r.X)
         Y = np.asarray(r.U) / su[None, :]
     dv = float(np.abs(r.U).sum() * r.dt / pb.mass)
     return Plan(status=r.status, iterations=int(r.iterations), U=np.asarray(r.U), X=X, Y=Y, dt=r.dt,
                 delta_v=dv,
                 A=A, B=B, scales=(s6, su, float(tr.scaling.time_scale)), solve_time=wall, model=r.model,
                 problem=pb)
+
+
+def _cw_states(X) -> np.ndarray:
+    """The CW relative states (N+1, 6; m, m/s, target frame) of 12-states X (N+1, 12)."""
+    return np.array([np.asarray(_c.cw_relative_state(x)) for x in X])
+
+
+def _miss_status(sc: _scen.MissionScenario, miss: float) -> str:
+    """A flight's status: ``"success"`` when the terminal miss (m) is within the scenario's tolerance."""
+    return "success" if miss <= sc.miss_tolerance else "miss_above_tolerance"
 
 
 def _truth_name(p) -> str:
@@ -495,14 +505,14 @@ def fly(sc: _scen.MissionScenario, rel: RelativeState | None, pl: Plan) -> Fligh
     p = flight_truth(sc)
     f = guidance.fly(p, _start_true(rel, pl), pl.U, pl.dt)
     X = np.asarray(f.X)
-    X_cw = np.array([np.asarray(_c.cw_relative_state(x)) for x in X])
+    X_cw = _cw_states(X)
     pred = 0.0
     if rel is not None:
         Phi = np.asarray(cw_stm(rel.mean_motion, sc.tf))
         Pf = Phi @ rel.covariance @ Phi.T
         pred = 3.0 * math.sqrt(max(float(np.linalg.eigvalsh(Pf[:3, :3])[-1]), 0.0))
     miss, vmiss = f.miss
-    return Flight(status="success" if miss <= sc.miss_tolerance else "miss_above_tolerance", X=X, X_cw=X_cw,
+    return Flight(status=_miss_status(sc, miss), X=X, X_cw=X_cw,
                   t=np.asarray(f.t), miss_position=float(miss), miss_velocity=float(vmiss),
                   predicted_3sigma=pred, tolerance=sc.miss_tolerance, truth=_truth_name(p))
 
@@ -516,9 +526,9 @@ def fly_closed_loop(sc: _scen.MissionScenario, rel: RelativeState | None, pl: Pl
     pb = dataclasses.replace(pl.problem, x0_eci=_start_true(rel, pl), planner=p)
     m = guidance.mpc(pb, truth=p, replan_every=replan_every)
     X = np.asarray(m.X)
-    X_cw = np.array([np.asarray(_c.cw_relative_state(x)) for x in X])
+    X_cw = _cw_states(X)
     miss, vmiss = m.miss
-    return ClosedLoop(status="success" if miss <= sc.miss_tolerance else "miss_above_tolerance", X=X,
+    return ClosedLoop(status=_miss_status(sc, miss), X=X,
                       X_cw=X_cw, U=np.asarray(m.U), miss_position=float(miss), miss_velocity=float(vmiss),
                       delta_v=float(np.abs(m.U).sum() * pl.dt / pb.mass), replans=int(len(m.iterations)) + 1,
                       replan_every=replan_every, solve_time=float(np.sum(m.solve_times)),

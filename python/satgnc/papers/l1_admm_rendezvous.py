@@ -164,8 +164,14 @@ def problem(
     discretization: str = "rk3",
     terminal_equality: bool = False,
 ) -> RendezvousProblem:
-    """The library's :class:`~satgnc.guidance.RendezvousProblem` of a nonlinear case (arguments as
-    :func:`paper_case`)."""
+    """The library's :class:`~satgnc.guidance.RendezvousProblem` of a nonlinear case, the published
+    implementation's (:func:`paper_case` transcribes it): RK3 over dt = tf/horizon, scaling
+    (time 324.48 s, force 0.42318 N), Qf = 1000 diag(1,1,1,0,0,0,1,1,1,0,0,0), alpha = 1, control
+    cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6).
+    ``discretization``: ``"rk3"`` (published), ``"rk4"`` or ``"dop853"`` (see :func:`make_map`).
+    ``terminal_equality``: arrive exactly (x_N = x_f on the chaser's relative position and velocity,
+    the target's orbit free) instead of the soft terminal cost; only :func:`solve_scp` solves it
+    (its default linear ADMM inner); :func:`solve_paper` (iLQR-ADMM) raises ValueError."""
     constrained = as_bool(constrained, "constrained")
     horizon = as_int(horizon, "horizon", low=1, high=10**6)
     tf = as_real(tf, "tf", positive=True)
@@ -197,26 +203,12 @@ def problem(
     )
 
 
-def paper_case(
-    constrained: bool = False,
-    x0_si: np.ndarray | None = None,
-    params=None,
-    horizon: int = N,
-    tf: float = TF,
-    substeps: int = 1,
-    discretization: str = "rk3",
-    terminal_equality: bool = False,
-) -> Case:
-    """The published implementation's nonlinear case: RK3 over dt = tf/horizon, scaling
-    (time 324.48 s, force 0.42318 N), Qf = 1000 diag(1,1,1,0,0,0,1,1,1,0,0,0), alpha = 1, control
-    cost weighted by the scaled dt. Constrained: |u_i| <= 5e-3 N (paper: rho 10, eps 5e-6).
-    ``discretization``: ``"rk3"`` (published), ``"rk4"`` or ``"dop853"`` (see :func:`make_map`).
-    ``terminal_equality``: arrive exactly (x_N = x_f on the chaser's relative position and velocity,
-    the target's orbit free) instead of the soft terminal cost; only :func:`solve_scp` solves it
-    (its default linear ADMM inner); :func:`solve_paper` (iLQR-ADMM) raises ValueError."""
+def paper_case(*args, **options) -> Case:
+    """The published implementation's nonlinear case: :func:`problem` (the same arguments, positional or
+    by keyword, and defaults) in the implementation's scaled transcription (:class:`Case`)."""
     # Checked here: complex / boolean x0_si was truncated or read as 0/1, horizon = 0 divided by zero,
     # and a bad horizon or tf was reported as a bad "dt".
-    pb = problem(constrained, x0_si, params, horizon, tf, substeps, discretization, terminal_equality)
+    pb = problem(*args, **options)
     tr = transcribe(pb, "x0_si")
     nl = SCENARIO.cases[_case_name(pb.u_max is not None)]["nonlinear"]
     name = "nonlinear constrained" if tr.constrained else "nonlinear unconstrained"
@@ -252,42 +244,13 @@ def solve_paper(
     )
 
 
-def solve_scp(
-    case: Case,
-    U0: np.ndarray | None = None,
-    tol: float = 1e-10,
-    eps: float = 1e-8,
-    max_outer: int = 30,
-    inner: str = "linear_admm",
-    max_inner: int = 20000,
-    globalization: str = "trust_region",
-    time_limit: float = 0.0,
-):
-    """Sequential convex programming: re-linearize (exact map Jacobians), solve the convex L1
-    subproblem (``inner="ilqr_admm"``: satgnc's iLQR-ADMM on the affine model, which is exact
-    LQR-ADMM there, allocation-free, with the trust region as per-stage bounds; ``"linear_admm"``:
-    the linear guidance AdmmSolver, the step scaled into the trust region), and accept steps by a
-    trust-region ratio test (``globalization="trust_region"``) or an Armijo line search
-    (``"line_search"``) on the true cost. ``time_limit``: seconds (0 = none). Returns the solver
-    (``.U``, ``.X``, ``.info``; scaled units); ``info.status`` is ``solved`` only when the convex
-    model predicts a decrease <= ``tol`` max(1, J) on a solved subproblem (table in
-    docs/guidance_nonlinear.md). With ``case.problem.terminal_equality`` (hard terminal state; the
-    linear_admm inner only, ``inner="ilqr_admm"`` raises ValueError) ``solved`` also needs
-    ``info.terminal_constraint_miss <= 1e-6 info.terminal_reference``, and an unreachable target ends
-    ``inner_infeasible`` with ``info.infeasibility_certificate`` and ``info.infeasibility_margin > 0``;
-    ``time_limit`` also bounds each subproblem (the inner gets the remaining time)."""
+def solve_scp(case: Case, *args, **options):
+    """:func:`satgnc.guidance.planning.solve_scp` on the case's transcription: sequential convex
+    programming to the optimum (options ``U0``, ``tol`` = 1e-10, ``eps`` = 1e-8, ``max_outer`` = 30,
+    ``inner``, ``max_inner``, ``globalization``, ``time_limit``: positional or by keyword, defaults and
+    statuses as documented there). Returns the solver (``.U``, ``.X``, ``.info``; scaled units)."""
     _check_case(case)
-    return _solve_scp(
-        case,
-        U0=U0,
-        tol=tol,
-        eps=eps,
-        max_outer=max_outer,
-        inner=inner,
-        max_inner=max_inner,
-        globalization=globalization,
-        time_limit=time_limit,
-    )
+    return _solve_scp(case, *args, **options)
 
 
 def summarize(case: Case, U_scaled: np.ndarray, zero_tol: float = 1e-6) -> dict:
@@ -346,51 +309,18 @@ def fly(
     return _flight.fly_core(p, x, U_si.T, case.dt, substeps, integrator, "U_si", False).T
 
 
-def mpc(
-    case: Case,
-    truth_params=None,
-    planner_params=None,
-    replan_every: int = 3,
-    substeps: int = 20,
-    max_iter: int = 10,
-    min_horizon: int = 1,
-    qf_scale: float = 1e4,
-    rho: float = 1.0,
-    first_max_iter: int = 2000,
-    integrator: str = "cvodes",
-    discretization: str | None = None,
-    endgame: int = 0,
-    scale_iterations: bool = True,
-    max_iter_cap: int = 120,
-) -> dict:
-    """Receding-horizon flight of a case (see :func:`satgnc.guidance.mpc`, which this wraps on the
-    case's transcription). Planner default: J2 on, drag, co-rotating atmosphere; truth: the same.
-    Returns a dict: states ``X`` (12 x N+1, SI), controls ``U`` (3 x N, N), re-plan ``solve_times``
-    (s, thread CPU time), ``iterations`` and ``first_plan`` (the first solve's info). A body reaching
-    the Earth's surface raises :class:`satgnc.PropagationError` with ``status == "impact"``,
-    ``t_reached`` and ``states`` (12 x k)."""
+def mpc(case: Case, truth_params=None, planner_params=None, *args, **options) -> dict:
+    """Receding-horizon flight of a case: :func:`satgnc.guidance.mpc` on the case's transcription, with
+    its options after ``planner`` (``replan_every`` = 3, ``substeps`` = 20, ``max_iter`` = 10, ...,
+    positional or by keyword, the same defaults). Planner default: J2 on, drag, co-rotating
+    atmosphere; truth: the same. Returns a dict: states ``X`` (12 x N+1, SI), controls ``U`` (3 x N,
+    N), re-plan ``solve_times`` (s, thread CPU time), ``iterations`` and ``first_plan`` (the first
+    solve's info). A body reaching the Earth's surface raises :class:`satgnc.PropagationError` with
+    ``status == "impact"``, ``t_reached`` and ``states`` (12 x k)."""
     _check_case(case)
-    replan_every, substeps, integrator = _flight.check_mpc_args(replan_every, substeps, integrator)
     tp = truth_params if truth_params is not None else _truth_default()
     pp = planner_params if planner_params is not None else _truth_default()
-    X, U, times, iters, first = _flight.mpc_core(
-        case,
-        tp,
-        pp,
-        replan_every,
-        substeps,
-        max_iter,
-        min_horizon,
-        qf_scale,
-        rho,
-        first_max_iter,
-        integrator,
-        discretization,
-        endgame,
-        scale_iterations,
-        max_iter_cap,
-        False,
-    )
+    X, U, times, iters, first = _flight.mpc_on(case, tp, pp, *args, time_major=False, **options)
     return {"X": X.T, "U": U.T, "solve_times": times, "iterations": iters, "first_plan": first}
 
 

@@ -83,7 +83,9 @@ class CvodesPropagator {
   /// and a message saying why.
   Trajectory propagate(const Vec6& x0, double t0, const std::vector<double>& times);
 
-  /// Same, writing into `out` (whose vectors keep their capacity across calls).
+  /// Same, writing into `out` (whose vectors keep their capacity across calls): allocation-free
+  /// once `out` has the capacity (test_cvodes.cpp counts operator new), and run under
+  /// SATGNC_NO_MALLOC_SCOPE (core/no_malloc.hpp; it sees Eigen only, not CVODES's malloc calls).
   void propagate(const Vec6& x0, double t0, const std::vector<double>& times, Trajectory& out);
 
   const dynamics::ForceModel& model() const;
@@ -99,7 +101,10 @@ Trajectory propagate_cvodes(const dynamics::ForceModel& model, const Vec6& x0, d
                             const std::vector<double>& times, const CvodesSettings& settings = {});
 
 /// Throw std::invalid_argument unless x0 is finite with |r| > 0 and times are finite, non-empty,
-/// strictly monotone and on one side of t0 (shared by every propagator of satgnc).
-void validate_propagation_input(const Vec6& x0, double t0, const std::vector<double>& times);
+/// strictly monotone and on one side of t0: validate_orbit_arc_input with kOneSidedArc (CVODES's
+/// rules), kept for existing callers.
+inline void validate_propagation_input(const Vec6& x0, double t0, const std::vector<double>& times) {
+  validate_orbit_arc_input(x0, t0, times, kOneSidedArc, kGravitySingular);
+}
 
 }  // namespace satgnc::propagation

@@ -63,7 +63,9 @@ class CvodesOde {
   /// on success and with the last reached state on failure). Never throws: a non-finite t0, t1 or y,
   /// or t1 == t0, returns PropagationStatus::solver_failure with message() "invalid input: ...";
   /// integration failures return their status (rhs_failure when the callback failed). message() and
-  /// stats() describe the call.
+  /// stats() describe the call. Runs under SATGNC_NO_MALLOC_SCOPE (core/no_malloc.hpp): after the
+  /// constructor, Eigen allocates nothing here, so the callbacks must not either in a guarded build
+  /// (the guard sees Eigen only; CVODES's own malloc calls and the failure messages are not seen).
   PropagationStatus integrate(double t0, Eigen::Ref<Eigen::VectorXd> y, double t1) noexcept;
 
   int dim() const;

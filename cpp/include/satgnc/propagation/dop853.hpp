@@ -587,8 +587,11 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
 
 /// Throw std::invalid_argument naming the first invalid field of a Dop853Settings.
 void dop853_validate_settings(const Dop853Settings& settings);
-/// Throw std::invalid_argument naming x0, t0 or times when invalid (shared by the orbital wrappers).
-void dop853_validate_orbit_input(const Vec6& x0, double t0, const std::vector<double>& times);
+/// Throw std::invalid_argument naming x0, t0 or times when invalid: validate_orbit_arc_input with
+/// kTwoSidedArc (DOP853's rules), kept for existing callers.
+inline void dop853_validate_orbit_input(const Vec6& x0, double t0, const std::vector<double>& times) {
+  validate_orbit_arc_input(x0, t0, times, kTwoSidedArc, kGravitySingular);
+}
 /// Throw std::invalid_argument naming surface_radius (< 0 or non-finite) or x0 (|r0| <= surface_radius).
 void dop853_validate_surface(const Vec6& x0, double surface_radius);
 /// Map a Dop853Status to the Trajectory status set (event -> impact: the orbital wrappers' only event).
@@ -673,7 +676,7 @@ template <bool VelocityDependent, class Accel>
 Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
                                  const std::vector<double>& times, const Dop853Settings& settings,
                                  bool with_stm, double surface_radius) {
-  dop853_validate_orbit_input(x0, t0, times);
+  validate_orbit_arc_input(x0, t0, times, kTwoSidedArc, kGravitySingular);
   dop853_validate_settings(settings);
   dop853_validate_surface(x0, surface_radius);
   const std::size_t n = times.size();

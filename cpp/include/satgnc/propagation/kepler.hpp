@@ -36,6 +36,7 @@ struct KeplerInfo {
   double chi = 0.0;       ///< universal anomaly at dt, sqrt(km)
   double alpha = 0.0;     ///< 1/a = 2/r0 - v0^2/mu, 1/km (> 0 ellipse, 0 parabola, < 0 hyperbola)
   double residual = 0.0;  ///< |F(chi)| of the universal Kepler equation at exit, sqrt(km^3/s^2) * s
+  KeplerStatus status = KeplerStatus::unsolved;  ///< what kepler_step returned (unsolved until it runs)
 };
 
 /// Propagate a two-body state by dt.

@@ -27,12 +27,45 @@ inline constexpr double kMaxStateComponent = 1e100;
 /// Throw std::invalid_argument naming x0 unless every |x0_i| < kMaxStateComponent.
 void validate_state_magnitude(const Vec6& x0);
 
-/// Throw std::invalid_argument unless x0 = [r km, v km/s] is finite with |r| > 0 (and every
-/// |x0_i| < kMaxStateComponent), t0 (s) is finite
-/// and the output times (s) are finite and monotone (non-strictly, increasing or decreasing; they
-/// may lie on either side of t0). `singular_hint` says why |r| = 0 is refused by the caller.
-void validate_orbit_arc_input(const Vec6& x0, double t0, const std::vector<double>& times,
+/// Rules on the output times of an orbit arc (validate_orbit_arc_input). The default is the
+/// two-arc rule of DOP853 and Kepler; kOneSidedArc is CVODES's.
+struct ArcRules {
+  bool strict = false;     ///< strictly monotone (no duplicates) instead of non-decreasing / non-increasing
+  bool one_sided = false;  ///< every time on one side of t0 and ordered away from it (one integration)
+  bool non_empty = false;  ///< at least one output time
+};
+
+/// Two arcs from t0: times monotone (non-strictly, increasing or decreasing), either side of t0,
+/// possibly empty (DOP853 and Kepler).
+inline constexpr ArcRules kTwoSidedArc{false, false, false};
+/// One arc from t0: times non-empty, on one side of t0, strictly monotone away from it (CVODES).
+inline constexpr ArcRules kOneSidedArc{true, true, true};
+
+/// Hint of the |r0| = 0 error for a propagator that integrates gravity (CVODES, DOP853).
+inline constexpr const char* kGravitySingular = "gravity is singular at the centre of the body";
+
+/// The one check of an orbit arc's input, shared by every propagator. Throws
+/// std::invalid_argument("name: rule (hint: ...)") unless x0 = [r km, v km/s] is finite with
+/// |r0| > 0 and every |x0_i| < kMaxStateComponent, t0 (s) is finite, and the output times (s) are
+/// finite and obey `rules`. `singular_hint` says why |r0| = 0 is refused by the caller.
+/// One wording per rule:
+/// - "x0: must be finite (no NaN or Inf)"
+/// - "x0: position must be non-zero (|r0| = 0) (hint: <singular_hint>)"
+/// - "t0: must be finite (no NaN or Inf)"
+/// - "times: must not be empty (hint: ...)"
+/// - "times: must be finite (no NaN or Inf), times[i] is not"
+/// - "times: must all lie on one side of t0 (forward or backward), times[0] = .., t0 = .. (hint: ...)"
+/// - "times: must be [strictly ]monotone (...)[ in the direction of propagation], times[i-1] = ..,
+///   times[i] = .. (hint: ...)"
+/// The success path does not allocate (the messages are built only on failure).
+void validate_orbit_arc_input(const Vec6& x0, double t0, const std::vector<double>& times, ArcRules rules,
                               const char* singular_hint);
+
+/// validate_orbit_arc_input with the two-arc rules (kTwoSidedArc), kept for existing callers.
+inline void validate_orbit_arc_input(const Vec6& x0, double t0, const std::vector<double>& times,
+                                     const char* singular_hint) {
+  validate_orbit_arc_input(x0, t0, times, kTwoSidedArc, singular_hint);
+}
 
 /// Integrator statistics.
 struct PropagationStats {
