@@ -22,7 +22,7 @@ namespace py = pybind11;
 /// "array of dtype complex128", "bool", "str": what the caller gave, for messages.
 inline std::string describe(py::handle h) {
   if (py::isinstance<py::array>(h)) return "array of dtype " + std::string(py::str(h.attr("dtype")));
-  return std::string(py::str(h.get_type().attr("__name__")));
+  return std::string(py::str(py::type::handle_of(h).attr("__name__")));
 }
 
 /// Name of a numpy dtype kind that is not a real number ("complex", "boolean", ...).
@@ -126,7 +126,7 @@ inline double real_arg(py::handle h, const std::string& name, bool finite = true
 /// A bool (Python or numpy), never an int or a string such as "false".
 inline bool bool_arg(py::handle h, const std::string& name) {
   if (py::isinstance<py::bool_>(h)) return h.cast<bool>();
-  if (py::hasattr(h, "dtype") && std::string(py::str(h.get_type().attr("__name__"))) == "bool_")
+  if (py::hasattr(h, "dtype") && std::string(py::str(py::type::handle_of(h).attr("__name__"))) == "bool_")
     return py::bool_(py::reinterpret_borrow<py::object>(h)).cast<bool>();
   throw py::type_error(name + ": must be true or false (a bool), got " + describe(h));
 }
@@ -136,7 +136,7 @@ inline long long int_arg(py::handle h, const std::string& name, long long low, l
   const bool is_int =
       (py::isinstance<py::int_>(h) && !py::isinstance<py::bool_>(h)) ||
       (py::hasattr(h, "dtype") && py::hasattr(h, "__index__") && !py::isinstance<py::bool_>(h) &&
-       std::string(py::str(h.get_type().attr("__name__"))) != "bool_");
+       std::string(py::str(py::type::handle_of(h).attr("__name__"))) != "bool_");
   if (!is_int) throw py::type_error(name + ": must be an integer, got " + describe(h));
   const py::int_ i(py::reinterpret_borrow<py::object>(h));
   // Compare as Python ints: a value beyond 64 bits must not wrap.
@@ -169,7 +169,7 @@ void settings_from_kwargs(py::module_& m, const char* name) {
   const std::string cls_name = name;
   cls.def(py::init([cls_name](const py::kwargs& kwargs) {
             py::object obj = py::cast(T{});
-            const py::handle type = obj.get_type();
+            const py::handle type = py::type::handle_of(obj);
             const std::vector<std::string> fields = settable_fields(type);
             for (const auto& item : kwargs) {
               const std::string key = py::str(item.first);

@@ -21,6 +21,7 @@ from .propagation import (  # noqa: E402
     PropagationError,
     Trajectory,
     available_methods,
+    elements_to_state,
     propagate,
 )
 
@@ -30,6 +31,7 @@ __all__ = [
     "__version__",
     "propagate",
     "available_methods",
+    "elements_to_state",
     "Trajectory",
     "ForceModel",
     "J2Gravity",

@@ -7,6 +7,7 @@ in closed form (Kepler).
 
 from __future__ import annotations
 
+import math
 import numbers
 from collections.abc import Sequence
 
@@ -31,6 +32,7 @@ __all__ = [
     "J2Gravity",
     "ExponentialDrag",
     "available_methods",
+    "elements_to_state",
 ]
 
 _CVODES = ("adams", "bdf")
@@ -62,6 +64,59 @@ def available_methods() -> list[str]:
     if hasattr(_satgnc, "propagate_kepler"):
         out.append("kepler")
     return out
+
+
+def _rot_z(t: float) -> np.ndarray:
+    return np.array([[math.cos(t), -math.sin(t), 0.0], [math.sin(t), math.cos(t), 0.0], [0.0, 0.0, 1.0]])
+
+
+def _rot_x(t: float) -> np.ndarray:
+    return np.array([[1.0, 0.0, 0.0], [0.0, math.cos(t), -math.sin(t)], [0.0, math.sin(t), math.cos(t)]])
+
+
+def elements_to_state(a: float, e: float, i: float, raan: float, argp: float, nu: float,
+                      mu: float = EARTH_MU) -> np.ndarray:
+    """Inertial state ``[r km, v km/s]`` of the classical orbital elements of an elliptic orbit.
+
+    Parameters
+    ----------
+    a : float
+        Semi-major axis, km (> 0). From the semi-latus rectum ``p``: ``a = p / (1 - e**2)``.
+    e : float
+        Eccentricity, ``0 <= e < 1`` (circular and elliptic orbits).
+    i, raan, argp, nu : float
+        Inclination, right ascension of the ascending node, argument of periapsis and true anomaly,
+        **degrees** (finite; any value, taken modulo 360).
+    mu : float, optional
+        Gravitational parameter, km^3/s^2 (> 0; default Earth, ``satgnc.EARTH_MU``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (6,)
+        ``[x, y, z, vx, vy, vz]`` (km, km/s) in the inertial frame the elements refer to (for Earth
+        orbits, ECI: x to the vernal equinox, z to the pole): the perifocal position and velocity
+        rotated by ``R3(-raan) R1(-i) R3(-argp)`` (Vallado, Algorithm 10 "COE2RV").
+
+    Raises
+    ------
+    TypeError
+        An argument is not a real number.
+    ValueError
+        ``a`` or ``mu`` not finite and > 0, ``e`` outside ``[0, 1)``, an angle not finite.
+    """
+    a = as_real(a, "a", positive=True)
+    e = as_real(e, "e", nonnegative=True)
+    if not e < 1.0:
+        raise ValueError(f"e: must be < 1 (an elliptic orbit), got {e}")
+    i, raan, argp, nu = (math.radians(as_real(x, n)) for x, n in ((i, "i"), (raan, "raan"), (argp, "argp"),
+                                                                   (nu, "nu")))
+    mu = as_real(mu, "mu", positive=True)
+    p = a * (1.0 - e * e)
+    r = p / (1.0 + e * math.cos(nu))
+    r_pf = np.array([r * math.cos(nu), r * math.sin(nu), 0.0])
+    v_pf = math.sqrt(mu / p) * np.array([-math.sin(nu), e + math.cos(nu), 0.0])
+    R = _rot_z(raan) @ _rot_x(i) @ _rot_z(argp)
+    return np.concatenate([R @ r_pf, R @ v_pf])
 
 
 def _force_model(forces, mu: float, mu_given: bool) -> ForceModel:

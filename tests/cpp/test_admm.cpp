@@ -9,101 +9,19 @@
 #include <new>
 #include <random>
 
-#include "satgnc/dynamics/cw.hpp"
+#include "admm_fixture.hpp"
+#include "malloc_counter.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "testing.hpp"
-
-// ---- allocation counters for this test binary: operator new always, and malloc itself (which
-// Eigen uses) when not under AddressSanitizer (whose interceptors own malloc).
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocs{0};
-}  // namespace
-
-#if !defined(__SANITIZE_ADDRESS__)
-void* operator new(std::size_t n) {
-  if (g_counting) ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void* malloc(std::size_t n) {
-  if (g_counting) ++g_allocs;
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t a, std::size_t b) {
-  if (g_counting) ++g_allocs;
-  return __libc_calloc(a, b);
-}
-void* realloc(void* p, std::size_t n) {
-  if (g_counting) ++g_allocs;
-  return __libc_realloc(p, n);
-}
-int posix_memalign(void** p, std::size_t al, std::size_t n) {
-  if (g_counting) ++g_allocs;
-  *p = __libc_memalign(al, n);
-  return *p ? 0 : 12;
-}
-void* aligned_alloc(std::size_t al, std::size_t n) {
-  if (g_counting) ++g_allocs;
-  return __libc_memalign(al, n);
-}
-}
-#endif
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 using namespace satgnc::guidance;
+using satgnc_test::admm_scenario;
+using satgnc_test::admm_scenario_problem;
+using satgnc_test::random_ltv_problem;
 
 namespace {
-// The linear scenario of l1_scenario.md in the implementation's scaled units.
-struct Scenario {
-  double l_ref, v_ref, t_ref, u_ref, dt, n;
-  VectorXd x0;
-};
-Scenario scenario() {
-  Scenario s;
-  const Eigen::Vector3d p(-9477.311, -1999.979, -43.046), v(-3.477486, 1.007149, -0.090170);
-  s.l_ref = p.norm();
-  s.v_ref = v.norm();
-  s.t_ref = s.l_ref / s.v_ref;
-  s.u_ref = s.l_ref / (s.t_ref * s.t_ref) * 4.6;
-  s.dt = 6000.0 / 99.0 / s.t_ref;
-  s.n = std::sqrt(3.99e14 / std::pow(7231e3, 3)) * s.t_ref;
-  s.x0.resize(6);
-  s.x0 << p / s.l_ref, v / s.v_ref;
-  return s;
-}
-
-// Qf / dt: the implementation multiplies the ADMM penalty by dt inside the LQR step, which is
-// the same as this terminal weight with an unweighted penalty (see docs/guidance.md).
-LtvProblem scenario_problem(bool box, bool terminal) {
-  const Scenario s = scenario();
-  satgnc::dynamics::CwModel cw(s.n, 1.0);
-  const auto d = satgnc::dynamics::cw_discretize_midpoint(cw, s.dt);
-  LtvProblem p;
-  p.dynamics.A = {MatrixXd(d.Ad)};
-  p.dynamics.B = {MatrixXd(d.Bd)};
-  p.dynamics.horizon = 99;
-  p.x0 = s.x0;
-  p.xf = VectorXd::Zero(6);
-  p.Qf = 1000.0 / s.dt * MatrixXd::Identity(6, 6);
-  p.l1_weights = VectorXd::Ones(3);
-  if (box) {
-    p.u_lower = VectorXd::Constant(3, -5e-3 / s.u_ref);
-    p.u_upper = VectorXd::Constant(3, 5e-3 / s.u_ref);
-  }
-  p.terminal_equality = terminal;
-  return p;
-}
-
 AdmmSettings paper_settings(double rho, double eps) {
   AdmmSettings st;
   st.rho = rho;
@@ -115,48 +33,25 @@ AdmmSettings paper_settings(double rho, double eps) {
   return st;
 }
 
-LtvProblem random_problem(int nx, int nu, int N, unsigned seed, bool box, bool terminal) {
-  std::mt19937 g(seed);
-  std::normal_distribution<double> nd;
-  auto rnd = [&](int r, int c) { return MatrixXd(MatrixXd::NullaryExpr(r, c, [&]() { return nd(g); })); };
-  LtvProblem p;
-  for (int k = 0; k < N; ++k) {
-    p.dynamics.A.push_back(MatrixXd::Identity(nx, nx) + 0.1 * rnd(nx, nx));
-    p.dynamics.B.push_back(rnd(nx, nu));
-  }
-  p.dynamics.c = {0.01 * rnd(nx, 1)};
-  p.dynamics.horizon = N;
-  p.x0 = rnd(nx, 1);
-  p.xf = VectorXd::Zero(nx);
-  p.Qf = 100.0 * MatrixXd::Identity(nx, nx);
-  p.Q = 0.1 * MatrixXd::Identity(nx, nx);
-  p.l1_weights = VectorXd::Constant(nu, 1.0);
-  if (box) {
-    p.u_lower = VectorXd::Constant(nu, -0.5);
-    p.u_upper = VectorXd::Constant(nu, 0.5);
-  }
-  p.terminal_equality = terminal;
-  return p;
-}
 }  // namespace
 
 TEST(AdmmPaper, UnconstrainedStopsAfter43Iterations) {
   // Table 1, linear unconstrained: 86 LQR passes = 43 ADMM iterations (one rollout pass each),
   // rho = 1e-2, eps = 4.5e-3: an exact integer, so exact equality.
-  AdmmSolver s(scenario_problem(false, false), paper_settings(1e-2, 4.5e-3));
+  AdmmSolver s(admm_scenario_problem(false, false), paper_settings(1e-2, 4.5e-3));
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kSolvedPaperRule);
+  EXPECT_EQ(r.info.status, AdmmStatus::solved_paper_rule);
   EXPECT_EQ(r.info.iterations, 43);
   EXPECT_EQ(2 * r.info.iterations, 86);
   // flying the sparse iterate Y at that point misses the target by kilometres
-  const double miss_m = r.info.terminal_miss * scenario().l_ref;
+  const double miss_m = r.info.terminal_miss * admm_scenario().l_ref;
   EXPECT_GT(miss_m, 5000.0);
 }
 
 TEST(AdmmPaper, WithoutRescaleTheRuleNeedsMoreIterations) {
   AdmmSettings st = paper_settings(1e-2, 4.5e-3);
   st.paper_multiplier_rescale = false;
-  AdmmSolver s(scenario_problem(false, false), st);
+  AdmmSolver s(admm_scenario_problem(false, false), st);
   EXPECT_GT(s.solve().info.iterations, 43);
 }
 
@@ -166,15 +61,15 @@ TEST(Admm, SolveDoesNotAllocate) {
     st.max_iterations = 300;  // includes adaptive-rho refactorizations
     st.adaptive_rho_interval = 10;
     st.rho = 50.0;  // far from where adaptation takes it: refactorizations certainly happen
-    AdmmSolver s(scenario_problem(true, terminal), st);
-    s.solve();                                                        // warm-up (first-touch)
-    AdmmSolver s2(random_problem(5, 2, 30, 3u, true, terminal), st);  // dynamic-size path
-    g_allocs = 0;
-    g_counting = true;
+    AdmmSolver s(admm_scenario_problem(true, terminal), st);
+    s.solve();                                                            // warm-up (first-touch)
+    AdmmSolver s2(random_ltv_problem(5, 2, 30, 3u, true, terminal), st);  // dynamic-size path
+    g_mallocs = 0;
+    g_count = true;
     const AdmmResult& r = s.solve();
     const AdmmResult& r2 = s2.solve();
-    g_counting = false;
-    EXPECT_EQ(g_allocs.load(), 0) << "terminal=" << terminal;
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "terminal=" << terminal;
     EXPECT_GT(r.info.iterations + r2.info.iterations, 2);
     EXPECT_GT(r.info.polish_attempts + r2.info.polish_attempts, 0) << "polish path exercised";
     EXPECT_GT(r.info.rho_updates + r2.info.rho_updates, 0) << "refactorization path exercised";
@@ -187,19 +82,19 @@ TEST(Admm, SolveDoesNotAllocate) {
 TEST(Admm, QpPolishCertifiesWithoutAllocating) {
   for (bool box : {false, true}) {
     for (bool terminal : {false, true}) {
-      LtvProblem p = scenario_problem(box, terminal);
+      LtvProblem p = admm_scenario_problem(box, terminal);
       p.l1_weights = VectorXd::Zero(3);
       p.R = Eigen::Vector3d(0.5, 1.0, 2.0).asDiagonal();
       AdmmSettings st;
       st.method = satgnc::guidance::AdmmMethod::kAdmm;  // the polish path (the IPM endgame would solve it)
       AdmmSolver s(p, st);
       s.solve();  // warm-up (first-touch)
-      g_allocs = 0;
-      g_counting = true;
+      g_mallocs = 0;
+      g_count = true;
       const AdmmResult& r = s.solve();
-      g_counting = false;
-      EXPECT_EQ(g_allocs.load(), 0) << "box=" << box << " terminal=" << terminal;
-      EXPECT_EQ(r.info.status, AdmmStatus::kSolved) << "box=" << box << " terminal=" << terminal;
+      g_count = false;
+      EXPECT_EQ(g_mallocs.load(), 0) << "box=" << box << " terminal=" << terminal;
+      EXPECT_EQ(r.info.status, AdmmStatus::solved) << "box=" << box << " terminal=" << terminal;
       EXPECT_TRUE(r.info.polished) << "box=" << box << " terminal=" << terminal;
       EXPECT_LE(std::abs(r.info.duality_gap), 1e-5);
       if (box) {
@@ -241,18 +136,18 @@ TEST(Admm, DualNewtonPathDoesNotAllocate) {
   AdmmSettings st;
   st.method = satgnc::guidance::AdmmMethod::kAdmm;  // the polish path (the IPM endgame would solve it)
   for (bool terminal : {false, true}) {
-    AdmmSolver s(scenario_problem(true, terminal), st);
-    AdmmSolver s0(scenario_problem(false, false), st);
+    AdmmSolver s(admm_scenario_problem(true, terminal), st);
+    AdmmSolver s0(admm_scenario_problem(false, false), st);
     s.solve();  // warm-up (first-touch)
     s0.solve();
-    g_allocs = 0;
-    g_counting = true;
+    g_mallocs = 0;
+    g_count = true;
     const AdmmResult& r = s.solve();
     const AdmmResult& r0 = s0.solve();
-    g_counting = false;
-    EXPECT_EQ(g_allocs.load(), 0) << "terminal=" << terminal;
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "terminal=" << terminal;
     EXPECT_GE(r.info.iterations, 50) << "the dual Newton call at iteration 50 is reached";
-    EXPECT_EQ(r0.info.status, AdmmStatus::kSolved);
+    EXPECT_EQ(r0.info.status, AdmmStatus::solved);
     EXPECT_TRUE(r0.info.polished);
     EXPECT_EQ(r0.info.iterations, 50);
   }
@@ -260,7 +155,8 @@ TEST(Admm, DualNewtonPathDoesNotAllocate) {
 
 TEST(Admm, CachedGainsMatchFullRiccatiIterateByIterate) {
   for (bool terminal : {false, true}) {
-    const LtvProblem p = terminal ? scenario_problem(true, true) : random_problem(4, 2, 25, 11u, true, false);
+    const LtvProblem p =
+        terminal ? admm_scenario_problem(true, true) : random_ltv_problem(4, 2, 25, 11u, true, false);
     for (int it = 1; it <= 40; ++it) {
       AdmmSettings st;
       st.rho = 0.5;
@@ -287,12 +183,13 @@ TEST(Admm, CachedGainsMatchFullRiccatiIterateByIterate) {
 TEST(Admm, CondensedStepMatchesRiccatiIterateByIterate) {
   // No stage state cost: the condensed step (x_N = x_N0 + M U, one nx x nx LU) and the cached-gain
   // Riccati step solve the same x/u subproblem, so every iterate agrees to rounding.
-  LtvProblem rp = random_problem(4, 2, 25, 11u, true, false);
+  LtvProblem rp = random_ltv_problem(4, 2, 25, 11u, true, false);
   rp.Q = MatrixXd();
   rp.R = Eigen::Vector2d(0.3, 0.05).asDiagonal();
-  LtvProblem rpt = random_problem(4, 2, 25, 12u, false, true);
+  LtvProblem rpt = random_ltv_problem(4, 2, 25, 12u, false, true);
   rpt.Q = MatrixXd();
-  for (const LtvProblem& p : {scenario_problem(true, false), scenario_problem(true, true), rp, rpt}) {
+  for (const LtvProblem& p :
+       {admm_scenario_problem(true, false), admm_scenario_problem(true, true), rp, rpt}) {
     for (int it : {1, 2, 7, 40, 120}) {
       AdmmSettings st;
       st.rho = 0.5;
@@ -327,32 +224,32 @@ TEST(Admm, CondensedStepMatchesRiccatiIterateByIterate) {
 TEST(Admm, CondensedStepOnlyWhereItApplies) {
   AdmmSettings st;
   st.max_iterations = 5;
-  EXPECT_TRUE(AdmmSolver(scenario_problem(false, false), st).solve().info.condensed);
+  EXPECT_TRUE(AdmmSolver(admm_scenario_problem(false, false), st).solve().info.condensed);
   // a stage state cost (Q != 0) needs the Riccati step
-  EXPECT_FALSE(AdmmSolver(random_problem(4, 2, 10, 1u, true, false), st).solve().info.condensed);
-  LtvProblem p = random_problem(4, 2, 10, 1u, true, false);
+  EXPECT_FALSE(AdmmSolver(random_ltv_problem(4, 2, 10, 1u, true, false), st).solve().info.condensed);
+  LtvProblem p = random_ltv_problem(4, 2, 10, 1u, true, false);
   p.Q = MatrixXd();
   p.R = (MatrixXd(2, 2) << 1.0, 0.2, 0.2, 1.0).finished();  // non-diagonal R
   EXPECT_FALSE(AdmmSolver(p, st).solve().info.condensed);
   st.condensed = false;
-  EXPECT_FALSE(AdmmSolver(scenario_problem(false, false), st).solve().info.condensed);
+  EXPECT_FALSE(AdmmSolver(admm_scenario_problem(false, false), st).solve().info.condensed);
 }
 
 TEST(Admm, BoxAndTerminalAreSatisfied) {
-  AdmmSolver s(scenario_problem(true, true));
+  AdmmSolver s(admm_scenario_problem(true, true));
   const AdmmResult& r = s.solve();
-  const double ub = 5e-3 / scenario().u_ref;
+  const double ub = 5e-3 / admm_scenario().u_ref;
   EXPECT_LE(r.Y.cwiseAbs().maxCoeff(), ub * (1 + 1e-15));
-  EXPECT_LE((r.X.col(99)).norm(), 1e-9);                    // LQR iterate meets x_N = 0 exactly
-  EXPECT_LT(r.info.terminal_miss * scenario().l_ref, 5.0);  // flown Y: metres (reported)
+  EXPECT_LE((r.X.col(99)).norm(), 1e-9);                         // LQR iterate meets x_N = 0 exactly
+  EXPECT_LT(r.info.terminal_miss * admm_scenario().l_ref, 5.0);  // flown Y: metres (reported)
 }
 
 TEST(Admm, MaxIterationsReturnsBestIterateAndResiduals) {
   AdmmSettings st;
   st.max_iterations = 5;
-  AdmmSolver s(scenario_problem(false, false), st);
+  AdmmSolver s(admm_scenario_problem(false, false), st);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kMaxIterations);
+  EXPECT_EQ(r.info.status, AdmmStatus::max_iterations);
   EXPECT_EQ(r.info.iterations, 5);
   EXPECT_GT(r.info.primal_residual, 0.0);
   EXPECT_GT(r.info.dual_residual, 0.0);
@@ -378,7 +275,7 @@ TEST(Admm, UnreachableTerminalStateIsAStatus) {
   p.terminal_equality = true;
   AdmmSolver s(p);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kTerminalUnreachable);
+  EXPECT_EQ(r.info.status, AdmmStatus::terminal_unreachable);
   EXPECT_FALSE(r.info.condensed);  // the Riccati step reports the unreachable target
   EXPECT_TRUE(r.Y.allFinite());
   EXPECT_TRUE(r.X.allFinite());
@@ -386,19 +283,19 @@ TEST(Admm, UnreachableTerminalStateIsAStatus) {
 }
 
 TEST(Admm, WarmStartFromSolutionConvergesQuickly) {
-  AdmmSolver s(random_problem(4, 2, 30, 5u, true, false));
+  AdmmSolver s(random_ltv_problem(4, 2, 30, 5u, true, false));
   const AdmmResult& r = s.solve();
-  ASSERT_EQ(r.info.status, AdmmStatus::kSolved);
+  ASSERT_EQ(r.info.status, AdmmStatus::solved);
   const int cold = r.info.iterations;
   const MatrixXd Y = r.Y, L = r.Lambda;
   s.warm_start(Y, L);
   const AdmmResult& r2 = s.solve();
-  EXPECT_EQ(r2.info.status, AdmmStatus::kSolved);
+  EXPECT_EQ(r2.info.status, AdmmStatus::solved);
   EXPECT_LT(r2.info.iterations, cold / 5 + 2);
 }
 
 TEST(Admm, BadInputThrowsWithHint) {
-  const LtvProblem good = random_problem(3, 2, 5, 2u, true, false);
+  const LtvProblem good = random_ltv_problem(3, 2, 5, 2u, true, false);
   auto expect_msg = [](const LtvProblem& p, const AdmmSettings& st, const std::string& key) {
     try {
       AdmmSolver s(p, st);
@@ -448,12 +345,12 @@ TEST(Admm, BadInputThrowsWithHint) {
 
 TEST(Admm, GroupL2WithNormBound) {
   // one gimballed engine: the plan uses whole-vector burns with ||u|| <= u_norm_max
-  LtvProblem p = random_problem(4, 2, 30, 9u, false, false);
+  LtvProblem p = random_ltv_problem(4, 2, 30, 9u, false, false);
   p.l1_weights.resize(0);
   p.group_l2_weight = 1.0;
   p.u_norm_max = 0.4;
   AdmmSolver s(p);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kSolved);
+  EXPECT_EQ(r.info.status, AdmmStatus::solved);
   for (int k = 0; k < 30; ++k) EXPECT_LE(r.Y.col(k).norm(), 0.4 * (1 + 1e-12));
 }

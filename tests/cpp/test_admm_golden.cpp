@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "admm_fixture.hpp"
 #include "satgnc/dynamics/cw.hpp"
 #include "satgnc/guidance/admm.hpp"
 
@@ -39,6 +40,9 @@ using satgnc::guidance::AdmmSettings;
 using satgnc::guidance::AdmmSolver;
 using satgnc::guidance::LtvProblem;
 using satgnc::guidance::StoppingRule;
+using satgnc_test::admm_scenario_problem;
+using satgnc_test::LtvDraw;
+using satgnc_test::random_ltv_problem;
 
 namespace {
 
@@ -95,29 +99,6 @@ const ScenarioCase kScenarioCases[] = {
     {"box", 1e-1, 4e-4, true, false},
 };
 
-LtvProblem scenario_problem(bool box, bool terminal) {
-  const Eigen::Vector3d p(-9477.311, -1999.979, -43.046), v(-3.477486, 1.007149, -0.090170);
-  const double l_ref = p.norm(), v_ref = v.norm(), t_ref = l_ref / v_ref;
-  const double u_ref = l_ref / (t_ref * t_ref) * 4.6, dt = 6000.0 / 99.0 / t_ref;
-  const double n = std::sqrt(3.99e14 / std::pow(7231e3, 3)) * t_ref;
-  const auto d = satgnc::dynamics::cw_discretize_midpoint(satgnc::dynamics::CwModel(n, 1.0), dt);
-  LtvProblem pr;
-  pr.dynamics.A = {MatrixXd(d.Ad)};
-  pr.dynamics.B = {MatrixXd(d.Bd)};
-  pr.dynamics.horizon = 99;
-  pr.x0.resize(6);
-  pr.x0 << p / l_ref, v / v_ref;
-  pr.xf = VectorXd::Zero(6);
-  pr.Qf = 1000.0 / dt * MatrixXd::Identity(6, 6);
-  pr.l1_weights = VectorXd::Ones(3);
-  if (box) {
-    pr.u_lower = VectorXd::Constant(3, -5e-3 / u_ref);
-    pr.u_upper = VectorXd::Constant(3, 5e-3 / u_ref);
-  }
-  pr.terminal_equality = terminal;
-  return pr;
-}
-
 // ---- seeded random CW problems (test_l1_random.py's draw(), ported in spirit)
 double log_uniform(std::mt19937& g, double lo, double hi) {
   return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(g));
@@ -166,36 +147,6 @@ LtvProblem random_cw(unsigned seed) {
   return p;
 }
 
-// ---- dynamic-size LTV problems (test_admm.cpp's random_problem), one with group-L2 and a ball
-LtvProblem random_ltv(int nx, int nu, int N, unsigned seed, bool box, bool terminal, bool group) {
-  std::mt19937 g(seed);
-  std::normal_distribution<double> nd;
-  auto rnd = [&](int r, int c) { return MatrixXd(MatrixXd::NullaryExpr(r, c, [&]() { return nd(g); })); };
-  LtvProblem p;
-  for (int k = 0; k < N; ++k) {
-    p.dynamics.A.push_back(MatrixXd::Identity(nx, nx) + 0.1 * rnd(nx, nx));
-    p.dynamics.B.push_back(rnd(nx, nu));
-  }
-  p.dynamics.c = {0.01 * rnd(nx, 1)};
-  p.dynamics.horizon = N;
-  p.x0 = rnd(nx, 1);
-  p.xf = VectorXd::Zero(nx);
-  p.Qf = 100.0 * MatrixXd::Identity(nx, nx);
-  p.Q = 0.1 * MatrixXd::Identity(nx, nx);
-  p.l1_weights = VectorXd::Constant(nu, 1.0);
-  if (box) {
-    p.u_lower = VectorXd::Constant(nu, -0.5);
-    p.u_upper = VectorXd::Constant(nu, 0.5);
-  }
-  if (group) {
-    p.l1_weights = VectorXd();
-    p.group_l2_weight = 0.7;
-    p.u_norm_max = 0.4;
-  }
-  p.terminal_equality = terminal;
-  return p;
-}
-
 const char* method_name(AdmmMethod m) {
   return m == AdmmMethod::kAdmm ? "admm" : (m == AdmmMethod::kAdmmIpm ? "admm_ipm" : "ipm");
 }
@@ -221,7 +172,7 @@ std::map<std::string, Record> compute_all() {
   std::map<std::string, Record> out;
   const AdmmMethod methods[] = {AdmmMethod::kAdmm, AdmmMethod::kAdmmIpm, AdmmMethod::kIpm};
   for (const ScenarioCase& c : kScenarioCases) {
-    const LtvProblem p = scenario_problem(c.box, c.terminal);
+    const LtvProblem p = admm_scenario_problem(c.box, c.terminal);
     for (bool paper : {false, true}) {
       for (bool condensed : {true, false}) {
         for (AdmmMethod m : methods) {
@@ -262,7 +213,8 @@ std::map<std::string, Record> compute_all() {
                      {5, 2, 30, 4u, true, true, false},
                      {4, 2, 30, 9u, false, false, true}};
   for (const Ltv& l : ltv) {
-    const LtvProblem p = random_ltv(l.nx, l.nu, l.N, l.seed, l.box, l.terminal, l.group);
+    const LtvProblem p =
+        random_ltv_problem(l.nx, l.nu, l.N, l.seed, l.box, l.terminal, LtvDraw::kConstantOffset, l.group);
     for (AdmmMethod m : methods) {
       for (bool cache : {true, false}) {
         AdmmSettings st;
@@ -277,7 +229,7 @@ std::map<std::string, Record> compute_all() {
   for (const ScenarioCase& c : kScenarioCases) {
     AdmmSettings st;
     st.rho = c.rho;
-    AdmmSolver s(scenario_problem(c.box, c.terminal), st);
+    AdmmSolver s(admm_scenario_problem(c.box, c.terminal), st);
     const AdmmResult& r1 = s.solve();
     const std::string pre = std::string("sequence/") + c.name;
     out[pre + "/first"] = record(r1);
@@ -295,8 +247,8 @@ std::map<std::string, Record> compute_all() {
     out[pre + "/xf_settings"] = record(s.solve());
   }
   {
-    const LtvProblem p = random_ltv(5, 2, 30, 3u, true, false, false);
-    const LtvProblem p2 = random_ltv(5, 2, 30, 5u, true, false, false);
+    const LtvProblem p = random_ltv_problem(5, 2, 30, 3u, true, false);
+    const LtvProblem p2 = random_ltv_problem(5, 2, 30, 5u, true, false);
     AdmmSolver s(p);
     out["sequence/ltv/first"] = record(s.solve());
     s.update_dynamics(p2.dynamics.A, p2.dynamics.B, p2.dynamics.c);
@@ -391,13 +343,13 @@ TEST(AdmmGolden, MovedSolverGivesTheSameIterates) {
   const std::map<std::string, Record> gold = read_golden(kFile);
   AdmmSettings st;
   st.rho = 1e-1;
-  AdmmSolver a(scenario_problem(true, true), st);
+  AdmmSolver a(admm_scenario_problem(true, true), st);
   AdmmSolver b(std::move(a));
   const Record got = record(b.solve());
   const Record& want = gold.at("sequence/constrained/first");
   ASSERT_EQ(got.size(), want.size());
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(close(got[i], want[i])) << "entry " << i;
-  AdmmSolver c(scenario_problem(false, false), st);
+  AdmmSolver c(admm_scenario_problem(false, false), st);
   c = std::move(b);
   EXPECT_EQ(c.horizon(), 99);
   EXPECT_TRUE(close(c.result().info.objective, want[3]));

@@ -65,7 +65,7 @@ TEST(AdmmHonest, SolvedMeansTheGapHolds) {
   for (const LtvProblem& p : {zero_dual_residual_problem(), false_solved_problem()}) {
     AdmmSolver s(p);
     const AdmmResult& r = s.solve();
-    ASSERT_EQ(r.info.status, AdmmStatus::kSolved) << r.info.iterations;
+    ASSERT_EQ(r.info.status, AdmmStatus::solved) << r.info.iterations;
     EXPECT_LE(r.info.duality_gap, s.settings().eps_gap);
     EXPECT_LE(r.info.dual_objective, r.info.primal_objective * (1.0 + 1e-12));
     EXPECT_DOUBLE_EQ(r.info.primal_objective, r.info.objective);
@@ -76,14 +76,14 @@ TEST(AdmmHonest, SolvedMeansTheGapHolds) {
 TEST(AdmmHonest, FalseSolvedReproducerReachesTheOptimum) {
   AdmmSolver s(false_solved_problem());
   const AdmmResult& r = s.solve();
-  ASSERT_EQ(r.info.status, AdmmStatus::kSolved);
+  ASSERT_EQ(r.info.status, AdmmStatus::solved);
   EXPECT_NEAR(r.info.objective, 0.023865, 2e-6);  // Clarabel: 0.02386 (tests/python/test_l1_random.py)
 }
 
 TEST(AdmmHonest, ZeroDualResidualStillMovesRho) {
   AdmmSolver s(zero_dual_residual_problem());
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kSolved);
+  EXPECT_EQ(r.info.status, AdmmStatus::solved);
   EXPECT_LT(r.info.iterations, 2000);
 }
 
@@ -101,7 +101,7 @@ TEST(AdmmHonest, GapIsAValidLowerBoundAtEveryIterationCount) {
     EXPECT_LE(r.info.dual_objective, opt * (1.0 + 1e-9)) << it;
     EXPECT_GE(r.info.primal_objective, opt * (1.0 - 1e-9)) << it;
     EXPECT_GE(r.info.duality_gap, -1e-12) << it;
-    EXPECT_NE(r.info.status, AdmmStatus::kSolved) << it;  // 300 iterations are not enough here
+    EXPECT_NE(r.info.status, AdmmStatus::solved) << it;  // 300 iterations are not enough here
   }
 }
 
@@ -116,7 +116,7 @@ TEST(AdmmHonest, SolvedInaccurateAtTheLimit) {
   st.method = satgnc::guidance::AdmmMethod::kAdmm;  // ADMM's limit (the IPM endgame reaches 1e-12)
   AdmmSolver s(false_solved_problem(), st);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kSolvedInaccurate);
+  EXPECT_EQ(r.info.status, AdmmStatus::solved_inaccurate);
   EXPECT_LE(r.info.duality_gap, 1e9 * st.eps_gap);
 }
 
@@ -124,7 +124,7 @@ TEST(AdmmHonest, PrimalInfeasibleWithFarkasCertificate) {
   const LtvProblem p = infeasible_problem();
   AdmmSolver s(p);
   const AdmmResult& r = s.solve();
-  ASSERT_EQ(r.info.status, AdmmStatus::kPrimalInfeasible) << r.info.iterations;
+  ASSERT_EQ(r.info.status, AdmmStatus::primal_infeasible) << r.info.iterations;
   const VectorXd& y = r.infeasibility_certificate;
   ASSERT_NEAR(y.norm(), 1.0, 1e-12);
   // y' (x_f - x_N(0)) > max over the box of y' sum_k Phi(N, k+1) B u_k
@@ -146,7 +146,7 @@ TEST(AdmmHonest, PrimalInfeasibleWithFarkasCertificate) {
   q.u_lower *= 1e3;
   q.u_upper *= 1e3;
   AdmmSolver s2(q);
-  EXPECT_EQ(s2.solve().info.status, AdmmStatus::kSolved);
+  EXPECT_EQ(s2.solve().info.status, AdmmStatus::solved);
 }
 
 TEST(AdmmHonest, TimeLimit) {
@@ -155,7 +155,7 @@ TEST(AdmmHonest, TimeLimit) {
   st.polish = false;
   AdmmSolver s(false_solved_problem(), st);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kTimeLimit);
+  EXPECT_EQ(r.info.status, AdmmStatus::time_limit);
   EXPECT_EQ(r.info.iterations, 1);
   EXPECT_TRUE(std::isfinite(r.info.objective));
   EXPECT_GT(r.info.objective, 0.0);
@@ -169,7 +169,7 @@ TEST(AdmmHonest, TimeLimitStopsTheInteriorPointMethod) {
   st.method = AdmmMethod::kIpm;
   AdmmSolver s(false_solved_problem(), st);
   const AdmmResult& r = s.solve();
-  EXPECT_EQ(r.info.status, AdmmStatus::kTimeLimit);
+  EXPECT_EQ(r.info.status, AdmmStatus::time_limit);
   EXPECT_FALSE(r.info.ipm_solved);
   EXPECT_LE(r.info.ipm_iterations, 1);
   EXPECT_TRUE(std::isfinite(r.info.objective));
@@ -177,7 +177,7 @@ TEST(AdmmHonest, TimeLimitStopsTheInteriorPointMethod) {
   st.method = AdmmMethod::kAdmmIpm;
   st.ipm_after = 0;
   AdmmSolver s2(false_solved_problem(), st);
-  EXPECT_EQ(s2.solve().info.status, AdmmStatus::kTimeLimit);
+  EXPECT_EQ(s2.solve().info.status, AdmmStatus::time_limit);
   EXPECT_LE(s2.result().info.ipm_iterations, 1);
 }
 
@@ -209,8 +209,8 @@ TEST(AdmmHonest, EquilibrationReturnsUnscaledResults) {
   AdmmSolver a(p), b(q);
   const AdmmResult& ra = a.solve();
   const AdmmResult& rb = b.solve();
-  ASSERT_EQ(ra.info.status, AdmmStatus::kSolved);
-  ASSERT_EQ(rb.info.status, AdmmStatus::kSolved);
+  ASSERT_EQ(ra.info.status, AdmmStatus::solved);
+  ASSERT_EQ(rb.info.status, AdmmStatus::solved);
   // both within eps_gap (1e-5) of the same optimum
   EXPECT_NEAR(rb.info.objective, ra.info.objective, 2e-5 * ra.info.objective);
   EXPECT_LE(rb.info.dual_objective, ra.info.objective * (1.0 + 1e-12));
@@ -239,9 +239,9 @@ TEST(AdmmHonest, NewPathsDoNotAllocate) {
   const AdmmStatus sc = c.solve().info.status;
   g_count = false;
   EXPECT_EQ(g_mallocs.load(), 0);
-  EXPECT_EQ(sa, AdmmStatus::kSolved);
-  EXPECT_EQ(sb, AdmmStatus::kPrimalInfeasible);
-  EXPECT_EQ(sc, AdmmStatus::kSolved);
+  EXPECT_EQ(sa, AdmmStatus::solved);
+  EXPECT_EQ(sb, AdmmStatus::primal_infeasible);
+  EXPECT_EQ(sc, AdmmStatus::solved);
 }
 
 // fuzz pass: dynamics whose states overflow (x_N(0) ~ 1e180, P ~ 1e360) ended numerical_error with
@@ -264,7 +264,7 @@ TEST(AdmmHonest, NumericalErrorReturnsAFinitePlanAndNoNan) {
     s.method = method;
     AdmmSolver solver(p, s);
     const AdmmResult& r = solver.solve();
-    EXPECT_EQ(r.info.status, AdmmStatus::kNumericalError);
+    EXPECT_EQ(r.info.status, AdmmStatus::numerical_error);
     EXPECT_TRUE(r.Y.allFinite());
     EXPECT_TRUE(r.U.allFinite());
     EXPECT_TRUE(r.Lambda.allFinite());

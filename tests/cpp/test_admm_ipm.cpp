@@ -162,7 +162,7 @@ TEST(AdmmIpm, SoftTerminalMatchesDenseProximalGradient) {
       const AdmmResult& r = s.solve();
       const Dense d = condense(p);
       const double ref = objective(p, d, fista(p, d));
-      ASSERT_EQ(r.info.status, AdmmStatus::kSolved) << count;
+      ASSERT_EQ(r.info.status, AdmmStatus::solved) << count;
       EXPECT_TRUE(r.info.ipm_solved) << count;
       EXPECT_EQ(r.info.iterations, 0) << count;
       EXPECT_GT(r.info.ipm_iterations, 0) << count;
@@ -196,7 +196,7 @@ TEST(AdmmIpm, HardTerminalSatisfiesDenseKkt) {
         p.u_upper = VectorXd::Constant(kNu, 5.0);
       }
       // a random unstable A may put x_f out of reach of the box: ADMM's Farkas check says so
-      if (v.box && AdmmSolver(p).solve().info.status == AdmmStatus::kPrimalInfeasible) {
+      if (v.box && AdmmSolver(p).solve().info.status == AdmmStatus::primal_infeasible) {
         ++infeasible;
         continue;
       }
@@ -207,7 +207,7 @@ TEST(AdmmIpm, HardTerminalSatisfiesDenseKkt) {
       st.ipm_tolerance = 1e-9;
       AdmmSolver s(p, st);
       const AdmmResult& r = s.solve();
-      ASSERT_EQ(r.info.status, AdmmStatus::kSolved)
+      ASSERT_EQ(r.info.status, AdmmStatus::solved)
           << count << " ipm iterations " << r.info.ipm_iterations << " gap " << r.info.duality_gap << " miss "
           << r.info.terminal_miss;
       EXPECT_TRUE(r.info.ipm_solved) << count;
@@ -251,7 +251,7 @@ TEST(AdmmIpm, ZeroL1QpEqualsClosedForm) {
     const LtvProblem p = random_problem(gen, v);
     AdmmSolver s(p, ipm_settings());
     const AdmmResult& r = s.solve();
-    ASSERT_EQ(r.info.status, AdmmStatus::kSolved);
+    ASSERT_EQ(r.info.status, AdmmStatus::solved);
     const Dense d = condense(p);
     MatrixXd H;
     VectorXd h;
@@ -290,7 +290,7 @@ TEST(AdmmIpm, EndgameStatusesAndMethods) {
   st.polish = false;
   AdmmSolver b(p, st);
   const AdmmResult& rb = b.solve();
-  EXPECT_EQ(rb.info.status, AdmmStatus::kSolved);
+  EXPECT_EQ(rb.info.status, AdmmStatus::solved);
   EXPECT_TRUE(rb.info.ipm_solved);
   EXPECT_EQ(rb.info.iterations, 1);
   EXPECT_LE(rb.info.duality_gap, st.eps_gap);
@@ -302,12 +302,12 @@ TEST(AdmmIpm, EndgameStatusesAndMethods) {
   EXPECT_FALSE(rc.info.ipm_solved);
   EXPECT_EQ(rc.info.ipm_iterations, 1);
   EXPECT_EQ(rc.info.iterations, 3);
-  EXPECT_NE(rc.info.status, AdmmStatus::kSolved);
+  EXPECT_NE(rc.info.status, AdmmStatus::solved);
   // the IPM alone with too small a budget: not solved, a finite plan with its true objective
   st.method = AdmmMethod::kIpm;
   AdmmSolver d(p, st);
   const AdmmResult& rd = d.solve();
-  EXPECT_EQ(rd.info.status, AdmmStatus::kMaxIterations);
+  EXPECT_EQ(rd.info.status, AdmmStatus::max_iterations);
   EXPECT_TRUE(std::isfinite(rd.info.objective) && rd.info.objective > 0.0);
   EXPECT_NEAR(rd.info.objective, d.objective_of(rd.Y), 1e-12 * rd.info.objective);
   EXPECT_GE(rd.info.duality_gap, 0.0);
@@ -354,11 +354,11 @@ TEST(AdmmIpm, InfeasibleTerminalIsNotSolved) {
   p.u_lower = VectorXd::Constant(3, -1e-4);
   p.u_upper = VectorXd::Constant(3, 1e-4);
   AdmmSolver a(p, ipm_settings());
-  EXPECT_NE(a.solve().info.status, AdmmStatus::kSolved);
+  EXPECT_NE(a.solve().info.status, AdmmStatus::solved);
   AdmmSettings st;
   st.ipm_after = 1;
   AdmmSolver b(p, st);
-  EXPECT_EQ(b.solve().info.status, AdmmStatus::kPrimalInfeasible);
+  EXPECT_EQ(b.solve().info.status, AdmmStatus::primal_infeasible);
   EXPECT_GT(b.result().info.ipm_iterations, 0);
 }
 
@@ -388,8 +388,8 @@ TEST(AdmmIpm, IpmPathDoesNotAllocate) {
     const AdmmStatus se = e.solve().info.status;
     g_count = false;
     EXPECT_EQ(g_mallocs.load(), 0);
-    EXPECT_EQ(ss, AdmmStatus::kSolved);
-    EXPECT_EQ(se, AdmmStatus::kSolved);
+    EXPECT_EQ(ss, AdmmStatus::solved);
+    EXPECT_EQ(se, AdmmStatus::solved);
     EXPECT_TRUE(s.result().info.ipm_solved && e.result().info.ipm_solved);
   }
 }

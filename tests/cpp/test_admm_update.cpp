@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <random>
 
+#include "admm_fixture.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "testing.hpp"
@@ -17,26 +18,7 @@ using namespace satgnc::guidance;
 namespace {
 // Time-varying problem (N entries of A, B, c) with L1 weights, optional box / terminal constraint.
 LtvProblem tv_problem(int nx, int nu, int N, unsigned seed, bool box, bool terminal) {
-  std::mt19937 g(seed);
-  std::normal_distribution<double> nd;
-  auto rnd = [&](int r, int c) { return MatrixXd(MatrixXd::NullaryExpr(r, c, [&]() { return nd(g); })); };
-  LtvProblem p;
-  for (int k = 0; k < N; ++k) {
-    p.dynamics.A.push_back(MatrixXd::Identity(nx, nx) + 0.1 * rnd(nx, nx));
-    p.dynamics.B.push_back(rnd(nx, nu));
-    p.dynamics.c.push_back(0.01 * rnd(nx, 1));
-  }
-  p.dynamics.horizon = N;
-  p.x0 = rnd(nx, 1);
-  p.xf = VectorXd::Zero(nx);
-  p.Qf = 100.0 * MatrixXd::Identity(nx, nx);
-  p.l1_weights = VectorXd::Constant(nu, 1.0);
-  if (box) {
-    p.u_lower = VectorXd::Constant(nu, -0.5);
-    p.u_upper = VectorXd::Constant(nu, 0.5);
-  }
-  p.terminal_equality = terminal;
-  return p;
+  return satgnc_test::random_ltv_problem(nx, nu, N, seed, box, terminal, satgnc_test::LtvDraw::kTimeVarying);
 }
 }  // namespace
 
@@ -77,8 +59,8 @@ TEST(AdmmUpdateDynamics, EquilibratedSolverReachesTheSameOptimum) {
   const AdmmResult r1 = updated.solve();
   AdmmSolver fresh(p2x);
   const AdmmResult& r2 = fresh.solve();
-  ASSERT_EQ(r1.info.status, AdmmStatus::kSolved);
-  ASSERT_EQ(r2.info.status, AdmmStatus::kSolved);
+  ASSERT_EQ(r1.info.status, AdmmStatus::solved);
+  ASSERT_EQ(r2.info.status, AdmmStatus::solved);
   EXPECT_LE(std::abs(r1.info.objective - r2.info.objective), 2e-5 * std::abs(r2.info.objective));
 }
 

@@ -14,30 +14,10 @@
 #include <tuple>
 #include <vector>
 
+#include "malloc_counter.hpp"
 #include "satgnc/propagation/dop853.hpp"
 #include "satgnc/propagation/kepler.hpp"
 #include "testing.hpp"
-
-// Global allocation counter for this test binary (the no-heap proof).
-static std::atomic<long> g_allocations{0};
-// AddressSanitizer owns operator new/malloc (mixing ours with its shared-library callers breaks), so
-// the counters are compiled out there; the release build (make test) proves zero allocations.
-#if !defined(__SANITIZE_ADDRESS__)
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-#endif
 
 namespace {
 
@@ -343,21 +323,25 @@ TEST(Dop853, SteppingLoopDoesNotAllocate) {
   Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
   std::array<double, 4> times = {600.0, 1800.0, 3600.0, 7200.0};
   std::array<Vec6, 4> out;
-  const long before = g_allocations.load();
+  g_mallocs = 0;
+  g_count = true;
   Eigen::internal::set_is_malloc_allowed(false);
   const Dop853Info info = integ.solve(
       0.0, y0, times.data(), times.size(),
       [&](std::size_t i, double, const Eigen::Matrix<double, 42, 1>& y) { out[i] = y.head<6>(); });
   Eigen::internal::set_is_malloc_allowed(true);
-  const long after = g_allocations.load();
-  EXPECT_EQ(after - before, 0);
+  g_count = false;
+  EXPECT_EQ(g_mallocs.load(), 0);
   EXPECT_EQ(info.status, Dop853Status::success);
   EXPECT_GT(info.steps, 10);
   EXPECT_LT((out[3] - kepler(leo_state(), 7200.0)).head<3>().norm(), 1e-4);
   // The counter does count: a std::vector allocation is seen.
+  g_mallocs = 0;
+  g_count = true;
   std::vector<double> probe(10);
+  g_count = false;
 #if !defined(__SANITIZE_ADDRESS__)
-  EXPECT_GT(g_allocations.load(), after);
+  EXPECT_GT(g_mallocs.load(), 0);
 #endif
 }
 
@@ -428,13 +412,15 @@ TEST(Dop853, SurfaceEventStopsAtTheKeplerImpactTime) {
   Rhs rhs{pm};
   Dop853<6, Rhs> integ(rhs, Dop853Settings{});
   std::array<double, 2> ts = {60.0, 3000.0};
-  const long before = g_allocations.load();
+  g_mallocs = 0;
+  g_count = true;
   Eigen::internal::set_is_malloc_allowed(false);
   const Dop853Info info = integ.solve(
       0.0, x0, ts.data(), ts.size(), [](std::size_t, double, const Vec6&) {},
       [R](double, const Vec6& y) { return y.head<3>().squaredNorm() - R * R; });
   Eigen::internal::set_is_malloc_allowed(true);
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  g_count = false;
+  EXPECT_EQ(g_mallocs.load(), 0);
   EXPECT_EQ(info.status, Dop853Status::event);
   EXPECT_EQ(info.outputs, 1u);
   EXPECT_NEAR(info.t_reached, ref.t_reached, 1e-6);

@@ -91,13 +91,20 @@ Draw random_cubic(std::mt19937& rng) {
   return d;
 }
 
-double true_cost(const DiscreteModel& m, const NonlinearL1Problem& p, const MatrixXd& U) {
-  VectorXd x = p.x0, xn(p.x0.size());
+// Flies U through the model from p.x0; false when a step fails. x: the final state.
+bool rollout(const DiscreteModel& m, const NonlinearL1Problem& p, const MatrixXd& U, VectorXd& x) {
+  x = p.x0;
+  VectorXd xn(p.x0.size());
   for (int k = 0; k < p.horizon; ++k) {
-    if (!m.step(k, x.data(), U.col(k).data(), xn.data(), nullptr, nullptr))
-      return std::numeric_limits<double>::infinity();
+    if (!m.step(k, x.data(), U.col(k).data(), xn.data(), nullptr, nullptr)) return false;
     x = xn;
   }
+  return true;
+}
+
+double true_cost(const DiscreteModel& m, const NonlinearL1Problem& p, const MatrixXd& U) {
+  VectorXd x;
+  if (!rollout(m, p, U, x)) return std::numeric_limits<double>::infinity();
   const VectorXd e = x - p.x_target;
   double c = 0.0;
   for (int k = 0; k < p.horizon; ++k)
@@ -444,12 +451,8 @@ bool cubic_target_unreachable(const CubicModel&, double g, const NonlinearL1Prob
 }
 
 double rollout_miss(const DiscreteModel& m, const NonlinearL1Problem& p, const MatrixXd& U) {
-  VectorXd x = p.x0, xn(p.x0.size());
-  for (int k = 0; k < p.horizon; ++k) {
-    if (!m.step(k, x.data(), U.col(k).data(), xn.data(), nullptr, nullptr))
-      return std::numeric_limits<double>::infinity();
-    x = xn;
-  }
+  VectorXd x;
+  if (!rollout(m, p, U, x)) return std::numeric_limits<double>::infinity();
   return (x - p.x_target).norm();
 }
 

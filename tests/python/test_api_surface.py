@@ -33,6 +33,8 @@ def test_propagate_and_methods() -> None:
         assert tr.states.shape == (3, 6) and tr.status == "success"
         methods = mod.available_methods()
         assert isinstance(methods, list) and "adams" in methods
+        x = mod.elements_to_state(7000.0, 0.01, 51.6, 30.0, 40.0, 10.0)
+        assert isinstance(x, np.ndarray) and x.shape == (6,)
 
 
 # ----------------------------------------------------------------------------- satgnc.guidance
@@ -229,8 +231,8 @@ def test_analysis_gramians_and_jacobians() -> None:
 
 # ----------------------------------------------------------------------------- completeness
 CALLED = {
-    "satgnc": {"propagate", "available_methods"},
-    "satgnc.propagation": {"propagate", "available_methods"},
+    "satgnc": {"propagate", "available_methods", "elements_to_state"},
+    "satgnc.propagation": {"propagate", "available_methods", "elements_to_state"},
     "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "solve_l1", "plan", "fly", "mpc",
                         "satellite_params"},
     "satgnc.od": {

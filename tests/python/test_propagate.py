@@ -14,23 +14,7 @@ from satgnc.papers.reference import kepler_ellipse  # the pure-Python oracle (wa
 MU = satgnc.EARTH_MU
 
 
-def coe_to_state(a, e, inc, raan, argp, nu, mu=MU):
-    p = a * (1 - e * e)
-    r = p / (1 + e * math.cos(nu))
-    rp = np.array([r * math.cos(nu), r * math.sin(nu), 0.0])
-    vp = np.array([-math.sqrt(mu / p) * math.sin(nu), math.sqrt(mu / p) * (e + math.cos(nu)), 0.0])
-
-    def rz(t):
-        return np.array([[math.cos(t), -math.sin(t), 0], [math.sin(t), math.cos(t), 0], [0, 0, 1]])
-
-    def rx(t):
-        return np.array([[1, 0, 0], [0, math.cos(t), -math.sin(t)], [0, math.sin(t), math.cos(t)]])
-
-    R = rz(raan) @ rx(inc) @ rz(argp)
-    return np.concatenate([R @ rp, R @ vp])
-
-
-X0 = coe_to_state(7000.0, 0.01, math.radians(51.6), math.radians(30), math.radians(40), math.radians(10))
+X0 = satgnc.elements_to_state(7000.0, 0.01, 51.6, 30.0, 40.0, 10.0)
 PERIOD = 2 * math.pi * math.sqrt(7000.0**3 / MU)
 
 
@@ -157,7 +141,7 @@ def nondim_stm_error(phi, ref, x0):
 def test_stm_matches_central_differences():
     forces = [satgnc.J2Gravity(), satgnc.ExponentialDrag(rho0=2.789e-13, h0=600.0, scale_height=71.835,
                                                          area=20.0, mass=100.0)]
-    x0 = coe_to_state(6378.1363 + 450.0, 0.001, math.radians(97), 0.3, 0.2, 0.1)
+    x0 = satgnc.elements_to_state(6378.1363 + 450.0, 0.001, 97.0, *np.degrees([0.3, 0.2, 0.1]))
     phi = satgnc.propagate(x0, [0.0, 7200.0], forces=forces, rtol=1e-13, atol=1e-13).stms[1]
 
     def f(x):  # rtol 1e-14: the integrator error enters the differences as noise ~ err / h

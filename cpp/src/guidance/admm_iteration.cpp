@@ -237,9 +237,9 @@ void AdmmWorkspace::reset_loop_state() noexcept {
   best_prim_ = 0.0;
   best_dual_ = 0.0;
   best_paper_ = 0.0;
-  status_ = AdmmStatus::kMaxIterations;
+  status_ = AdmmStatus::max_iterations;
   it_ = 0;
-  if (!ok_) status_ = AdmmStatus::kNumericalError;
+  if (!ok_) status_ = AdmmStatus::numerical_error;
   r_valid_ = false;  // r_ = Lambda - rho Y is produced by the previous pass
   paper_rule_ = set_.stopping == StoppingRule::kPaper;
   polish_on_ = polish_ok_ && set_.polish && set_.stopping == StoppingRule::kResiduals;
@@ -274,7 +274,7 @@ void AdmmWorkspace::start_ipm_alone() noexcept {
   MatrixXd& L = res_.Lambda;
   if (ipm_solve(false)) {
     info.ipm_solved = true;
-    status_ = AdmmStatus::kSolved;
+    status_ = AdmmStatus::solved;
   } else if (set_.method == AdmmMethod::kIpm) {
     // no certificate: the IPM's plan is returned as it is, with its true objective and gap;
     // states or an objective that overflow are a numerical error (no ADMM iteration follows either way)
@@ -282,9 +282,9 @@ void AdmmWorkspace::start_ipm_alone() noexcept {
     ipm_only_ = iU_.allFinite() && X.allFinite() && std::isfinite(trajectory_objective(X, iU_));
     if (!ipm_only_) {
       ok_ = false;
-      status_ = AdmmStatus::kNumericalError;
+      status_ = AdmmStatus::numerical_error;
     } else if (out_of_time()) {
-      status_ = AdmmStatus::kTimeLimit;
+      status_ = AdmmStatus::time_limit;
     }
   }
   if (ipm_only_) {
@@ -315,18 +315,18 @@ bool AdmmWorkspace::xu_step() noexcept {
   MatrixXd& Y = res_.Y;
   MatrixXd& L = res_.Lambda;
   if (!r_valid_) r_ = L - rho_ * Y;
-  RiccatiStatus rs = RiccatiStatus::kOk;
+  RiccatiStatus rs = RiccatiStatus::solved;
   if (cond_)
     cond_step();
   else
     rs = set_.cache_gains ? ric_.solve(prob_.x0, q_, r_, prob_.xf, X, U)
                           : ric_.solve_full(rho_, prob_.x0, q_, r_, prob_.xf, X, U);
-  if (rs == RiccatiStatus::kTerminalUnreachable) {
-    status_ = AdmmStatus::kTerminalUnreachable;
+  if (rs == RiccatiStatus::terminal_unreachable) {
+    status_ = AdmmStatus::terminal_unreachable;
     return false;
   }
-  if (rs != RiccatiStatus::kOk) {
-    status_ = AdmmStatus::kNumericalError;
+  if (rs != RiccatiStatus::solved) {
+    status_ = AdmmStatus::numerical_error;
     return false;
   }
   return true;
@@ -362,7 +362,7 @@ bool AdmmWorkspace::pass_and_residuals() noexcept {
   info.eps_dual = set_.eps_abs + set_.eps_rel * nL_;
   info.paper_criterion = std::sqrt(st_.fro2) / dimU_;
   if (!std::isfinite(prim_) || !std::isfinite(dual_) || !std::isfinite(nL_)) {
-    status_ = AdmmStatus::kNumericalError;
+    status_ = AdmmStatus::numerical_error;
     return false;
   }
   return true;
@@ -385,7 +385,7 @@ void AdmmWorkspace::track_best() noexcept {
   }
 }
 
-// The polishes of this iteration; true if one is certified (status kSolved).
+// The polishes of this iteration; true if one is certified (status solved).
 bool AdmmWorkspace::polish_round() noexcept {
   if (polish_on_ && dual_ok_ && set_.polish_dual && polish_by_dual()) return true;
   if (polish_on_ && polish_by_pattern()) return true;
@@ -426,7 +426,7 @@ bool AdmmWorkspace::polish_by_dual() noexcept {
     if (polish_solve(F) || polish_swaps(F)) {
       if (polish_gap_ok()) {
         info.polished = true;
-        status_ = AdmmStatus::kSolved;
+        status_ = AdmmStatus::solved;
         return true;
       }
       r_valid_ = false;  // rejected by the gap: ADMM continues from the polished Y, Lambda
@@ -460,7 +460,7 @@ bool AdmmWorkspace::polish_by_pattern() noexcept {
     if (try_polish(false) || (dual_ok_ && set_.polish_dual && st_.nfree > nx_ && try_polish(true))) {
       if (polish_gap_ok()) {
         info.polished = true;
-        status_ = AdmmStatus::kSolved;
+        status_ = AdmmStatus::solved;
         return true;
       }
       r_valid_ = false;
@@ -483,7 +483,7 @@ bool AdmmWorkspace::polish_by_dual_newton() noexcept {
   if (!(ipm_on_ && it_ == ipm_at_) && dual_newton()) {
     if (polish_gap_ok()) {
       info.polished = true;
-      status_ = AdmmStatus::kSolved;
+      status_ = AdmmStatus::solved;
       return true;
     }
     r_valid_ = false;
@@ -504,7 +504,7 @@ bool AdmmWorkspace::polish_qp_round() noexcept {
     if (qp_polish()) {
       if (polish_gap_ok()) {
         info.polished = true;
-        status_ = AdmmStatus::kSolved;
+        status_ = AdmmStatus::solved;
         return true;
       }
       r_valid_ = false;
@@ -521,13 +521,13 @@ bool AdmmWorkspace::check_stop() noexcept {
   MatrixXd& Y = res_.Y;
   if (set_.stopping == StoppingRule::kPaper) {
     if (info.paper_criterion <= set_.paper_eps) {
-      status_ = AdmmStatus::kSolvedPaperRule;
+      status_ = AdmmStatus::solved_paper_rule;
       return true;
     }
   } else if (prim_ <= info.eps_primal && dual_ <= info.eps_dual) {
     // the residuals are not an optimality test: also require the relative duality gap of Y
     if (!gap_on_) {
-      status_ = AdmmStatus::kSolved;
+      status_ = AdmmStatus::solved;
       return true;
     }
     if (it_ - last_gap_it_ >= set_.gap_check_interval) {
@@ -538,7 +538,7 @@ bool AdmmWorkspace::check_stop() noexcept {
       const double P = trajectory_objective(res_.X_flown, Y);
       const VectorXd& pm = prob_.terminal_equality ? (cond_ ? cg_ : ric_.terminal_multiplier()) : pz_;
       if (evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0) {
-        status_ = AdmmStatus::kSolved;
+        status_ = AdmmStatus::solved;
         return true;
       }
     }
@@ -556,7 +556,7 @@ bool AdmmWorkspace::ipm_endgame() noexcept {
     const bool warm = res_.Y.cwiseAbs().maxCoeff() > 0.0;
     if ((warm && ipm_solve(true)) || ipm_solve(false)) {
       info.ipm_solved = true;
-      status_ = AdmmStatus::kSolved;
+      status_ = AdmmStatus::solved;
       return true;
     }
   }
@@ -569,7 +569,7 @@ bool AdmmWorkspace::check_limits() noexcept {
   const MatrixXd& Y = res_.Y;
   if (timed_ && std::chrono::duration<double>(std::chrono::steady_clock::now() - solve_start_).count() >
                     set_.time_limit) {
-    status_ = AdmmStatus::kTimeLimit;
+    status_ = AdmmStatus::time_limit;
     return true;
   }
   if (infeas_on_ && it_ % set_.infeasibility_check_interval == 0 && prim_ > info.eps_primal) {
@@ -588,7 +588,7 @@ bool AdmmWorkspace::check_limits() noexcept {
       found = check_infeasible(lam2_);
     }
     if (found) {
-      status_ = AdmmStatus::kPrimalInfeasible;
+      status_ = AdmmStatus::primal_infeasible;
       return true;
     }
   }
@@ -615,7 +615,7 @@ bool AdmmWorkspace::adapt_rho() noexcept {
           cond_ = cond_factor(rho_);  // ill-conditioned at this rho: the Riccati step from here on
         }
         if (!cond_ && !ric_.factor(rho_)) {
-          status_ = AdmmStatus::kNumericalError;
+          status_ = AdmmStatus::numerical_error;
           return true;
         }
       }
@@ -670,7 +670,7 @@ void AdmmWorkspace::restore_best_or_zero() noexcept {
   MatrixXd& U = res_.U;
   MatrixXd& Y = res_.Y;
   MatrixXd& L = res_.Lambda;
-  const bool at_limit = status_ == AdmmStatus::kMaxIterations || status_ == AdmmStatus::kTimeLimit;
+  const bool at_limit = status_ == AdmmStatus::max_iterations || status_ == AdmmStatus::time_limit;
   if (at_limit && set_.track_best && std::isfinite(best_)) {
     U = bU_;
     Y = bY_;
@@ -679,7 +679,7 @@ void AdmmWorkspace::restore_best_or_zero() noexcept {
     info.dual_residual = best_dual_;
     info.paper_criterion = best_paper_;
     rollout(U, X);
-  } else if (status_ == AdmmStatus::kNumericalError) {
+  } else if (status_ == AdmmStatus::numerical_error) {
     // never a non-finite plan: the best finite iterate with its residuals, else (the failure came
     // before any finite iterate, e.g. dynamics that overflow) the zero plan, residuals infinite
     if (set_.track_best && std::isfinite(best_)) {
@@ -704,10 +704,10 @@ void AdmmWorkspace::restore_best_or_zero() noexcept {
 
 // Loose pass on the returned iterate at a limit (residual rule): residuals within
 // inaccurate_factor x their tolerances (best is that ratio when tracked) and the gap within
-// inaccurate_factor x eps_gap -> kSolvedInaccurate.
+// inaccurate_factor x eps_gap -> solved_inaccurate.
 void AdmmWorkspace::check_inaccurate() noexcept {
   const AdmmInfo& info = res_.info;
-  const bool at_limit = status_ == AdmmStatus::kMaxIterations || status_ == AdmmStatus::kTimeLimit;
+  const bool at_limit = status_ == AdmmStatus::max_iterations || status_ == AdmmStatus::time_limit;
   if (at_limit && set_.stopping == StoppingRule::kResiduals) {
     const double meas = set_.track_best && std::isfinite(best_)
                             ? best_
@@ -716,7 +716,7 @@ void AdmmWorkspace::check_inaccurate() noexcept {
     if (meas <= set_.inaccurate_factor &&
         (!gap_on_ || info.duality_gap <= set_.inaccurate_factor * set_.eps_gap) &&
         terminal_miss_ratio() <= set_.inaccurate_factor)
-      status_ = AdmmStatus::kSolvedInaccurate;
+      status_ = AdmmStatus::solved_inaccurate;
   }
 }
 

@@ -13,24 +13,10 @@ TITLE = "Propagation: two-body, J2 and drag with the state transition matrix"
 
 
 def _leo() -> np.ndarray:
-    # a = 7000 km, e = 0.01, i = 51.6 deg, RAAN 30 deg, argp 40 deg, nu 10 deg.
-    a, e = 7000.0, 0.01
-    inc, raan, argp, nu = np.radians([51.6, 30.0, 40.0, 10.0])
-    from satgnc import EARTH_MU as mu
+    """a = 7000 km, e = 0.01, i = 51.6 deg, RAAN 30 deg, argp 40 deg, nu 10 deg (ECI, km, km/s)."""
+    from satgnc.propagation import elements_to_state
 
-    p = a * (1 - e * e)
-    r = p / (1 + e * math.cos(nu))
-    rp = np.array([r * math.cos(nu), r * math.sin(nu), 0.0])
-    vp = np.array([-math.sin(nu), e + math.cos(nu), 0.0]) * math.sqrt(mu / p)
-
-    def rz(t):
-        return np.array([[math.cos(t), -math.sin(t), 0], [math.sin(t), math.cos(t), 0], [0, 0, 1]])
-
-    def rx(t):
-        return np.array([[1, 0, 0], [0, math.cos(t), -math.sin(t)], [0, math.sin(t), math.cos(t)]])
-
-    R = rz(raan) @ rx(inc) @ rz(argp)
-    return np.concatenate([R @ rp, R @ vp])
+    return elements_to_state(7000.0, 0.01, 51.6, 30.0, 40.0, 10.0)
 
 
 def build(ctx) -> str:

@@ -16,7 +16,6 @@ section and the key.
 from __future__ import annotations
 
 import dataclasses
-import math
 import pathlib
 
 import numpy as np
@@ -30,6 +29,7 @@ from .._validate import (
     load_toml,
     toml_line,
 )
+from ..propagation import elements_to_state
 from . import rendezvous as _rv
 
 DEFAULT = pathlib.Path(__file__).with_name("mission_leo.toml")
@@ -206,26 +206,6 @@ class MissionScenario(Result):
     def stages(self) -> tuple:
         """The stages :func:`satgnc.mission.run` runs, in order."""
         return STAGES[STAGES.index(self.first_stage): STAGES.index(self.last_stage) + 1]
-
-
-def elements_to_state(a: float, e: float, i: float, raan: float, argp: float, ta: float,
-                      mu: float) -> np.ndarray:
-    """ECI state [km, km/s] of classical elements (a km, angles deg, true anomaly ``ta``), mu km^3/s^2.
-
-    Not in the library today (docs/mission.md lists it as missing); the standard perifocal rotation."""
-    i, raan, argp, ta = (math.radians(x) for x in (i, raan, argp, ta))
-    p = a * (1.0 - e * e)
-    r = p / (1.0 + e * math.cos(ta))
-    r_pf = np.array([r * math.cos(ta), r * math.sin(ta), 0.0])
-    v_pf = math.sqrt(mu / p) * np.array([-math.sin(ta), e + math.cos(ta), 0.0])
-    cO, sO, ci, si, cw, sw = (math.cos(raan), math.sin(raan), math.cos(i), math.sin(i), math.cos(argp),
-                              math.sin(argp))
-    R = np.array([
-        [cO * cw - sO * sw * ci, -cO * sw - sO * cw * ci, sO * si],
-        [sO * cw + cO * sw * ci, -sO * sw + cO * cw * ci, -cO * si],
-        [sw * si, cw * si, ci],
-    ])
-    return np.concatenate([R @ r_pf, R @ v_pf])
 
 
 def _fail(p, text, section, key, reason):

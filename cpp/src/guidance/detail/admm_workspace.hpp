@@ -172,7 +172,7 @@ struct AdmmSolveState {
   double a_ = 1.0;     ///< relaxation
   double dimU_ = 0.0;  ///< N nu
   double best_ = 0.0, best_prim_ = 0.0, best_dual_ = 0.0, best_paper_ = 0.0;
-  AdmmStatus status_ = AdmmStatus::kMaxIterations;
+  AdmmStatus status_ = AdmmStatus::max_iterations;
   int it_ = 0;
   bool r_valid_ = false;  ///< r_ = Lambda - rho Y is produced by the previous pass
   bool paper_rule_ = false, polish_on_ = false, qp_polish_on_ = false;
