@@ -89,7 +89,7 @@ const AdmmSettings& AdmmSolver::settings() const { return ws_->set_; }
 const LtvProblem& AdmmSolver::problem() const { return ws_->orig_; }
 const Eigen::VectorXd& AdmmSolver::control_scaling() const { return ws_->du_; }
 double AdmmSolver::cost_scaling() const { return ws_->cscale_; }
-const RiccatiSolver& AdmmSolver::riccati() const { return ws_->ric_; }
+const RiccatiSolver& AdmmSolver::riccati() const { return *ws_->ric_; }
 const Eigen::MatrixXd& AdmmSolver::dual_estimate() const { return ws_->Gd_; }
 int AdmmSolver::nx() const { return ws_->nx_; }
 int AdmmSolver::nu() const { return ws_->nu_; }

@@ -184,7 +184,7 @@ void AdmmWorkspace::begin_solve() noexcept {
   AdmmInfo& info = res_.info;
   info = AdmmInfo();
   info.workspace_bytes = estimate_workspace_bytes(nx_, nu_, N_);
-  fact0_ = ric_.factorizations();
+  fact0_ = ric_->factorizations();
   rho_ = set_.rho;
   MatrixXd& Y = res_.Y;
   MatrixXd& L = res_.Lambda;
@@ -214,13 +214,13 @@ void AdmmWorkspace::begin_solve() noexcept {
   // condensed x/u step where it applies (a hard terminal state outside the reachable subspace goes
   // to the Riccati step, which reports it)
   cond_ = cond_ok_ && set_.condensed && set_.cache_gains &&
-          !(prob_.terminal_equality && ric_.terminal_rank() < nx_);
+          !(prob_.terminal_equality && ric_->terminal_rank() < nx_);
   cond_facts_ = 0;
   if (cond_ && (!cond_rho_valid_ || cond_rho_ != rho_)) {
     ++cond_facts_;
     cond_ = cond_factor(rho_);  // ill-conditioned: the Riccati step instead
   }
-  if (!cond_ && (ric_.rho() != rho_ || ric_.factorizations() == 0)) ok_ = ric_.factor(rho_);
+  if (!cond_ && (ric_->rho() != rho_ || ric_->factorizations() == 0)) ok_ = ric_->factor(rho_);
   if (first_solve_) {
     info.factorizations = 1;  // the setup factorization serves this solve
     first_solve_ = false;
@@ -319,8 +319,8 @@ bool AdmmWorkspace::xu_step() noexcept {
   if (cond_)
     cond_step();
   else
-    rs = set_.cache_gains ? ric_.solve(prob_.x0, q_, r_, prob_.xf, X, U)
-                          : ric_.solve_full(rho_, prob_.x0, q_, r_, prob_.xf, X, U);
+    rs = set_.cache_gains ? ric_->solve(prob_.x0, q_, r_, prob_.xf, X, U)
+                          : ric_->solve_full(rho_, prob_.x0, q_, r_, prob_.xf, X, U);
   if (rs == RiccatiStatus::terminal_unreachable) {
     status_ = AdmmStatus::terminal_unreachable;
     return false;
@@ -536,7 +536,7 @@ bool AdmmWorkspace::check_stop() noexcept {
       dual_at_u_ = true;
       rollout(Y, res_.X_flown);
       const double P = trajectory_objective(res_.X_flown, Y);
-      const VectorXd& pm = prob_.terminal_equality ? (cond_ ? cg_ : ric_.terminal_multiplier()) : pz_;
+      const VectorXd& pm = prob_.terminal_equality ? (cond_ ? cg_ : ric_->terminal_multiplier()) : pz_;
       if (evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0) {
         status_ = AdmmStatus::solved;
         return true;
@@ -575,7 +575,7 @@ bool AdmmWorkspace::check_limits() noexcept {
   if (infeas_on_ && it_ % set_.infeasibility_check_interval == 0 && prim_ > info.eps_primal) {
     // Farkas candidates: the terminal multiplier (it diverges along the certificate) and the miss
     // of the flown plan, both signs
-    const VectorXd& pm = cond_ ? cg_ : ric_.terminal_multiplier();
+    const VectorXd& pm = cond_ ? cg_ : ric_->terminal_multiplier();
     lam2_ = pm;
     bool found = check_infeasible(lam2_);
     if (!found) {
@@ -614,7 +614,7 @@ bool AdmmWorkspace::adapt_rho() noexcept {
           ++cond_facts_;
           cond_ = cond_factor(rho_);  // ill-conditioned at this rho: the Riccati step from here on
         }
-        if (!cond_ && !ric_.factor(rho_)) {
+        if (!cond_ && !ric_->factor(rho_)) {
           status_ = AdmmStatus::numerical_error;
           return true;
         }
@@ -635,9 +635,9 @@ void AdmmWorkspace::finish_solve() noexcept {
   info.iterations = it_;
   info.rho = rho_;
   info.condensed = cond_;
-  info.factorizations += ric_.factorizations() - fact0_ + cond_facts_;
+  info.factorizations += ric_->factorizations() - fact0_ + cond_facts_;
   if (prob_.terminal_equality && !info.polished && !info.ipm_solved && !ipm_only_)
-    res_.terminal_multiplier = cond_ ? cg_ : ric_.terminal_multiplier();
+    res_.terminal_multiplier = cond_ ? cg_ : ric_->terminal_multiplier();
   rollout(Y, res_.X_flown);
   if (info.polished) polished_terminal();
   if (info.ipm_solved && !prob_.terminal_equality) res_.X_flown.col(N_) = prob_.xf + ie_;  // as certified

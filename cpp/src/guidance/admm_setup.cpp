@@ -113,11 +113,11 @@ void AdmmWorkspace::setup_scaling_and_riccati() {
   cscale_ = 1.0;
   scaled_ = set_.equilibrate && set_.stopping == StoppingRule::kResiduals;
   if (scaled_) equilibrate_problem();
-  ric_.setup(prob_.dynamics, prob_.Q, prob_.R, prob_.Qf, prob_.terminal_equality);
-  require(ric_.factor(set_.rho), "rho", "Riccati factorization failed",
+  ric_.emplace(RiccatiProblem{prob_.dynamics, prob_.Q, prob_.R, prob_.Qf, prob_.terminal_equality});
+  require(ric_->factor(set_.rho), "rho", "Riccati factorization failed",
           "rho must make R + rho I positive definite");
   if (prob_.terminal_equality) {
-    require(ric_.terminal_rank() >= 0, "terminal_equality", "internal");
+    require(ric_->terminal_rank() >= 0, "terminal_equality", "internal");
   }
 }
 
@@ -355,14 +355,14 @@ bool AdmmWorkspace::update_dynamics(const std::vector<MatrixXd>& A, const std::v
     orig_.dynamics.A[k] = A[k];
     orig_.dynamics.B[k] = B[k];
     if (!c.empty()) orig_.dynamics.c[k] = c[k];
-    if (!ric_.set_stage_dynamics(static_cast<int>(k), A[k], d.B[k], c.empty() ? empty : c[k])) return false;
+    if (!ric_->set_stage_dynamics(static_cast<int>(k), A[k], d.B[k], c.empty() ? empty : c[k])) return false;
   }
   if (psi_ok_) {
     for (int k = N_ - 1; k >= 1; --k)
       Psi_.middleCols((k - 1) * nx_, nx_).noalias() = Psi_.middleCols(k * nx_, nx_) * d.A_at(k);
     update_psib();
   }
-  return ric_.factor(set_.rho);
+  return ric_->factor(set_.rho);
 }
 
 }  // namespace satgnc::guidance::detail

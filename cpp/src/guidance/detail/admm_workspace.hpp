@@ -12,6 +12,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <type_traits>
 #include <vector>
 
@@ -26,7 +27,7 @@ struct AdmmProblemData {
   LtvProblem orig_;  ///< as given
   LtvProblem prob_;  ///< equilibrated (the solver's)
   AdmmSettings set_;
-  RiccatiSolver ric_;
+  std::optional<RiccatiSolver> ric_;  ///< built after equilibration (setup_scaling_and_riccati)
   int nx_ = 0, nu_ = 0, N_ = 0;
 };
 
