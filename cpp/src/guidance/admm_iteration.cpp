@@ -396,6 +396,16 @@ bool AdmmWorkspace::polish_round() noexcept {
 
 // A polish certificate is accepted only if the duality gap agrees (tolerances of the scaled
 // problem can be loose against tiny weights).
+bool AdmmWorkspace::accept_polish() noexcept {
+  if (polish_gap_ok()) {
+    res_.info.polished = true;
+    status_ = AdmmStatus::solved;
+    return true;
+  }
+  r_valid_ = false;  // rejected by the gap: ADMM continues from the polished Y, Lambda
+  return false;
+}
+
 bool AdmmWorkspace::polish_gap_ok() noexcept {
   const MatrixXd& Y = res_.Y;
   if (!gap_on_) return true;
@@ -409,7 +419,6 @@ bool AdmmWorkspace::polish_gap_ok() noexcept {
 
 // The active-set guess from the dual estimate.
 bool AdmmWorkspace::polish_by_dual() noexcept {
-  AdmmInfo& info = res_.info;
   std::uint64_t dsig = 0;
   int F = dual_candidate(dsig);
   const bool stable = have_dprev_ && dsig == prev_dsig_;
@@ -424,12 +433,7 @@ bool AdmmWorkspace::polish_by_dual() noexcept {
     have_dtried_ = true;
     ++res_.info.polish_attempts;
     if (polish_solve(F) || polish_swaps(F)) {
-      if (polish_gap_ok()) {
-        info.polished = true;
-        status_ = AdmmStatus::solved;
-        return true;
-      }
-      r_valid_ = false;  // rejected by the gap: ADMM continues from the polished Y, Lambda
+      if (accept_polish()) return true;
     }
     failed_[static_cast<std::size_t>(next_failed_)] = dsig;
     next_failed_ = (next_failed_ + 1) % static_cast<int>(failed_.size());
@@ -442,7 +446,6 @@ bool AdmmWorkspace::polish_by_dual() noexcept {
 // entries are free without R, on their magnitudes): try once per new signature as soon as it
 // repeats, and every polish_interval iterations in the magnitude-dependent case.
 bool AdmmWorkspace::polish_by_pattern() noexcept {
-  AdmmInfo& info = res_.info;
   const bool stable = have_prev_ && st_.signature == prev_sig_;
   const bool by_magnitude = st_.nfree > nx_ && prob_.R.size() == 0;
   bool fresh = !have_tried_ || st_.signature != tried_sig_;
@@ -458,12 +461,7 @@ bool AdmmWorkspace::polish_by_pattern() noexcept {
     have_tried_ = true;
     // with more than nx free entries the kept ones are ranked by |Y|, then by the dual estimate
     if (try_polish(false) || (dual_ok_ && set_.polish_dual && st_.nfree > nx_ && try_polish(true))) {
-      if (polish_gap_ok()) {
-        info.polished = true;
-        status_ = AdmmStatus::solved;
-        return true;
-      }
-      r_valid_ = false;
+      if (accept_polish()) return true;
     }
     if (!by_magnitude) {
       yfailed_[static_cast<std::size_t>(next_yfailed_)] = st_.signature;
@@ -476,24 +474,17 @@ bool AdmmWorkspace::polish_by_pattern() noexcept {
 
 // The smoothed-dual Newton candidate (called at it == next_dn_it).
 bool AdmmWorkspace::polish_by_dual_newton() noexcept {
-  AdmmInfo& info = res_.info;
   next_dn_it_ *= 2;  // at 50, 100, 200, ... iterations: ADMM alone is slow on this problem
   // not at the endgame's iteration: the IPM is cheaper there (measured on the random suite:
   // 146 -> 356 problems certified by the IPM, p95 solve time 2.9 -> 2.0 ms)
   if (!(ipm_on_ && it_ == ipm_at_) && dual_newton()) {
-    if (polish_gap_ok()) {
-      info.polished = true;
-      status_ = AdmmStatus::solved;
-      return true;
-    }
-    r_valid_ = false;
+    if (accept_polish()) return true;
   }
   return false;
 }
 
 // The QP polish: the candidate depends only on which entries of Y sit at a bound, once per pattern.
 bool AdmmWorkspace::polish_qp_round() noexcept {
-  AdmmInfo& info = res_.info;
   const bool stable = have_prev_ && st_.signature == prev_sig_;
   const bool fresh = !have_tried_ || st_.signature != tried_sig_;
   prev_sig_ = st_.signature;
@@ -502,12 +493,7 @@ bool AdmmWorkspace::polish_qp_round() noexcept {
     tried_sig_ = st_.signature;
     have_tried_ = true;
     if (qp_polish()) {
-      if (polish_gap_ok()) {
-        info.polished = true;
-        status_ = AdmmStatus::solved;
-        return true;
-      }
-      r_valid_ = false;
+      if (accept_polish()) return true;
     }
   }
   return false;

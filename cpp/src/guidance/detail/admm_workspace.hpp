@@ -234,6 +234,8 @@ struct AdmmWorkspace : AdmmProblemData,
   bool polish_by_dual_newton() noexcept;
   bool polish_qp_round() noexcept;
   bool polish_gap_ok() noexcept;
+  /// A polished plan accepted (status solved) when polish_gap_ok(); else r_valid_ = false.
+  bool accept_polish() noexcept;
   bool check_stop() noexcept;
   bool ipm_endgame() noexcept;
   bool check_limits() noexcept;
