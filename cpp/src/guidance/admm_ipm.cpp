@@ -195,6 +195,26 @@ inline void mm(const double* X, const double* Y, double* out) noexcept {
     for (int i = 0; i < R; ++i) out[i + R * j] = acc[i];
   }
 }
+// One stage of the terminal-constraint recursion of ipm_riccati_factor_63 (written out, same
+// operations): Knu = -Qi B'L; W_k = W_{k+1} + (B'L)' Knu; L_k = A'L + K'(B'L).
+void terminal_stage_63(const double* At, const double* Bt, const double* Qi, const double* K, double* L,
+                       double* Z, double* Ln, double* Knu) noexcept {
+  double BtL[18], QK[36];
+  mm<3, 6, 6>(Bt, L, BtL);  // B'L
+  mm<3, 3, 6>(Qi, BtL, Knu);
+  for (int j = 0; j < 18; ++j) Knu[j] = -Knu[j];
+  double Kt[18], BtLt[18];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 6; ++j) {
+      Kt[j + 6 * i] = K[i + 3 * j];
+      BtLt[j + 6 * i] = BtL[i + 3 * j];
+    }
+  mm<6, 3, 6>(BtLt, Knu, QK);
+  for (int j = 0; j < 36; ++j) Z[j] += QK[j];
+  mm<6, 6, 6>(At, L, Ln);
+  mm<6, 3, 6>(Kt, BtL, QK);
+  for (int j = 0; j < 36; ++j) L[j] = Ln[j] + QK[j];
+}
 }  // namespace
 
 bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
@@ -207,7 +227,7 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
   double* PA = iPn_.data();
   double* Ln = iLn_.data();
   double* At = iAcl_.data();  // A' of the stage
-  double PB[18], Bt[18], BtL[18], Quu[9], APA[36], QK[36];
+  double PB[18], Bt[18], Quu[9], APA[36], QK[36];
   std::copy(prob_.Qf.data(), prob_.Qf.data() + 36, P);
   if (term) {
     for (int j = 0; j < 36; ++j) {
@@ -247,24 +267,7 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
     }
     mm<3, 3, 6>(Qi, Qux, K);  // K = -Qi Qux
     for (int j = 0; j < 18; ++j) K[j] = -K[j];
-    if (term) {
-      double* Knu = iKnu_.data() + k * 18;
-      mm<3, 6, 6>(Bt, L, BtL);  // B'L
-      mm<3, 3, 6>(Qi, BtL, Knu);
-      for (int j = 0; j < 18; ++j) Knu[j] = -Knu[j];
-      // W_k = W_{k+1} + (B'L)' Knu; L_k = A'L + K'(B'L)
-      double Kt[18], BtLt[18];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 6; ++j) {
-          Kt[j + 6 * i] = K[i + 3 * j];
-          BtLt[j + 6 * i] = BtL[i + 3 * j];
-        }
-      mm<6, 3, 6>(BtLt, Knu, QK);
-      for (int j = 0; j < 36; ++j) Z[j] += QK[j];
-      mm<6, 6, 6>(At, L, Ln);
-      mm<6, 3, 6>(Kt, BtL, QK);
-      for (int j = 0; j < 36; ++j) L[j] = Ln[j] + QK[j];
-    }
+    if (term) terminal_stage_63(At, Bt, Qi, K, L, Z, Ln, iKnu_.data() + k * 18);
     if (k == 0) break;
     // P_k = A'PA + Qux'K (+ Q), symmetrized
     double Quxt[18];
@@ -339,6 +342,14 @@ void AdmmWorkspace::ipm_riccati_sweep_63() noexcept {
     }
     for (int i = 0; i < 6; ++i) p[i] = pn[i];
   }
+  ipm_forward_63();
+}
+
+// The forward pass of ipm_riccati_sweep_63 (twice with the terminal constraint: the second with
+// the terminal multiplier's feedback).
+void AdmmWorkspace::ipm_forward_63() noexcept {
+  const bool term = prob_.terminal_equality;
+  const LtvDynamics& d = prob_.dynamics;
   for (int pass = 0; pass < (term ? 2 : 1); ++pass) {
     double* X = idX_.data();
     for (int i = 0; i < 6; ++i) X[i] = 0.0;

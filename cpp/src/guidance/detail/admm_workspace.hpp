@@ -335,6 +335,7 @@ struct AdmmWorkspace : AdmmProblemData,
   template <int NX, int NU>
   void ipm_riccati_sweep() noexcept;
   void ipm_riccati_sweep_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
+  void ipm_forward_63() noexcept;        ///< its forward pass
   template <int NU>
   auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
                                                 Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
