@@ -226,8 +226,8 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
   double* Z = iZ_.data();
   double* PA = iPn_.data();
   double* Ln = iLn_.data();
-  double* At = iAcl_.data();  // A' of the stage
-  double PB[18], Bt[18], Quu[9], APA[36], QK[36];
+  double* At = iAcl_.data();                            // A' of the stage
+  double PB[18], Bt[18] = {}, Quu[9], APA[36], QK[36];  // Bt set at k = N - 1 (B != Bprev)
   std::copy(prob_.Qf.data(), prob_.Qf.data() + 36, P);
   if (term) {
     for (int j = 0; j < 36; ++j) {
@@ -290,7 +290,6 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
 // The (6, 3) CW case of ipm_riccati_sweep written out (the products as axpys over contiguous
 // columns, A' from ipm_riccati_factor_63 when the dynamics are time-invariant).
 void AdmmWorkspace::ipm_riccati_sweep_63() noexcept {
-  const bool term = prob_.terminal_equality;
   const LtvDynamics& d = prob_.dynamics;
   const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
   const bool lti = d.A.size() == 1;
@@ -500,8 +499,6 @@ bool AdmmWorkspace::ipm_factor() noexcept {
 // One Newton direction with complementarity targets rc = s z (predictor) or s z + ds_a dz_a - sigma
 // mu (corrector, smu = sigma mu): idu_, idt_, ids*, idz* and the terminal quantities iep_, inun_.
 bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
-  const bool term = prob_.terminal_equality;
-  const Index n = static_cast<Index>(N_) * nu_;
   // q_m = (rc_m + z_m rp_m) / s_m (zero for absent constraints: s = 1, z = 0 there); infeasible
   // start: rp = c(u, t) - s is driven to zero by the steps
   if (!corrector) {
