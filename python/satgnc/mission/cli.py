@@ -21,7 +21,10 @@ def _run(args: argparse.Namespace) -> int:
     print(f"{result.scenario.name}: OD {est.status} in {est.iterations} iterations "
           f"(|dr| = {1e3 * float((est.error[:3] ** 2).sum() ** 0.5):.2f} m); plan {pl.status} in "
           f"{pl.iterations} iterations, dv = {pl.delta_v:.4f} m/s; flown miss {fl.miss_position:.2f} m "
-          f"(tolerance {fl.tolerance:g} m: {fl.status}); controllability: {result.checks.controllability}; "
+          f"(open loop; tolerance {fl.tolerance:g} m: {fl.status}); "
+          + (f"closed-loop miss {result.closed_loop.miss_position:.2f} m ({result.closed_loop.status}); "
+             if result.closed_loop is not None else "")
+          + f"controllability: {result.checks.controllability}; "
           f"observability: {result.checks.observability}; {sum(result.timings.values()):.1f} s")
     print(f"report written to {path}")
     return 0
