@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "satgnc/analysis/gramian.hpp"
+#include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/station.hpp"
-#include "satgnc/dynamics/types.hpp"
 
 namespace satgnc::analysis {
 

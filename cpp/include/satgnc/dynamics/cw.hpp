@@ -10,7 +10,7 @@
 /// Any consistent unit system works (e.g. the implementation's scaled units with m = 1).
 #include <Eigen/Core>
 
-#include "satgnc/dynamics/types.hpp"
+#include "satgnc/core/types.hpp"
 
 namespace satgnc::dynamics {
 

@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "satgnc/core/constants.hpp"
-#include "satgnc/dynamics/types.hpp"
+#include "satgnc/core/types.hpp"
 
 namespace satgnc::dynamics {
 

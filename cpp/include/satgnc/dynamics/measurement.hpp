@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "satgnc/dynamics/types.hpp"
+#include "satgnc/core/types.hpp"
 
 namespace satgnc::dynamics {
 

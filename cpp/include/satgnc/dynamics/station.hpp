@@ -7,8 +7,8 @@
 /// Polar motion, precession and nutation are not modelled (GMST-only rotation).
 #include <string>
 
+#include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/force_model.hpp"
-#include "satgnc/dynamics/types.hpp"
 
 namespace satgnc::dynamics {
 

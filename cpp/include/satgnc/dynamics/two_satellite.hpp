@@ -14,7 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "satgnc/dynamics/types.hpp"
+#include "satgnc/core/types.hpp"
 
 namespace satgnc::dynamics {
 

@@ -4,8 +4,8 @@
 #include <memory>
 #include <vector>
 
+#include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/force_model.hpp"
-#include "satgnc/dynamics/types.hpp"
 #include "satgnc/propagation/cvodes.hpp"
 #include "satgnc/propagation/trajectory.hpp"
 

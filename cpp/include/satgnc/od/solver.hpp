@@ -30,8 +30,8 @@
 
 #include "satgnc/core/solver.hpp"
 #include "satgnc/core/status.hpp"
+#include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/force_model.hpp"
-#include "satgnc/dynamics/types.hpp"
 #include "satgnc/od/measurement.hpp"
 #include "satgnc/od/propagator.hpp"
 #include "satgnc/od/station.hpp"

@@ -10,8 +10,8 @@
 #include <memory>
 #include <vector>
 
+#include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/force_model.hpp"
-#include "satgnc/dynamics/types.hpp"
 #include "satgnc/propagation/trajectory.hpp"
 
 namespace satgnc::propagation {

@@ -20,8 +20,8 @@
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/solver.hpp"
 #include "satgnc/core/status.hpp"
+#include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/force_model.hpp"
-#include "satgnc/dynamics/types.hpp"
 #include "satgnc/propagation/trajectory.hpp"
 
 namespace satgnc::propagation {

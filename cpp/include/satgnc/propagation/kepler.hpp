@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "satgnc/core/status.hpp"
-#include "satgnc/dynamics/types.hpp"
+#include "satgnc/core/types.hpp"
 #include "satgnc/propagation/trajectory.hpp"
 
 namespace satgnc::propagation {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "satgnc/core/status.hpp"
-#include "satgnc/dynamics/types.hpp"
+#include "satgnc/core/types.hpp"
 
 namespace satgnc::propagation {
 
