@@ -45,7 +45,9 @@ double dat_of_mjd(std::int64_t mjd) {
   mjd_to_date(mjd, y, m, d);
   double dat = 0.0;
   const int st = eraDat(y, m, d, 0.0, &dat);
-  require(st >= 0, "epoch", "UTC is defined from 1960 on (ERFA eraDat), got year " + std::to_string(y));
+  // Hot path (every UTC conversion): the message is built only on failure, so success allocates nothing.
+  if (st < 0)
+    require(false, "epoch", "UTC is defined from 1960 on (ERFA eraDat), got year " + std::to_string(y));
   return dat;
 }
 
@@ -78,7 +80,7 @@ Epoch raw_from_jd(double jd1, double jd2) {
 }
 
 void require_utc_era(bool ok) {
-  require(ok, "epoch", "UTC is defined from 1960-01-01 on (ERFA eraDat's table starts there)");
+  if (!ok) require(false, "epoch", "UTC is defined from 1960-01-01 on (ERFA eraDat's table starts there)");
 }
 
 bool is_post_1972_tai(std::int64_t tai_whole) {
@@ -200,8 +202,8 @@ TimeScale time_scale_from_name(std::string_view name) {
 }
 
 Epoch Epoch::from_tai_seconds(std::int64_t whole, double fraction) {
-  require(std::isfinite(fraction) && std::fabs(fraction) < 9e15, "fraction",
-          "must be finite and |fraction| < 9e15 s");
+  if (!(std::isfinite(fraction) && std::fabs(fraction) < 9e15))
+    require(false, "fraction", "must be finite and |fraction| < 9e15 s");
   const double f = std::floor(fraction);
   Epoch e;
   e.whole_ = whole + static_cast<std::int64_t>(f);
@@ -234,6 +236,19 @@ Epoch Epoch::from_jd(double jd1, double jd2, TimeScale scale) {
     case TimeScale::utc: {
       require(jd1 + jd2 >= kMjdZero + static_cast<double>(kMjd1960), "jd1",
               "UTC is defined from 1960-01-01 (JD 2436934.5) on (ERFA eraDat)");
+      // Quasi-JD -> (day, fraction of that UTC day), each part split exactly.
+      const double a = jd1 - kMjdZero;
+      const double da = std::floor(a), db = std::floor(jd2);
+      double f = (a - da) + (jd2 - db);
+      const double df = std::floor(f);
+      f -= df;
+      const auto mjd = static_cast<std::int64_t>(da + db + df);
+      if (mjd >= kMjd1972) {
+        const std::int64_t start = utc_day_start_tai(mjd);
+        const double secs = f * static_cast<double>(utc_day_start_tai(mjd + 1) - start);
+        const double w = std::floor(secs);
+        return Epoch::from_tai_seconds(start + static_cast<std::int64_t>(w), secs - w);
+      }
       double t1 = 0.0, t2 = 0.0;
       require(eraUtctai(jd1, jd2, &t1, &t2) >= 0, "jd1", "UTC is defined from 1960 on (ERFA eraUtctai)");
       return raw_from_jd(t1, t2);
@@ -364,7 +379,8 @@ double Epoch::tai_minus_utc() const {
   require_utc_era(whole_ >= day_start_seconds(kMjd1960));
   const JulianDate t = raw_jd(whole_, frac_);
   double u1 = 0.0, u2 = 0.0;
-  require(eraTaiutc(t.jd1, t.jd2, &u1, &u2) >= 0, "epoch", "UTC is defined from 1960 on (ERFA eraTaiutc)");
+  if (eraTaiutc(t.jd1, t.jd2, &u1, &u2) < 0)
+    require(false, "epoch", "UTC is defined from 1960 on (ERFA eraTaiutc)");
   int y = 0, m = 0, d = 0;
   double fd = 0.0;
   eraJd2cal(u1, u2, &y, &m, &d, &fd);
@@ -384,8 +400,8 @@ JulianDate Epoch::jd(TimeScale scale) const {
     require_utc_era(whole_ >= day_start_seconds(kMjd1960));
     const JulianDate t = raw_jd(whole_, frac_);
     JulianDate u;
-    require(eraTaiutc(t.jd1, t.jd2, &u.jd1, &u.jd2) >= 0, "epoch",
-            "UTC is defined from 1960 on (ERFA eraTaiutc)");
+    if (eraTaiutc(t.jd1, t.jd2, &u.jd1, &u.jd2) < 0)
+      require(false, "epoch", "UTC is defined from 1960 on (ERFA eraTaiutc)");
     return u;
   }
   const Epoch s = *this + offset_from_tai(scale);
