@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "malloc_counter.hpp"
@@ -81,18 +82,22 @@ NonlinearL1Problem di_problem(int N) {
   return p;
 }
 
-// A model that fails on one interval (or beyond a control magnitude), to test statuses.
+// A model that fails on one interval (or beyond a control magnitude), to test statuses; with
+// `throws` it fails by throwing instead of returning false.
 class FailingModel final : public DiscreteModel {
  public:
-  FailingModel(int fail_at, double u_limit) : fail_at_(fail_at), u_limit_(u_limit) {
+  FailingModel(int fail_at, double u_limit, bool throws = false)
+      : fail_at_(fail_at), u_limit_(u_limit), throws_(throws) {
     double_integrator(1.0, A_, B_);
   }
   int state_dim() const override { return 6; }
   int control_dim() const override { return 3; }
   bool step(int k, const double* x, const double* u, double* xn, double* A, double* B) const override {
-    if (k == fail_at_) return false;
     Eigen::Map<const VectorXd> uv(u, 3);
-    if (uv.cwiseAbs().maxCoeff() > u_limit_) return false;
+    if (k == fail_at_ || uv.cwiseAbs().maxCoeff() > u_limit_) {
+      if (throws_) throw std::runtime_error("FailingModel: step refused");
+      return false;
+    }
     // products in place: the solver's no-allocation guard (core/no_malloc.hpp) covers model steps
     Eigen::Map<VectorXd> xv(xn, 6);
     xv.noalias() = A_ * Eigen::Map<const VectorXd>(x, 6);
@@ -105,6 +110,7 @@ class FailingModel final : public DiscreteModel {
  private:
   int fail_at_;
   double u_limit_;
+  bool throws_;
   MatrixXd A_, B_;
 };
 
@@ -225,6 +231,41 @@ TEST(IlqrAdmm, PropagationFailureNamesTheInterval) {
   EXPECT_EQ(solver.result().info.failed_interval, 7);
   EXPECT_NE(std::string(status_message(IlqrAdmmStatus::propagation_failed)).find("failed_interval"),
             std::string::npos);
+}
+
+TEST(IlqrAdmm, SolveIsNoexceptAndAThrowingModelIsAFailedStep) {
+  static_assert(noexcept(std::declval<IlqrAdmmSolver&>().solve()), "IlqrAdmmSolver::solve() is noexcept");
+  // Each failure mode of FailingModel, by `return false` and by throwing: the same status, interval,
+  // iteration counts and iterates (exact equality: the exception takes the same branch).
+  struct Case {
+    int fail_at;
+    double u_limit;
+    int N;
+    IlqrAdmmStatus expected;  // as the tests above establish for the returning model
+  };
+  const Case cases[] = {{7, 1e9, 20, IlqrAdmmStatus::propagation_failed},  // initial rollout
+                        {-1, 1e-300, 10, IlqrAdmmStatus::ilqr_failed},     // every trial step
+                        {-1, 0.05, 20, IlqrAdmmStatus::unsolved}};         // line search (any status)
+  for (const Case& c : cases) {
+    IlqrAdmmSettings set;
+    set.max_iter = 30;
+    set.reg_max = 1e2;
+    const FailingModel returning(c.fail_at, c.u_limit, false), throwing(c.fail_at, c.u_limit, true);
+    IlqrAdmmSolver a(returning, di_problem(c.N), set), b(throwing, di_problem(c.N), set);
+    a.set_initial_controls(MatrixXd::Zero(3, c.N));
+    b.set_initial_controls(MatrixXd::Zero(3, c.N));
+    const IlqrAdmmResult& ra = a.solve();
+    const IlqrAdmmResult& rb = b.solve();
+    if (c.expected != IlqrAdmmStatus::unsolved) EXPECT_EQ(rb.info.status, c.expected);
+    EXPECT_EQ(rb.info.status, ra.info.status) << "fail_at " << c.fail_at;
+    EXPECT_EQ(rb.info.failed_interval, ra.info.failed_interval);
+    EXPECT_EQ(rb.info.iterations, ra.info.iterations);
+    EXPECT_EQ(rb.info.ilqr_iterations, ra.info.ilqr_iterations);
+    EXPECT_EQ(rb.U, ra.U);
+    EXPECT_EQ(rb.Y, ra.Y);
+    MatrixXd Xa(6, c.N + 1), Xb(6, c.N + 1);
+    EXPECT_EQ(b.rollout(rb.U, Xb), a.rollout(ra.U, Xa));  // public rollout: a throw is the failing interval
+  }
 }
 
 TEST(IlqrAdmm, LineSearchBacktracksWhenTheFullStepFails) {

@@ -1,30 +1,25 @@
 // OD solvers: the paper's six-point Newton-Raphson, batch least squares, LM, root search, statuses,
 // the OD Jacobian against finite differences, and no heap allocation inside solve().
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <new>
+#include <random>
+#include <stdexcept>
+#include <type_traits>
+#include <utility>
 
+#include "../../cpp/src/od/detail/householder_qr.hpp"  // private to the od room: tested here
+#include "malloc_counter.hpp"
 #include "od_test_support.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/od/solver.hpp"
 #include "testing.hpp"
 
-// Global allocation counter (counts every operator new in this binary). Not malloc_counter.hpp yet:
-// counting malloc too finds 15 / 15 / 42 mallocs per solve() (newton / gauss_newton / LM) in
-// OdSolver::factor() (Eigen's blocked HouseholderQR::computeInPlace allocates its block temporary);
-// the solver fix is outside issue 12's code-motion parcels (measured 2026-12-02, branch dedupe).
-static std::atomic<long> g_allocs{0};
-// AddressSanitizer owns operator new/malloc (mixing ours with its shared-library callers breaks), so
-// the counters are compiled out there; the release build (make test) proves zero allocations.
-#if !defined(__SANITIZE_ADDRESS__)
-void* operator new(std::size_t n) {
-  ++g_allocs;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-#endif
+// No heap in solve(), proved twice, as for the other solvers: malloc_counter.hpp counts every malloc
+// of this binary (operator new, Eigen's aligned allocations, CVODES) in the release build (make
+// test), and SATGNC_NO_MALLOC_SCOPE inside OdSolver::solve() forbids Eigen allocation in guarded
+// builds (make sanitize: Debug, satgnc_core_guarded), which SolveRunsInsideTheNoMallocGuard checks
+// from inside the propagator. Before the in-place QR (od/detail/householder_qr.hpp) the six-point
+// problem made 15 / 15 / 42 mallocs per solve (newton / gauss_newton / LM) in Eigen's blocked
+// HouseholderQR of the 6 x 7 [J | r].
 
 using namespace satgnc;
 using namespace satgnc::od;
@@ -272,11 +267,98 @@ TEST(OdSolver, SolveDoesNotAllocate) {
     Vec6 guess = paper_truth();
     guess(0) += 10.0;
     solver.solve(guess);  // warm-up
-    const long before = g_allocs.load();
+    g_mallocs = 0;
+    g_count = true;
     const OdResult& r = solver.solve(guess);
-    EXPECT_EQ(g_allocs.load() - before, 0) << "method " << static_cast<int>(method);
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "method " << static_cast<int>(method);
     EXPECT_EQ(r.status, OdStatus::converged);
   }
+}
+
+namespace {
+// Wraps the RK4 propagator: records whether Eigen may allocate while solve() calls it, or throws.
+class SpyPropagator final : public StmPropagator {
+ public:
+  explicit SpyPropagator(bool throws) : throws_(throws) {}
+  bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) override {
+    ++calls;
+    if (!core::malloc_allowed()) ++calls_guarded;
+    if (throws_) throw std::runtime_error("spy propagator failure");
+    return inner_.propagate(x0, times, n, states, stms);
+  }
+  int calls = 0;
+  int calls_guarded = 0;
+
+ private:
+  bool throws_;
+  Rk4StmPropagator inner_{kMu, 1.0};
+};
+}  // namespace
+
+TEST(OdSolver, SolveRunsInsideTheNoMallocGuard) {
+  // Every propagation inside solve() runs with Eigen's malloc switch off in guarded builds
+  // (kNoMallocGuard: satgnc_core_guarded, make sanitize), and on in the others (the release library
+  // compiles the guard out). Exact counts, no tolerance.
+  for (auto method : {OdMethod::newton, OdMethod::gauss_newton, OdMethod::levenberg_marquardt}) {
+    OdSettings s;
+    s.method = method;
+    auto spy = std::make_shared<SpyPropagator>(false);
+    auto solver = OdSolver::from_conditions({paper_station()}, doppler_conditions(), spy, s);
+    Vec6 guess = paper_truth();
+    guess(0) += 10.0;
+    const OdResult& r = solver.solve(guess);
+    EXPECT_EQ(r.status, OdStatus::converged) << "method " << static_cast<int>(method);
+    EXPECT_EQ(spy->calls, r.evaluations);
+    EXPECT_EQ(spy->calls_guarded, core::kNoMallocGuard ? spy->calls : 0);
+    EXPECT_TRUE(core::malloc_allowed());  // the scope ended with solve()
+  }
+}
+
+TEST(OdSolver, SolveIsNoexceptAndAThrowingPropagatorIsAStatus) {
+  static_assert(noexcept(std::declval<OdSolver&>().solve()), "OdSolver::solve() is noexcept");
+  static_assert(noexcept(std::declval<OdSolver&>().solve(std::declval<const Vec6&>())),
+                "OdSolver::solve(x0) is noexcept");
+  for (auto method : {OdMethod::newton, OdMethod::gauss_newton, OdMethod::levenberg_marquardt}) {
+    OdSettings s;
+    s.method = method;
+    auto spy = std::make_shared<SpyPropagator>(true);
+    auto solver = OdSolver::from_conditions({paper_station()}, doppler_conditions(), spy, s);
+    const OdResult& r = solver.solve(paper_truth());
+    EXPECT_EQ(r.status, OdStatus::propagation_failed) << "method " << static_cast<int>(method);
+    EXPECT_EQ(r.info.status, OdStatus::propagation_failed);
+    EXPECT_EQ(r.iterations, 0);
+    EXPECT_EQ(spy->calls, 1);  // the guess's evaluation failed: nothing else was tried
+    EXPECT_TRUE(std::isinf(r.cost));
+  }
+}
+
+TEST(OdQr, BitIdenticalToEigenHouseholderQrWithoutAllocation) {
+  // The solver's in-place QR (od/detail/householder_qr.hpp) against Eigen's HouseholderQR::compute,
+  // which OdSolver used before: every entry of the factor and every coefficient equal (==, no
+  // tolerance: the OD results stay bit-identical), for every shape the solver meets (rows >= 6,
+  // 6 or 7 columns) and the wide ones below it, with no malloc after resize (malloc_counter.hpp).
+  std::mt19937 gen(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  int compared = 0;
+  for (int cols : {6, 7})
+    for (int rows = 1; rows <= 40; ++rows) {
+      Eigen::MatrixXd a(rows, cols);
+      for (Eigen::Index i = 0; i < a.size(); ++i)  // column scales 1e-3 .. 1e3, as in [J | r]
+        a.data()[i] = normal(gen) * std::pow(10.0, static_cast<double>(i / rows % 7) - 3.0);
+      const Eigen::HouseholderQR<Eigen::MatrixXd> ref(a);
+      od::detail::HouseholderQrWorkspace w;
+      w.resize(rows, cols);
+      g_mallocs = 0;
+      g_count = true;
+      od::detail::householder_qr_inplace(a, w);
+      g_count = false;
+      EXPECT_EQ(g_mallocs.load(), 0) << rows << " x " << cols;
+      EXPECT_TRUE((a.array() == ref.matrixQR().array()).all()) << rows << " x " << cols;
+      EXPECT_TRUE((w.tau.array() == ref.hCoeffs().array()).all()) << rows << " x " << cols;
+      ++compared;
+    }
+  EXPECT_EQ(compared, 80);
 }
 
 TEST(OdSolver, KeplerAndCvodesPropagatorsAgreeWithRk4) {
@@ -418,9 +500,11 @@ TEST(OdSolver, LineSearchAndGeodesicPathsDoNotAllocate) {
     s.method = method;
     auto solver = OdSolver::from_measurements(st, m, prop(), s);
     solver.solve(guess);  // warm-up
-    const long before = g_allocs.load();
+    g_mallocs = 0;
+    g_count = true;
     const OdResult& r = solver.solve(guess);
-    EXPECT_EQ(g_allocs.load() - before, 0) << "method " << static_cast<int>(method);
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "method " << static_cast<int>(method);
     EXPECT_EQ(r.status, OdStatus::converged);
     EXPECT_GT(r.evaluations, r.iterations + 1);  // trials beyond the accepted steps happened
   }
@@ -450,9 +534,11 @@ TEST(OdSolver, ValleyCorrectorPathDoesNotAllocateAndFinishesTheOneStationPass) {
     ASSERT_EQ(solver.evaluate(paper_truth(), r, nullptr), OdStatus::converged);
     const double cost_truth = 0.5 * r.cwiseQuotient(solver.row_sigmas()).squaredNorm();
     solver.solve(paper_truth());  // warm-up
-    const long before = g_allocs.load();
+    g_mallocs = 0;
+    g_count = true;
     const OdResult& res = solver.solve(paper_truth());
-    EXPECT_EQ(g_allocs.load() - before, 0) << "method " << static_cast<int>(method);
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0) << "method " << static_cast<int>(method);
     EXPECT_EQ(res.status, OdStatus::converged) << "method " << static_cast<int>(method);
     EXPECT_LE(res.cost, cost_truth);
     const int evals = res.evaluations;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "detail/cholesky.hpp"
+#include "detail/model_step.hpp"
 #include "detail/quadratic.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
@@ -362,7 +363,8 @@ void IlqrAdmmSolver::set_stage_bounds(const Eigen::Ref<const MatrixXd>& lo,
 int IlqrAdmmSolver::rollout(const Eigen::Ref<const MatrixXd>& U, Eigen::Ref<MatrixXd> Xout) const {
   Xout.col(0) = prob_.x0;
   for (int k = 0; k < N_; ++k) {
-    if (!model_.step(k, Xout.col(k).data(), U.col(k).data(), Xout.col(k + 1).data(), nullptr, nullptr))
+    if (!detail::model_step(model_, k, Xout.col(k).data(), U.col(k).data(), Xout.col(k + 1).data(), nullptr,
+                            nullptr))
       return k;
   }
   return -1;
@@ -401,8 +403,8 @@ double IlqrAdmmSolver::subproblem_cost(const MatrixXd& X, const MatrixXd& U) con
 bool IlqrAdmmSolver::linearize() {
   if (jac_valid_) return true;
   for (int k = 0; k < N_; ++k) {
-    if (!model_.step(k, res_.X.col(k).data(), res_.U.col(k).data(), Xtmp_.col(k + 1).data(), A_[k].data(),
-                     B_[k].data()))
+    if (!detail::model_step(model_, k, res_.X.col(k).data(), res_.U.col(k).data(), Xtmp_.col(k + 1).data(),
+                            A_[k].data(), B_[k].data()))
       return false;
   }
   jac_valid_ = true;
@@ -489,8 +491,8 @@ bool IlqrAdmmSolver::forward_pass(double dv1, double dv2, double& J) {
       dx_ = Xn_.col(k) - res_.X.col(k);
       Un_.col(k) = res_.U.col(k) + a * d_.col(k);
       Un_.col(k).noalias() += K_[k] * dx_;
-      ok = model_.step(k, Xn_.col(k).data(), Un_.col(k).data(), Xn_.col(k + 1).data(),
-                       with_jac ? A_[k].data() : nullptr, with_jac ? B_[k].data() : nullptr);
+      ok = detail::model_step(model_, k, Xn_.col(k).data(), Un_.col(k).data(), Xn_.col(k + 1).data(),
+                              with_jac ? A_[k].data() : nullptr, with_jac ? B_[k].data() : nullptr);
     }
     if (!ok) continue;
     const double Jn = subproblem_cost(Xn_, Un_);
@@ -565,7 +567,7 @@ void IlqrAdmmSolver::prox(const MatrixXd& V, MatrixXd& Yout) const {
     }
 }
 
-const IlqrAdmmResult& IlqrAdmmSolver::solve() {
+const IlqrAdmmResult& IlqrAdmmSolver::solve() noexcept {
   SATGNC_NO_MALLOC_SCOPE;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();

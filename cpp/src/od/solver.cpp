@@ -7,7 +7,9 @@
 #include <map>
 #include <random>
 
+#include "detail/od_workspace.hpp"
 #include "detail/root.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::od {
@@ -132,6 +134,11 @@ OdSolver OdSolver::from_conditions(std::vector<Station> stations, const std::vec
   return s;
 }
 
+OdSolver::OdSolver() : ws_(std::make_unique<detail::OdWorkspace>()) {}
+OdSolver::~OdSolver() = default;
+OdSolver::OdSolver(OdSolver&&) noexcept = default;
+OdSolver& OdSolver::operator=(OdSolver&&) noexcept = default;
+
 void OdSolver::setup(std::vector<Station> stations, std::vector<Row> rows, std::vector<double> row_times,
                      Eigen::VectorXd sigma, std::shared_ptr<StmPropagator> propagator,
                      const OdSettings& settings) {
@@ -150,25 +157,7 @@ void OdSolver::setup(std::vector<Station> stations, std::vector<Row> rows, std::
   rows_ = std::move(rows);
   const Eigen::Index m = static_cast<Eigen::Index>(rows_.size());
   const Eigen::Index h = max_iter_cap_ + 1;
-  states_.assign(times_.size(), Vec6::Zero());
-  stms_.assign(times_.size(), Mat6::Identity());
-  r_.setZero(m);
-  rn_.setZero(m);
-  rr_.setZero(m);
-  rrr_.setZero(m);
-  jn_.setZero(m, 6);
-  rn0_.setZero(m);
-  gw_.setZero(m);
-  jn0_.setZero(m, 6);
-  aug_.setZero(m, 7);
-  qr_ = Eigen::HouseholderQR<Eigen::MatrixXd>(m, 7);
-  rs_.setZero(m);
-  rns_.setZero(m);
-  rrs_.setZero(m);
-  rrrs_.setZero(m);
-  jns_.setZero(m, 6);
-  augc_.setZero(m, 6);
-  qrc_ = Eigen::HouseholderQR<Eigen::MatrixXd>(m, 6);
+  ws_->resize(m, times_.size());
   res_.residuals.setZero(m);
   res_.normalized.setZero(m);
   res_.range_residuals.setZero(m);
@@ -197,19 +186,29 @@ bool OdSolver::physical(const Vec6& x) const {
   return 0.5 * x.tail<3>().squaredNorm() - settings_.mu / r < 0.0;
 }
 
+// The one call into user code inside solve(): an exception thrown by a propagator is a failed
+// propagation (status propagation_failed), so that solve() is noexcept.
+bool OdSolver::propagate_noexcept(const Vec6& x0) noexcept {
+  try {
+    return prop_->propagate(x0, times_.data(), static_cast<int>(times_.size()), ws_->states_.data(),
+                            ws_->stms_.data());
+  } catch (...) {
+    return false;
+  }
+}
+
 OdStatus OdSolver::eval_at(const Vec6& x0, bool with_jac) {
   ++res_.evaluations;
   if (!physical(x0)) return OdStatus::diverged;
   const int nt = static_cast<int>(times_.size());
-  if (!prop_->propagate(x0, times_.data(), nt, states_.data(), stms_.data()))
-    return OdStatus::propagation_failed;
+  if (!propagate_noexcept(x0)) return OdStatus::propagation_failed;
   for (int i = 0; i < nt; ++i)
-    if (!physical(states_[static_cast<std::size_t>(i)])) return OdStatus::diverged;
+    if (!physical(ws_->states_[static_cast<std::size_t>(i)])) return OdStatus::diverged;
   Row6 g;
   for (std::size_t k = 0; k < rows_.size(); ++k) {
     const Row& row = rows_[k];
     const Eigen::Index ki = static_cast<Eigen::Index>(k);
-    const Vec6& x = states_[static_cast<std::size_t>(row.time_index)];
+    const Vec6& x = ws_->states_[static_cast<std::size_t>(row.time_index)];
     const Vec6 R = stations_[static_cast<std::size_t>(row.station)].state(
         times_[static_cast<std::size_t>(row.time_index)]);
     const Vec3 d = x.head<3>() - R.head<3>();
@@ -217,46 +216,46 @@ OdStatus OdSolver::eval_at(const Vec6& x0, bool with_jac) {
     const double rho = d.norm();
     if (!(rho >= settings_.min_range)) return OdStatus::degenerate_geometry;
     const double rhodot = d.dot(dv) / rho;
-    rr_(ki) = std::isnan(row.range) ? kNaN : rho - row.range;
-    rrr_(ki) = std::isnan(row.range_rate) ? kNaN : rhodot - row.range_rate;
+    ws_->rr_(ki) = std::isnan(row.range) ? kNaN : rho - row.range;
+    ws_->rrr_(ki) = std::isnan(row.range_rate) ? kNaN : rhodot - row.range_rate;
     switch (row.kind) {
       case RowKind::obs_range:
-        r_(ki) = rho - row.range;
+        ws_->r_(ki) = rho - row.range;
         g.head<3>() = d.transpose() / rho;
         g.tail<3>().setZero();
         break;
       case RowKind::obs_range_rate:
-        r_(ki) = rhodot - row.range_rate;
+        ws_->r_(ki) = rhodot - row.range_rate;
         g.head<3>() = (dv - rhodot * d / rho).transpose() / rho;
         g.tail<3>() = d.transpose() / rho;
         break;
       case RowKind::cond_range:
-        r_(ki) = d.squaredNorm() - row.range * row.range;
+        ws_->r_(ki) = d.squaredNorm() - row.range * row.range;
         g.head<3>() = 2.0 * d.transpose();
         g.tail<3>().setZero();
         break;
       case RowKind::cond_doppler:
-        r_(ki) = d.dot(dv) - row.range * row.range_rate;
+        ws_->r_(ki) = d.dot(dv) - row.range * row.range_rate;
         g.head<3>() = dv.transpose();
         g.tail<3>() = d.transpose();
         break;
     }
-    rn_(ki) = r_(ki) / sigma_(ki);
-    if (with_jac) jn_.row(ki).noalias() = (g * stms_[static_cast<std::size_t>(row.time_index)]) / sigma_(ki);
+    ws_->rn_(ki) = ws_->r_(ki) / sigma_(ki);
+    if (with_jac)
+      ws_->jn_.row(ki).noalias() = (g * ws_->stms_[static_cast<std::size_t>(row.time_index)]) / sigma_(ki);
   }
-  if (!rn_.allFinite()) return OdStatus::diverged;
+  if (!ws_->rn_.allFinite()) return OdStatus::diverged;
   return OdStatus::converged;
 }
 
 void OdSolver::factor() {
-  aug_.leftCols<6>() = jn_;
-  aug_.col(6) = rn_;
-  qr_.compute(aug_);
-  const auto& qr = qr_.matrixQR();
-  R_ = qr.topLeftCorner<6, 6>().triangularView<Eigen::Upper>();
-  c_ = qr.block<6, 1>(0, 6);
-  svd_.compute(R_, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Vec6 s = svd_.singularValues();
+  ws_->aug_.leftCols<6>() = ws_->jn_;
+  ws_->aug_.col(6) = ws_->rn_;
+  detail::householder_qr_inplace(ws_->aug_, ws_->qr_);
+  ws_->R_ = ws_->aug_.topLeftCorner<6, 6>().triangularView<Eigen::Upper>();
+  ws_->c_ = ws_->aug_.block<6, 1>(0, 6);
+  ws_->svd_.compute(ws_->R_, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Vec6 s = ws_->svd_.singularValues();
   res_.singular_values = s;
   int rank = 0;
   for (int i = 0; i < 6; ++i)
@@ -267,15 +266,15 @@ void OdSolver::factor() {
 
 void OdSolver::record(int k, double lambda) {
   res_.history_x0.row(k) = res_.x0.transpose();
-  res_.history_residuals.row(k) = r_.transpose();
-  res_.history_range_residuals.row(k) = rr_.transpose();
-  res_.history_range_rate_residuals.row(k) = rrr_.transpose();
-  res_.history_cost(k) = 0.5 * rn_.squaredNorm();
+  res_.history_residuals.row(k) = ws_->r_.transpose();
+  res_.history_range_residuals.row(k) = ws_->rr_.transpose();
+  res_.history_range_rate_residuals.row(k) = ws_->rrr_.transpose();
+  res_.history_cost(k) = 0.5 * ws_->rn_.squaredNorm();
   res_.history_lambda(k) = lambda;
 }
 
 bool OdSolver::small_step(const Vec6& dx, const Vec6& x) const {
-  if ((R_.triangularView<Eigen::Upper>() * dx).norm() <= settings_.step_sigma_tol) return true;
+  if ((ws_->R_.triangularView<Eigen::Upper>() * dx).norm() <= settings_.step_sigma_tol) return true;
   for (int i = 0; i < 6; ++i)
     if (std::abs(dx(i)) > settings_.step_tol * (1.0 + std::abs(x(i)))) return false;
   return true;
@@ -287,10 +286,10 @@ bool OdSolver::small_step(const Vec6& dx, const Vec6& x) const {
 // rank 6 to say converged; with rank < 6 the test still stops the iteration (the caller reports
 // singular).
 bool OdSolver::converged_here(const Vec6& x) const {
-  const Vec6 w = svd_.matrixU().transpose() * c_;
+  const Vec6 w = ws_->svd_.matrixU().transpose() * ws_->c_;
   const double g = w.head(res_.rank).norm();
   if (g <= settings_.step_sigma_tol) return true;
-  if (0.5 * g * g <= settings_.cost_tol * 0.5 * rn_.squaredNorm()) return true;
+  if (0.5 * g * g <= settings_.cost_tol * 0.5 * ws_->rn_.squaredNorm()) return true;
   const Vec6 dx = gn_step();
   for (int i = 0; i < 6; ++i)
     if (std::abs(dx(i)) > settings_.step_tol * (1.0 + std::abs(x(i)))) return false;
@@ -299,32 +298,33 @@ bool OdSolver::converged_here(const Vec6& x) const {
 
 // -R^+ b by the SVD of R truncated at the numerical rank; gn_step() = -R^+ c.
 Vec6 OdSolver::solve_r(const Vec6& b) const {
-  Vec6 w = svd_.matrixU().transpose() * b;
+  Vec6 w = ws_->svd_.matrixU().transpose() * b;
   for (int i = 0; i < 6; ++i) w(i) = i < res_.rank ? w(i) / res_.singular_values(i) : 0.0;
-  return -(svd_.matrixV() * w);
+  return -(ws_->svd_.matrixV() * w);
 }
 
-Vec6 OdSolver::gn_step() const { return solve_r(c_); }
+Vec6 OdSolver::gn_step() const { return solve_r(ws_->c_); }
 
 // Geodesic acceleration (Transtrum & Sethna 2012): the second directional derivative of the
 // normalized residuals along v by a finite difference of step kGeoStep, r_vv ~ (2/h)((r(x+hv) -
 // r(x))/h - J v), projected by the Householder reflectors of the current factorization: returns
-// Q1^T r_vv (6), or false when x + h v cannot be evaluated. Needs rn0_/jn0_ at x; clobbers the buffers.
+// Q1^T r_vv (6), or false when x + h v cannot be evaluated. Needs ws_->rn0_/ws_->jn0_ at x; clobbers the
+// buffers.
 bool OdSolver::second_derivative(const Vec6& x, const Vec6& v, Vec6& qt_rvv) {
   if (eval_at(x + kGeoStep * v, false) != OdStatus::converged) return false;
-  gw_.noalias() = jn0_ * v;
-  gw_ = (2.0 / kGeoStep) * ((rn_ - rn0_) / kGeoStep - gw_);
-  if (!gw_.allFinite()) return false;
-  const Eigen::Index m = gw_.size();
-  const auto& qr = qr_.matrixQR();
+  ws_->gw_.noalias() = ws_->jn0_ * v;
+  ws_->gw_ = (2.0 / kGeoStep) * ((ws_->rn_ - ws_->rn0_) / kGeoStep - ws_->gw_);
+  if (!ws_->gw_.allFinite()) return false;
+  const Eigen::Index m = ws_->gw_.size();
+  const Eigen::MatrixXd& qr = ws_->aug_;  // factor()'s QR in place
   for (Eigen::Index j = 0; j < 6; ++j) {  // Q^T y = H_5 ... H_0 y, H_j = I - tau v v^T, v = [1; essential]
     const Eigen::Index n = m - j - 1;
-    double sdot = gw_(j) + (n > 0 ? qr.col(j).tail(n).dot(gw_.tail(n)) : 0.0);
-    sdot *= qr_.hCoeffs()(j);
-    gw_(j) -= sdot;
-    if (n > 0) gw_.tail(n) -= sdot * qr.col(j).tail(n);
+    double sdot = ws_->gw_(j) + (n > 0 ? qr.col(j).tail(n).dot(ws_->gw_.tail(n)) : 0.0);
+    sdot *= ws_->qr_.tau(j);
+    ws_->gw_(j) -= sdot;
+    if (n > 0) ws_->gw_.tail(n) -= sdot * qr.col(j).tail(n);
   }
-  qt_rvv = gw_.head<6>();
+  qt_rvv = ws_->gw_.head<6>();
   return true;
 }
 
@@ -333,16 +333,16 @@ void OdSolver::finish(const Vec6& x, bool buffers_valid) {
   // x was evaluated successfully before (it is an accepted iterate), so this cannot fail.
   if (!buffers_valid && eval_at(x, true) != OdStatus::converged) return;
   factor();
-  res_.residuals = r_;
-  res_.normalized = rn_;
-  res_.range_residuals = rr_;
-  res_.range_rate_residuals = rrr_;
-  res_.cost = 0.5 * rn_.squaredNorm();
-  res_.max_abs_normalized = rn_.cwiseAbs().maxCoeff();
-  res_.fits = std::sqrt(rn_.squaredNorm() / static_cast<double>(rn_.size())) <= settings_.fit_sigma;
+  res_.residuals = ws_->r_;
+  res_.normalized = ws_->rn_;
+  res_.range_residuals = ws_->rr_;
+  res_.range_rate_residuals = ws_->rrr_;
+  res_.cost = 0.5 * ws_->rn_.squaredNorm();
+  res_.max_abs_normalized = ws_->rn_.cwiseAbs().maxCoeff();
+  res_.fits = std::sqrt(ws_->rn_.squaredNorm() / static_cast<double>(ws_->rn_.size())) <= settings_.fit_sigma;
   const Vec6 s = res_.singular_values;
   if (res_.rank == 6) {
-    const Mat6& V = svd_.matrixV();
+    const Mat6& V = ws_->svd_.matrixV();
     res_.covariance.noalias() = V * s.cwiseInverse().cwiseAbs2().asDiagonal() * V.transpose();
     const Vec6 sd = res_.covariance.diagonal().cwiseSqrt();
     res_.correlation = res_.covariance.cwiseQuotient(sd * sd.transpose());
@@ -358,10 +358,10 @@ void OdSolver::finish(const Vec6& x, bool buffers_valid) {
 
 void OdSolver::set_initial_guess(const Vec6& x0_guess) noexcept { guess_ = x0_guess; }
 
-const OdResult& OdSolver::solve() {
-  // No SATGNC_NO_MALLOC_SCOPE yet: the guarded Debug build shows that factor() allocates today (the
-  // blocked HouseholderQR of the 6 x 7 [J | r] allocates its T factor), which the operator-new
-  // counter of test_od_solver does not see (Eigen allocates with malloc).
+const OdResult& OdSolver::solve() noexcept {
+  // Allocation-free after setup: every buffer is sized in setup() and the QRs run in place
+  // (detail/householder_qr.hpp). The guard covers the propagator too (StmPropagator's contract).
+  SATGNC_NO_MALLOC_SCOPE;
   const auto t_start = std::chrono::steady_clock::now();
   solve_iterate(guess_);
   // core::InfoBase mirrors of the result (read-only diagnostics, no effect on the iterates)
@@ -400,14 +400,14 @@ void OdSolver::solve_iterate(const Vec6& guess) {
   if (st != OdStatus::converged) {
     // Not even the guess has residuals: report that, with an infinite cost (never 0).
     res_.status = st;
-    r_.setConstant(kNaN);
-    rn_.setConstant(kNaN);
-    rr_.setConstant(kNaN);
-    rrr_.setConstant(kNaN);
-    res_.residuals = r_;
-    res_.normalized = rn_;
-    res_.range_residuals = rr_;
-    res_.range_rate_residuals = rrr_;
+    ws_->r_.setConstant(kNaN);
+    ws_->rn_.setConstant(kNaN);
+    ws_->rr_.setConstant(kNaN);
+    ws_->rrr_.setConstant(kNaN);
+    res_.residuals = ws_->r_;
+    res_.normalized = ws_->rn_;
+    res_.range_residuals = ws_->rr_;
+    res_.range_rate_residuals = ws_->rrr_;
     res_.history_x0.row(0) = guess.transpose();
     res_.history_cost(0) = kInf;
     res_.history_lambda(0) = 0.0;
@@ -415,7 +415,7 @@ void OdSolver::solve_iterate(const Vec6& guess) {
   }
   record(0, 0.0);
   Vec6 x = guess;
-  bool buffers_valid = true;  // r_/jn_ belong to x
+  bool buffers_valid = true;  // ws_->r_/ws_->jn_ belong to x
   switch (settings_.method) {
     case OdMethod::newton:
       buffers_valid = solve_newton(x);
@@ -433,7 +433,7 @@ void OdSolver::solve_iterate(const Vec6& guess) {
 // -argmin |R d + b|^2 + lambda |D d|^2 by a fixed-size QR of [R b; sqrt(lambda) D 0].
 Vec6 OdSolver::damped_solve(const Vec6& b, double lambda, const Vec6& diag) const {
   Eigen::Matrix<double, 12, 7> A = Eigen::Matrix<double, 12, 7>::Zero();
-  A.topLeftCorner<6, 6>() = R_;
+  A.topLeftCorner<6, 6>() = ws_->R_;
   A.block<6, 1>(0, 6) = b;
   A.bottomLeftCorner<6, 6>() = (std::sqrt(lambda) * diag).asDiagonal();
   const Eigen::HouseholderQR<Eigen::Matrix<double, 12, 7>> q(A);
@@ -443,19 +443,19 @@ Vec6 OdSolver::damped_solve(const Vec6& b, double lambda, const Vec6& diag) cons
 }
 
 void OdSolver::save_buffers() {
-  rs_ = r_;
-  rns_ = rn_;
-  rrs_ = rr_;
-  rrrs_ = rrr_;
-  jns_ = jn_;
+  ws_->rs_ = ws_->r_;
+  ws_->rns_ = ws_->rn_;
+  ws_->rrs_ = ws_->rr_;
+  ws_->rrrs_ = ws_->rrr_;
+  ws_->jns_ = ws_->jn_;
 }
 
 void OdSolver::restore_buffers() {
-  r_ = rs_;
-  rn_ = rns_;
-  rr_ = rrs_;
-  rrr_ = rrrs_;
-  jn_ = jns_;
+  ws_->r_ = ws_->rs_;
+  ws_->rn_ = ws_->rns_;
+  ws_->rr_ = ws_->rrs_;
+  ws_->rrr_ = ws_->rrrs_;
+  ws_->jn_ = ws_->jns_;
 }
 
 // Predictor-corrector for curved valleys: from the trial point xt (buffers current, cost ct), up to
@@ -475,19 +475,19 @@ void OdSolver::valley_correct(Vec6& xt, double& ct, const Vec6& dir, const Vec6&
   const Mat6 H = Mat6::Identity() - (2.0 / w.squaredNorm()) * (w * w.transpose());
   const Eigen::Matrix<double, 6, 5> P = diag.cwiseInverse().asDiagonal() * H.rightCols<5>();
   for (int j = 0; j < settings_.valley_corrections; ++j) {
-    augc_.leftCols<5>().noalias() = jn_ * P;
-    augc_.col(5) = rn_;
-    qrc_.compute(augc_);
-    const auto& q = qrc_.matrixQR();
+    ws_->augc_.leftCols<5>().noalias() = ws_->jn_ * P;
+    ws_->augc_.col(5) = ws_->rn_;
+    detail::householder_qr_inplace(ws_->augc_, ws_->qrc_);
+    const Eigen::MatrixXd& q = ws_->augc_;
     const Eigen::Matrix<double, 5, 5> Rc = q.topLeftCorner<5, 5>().triangularView<Eigen::Upper>();
     const Eigen::Matrix<double, 5, 1> cc = q.block<5, 1>(0, 5);
     const Eigen::Matrix<double, 5, 1> y = -Rc.triangularView<Eigen::Upper>().solve(cc);
     if (!y.allFinite()) return;
     const Vec6 xc = xt + P * y;
     save_buffers();
-    if (eval_at(xc, true) == OdStatus::converged && 0.5 * rn_.squaredNorm() < ct) {
+    if (eval_at(xc, true) == OdStatus::converged && 0.5 * ws_->rn_.squaredNorm() < ct) {
       xt = xc;
-      ct = 0.5 * rn_.squaredNorm();
+      ct = 0.5 * ws_->rn_.squaredNorm();
       continue;
     }
     restore_buffers();
@@ -500,18 +500,18 @@ void OdSolver::valley_correct(Vec6& xt, double& ct, const Vec6& dir, const Vec6&
 // linearly (measured: each step 0.95 of the previous one on the Gao-Luo pass, seed 5). The cost
 // along x + t d is fitted by the parabola through cost(x), its slope c^T R d and cost(xt); its
 // minimizer t* (kExtrapMax when the fit is not convex) is tried when t* >= kExtrapMin, corrected
-// to the valley floor, and kept only if lower than xt. Needs R_/c_ of x; buffers end at xt.
+// to the valley floor, and kept only if lower than xt. Needs ws_->R_/ws_->c_ of x; buffers end at xt.
 void OdSolver::extrapolate(const Vec6& x, double cost, Vec6& xt, double& ct, const Vec6& diag) {
   if (!settings_.extrapolate) return;
   const Vec6 d = xt - x;
-  const double slope = c_.dot(R_ * d);
+  const double slope = ws_->c_.dot(ws_->R_ * d);
   if (!(slope < 0.0)) return;
   const double curv = ct - cost - slope;
   const double ts = curv > 0.0 ? std::min(-slope / (2.0 * curv), kExtrapMax) : kExtrapMax;
   if (!(ts >= kExtrapMin)) return;
   Vec6 xe = x + ts * d;
   if (eval_at(xe, true) == OdStatus::converged) {
-    double ce = 0.5 * rn_.squaredNorm();
+    double ce = 0.5 * ws_->rn_.squaredNorm();
     if (ce >= ct) valley_correct(xe, ce, d, diag);
     if (ce < ct) {
       xt = xe;
@@ -523,7 +523,7 @@ void OdSolver::extrapolate(const Vec6& x, double cost, Vec6& xt, double& ct, con
 }
 
 bool OdSolver::residual_small() const {
-  return settings_.residual_tol > 0.0 && rn_.cwiseAbs().maxCoeff() <= settings_.residual_tol;
+  return settings_.residual_tol > 0.0 && ws_->rn_.cwiseAbs().maxCoeff() <= settings_.residual_tol;
 }
 
 // The paper's undamped Newton-Raphson (eqs. 9-18), kept exactly: full steps, converged when the step
@@ -554,7 +554,8 @@ bool OdSolver::solve_newton(Vec6& x) {
       res_.status = OdStatus::singular;
       break;
     }
-    const Vec6 dx = -(svd_.matrixV() * (svd_.matrixU().transpose() * c_).cwiseQuotient(res_.singular_values));
+    const Vec6 dx = -(ws_->svd_.matrixV() *
+                      (ws_->svd_.matrixU().transpose() * ws_->c_).cwiseQuotient(res_.singular_values));
     const Vec6 xt = x + dx;
     const OdStatus st = eval_at(xt, true);
     if (st != OdStatus::converged) {
@@ -605,17 +606,17 @@ bool OdSolver::solve_gauss_newton(Vec6& x) {
       return true;
     }
     const Vec6 v = gn_step();
-    const double cost = 0.5 * rn_.squaredNorm();
-    const double slope = c_.squaredNorm();  // -d cost / dt at t = 0
+    const double cost = 0.5 * ws_->rn_.squaredNorm();
+    const double slope = ws_->c_.squaredNorm();  // -d cost / dt at t = 0
     Vec6 a = Vec6::Zero();
     if (settings_.geodesic) {
-      rn0_ = rn_;
-      jn0_ = jn_;
+      ws_->rn0_ = ws_->rn_;
+      ws_->jn0_ = ws_->jn_;
       Vec6 w;
       if (second_derivative(x, v, w)) a = solve_r(w);
     }
     Vec6 diag;
-    for (int i = 0; i < 6; ++i) diag(i) = R_.col(i).norm();
+    for (int i = 0; i < 6; ++i) diag(i) = ws_->R_.col(i).norm();
     // As in LM: an acceleration as large as the step means the second-order path is not trustworthy.
     if (2.0 * diag.cwiseProduct(a).norm() > kGeoRatio * diag.cwiseProduct(v).norm()) a.setZero();
     double t = 1.0;
@@ -628,7 +629,7 @@ bool OdSolver::solve_gauss_newton(Vec6& x) {
     for (int h = 0; h < kGnPlainTrials; ++h, t *= 0.5) {
       xt = x + t * v + (0.5 * t * t) * a;
       if (eval_at(xt, true) != OdStatus::converged) continue;
-      double ct = 0.5 * rn_.squaredNorm();
+      double ct = 0.5 * ws_->rn_.squaredNorm();
       if (ct <= cost - kGnAccept * (t - 0.5 * t * t) * slope) {
         accepted = true;
         extrapolate(x, cost, xt, ct, diag);
@@ -639,7 +640,7 @@ bool OdSolver::solve_gauss_newton(Vec6& x) {
     for (int h = 0; !accepted && h <= settings_.gn_max_halvings; ++h, t *= 0.5) {
       xt = x + t * v + (0.5 * t * t) * a;
       if (eval_at(xt, true) != OdStatus::converged) continue;
-      double ct = 0.5 * rn_.squaredNorm();
+      double ct = 0.5 * ws_->rn_.squaredNorm();
       const double need = kGnAccept * (t - 0.5 * t * t) * slope;
       if (ct > cost - need) valley_correct(xt, ct, v, diag);
       if (ct <= cost - need) {
@@ -674,21 +675,21 @@ bool OdSolver::solve_lm(Vec6& x) {
       res_.status = OdStatus::converged;
       return true;
     }
-    for (int i = 0; i < 6; ++i) diag(i) = std::max(diag(i), R_.col(i).norm());
-    const double cost = 0.5 * rn_.squaredNorm();
+    for (int i = 0; i < 6; ++i) diag(i) = std::max(diag(i), ws_->R_.col(i).norm());
+    const double cost = 0.5 * ws_->rn_.squaredNorm();
     if (settings_.geodesic) {
-      rn0_ = rn_;
-      jn0_ = jn_;
+      ws_->rn0_ = ws_->rn_;
+      ws_->jn0_ = ws_->jn_;
     }
     bool accepted = false;
     Vec6 dx, xt;
     for (int rej = 0; rej < settings_.lm_max_rejections; ++rej) {
-      dx = damped_solve(c_, lambda, diag);
+      dx = damped_solve(ws_->c_, lambda, diag);
       if (!dx.allFinite() || (lambda == 0.0 && res_.rank < 6)) {
         lambda = std::max(lambda * settings_.lm_increase, kLambdaFloor);
         continue;
       }
-      const double pred = 0.5 * (c_.squaredNorm() - (R_ * dx + c_).squaredNorm());
+      const double pred = 0.5 * (ws_->c_.squaredNorm() - (ws_->R_ * dx + ws_->c_).squaredNorm());
       xt = x + dx;
       Vec6 w;
       if (settings_.geodesic && second_derivative(x, dx, w)) {
@@ -697,7 +698,7 @@ bool OdSolver::solve_lm(Vec6& x) {
           xt += 0.5 * a;
       }
       const OdStatus st = eval_at(xt, true);
-      double actual = st == OdStatus::converged ? cost - 0.5 * rn_.squaredNorm() : -1.0;
+      double actual = st == OdStatus::converged ? cost - 0.5 * ws_->rn_.squaredNorm() : -1.0;
       if (st == OdStatus::converged && actual < pred) {
         // Worse than the model: on a curved valley, pull the trial back to the floor before judging it.
         double ct = cost - actual;
@@ -725,7 +726,7 @@ bool OdSolver::solve_lm(Vec6& x) {
     }
     if (!take_step(accepted, xt, k, lambda, x)) return false;
     // Slow creep along a curved, nearly flat valley: try undamped Newton steps from here.
-    const double new_cost = 0.5 * rn_.squaredNorm();
+    const double new_cost = 0.5 * ws_->rn_.squaredNorm();
     stall = (cost - new_cost < settings_.lm_stall_tol * cost) ? stall + 1 : 0;
     if (stall >= 3) {
       stall = -10;  // do not retry the polish for a while if it fails
@@ -746,7 +747,7 @@ bool OdSolver::polish(Vec6& x) {
   const int max_it = settings_.max_iterations;
   if (settings_.lm_polish_iterations <= 0 || res_.iterations >= max_it) return false;
   const int k_lm = res_.iterations;
-  double best_cost = 0.5 * rn_.squaredNorm();
+  double best_cost = 0.5 * ws_->rn_.squaredNorm();
   int best = k_lm;
   Vec6 xp = x;
   int k = k_lm;
@@ -790,8 +791,8 @@ bool OdSolver::polish(Vec6& x) {
 
 OdStatus OdSolver::evaluate(const Vec6& x0, Eigen::VectorXd& residuals, Eigen::MatrixXd* jac) {
   const OdStatus st = eval_at(x0, jac != nullptr);
-  residuals = r_;
-  if (jac) *jac = sigma_.asDiagonal() * jn_;
+  residuals = ws_->r_;
+  if (jac) *jac = sigma_.asDiagonal() * ws_->jn_;
   return st;
 }
 

@@ -3,11 +3,8 @@
 
 #include <cvodes/cvodes.h>
 #include <cvodes/cvodes_ls.h>
-#include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
-#include <sunnonlinsol/sunnonlinsol_newton.h>
 
 #include <Eigen/LU>
 #include <cmath>
@@ -16,7 +13,6 @@
 #include <string>
 
 #include "detail/cvodes.hpp"
-#include "detail/nvector.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
@@ -30,21 +26,18 @@ constexpr int kAugDim = 42;
   core::require(false, name, rule, hint);
   throw std::logic_error("unreachable");
 }
-
-std::string fmt(double x) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
 }  // namespace
 
 void CvodesSettings::validate() const {
   if (!(std::isfinite(rtol) && rtol > 0.0))
-    invalid("rtol", "must be finite and > 0, got " + fmt(rtol), "1e-10 is a good start for orbits");
-  if (!(rtol < 1.0))  // rtol = 1e300 "succeeded" with a trajectory no tolerance controlled
-    invalid("rtol", "must be < 1 (a relative tolerance of 100 % controls nothing), got " + fmt(rtol),
+    invalid("rtol", "must be finite and > 0, got " + detail::format_g17(rtol),
             "1e-10 is a good start for orbits");
-  if (!(std::isfinite(atol) && atol > 0.0)) invalid("atol", "must be finite and > 0, got " + fmt(atol));
+  if (!(rtol < 1.0))  // rtol = 1e300 "succeeded" with a trajectory no tolerance controlled
+    invalid("rtol",
+            "must be < 1 (a relative tolerance of 100 % controls nothing), got " + detail::format_g17(rtol),
+            "1e-10 is a good start for orbits");
+  if (!(std::isfinite(atol) && atol > 0.0))
+    invalid("atol", "must be finite and > 0, got " + detail::format_g17(atol));
   const size_t na = atol_components.size();
   if (!(na == 0 || na == 6 || (na == 42 && with_stm)))
     invalid("atol_components", "must have 0, 6 or (with_stm) 42 entries, got " + std::to_string(na));
@@ -57,23 +50,19 @@ void CvodesSettings::validate() const {
     invalid("max_order", "must be 0 (default) or 1.." + std::to_string(omax) + " for this method, got " +
                              std::to_string(max_order));
   if (!(std::isfinite(initial_step) && initial_step >= 0.0))
-    invalid("initial_step", "must be finite and >= 0 (0: automatic), got " + fmt(initial_step));
+    invalid("initial_step",
+            "must be finite and >= 0 (0: automatic), got " + detail::format_g17(initial_step));
   if (!(std::isfinite(max_step) && max_step >= 0.0))
-    invalid("max_step", "must be finite and >= 0 (0: unbounded), got " + fmt(max_step));
+    invalid("max_step", "must be finite and >= 0 (0: unbounded), got " + detail::format_g17(max_step));
   if (!(std::isfinite(surface_radius) && surface_radius >= 0.0))
-    invalid("surface_radius", "must be finite and >= 0 km (0: no surface), got " + fmt(surface_radius));
+    invalid("surface_radius",
+            "must be finite and >= 0 km (0: no surface), got " + detail::format_g17(surface_radius));
 }
 
 struct CvodesPropagator::Impl {
   dynamics::ForceModel model;
   CvodesSettings settings;
   int n = kStateDim;
-  SUNContext ctx = nullptr;
-  void* mem = nullptr;
-  N_Vector y = nullptr;
-  N_Vector abstol = nullptr;
-  SUNNonlinearSolver nls = nullptr;
-  SUNLinearSolver ls = nullptr;
   // Block-diagonal Newton matrix M = I - gamma A(x_pred), shared by the state and every STM column.
   Eigen::PartialPivLU<Mat6> lu;
   long lin_setups = 0;
@@ -82,20 +71,9 @@ struct CvodesPropagator::Impl {
   detail::RhsFailure rhs_failure;
   realtype tret_ = 0.0;  // time CVode returned (the root's time on CV_ROOT_RETURN)
   std::string cv_message;
+  detail::CvodesHandles cv;  // the SUNDIALS objects (detail/cvodes.hpp); freed before cv_message
 
   Impl(const dynamics::ForceModel& m, const CvodesSettings& s) : model(m), settings(s) {}
-  ~Impl() {
-    if (mem != nullptr) CVodeFree(&mem);
-    if (nls != nullptr) SUNNonlinSolFree(nls);
-    if (ls != nullptr) SUNLinSolFreeEmpty(ls);
-    if (abstol != nullptr) N_VDestroy(abstol);
-    if (y != nullptr) N_VDestroy(y);
-    if (ctx != nullptr) SUNContext_Free(&ctx);
-  }
-
-  N_Vector new_vector() {
-    return settings.vector == CvodesVector::satgnc ? nvector_new(n, ctx) : N_VNew_Serial(n, ctx);
-  }
 
   void check(int flag, const char* what) { detail::cvodes_check(flag, what, cv_message); }
 
@@ -142,7 +120,7 @@ struct CvodesPropagator::Impl {
     auto* p = static_cast<Impl*>(s->content);
     realtype tcur, gamma;
     N_Vector ypred;
-    if (!detail::cvodes_newton_point(p->mem, tcur, gamma, ypred)) return SUNLS_PACKAGE_FAIL_UNREC;
+    if (!detail::cvodes_newton_point(p->cv.mem, tcur, gamma, ypred)) return SUNLS_PACKAGE_FAIL_UNREC;
     if (p->lin_setups == 0 || tcur != p->lu_t || gamma != p->lu_gamma) {
       const double* yd = N_VGetArrayPointer(ypred);
       const Eigen::Map<const Vec3> r(yd), v(yd + 3);
@@ -172,40 +150,25 @@ struct CvodesPropagator::Impl {
     settings.validate();
     model.validate();
     n = settings.with_stm ? kAugDim : kStateDim;
-    if (SUNContext_Create(nullptr, &ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
-    y = new_vector();
-    if (y == nullptr) throw std::runtime_error("N_Vector allocation failed");
-    double* yd = N_VGetArrayPointer(y);
-    for (int i = 0; i < n; ++i) yd[i] = 0.0;
-    yd[0] = 1.0;
-    mem = CVodeCreate(settings.method == CvodesMethod::adams ? CV_ADAMS : CV_BDF, ctx);
-    if (mem == nullptr) throw std::runtime_error("CVodeCreate failed");
-    check(CVodeSetErrHandlerFn(mem, &detail::cvodes_store_message, &cv_message), "CVodeSetErrHandlerFn");
-    check(CVodeInit(mem, &Impl::rhs, 0.0, y), "CVodeInit");
-    check(CVodeSetUserData(mem, this), "CVodeSetUserData");
-    if (settings.atol_components.empty()) {
-      check(CVodeSStolerances(mem, settings.rtol, settings.atol), "CVodeSStolerances");
-    } else {
-      abstol = new_vector();
-      if (abstol == nullptr) throw std::runtime_error("N_Vector allocation failed");
-      double* ad = N_VGetArrayPointer(abstol);
-      for (int i = 0; i < n; ++i)
-        ad[i] = i < static_cast<int>(settings.atol_components.size()) ? settings.atol_components[i]
-                                                                      : settings.atol;
-      check(CVodeSVtolerances(mem, settings.rtol, abstol), "CVodeSVtolerances");
-    }
-    if (settings.max_order > 0) check(CVodeSetMaxOrd(mem, settings.max_order), "CVodeSetMaxOrd");
-    if (settings.max_step > 0.0) check(CVodeSetMaxStep(mem, settings.max_step), "CVodeSetMaxStep");
     CvodesCorrector c = settings.corrector;
     if (c == CvodesCorrector::automatic) c = CvodesCorrector::newton;  // measured: see docs/propagation.md
-    detail::cvodes_attach_corrector(mem, y, ctx, c != CvodesCorrector::fixed_point, this, &Impl::ls_solve,
-                                    cv_message, nls, ls);
-    if (settings.surface_radius > 0.0) {
-      check(CVodeRootInit(mem, 1, &Impl::surface_root), "CVodeRootInit");
-      int down = -1;  // only entering the body is an impact
-      check(CVodeSetRootDirection(mem, &down), "CVodeSetRootDirection");
-      check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn");
-    }
+    detail::CvodesSetup cs;
+    cs.n = n;
+    cs.adams = settings.method == CvodesMethod::adams;
+    cs.serial_vector = settings.vector != CvodesVector::satgnc;
+    cs.y_first = 1.0;
+    cs.rhs = &Impl::rhs;
+    cs.user_data = this;
+    cs.rtol = settings.rtol;
+    cs.atol = settings.atol;
+    cs.atol_components = &settings.atol_components;  // 6 entries with the STM: the rest get atol
+    cs.max_order = settings.max_order;
+    cs.max_step = settings.max_step;
+    cs.newton = c != CvodesCorrector::fixed_point;
+    cs.ls_solve = &Impl::ls_solve;
+    detail::cvodes_create(cs, cv, cv_message);
+    // only entering the body is an impact
+    if (settings.surface_radius > 0.0) detail::cvodes_root_downward(cv.mem, &Impl::surface_root, cv_message);
   }
 
   // g = |r|^2 - R^2: positive above the surface; CVODES stops where it crosses zero downward.
@@ -220,14 +183,14 @@ struct CvodesPropagator::Impl {
   static PropagationStatus map_flag(int flag) { return detail::cvodes_flag_status(flag); }
 
   void record(Trajectory& out, double t) const {
-    const double* yd = N_VGetArrayPointer(y);
+    const double* yd = N_VGetArrayPointer(cv.y);
     out.times.push_back(t);
     out.states.push_back(Eigen::Map<const Vec6>(yd));
     if (n == kAugDim) out.stms.push_back(Eigen::Map<const Mat6>(yd + 6));
   }
 
   void fill_stats(Trajectory& out) const {
-    detail::cvodes_read_stats(mem, out.stats);
+    detail::cvodes_read_stats(cv.mem, out.stats);
     out.stats.lin_setups = lin_setups;
   }
 
@@ -236,8 +199,8 @@ struct CvodesPropagator::Impl {
     const double R = settings.surface_radius;
     if (R > 0.0 && !(x0.head<3>().norm() > R))
       invalid("x0",
-              "starts at or below the surface: |r0| = " + fmt(x0.head<3>().norm()) +
-                  " km <= surface_radius = " + fmt(R) + " km",
+              "starts at or below the surface: |r0| = " + detail::format_g17(x0.head<3>().norm()) +
+                  " km <= surface_radius = " + detail::format_g17(R) + " km",
               "x0 = [r km, v km/s]; surface_radius = 0 disables the surface");
     out.times.clear();
     out.states.clear();
@@ -252,7 +215,7 @@ struct CvodesPropagator::Impl {
     rhs_failure.failed = false;
     lin_setups = 0;
 
-    double* yd = N_VGetArrayPointer(y);
+    double* yd = N_VGetArrayPointer(cv.y);
     Eigen::Map<Vec6> ystate(yd);
     ystate = x0;
     if (n == kAugDim) Eigen::Map<Mat6>(yd + 6).setIdentity();
@@ -264,18 +227,18 @@ struct CvodesPropagator::Impl {
     if (i == times.size()) return;
 
     const double dir = times.back() > t0 ? 1.0 : -1.0;
-    check(CVodeReInit(mem, t0, y), "CVodeReInit");
-    check(CVodeSetInitStep(mem, dir * settings.initial_step), "CVodeSetInitStep");
-    check(CVodeSetStopTime(mem, times.back()), "CVodeSetStopTime");
+    check(CVodeReInit(cv.mem, t0, cv.y), "CVodeReInit");
+    check(CVodeSetInitStep(cv.mem, dir * settings.initial_step), "CVodeSetInitStep");
+    check(CVodeSetStopTime(cv.mem, times.back()), "CVodeSetStopTime");
     long used = 0;
     for (; i < times.size(); ++i) {
       int flag = CV_TOO_MUCH_WORK;
       const long remaining = settings.max_steps - used;
       if (remaining > 0) {
-        CVodeSetMaxNumSteps(mem, remaining);
+        CVodeSetMaxNumSteps(cv.mem, remaining);
         tret_ = t0;
-        flag = CVode(mem, times[i], y, &tret_, CV_NORMAL);
-        CVodeGetNumSteps(mem, &used);
+        flag = CVode(cv.mem, times[i], cv.y, &tret_, CV_NORMAL);
+        CVodeGetNumSteps(cv.mem, &used);
       }
       if (flag < 0) {
         fail(out, flag, times[i], times.size());
@@ -308,15 +271,16 @@ struct CvodesPropagator::Impl {
   void fail(Trajectory& out, int flag, double target, size_t n_requested) {
     fill_stats(out);
     realtype tcur = out.t_reached;
-    if (out.stats.steps > 0) CVodeGetCurrentTime(mem, &tcur);
+    if (out.stats.steps > 0) CVodeGetCurrentTime(cv.mem, &tcur);
     out.t_reached = tcur;
     out.status = map_flag(flag);
     if (flag == CV_TOO_MUCH_WORK)
       cv_message = "max_steps = " + std::to_string(settings.max_steps) + " steps taken (" +
                    std::to_string(out.stats.steps) + ")";
-    out.message = std::string("CVODES stopped at t = ") + fmt(tcur) +
-                  " s before reaching t = " + fmt(target) + " s (" + std::to_string(out.times.size()) +
-                  " of " + std::to_string(n_requested) + " outputs returned): " + status_message(out.status);
+    out.message = std::string("CVODES stopped at t = ") + detail::format_g17(tcur) +
+                  " s before reaching t = " + detail::format_g17(target) + " s (" +
+                  std::to_string(out.times.size()) + " of " + std::to_string(n_requested) +
+                  " outputs returned): " + status_message(out.status);
     rhs_failure.describe(out.message, "the force model", " s");
     if (!cv_message.empty()) out.message += " [CVODES: " + cv_message + "]";
     cv_message.clear();

@@ -1,5 +1,6 @@
 // CVODES plumbing shared by CvodesPropagator and CvodesOde.
 #include <cvodes/cvodes_ls.h>
+#include <nvector/nvector_serial.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 #include <sunnonlinsol/sunnonlinsol_newton.h>
 
@@ -8,14 +9,19 @@
 #include <string>
 
 #include "detail/cvodes.hpp"
+#include "detail/nvector.hpp"
 
 namespace satgnc::propagation::detail {
 
+std::string format_g17(double x) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
 void RhsFailure::describe(std::string& message, const char* what, const char* unit) const {
   if (!failed) return;
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.17g", t);
-  message += std::string("; ") + what + " failed at t = " + buf + unit;
+  message += std::string("; ") + what + " failed at t = " + format_g17(t) + unit;
 }
 
 PropagationStatus cvodes_flag_status(int flag) {
@@ -84,6 +90,54 @@ void cvodes_attach_corrector(void* mem, N_Vector y, SUNContext ctx, bool newton,
   ls->ops->gettype = &matrix_embedded;
   ls->ops->solve = solve;
   cvodes_check(CVodeSetLinearSolver(mem, ls, nullptr), "CVodeSetLinearSolver", cv_message);
+}
+
+CvodesHandles::~CvodesHandles() {
+  if (mem != nullptr) CVodeFree(&mem);
+  if (nls != nullptr) SUNNonlinSolFree(nls);
+  if (ls != nullptr) SUNLinSolFreeEmpty(ls);
+  if (abstol != nullptr) N_VDestroy(abstol);
+  if (y != nullptr) N_VDestroy(y);
+  if (ctx != nullptr) SUNContext_Free(&ctx);
+}
+
+void cvodes_create(const CvodesSetup& s, CvodesHandles& h, std::string& cv_message) {
+  const auto check = [&cv_message](int flag, const char* what) { cvodes_check(flag, what, cv_message); };
+  const auto new_vector = [&s, &h]() {
+    return s.serial_vector ? N_VNew_Serial(s.n, h.ctx) : nvector_new(s.n, h.ctx);
+  };
+  if (SUNContext_Create(nullptr, &h.ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
+  h.y = new_vector();
+  if (h.y == nullptr) throw std::runtime_error("N_Vector allocation failed");
+  double* yd = N_VGetArrayPointer(h.y);
+  for (int i = 0; i < s.n; ++i) yd[i] = 0.0;
+  yd[0] = s.y_first;
+  h.mem = CVodeCreate(s.adams ? CV_ADAMS : CV_BDF, h.ctx);
+  if (h.mem == nullptr) throw std::runtime_error("CVodeCreate failed");
+  check(CVodeSetErrHandlerFn(h.mem, &cvodes_store_message, &cv_message), "CVodeSetErrHandlerFn");
+  check(CVodeInit(h.mem, s.rhs, 0.0, h.y), "CVodeInit");
+  check(CVodeSetUserData(h.mem, s.user_data), "CVodeSetUserData");
+  if (s.atol_components == nullptr || s.atol_components->empty()) {
+    check(CVodeSStolerances(h.mem, s.rtol, s.atol), "CVodeSStolerances");
+  } else {
+    h.abstol = new_vector();
+    if (h.abstol == nullptr) throw std::runtime_error("N_Vector allocation failed");
+    double* ad = N_VGetArrayPointer(h.abstol);
+    const std::vector<double>& c = *s.atol_components;
+    for (int i = 0; i < s.n; ++i)
+      ad[i] = i < static_cast<int>(c.size()) ? c[static_cast<std::size_t>(i)] : s.atol;
+    check(CVodeSVtolerances(h.mem, s.rtol, h.abstol), "CVodeSVtolerances");
+  }
+  if (s.max_order > 0) check(CVodeSetMaxOrd(h.mem, s.max_order), "CVodeSetMaxOrd");
+  if (s.max_step > 0.0) check(CVodeSetMaxStep(h.mem, s.max_step), "CVodeSetMaxStep");
+  cvodes_attach_corrector(h.mem, h.y, h.ctx, s.newton, s.user_data, s.ls_solve, cv_message, h.nls, h.ls);
+}
+
+void cvodes_root_downward(void* mem, CVRootFn g, const std::string& cv_message) {
+  cvodes_check(CVodeRootInit(mem, 1, g), "CVodeRootInit", cv_message);
+  int down = -1;  // only entering the region is an impact
+  cvodes_check(CVodeSetRootDirection(mem, &down), "CVodeSetRootDirection", cv_message);
+  cvodes_check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn", cv_message);
 }
 
 }  // namespace satgnc::propagation::detail

@@ -5,34 +5,24 @@
 #include <cvodes/cvodes_ls.h>
 #include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
-#include <sunnonlinsol/sunnonlinsol_newton.h>
 
 #include <Eigen/LU>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <utility>
 
 #include "detail/cvodes.hpp"
-#include "detail/nvector.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::propagation {
 
-namespace {
-std::string fmt(double x) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
-}  // namespace
-
 void CvodesOdeSettings::validate(int n) const {
   using core::require;
-  require(std::isfinite(rtol) && rtol > 0.0, "rtol", "must be finite and > 0, got " + fmt(rtol));
-  require(std::isfinite(atol) && atol > 0.0, "atol", "must be finite and > 0, got " + fmt(atol));
+  require(std::isfinite(rtol) && rtol > 0.0, "rtol",
+          "must be finite and > 0, got " + detail::format_g17(rtol));
+  require(std::isfinite(atol) && atol > 0.0, "atol",
+          "must be finite and > 0, got " + detail::format_g17(atol));
   require(atol_components.empty() || static_cast<int>(atol_components.size()) == n, "atol_components",
           "must be empty or have n = " + std::to_string(n) + " entries, got " +
               std::to_string(atol_components.size()));
@@ -52,12 +42,6 @@ struct CvodesOde::Impl {
   Rhs f;
   Jacobian jac;
   CvodesOdeSettings settings;
-  SUNContext ctx = nullptr;
-  void* mem = nullptr;
-  N_Vector y = nullptr;
-  N_Vector abstol = nullptr;
-  SUNNonlinearSolver nls = nullptr;
-  SUNLinearSolver ls = nullptr;
   Eigen::MatrixXd J, M;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
   double lu_t = 0.0, lu_gamma = 0.0;
@@ -68,19 +52,10 @@ struct CvodesOde::Impl {
   double t_reached = 0.0;
   detail::RhsFailure rhs_failure;
   ImpactFunction impact;
+  detail::CvodesHandles cv;  // the SUNDIALS objects (detail/cvodes.hpp); freed before the members above
 
   Impl(int dim, Rhs rhs, const CvodesOdeSettings& s, Jacobian j)
       : n(dim), f(std::move(rhs)), jac(std::move(j)), settings(s) {}
-  ~Impl() {
-    if (mem != nullptr) CVodeFree(&mem);
-    if (nls != nullptr) SUNNonlinSolFree(nls);
-    if (ls != nullptr) SUNLinSolFreeEmpty(ls);
-    if (abstol != nullptr) N_VDestroy(abstol);
-    if (y != nullptr) N_VDestroy(y);
-    if (ctx != nullptr) SUNContext_Free(&ctx);
-  }
-
-  void check(int flag, const char* what) { detail::cvodes_check(flag, what, cv_message); }
 
   static int rhs(realtype t, N_Vector yv, N_Vector ydot, void* user) {
     auto* p = static_cast<Impl*>(user);
@@ -97,7 +72,7 @@ struct CvodesOde::Impl {
     auto* p = static_cast<Impl*>(s->content);
     realtype tcur, gamma;
     N_Vector ypred;
-    if (!detail::cvodes_newton_point(p->mem, tcur, gamma, ypred)) return SUNLS_PACKAGE_FAIL_UNREC;
+    if (!detail::cvodes_newton_point(p->cv.mem, tcur, gamma, ypred)) return SUNLS_PACKAGE_FAIL_UNREC;
     if (!p->lu_valid || tcur != p->lu_t || gamma != p->lu_gamma) {
       if (!p->jac(tcur, N_VGetArrayPointer(ypred), p->J.data()) || !p->J.allFinite())
         return SUNLS_PACKAGE_FAIL_REC;
@@ -119,34 +94,24 @@ struct CvodesOde::Impl {
     core::require(n >= 1, "n", "must be >= 1");
     core::require(static_cast<bool>(f), "rhs", "must be a callable");
     settings.validate(n);
-    if (SUNContext_Create(nullptr, &ctx) != 0) throw std::runtime_error("SUNContext_Create failed");
-    y = nvector_new(n, ctx);
-    if (y == nullptr) throw std::runtime_error("N_Vector allocation failed");
-    double* yd = N_VGetArrayPointer(y);
-    for (int i = 0; i < n; ++i) yd[i] = 0.0;
-    mem = CVodeCreate(settings.method == CvodesMethod::adams ? CV_ADAMS : CV_BDF, ctx);
-    if (mem == nullptr) throw std::runtime_error("CVodeCreate failed");
-    check(CVodeSetErrHandlerFn(mem, &detail::cvodes_store_message, &cv_message), "CVodeSetErrHandlerFn");
-    check(CVodeInit(mem, &Impl::rhs, 0.0, y), "CVodeInit");
-    check(CVodeSetUserData(mem, this), "CVodeSetUserData");
-    if (settings.atol_components.empty()) {
-      check(CVodeSStolerances(mem, settings.rtol, settings.atol), "CVodeSStolerances");
-    } else {
-      abstol = nvector_new(n, ctx);
-      if (abstol == nullptr) throw std::runtime_error("N_Vector allocation failed");
-      double* ad = N_VGetArrayPointer(abstol);
-      for (int i = 0; i < n; ++i) ad[i] = settings.atol_components[static_cast<size_t>(i)];
-      check(CVodeSVtolerances(mem, settings.rtol, abstol), "CVodeSVtolerances");
-    }
-    if (settings.max_order > 0) check(CVodeSetMaxOrd(mem, settings.max_order), "CVodeSetMaxOrd");
-    if (settings.max_step > 0.0) check(CVodeSetMaxStep(mem, settings.max_step), "CVodeSetMaxStep");
     if (jac) {
       J.setZero(n, n);
       M.setZero(n, n);
       lu = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
     }
-    detail::cvodes_attach_corrector(mem, y, ctx, static_cast<bool>(jac), this, &Impl::ls_solve, cv_message,
-                                    nls, ls);
+    detail::CvodesSetup cs;
+    cs.n = n;
+    cs.adams = settings.method == CvodesMethod::adams;
+    cs.rhs = &Impl::rhs;
+    cs.user_data = this;
+    cs.rtol = settings.rtol;
+    cs.atol = settings.atol;
+    cs.atol_components = &settings.atol_components;  // empty or n entries (validated)
+    cs.max_order = settings.max_order;
+    cs.max_step = settings.max_step;
+    cs.newton = static_cast<bool>(jac);
+    cs.ls_solve = &Impl::ls_solve;
+    detail::cvodes_create(cs, cv, cv_message);
   }
 
   static int impact_root(realtype t, N_Vector yv, realtype* g, void* user) {
@@ -159,17 +124,12 @@ struct CvodesOde::Impl {
     core::require(static_cast<bool>(g), "impact_function", "must be a callable");
     const bool first = !impact;
     impact = std::move(g);
-    if (first) {
-      check(CVodeRootInit(mem, 1, &Impl::impact_root), "CVodeRootInit");
-      int down = -1;  // only entering the region is an impact
-      check(CVodeSetRootDirection(mem, &down), "CVodeSetRootDirection");
-      check(CVodeSetNoInactiveRootWarn(mem), "CVodeSetNoInactiveRootWarn");
-    }
+    if (first) detail::cvodes_root_downward(cv.mem, &Impl::impact_root, cv_message);
   }
 
   static PropagationStatus map_flag(int flag) { return detail::cvodes_flag_status(flag); }
 
-  void fill_stats() { detail::cvodes_read_stats(mem, stats); }
+  void fill_stats() { detail::cvodes_read_stats(cv.mem, stats); }
 
   PropagationStatus integrate(double t0, Eigen::Ref<Eigen::VectorXd> yin, double t1) {
     stats = PropagationStats{};
@@ -184,26 +144,26 @@ struct CvodesOde::Impl {
       return PropagationStatus::solver_failure;
     }
     if (impact && !(impact(t0, yin.data()) > 0.0)) {
-      message =
-          "impact: the state starts at or inside the surface (impact function <= 0 at t = " + fmt(t0) + ")";
+      message = "impact: the state starts at or inside the surface (impact function <= 0 at t = " +
+                detail::format_g17(t0) + ")";
       return PropagationStatus::impact;
     }
-    Eigen::Map<Eigen::VectorXd> yv(N_VGetArrayPointer(y), n);
+    Eigen::Map<Eigen::VectorXd> yv(N_VGetArrayPointer(cv.y), n);
     yv = yin;
-    int flag = CVodeReInit(mem, t0, y);
-    if (flag >= 0) flag = CVodeSetStopTime(mem, t1);
-    if (flag >= 0) flag = CVodeSetMaxNumSteps(mem, settings.max_steps);
+    int flag = CVodeReInit(cv.mem, t0, cv.y);
+    if (flag >= 0) flag = CVodeSetStopTime(cv.mem, t1);
+    if (flag >= 0) flag = CVodeSetMaxNumSteps(cv.mem, settings.max_steps);
     realtype tret = t0;
-    if (flag >= 0) flag = CVode(mem, t1, y, &tret, CV_NORMAL);
+    if (flag >= 0) flag = CVode(cv.mem, t1, cv.y, &tret, CV_NORMAL);
     fill_stats();
     t_reached = tret;
     if (flag < 0) {
       realtype tcur = t0;
-      if (stats.steps > 0) CVodeGetCurrentTime(mem, &tcur);
+      if (stats.steps > 0) CVodeGetCurrentTime(cv.mem, &tcur);
       t_reached = tcur;
       const PropagationStatus st = map_flag(flag);
-      message = "CVODES stopped at t = " + fmt(tcur) + " before reaching t = " + fmt(t1) + ": " +
-                status_message(st);
+      message = "CVODES stopped at t = " + detail::format_g17(tcur) +
+                " before reaching t = " + detail::format_g17(t1) + ": " + status_message(st);
       if (flag == CV_TOO_MUCH_WORK) message += " (max_steps = " + std::to_string(settings.max_steps) + ")";
       rhs_failure.describe(message, "the right-hand side", "");
       if (!cv_message.empty()) message += " [CVODES: " + cv_message + "]";
@@ -212,7 +172,8 @@ struct CvodesOde::Impl {
     }
     yin = yv;
     if (flag == CV_ROOT_RETURN) {
-      message = "impact at t = " + fmt(tret) + " (the impact function reached 0) before t = " + fmt(t1);
+      message = "impact at t = " + detail::format_g17(tret) +
+                " (the impact function reached 0) before t = " + detail::format_g17(t1);
       return PropagationStatus::impact;
     }
     return PropagationStatus::success;

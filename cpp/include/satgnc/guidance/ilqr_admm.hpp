@@ -153,9 +153,11 @@ class IlqrAdmmSolver {
   /// Drop the per-stage bounds.
   void clear_stage_bounds() { stage_bounds_ = false; }
 
-  /// Run ADMM. No heap allocation, no exceptions (not marked noexcept: a user model's exception
-  /// propagates as before). The reference stays valid until the next solve().
-  const IlqrAdmmResult& solve();
+  /// Run ADMM. No heap allocation, never throws: an exception thrown by the model's step() counts
+  /// as a failed step (status propagation_failed with info.failed_interval, or ilqr_failed when a
+  /// linearization fails), as a step returning false does. The reference stays valid until the
+  /// next solve().
+  const IlqrAdmmResult& solve() noexcept;
 
   const IlqrAdmmResult& result() const noexcept { return res_; }
   const NonlinearL1Problem& problem() const { return prob_; }
@@ -164,7 +166,8 @@ class IlqrAdmmSolver {
   /// True (nonlinear) cost of a control sequence: rollout + terminal + control cost (box violation
   /// is not penalized here). Returns +inf if the rollout fails. Uses workspace buffers (no allocation).
   double true_cost(const Eigen::Ref<const Eigen::MatrixXd>& U);
-  /// Rollout of U into Xout (nx x (N+1)); returns -1 on success or the failing interval.
+  /// Rollout of U into Xout (nx x (N+1)); returns -1 on success or the failing interval (a step
+  /// that returned false or threw).
   int rollout(const Eigen::Ref<const Eigen::MatrixXd>& U, Eigen::Ref<Eigen::MatrixXd> Xout) const;
 
  private:

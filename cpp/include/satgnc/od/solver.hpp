@@ -38,6 +38,10 @@
 
 namespace satgnc::od {
 
+namespace detail {
+struct OdWorkspace;  // src/od/detail/od_workspace.hpp: the buffers of OdSolver
+}  // namespace detail
+
 /// Iteration scheme.
 enum class OdMethod { newton = 0, gauss_newton = 1, levenberg_marquardt = 2 };
 
@@ -165,9 +169,16 @@ struct OdResult {
   OdInfo info;                                   ///< status, iterations, residuals, solve time
 };
 
-/// The solver: constant problem (stations, rows, unique times) + workspace sized once.
+/// The solver: constant problem (stations, rows, unique times) + workspace (detail::OdWorkspace)
+/// sized once. Move-only.
 class OdSolver {
  public:
+  ~OdSolver();
+  OdSolver(OdSolver&&) noexcept;
+  OdSolver& operator=(OdSolver&&) noexcept;
+  OdSolver(const OdSolver&) = delete;
+  OdSolver& operator=(const OdSolver&) = delete;
+
   /// Batch problem on observations. Needs >= 6 measurements (exactly 6 for method newton).
   /// Throws std::invalid_argument naming the argument on bad input.
   static OdSolver from_measurements(std::vector<Station> stations, const std::vector<Measurement>& meas,
@@ -181,12 +192,14 @@ class OdSolver {
   /// a guess without residuals (non-finite, inside the body) ends in a failure status, not a throw.
   void set_initial_guess(const Vec6& x0_guess) noexcept;
 
-  /// Iterate from the initial guess; never throws, never allocates (given a non-allocating
-  /// propagator). The returned reference stays valid until the next solve().
-  const OdResult& solve();
+  /// Iterate from the initial guess; never throws (an exception from the propagator ends the
+  /// evaluation as propagation_failed), never allocates after setup (given a non-allocating
+  /// propagator; SATGNC_NO_MALLOC_SCOPE guards it in guarded builds). The returned reference stays
+  /// valid until the next solve().
+  const OdResult& solve() noexcept;
 
   /// set_initial_guess(x0_guess), then solve() (the old shape, kept).
-  const OdResult& solve(const Vec6& x0_guess) {
+  const OdResult& solve(const Vec6& x0_guess) noexcept {
     set_initial_guess(x0_guess);
     return solve();
   }
@@ -212,11 +225,12 @@ class OdSolver {
     double range;       // observed (NaN if none)
     double range_rate;  // observed (NaN if none)
   };
-  OdSolver() = default;
+  OdSolver();
   void setup(std::vector<Station> stations, std::vector<Row> rows, std::vector<double> row_times,
              Eigen::VectorXd sigma, std::shared_ptr<StmPropagator> propagator, const OdSettings& settings);
-  void solve_iterate(const Vec6& guess);            // solve() without the timing and info mirrors
-  OdStatus eval_at(const Vec6& x0, bool with_jac);  // fills r_, rn_, jn_, range/rate residuals
+  void solve_iterate(const Vec6& guess);             // solve() without the timing and info mirrors
+  OdStatus eval_at(const Vec6& x0, bool with_jac);   // fills r_, rn_, jn_, range/rate residuals
+  bool propagate_noexcept(const Vec6& x0) noexcept;  // states_/stms_ at times_; false on failure or throw
   bool physical(const Vec6& x) const;
   void factor();  // QR of [jn_ | rn_] -> R_, c_, SVD
   void record(int k, double lambda);
@@ -253,22 +267,7 @@ class OdSolver {
   std::shared_ptr<StmPropagator> prop_;
   OdSettings settings_;
   int max_iter_cap_ = 0;
-  // workspace
-  std::vector<Vec6> states_;
-  std::vector<Mat6> stms_;
-  Eigen::VectorXd r_, rn_, rr_, rrr_;
-  Eigen::MatrixXd jn_;                     // rows x 6, normalized
-  Eigen::VectorXd rn0_, gw_;               // geodesic probe: residuals at x, work vector
-  Eigen::MatrixXd jn0_;                    // geodesic probe: Jacobian at x
-  Eigen::MatrixXd aug_;                    // rows x 7
-  Eigen::VectorXd rs_, rns_, rrs_, rrrs_;  // valley corrector: saved buffers of the best point
-  Eigen::MatrixXd jns_;                    // rows x 6
-  Eigen::MatrixXd augc_;                   // rows x 6: [Jn P | rn] of the corrector
-  Eigen::HouseholderQR<Eigen::MatrixXd> qrc_;
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
-  Mat6 R_;
-  Vec6 c_;
-  Eigen::JacobiSVD<Mat6> svd_;
+  std::unique_ptr<detail::OdWorkspace> ws_;  // every buffer, sized in setup()
   OdResult res_;
   Vec6 guess_ = Vec6::Zero();  // set_initial_guess
 };

@@ -7,6 +7,7 @@
 #include <sundials/sundials_nonlinearsolver.h>
 
 #include <string>
+#include <vector>
 
 #include "satgnc/propagation/trajectory.hpp"
 
@@ -28,6 +29,9 @@ struct RhsFailure {
   /// Append "; <what> failed at t = <t, %.17g><unit>" to message when a failure was recorded.
   void describe(std::string& message, const char* what, const char* unit) const;
 };
+
+/// x with 17 significant digits (printf %.17g: round-trips a double), for messages.
+std::string format_g17(double x);
 
 /// CVode() return flag -> PropagationStatus.
 PropagationStatus cvodes_flag_status(int flag);
@@ -55,5 +59,48 @@ using CvodesLsSolve = int (*)(SUNLinearSolver, SUNMatrix, N_Vector, N_Vector, re
 void cvodes_attach_corrector(void* mem, N_Vector y, SUNContext ctx, bool newton, void* content,
                              CvodesLsSolve solve, const std::string& cv_message, SUNNonlinearSolver& nls,
                              SUNLinearSolver& ls);
+
+/// The SUNDIALS objects one integrator owns (context, CVODES memory, state and tolerance vectors,
+/// nonlinear and linear solver), freed in reverse order of creation by the destructor. Not copyable.
+struct CvodesHandles {
+  SUNContext ctx = nullptr;
+  void* mem = nullptr;
+  N_Vector y = nullptr;
+  N_Vector abstol = nullptr;
+  SUNNonlinearSolver nls = nullptr;
+  SUNLinearSolver ls = nullptr;
+
+  CvodesHandles() = default;
+  CvodesHandles(const CvodesHandles&) = delete;
+  CvodesHandles& operator=(const CvodesHandles&) = delete;
+  ~CvodesHandles();
+};
+
+/// What CvodesPropagator and CvodesOde tell cvodes_create (their settings, validated by the caller).
+struct CvodesSetup {
+  int n = 0;                   ///< state dimension
+  bool adams = true;           ///< CV_ADAMS, else CV_BDF
+  bool serial_vector = false;  ///< SUNDIALS' serial N_Vector instead of satgnc's (nvector.hpp)
+  double y_first = 0.0;        ///< CVodeInit's state is [y_first, 0, ..., 0] (CVodeReInit sets the real one)
+  CVRhsFn rhs = nullptr;       ///< right-hand side, called with user_data
+  void* user_data = nullptr;   ///< CVODES user data, and the content of the matrix-embedded linear solver
+  double rtol = 0.0;           ///< relative tolerance
+  double atol = 0.0;           ///< scalar absolute tolerance (and the components beyond atol_components)
+  const std::vector<double>* atol_components = nullptr;  ///< null or empty: scalar atol only
+  int max_order = 0;                                     ///< 0: CVODES' default
+  double max_step = 0.0;                                 ///< 0: unbounded
+  bool newton = false;  ///< Newton corrector with ls_solve, else fixed-point iteration
+  CvodesLsSolve ls_solve = nullptr;
+};
+
+/// The set-up sequence both integrators share: context, state vector, CVodeCreate, error handler
+/// (messages into cv_message, which must outlive h.mem), CVodeInit, user data, tolerances, maximum
+/// order and step, corrector (cvodes_attach_corrector). Fills h; throws std::runtime_error naming the
+/// failing call (h frees whatever was created).
+void cvodes_create(const CvodesSetup& s, CvodesHandles& h, std::string& cv_message);
+
+/// Root function g (one component) of which only downward crossings count (an impact: the state
+/// enters the region g <= 0), without inactive-root warnings. Throws like cvodes_check.
+void cvodes_root_downward(void* mem, CVRootFn g, const std::string& cv_message);
 
 }  // namespace satgnc::propagation::detail
