@@ -4,6 +4,7 @@
 namespace satgnc::bindings {
 void init_core(pybind11::module_& m);
 void init_dynamics(pybind11::module_& m);
+void init_force_models(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
 void init_propagation_analytic(pybind11::module_& m);
 void init_od(pybind11::module_& m);
@@ -18,6 +19,7 @@ PYBIND11_MODULE(_satgnc, m) {
   namespace b = satgnc::bindings;
   b::init_core(m);
   b::init_dynamics(m);
+  b::init_force_models(m);
   b::init_propagation(m);
   b::init_propagation_analytic(m);
   b::init_od(m);
