@@ -35,12 +35,15 @@ __all__: list[str] = [
     "EARTH_OMEGA",
     "EARTH_RADIUS",
     "EarthOrientation",
+    "EarthRotationModel",
     "Ellipsoid",
     "EopTable",
     "EopValues",
     "Epoch",
     "ExponentialDrag",
     "ForceModel",
+    "GravityCoefficients",
+    "GravityField",
     "GroundStation",
     "IauEarthRotation",
     "IlqrAdmmInfo",
@@ -77,10 +80,12 @@ __all__: list[str] = [
     "ScpSolver",
     "ScpStatus",
     "ShortArcStmPropagator",
+    "SolarRadiationPressure",
     "Station",
     "StmPropagator",
     "StopRule",
     "StoppingRule",
+    "ThirdBodies",
     "TimeScale",
     "Trajectory",
     "TwoSatelliteMap",
@@ -88,6 +93,7 @@ __all__: list[str] = [
     "TwoSatelliteModel",
     "TwoSatelliteParams",
     "TwoSatelliteTruth",
+    "UniformRotation",
     "admm_status_message",
     "cw_discretize",
     "cw_matrices",
@@ -104,6 +110,8 @@ __all__: list[str] = [
     "ilqr_admm_status_message",
     "itrs_to_gcrs",
     "kepler_step",
+    "load_gfc",
+    "moon_position",
     "od_box_guesses",
     "od_ellipsoid_by_name",
     "od_geodetic_to_ecef",
@@ -123,6 +131,7 @@ __all__: list[str] = [
     "scp_status_message",
     "status_message",
     "status_tables",
+    "sun_position",
     "time_scale_from_name",
     "two_satellite_state",
 ]
@@ -679,6 +688,16 @@ class ForceModel:
         """
         (a km/s^2, da/dr 1/s^2, da/dv 1/s).
         """
+    def acceleration_partial(
+        self,
+        parameter: str,
+        r: numpy.typing.ArrayLike,
+        v: numpy.typing.ArrayLike,
+        t: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        d a / d p (km/s^2 per unit p) for p = 'mu' (km^3/s^2), 'cr' or 'cd'.
+        """
     def energy(self, r: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike) -> float:
         """
         |v|^2/2 + V(r), km^2/s^2 (|r| > 0).
@@ -687,13 +706,54 @@ class ForceModel:
         """
         Gravity potential energy, km^2/s^2 (|r| > 0).
         """
+    def potential_at(
+        self, r: numpy.typing.ArrayLike, t: typing.SupportsFloat | typing.SupportsIndex
+    ) -> float:
+        """
+        Potential energy per unit mass V(t, r) of every gravity term (third bodies included), km^2/s^2.
+        """
     def validate(self) -> None: ...
     @property
     def conservative(self) -> bool: ...
     @property
+    def epoch_jd1(self) -> float:
+        """
+        TT Julian date of t = 0, part 1 (days)
+        """
+    @epoch_jd1.setter
+    def epoch_jd1(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def epoch_jd2(self) -> float:
+        """
+        TT Julian date of t = 0, part 2 (days)
+        """
+    @epoch_jd2.setter
+    def epoch_jd2(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def gravity(self) -> GravityField | None:
+        """
+        GravityField or None (excludes j2)
+        """
+    @gravity.setter
+    def gravity(self, arg0: GravityField | None) -> None: ...
+    @property
     def mu(self) -> float: ...
     @mu.setter
     def mu(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def srp(self) -> SolarRadiationPressure | None:
+        """
+        SolarRadiationPressure or None
+        """
+    @srp.setter
+    def srp(self, arg0: SolarRadiationPressure | None) -> None: ...
+    @property
+    def third_body(self) -> ThirdBodies | None:
+        """
+        ThirdBodies or None
+        """
+    @third_body.setter
+    def third_body(self, arg0: ThirdBodies | None) -> None: ...
 
 class PolarModel:
     """
@@ -1035,6 +1095,241 @@ class LinearDiscreteModel(DiscreteModel):
         B: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]],
         c: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]],
     ) -> None: ...
+
+class EarthRotationModel:
+    """
+    Orientation of ITRF with respect to GCRF at t seconds after the epoch.
+    """
+    def rotation(
+        self, t: typing.SupportsFloat | typing.SupportsIndex
+    ) -> tuple[
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+    ]:
+        """
+        (gcrf_to_itrf 3x3, omega rad/s in GCRF) at t s after the epoch.
+        """
+
+class UniformRotation(EarthRotationModel):
+    """
+    Rotation about the inertial z axis by theta0 + omega t (rad; omega rad/s): the paper's / GMST-only Earth
+    rotation. UniformRotation(0, 0) is the identity (ITRF = GCRF).
+    """
+    def __init__(
+        self,
+        theta0: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        omega: typing.SupportsFloat | typing.SupportsIndex = 7.292115e-05,
+    ) -> None: ...
+    @property
+    def omega(self) -> float:
+        """
+        rad/s
+        """
+    @property
+    def theta0(self) -> float:
+        """
+        rad
+        """
+
+class GravityCoefficients:
+    """
+    Fully normalized spherical-harmonic coefficients (read with load_gfc): mu km^3/s^2, radius km.
+    """
+    def __repr__(self) -> str: ...
+    def cnm(
+        self, n: typing.SupportsInt | typing.SupportsIndex, m: typing.SupportsInt | typing.SupportsIndex
+    ) -> float:
+        """
+        Fully normalized C_nm.
+        """
+    def snm(
+        self, n: typing.SupportsInt | typing.SupportsIndex, m: typing.SupportsInt | typing.SupportsIndex
+    ) -> float:
+        """
+        Fully normalized S_nm.
+        """
+    @property
+    def max_degree(self) -> int: ...
+    @property
+    def mu(self) -> float:
+        """
+        GM, km^3/s^2
+        """
+    @property
+    def name(self) -> str: ...
+    @property
+    def radius(self) -> float:
+        """
+        reference radius, km
+        """
+    @property
+    def tide_system(self) -> str: ...
+
+class GravityField:
+    """
+    Spherical-harmonic gravity (degrees 2..degree) evaluated in ITRF: accelerations km/s^2, gradients 1/s^2,
+    potential km^2/s^2; positions km (GCRF unless the method says ITRF).
+    """
+    def __init__(
+        self,
+        coefficients: GravityCoefficients,
+        degree: typing.SupportsInt | typing.SupportsIndex,
+        order: typing.SupportsInt | typing.SupportsIndex | None = None,
+        rotation: EarthRotationModel = None,
+    ) -> None: ...
+    def __repr__(self) -> str: ...
+    def acceleration(
+        self, r: numpy.typing.ArrayLike, t: typing.SupportsFloat | typing.SupportsIndex = 0.0
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Acceleration km/s^2 (GCRF) at r km (GCRF), t s.
+        """
+    def acceleration_fixed(
+        self, r_itrf: typing.Any
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Acceleration km/s^2 in ITRF at r km (ITRF).
+        """
+    def gradient_fixed(
+        self, r_itrf: typing.Any
+    ) -> tuple[
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
+    ]:
+        """
+        (a km/s^2, da/dr 1/s^2) in ITRF at r km (ITRF).
+        """
+    def jacobian(
+        self, r: numpy.typing.ArrayLike, t: typing.SupportsFloat | typing.SupportsIndex = 0.0
+    ) -> tuple[
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
+    ]:
+        """
+        (a km/s^2, da/dr 1/s^2), GCRF.
+        """
+    def potential(
+        self, r: numpy.typing.ArrayLike, t: typing.SupportsFloat | typing.SupportsIndex = 0.0
+    ) -> float:
+        """
+        Potential energy per unit mass, km^2/s^2 (a = -grad V).
+        """
+    def potential_fixed(self, r_itrf: typing.Any) -> float:
+        """
+        Potential energy per unit mass km^2/s^2 at r km (ITRF).
+        """
+    @property
+    def coefficients(self) -> GravityCoefficients: ...
+    @property
+    def degree(self) -> int: ...
+    @property
+    def mu(self) -> float:
+        """
+        km^3/s^2
+        """
+    @property
+    def order(self) -> int: ...
+    @property
+    def radius(self) -> float:
+        """
+        km
+        """
+
+class ThirdBodies:
+    """
+    Sun and Moon point masses with the indirect term (ERFA ephemerides); mu_sun, mu_moon km^3/s^2.
+    """
+
+    moon: bool
+    sun: bool
+    def __init__(
+        self,
+        sun: bool = True,
+        moon: bool = True,
+        mu_sun: typing.SupportsFloat | typing.SupportsIndex = 132712440041.93938,
+        mu_moon: typing.SupportsFloat | typing.SupportsIndex = 4902.800118,
+    ) -> None: ...
+    def __repr__(self) -> str: ...
+    @property
+    def mu_moon(self) -> float:
+        """
+        km^3/s^2
+        """
+    @mu_moon.setter
+    def mu_moon(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def mu_sun(self) -> float:
+        """
+        km^3/s^2
+        """
+    @mu_sun.setter
+    def mu_sun(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+
+class SolarRadiationPressure:
+    """
+    Cannonball SRP: area m^2, mass kg, cr, pressure N/m^2 at 1 AU, shadow 'none' | 'cylindrical' | 'conical',
+    radii km.
+    """
+
+    shadow: str
+    def __init__(
+        self,
+        area: typing.SupportsFloat | typing.SupportsIndex = 1.0,
+        mass: typing.SupportsFloat | typing.SupportsIndex = 1.0,
+        cr: typing.SupportsFloat | typing.SupportsIndex = 1.3,
+        shadow: str = "conical",
+        pressure: typing.SupportsFloat | typing.SupportsIndex = 4.56e-06,
+    ) -> None: ...
+    def __repr__(self) -> str: ...
+    def acceleration(
+        self, sun: typing.Any, r: numpy.typing.ArrayLike
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        SRP acceleration km/s^2; sun, r geocentric km.
+        """
+    def shadow_fraction(self, sun: typing.Any, r: numpy.typing.ArrayLike) -> float:
+        """
+        Lit fraction of the Sun's disc in [0, 1]; sun, r geocentric km.
+        """
+    @property
+    def area(self) -> float:
+        """
+        m^2
+        """
+    @area.setter
+    def area(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def cr(self) -> float: ...
+    @cr.setter
+    def cr(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def mass(self) -> float:
+        """
+        kg
+        """
+    @mass.setter
+    def mass(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def occulting_radius(self) -> float:
+        """
+        km
+        """
+    @occulting_radius.setter
+    def occulting_radius(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def pressure(self) -> float:
+        """
+        N/m^2 at 1 AU
+        """
+    @pressure.setter
+    def pressure(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
+    def sun_radius(self) -> float:
+        """
+        km
+        """
+    @sun_radius.setter
+    def sun_radius(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
 
 class PropagationStats:
     @property
@@ -2989,6 +3284,19 @@ def kepler_step(
     One universal-variable Kepler step: returns (x (6,), stm (6, 6)) after dt seconds.
     """
 
+def load_gfc(path: str, max_degree: typing.SupportsInt | typing.SupportsIndex = -1) -> GravityCoefficients:
+    """
+    Read an ICGEM .gfc file up to max_degree (-1: the file's). ValueError names the file, the line and the
+    keyword.
+    """
+
+def moon_position(
+    jd1: typing.SupportsFloat | typing.SupportsIndex, jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0
+) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+    """
+    Geocentric Moon (km, GCRF) at the TT Julian date jd1 + jd2 (ERFA eraMoon98).
+    """
+
 def od_box_guesses(
     center: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"],
     half_width: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"],
@@ -3077,6 +3385,13 @@ def status_tables() -> dict[str, typing.Any]:
     """
     Every C++ status table (satgnc/core/status.hpp): {enum name: [(value, name, message), ...]} in declaration
     order.
+    """
+
+def sun_position(
+    jd1: typing.SupportsFloat | typing.SupportsIndex, jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0
+) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+    """
+    Geocentric Sun (km, GCRF) at the TT Julian date jd1 + jd2 (ERFA eraEpv00).
     """
 
 def time_scale_from_name(name: str) -> TimeScale:

@@ -135,16 +135,18 @@ void ForceModel::validate() const {
     require_positive(d.mass, "drag.mass");
     core::require_finite(d.omega, "drag.omega");
   }
+  validate_precise_terms();
 }
 
-Vec3 ForceModel::acceleration(double /*t*/, const Vec3& r, const Vec3& v) const {
+Vec3 ForceModel::acceleration(double t, const Vec3& r, const Vec3& v) const {
   Vec3 a = point_mass_acceleration(mu, r);
   if (j2) a += j2_acceleration(*j2, r);
   if (drag) a += drag_acceleration(*drag, r, v);
+  add_precise_terms(t, r, a, nullptr);
   return a;
 }
 
-void ForceModel::acceleration_jacobians(double /*t*/, const Vec3& r, const Vec3& v, Vec3& a, Mat3& da_dr,
+void ForceModel::acceleration_jacobians(double t, const Vec3& r, const Vec3& v, Vec3& a, Mat3& da_dr,
                                         Mat3& da_dv) const {
   point_mass_jacobian(mu, r, a, da_dr);
   da_dv.setZero();
@@ -163,12 +165,115 @@ void ForceModel::acceleration_jacobians(double /*t*/, const Vec3& r, const Vec3&
     da_dr += gr;
     da_dv += gv;
   }
+  add_precise_terms(t, r, a, &da_dr);
 }
 
-double ForceModel::potential(const Vec3& r) const {
+double ForceModel::potential(const Vec3& r) const { return potential(0.0, r); }
+
+double ForceModel::potential(double t, const Vec3& r) const {
   double p = -mu / r.norm();
   if (j2) p += j2_potential(*j2, r);
+  // --- gravity field, Sun and Moon ---
+  if (gravity) p += gravity->potential(t, r);
+  if (third_body) {
+    const double d2 = epoch_jd2 + t / 86400.0;
+    if (third_body->sun) p += third_body_potential(third_body->mu_sun, sun_position(epoch_jd1, d2), r);
+    if (third_body->moon) p += third_body_potential(third_body->mu_moon, moon_position(epoch_jd1, d2), r);
+  }
   return p;
 }
+
+// --- gravity field, Sun and Moon, SRP (issue 14 items 1-3, 5) ---
+void ForceModel::validate_precise_terms() const {
+  using core::require;
+  if (gravity) {
+    require(!j2.has_value(), "gravity", "cannot be combined with j2: the field holds C20",
+            "drop j2, or use j2 without a gravity field");
+    require(std::abs(gravity->mu() - mu) <= 1e-6 * mu, "gravity.mu",
+            "must equal the central-body mu to 1e-6 relative, got " + std::to_string(gravity->mu()) +
+                " vs mu = " + std::to_string(mu),
+            "set ForceModel.mu = gravity.mu");
+  }
+  if (third_body) third_body->validate();
+  if (srp) srp->validate();
+  if (third_body || srp) {
+    core::require_finite(epoch_jd1, "epoch_jd1");
+    core::require_finite(epoch_jd2, "epoch_jd2");
+  }
+}
+
+void ForceModel::add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr) const {
+  if (gravity) {
+    if (da_dr) {
+      Vec3 ag;
+      Mat3 gg;
+      gravity->jacobian(t, r, ag, gg);
+      a += ag;
+      *da_dr += gg;
+    } else {
+      a += gravity->acceleration(t, r);
+    }
+  }
+  if (!third_body && !srp) return;
+  const double d2 = epoch_jd2 + t / 86400.0;
+  const bool need_sun = (third_body && third_body->sun) || srp;
+  const Vec3 sun = need_sun ? sun_position(epoch_jd1, d2) : Vec3::Zero();
+  Vec3 at;
+  Mat3 gt;
+  if (third_body && third_body->sun) {
+    if (da_dr) {
+      third_body_jacobian(third_body->mu_sun, sun, r, at, gt);
+      a += at;
+      *da_dr += gt;
+    } else {
+      a += third_body_acceleration(third_body->mu_sun, sun, r);
+    }
+  }
+  if (third_body && third_body->moon) {
+    const Vec3 moon = moon_position(epoch_jd1, d2);
+    if (da_dr) {
+      third_body_jacobian(third_body->mu_moon, moon, r, at, gt);
+      a += at;
+      *da_dr += gt;
+    } else {
+      a += third_body_acceleration(third_body->mu_moon, moon, r);
+    }
+  }
+  if (srp) {
+    if (da_dr) {
+      srp_jacobian(*srp, sun, r, at, gt);
+      a += at;
+      *da_dr += gt;
+    } else {
+      a += srp_acceleration(*srp, sun, r);
+    }
+  }
+}
+
+Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r, const Vec3& v) const {
+  switch (p) {
+    case ForceParameter::mu: {
+      // Every central-body term is linear in mu (J2 and the field scale with their own GM = mu).
+      Vec3 a = point_mass_acceleration(mu, r);
+      if (j2) a += j2_acceleration(*j2, r);
+      if (gravity) a += gravity->acceleration(t, r);
+      return a / mu;
+    }
+    case ForceParameter::cr: {
+      core::require(srp.has_value(), "parameter", "cr needs an srp term");
+      SolarRadiationPressure unit = *srp;
+      unit.cr = 1.0;
+      return srp_acceleration(unit, sun_position(epoch_jd1, epoch_jd2 + t / 86400.0), r);
+    }
+    case ForceParameter::cd: {
+      core::require(drag.has_value(), "parameter", "cd needs a drag term");
+      ExponentialDrag unit = *drag;
+      unit.cd = 1.0;
+      return drag_acceleration(unit, r, v);
+    }
+  }
+  throw std::invalid_argument("parameter: unknown ForceParameter");
+}
+// --- end gravity field, Sun and Moon, SRP ---
 
 }  // namespace satgnc::dynamics

@@ -1,5 +1,6 @@
 // DOP853 propagation with the satgnc ForceModel (point mass + optional J2 and drag).
 #include <cmath>
+#include <optional>
 
 #include "satgnc/core/validate.hpp"
 #include "satgnc/propagation/dop853.hpp"
@@ -41,10 +42,15 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
                             const std::vector<double>& times, const Dop853Settings& settings, bool with_stm,
                             double surface_radius) {
   force_model.validate();
-  if (!force_model.j2 && !force_model.drag)
+  if (!force_model.j2 && !force_model.drag && !force_model.gravity && !force_model.third_body &&
+      !force_model.srp)
     return propagate_dop853_with<false>(PointMassAccel{force_model.mu}, x0, t0, times, settings, with_stm,
                                         surface_radius);
-  const Accel accel{force_model};
+  // A gravity field evaluates into its own workspace: a private copy keeps concurrent propagations
+  // of one ForceModel (the Python module releases the GIL) apart.
+  std::optional<dynamics::ForceModel> own;
+  if (force_model.gravity) own.emplace(force_model);
+  const Accel accel{own ? *own : force_model};
   // Without drag nothing depends on v: skip the da/dv * Phi_v products in the variational equations.
   if (force_model.drag.has_value())
     return propagate_dop853_with<true>(accel, x0, t0, times, settings, with_stm, surface_radius);

@@ -1,12 +1,16 @@
 #pragma once
 /// @file force_model.hpp
-/// Orbital force model: point-mass gravity plus optional J2 and exponential drag, each with analytic
-/// acceleration Jacobians. Units: km, km/s, s (drag's area/mass and density are converted inside).
+/// Orbital force model: point-mass gravity plus optional J2, exponential drag, spherical-harmonic
+/// gravity, Sun and Moon, and solar radiation pressure, each with analytic acceleration Jacobians. Units: km,
+/// km/s, s (drag's area/mass and density are converted inside).
 #include <Eigen/Geometry>
 #include <optional>
 
 #include "satgnc/core/constants.hpp"
 #include "satgnc/core/types.hpp"
+#include "satgnc/dynamics/gravity_field.hpp"
+#include "satgnc/dynamics/srp.hpp"
+#include "satgnc/dynamics/third_body.hpp"
 
 namespace satgnc::dynamics {
 
@@ -33,6 +37,13 @@ struct ExponentialDrag {
   Vec3 omega = Vec3(0.0, 0.0, earth::omega);  ///< atmosphere rotation, rad/s (inertial frame)
 };
 
+/// A model parameter whose acceleration partial ForceModel::acceleration_partial gives.
+enum class ForceParameter {
+  mu = 0,  ///< central-body gravitational parameter, km^3/s^2
+  cr = 1,  ///< SRP reflectivity coefficient
+  cd = 2,  ///< drag coefficient
+};
+
 /// Combined force model. Point-mass gravity is always on; J2 and drag are optional terms.
 struct ForceModel {
   double mu = earth::mu;                ///< central-body gravitational parameter, km^3/s^2
@@ -46,7 +57,10 @@ struct ForceModel {
   /// single evaluations from an API; propagators check |r| > 0 in validate_orbit_arc_input instead.
   void validate_position(const Vec3& r, const char* name = "r") const;
   /// True when every term derives from a potential (no drag): det(STM) = 1 and symplecticity hold.
-  bool conservative() const { return !drag.has_value(); }
+  /// SRP with an Earth shadow is not (the shadow switches it off), nor is drag.
+  bool conservative() const {
+    return !drag.has_value() && !(srp.has_value() && srp->shadow != ShadowModel::none);
+  }
   /// Acceleration a(t, r, v), km/s^2.
   Vec3 acceleration(double t, const Vec3& r, const Vec3& v) const;
   /// Acceleration and its Jacobians da/dr (1/s^2) and da/dv (1/s).
@@ -56,6 +70,37 @@ struct ForceModel {
   double potential(const Vec3& r) const;
   /// Specific orbital energy |v|^2/2 + V(r), km^2/s^2; conserved when conservative().
   double energy(const Vec3& r, const Vec3& v) const { return 0.5 * v.squaredNorm() + potential(r); }
+
+  // --- gravity field, Sun and Moon, SRP (issue 14 items 1-3, 5) ---
+  /// Spherical-harmonic gravity (degrees >= 2, evaluated in ITRF through its EarthRotationModel);
+  /// excludes j2 (the field holds C20). Its GM should equal mu (checked to 1e-6 relative).
+  std::optional<GravityField> gravity;
+  /// Sun and Moon point masses with the indirect term (ERFA ephemerides at the epoch below).
+  std::optional<ThirdBodies> third_body;
+  /// Cannonball solar radiation pressure (the Sun from ERFA at the epoch below).
+  std::optional<SolarRadiationPressure> srp;
+  /// Epoch of t = 0 as a two-part TT Julian date, days: t seconds is epoch_jd1 + (epoch_jd2 + t/86400).
+  /// Used by third_body and srp (default J2000.0, 2000-01-01T12:00:00 TT).
+  double epoch_jd1 = 2451545.0;
+  double epoch_jd2 = 0.0;  ///< second part of the epoch's TT Julian date, days
+  /// Potential energy per unit mass V(t, r) of every gravity term, third bodies included, km^2/s^2
+  /// (a_grav = -grad V; time-dependent with a rotating field or third bodies).
+  double potential(double t, const Vec3& r) const;
+  /// |v|^2/2 + V(t, r), km^2/s^2.
+  double energy(double t, const Vec3& r, const Vec3& v) const {
+    return 0.5 * v.squaredNorm() + potential(t, r);
+  }
+  /// Partial derivative of the acceleration with respect to a model parameter (km/s^2 per unit of the
+  /// parameter: per km^3/s^2 for mu, per unit Cr, per unit Cd) at t (s), r (km), v (km/s): the hook
+  /// for estimated / consider parameters. mu scales the point mass, J2 and the gravity field; cr scales
+  /// srp; cd scales drag. Throws std::invalid_argument when the term it scales is absent.
+  Vec3 acceleration_partial(ForceParameter p, double t, const Vec3& r, const Vec3& v) const;
+
+ private:
+  void validate_precise_terms() const;
+  // Adds gravity, third bodies and SRP to a (and da_dr when not null).
+  void add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr) const;
+  // --- end gravity field, Sun and Moon, SRP ---
 };
 
 // Per-term functions, reusable by other models (e.g. one body of a two-satellite model).

@@ -1,0 +1,40 @@
+#pragma once
+/// @file third_body.hpp
+/// Sun and Moon as point masses acting on an Earth satellite, with the indirect term (the Earth's own
+/// acceleration towards them), and their analytic Jacobians. Ephemerides from ERFA: eraEpv00 (Earth
+/// heliocentric position, BCRS axes; the Sun's geocentric position is its negative) and eraMoon98
+/// (geocentric Moon, GCRS axes). The GCRS axes are those of the BCRS, which satgnc takes as GCRF: no
+/// rotation is applied. Positions are geometric (no light time, no aberration: what gravity needs).
+/// The time argument is a two-part TT Julian date; ERFA wants TDB, and TDB - TT < 1.7 ms is neglected
+/// (the Moon moves 1.7 m in that time). Units: km, km/s^2, km^3/s^2.
+#include "satgnc/core/types.hpp"
+
+namespace satgnc::dynamics {
+
+/// Sun and Moon gravitational parameters and which of them act.
+struct ThirdBodies {
+  bool sun = true;                     ///< include the Sun
+  bool moon = true;                    ///< include the Moon
+  double mu_sun = 132712440041.93938;  ///< km^3/s^2 (DE440, GM_Sun)
+  double mu_moon = 4902.800118;        ///< km^3/s^2 (DE440, GM_Moon)
+  /// Throw std::invalid_argument naming the field unless mu_sun and mu_moon are finite and > 0.
+  void validate() const;
+};
+
+/// Astronomical unit, km (IAU 2012).
+inline constexpr double kAstronomicalUnitKm = 149597870.7;
+
+/// Geocentric position of the Sun (km, GCRF) at the TT Julian date jd1 + jd2 (eraEpv00).
+Vec3 sun_position(double jd1, double jd2);
+/// Geocentric position of the Moon (km, GCRF) at the TT Julian date jd1 + jd2 (eraMoon98).
+Vec3 moon_position(double jd1, double jd2);
+
+/// Third-body acceleration on a satellite at r (km) from a body of parameter mu (km^3/s^2) at s (km),
+/// both geocentric: mu [(s - r)/|s - r|^3 - s/|s|^3], km/s^2.
+Vec3 third_body_acceleration(double mu, const Vec3& s, const Vec3& r);
+/// The same and its Jacobian da/dr = mu (3 d d^T/|d|^5 - I/|d|^3), d = s - r (1/s^2).
+void third_body_jacobian(double mu, const Vec3& s, const Vec3& r, Vec3& a, Mat3& da_dr);
+/// Tidal potential energy per unit mass (km^2/s^2) with a = -grad V: -mu (1/|s - r| - s.r/|s|^3).
+double third_body_potential(double mu, const Vec3& s, const Vec3& r);
+
+}  // namespace satgnc::dynamics

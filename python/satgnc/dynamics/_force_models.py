@@ -1,0 +1,66 @@
+"""Gravity field, Sun and Moon, solar radiation pressure (issue 14 items 1-3, 5).
+
+Units: km, km/s, s; accelerations km/s^2; SRP area m^2, mass kg, pressure N/m^2 at 1 AU.
+"""
+
+from __future__ import annotations
+
+import pathlib
+
+from .. import _satgnc as _c
+from .._validate import as_real_array
+
+EarthRotationModel = _c.EarthRotationModel
+UniformRotation = _c.UniformRotation
+GravityCoefficients = _c.GravityCoefficients
+GravityField = _c.GravityField
+ThirdBodies = _c.ThirdBodies
+SolarRadiationPressure = _c.SolarRadiationPressure
+sun_position = _c.sun_position
+moon_position = _c.moon_position
+
+#: The shipped EGM2008 coefficients (NGA, public domain; tide-free, fully normalized) to degree 70.
+EGM2008_PATH: pathlib.Path = pathlib.Path(__file__).resolve().parent.parent / "data" / "egm2008_70.gfc"
+
+
+def load_gfc(path: str | pathlib.Path, max_degree: int = -1) -> GravityCoefficients:
+    """Read an ICGEM ``.gfc`` file (static field, fully normalized) up to ``max_degree`` (-1: the
+    file's). ``ValueError`` names the file, the line and the keyword of a malformed entry, and refuses
+    a ``max_degree`` above the file's."""
+    return _c.load_gfc(str(path), int(max_degree))
+
+
+def egm2008(max_degree: int = 70) -> GravityCoefficients:
+    """EGM2008 coefficients (Pavlis et al. 2012; GM 398600.4415 km^3/s^2, radius 6378.1363 km) to
+    ``max_degree`` <= 70 (the shipped file's degree)."""
+    return load_gfc(EGM2008_PATH, max_degree)
+
+
+def force_model(
+    *,
+    mu: float | None = None,
+    j2=None,
+    drag=None,
+    gravity: GravityField | None = None,
+    third_body: ThirdBodies | None = None,
+    srp: SolarRadiationPressure | None = None,
+    epoch_jd: tuple[float, float] | float = (2451545.0, 0.0),
+) -> _c.ForceModel:
+    """A :class:`satgnc.ForceModel` with the precise terms set.
+
+    mu (km^3/s^2) defaults to the gravity field's GM when a field is given (else Earth's EGM-96
+    value); ``epoch_jd`` is the TT Julian date of t = 0 (one number or two parts, days), used by the
+    Sun, the Moon and SRP. The result is validated (``ValueError`` names the field)."""
+    if mu is None:
+        mu = gravity.mu if gravity is not None else _c.EARTH_MU
+    jd = as_real_array(epoch_jd, "epoch_jd", ndim=(0, 1))
+    if jd.ndim == 1 and jd.shape != (2,):
+        raise ValueError(f"epoch_jd: must be one number or two parts (jd1, jd2), got shape {jd.shape}")
+    parts = (float(jd), 0.0) if jd.ndim == 0 else (float(jd[0]), float(jd[1]))
+    fm = _c.ForceModel(mu=mu, j2=j2, drag=drag)
+    fm.gravity = gravity
+    fm.third_body = third_body
+    fm.srp = srp
+    fm.epoch_jd1, fm.epoch_jd2 = parts
+    fm.validate()
+    return fm
