@@ -159,6 +159,12 @@ TEST(EopTable, MalformedFilesNameTheFileAndLine) {
   const std::string p3 = write_temp("short_c04.txt", "# c\n2016  12   1   0  57723.00    0.129928\n");
   EXPECT_EQ(error_of([&] { EopTable::read_c04(p3); }),
             p3 + ":2: expected at least 13 columns (YR MM DD HH MJD x y UT1-UTC dX dY xrt yrt LOD), got 6");
+  const std::string p4 =
+      write_temp("c04_14.txt",
+                 "1962   1   1  37665  -0.012700   0.213000   0.0326338   0.0017230   0.000000   "
+                 "0.000000   0.030000   0.030000  0.0020000  0.0014000    0.004774    0.002000\n");
+  EXPECT_NE(error_of([&] { EopTable::read_c04(p4); }).find(p4 + ":1: column HH: 37665.000000 is not an hour"),
+            std::string::npos);
   EXPECT_NE(error_of([] { EopTable::read("/nonexistent/finals.all"); }).find("path: cannot open EOP file"),
             std::string::npos);
   EXPECT_THROW(EopTable(std::vector<EopRow>(1)), std::invalid_argument);

@@ -122,6 +122,7 @@ void round_fraction(std::int64_t& whole, double frac, int decimals, std::int64_t
 
 Epoch from_fields(int y, int mo, int d, int h, int mi, int sec, double frac, TimeScale scale) {
   double djm0 = 0.0, djm = 0.0;
+  require(y <= 1000000, "year", std::to_string(y) + " is after 1000000");
   const int st = eraCal2jd(y, mo, d, &djm0, &djm);
   require(st != -1, "year", std::to_string(y) + " is before -4799 (ERFA eraCal2jd)");
   require(st != -2, "month", std::to_string(mo) + " not in 1..12");
@@ -224,6 +225,9 @@ Epoch Epoch::operator+(double dt) const {
 Epoch Epoch::from_jd(double jd1, double jd2, TimeScale scale) {
   require_finite(jd1, "jd1");
   require_finite(jd2, "jd2");
+  // 1e8 days (~270000 years) around J2000: keeps every day count well inside int64.
+  require(std::fabs(jd1 - kJ2000) + std::fabs(jd2) < 1e8, "jd1",
+          "jd1 + jd2 must be within 1e8 days of J2000 (JD 2451545)");
   switch (scale) {
     case TimeScale::tai:
       return raw_from_jd(jd1, jd2);

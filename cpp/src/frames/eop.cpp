@@ -311,6 +311,12 @@ EopTable EopTable::read_c04(const std::string& path, OutOfRangePolicy policy) {
       file_error(path, line_no,
                  "expected at least 13 columns (YR MM DD HH MJD x y UT1-UTC dX dY xrt yrt LOD), got " +
                      std::to_string(k));
+    if (v[3] < 0.0 || v[3] > 23.0)
+      file_error(
+          path, line_no,
+          "column HH: " + std::to_string(v[3]) +
+              " is not an hour (0..23); the older EOP 14 C04 layout (YR MM DD MJD x y UT1-UTC LOD ...) is "
+              "not read: use the EOP 20 C04 file (YR MM DD HH MJD ...)");
     EopRow r;
     r.mjd = v[4];
     check_order(path, line_no, rows, r.mjd);
