@@ -8,6 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "malloc_counter.hpp"
 #include "satgnc/core/no_malloc.hpp"
@@ -121,6 +122,24 @@ TEST(EopTable, Ut1AcrossTheLeapSecond) {
   // UT1 as a Julian date: UT1 = UTC + (UT1-UTC).
   const auto j = eop.ut1_jd(utc("2016-12-15T00:00:00"));
   EXPECT_NEAR((j.jd1 - 2457737.5 + j.jd2) * 86400.0, eop.ut1_minus_utc(utc("2016-12-15T00:00:00")), 2e-6);
+}
+
+// at() takes TAI-UTC from the row's day (consecutive rows) or looks it up (a gap of days): both must
+// equal Epoch::tai_minus_utc() exactly, across the leap second.
+TEST(EopTable, Ut1MinusUtcUsesTheEpochsTaiMinusUtc) {
+  const EopTable eop = EopTable::read(kFinals);
+  std::vector<EopRow> sparse;
+  for (std::size_t k = 0; k < eop.rows().size(); k += 3) sparse.push_back(eop.rows()[k]);  // every 3rd day
+  const EopTable gaps(sparse);
+  const Epoch e0 = utc("2016-12-05T00:00:00");
+  for (int k = 0; k < 400; ++k) {
+    const Epoch e = e0 + 10007.3 * k;  // 46 days in steps that visit every time of day
+    if (!gaps.covers(e)) continue;
+    const EopValues a = eop.at(e), b = gaps.at(e);
+    EXPECT_EQ(a.ut1_utc - a.ut1_tai, e.tai_minus_utc()) << k;  // integer seconds: exact
+    EXPECT_EQ(b.ut1_utc - b.ut1_tai, e.tai_minus_utc()) << k;
+    EXPECT_NEAR(a.ut1_tai, b.ut1_tai, 2e-4) << k;  // cubic through every 3rd day: < 0.2 ms of UT1
+  }
 }
 
 TEST(EopTable, OutOfRangePolicies) {

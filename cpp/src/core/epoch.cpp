@@ -90,17 +90,20 @@ bool is_post_1972_tai(std::int64_t tai_whole) {
 
 // The UTC day (MJD) containing a TAI instant >= 1972, and its start in TAI seconds.
 void find_utc_day(std::int64_t tai_whole, std::int64_t& mjd, std::int64_t& start) {
-  const std::int64_t guess = kMjdJ2000Day + floor_div(tai_whole - 37 + 43200, 86400);
-  for (std::int64_t c = guess - 1; c <= guess + 2; ++c) {
-    const std::int64_t s0 = utc_day_start_tai(c);
+  // Guess with TAI-UTC of the guessed day itself, then walk (each step reuses the previous start).
+  std::int64_t c = kMjdJ2000Day + floor_div(tai_whole + 43200, 86400);
+  std::int64_t s0 = utc_day_start_tai(c);
+  while (tai_whole < s0) s0 = utc_day_start_tai(--c);
+  for (;;) {
     const std::int64_t s1 = utc_day_start_tai(c + 1);
-    if (s0 <= tai_whole && tai_whole < s1) {
+    if (tai_whole < s1) {
       mjd = c;
       start = s0;
       return;
     }
+    ++c;
+    s0 = s1;
   }
-  throw std::logic_error("epoch: UTC day not found");  // unreachable: TAI-UTC changes by < 1 day
 }
 
 std::string lower(std::string_view s) {
