@@ -4,10 +4,11 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "checks.hpp"
 #include "satgnc/frames/earth_orientation.hpp"
 #include "satgnc/frames/eop.hpp"
 #include "satgnc/frames/ground_station.hpp"
@@ -21,13 +22,31 @@ namespace fr = satgnc::frames;
 
 fr::OutOfRangePolicy policy_arg(const std::string& name) { return fr::out_of_range_policy_from_name(name); }
 
-// A 3-vector (position) or a 6-vector (state), as a flat array.
-Eigen::VectorXd vec36(py::handle h, const std::string& name) {
-  Eigen::VectorXd v = checks::eigen_arg<Eigen::VectorXd>(h, name);
+// A 3-vector (position) or a 6-vector (state), finite. Typed parameters (not py::handle) so that the
+// hardened wrapper's diagnosis of a bad call names the right argument.
+Eigen::VectorXd vec36(const Eigen::VectorXd& v, const std::string& name) {
   if (v.size() != 3 && v.size() != 6)
     throw py::value_error(name + ": must have shape (3,) (position, km) or (6,) (state, km and km/s), got (" +
                           std::to_string(v.size()) + ",)");
+  if (!v.allFinite()) throw py::value_error(name + ": must be finite (no NaN or Inf)");
   return v;
+}
+
+Vec6 state6(const Vec6& v, const std::string& name) {
+  if (!v.allFinite()) throw py::value_error(name + ": must be finite (no NaN or Inf)");
+  return v;
+}
+
+// A column, finite, of length n (or zeros of length n when absent).
+std::vector<double> column_arg(const std::optional<std::vector<double>>& c, const std::string& name,
+                               std::size_t n) {
+  if (!c) return std::vector<double>(n, 0.0);
+  if (c->size() != n)
+    throw py::value_error(name + ": must have the length of mjd (" + std::to_string(n) + "), got " +
+                          std::to_string(c->size()));
+  for (double v : *c)
+    if (!std::isfinite(v)) throw py::value_error(name + ": must be finite (no NaN or Inf)");
+  return *c;
 }
 
 py::array_t<double> column(const fr::EopTable& t, double fr::EopRow::* f) {
@@ -55,29 +74,27 @@ void init_frames(py::module_& m) {
   py::class_<fr::EopTable>(m, "EopTable",
                            "Daily Earth orientation parameters with 4-point Lagrange interpolation (UT1 as "
                            "UT1-TAI across leap seconds). Read with EopTable.read(path).")
-      .def(py::init([](py::handle mjd, py::handle xp, py::handle yp, py::handle ut1_utc, py::handle lod,
-                       py::handle dx, py::handle dy, const std::string& policy) {
-             const std::vector<double> c0 = checks::vector_arg(mjd, "mjd");
+      .def(py::init([](const std::vector<double>& mjd, const std::vector<double>& xp,
+                       const std::vector<double>& yp, const std::vector<double>& ut1_utc,
+                       const std::optional<std::vector<double>>& lod,
+                       const std::optional<std::vector<double>>& dx,
+                       const std::optional<std::vector<double>>& dy, const std::string& policy) {
+             const std::size_t n = mjd.size();
+             const std::vector<double> c0 = column_arg(mjd, "mjd", n);
              const std::vector<std::vector<double>> cols = {
-                 checks::vector_arg(xp, "xp"),           checks::vector_arg(yp, "yp"),
-                 checks::vector_arg(ut1_utc, "ut1_utc"), checks::vector_arg(lod, "lod"),
-                 checks::vector_arg(dx, "dx"),           checks::vector_arg(dy, "dy")};
-             const char* names[] = {"xp", "yp", "ut1_utc", "lod", "dx", "dy"};
-             for (std::size_t k = 0; k < cols.size(); ++k)
-               if (cols[k].size() != c0.size())
-                 throw py::value_error(std::string(names[k]) + ": must have the length of mjd (" +
-                                       std::to_string(c0.size()) + "), got " +
-                                       std::to_string(cols[k].size()));
-             std::vector<fr::EopRow> rows(c0.size());
-             for (std::size_t i = 0; i < c0.size(); ++i)
+                 column_arg(xp, "xp", n),   column_arg(yp, "yp", n), column_arg(ut1_utc, "ut1_utc", n),
+                 column_arg(lod, "lod", n), column_arg(dx, "dx", n), column_arg(dy, "dy", n)};
+             std::vector<fr::EopRow> rows(n);
+             for (std::size_t i = 0; i < n; ++i)
                rows[i] = {c0[i],      cols[0][i], cols[1][i], cols[2][i],
                           cols[3][i], cols[4][i], cols[5][i], fr::EopSource::user};
              return fr::EopTable(std::move(rows), policy_arg(policy));
            }),
-           py::arg("mjd"), py::arg("xp"), py::arg("yp"), py::arg("ut1_utc"), py::arg("lod"), py::arg("dx"),
-           py::arg("dy"), py::arg("policy") = "error",
+           py::arg("mjd"), py::arg("xp"), py::arg("yp"), py::arg("ut1_utc"), py::arg("lod") = py::none(),
+           py::arg("dx") = py::none(), py::arg("dy") = py::none(), py::arg("policy") = "error",
            "From columns: mjd (UTC days, whole, increasing), xp, yp (arcsec), ut1_utc, lod (s), dx, dy "
-           "(arcsec).")
+           "(arcsec); "
+           "lod, dx, dy default to zeros.")
       .def_static(
           "read",
           [](const std::string& path, const std::string& policy) {
@@ -141,7 +158,13 @@ void init_frames(py::module_& m) {
             return s;
           },
           "per row: 'bulletin_b', 'bulletin_a', 'bulletin_a_prediction', 'c04' or 'user'")
-      .def("__len__", [](const fr::EopTable& t) { return t.rows().size(); });
+      .def("__len__", [](const fr::EopTable& t) { return t.rows().size(); })
+      .def("__repr__", [](const fr::EopTable& t) {
+        return "<EopTable " + std::to_string(t.rows().size()) + " rows, MJD " +
+               std::to_string(static_cast<long long>(t.rows().front().mjd)) + " .. " +
+               std::to_string(static_cast<long long>(t.rows().back().mjd)) + ", policy " +
+               fr::out_of_range_policy_name(t.policy()) + ">";
+      });
 
   py::class_<fr::EarthOrientation>(m, "EarthOrientation",
                                    "GCRS -> ITRS factors: r_itrs = w R3(era) q r_gcrs.")
@@ -159,7 +182,7 @@ void init_frames(py::module_& m) {
         "GCRS -> ITRS rotation matrix at epoch.");
   m.def(
       "gcrs_to_itrs",
-      [](py::handle x, const core::Epoch& e, const fr::EopTable& t) -> Eigen::VectorXd {
+      [](const Eigen::VectorXd& x, const core::Epoch& e, const fr::EopTable& t) -> Eigen::VectorXd {
         const Eigen::VectorXd v = vec36(x, "x");
         if (v.size() == 3) return fr::gcrs_to_itrs(Vec3(v), e, t);
         return fr::gcrs_to_itrs(Vec6(v), e, t);
@@ -169,7 +192,7 @@ void init_frames(py::module_& m) {
       "term).");
   m.def(
       "itrs_to_gcrs",
-      [](py::handle x, const core::Epoch& e, const fr::EopTable& t) -> Eigen::VectorXd {
+      [](const Eigen::VectorXd& x, const core::Epoch& e, const fr::EopTable& t) -> Eigen::VectorXd {
         const Eigen::VectorXd v = vec36(x, "x");
         if (v.size() == 3) return fr::itrs_to_gcrs(Vec3(v), e, t);
         return fr::itrs_to_gcrs(Vec6(v), e, t);
@@ -180,7 +203,7 @@ void init_frames(py::module_& m) {
         "Frame bias B (eraBp06): r_EME2000 = B r_GCRS.");
   m.def(
       "gcrs_to_eme2000",
-      [](py::handle x) -> Eigen::VectorXd {
+      [](const Eigen::VectorXd& x) -> Eigen::VectorXd {
         Eigen::VectorXd v = vec36(x, "x");
         for (Eigen::Index k = 0; k < v.size(); k += 3)
           v.segment<3>(k) = fr::gcrs_to_eme2000(Vec3(v.segment<3>(k)));
@@ -189,7 +212,7 @@ void init_frames(py::module_& m) {
       py::arg("x"), "Vector (3,) or state (6,) from GCRS to EME2000 (constant rotation).");
   m.def(
       "eme2000_to_gcrs",
-      [](py::handle x) -> Eigen::VectorXd {
+      [](const Eigen::VectorXd& x) -> Eigen::VectorXd {
         Eigen::VectorXd v = vec36(x, "x");
         for (Eigen::Index k = 0; k < v.size(); k += 3)
           v.segment<3>(k) = fr::eme2000_to_gcrs(Vec3(v.segment<3>(k)));
@@ -246,16 +269,14 @@ void init_frames(py::module_& m) {
           py::arg("epoch"), py::arg("eop"), "Station state [r km, v km/s] in the GCRF at epoch.")
       .def(
           "look",
-          [](const fr::GroundStation& s, py::handle x, const core::Epoch& e, const fr::EopTable& t) {
-            return s.look(checks::eigen_arg<Vec6>(x, "satellite_gcrf"), e, t);
+          [](const fr::GroundStation& s, const Vec6& x, const core::Epoch& e, const fr::EopTable& t) {
+            return s.look(state6(x, "satellite_gcrf"), e, t);
           },
           py::arg("satellite_gcrf"), py::arg("epoch"), py::arg("eop"),
           "Look angles of a satellite GCRF state.")
       .def(
           "look_itrf",
-          [](const fr::GroundStation& s, py::handle x) {
-            return s.look_itrf(checks::eigen_arg<Vec6>(x, "satellite_itrf"));
-          },
+          [](const fr::GroundStation& s, const Vec6& x) { return s.look_itrf(state6(x, "satellite_itrf")); },
           py::arg("satellite_itrf"), "Look angles of a satellite ITRF state.")
       .def("visible", &fr::GroundStation::visible, py::arg("elevation"), "elevation (rad) >= the mask.");
 }

@@ -353,19 +353,21 @@ class EopTable:
         """
     def __init__(
         self,
-        mjd: typing.Any,
-        xp: typing.Any,
-        yp: typing.Any,
-        ut1_utc: typing.Any,
-        lod: typing.Any,
-        dx: typing.Any,
-        dy: typing.Any,
+        mjd: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+        xp: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+        yp: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+        ut1_utc: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+        lod: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        dx: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        dy: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
         policy: str = "error",
     ) -> None:
         """
-        From columns: mjd (UTC days, whole, increasing), xp, yp (arcsec), ut1_utc, lod (s), dx, dy (arcsec).
+        From columns: mjd (UTC days, whole, increasing), xp, yp (arcsec), ut1_utc, lod (s), dx, dy (arcsec);
+        lod, dx, dy default to zeros.
         """
     def __len__(self) -> int: ...
+    def __repr__(self) -> str: ...
     def at(self, epoch: Epoch) -> EopValues:
         """
         EOP interpolated at epoch (the policy applies outside).
@@ -545,11 +547,18 @@ class GroundStation:
         elevation_mask_deg: typing.SupportsFloat | typing.SupportsIndex = 0.0,
         name: str = "",
     ) -> None: ...
-    def look(self, satellite_gcrf: typing.Any, epoch: Epoch, eop: EopTable) -> LookAngles:
+    def look(
+        self,
+        satellite_gcrf: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"],
+        epoch: Epoch,
+        eop: EopTable,
+    ) -> LookAngles:
         """
         Look angles of a satellite GCRF state.
         """
-    def look_itrf(self, satellite_itrf: typing.Any) -> LookAngles:
+    def look_itrf(
+        self, satellite_itrf: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]
+    ) -> LookAngles:
         """
         Look angles of a satellite ITRF state.
         """
@@ -3233,14 +3242,14 @@ def earth_orientation(epoch: Epoch, eop: EopTable) -> EarthOrientation:
     """
 
 def eme2000_to_gcrs(
-    x: numpy.typing.ArrayLike,
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Vector (3,) or state (6,) from EME2000 to GCRS.
     """
 
 def gcrs_to_eme2000(
-    x: numpy.typing.ArrayLike,
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Vector (3,) or state (6,) from GCRS to EME2000 (constant rotation).
@@ -3252,7 +3261,7 @@ def gcrs_to_eme2000_matrix() -> typing.Annotated[numpy.typing.NDArray[numpy.floa
     """
 
 def gcrs_to_itrs(
-    x: numpy.typing.ArrayLike, epoch: Epoch, eop: EopTable
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], epoch: Epoch, eop: EopTable
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Position (3,) km or state (6,) km, km/s from GCRS to ITRS at epoch (velocity with the Earth-rotation
@@ -3268,7 +3277,7 @@ def gcrs_to_itrs_matrix(
 
 def ilqr_admm_status_message(arg0: IlqrAdmmStatus) -> str: ...
 def itrs_to_gcrs(
-    x: numpy.typing.ArrayLike, epoch: Epoch, eop: EopTable
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], epoch: Epoch, eop: EopTable
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Position (3,) or state (6,) from ITRS to GCRS at epoch.

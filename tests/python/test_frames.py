@@ -71,7 +71,10 @@ def test_vallado_example_3_14_itrf_to_gcrf():
     # Vallado 4th ed. Example 3-14 with its EOP; GCRF of Table 3-6 (IAU-2006/2000 CIO), as quoted by
     # public reproductions. Measured 6.7e-6 km / 5e-9 km/s: the book's intermediate rounding.
     eop = frames.EopTable([53101.0, 53102.0], [-0.140682] * 2, [0.333309] * 2, [-0.4399619] * 2,
-                          [0.0015563] * 2, [-0.000205] * 2, [-0.000136] * 2)
+                          lod=[0.0015563] * 2, dx=[-0.000205] * 2, dy=[-0.000136] * 2)
+    assert repr(eop) == "<EopTable 2 rows, MJD 53101 .. 53102, policy error>"
+    bare = frames.EopTable([53101.0, 53102.0], [0.1, 0.1], [0.2, 0.2], [0.3, 0.3])  # lod, dx, dy: zeros
+    assert bare.at(Epoch.parse("2004-04-06")).dx == 0.0
     e = Epoch.parse("2004-04-06T07:51:28.386009")
     x_itrf = np.array([-1033.4793830, 7901.2952754, 6380.3565958, -3.225636520, -2.872451450, 5.531924446])
     g = frames.itrs_to_gcrs(x_itrf, e, eop)
