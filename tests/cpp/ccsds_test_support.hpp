@@ -1,0 +1,54 @@
+#pragma once
+// Shared by test_tdm / test_oem / test_opm: the data folder and an assertion on FormatError's parts.
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <string>
+
+#include "satgnc/io/ccsds.hpp"
+
+namespace satgnc::testing {
+
+/// tests/data/ccsds (set by tests/cpp/CMakeLists.txt).
+inline std::string ccsds_data(const std::string& name) {
+  return std::string(SATGNC_CCSDS_DATA_DIR) + "/" + name;
+}
+
+/// Run f, which must throw io::FormatError with exactly this file, line and keyword and a message
+/// containing `fragment`; the full message must read "<file>:<line>: <keyword>: ...".
+inline void expect_format_error(const std::function<void()>& f, const std::string& file, int line,
+                                const std::string& keyword, const std::string& fragment) {
+  try {
+    f();
+    ADD_FAILURE() << "no FormatError; expected " << file << ":" << line << ": " << keyword;
+  } catch (const io::FormatError& e) {
+    EXPECT_EQ(e.file(), file);
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.keyword(), keyword) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    const std::string head =
+        line > 0 ? file + ":" + std::to_string(line) + ": " + keyword + ": " : file + ": " + keyword + ": ";
+    EXPECT_EQ(std::string(e.what()).rfind(head, 0), 0u) << e.what();
+  }
+}
+
+/// The lines of `text` with line `n` (1-based) replaced by `with` ("" removes the line).
+inline std::string replace_line(const std::string& text, int n, const std::string& with) {
+  std::string out;
+  int i = 0;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    ++i;
+    const std::string line = text.substr(pos, end - pos);
+    if (i != n)
+      out += line + "\n";
+    else if (!with.empty())
+      out += with + "\n";
+    pos = end + 1;
+  }
+  return out;
+}
+
+}  // namespace satgnc::testing
