@@ -88,6 +88,12 @@ __all__: list[str] = [
     "cw_stm",
     "default_truth_settings",
     "ilqr_admm_status_message",
+    "io_format_oem",
+    "io_format_opm",
+    "io_format_tdm",
+    "io_parse_oem",
+    "io_parse_opm",
+    "io_parse_tdm",
     "kepler_step",
     "od_box_guesses",
     "od_ellipsoid_by_name",
@@ -2472,6 +2478,37 @@ def cw_stm(
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
 def default_truth_settings() -> CvodesOdeSettings: ...
 def ilqr_admm_status_message(arg0: IlqrAdmmStatus) -> str: ...
+def io_format_oem(model: dict[str, typing.Any]) -> str:
+    """
+    OEM KVN text of the dict form of satgnc.io.Oem.
+    """
+
+def io_format_opm(model: dict[str, typing.Any]) -> str:
+    """
+    OPM KVN text of the dict form of satgnc.io.Opm.
+    """
+
+def io_format_tdm(model: dict[str, typing.Any], xml: bool) -> str:
+    """
+    TDM text (KVN, or XML when xml is True) of the dict form of satgnc.io.Tdm.
+    """
+
+def io_parse_oem(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse OEM KVN text (CCSDS 502.0-B-3) into the dict form of satgnc.io.Oem.
+    """
+
+def io_parse_opm(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse OPM KVN text (CCSDS 502.0-B-3) into the dict form of satgnc.io.Opm.
+    """
+
+def io_parse_tdm(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse TDM text (KVN or XML, CCSDS 503.0-B-2) into the dict form of satgnc.io.Tdm; errors name source, line
+    and keyword.
+    """
+
 def kepler_step(
     x0: numpy.typing.ArrayLike, dt: typing.SupportsFloat, mu: typing.SupportsFloat
 ) -> tuple[
