@@ -47,6 +47,7 @@ void expect_same(const Oem& a, const Oem& b) {
     ASSERT_EQ(sa.states.size(), sb.states.size());
     for (std::size_t i = 0; i < sa.states.size(); ++i) {
       EXPECT_EQ(sa.states[i].epoch, sb.states[i].epoch);
+      EXPECT_EQ(sa.states[i].time, sb.states[i].time);
       EXPECT_EQ(sa.states[i].state, sb.states[i].state);
       ASSERT_EQ(sa.states[i].acceleration.has_value(), sb.states[i].acceleration.has_value());
       if (sa.states[i].acceleration) EXPECT_EQ(*sa.states[i].acceleration, *sb.states[i].acceleration);
@@ -55,6 +56,7 @@ void expect_same(const Oem& a, const Oem& b) {
     for (std::size_t i = 0; i < sa.covariances.size(); ++i) {
       EXPECT_EQ(sa.covariances[i].comments, sb.covariances[i].comments);
       EXPECT_EQ(sa.covariances[i].epoch, sb.covariances[i].epoch);
+      EXPECT_EQ(sa.covariances[i].time, sb.covariances[i].time);
       EXPECT_EQ(sa.covariances[i].cov_ref_frame, sb.covariances[i].cov_ref_frame);
       EXPECT_EQ(sa.covariances[i].matrix, sb.covariances[i].matrix);
     }
@@ -111,11 +113,13 @@ TEST(Oem, RoundTripKeepsEveryValue) {
   for (int i = 0; i < 3; ++i) {
     satgnc::io::OemState st;
     st.epoch = "2026-12-02T00:0" + std::to_string(i) + ":00";
+    st.time = satgnc::core::Epoch::parse(st.epoch, satgnc::io::TimeSystem::tt);
     st.state << 6778.137 + i / 3.0, -1.0 / 7.0, 1e-17, 7.6686 * std::sqrt(2.0), -0.0, 1.0 / 3.0;
     st.acceleration = Vec3(-8.0e-3 / 3.0, 1e-9, 3.0e-300);
     s.states.push_back(st);
     satgnc::io::OemCovariance cv;
     cv.epoch = st.epoch;
+    cv.time = st.time;
     cv.cov_ref_frame = i == 0 ? "" : "RTN";
     Mat6 L = Mat6::Random();
     cv.matrix = L * L.transpose() * 1e-6;
@@ -204,6 +208,32 @@ TEST(Oem, WriterRefusesAnInvalidModel) {
     EXPECT_EQ(std::string(e.what()),
               "oem: not a valid OEM: OBJECT_NAME: empty value (hint: KEYWORD = value)");
   }
+}
+
+TEST(Oem, TrajectoryGivenAsEpochsIsWrittenAndReadBack) {
+  // A propagated trajectory: instants t0 + 60 k s (no text epochs), across the 2016 leap second.
+  using satgnc::core::Epoch;
+  using satgnc::io::TimeSystem;
+  Oem o = parse_oem(kBase);
+  auto& seg = o.segments[0];
+  const Epoch t0 = Epoch::parse("2016-12-31T23:58:30", TimeSystem::utc);
+  seg.metadata.start_time = "2016-12-31T23:58:30";
+  seg.metadata.stop_time = "2017-01-01T00:01:29";
+  seg.states.resize(3);
+  seg.covariances[0].epoch.clear();
+  seg.covariances[0].time = t0;
+  for (int k = 0; k < 3; ++k) {
+    seg.states[k].epoch.clear();
+    seg.states[k].time = t0 + 60.0 * k;
+    seg.states[k].state = Vec6::Constant(k + 0.5);
+  }
+  const std::string text = satgnc::io::format_oem(o);
+  // 60 s after 23:58:30 on a leap-second day is 23:59:30; 120 s after is 00:00:29 (23:59:60 in between).
+  EXPECT_NE(text.find("2016-12-31T23:59:30 1.5 1.5"), std::string::npos) << text;
+  EXPECT_NE(text.find("2017-01-01T00:00:29 2.5 2.5"), std::string::npos) << text;
+  const Oem back = parse_oem(text);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(back.segments[0].states[k].time - t0, 60.0 * k);  // s, exact
+  EXPECT_EQ(back.segments[0].covariances[0].time, t0);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ void expect_same(const Opm& a, const Opm& b) {
   EXPECT_EQ(a.time_system, b.time_system);
   EXPECT_EQ(a.data_comments, b.data_comments);
   EXPECT_EQ(a.epoch, b.epoch);
+  EXPECT_EQ(a.time, b.time);
   EXPECT_EQ(a.state, b.state);
   ASSERT_EQ(a.keplerian.has_value(), b.keplerian.has_value());
   if (a.keplerian) {
@@ -62,6 +63,7 @@ void expect_same(const Opm& a, const Opm& b) {
   for (std::size_t i = 0; i < a.maneuvers.size(); ++i) {
     EXPECT_EQ(a.maneuvers[i].comments, b.maneuvers[i].comments);
     EXPECT_EQ(a.maneuvers[i].epoch_ignition, b.maneuvers[i].epoch_ignition);
+    EXPECT_EQ(a.maneuvers[i].ignition_time, b.maneuvers[i].ignition_time);
     EXPECT_EQ(a.maneuvers[i].duration, b.maneuvers[i].duration);
     EXPECT_EQ(a.maneuvers[i].delta_mass, b.maneuvers[i].delta_mass);
     EXPECT_EQ(a.maneuvers[i].ref_frame, b.maneuvers[i].ref_frame);
@@ -101,6 +103,10 @@ TEST(Opm, KeplerianAndManeuverExample) {
   EXPECT_EQ(o.spacecraft->solar_rad_coeff, 1.3);
   ASSERT_EQ(o.maneuvers.size(), 2u);
   EXPECT_EQ(o.maneuvers[0].epoch_ignition, "2000-06-03T09:00:34.1");
+  // 2000-06-03T09:00:34.1 UTC is 2000-06-03T00:00:00 UTC (the state epoch's date) + 32434.1 s.
+  EXPECT_NEAR(o.maneuvers[0].ignition_time -
+                  satgnc::core::Epoch::from_calendar(2000, 6, 3, 0, 0, 0.0, satgnc::io::TimeSystem::utc),
+              32434.1, 1e-9);  // s; 1e-9: the fraction 0.1 is not exact in binary
   EXPECT_EQ(o.maneuvers[0].duration, 132.6);
   EXPECT_EQ(o.maneuvers[0].delta_mass, -18.418);
   EXPECT_EQ(o.maneuvers[0].ref_frame, "J2000");
@@ -139,6 +145,8 @@ TEST(Opm, RoundTripKeepsEveryValue) {
   o.covariance = Mat6::Identity() * (1.0 / 3.0);
   o.cov_ref_frame = "RTN";
   o.time_system = satgnc::io::TimeSystem::tdb;
+  o.time = satgnc::core::Epoch::parse(o.epoch, o.time_system);
+  for (auto& m : o.maneuvers) m.ignition_time = satgnc::core::Epoch::parse(m.epoch_ignition, o.time_system);
   o.user_defined = {{"EARTH_MODEL", "WGS-84"}};
   const std::string path = ::testing::TempDir() + "satgnc_opm_roundtrip.opm";
   satgnc::io::write_opm(path, o);

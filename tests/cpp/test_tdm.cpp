@@ -54,6 +54,7 @@ void expect_same(const Tdm& a, const Tdm& b, bool same_version = true) {
       EXPECT_EQ(oa.epoch, ob.epoch);
       EXPECT_EQ(oa.value, ob.value) << oa.keyword << " at " << oa.epoch;  // bit-identical
       EXPECT_EQ(oa.unit, ob.unit);
+      EXPECT_EQ(oa.time, ob.time) << oa.epoch;
     }
   }
 }
@@ -135,7 +136,7 @@ Tdm synthetic() {
   t.header.originator = "SATGNC";
   t.header.message_id = "RT-1";
   satgnc::io::TdmSegment s;
-  s.metadata.time_system = TimeSystem::tai;
+  s.metadata.time_system = TimeSystem::utc;  // 23:59:60.5 exists only in UTC, on 2016-12-31
   s.metadata.participants = {"DSS-65", "SAT", "DSS-63"};
   s.metadata.mode = "SEQUENTIAL";
   s.metadata.path = {1, 2, 3};
@@ -154,10 +155,15 @@ Tdm synthetic() {
                                                  {"ANGLE_2", -89.123456789012345},
                                                  {"RECEIVE_FREQ_3", 8.4e9 + 0.123},
                                                  {"CLOCK_BIAS", 1.5e-300}};
+  const auto leap = satgnc::core::Epoch::parse("2016-12-31T23:59:60.5", TimeSystem::utc);
   for (const auto& [k, v] : vals)
-    s.observations.push_back({k, "2016-12-31T23:59:60.5", v, satgnc::io::tdm_unit(k)});
+    s.observations.push_back({k, "2016-12-31T23:59:60.5", v, satgnc::io::tdm_unit(k), leap});
   t.segments.push_back(s);
   s.metadata.time_system = TimeSystem::gps;
+  for (auto& o : s.observations) {
+    o.epoch = "2017-001T00:00:10.125";
+    o.time = satgnc::core::Epoch::parse(o.epoch, TimeSystem::gps);
+  }
   s.metadata.path = {2, 1};
   s.metadata.participants = {"GS", "SAT"};
   t.segments.push_back(s);
@@ -317,6 +323,38 @@ TEST(Tdm, WriterRefusesAnInvalidModel) {
     EXPECT_EQ(std::string(e.what()), "segments[0].observations[0].value: must be finite (no NaN or Inf)");
   }
   EXPECT_THROW(read_tdm("/nonexistent/satgnc.tdm"), std::invalid_argument);
+}
+
+TEST(Tdm, EpochsAreInstantsInTheSegmentsTimeSystem) {
+  using satgnc::core::Epoch;
+  const Tdm t = read_tdm(ccsds_data("tdm_jaxa.kvn"));
+  EXPECT_EQ(t.segments[0].observations[0].time,
+            Epoch::from_calendar(1998, 6, 10, 0, 57, 37.0, TimeSystem::utc));
+  EXPECT_EQ(t.segments[0].observations[19].time - t.segments[0].observations[0].time, 7.0);  // s, exact
+  // Day-of-year form: 2005-159 is June 8.
+  const Tdm d = read_tdm(ccsds_data("tdm_dsn_oneway.kvn"));
+  EXPECT_EQ(d.segments[0].observations[1].time,
+            Epoch::from_calendar(2005, 6, 8, 17, 41, 0.0, TimeSystem::utc));
+  // A leap second is a second: 23:59:60.5 is 0.5 s before 2017-01-01T00:00:00 UTC (exact).
+  const Tdm leap = parse_tdm(replace_line(kBase, 14, "RANGE = 2016-12-31T23:59:60.5 1.0"));
+  EXPECT_EQ(Epoch::parse("2017-01-01T00:00:00", TimeSystem::utc) - leap.segments[0].observations[0].time,
+            0.5);
+  // The same text in TAI does not exist, nor 23:59:60 on a day without a leap second.
+  const std::string tai =
+      replace_line(replace_line(kBase, 5, "TIME_SYSTEM = TAI"), 14, "RANGE = 2016-12-31T23:59:60.5 1.0");
+  expect_format_error([&] { parse_tdm(tai, "bad.kvn"); }, "bad.kvn", 14, "RANGE", "not a valid TAI epoch");
+  const std::string no_leap = replace_line(kBase, 14, "RANGE = 2026-06-30T23:59:60 1.0");
+  expect_format_error([&] { parse_tdm(no_leap, "bad.kvn"); }, "bad.kvn", 14, "RANGE",
+                      "not a valid UTC epoch");
+  // A writer given only the instant prints it (up to 12 fraction digits, trailing zeros dropped).
+  Tdm w = parse_tdm(kBase);
+  w.segments[0].observations[0].epoch.clear();
+  w.segments[0].observations[0].time = Epoch::parse("2016-12-31T23:59:60.25", TimeSystem::utc) + 1e-9;
+  const std::string text = satgnc::io::format_tdm_kvn(w);
+  EXPECT_NE(text.find("RANGE = 2016-12-31T23:59:60.250000001 1000.5"), std::string::npos) << text;
+  // Read back, the printed digits give the instant again to the double rounding of its fraction (1e-15 s).
+  EXPECT_LE(std::abs(parse_tdm(text).segments[0].observations[0].time - w.segments[0].observations[0].time),
+            1e-15);
 }
 
 }  // namespace

@@ -92,7 +92,7 @@ def test_tdm_one_way_example() -> None:
 def _two_way_tdm() -> io.Tdm:
     """Two-way range + Doppler + RADEC angles written from Python, values needing 17 digits."""
     meta = io.TdmMetadata(
-        time_system="TAI",
+        time_system="UTC",
         participants=("DSS-65", "SAT"),
         mode="SEQUENTIAL",
         path=(1, 2, 1),
@@ -307,6 +307,8 @@ def test_writers_and_models_refuse_invalid_input(tmp_path: pathlib.Path) -> None
         dataclasses.replace(t.segments[0], values=np.zeros(3))
     with pytest.raises(ValueError, match=r"matrix: must be symmetric"):
         io.OemCovariance(epoch="2026-01-01T00:00:00", matrix=np.triu(np.ones((6, 6))))
+    with pytest.raises(ValueError, match=r"epochs: epochs must not be empty strings"):
+        dataclasses.replace(t.segments[0], epochs=("", "2026-01-01T00:00:00"))
     with pytest.raises(TypeError, match=r"tdm: must be a satgnc.io.Tdm"):
         io.format_tdm("not a tdm")  # type: ignore[arg-type]
     with pytest.raises(FileNotFoundError, match=r"path: .* does not exist"):

@@ -18,20 +18,14 @@ FormatError::FormatError(std::string file, int line, std::string keyword, std::s
       keyword_(std::move(keyword)),
       rule_(std::move(rule)) {}
 
-const char* time_system_name(TimeSystem ts) noexcept {
-  switch (ts) {
-    case TimeSystem::utc:
-      return "UTC";
-    case TimeSystem::tai:
-      return "TAI";
-    case TimeSystem::tt:
-      return "TT";
-    case TimeSystem::gps:
-      return "GPS";
-    case TimeSystem::tdb:
-      return "TDB";
+std::string epoch_text(const core::Epoch& time, TimeSystem ts) {
+  std::string s = time.to_iso(ts, 12);
+  const auto dot = s.find('.');
+  if (dot != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
   }
-  return "UTC";
+  return s;
 }
 
 namespace detail {
@@ -202,6 +196,19 @@ TimeSystem parse_time_system(const std::string& text, const std::string& source,
       fail(source, line, "TIME_SYSTEM",
            "unsupported time system '" + text + "' (supported: UTC, TAI, TT, GPS, TDB)");
   fail(source, line, "TIME_SYSTEM", "unknown time system '" + text + "' (supported: UTC, TAI, TT, GPS, TDB)");
+}
+
+core::Epoch to_epoch(const std::string& text, TimeSystem ts, const std::string& source, int line,
+                     const std::string& keyword) {
+  try {
+    return core::Epoch::parse(text, ts);
+  } catch (const std::invalid_argument& e) {
+    fail(source, line, keyword, std::string("not a valid ") + time_system_name(ts) + " epoch: " + e.what());
+  }
+}
+
+std::string epoch_or_time(const std::string& text, const core::Epoch& time, TimeSystem ts) {
+  return text.empty() ? epoch_text(time, ts) : text;
 }
 
 std::string format_number(double value, const std::string& name) {

@@ -136,6 +136,8 @@ Oem parse_oem(const std::string& text, const std::string& source) {
                      std::to_string(f.size()) + " fields");
           OemState s;
           s.epoch = check_epoch(f[0], source, l.line, "EPOCH");
+          s.time =
+              detail::to_epoch(s.epoch, oem.segments.back().metadata.time_system, source, l.line, "EPOCH");
           for (int j = 0; j < 6; ++j)
             s.state(j) = detail::parse_number(f[1 + j], source, l.line, "EPHEMERIS");
           if (f.size() == 10) {
@@ -167,6 +169,8 @@ Oem parse_oem(const std::string& text, const std::string& source) {
           covs.back().comments = std::move(pending_cov_comments);
           pending_cov_comments.clear();
           covs.back().epoch = check_epoch(l.value, source, l.line, "EPOCH");
+          covs.back().time = detail::to_epoch(covs.back().epoch, oem.segments.back().metadata.time_system,
+                                              source, l.line, "EPOCH");
           cov_row = 0;
           cov_line = l.line;
         } else if (l.kind == K::key_value && l.key == "COV_REF_FRAME") {
@@ -250,7 +254,7 @@ std::string format_oem(const Oem& oem) {
     for (std::size_t i = 0; i < seg.states.size(); ++i) {
       const OemState& st = seg.states[i];
       const std::string name = at + ".states[" + std::to_string(i) + "]";
-      out << st.epoch;
+      out << detail::epoch_or_time(st.epoch, st.time, m.time_system);
       for (int j = 0; j < 6; ++j) out << " " << format_number(st.state(j), name + ".state");
       if (st.acceleration)
         for (int j = 0; j < 3; ++j)
@@ -266,7 +270,7 @@ std::string format_oem(const Oem& oem) {
             !(cv.matrix - cv.matrix.transpose()).isZero(0.0))
           throw std::invalid_argument(name + ": must be symmetric");
         for (const auto& cm : cv.comments) out << "COMMENT " << cm << "\n";
-        put(out, "EPOCH", cv.epoch);
+        put(out, "EPOCH", detail::epoch_or_time(cv.epoch, cv.time, m.time_system));
         put_opt(out, "COV_REF_FRAME", cv.cov_ref_frame);
         for (int r = 0; r < 6; ++r) {
           for (int j = 0; j <= r; ++j) out << (j ? " " : "") << format_number(cv.matrix(r, j), name);

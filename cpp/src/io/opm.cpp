@@ -49,6 +49,7 @@ Opm parse_opm(const std::string& text, const std::string& source) {
   opm.header.version = v.value;
   std::map<std::string, int> seen;  // keyword -> line (maneuver keywords: per maneuver)
   std::map<std::string, int> man_seen;
+  std::vector<int> man_lines;  // line of each MAN_EPOCH_IGNITION
   std::map<std::string, double> kep, sc;
   Mat6 cov = Mat6::Zero();
   int cov_count = 0;
@@ -136,6 +137,7 @@ Opm parse_opm(const std::string& text, const std::string& source) {
         opm.maneuvers.back().comments = std::move(pending);
         pending.clear();
         man_seen.clear();
+        man_lines.push_back(l.line);
         opm.maneuvers.back().epoch_ignition = check_epoch(l.value, source, l.line, k);
       } else if (opm.maneuvers.empty()) {
         fail(source, l.line, k, "maneuver keyword before MAN_EPOCH_IGNITION");
@@ -166,6 +168,10 @@ Opm parse_opm(const std::string& text, const std::string& source) {
   for (const char* k : {"CREATION_DATE", "ORIGINATOR", "OBJECT_NAME", "OBJECT_ID", "CENTER_NAME", "REF_FRAME",
                         "TIME_SYSTEM", "EPOCH", "X", "Y", "Z", "X_DOT", "Y_DOT", "Z_DOT"})
     if (!seen.count(k)) fail(source, last, k, "missing mandatory keyword");
+  opm.time = detail::to_epoch(opm.epoch, opm.time_system, source, seen["EPOCH"], "EPOCH");
+  for (std::size_t i = 0; i < opm.maneuvers.size(); ++i)
+    opm.maneuvers[i].ignition_time = detail::to_epoch(opm.maneuvers[i].epoch_ignition, opm.time_system,
+                                                      source, man_lines[i], "MAN_EPOCH_IGNITION");
   if (!kep.empty()) {
     for (const char* k :
          {"SEMI_MAJOR_AXIS", "ECCENTRICITY", "INCLINATION", "RA_OF_ASC_NODE", "ARG_OF_PERICENTER", "GM"})
@@ -237,7 +243,7 @@ std::string format_opm(const Opm& opm) {
   put(out, "TIME_SYSTEM", time_system_name(opm.time_system));
   out << "\n";
   comments(out, opm.data_comments);
-  put(out, "EPOCH", opm.epoch);
+  put(out, "EPOCH", detail::epoch_or_time(opm.epoch, opm.time, opm.time_system));
   for (int j = 0; j < 6; ++j) put(out, kAxes[j], num(opm.state(j), "state") + (j < 3 ? " [km]" : " [km/s]"));
   if (opm.keplerian) {
     const OpmKeplerian& e = *opm.keplerian;
@@ -279,7 +285,7 @@ std::string format_opm(const Opm& opm) {
     const std::string at = "maneuvers[" + std::to_string(i) + "]";
     out << "\n";
     comments(out, m.comments);
-    put(out, "MAN_EPOCH_IGNITION", m.epoch_ignition);
+    put(out, "MAN_EPOCH_IGNITION", detail::epoch_or_time(m.epoch_ignition, m.ignition_time, opm.time_system));
     put(out, "MAN_DURATION", num(m.duration, at + ".duration") + " [s]");
     put(out, "MAN_DELTA_MASS", num(m.delta_mass, at + ".delta_mass") + " [kg]");
     put(out, "MAN_REF_FRAME", m.ref_frame);

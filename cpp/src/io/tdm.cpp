@@ -270,6 +270,7 @@ void TdmBuilder::observation(const std::string& key, const std::string& epoch, c
   TdmObservation o;
   o.keyword = key;
   o.epoch = check_epoch(epoch, source_, line, key);
+  o.time = to_epoch(o.epoch, m.time_system, source_, line, key);
   o.value = parse_number(value, source_, line, key);
   o.unit = unit;
   tdm_.segments.back().observations.push_back(std::move(o));
@@ -413,7 +414,7 @@ std::string format_tdm_kvn(const Tdm& tdm) {
     for (const auto& c : seg.data_comments) out << "COMMENT " << c << "\n";
     for (std::size_t i = 0; i < seg.observations.size(); ++i) {
       const TdmObservation& o = seg.observations[i];
-      out << o.keyword << " = " << o.epoch << " "
+      out << o.keyword << " = " << detail::epoch_or_time(o.epoch, o.time, m.time_system) << " "
           << detail::format_number(
                  o.value, "segments[" + std::to_string(s) + "].observations[" + std::to_string(i) + "].value")
           << "\n";

@@ -1,4 +1,4 @@
-// TDM in XML (CCSDS 503.0-B-2 section 4 / NDM/XML 2.0, unqualified schema): reader and writer on
+// TDM in XML (the NDM/XML layout of CCSDS 505.0-B, unqualified schema 2.0): reader and writer on
 // pugixml (Debian libpugixml-dev). The reader feeds the same TdmBuilder as the KVN reader.
 #include <algorithm>
 #include <cstring>
@@ -153,7 +153,7 @@ std::string format_tdm_xml(const Tdm& tdm) {
     for (std::size_t i = 0; i < seg.observations.size(); ++i) {
       const TdmObservation& o = seg.observations[i];
       pugi::xml_node ox = dx.append_child("observation");
-      leaf(ox, "EPOCH", o.epoch);
+      leaf(ox, "EPOCH", detail::epoch_or_time(o.epoch, o.time, m.time_system));
       leaf(ox, o.keyword.c_str(),
            detail::format_number(
                o.value, "segments[" + std::to_string(s) + "].observations[" + std::to_string(i) + "].value"));

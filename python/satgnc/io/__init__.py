@@ -70,6 +70,15 @@ def _strings(value: Any, name: str) -> tuple[str, ...]:
     return tuple(value)
 
 
+def _epochs(value: Any, name: str) -> tuple[str, ...]:
+    """Epoch strings (checked by the C++ reader / writer); an empty one is refused here because the
+    C++ writer would print its unset core::Epoch instead."""
+    out = _strings(value, name)
+    if any(not e.strip() for e in out):
+        raise ValueError(f"{name}: epochs must not be empty strings")
+    return out
+
+
 def _set(obj: Any, **fields: Any) -> None:
     for k, v in fields.items():
         object.__setattr__(obj, k, v)
@@ -150,7 +159,7 @@ class TdmSegment(Result):
         if not isinstance(self.metadata, TdmMetadata):
             raise TypeError(f"metadata: must be a TdmMetadata, got {type(self.metadata).__name__}")
         kw = _strings(self.keywords, "keywords")
-        ep = _strings(self.epochs, "epochs")
+        ep = _epochs(self.epochs, "epochs")
         values = as_real_array(self.values, "values", ndim=1)
         if not len(kw) == len(ep) == values.shape[0]:
             raise ValueError(
@@ -296,6 +305,7 @@ class OemCovariance(Result):
     comments: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        _epochs((self.epoch,), "epoch")
         m = as_real_array(self.matrix, "matrix", shape=(6, 6))
         if not np.array_equal(m, m.T):
             raise ValueError("matrix: must be symmetric")
@@ -316,7 +326,7 @@ class OemSegment(Result):
     comments: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        ep = _strings(self.epochs, "epochs")
+        ep = _epochs(self.epochs, "epochs")
         states = as_real_array(self.states, "states", shape=(len(ep), 6))
         acc = None
         if self.accelerations is not None:
@@ -452,6 +462,7 @@ class OpmManeuver(Result):
     comments: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
+        _epochs((self.epoch_ignition,), "epoch_ignition")
         dv = as_real_array(self.dv, "dv", shape=(3,))
         _set(self, dv=tuple(float(x) for x in dv), comments=_strings(self.comments, "comments"))
         super().__post_init__()
@@ -482,6 +493,7 @@ class Opm(Result):
 
     def __post_init__(self) -> None:
         one_of(self.time_system, "time_system", TIME_SYSTEMS)
+        _epochs((self.epoch,), "epoch")
         cov = None
         if self.covariance is not None:
             cov = as_real_array(self.covariance, "covariance", shape=(6, 6))

@@ -1,14 +1,17 @@
 #pragma once
 /// @file ccsds.hpp
 /// What the CCSDS Navigation Data Messages of the io room share: the error a malformed file raises
-/// (FormatError: file, line, keyword), the supported time systems and the ODM header (CCSDS
-/// 502.0-B-3 section 3.2 / 503.0-B-2 section 3.2). Epochs are kept as the file's strings (CCSDS ASCII
-/// time code A `YYYY-MM-DDThh:mm:ss[.f][Z]` or B `YYYY-DDDThh:mm:ss[.f][Z]`, checked on read, seconds
-/// 60 allowed at 23:59 for a leap second) together with the segment's TIME_SYSTEM.
+/// (FormatError: file, line, keyword), the supported time systems and the header. Epochs are kept
+/// twice: as the file's text (CCSDS ASCII time code A `YYYY-MM-DDThh:mm:ss[.f][Z]` or B
+/// `YYYY-DDDThh:mm:ss[.f][Z]`) and as a core::Epoch read in the segment's TIME_SYSTEM (a UTC
+/// 23:59:60.x is valid only on a leap-second day). Writers print the text, or the Epoch (ISO-8601,
+/// up to 12 fraction digits, trailing zeros dropped) when the text is empty.
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "satgnc/core/epoch.hpp"
 
 namespace satgnc::io {
 
@@ -37,12 +40,17 @@ class FormatError : public std::invalid_argument {
   std::string rule_;
 };
 
-/// TIME_SYSTEM values this room reads and writes (the scales of core::Epoch). Other values of the
-/// CCSDS time-system table (UT1, TCB, TCG, GMST, MET, MRT, SCLK) are refused as unsupported.
-enum class TimeSystem { utc, tai, tt, gps, tdb };
+/// TIME_SYSTEM values this room reads and writes: the scales of core::Epoch (UTC, TAI, TT, GPS,
+/// TDB). Other values of the CCSDS time-system table (UT1, TCB, TCG, GMST, MET, MRT, SCLK) are
+/// refused as unsupported.
+using TimeSystem = core::TimeScale;
 
 /// "UTC", "TAI", "TT", "GPS" or "TDB".
-const char* time_system_name(TimeSystem ts) noexcept;
+inline const char* time_system_name(TimeSystem ts) noexcept { return core::time_scale_name(ts); }
+
+/// The ISO-8601 text the writers print for an epoch given only as a core::Epoch: up to 12 fraction
+/// digits (1 ps), trailing zeros and a bare '.' dropped; 23:59:60.x inside a UTC leap second.
+std::string epoch_text(const core::Epoch& time, TimeSystem ts);
 
 /// A keyword = value pair kept as read (keywords the room validates but does not model).
 using KeyValue = std::pair<std::string, std::string>;

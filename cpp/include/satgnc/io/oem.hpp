@@ -31,7 +31,8 @@ struct OemMetadata {
 
 /// One ephemeris line: epoch, [x y z] km, [vx vy vz] km/s, optional [ax ay az] km/s**2.
 struct OemState {
-  std::string epoch;                 ///< as in the file, in the segment's TIME_SYSTEM
+  std::string epoch;                 ///< as in the file, in the segment's TIME_SYSTEM ("": write `time`)
+  core::Epoch time;                  ///< the instant (read: `epoch` in the segment's TIME_SYSTEM)
   Vec6 state = Vec6::Zero();         ///< position (km) and velocity (km/s)
   std::optional<Vec3> acceleration;  ///< km/s**2, when the line has 9 numbers
 };
@@ -39,7 +40,8 @@ struct OemState {
 /// One covariance matrix of a COVARIANCE_START..COVARIANCE_STOP block.
 struct OemCovariance {
   std::vector<std::string> comments;  ///< COMMENT lines before its EPOCH
-  std::string epoch;                  ///< EPOCH (mandatory)
+  std::string epoch;                  ///< EPOCH (mandatory; "": write `time`)
+  core::Epoch time;                   ///< the instant (read: `epoch` in the segment's TIME_SYSTEM)
   std::string cov_ref_frame;          ///< COV_REF_FRAME, "" when absent (then REF_FRAME applies)
   Mat6 matrix = Mat6::Zero();         ///< symmetric, [km, km/s] blocks: km**2, km**2/s, km**2/s**2
 };

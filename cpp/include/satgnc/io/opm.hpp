@@ -37,7 +37,8 @@ struct OpmSpacecraft {
 /// One maneuver (MAN_EPOCH_IGNITION starts it; all six keywords mandatory).
 struct OpmManeuver {
   std::vector<std::string> comments;  ///< COMMENT lines just before it
-  std::string epoch_ignition;         ///< MAN_EPOCH_IGNITION
+  std::string epoch_ignition;         ///< MAN_EPOCH_IGNITION ("": write `ignition_time`)
+  core::Epoch ignition_time;          ///< the instant (read: epoch_ignition in the OPM's TIME_SYSTEM)
   double duration = 0.0;              ///< MAN_DURATION (s)
   double delta_mass = 0.0;            ///< MAN_DELTA_MASS (kg, <= 0)
   std::string ref_frame;              ///< MAN_REF_FRAME, e.g. "RTN", "EME2000"
@@ -55,7 +56,8 @@ struct Opm {
   std::string ref_frame_epoch;                 ///< REF_FRAME_EPOCH, "" when absent
   TimeSystem time_system = TimeSystem::utc;    ///< TIME_SYSTEM (mandatory)
   std::vector<std::string> data_comments;      ///< COMMENT lines of the data sections
-  std::string epoch;                           ///< EPOCH of the state vector (mandatory)
+  std::string epoch;                           ///< EPOCH of the state vector (mandatory; "": write `time`)
+  core::Epoch time;                            ///< the instant (read: `epoch` in the TIME_SYSTEM)
   Vec6 state = Vec6::Zero();                   ///< X..Z (km), X_DOT..Z_DOT (km/s), mandatory
   std::optional<OpmKeplerian> keplerian;       ///< osculating elements, when given
   std::optional<OpmSpacecraft> spacecraft;     ///< spacecraft parameters, when any is given

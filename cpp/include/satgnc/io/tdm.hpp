@@ -41,9 +41,11 @@ struct TdmMetadata {
 /// One tracking observation: `KEYWORD = epoch value` (KVN) or an <observation> element (XML).
 struct TdmObservation {
   std::string keyword;  ///< data keyword, e.g. "RANGE", "ANGLE_1"
-  std::string epoch;    ///< the time tag as in the file (in the segment's TIME_SYSTEM)
+  std::string epoch;    ///< the time tag as in the file (in the segment's TIME_SYSTEM); writers print
+                        ///< `time` when empty
   double value = 0.0;   ///< the value in `unit`
   std::string unit;     ///< the unit the standard gives the keyword: "km", "km/s", "deg", "Hz", ...
+  core::Epoch time;     ///< the time tag as an instant (read: `epoch` in the segment's TIME_SYSTEM)
 };
 
 /// A metadata section and its data section.
@@ -70,7 +72,8 @@ Tdm parse_tdm(const std::string& text, const std::string& source = "<string>");
 Tdm read_tdm(const std::string& path);
 /// The KVN text of a TDM. @throws std::invalid_argument when the model breaks a rule above
 std::string format_tdm_kvn(const Tdm& tdm);
-/// The XML text of a TDM (NDM/XML 2.0 layout). @throws std::invalid_argument as format_tdm_kvn
+/// The XML text of a TDM (NDM/XML layout, CCSDS 505.0-B; schema ndmxml-2.0.0). @throws std::invalid_argument
+/// as format_tdm_kvn
 std::string format_tdm_xml(const Tdm& tdm);
 /// Write a TDM file. @param xml false: KVN, true: XML. @throws std::invalid_argument
 void write_tdm(const std::string& path, const Tdm& tdm, bool xml = false);

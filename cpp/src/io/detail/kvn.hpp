@@ -32,6 +32,12 @@ int parse_int(const std::string& text, const std::string& source, int line, cons
 /// Check a CCSDS ASCII time code A or B (see ccsds.hpp); returns `text` unchanged.
 const std::string& check_epoch(const std::string& text, const std::string& source, int line,
                                const std::string& keyword);
+/// The core::Epoch of a checked epoch text in a time system; FormatError (rule: the Epoch parser's
+/// message) when the instant does not exist in that scale (e.g. 23:59:60 outside a leap second).
+core::Epoch to_epoch(const std::string& text, TimeSystem ts, const std::string& source, int line,
+                     const std::string& keyword);
+/// The text a writer prints: `text` when not empty, else epoch_text(time, ts).
+std::string epoch_or_time(const std::string& text, const core::Epoch& time, TimeSystem ts);
 /// The TimeSystem of a TIME_SYSTEM value: unknown and unsupported values throw FormatError.
 TimeSystem parse_time_system(const std::string& text, const std::string& source, int line);
 /// Whitespace-separated fields of `text`.
