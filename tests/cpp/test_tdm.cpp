@@ -259,6 +259,7 @@ TEST(Tdm, BadInputNamesFileLineAndKeyword) {
       {16, "", 15, "DATA_STOP", "missing at the end of the file"},
       {7, "PARTICIPANT_3 = SAT", 7, "PARTICIPANT_3", "without a gap"},
       {3, "ORIGINATOR =", 3, "ORIGINATOR", "empty value"},
+      {15, "ANGLE_1 = 2026-01-01T00:00:00 360.0", 15, "ANGLE_1", "angle 360.0 deg outside [-180, 360)"},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(std::string("line ") + std::to_string(c.line) + " -> '" + c.with + "'");

@@ -272,6 +272,8 @@ void TdmBuilder::observation(const std::string& key, const std::string& epoch, c
   o.epoch = check_epoch(epoch, source_, line, key);
   o.time = to_epoch(o.epoch, m.time_system, source_, line, key);
   o.value = parse_number(value, source_, line, key);
+  if ((key == "ANGLE_1" || key == "ANGLE_2") && !(o.value >= -180.0 && o.value < 360.0))
+    fail(source_, line, key, "angle " + value + " deg outside [-180, 360)");
   o.unit = unit;
   tdm_.segments.back().observations.push_back(std::move(o));
 }

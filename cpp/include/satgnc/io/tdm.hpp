@@ -8,11 +8,12 @@
 ///   RANGE_UNITS km (s and RU are refused as unsupported), ANGLE_TYPE AZEL / RADEC (XEYN, XSYE
 ///   refused); the other metadata keywords of the standard (corrections, delays, bands, ...) are
 ///   checked (numbers must be numbers) and kept as read in TdmMetadata::other;
-/// - data: RANGE (km), DOPPLER_INSTANTANEOUS / DOPPLER_INTEGRATED (km/s), ANGLE_1 / ANGLE_2 (deg),
-///   RECEIVE_FREQ[_n] / TRANSMIT_FREQ_n (Hz), TRANSMIT_FREQ_RATE_n (Hz/s), CARRIER_POWER (dBW),
-///   PC_N0 / PR_N0 (dBHz), CLOCK_BIAS (s), CLOCK_DRIFT (s/s), TROPO_DRY / TROPO_WET (m), STEC (TECU),
-///   PRESSURE (hPa), RHUMIDITY (%), TEMPERATURE (K), MAG, RCS (m**2). Refused as unsupported:
-///   DOPPLER_COUNT, RECEIVE_PHASE_CT_n, TRANSMIT_PHASE_CT_n, DOR, VLBI_DELAY (SINGLE_DIFF mode).
+/// - data: RANGE (km), DOPPLER_INSTANTANEOUS / DOPPLER_INTEGRATED (km/s), ANGLE_1 / ANGLE_2
+///   (deg, in [-180, 360)), RECEIVE_FREQ[_n] / TRANSMIT_FREQ_n (Hz), TRANSMIT_FREQ_RATE_n (Hz/s),
+///   CARRIER_POWER (dBW), PC_N0 / PR_N0 (dBHz), CLOCK_BIAS (s), CLOCK_DRIFT (s/s), TROPO_DRY /
+///   TROPO_WET (m), STEC (TECU), PRESSURE (hPa), RHUMIDITY (%), TEMPERATURE (K), MAG, RCS (m**2).
+///   Refused as unsupported: DOPPLER_COUNT, RECEIVE_PHASE_CT_n, TRANSMIT_PHASE_CT_n, DOR,
+///   VLBI_DELAY (SINGLE_DIFF mode).
 /// A malformed file throws FormatError naming the file, the line and the keyword.
 #include <optional>
 #include <string>
