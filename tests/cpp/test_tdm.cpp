@@ -249,6 +249,8 @@ TEST(Tdm, BadInputNamesFileLineAndKeyword) {
       {10, "RANGE_FOO = 1", 10, "RANGE_FOO", "unknown metadata keyword"},
       {14, "RANGE = 2026-01-01T00:00:00 12a", 14, "RANGE", "not a number: '12a'"},
       {14, "RANGE = 2026-01-01T00:00:00", 14, "RANGE", "malformed data line"},
+      {14, "RANGE = 2026-01-01T00:00:00 +-1", 14, "RANGE", "not a number: '+-1'"},
+      {14, "RANGE = 2026-01-01T00:00:00 nan", 14, "RANGE", "not a number: 'nan'"},
       {14, "RANGE = 2026-13-01T00:00:00 1.0", 14, "RANGE", "month out of range"},
       {14, "RANGE = 2026-01-01T23:58:60 1.0", 14, "RANGE", "seconds out of range"},
       {14, "RANGEX = 2026-01-01T00:00:00 1.0", 14, "RANGEX", "unknown data keyword"},

@@ -108,7 +108,7 @@ double parse_number(const std::string& text, const std::string& source, int line
                     const std::string& keyword) {
   const char* b = text.data();
   const char* e = b + text.size();
-  if (b != e && *b == '+') ++b;
+  if (b != e && *b == '+' && b + 1 != e && b[1] != '-') ++b;  // "+1" reads, "+-1" does not
   double v = 0.0;
   const auto r = std::from_chars(b, e, v);
   if (text.empty() || r.ec != std::errc() || r.ptr != e || !std::isfinite(v))
