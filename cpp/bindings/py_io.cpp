@@ -412,6 +412,49 @@ io::Opm opm_of(const py::dict& d) {
   return o;
 }
 
+// Seconds of each epoch text after origin (both in ts), exact to the double rounding of the result.
+py::array epoch_seconds(const std::vector<std::string>& epochs, const std::string& origin,
+                        const py::handle& ts_h) {
+  const TimeSystem ts = time_system_of(ts_h);
+  core::Epoch t0;
+  try {
+    t0 = core::Epoch::parse(origin, ts);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("origin: ") + e.what());
+  }
+  py::array_t<double> out(static_cast<py::ssize_t>(epochs.size()));
+  auto w = out.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < epochs.size(); ++i) {
+    try {
+      w(static_cast<py::ssize_t>(i)) = core::Epoch::parse(epochs[i], ts) - t0;
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("epochs[" + std::to_string(i) + "]: " + e.what());
+    }
+  }
+  return std::move(out);
+}
+
+// The epoch texts origin + seconds[i] in ts (ISO-8601, up to 12 fraction digits, zeros dropped).
+py::tuple epochs_at(const std::string& origin, const Array& seconds, const py::handle& ts_h) {
+  const TimeSystem ts = time_system_of(ts_h);
+  core::Epoch t0;
+  try {
+    t0 = core::Epoch::parse(origin, ts);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("origin: ") + e.what());
+  }
+  const auto r = seconds.unchecked<1>();
+  py::tuple out(static_cast<std::size_t>(r.shape(0)));
+  for (py::ssize_t i = 0; i < r.shape(0); ++i) {
+    try {
+      out[static_cast<std::size_t>(i)] = io::epoch_text(t0 + r(i), ts);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("seconds[" + std::to_string(i) + "]: " + e.what());
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 void init_io(py::module_& m) {
@@ -459,6 +502,11 @@ void init_io(py::module_& m) {
       },
       py::arg("text"), py::arg("source"),
       "Parse OPM KVN text (CCSDS 502.0-B-3) into the dict form of satgnc.io.Opm.");
+  m.def("io_epoch_seconds", &epoch_seconds, py::arg("epochs"), py::arg("origin"), py::arg("time_system"),
+        "Seconds (float64) of each epoch text after origin, both in time_system (core::Epoch: leap seconds "
+        "counted, exact to the double rounding of each difference).");
+  m.def("io_epochs_at", &epochs_at, py::arg("origin"), py::arg("seconds"), py::arg("time_system"),
+        "Epoch texts origin + seconds[i] in time_system (ISO-8601, up to 12 fraction digits).");
   m.def(
       "io_format_opm", [](const py::dict& model) { return io::format_opm(opm_of(model)); }, py::arg("model"),
       "OPM KVN text of the dict form of satgnc.io.Opm.");

@@ -88,6 +88,8 @@ __all__: list[str] = [
     "cw_stm",
     "default_truth_settings",
     "ilqr_admm_status_message",
+    "io_epoch_seconds",
+    "io_epochs_at",
     "io_format_oem",
     "io_format_opm",
     "io_format_tdm",
@@ -2478,6 +2480,21 @@ def cw_stm(
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
 def default_truth_settings() -> CvodesOdeSettings: ...
 def ilqr_admm_status_message(arg0: IlqrAdmmStatus) -> str: ...
+def io_epoch_seconds(
+    epochs: collections.abc.Sequence[str], origin: str, time_system: typing.Any
+) -> numpy.ndarray:
+    """
+    Seconds (float64) of each epoch text after origin, both in time_system (core::Epoch: leap seconds counted,
+    exact to the double rounding of each difference).
+    """
+
+def io_epochs_at(
+    origin: str, seconds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], time_system: typing.Any
+) -> tuple:
+    """
+    Epoch texts origin + seconds[i] in time_system (ISO-8601, up to 12 fraction digits).
+    """
+
 def io_format_oem(model: dict[str, typing.Any]) -> str:
     """
     OEM KVN text of the dict form of satgnc.io.Oem.

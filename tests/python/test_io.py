@@ -315,3 +315,45 @@ def test_writers_and_models_refuse_invalid_input(tmp_path: pathlib.Path) -> None
         io.read_tdm(tmp_path / "missing.tdm")
     with pytest.raises(TypeError, match=r"path: must be a file path"):
         io.read_oem(42)  # type: ignore[arg-type]
+
+
+def test_epoch_seconds_and_epochs_at_count_leap_seconds() -> None:
+    # 2016-12-31 had a leap second: 23:59:59 -> 00:00:00 is 2 s (exact); TAI has none.
+    assert io.epoch_seconds(["2017-01-01T00:00:00"], "2016-12-31T23:59:59").tolist() == [2.0]
+    assert io.epoch_seconds(["2017-01-01T00:00:00"], "2016-12-31T23:59:59", "TAI").tolist() == [1.0]
+    assert io.epochs_at("2016-12-31T23:59:59", [1.0, 1.5, 2.0]) == (
+        "2016-12-31T23:59:60",
+        "2016-12-31T23:59:60.5",
+        "2017-01-01T00:00:00",
+    )
+    seg = io.read_tdm(DATA / "tdm_jaxa.kvn").segments[0]
+    np.testing.assert_array_equal(seg.seconds_since("1998-06-10T00:57:37")[::5], [0.0, 1.0, 2.0, 7.0])
+    with pytest.raises(ValueError, match=r"epochs\[1\]: .*2026-06-30T23:59:60"):
+        io.epoch_seconds(["2026-06-30T23:59:59", "2026-06-30T23:59:60"], "2026-06-30T00:00:00")
+    with pytest.raises(ValueError, match=r"time_system: must be one of"):
+        io.epochs_at("2026-01-01T00:00:00", [0.0], "UT1")
+
+
+def test_propagated_trajectory_written_as_oem(tmp_path: pathlib.Path) -> None:
+    """A Kepler arc from satgnc.propagate, with its times turned into epochs across the 2016 leap
+    second, written and read back: states bit-identical, times recovered exactly."""
+    x0 = np.array([6778.137, 0.0, 0.0, 0.0, 7.6686, 0.1])
+    times = np.arange(0.0, 600.0, 60.0)
+    traj = satgnc.propagate(x0, times, method="kepler", with_stm=False)
+    origin = "2016-12-31T23:55:00.125"
+    epochs = io.epochs_at(origin, times)
+    assert epochs[5] == "2016-12-31T23:59:60.125"  # 300 s later, inside the leap second
+    meta = io.OemMetadata(
+        object_name="LEO-1",
+        object_id="2026-001A",
+        center_name="EARTH",
+        ref_frame="GCRF",
+        time_system="UTC",
+        start_time=epochs[0],
+        stop_time=epochs[-1],
+    )
+    seg = io.OemSegment(metadata=meta, epochs=epochs, states=traj.states)
+    oem = io.Oem(header=io.Header(creation_date="2026-12-02T00:00:00", originator="SATGNC"), segments=(seg,))
+    back = io.read_oem(io.write_oem(tmp_path / "traj.oem", oem))
+    np.testing.assert_array_equal(back.segments[0].states, traj.states)  # exact (shortest round-trip text)
+    np.testing.assert_array_equal(io.epoch_seconds(back.segments[0].epochs, origin), times)  # exact

@@ -59,6 +59,8 @@ __all__ = [
     "parse_opm",
     "format_opm",
     "write_opm",
+    "epoch_seconds",
+    "epochs_at",
 ]
 
 TIME_SYSTEMS = ("UTC", "TAI", "TT", "GPS", "TDB")  #: TIME_SYSTEM values read and written
@@ -105,6 +107,29 @@ class Header(Result):
     def __post_init__(self) -> None:
         _set(self, comments=_strings(self.comments, "comments"))
         super().__post_init__()
+
+
+def epoch_seconds(epochs: Any, origin: str, time_system: str = "UTC") -> np.ndarray:
+    """Seconds (float64) from ``origin`` to each epoch text, both read in ``time_system`` by the C++
+    ``core::Epoch`` (leap seconds counted: 2016-12-31T23:59:59 to 2017-01-01T00:00:00 UTC is 2 s).
+    The times an OD or a propagation uses, from a file's epochs."""
+    one_of(time_system, "time_system", TIME_SYSTEMS)
+    if not isinstance(origin, str):
+        raise TypeError(f"origin: must be an epoch string, got {type(origin).__name__}")
+    return np.asarray(_c.io_epoch_seconds(list(_strings(epochs, "epochs")), origin, time_system))
+
+
+def epochs_at(origin: str, seconds: Any, time_system: str = "UTC") -> tuple[str, ...]:
+    """The epoch texts ``origin + seconds[i]`` in ``time_system`` (ISO-8601, up to 12 fraction
+    digits, trailing zeros dropped; ``23:59:60.x`` inside a UTC leap second): the epochs of a
+    propagated trajectory (times in s from ``origin``) for :class:`OemSegment`."""
+    one_of(time_system, "time_system", TIME_SYSTEMS)
+    if not isinstance(origin, str):
+        raise TypeError(f"origin: must be an epoch string, got {type(origin).__name__}")
+    s = np.atleast_1d(as_real_array(seconds, "seconds"))
+    if s.ndim != 1:
+        raise ValueError(f"seconds: must be one-dimensional, got shape {s.shape}")
+    return tuple(_c.io_epochs_at(origin, s, time_system))
 
 
 # ----------------------------------------------------------------------------------------------- TDM
@@ -176,6 +201,11 @@ class TdmSegment(Result):
             comments=_strings(self.comments, "comments"),
         )
         super().__post_init__()
+
+    def seconds_since(self, origin: str) -> np.ndarray:
+        """Seconds from ``origin`` (an epoch text in this segment's time system) to every
+        observation (:func:`epoch_seconds`)."""
+        return epoch_seconds(self.epochs, origin, self.metadata.time_system)
 
     def select(self, keyword: str) -> tuple[tuple[str, ...], np.ndarray]:
         """``(epochs, values)`` of the observations of one keyword, in file order."""
