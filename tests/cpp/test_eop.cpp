@@ -8,6 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "malloc_counter.hpp"
 #include "satgnc/core/no_malloc.hpp"
@@ -123,6 +124,24 @@ TEST(EopTable, Ut1AcrossTheLeapSecond) {
   EXPECT_NEAR((j.jd1 - 2457737.5 + j.jd2) * 86400.0, eop.ut1_minus_utc(utc("2016-12-15T00:00:00")), 2e-6);
 }
 
+// at() takes TAI-UTC from the row's day (consecutive rows) or looks it up (a gap of days): both must
+// equal Epoch::tai_minus_utc() exactly, across the leap second.
+TEST(EopTable, Ut1MinusUtcUsesTheEpochsTaiMinusUtc) {
+  const EopTable eop = EopTable::read(kFinals);
+  std::vector<EopRow> sparse;
+  for (std::size_t k = 0; k < eop.rows().size(); k += 3) sparse.push_back(eop.rows()[k]);  // every 3rd day
+  const EopTable gaps(sparse);
+  const Epoch e0 = utc("2016-12-05T00:00:00");
+  for (int k = 0; k < 400; ++k) {
+    const Epoch e = e0 + 10007.3 * k;  // 46 days in steps that visit every time of day
+    if (!gaps.covers(e)) continue;
+    const EopValues a = eop.at(e), b = gaps.at(e);
+    EXPECT_EQ(a.ut1_utc - a.ut1_tai, e.tai_minus_utc()) << k;  // integer seconds: exact
+    EXPECT_EQ(b.ut1_utc - b.ut1_tai, e.tai_minus_utc()) << k;
+    EXPECT_NEAR(a.ut1_tai, b.ut1_tai, 2e-4) << k;  // cubic through every 3rd day: < 0.2 ms of UT1
+  }
+}
+
 TEST(EopTable, OutOfRangePolicies) {
   const EopTable eop = EopTable::read(kFinals);
   const Epoch late = utc("2017-02-15T00:00:00");
@@ -159,6 +178,12 @@ TEST(EopTable, MalformedFilesNameTheFileAndLine) {
   const std::string p3 = write_temp("short_c04.txt", "# c\n2016  12   1   0  57723.00    0.129928\n");
   EXPECT_EQ(error_of([&] { EopTable::read_c04(p3); }),
             p3 + ":2: expected at least 13 columns (YR MM DD HH MJD x y UT1-UTC dX dY xrt yrt LOD), got 6");
+  const std::string p4 =
+      write_temp("c04_14.txt",
+                 "1962   1   1  37665  -0.012700   0.213000   0.0326338   0.0017230   0.000000   "
+                 "0.000000   0.030000   0.030000  0.0020000  0.0014000    0.004774    0.002000\n");
+  EXPECT_NE(error_of([&] { EopTable::read_c04(p4); }).find(p4 + ":1: column HH: 37665.000000 is not an hour"),
+            std::string::npos);
   EXPECT_NE(error_of([] { EopTable::read("/nonexistent/finals.all"); }).find("path: cannot open EOP file"),
             std::string::npos);
   EXPECT_THROW(EopTable(std::vector<EopRow>(1)), std::invalid_argument);

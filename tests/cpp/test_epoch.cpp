@@ -74,6 +74,8 @@ TEST(Epoch, LeapSecond2016ParsesFormatsAndCounts) {
   const JulianDate q = leap.jd(TimeScale::utc);
   EXPECT_EQ(q.jd1, 2457753.5);
   EXPECT_NEAR(q.jd2, 86400.5 / 86401.0, 1e-16);  // one ulp of a number < 1
+  // And back from the quasi-JD: the leap second again (JD fraction resolution ~1e-11 s).
+  EXPECT_NEAR(Epoch::from_jd(q.jd1, q.jd2, TimeScale::utc) - leap, 0.0, 1e-10);
   // Rounding carries into the leap second, not into the next day.
   EXPECT_EQ((before + 0.9999999).to_iso(TimeScale::utc, 3), "2016-12-31T23:59:60.000");
   // 23:59:60 on an ordinary day, or in TAI, is refused.
@@ -165,6 +167,8 @@ TEST(Epoch, BadInputNamesTheArgument) {
   EXPECT_NEAR(r.tai_minus_utc(), 3.6401300 + (38912.0 - 38761.0) * 0.001296, 1e-9);  // ERFA resolves ~1e-11 s
   EXPECT_EQ(r.to_iso(TimeScale::utc, 6), "1965-06-01T00:00:00.000000");
   EXPECT_THROW(Epoch() + INFINITY, std::invalid_argument);
+  EXPECT_THROW(Epoch::from_jd(1e300, 0.0, TimeScale::tt), std::invalid_argument);
+  EXPECT_THROW(Epoch::from_calendar(2147483000, 1, 1, 0, 0, 0.0, TimeScale::tai), std::invalid_argument);
   EXPECT_THROW(Epoch().to_iso(TimeScale::tai, 13), std::invalid_argument);
 }
 

@@ -90,17 +90,20 @@ bool is_post_1972_tai(std::int64_t tai_whole) {
 
 // The UTC day (MJD) containing a TAI instant >= 1972, and its start in TAI seconds.
 void find_utc_day(std::int64_t tai_whole, std::int64_t& mjd, std::int64_t& start) {
-  const std::int64_t guess = kMjdJ2000Day + floor_div(tai_whole - 37 + 43200, 86400);
-  for (std::int64_t c = guess - 1; c <= guess + 2; ++c) {
-    const std::int64_t s0 = utc_day_start_tai(c);
+  // Guess with TAI-UTC of the guessed day itself, then walk (each step reuses the previous start).
+  std::int64_t c = kMjdJ2000Day + floor_div(tai_whole + 43200, 86400);
+  std::int64_t s0 = utc_day_start_tai(c);
+  while (tai_whole < s0) s0 = utc_day_start_tai(--c);
+  for (;;) {
     const std::int64_t s1 = utc_day_start_tai(c + 1);
-    if (s0 <= tai_whole && tai_whole < s1) {
+    if (tai_whole < s1) {
       mjd = c;
       start = s0;
       return;
     }
+    ++c;
+    s0 = s1;
   }
-  throw std::logic_error("epoch: UTC day not found");  // unreachable: TAI-UTC changes by < 1 day
 }
 
 std::string lower(std::string_view s) {
@@ -122,6 +125,7 @@ void round_fraction(std::int64_t& whole, double frac, int decimals, std::int64_t
 
 Epoch from_fields(int y, int mo, int d, int h, int mi, int sec, double frac, TimeScale scale) {
   double djm0 = 0.0, djm = 0.0;
+  require(y <= 1000000, "year", std::to_string(y) + " is after 1000000");
   const int st = eraCal2jd(y, mo, d, &djm0, &djm);
   require(st != -1, "year", std::to_string(y) + " is before -4799 (ERFA eraCal2jd)");
   require(st != -2, "month", std::to_string(mo) + " not in 1..12");
@@ -224,6 +228,9 @@ Epoch Epoch::operator+(double dt) const {
 Epoch Epoch::from_jd(double jd1, double jd2, TimeScale scale) {
   require_finite(jd1, "jd1");
   require_finite(jd2, "jd2");
+  // 1e8 days (~270000 years) around J2000: keeps every day count well inside int64.
+  require(std::fabs(jd1 - kJ2000) + std::fabs(jd2) < 1e8, "jd1",
+          "jd1 + jd2 must be within 1e8 days of J2000 (JD 2451545)");
   switch (scale) {
     case TimeScale::tai:
       return raw_from_jd(jd1, jd2);

@@ -149,10 +149,12 @@ EopTable::EopTable(std::vector<EopRow> rows, OutOfRangePolicy policy)
   t0_ = core::Epoch::from_mjd(rows_.front().mjd, core::TimeScale::utc);
   t_.resize(rows_.size());
   ut1_tai_.resize(rows_.size());
+  dat_.resize(rows_.size());
   for (std::size_t i = 0; i < rows_.size(); ++i) {
     const core::Epoch e = core::Epoch::from_mjd(rows_[i].mjd, core::TimeScale::utc);
     t_[i] = e - t0_;
-    ut1_tai_[i] = rows_[i].ut1_utc - e.tai_minus_utc();
+    dat_[i] = e.tai_minus_utc();
+    ut1_tai_[i] = rows_[i].ut1_utc - dat_[i];
   }
 }
 
@@ -228,7 +230,16 @@ EopValues EopTable::at(const core::Epoch& epoch) const {
   v.dx = blend([&](std::size_t k) { return rows_[k].dx; });
   v.dy = blend([&](std::size_t k) { return rows_[k].dy; });
   v.ut1_tai = blend([&](std::size_t k) { return ut1_tai_[k]; });
-  v.ut1_utc = v.ut1_tai + epoch.tai_minus_utc();
+  // TAI-UTC at the epoch: constant over a UTC day, so that of row i's day when the next row is the next
+  // day (t < t_[i+1]), of row i+1 at its own 0h; the general (slower) lookup across gaps of days.
+  double dat = 0.0;
+  if (t >= t_[i + 1])
+    dat = dat_[i + 1];
+  else if (rows_[i + 1].mjd == rows_[i].mjd + 1.0)
+    dat = dat_[i];
+  else
+    dat = epoch.tai_minus_utc();
+  v.ut1_utc = v.ut1_tai + dat;
   return v;
 }
 
@@ -311,6 +322,12 @@ EopTable EopTable::read_c04(const std::string& path, OutOfRangePolicy policy) {
       file_error(path, line_no,
                  "expected at least 13 columns (YR MM DD HH MJD x y UT1-UTC dX dY xrt yrt LOD), got " +
                      std::to_string(k));
+    if (v[3] < 0.0 || v[3] > 23.0)
+      file_error(
+          path, line_no,
+          "column HH: " + std::to_string(v[3]) +
+              " is not an hour (0..23); the older EOP 14 C04 layout (YR MM DD MJD x y UT1-UTC LOD ...) is "
+              "not read: use the EOP 20 C04 file (YR MM DD HH MJD ...)");
     EopRow r;
     r.mjd = v[4];
     check_order(path, line_no, rows, r.mjd);

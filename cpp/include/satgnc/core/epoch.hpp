@@ -66,7 +66,7 @@ class Epoch {
   /// From a two-part Julian date (days) in scale. jd1 + jd2 is the date; either split works, but
   /// precision is best with jd1 a whole or half day. UTC uses ERFA's quasi-JD convention (a leap
   /// day is 86401 s long). Throws std::invalid_argument naming jd1/jd2 if not finite or the date is
-  /// outside ERFA's UTC table (before 1960) for scale utc.
+  /// outside ERFA's UTC table (before 1960) for scale utc, or more than 1e8 days from J2000.
   static Epoch from_jd(double jd1, double jd2, TimeScale scale);
   /// From a Modified Julian Date (days, MJD = JD - 2400000.5) in scale.
   static Epoch from_mjd(double mjd, TimeScale scale);

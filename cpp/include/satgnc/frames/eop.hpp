@@ -113,6 +113,7 @@ class EopTable {
   std::vector<EopRow> rows_;
   std::vector<double> t_;        // TAI s of each row's 0h UTC, relative to t0_
   std::vector<double> ut1_tai_;  // UT1-TAI of each row, s
+  std::vector<double> dat_;      // TAI-UTC of each row's day, s
   core::Epoch t0_;
   OutOfRangePolicy policy_;
 };
