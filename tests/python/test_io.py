@@ -15,6 +15,7 @@ import re
 import numpy as np
 import pytest
 import satgnc
+import satgnc.time
 from satgnc import io
 
 DATA = pathlib.Path(__file__).resolve().parents[1] / "data" / "ccsds"
@@ -328,6 +329,9 @@ def test_epoch_seconds_and_epochs_at_count_leap_seconds() -> None:
     )
     seg = io.read_tdm(DATA / "tdm_jaxa.kvn").segments[0]
     np.testing.assert_array_equal(seg.seconds_since("1998-06-10T00:57:37")[::5], [0.0, 1.0, 2.0, 7.0])
+    times = seg.times()  # satgnc.time.Epoch instants (the time parcel's Python Epoch)
+    assert times[19] - times[0] == 7.0
+    assert times[0] == satgnc.time.parse("1998-06-10T00:57:37", "UTC")
     with pytest.raises(ValueError, match=r"epochs\[1\]: .*2026-06-30T23:59:60"):
         io.epoch_seconds(["2026-06-30T23:59:59", "2026-06-30T23:59:60"], "2026-06-30T00:00:00")
     with pytest.raises(ValueError, match=r"time_system: must be one of"):
@@ -357,3 +361,5 @@ def test_propagated_trajectory_written_as_oem(tmp_path: pathlib.Path) -> None:
     back = io.read_oem(io.write_oem(tmp_path / "traj.oem", oem))
     np.testing.assert_array_equal(back.segments[0].states, traj.states)  # exact (shortest round-trip text)
     np.testing.assert_array_equal(io.epoch_seconds(back.segments[0].epochs, origin), times)  # exact
+    t = back.segments[0].times()
+    assert [ti - t[0] for ti in t] == times.tolist()

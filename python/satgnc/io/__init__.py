@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from .. import _satgnc as _c
+from .. import time as _time
 from .._results import Result
 from .._validate import FileFormatError, as_real_array, one_of, read_text_file
 
@@ -207,6 +208,11 @@ class TdmSegment(Result):
         observation (:func:`epoch_seconds`)."""
         return epoch_seconds(self.epochs, origin, self.metadata.time_system)
 
+    def times(self) -> tuple[_time.Epoch, ...]:
+        """The observations' time tags as :class:`satgnc.time.Epoch` instants (read in the
+        segment's time system)."""
+        return tuple(_time.parse(e, self.metadata.time_system) for e in self.epochs)
+
     def select(self, keyword: str) -> tuple[tuple[str, ...], np.ndarray]:
         """``(epochs, values)`` of the observations of one keyword, in file order."""
         idx = [i for i, k in enumerate(self.keywords) if k == keyword]
@@ -370,6 +376,10 @@ class OemSegment(Result):
             comments=_strings(self.comments, "comments"),
         )
         super().__post_init__()
+
+    def times(self) -> tuple[_time.Epoch, ...]:
+        """The ephemeris epochs as :class:`satgnc.time.Epoch` instants (segment's time system)."""
+        return tuple(_time.parse(e, self.metadata.time_system) for e in self.epochs)
 
 
 @dataclasses.dataclass(frozen=True)
