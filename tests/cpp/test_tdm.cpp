@@ -252,6 +252,7 @@ TEST(Tdm, BadInputNamesFileLineAndKeyword) {
       {14, "RANGE = 2026-01-01T00:00:00 +-1", 14, "RANGE", "not a number: '+-1'"},
       {14, "RANGE = 2026-01-01T00:00:00 nan", 14, "RANGE", "not a number: 'nan'"},
       {14, "RANGE = 2026-13-01T00:00:00 1.0", 14, "RANGE", "month out of range"},
+      {14, "RANGE = 2026-01-01T00:00:00.12a 1.0", 14, "RANGE", "not an epoch"},
       {14, "RANGE = 2026-01-01T23:58:60 1.0", 14, "RANGE", "seconds out of range"},
       {14, "RANGEX = 2026-01-01T00:00:00 1.0", 14, "RANGEX", "unknown data keyword"},
       {14, "DOPPLER_COUNT = 2026-01-01T00:00:00 1.0", 14, "DOPPLER_COUNT", "unsupported data keyword"},
@@ -342,6 +343,10 @@ TEST(Tdm, EpochsAreInstantsInTheSegmentsTimeSystem) {
   const Tdm leap = parse_tdm(replace_line(kBase, 14, "RANGE = 2016-12-31T23:59:60.5 1.0"));
   EXPECT_EQ(Epoch::parse("2017-01-01T00:00:00", TimeSystem::utc) - leap.segments[0].observations[0].time,
             0.5);
+  // 18 fraction digits (more than an int holds) read to the double resolution of the fraction.
+  const Tdm longf = parse_tdm(replace_line(kBase, 14, "RANGE = 2026-01-01T00:00:00.123456789012345678 1.0"));
+  EXPECT_NEAR(longf.segments[0].observations[0].time - Epoch::parse("2026-01-01T00:00:00", TimeSystem::utc),
+              0.123456789012345678, 1e-16);  // s; 1e-16: double spacing near 0.12
   // The same text in TAI does not exist, nor 23:59:60 on a day without a leap second.
   const std::string tai =
       replace_line(replace_line(kBase, 5, "TIME_SYSTEM = TAI"), 14, "RANGE = 2016-12-31T23:59:60.5 1.0");

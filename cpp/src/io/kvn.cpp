@@ -167,16 +167,12 @@ const std::string& check_epoch(const std::string& text, const std::string& sourc
   if (s.size() < t + 9 || s[t + 3] != ':' || s[t + 6] != ':' || !digits(s, t + 1, 2, hh) ||
       !digits(s, t + 4, 2, mm) || !digits(s, t + 7, 2, ss))
     fail(source, line, keyword, hint);
-  std::size_t rest = t + 9;
+  const std::size_t rest = t + 9;  // optional ".f..." (any number of digits)
   if (rest < s.size()) {
-    int dummy = 0;
-    if (s[rest] != '.' || rest + 1 >= s.size() || !digits(s, rest + 1, s.size() - rest - 1, dummy)) {
-      // digits() overflows int on long fractions; check characters instead
-      bool ok = s[rest] == '.' && rest + 1 < s.size();
-      for (std::size_t i = rest + 1; ok && i < s.size(); ++i)
-        ok = std::isdigit(static_cast<unsigned char>(s[i]));
-      if (!ok) fail(source, line, keyword, hint);
-    }
+    bool ok = s[rest] == '.' && rest + 1 < s.size();
+    for (std::size_t i = rest + 1; ok && i < s.size(); ++i)
+      ok = std::isdigit(static_cast<unsigned char>(s[i]));
+    if (!ok) fail(source, line, keyword, hint);
   }
   if (hh > 23 || mm > 59) fail(source, line, keyword, hint + ": time out of range");
   if (ss > 60 || (ss == 60 && !(hh == 23 && mm == 59)))
