@@ -50,7 +50,7 @@ def topological(m: dict[str, dict[str, int]]) -> list[list[str]] | None:
     return levels
 
 
-PY_LIBRARY = ["od", "guidance", "analysis", "propagation"]
+PY_LIBRARY = ["od", "guidance", "analysis", "propagation", "io"]
 PY_IMPORT = re.compile(r"^\s*(?:from|import)\s+(?:satgnc\.|\.\.?)([a-z_]+)", re.M)
 
 

@@ -2,7 +2,9 @@
 // Shared by test_tdm / test_oem / test_opm: the data folder and an assertion on FormatError's parts.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 
 #include "satgnc/io/ccsds.hpp"
@@ -12,6 +14,14 @@ namespace satgnc::testing {
 /// tests/data/ccsds (set by tests/cpp/CMakeLists.txt).
 inline std::string ccsds_data(const std::string& name) {
   return std::string(SATGNC_CCSDS_DATA_DIR) + "/" + name;
+}
+
+/// The whole text of a file.
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 /// Run f, which must throw io::FormatError with exactly this file, line and keyword and a message

@@ -365,4 +365,41 @@ TEST(Tdm, EpochsAreInstantsInTheSegmentsTimeSystem) {
             1e-15);
 }
 
+TEST(Tdm, MutatedFilesEitherParseOrRaiseFormatError) {
+  // Robustness: 3000 single-character mutations (replace, delete, duplicate) of the KVN and XML forms
+  // of the JAXA example; each must parse or throw FormatError (no other exception, no crash; valgrind
+  // memcheck clean when run under it). Counts are asserted so that the loop cannot silently skip.
+  const std::string texts[2] = {satgnc::testing::read_text(ccsds_data("tdm_jaxa.kvn")),
+                                satgnc::testing::read_text(ccsds_data("tdm_jaxa.xml"))};
+  unsigned state = 12345u;
+  auto next = [&state] { return state = state * 1103515245u + 12345u, (state >> 8) & 0xffffffu; };
+  int parsed = 0, refused = 0;
+  for (int k = 0; k < 3000; ++k) {
+    std::string t = texts[k % 2];
+    const std::size_t at = next() % t.size();
+    const char c = static_cast<char>(32 + next() % 95);
+    switch (next() % 3) {
+      case 0:
+        t[at] = c;
+        break;
+      case 1:
+        t.erase(at, 1);
+        break;
+      default:
+        t.insert(at, 1, t[at]);
+        break;
+    }
+    try {
+      (void)parse_tdm(t, "mutated");
+      ++parsed;
+    } catch (const FormatError& e) {
+      EXPECT_EQ(e.file(), "mutated");
+      ++refused;
+    }
+  }
+  EXPECT_EQ(parsed + refused, 3000);
+  EXPECT_GT(refused, 300);  // many mutations break a keyword, a number or the XML
+  EXPECT_GT(parsed, 300);   // many only touch a comment or a digit
+}
+
 }  // namespace
