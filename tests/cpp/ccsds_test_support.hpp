@@ -24,6 +24,35 @@ inline std::string read_text(const std::string& path) {
   return ss.str();
 }
 
+/// Apply n deterministic one-character mutations (replace, delete, duplicate) to `text` and run
+/// `parse` on each; every run must return or throw io::FormatError naming `source`. Returns the
+/// number that parsed (the rest were refused).
+inline int mutation_runs(const std::string& text, int n, const std::string& source,
+                         const std::function<void(const std::string&)>& parse) {
+  unsigned state = 2024u;
+  auto next = [&state] { return state = state * 1103515245u + 12345u, (state >> 8) & 0xffffffu; };
+  int parsed = 0;
+  for (int k = 0; k < n; ++k) {
+    std::string t = text;
+    const std::size_t at = next() % t.size();
+    const char c = static_cast<char>(32 + next() % 95);
+    const unsigned op = next() % 3;
+    if (op == 0)
+      t[at] = c;
+    else if (op == 1)
+      t.erase(at, 1);
+    else
+      t.insert(at, 1, t[at]);
+    try {
+      parse(t);
+      ++parsed;
+    } catch (const io::FormatError& e) {
+      EXPECT_EQ(e.file(), source);
+    }
+  }
+  return parsed;
+}
+
 /// Run f, which must throw io::FormatError with exactly this file, line and keyword and a message
 /// containing `fragment`; the full message must read "<file>:<line>: <keyword>: ...".
 inline void expect_format_error(const std::function<void()>& f, const std::string& file, int line,

@@ -236,4 +236,14 @@ TEST(Oem, TrajectoryGivenAsEpochsIsWrittenAndReadBack) {
   EXPECT_EQ(back.segments[0].covariances[0].time, t0);
 }
 
+TEST(Oem, MutatedFilesEitherParseOrRaiseFormatError) {
+  // Robustness: 1500 one-character mutations of the standard's example; each parses or throws
+  // FormatError (no other exception, no crash). Both outcomes must occur (the loop ran).
+  const std::string text = satgnc::testing::read_text(ccsds_data("oem_mgs.kvn"));
+  const int parsed = satgnc::testing::mutation_runs(
+      text, 1500, "mutated", [](const std::string& t) { (void)parse_oem(t, "mutated"); });
+  EXPECT_GT(parsed, 150);
+  EXPECT_LT(parsed, 1350);
+}
+
 }  // namespace

@@ -218,4 +218,14 @@ TEST(Opm, BadInputNamesFileLineAndKeyword) {
       "bad.opm", 24, "MAN_DELTA_MASS", "missing mandatory maneuver keyword");
 }
 
+TEST(Opm, MutatedFilesEitherParseOrRaiseFormatError) {
+  // Robustness: 1500 one-character mutations of the standard's example; each parses or throws
+  // FormatError (no other exception, no crash). Both outcomes must occur (the loop ran).
+  const std::string text = satgnc::testing::read_text(ccsds_data("opm_eutelsat.kvn"));
+  const int parsed = satgnc::testing::mutation_runs(
+      text, 1500, "mutated", [](const std::string& t) { (void)parse_opm(t, "mutated"); });
+  EXPECT_GT(parsed, 150);
+  EXPECT_LT(parsed, 1350);
+}
+
 }  // namespace
