@@ -1,6 +1,6 @@
 """Count which room includes which, and prove the room graph has no cycle.
 
-A room is a folder under ``cpp/include/satgnc/`` and ``cpp/src/`` (core, frames, dynamics, propagation, od,
+A room is a folder under ``cpp/include/satgnc/`` and ``cpp/src/`` (core, frames, dynamics, propagation, io, od,
 guidance, analysis). For every file of a room the script counts the lines
 ``#include "satgnc/<other room>/...`` and prints the matrix (rows: the including room) as Markdown,
 then a topological order of the rooms. The Python package is checked the same way on
@@ -17,7 +17,7 @@ import pathlib
 import re
 import sys
 
-ROOMS = ["core", "frames", "dynamics", "propagation", "od", "guidance", "analysis"]
+ROOMS = ["core", "frames", "dynamics", "propagation", "io", "od", "guidance", "analysis"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"satgnc/([a-z_]+)/', re.M)
 
 
@@ -50,7 +50,7 @@ def topological(m: dict[str, dict[str, int]]) -> list[list[str]] | None:
     return levels
 
 
-PY_LIBRARY = ["od", "guidance", "analysis", "propagation"]
+PY_LIBRARY = ["od", "guidance", "analysis", "propagation", "io"]
 PY_IMPORT = re.compile(r"^\s*(?:from|import)\s+(?:satgnc\.|\.\.?)([a-z_]+)", re.M)
 
 

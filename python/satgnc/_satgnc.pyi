@@ -108,6 +108,14 @@ __all__: list[str] = [
     "gcrs_to_itrs",
     "gcrs_to_itrs_matrix",
     "ilqr_admm_status_message",
+    "io_epoch_seconds",
+    "io_epochs_at",
+    "io_format_oem",
+    "io_format_opm",
+    "io_format_tdm",
+    "io_parse_oem",
+    "io_parse_opm",
+    "io_parse_tdm",
     "itrs_to_gcrs",
     "kepler_step",
     "load_gfc",
@@ -3276,6 +3284,52 @@ def gcrs_to_itrs_matrix(
     """
 
 def ilqr_admm_status_message(arg0: IlqrAdmmStatus) -> str: ...
+def io_epoch_seconds(
+    epochs: collections.abc.Sequence[str], origin: str, time_system: typing.Any
+) -> numpy.ndarray:
+    """
+    Seconds (float64) of each epoch text after origin, both in time_system (core::Epoch: leap seconds counted,
+    exact to the double rounding of each difference).
+    """
+
+def io_epochs_at(
+    origin: str, seconds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], time_system: typing.Any
+) -> tuple:
+    """
+    Epoch texts origin + seconds[i] in time_system (ISO-8601, up to 12 fraction digits).
+    """
+
+def io_format_oem(model: dict[str, typing.Any]) -> str:
+    """
+    OEM KVN text of the dict form of satgnc.io.Oem.
+    """
+
+def io_format_opm(model: dict[str, typing.Any]) -> str:
+    """
+    OPM KVN text of the dict form of satgnc.io.Opm.
+    """
+
+def io_format_tdm(model: dict[str, typing.Any], xml: bool) -> str:
+    """
+    TDM text (KVN, or XML when xml is True) of the dict form of satgnc.io.Tdm.
+    """
+
+def io_parse_oem(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse OEM KVN text (CCSDS 502.0-B-3) into the dict form of satgnc.io.Oem.
+    """
+
+def io_parse_opm(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse OPM KVN text (CCSDS 502.0-B-3) into the dict form of satgnc.io.Opm.
+    """
+
+def io_parse_tdm(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse TDM text (KVN or XML, CCSDS 503.0-B-2) into the dict form of satgnc.io.Tdm; errors name source, line
+    and keyword.
+    """
+
 def itrs_to_gcrs(
     x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], epoch: Epoch, eop: EopTable
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:

@@ -1,0 +1,249 @@
+// io::OEM (CCSDS 502.0-B-3 section 5), KVN: the standard's example parses to the printed numbers, a
+// trajectory with covariance round-trips bit for bit, malformed files name file, line and keyword.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "ccsds_test_support.hpp"
+#include "satgnc/io/oem.hpp"
+
+namespace {
+using satgnc::Mat6;
+using satgnc::Vec3;
+using satgnc::Vec6;
+using satgnc::io::Oem;
+using satgnc::io::parse_oem;
+using satgnc::io::read_oem;
+using satgnc::testing::ccsds_data;
+using satgnc::testing::expect_format_error;
+using satgnc::testing::replace_line;
+
+// Exact comparisons (tolerance 0): from_chars and the compiler round the same decimal text the same way.
+void expect_same(const Oem& a, const Oem& b) {
+  EXPECT_EQ(a.header.version, b.header.version);
+  EXPECT_EQ(a.header.comments, b.header.comments);
+  EXPECT_EQ(a.header.creation_date, b.header.creation_date);
+  EXPECT_EQ(a.header.originator, b.header.originator);
+  ASSERT_EQ(a.segments.size(), b.segments.size());
+  for (std::size_t s = 0; s < a.segments.size(); ++s) {
+    const auto& sa = a.segments[s];
+    const auto& sb = b.segments[s];
+    EXPECT_EQ(sa.metadata.comments, sb.metadata.comments);
+    EXPECT_EQ(sa.metadata.object_name, sb.metadata.object_name);
+    EXPECT_EQ(sa.metadata.object_id, sb.metadata.object_id);
+    EXPECT_EQ(sa.metadata.center_name, sb.metadata.center_name);
+    EXPECT_EQ(sa.metadata.ref_frame, sb.metadata.ref_frame);
+    EXPECT_EQ(sa.metadata.ref_frame_epoch, sb.metadata.ref_frame_epoch);
+    EXPECT_EQ(sa.metadata.time_system, sb.metadata.time_system);
+    EXPECT_EQ(sa.metadata.start_time, sb.metadata.start_time);
+    EXPECT_EQ(sa.metadata.useable_start_time, sb.metadata.useable_start_time);
+    EXPECT_EQ(sa.metadata.useable_stop_time, sb.metadata.useable_stop_time);
+    EXPECT_EQ(sa.metadata.stop_time, sb.metadata.stop_time);
+    EXPECT_EQ(sa.metadata.interpolation, sb.metadata.interpolation);
+    EXPECT_EQ(sa.metadata.interpolation_degree, sb.metadata.interpolation_degree);
+    EXPECT_EQ(sa.data_comments, sb.data_comments);
+    ASSERT_EQ(sa.states.size(), sb.states.size());
+    for (std::size_t i = 0; i < sa.states.size(); ++i) {
+      EXPECT_EQ(sa.states[i].epoch, sb.states[i].epoch);
+      EXPECT_EQ(sa.states[i].time, sb.states[i].time);
+      EXPECT_EQ(sa.states[i].state, sb.states[i].state);
+      ASSERT_EQ(sa.states[i].acceleration.has_value(), sb.states[i].acceleration.has_value());
+      if (sa.states[i].acceleration) EXPECT_EQ(*sa.states[i].acceleration, *sb.states[i].acceleration);
+    }
+    ASSERT_EQ(sa.covariances.size(), sb.covariances.size());
+    for (std::size_t i = 0; i < sa.covariances.size(); ++i) {
+      EXPECT_EQ(sa.covariances[i].comments, sb.covariances[i].comments);
+      EXPECT_EQ(sa.covariances[i].epoch, sb.covariances[i].epoch);
+      EXPECT_EQ(sa.covariances[i].time, sb.covariances[i].time);
+      EXPECT_EQ(sa.covariances[i].cov_ref_frame, sb.covariances[i].cov_ref_frame);
+      EXPECT_EQ(sa.covariances[i].matrix, sb.covariances[i].matrix);
+    }
+  }
+}
+
+TEST(Oem, StandardExampleParsesToThePrintedNumbers) {
+  const Oem o = read_oem(ccsds_data("oem_mgs.kvn"));
+  EXPECT_EQ(o.header.version, "2.0");
+  EXPECT_EQ(o.header.originator, "NASA/JPL");
+  ASSERT_EQ(o.segments.size(), 2u);
+  const auto& s0 = o.segments[0];
+  EXPECT_EQ(s0.metadata.object_name, "MARS GLOBAL SURVEYOR");
+  EXPECT_EQ(s0.metadata.center_name, "MARS BARYCENTER");
+  EXPECT_EQ(s0.metadata.ref_frame, "EME2000");
+  EXPECT_EQ(s0.metadata.interpolation, "HERMITE");
+  EXPECT_EQ(s0.metadata.interpolation_degree, 7);
+  EXPECT_EQ(s0.data_comments.size(), 2u);
+  ASSERT_EQ(s0.states.size(), 4u);
+  EXPECT_EQ(s0.states[0].epoch, "1996-12-18T12:00:00.331");
+  EXPECT_EQ(s0.states[0].state,
+            (Vec6() << 2789.619, -280.045, -1746.755, 4.73372, -2.49586, -1.04195).finished());
+  EXPECT_FALSE(s0.states[0].acceleration.has_value());
+  const auto& s1 = o.segments[1];
+  EXPECT_EQ(s1.states[0].state(1), -63.042);  // printed "-063.042"
+  EXPECT_EQ(s1.states[3].state(5), 0.88535);
+  ASSERT_EQ(s1.covariances.size(), 2u);
+  EXPECT_EQ(s1.covariances[0].epoch, "1996-12-28T21:29:07.267");
+  EXPECT_EQ(s1.covariances[0].cov_ref_frame, "EME2000");
+  const Mat6& c = s1.covariances[0].matrix;
+  EXPECT_EQ(c(0, 0), 3.3313494e-04);
+  EXPECT_EQ(c(1, 0), 4.6189273e-04);
+  EXPECT_EQ(c(0, 1), 4.6189273e-04);  // the lower triangle is mirrored
+  EXPECT_EQ(c(5, 5), 6.2244443e-10);
+  EXPECT_EQ(c(5, 3), 1.8692631e-10);
+  EXPECT_EQ(s1.covariances[1].matrix(2, 2), 3.3420420e-04);
+}
+
+TEST(Oem, RoundTripKeepsEveryValue) {
+  const Oem a = read_oem(ccsds_data("oem_mgs.kvn"));
+  expect_same(parse_oem(satgnc::io::format_oem(a)), a);
+  // An estimated trajectory with accelerations, a covariance per point and full-precision numbers.
+  Oem t;
+  t.header.creation_date = "2026-12-02T12:00:00";
+  t.header.originator = "SATGNC";
+  satgnc::io::OemSegment s;
+  s.metadata.object_name = "LEO-1";
+  s.metadata.object_id = "2026-001A";
+  s.metadata.center_name = "EARTH";
+  s.metadata.ref_frame = "GCRF";
+  s.metadata.time_system = satgnc::io::TimeSystem::tt;
+  s.metadata.start_time = "2026-12-02T00:00:00";
+  s.metadata.stop_time = "2026-12-02T00:02:00";
+  for (int i = 0; i < 3; ++i) {
+    satgnc::io::OemState st;
+    st.epoch = "2026-12-02T00:0" + std::to_string(i) + ":00";
+    st.time = satgnc::core::Epoch::parse(st.epoch, satgnc::io::TimeSystem::tt);
+    st.state << 6778.137 + i / 3.0, -1.0 / 7.0, 1e-17, 7.6686 * std::sqrt(2.0), -0.0, 1.0 / 3.0;
+    st.acceleration = Vec3(-8.0e-3 / 3.0, 1e-9, 3.0e-300);
+    s.states.push_back(st);
+    satgnc::io::OemCovariance cv;
+    cv.epoch = st.epoch;
+    cv.time = st.time;
+    cv.cov_ref_frame = i == 0 ? "" : "RTN";
+    Mat6 L = Mat6::Random();
+    cv.matrix = L * L.transpose() * 1e-6;
+    cv.matrix = (0.5 * (cv.matrix + cv.matrix.transpose())).eval();
+    s.covariances.push_back(cv);
+  }
+  t.segments.push_back(s);
+  const std::string path = ::testing::TempDir() + "satgnc_oem_roundtrip.oem";
+  satgnc::io::write_oem(path, t);
+  expect_same(read_oem(path), t);
+  std::remove(path.c_str());
+}
+
+const std::string kBase =
+    "CCSDS_OEM_VERS = 2.0\n"                       // 1
+    "CREATION_DATE = 2026-01-01T00:00:00\n"        // 2
+    "ORIGINATOR = SATGNC\n"                        // 3
+    "META_START\n"                                 // 4
+    "OBJECT_NAME = SAT\n"                          // 5
+    "OBJECT_ID = 2026-001A\n"                      // 6
+    "CENTER_NAME = EARTH\n"                        // 7
+    "REF_FRAME = GCRF\n"                           // 8
+    "TIME_SYSTEM = UTC\n"                          // 9
+    "START_TIME = 2026-01-01T00:00:00\n"           // 10
+    "STOP_TIME = 2026-01-01T00:01:00\n"            // 11
+    "META_STOP\n"                                  // 12
+    "2026-01-01T00:00:00 7000 0 0 0 7.5 0\n"       // 13
+    "2026-01-01T00:01:00 6999 450 0 -0.5 7.5 0\n"  // 14
+    "COVARIANCE_START\n"                           // 15
+    "EPOCH = 2026-01-01T00:00:00\n"                // 16
+    "1\n"                                          // 17
+    "0 1\n"                                        // 18
+    "0 0 1\n"                                      // 19
+    "0 0 0 1e-6\n"                                 // 20
+    "0 0 0 0 1e-6\n"                               // 21
+    "0 0 0 0 0 1e-6\n"                             // 22
+    "COVARIANCE_STOP\n";                           // 23
+
+TEST(Oem, BadInputNamesFileLineAndKeyword) {
+  ASSERT_EQ(parse_oem(kBase).segments[0].covariances.size(), 1u);
+  struct Case {
+    int line;
+    const char* with;
+    int error_line;
+    const char* keyword;
+    const char* fragment;
+  };
+  const Case cases[] = {
+      {9, "TIME_SYSTEM = MET", 9, "TIME_SYSTEM", "unsupported time system 'MET'"},
+      {9, "TIME_SYSTEM = UTX", 9, "TIME_SYSTEM", "unknown time system 'UTX'"},
+      {8, "", 11, "REF_FRAME", "missing mandatory keyword"},
+      {8, "REF_FRAMES = GCRF", 8, "REF_FRAMES", "unknown metadata keyword"},
+      {13, "2026-01-01T00:00:00 7000 0 0 0 7.5", 13, "EPHEMERIS", "got 6 fields"},
+      {13, "2026-01-01T00:00:00 7000 0 zero 0 7.5 0", 13, "EPHEMERIS", "not a number: 'zero'"},
+      {13, "2026-01-01 7000 0 0 0 7.5 0", 13, "EPOCH", "not an epoch"},
+      {18, "0 1 2", 18, "COVARIANCE", "row 2 of the lower triangle needs 2 numbers, got 3"},
+      {22, "", 22, "COVARIANCE", "has 5 of 6 rows"},
+      {23, "", 22, "COVARIANCE_STOP", "missing at the end of the file"},
+      {10, "START_TIME = 2026-02-30T00:00:00", 10, "START_TIME", "day out of range"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string("line ") + std::to_string(c.line) + " -> '" + c.with + "'");
+    const std::string text = replace_line(kBase, c.line, c.with);
+    expect_format_error([&] { parse_oem(text, "bad.oem"); }, "bad.oem", c.error_line, c.keyword, c.fragment);
+  }
+}
+
+TEST(Oem, WriterRefusesAnInvalidModel) {
+  Oem o = parse_oem(kBase);
+  o.segments[0].states[1].state(2) = std::numeric_limits<double>::infinity();
+  try {
+    satgnc::io::format_oem(o);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "segments[0].states[1].state: must be finite (no NaN or Inf)");
+  }
+  o = parse_oem(kBase);
+  o.segments[0].covariances[0].matrix(0, 1) = 0.5;  // not symmetric
+  EXPECT_THROW(satgnc::io::format_oem(o), std::invalid_argument);
+  o = parse_oem(kBase);
+  o.segments[0].metadata.object_name.clear();  // mandatory: the written "OBJECT_NAME = " would not read back
+  try {
+    satgnc::io::format_oem(o);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "oem: not a valid OEM: OBJECT_NAME: empty value (hint: KEYWORD = value)");
+  }
+}
+
+TEST(Oem, TrajectoryGivenAsEpochsIsWrittenAndReadBack) {
+  // A propagated trajectory: instants t0 + 60 k s (no text epochs), across the 2016 leap second.
+  using satgnc::core::Epoch;
+  using satgnc::io::TimeSystem;
+  Oem o = parse_oem(kBase);
+  auto& seg = o.segments[0];
+  const Epoch t0 = Epoch::parse("2016-12-31T23:58:30", TimeSystem::utc);
+  seg.metadata.start_time = "2016-12-31T23:58:30";
+  seg.metadata.stop_time = "2017-01-01T00:01:29";
+  seg.states.resize(3);
+  seg.covariances[0].epoch.clear();
+  seg.covariances[0].time = t0;
+  for (int k = 0; k < 3; ++k) {
+    seg.states[k].epoch.clear();
+    seg.states[k].time = t0 + 60.0 * k;
+    seg.states[k].state = Vec6::Constant(k + 0.5);
+  }
+  const std::string text = satgnc::io::format_oem(o);
+  // 60 s after 23:58:30 on a leap-second day is 23:59:30; 120 s after is 00:00:29 (23:59:60 in between).
+  EXPECT_NE(text.find("2016-12-31T23:59:30 1.5 1.5"), std::string::npos) << text;
+  EXPECT_NE(text.find("2017-01-01T00:00:29 2.5 2.5"), std::string::npos) << text;
+  const Oem back = parse_oem(text);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(back.segments[0].states[k].time - t0, 60.0 * k);  // s, exact
+  EXPECT_EQ(back.segments[0].covariances[0].time, t0);
+}
+
+TEST(Oem, MutatedFilesEitherParseOrRaiseFormatError) {
+  // Robustness: 1500 one-character mutations of the standard's example; each parses or throws
+  // FormatError (no other exception, no crash). Both outcomes must occur (the loop ran).
+  const std::string text = satgnc::testing::read_text(ccsds_data("oem_mgs.kvn"));
+  const int parsed = satgnc::testing::mutation_runs(
+      text, 1500, "mutated", [](const std::string& t) { (void)parse_oem(t, "mutated"); });
+  EXPECT_GT(parsed, 150);
+  EXPECT_LT(parsed, 1350);
+}
+
+}  // namespace
