@@ -24,6 +24,9 @@ import numpy as np
 import satgnc
 from _timing import timeit
 from satgnc import _satgnc
+from satgnc.propagation import DEFAULT_ATOL, DEFAULT_RTOL
+
+DEFAULT_METHOD = "dop853"
 
 MU = satgnc.EARTH_MU
 DAY = 86400.0
@@ -109,6 +112,23 @@ def main() -> None:
     for m in ("adams", "bdf", "dop853"):
         if m not in best:
             print(f"- {m}: no tolerance in the sweep meets 1 mm per day")
+
+    # The chosen default on other LEO orbits (satgnc.propagate with nothing but the state and times).
+    print(f"\nsatgnc.propagate defaults (method {DEFAULT_METHOD!r}, rtol {DEFAULT_RTOL:g}, "
+          f"atol {DEFAULT_ATOL:g}) on LEO orbits, largest position error over one day, km:\n")
+    print("| a (km) | e | i (deg) | two-body | two-body, no STM | J2 | J2, no STM |")
+    print("|---|---|---|---|---|---|---|")
+    for a, e, inc in ((6578.137, 0.001, 28.5), (6678.137, 0.0, 98.0), (6778.137, 0.001, 51.6),
+                      (6978.0, 0.01, 51.6), (7178.0, 0.02, 98.7)):
+        x = satgnc.elements_to_state(a, e, inc, 10.0, 20.0, 30.0)
+        kep = _satgnc.propagate_kepler(x, 0.0, TIMES, MU, False).states
+        tight = satgnc.propagate(x, TIMES, forces=satgnc.J2Gravity(), rtol=1e-13, atol=1e-15,
+                                 with_stm=False).states
+        errs = []
+        for forces, ref in ((None, kep), (satgnc.J2Gravity(), tight)):
+            for stm in (True, False):
+                errs.append(max_pos_err(satgnc.propagate(x, TIMES, forces=forces, with_stm=stm).states, ref))
+        print(f"| {a:.1f} | {e:g} | {inc:g} | " + " | ".join(f"{v:.1e}" for v in errs) + " |")
 
 
 if __name__ == "__main__":
