@@ -5,6 +5,9 @@
 #include <atomic>
 #include <cmath>
 #include <condition_variable>
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+#include <immintrin.h>
+#endif
 #include <cstdint>
 #include <limits>
 #include <mutex>
@@ -32,9 +35,11 @@ namespace lanes_generic {
 #define SATGNC_LANES_AVX512 1
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512dq")
+#define SATGNC_LANES_AVX512_REGION 1
 namespace lanes_avx512 {
 #include "detail/dop853_lanes.inc"
 }  // namespace lanes_avx512
+#undef SATGNC_LANES_AVX512_REGION
 #pragma GCC pop_options
 #endif
 }  // namespace satgnc::propagation::detail
