@@ -105,6 +105,15 @@ def test_bad_member_gets_its_own_status():
         assert np.max(np.abs(r.states[k] - tr.states)) < 5e-8  # km; SIMD lanes: see test_ensemble.cpp
 
 
+@pytest.mark.parametrize("simd", [True, False])
+def test_a_batch_of_only_bad_members(simd):
+    xs = np.array([[6000.0, 0.0, 0.0, 0.0, 7.0, 0.0], [0.0, 0.0, 0.0, 1.0, 0.0, 0.0]])  # inside; |r| = 0
+    r = propagate_ensemble(xs, TIMES, simd=simd)
+    assert r.status == ("impact", "rhs_failure")
+    assert r.outputs.tolist() == [0, 0] and np.isnan(r.states).all()
+    assert "|r0| = 0" in r.messages[1]
+
+
 def test_step_budget_is_per_member():
     r = propagate_ensemble(dispersed(2), [0.0, 7200.0], max_steps=30)  # a 2 h arc takes ~100 steps
     assert r.status == ("too_much_work", "too_much_work")
