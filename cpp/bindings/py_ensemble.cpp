@@ -73,7 +73,8 @@ void init_ensemble(py::module_& m) {
                                  "DOP853 ensemble propagator (km, km/s, s): a fixed pool of threads started "
                                  "once; per-member step control and status.")
       .def(py::init([](const dynamics::ForceModel& f, py::handle rtol, py::handle atol, py::handle with_stm,
-                       py::handle max_steps, py::handle surface_radius, py::handle threads, py::handle simd) {
+                       py::handle max_steps, py::handle surface_radius, py::handle threads, py::handle simd,
+                       py::handle simd_portable) {
              EnsembleSettings s;
              s.integrator.rtol = checks::real_arg(rtol, "rtol");
              s.integrator.atol = checks::real_arg(atol, "atol");
@@ -83,12 +84,13 @@ void init_ensemble(py::module_& m) {
              s.surface_radius = checks::real_arg(surface_radius, "surface_radius");
              s.threads = static_cast<int>(checks::int_arg(threads, "threads", 1, 256));
              s.simd = checks::bool_arg(simd, "simd");
+             s.simd_portable = checks::bool_arg(simd_portable, "simd_portable");
              return new EnsemblePropagator(f, s);
            }),
            py::arg("force_model"), py::arg("rtol") = propagation::kDefaultOrbitRtol,
            py::arg("atol") = propagation::kDefaultOrbitAtol, py::arg("with_stm") = true,
            py::arg("max_steps") = 100000, py::arg("surface_radius") = 0.0, py::arg("threads") = 1,
-           py::arg("simd") = true)
+           py::arg("simd") = true, py::arg("simd_portable") = false)
       .def_property_readonly("threads", &EnsemblePropagator::threads)
       .def(
           "propagate",

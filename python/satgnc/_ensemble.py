@@ -101,6 +101,7 @@ def propagate_ensemble(
     stm: bool = True,
     threads: int = 1,
     simd: bool = True,
+    simd_portable: bool = False,
     rtol: float | None = None,
     atol: float | None = None,
     max_steps: int = 100_000,
@@ -133,6 +134,10 @@ def propagate_ensemble(
         its own step-size control (default). Results then agree with the single-arc calls to
         rounding (~1e-12 relative: sums in another order, fused multiply-adds), not bitwise. ``False``:
         one member at a time, bitwise equal to ``satgnc.propagate(..., method="dop853")``.
+    simd_portable : bool
+        With ``simd``: use the baseline (SSE2) build of the lane integrator even where the CPU has
+        AVX-512 (whose fused multiply-adds change the last bits): results then do not depend on the
+        x86-64 machine. Default False (the fastest build the CPU runs).
     rtol, atol : float, optional
         DOP853 tolerances (atol in km, km/s). Default :data:`satgnc.propagation.DEFAULT_RTOL` /
         ``DEFAULT_ATOL`` (1 mm per LEO day, as :func:`satgnc.propagate`).
@@ -167,6 +172,8 @@ def propagate_ensemble(
         raise TypeError(f"stm: must be a bool, got {type(stm).__name__}")
     if not isinstance(simd, (bool, np.bool_)):
         raise TypeError(f"simd: must be a bool, got {type(simd).__name__}")
+    if not isinstance(simd_portable, (bool, np.bool_)):
+        raise TypeError(f"simd_portable: must be a bool, got {type(simd_portable).__name__}")
     if isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral):
         raise TypeError(f"max_steps: must be an int, got {type(max_steps).__name__}")
     if not 0 < max_steps <= 2**62:
@@ -186,7 +193,7 @@ def propagate_ensemble(
         surface = _satgnc.EARTH_RADIUS if model.mu == _satgnc.EARTH_MU else 0.0
     prop = _satgnc.EnsemblePropagator(model, rtol=rtolf, atol=atolf, with_stm=bool(stm),
                                       max_steps=int(max_steps), surface_radius=surface, threads=int(threads),
-                                      simd=bool(simd))
+                                      simd=bool(simd), simd_portable=bool(simd_portable))
     d = prop.propagate(x, t0f, t)
     status = tuple(d["status"])
     return adopt(

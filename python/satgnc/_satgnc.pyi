@@ -799,6 +799,7 @@ class EnsemblePropagator:
         surface_radius: typing.SupportsFloat = 0.0,
         threads: typing.Any = 1,
         simd: typing.Any = True,
+        simd_portable: typing.Any = False,
     ) -> None: ...
     def propagate(
         self,

@@ -101,10 +101,12 @@ TEST(Ensemble, SimdLanesAgreeWithSingleArcs) {
   with_drag.drag = drag;
   const std::vector<double> ts{0.0, 100.0, 1800.0, 3600.0, 5000.0, 7200.0};  // dense outputs too
   for (const ForceModel& fm : {ForceModel(), j2_model(), with_drag}) {
-    for (const bool stm : {true, false}) {
+    for (const int variant : {0, 1, 2}) {  // STM + best kernel, no STM, STM + baseline (portable) kernel
+      const bool stm = variant != 1;
       const auto xs = dispersed(13);  // one full batch of 8 and a partial one of 5
       EnsembleSettings s;
       s.with_stm = stm;
+      s.simd_portable = variant == 2;
       const EnsembleResult r = EnsemblePropagator(fm, s).propagate(xs, 0.0, ts);
       ASSERT_EQ(r.succeeded(), xs.size());
       const std::size_t n = ts.size();

@@ -268,7 +268,7 @@ void run_job(Job& job) noexcept {
     }
   }
   constexpr std::size_t L = detail::lanes_generic::kLanes;
-  const bool avx512 = cpu_has_avx512();
+  const bool avx512 = !job.settings->simd_portable && cpu_has_avx512();
   for (;;) {
     const std::size_t b = job.next.fetch_add(1, std::memory_order_relaxed);
     const std::size_t first = b * L;

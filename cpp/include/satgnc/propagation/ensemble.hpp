@@ -42,6 +42,10 @@ struct EnsembleSettings {
   /// by the scalar path, so statuses and messages are those of the single-arc call. false: one member
   /// at a time, bitwise equal to propagate_dop853.
   bool simd = true;
+  /// With simd: use the baseline (SSE2) build of the lane integrator even on a CPU with AVX-512. The
+  /// AVX-512 build fuses multiply-adds, so its last bits differ from the baseline build's: set this
+  /// for results that are the same on every x86-64 machine (and to test the baseline kernel).
+  bool simd_portable = false;
   /// Throw std::invalid_argument("field: rule") on any invalid value (integrator fields by name).
   void validate() const;
 };
