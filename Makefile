@@ -70,8 +70,13 @@ sanitize: setup
 	$(CMAKE) --build build/asan -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 $(CTEST) --test-dir build/asan --output-on-failure -j $(JOBS)
 
-bench: install
-	@for b in propagation od guidance guidance_nonlinear analysis; do echo "== bench/$$b.py"; $(PY) bench/$$b.py || exit 1; done
+$(VENV)/.bench-stamp: requirements-bench.txt $(VENV)/.stamp
+	$(PY) -m pip install -q -r requirements-bench.txt
+	@touch $@
+
+bench: install $(VENV)/.bench-stamp
+	@for b in propagation propagation_defaults propagation_ensemble od guidance guidance_nonlinear analysis; do \
+	  echo "== bench/$$b.py"; $(PY) bench/$$b.py || exit 1; done
 
 CXX_SOURCES = $$(find cpp tests/cpp examples/cpp bench/cpp -name '*.hpp' -o -name '*.cpp')
 

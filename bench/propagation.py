@@ -7,7 +7,8 @@ variational system vectorised in numpy, measured in the same run.
 
     .venv/bin/python bench/propagation.py [--quick]
 
-heyoka.py is optional (pip install heyoka; ~240 MB with its LLVM): skipped with a note if missing.
+heyoka.py (~240 MB with its LLVM) is installed by ``make bench`` (requirements-bench.txt); run directly
+without it, its rows are skipped with a note.
 """
 
 from __future__ import annotations

@@ -9,6 +9,7 @@ void init_dynamics(pybind11::module_& m);
 void init_force_models(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
 void init_propagation_analytic(pybind11::module_& m);
+void init_ensemble(pybind11::module_& m);
 void init_od(pybind11::module_& m);
 void init_guidance(pybind11::module_& m);
 void init_guidance_nonlinear(pybind11::module_& m);
@@ -27,6 +28,7 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_force_models(m);
   b::init_propagation(m);
   b::init_propagation_analytic(m);
+  b::init_ensemble(m);
   b::init_od(m);
   b::init_guidance(m);
   b::init_guidance_nonlinear(m);

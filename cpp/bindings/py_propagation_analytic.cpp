@@ -55,9 +55,9 @@ void init_propagation_analytic(py::module_& m) {
         py::gil_scoped_release release;
         return propagation::propagate_dop853(force_model, x, t, ts, s, stm, R);
       },
-      py::arg("x0"), py::arg("t0"), py::arg("times"), py::arg("force_model"), py::arg("rtol") = 1e-10,
-      py::arg("atol") = 1e-12, py::arg("with_stm") = true, py::arg("max_steps") = 100000,
-      py::arg("surface_radius") = 0.0,
+      py::arg("x0"), py::arg("t0"), py::arg("times"), py::arg("force_model"),
+      py::arg("rtol") = propagation::kDefaultOrbitRtol, py::arg("atol") = propagation::kDefaultOrbitAtol,
+      py::arg("with_stm") = true, py::arg("max_steps") = 100000, py::arg("surface_radius") = 0.0,
       "Fixed-size Dormand-Prince 8(5,3) propagation with the variational equations (km, km/s, s).\n"
       "An arc reaching |r| = surface_radius km stops with status 'impact', t_reached = its time.");
 

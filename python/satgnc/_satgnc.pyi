@@ -37,6 +37,7 @@ __all__: list[str] = [
     "EarthOrientation",
     "EarthRotationModel",
     "Ellipsoid",
+    "EnsemblePropagator",
     "EopTable",
     "EopValues",
     "Epoch",
@@ -1555,6 +1556,36 @@ class ReferenceScaling:
     def state_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
     @property
     def time_scale(self) -> float: ...
+
+class EnsemblePropagator:
+    """
+    DOP853 ensemble propagator (km, km/s, s): a fixed pool of threads started once; per-member step control
+    and status.
+    """
+    def __init__(
+        self,
+        force_model: ForceModel,
+        rtol: typing.SupportsFloat = 3e-12,
+        atol: numpy.typing.ArrayLike = 3e-14,
+        with_stm: bool = True,
+        max_steps: typing.SupportsInt = 100000,
+        surface_radius: typing.SupportsFloat = 0.0,
+        threads: typing.Any = 1,
+        simd: typing.Any = True,
+        simd_portable: typing.Any = False,
+    ) -> None: ...
+    def propagate(
+        self,
+        x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64],
+        t0: typing.SupportsFloat,
+        times: numpy.typing.ArrayLike,
+    ) -> dict[str, typing.Any]:
+        """
+        Propagate K states x0 (K, 6) from t0 (s) to `times` (s); returns a dict of (K, ...) arrays and per-
+        member status names and messages.
+        """
+    @property
+    def threads(self) -> int: ...
 
 class StmPropagator:
     def propagate(
@@ -3413,8 +3444,8 @@ def propagate_dop853(
     t0: typing.SupportsFloat,
     times: numpy.typing.ArrayLike,
     force_model: ForceModel,
-    rtol: typing.SupportsFloat = 1e-10,
-    atol: numpy.typing.ArrayLike = 1e-12,
+    rtol: typing.SupportsFloat = 3e-12,
+    atol: numpy.typing.ArrayLike = 3e-14,
     with_stm: bool = True,
     max_steps: typing.SupportsInt = 100000,
     surface_radius: typing.SupportsFloat = 0.0,

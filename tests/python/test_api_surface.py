@@ -37,6 +37,14 @@ def test_propagate_and_methods() -> None:
         assert isinstance(x, np.ndarray) and x.shape == (6,)
 
 
+def test_propagate_ensemble() -> None:
+    states = np.array([X_LEO, X_LEO * 1.001])
+    r = prop.propagate_ensemble(states, [0.0, 30.0, 60.0], satgnc.J2Gravity(), threads=2)
+    assert isinstance(r, prop.EnsembleResult) and r.all_success
+    assert r.states.shape == (2, 3, 6) and r.stms is not None and r.stms.shape == (2, 3, 6, 6)
+    assert r.status == ("success", "success")
+
+
 # ----------------------------------------------------------------------------- satgnc.guidance
 def test_guidance_functions() -> None:
     A, B = g.cw_matrices(N_MEAN, 10.0)
@@ -232,7 +240,7 @@ def test_analysis_gramians_and_jacobians() -> None:
 # ----------------------------------------------------------------------------- completeness
 CALLED = {
     "satgnc": {"propagate", "available_methods", "elements_to_state"},
-    "satgnc.propagation": {"propagate", "available_methods", "elements_to_state"},
+    "satgnc.propagation": {"propagate", "available_methods", "elements_to_state", "propagate_ensemble"},
     "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "solve_l1", "plan", "fly", "mpc",
                         "satellite_params"},
     "satgnc.od": {

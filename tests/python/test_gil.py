@@ -70,6 +70,8 @@ def _big_system(n=90, m=2, seed=1):
                                                   _big_system(150)[1], 1.0)),
     ("propagate", lambda: satgnc.propagate([7000.0, 0, 0, 0, 7.5, 0], np.linspace(0, 86400.0 * 5, 50),
                                            forces=satgnc.J2Gravity(), rtol=1e-12, atol=1e-14)),
+    ("propagate_ensemble", lambda: satgnc.propagation.propagate_ensemble(
+        np.tile([7000.0, 0, 0, 0, 7.5, 0], (400, 1)), np.linspace(0, 86400.0, 10), satgnc.J2Gravity())),
     ("L1Solver setup", lambda: g.L1Solver(*g.cw_discretize(0.0011, 1.0, 10.0), np.ones(6), horizon=20000,
                                           Qf=np.eye(6))),
 ])

@@ -27,17 +27,22 @@ void dop853_validate_settings(const Dop853Settings& s) {
 // The ranges of dop853_check_settings (the integrator's own, looser than the orbit wrapper's
 // dop853_validate_settings: rtol = 1 is a fixed-step run), one field at a time.
 void Dop853Settings::validate() const {
+  // Each message is built only on failure: the integrator's constructor calls this, and an ensemble
+  // builds one integrator per member (no allocation on the success path).
   using core::require;
-  require(std::isfinite(rtol) && rtol > 10.0 * std::numeric_limits<double>::epsilon(), "rtol",
-          "must be finite and exceed 10 machine epsilons (2.2e-15), got " + std::to_string(rtol));
-  require(std::isfinite(atol) && atol >= 0.0, "atol", "must be finite and >= 0, got " + std::to_string(atol));
-  require(max_steps > 0, "max_steps", "must be > 0, got " + std::to_string(max_steps));
-  require(std::isfinite(h0) && h0 >= 0.0, "h0", "must be finite and >= 0 (0 = automatic)");
-  require(std::isfinite(h_max) && h_max >= 0.0, "h_max", "must be finite and >= 0 (0 = |t_end - t0|)");
-  require(safety > 1e-4 && safety < 1.0, "safety", "must lie in (1e-4, 1)");
-  require(fac_min > 0.0 && fac_min <= 1.0, "fac_min", "must lie in (0, 1]");
-  require(std::isfinite(fac_max) && fac_max >= 1.0, "fac_max", "must be finite and >= 1");
-  require(beta >= 0.0 && beta <= 0.2, "beta", "must lie in [0, 0.2]");
+  if (!(std::isfinite(rtol) && rtol > 10.0 * std::numeric_limits<double>::epsilon()))
+    require(false, "rtol",
+            "must be finite and exceed 10 machine epsilons (2.2e-15), got " + std::to_string(rtol));
+  if (!(std::isfinite(atol) && atol >= 0.0))
+    require(false, "atol", "must be finite and >= 0, got " + std::to_string(atol));
+  if (!(max_steps > 0)) require(false, "max_steps", "must be > 0, got " + std::to_string(max_steps));
+  if (!(std::isfinite(h0) && h0 >= 0.0)) require(false, "h0", "must be finite and >= 0 (0 = automatic)");
+  if (!(std::isfinite(h_max) && h_max >= 0.0))
+    require(false, "h_max", "must be finite and >= 0 (0 = |t_end - t0|)");
+  if (!(safety > 1e-4 && safety < 1.0)) require(false, "safety", "must lie in (1e-4, 1)");
+  if (!(fac_min > 0.0 && fac_min <= 1.0)) require(false, "fac_min", "must lie in (0, 1]");
+  if (!(std::isfinite(fac_max) && fac_max >= 1.0)) require(false, "fac_max", "must be finite and >= 1");
+  if (!(beta >= 0.0 && beta <= 0.2)) require(false, "beta", "must lie in [0, 0.2]");
 }
 
 void dop853_validate_surface(const Vec6& x0, double surface_radius) {

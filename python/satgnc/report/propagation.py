@@ -78,7 +78,7 @@ def build(ctx) -> str:
     tt = np.linspace(0.0, 10 * period, 101)
     for name, forces in [("point mass", None), ("J2", satgnc.J2Gravity())]:
         model = satgnc.ForceModel(j2=forces) if forces is not None else satgnc.ForceModel()
-        tr = satgnc.propagate(x0, tt, forces=model, rtol=1e-12, atol=1e-14)
+        tr = satgnc.propagate(x0, tt, forces=model, method="adams", rtol=1e-12, atol=1e-14)
         e = np.array([model.energy(x[:3], x[3:]) for x in tr.states])
         h = np.cross(tr.states[:, :3], tr.states[:, 3:])
         rows.append(f"| {name} | {np.abs(e / e[0] - 1).max():.2e} | "
@@ -91,10 +91,10 @@ def build(ctx) -> str:
     drag = satgnc.ExponentialDrag(rho0=2.789e-13, h0=600.0, scale_height=71.835, area=20.0, mass=100.0)
     x1 = np.array([6828.1363, 0.0, 0.0, 0.0, -0.9296, 7.5838])
     forces = [satgnc.J2Gravity(), drag]
-    phi = satgnc.propagate(x1, [0.0, 7200.0], forces=forces, rtol=1e-13, atol=1e-13).stms[1]
+    phi = satgnc.propagate(x1, [0.0, 7200.0], forces=forces, method="adams", rtol=1e-13, atol=1e-13).stms[1]
 
     def f(x):
-        return satgnc.propagate(x, [0.0, 7200.0], forces=forces, rtol=1e-14, atol=1e-13,
+        return satgnc.propagate(x, [0.0, 7200.0], forces=forces, method="adams", rtol=1e-14, atol=1e-13,
                                 with_stm=False).states[1]
 
     fd = np.empty((6, 6))
@@ -106,7 +106,8 @@ def build(ctx) -> str:
     d = np.r_[[np.linalg.norm(x1[:3])] * 3, [np.linalg.norm(x1[3:])] * 3]
     nd_err = np.abs((phi - fd) * d[None, :] / d[:, None]).max() / np.abs(fd * d[None, :] / d[:, None]).max()
     J = np.block([[np.zeros((3, 3)), np.eye(3)], [-np.eye(3), np.zeros((3, 3))]])
-    phic = satgnc.propagate(x0, [0.0, 3 * period], forces=satgnc.J2Gravity(), rtol=1e-13, atol=1e-13).stms[1]
+    phic = satgnc.propagate(x0, [0.0, 3 * period], forces=satgnc.J2Gravity(), method="adams", rtol=1e-13,
+                            atol=1e-13).stms[1]
     out += ["", "### State transition matrix", "",
             f"- J2 + drag, 2 h, 450 km: relative error of the nondimensional STM D^-1 Phi D "
             f"(D = diag(|r0|, |v0|)) against 4th-order central differences of rtol-1e-14 runs: "
