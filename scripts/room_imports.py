@@ -17,7 +17,7 @@ import pathlib
 import re
 import sys
 
-ROOMS = ["core", "frames", "dynamics", "propagation", "od", "guidance", "analysis"]
+ROOMS = ["core", "frames", "dynamics", "propagation", "observation", "od", "guidance", "analysis"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"satgnc/([a-z_]+)/', re.M)
 
 
@@ -50,7 +50,7 @@ def topological(m: dict[str, dict[str, int]]) -> list[list[str]] | None:
     return levels
 
 
-PY_LIBRARY = ["od", "guidance", "analysis", "propagation"]
+PY_LIBRARY = ["od", "guidance", "analysis", "propagation", "observation"]
 PY_IMPORT = re.compile(r"^\s*(?:from|import)\s+(?:satgnc\.|\.\.?)([a-z_]+)", re.M)
 
 
