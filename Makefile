@@ -71,7 +71,7 @@ sanitize: setup
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 $(CTEST) --test-dir build/asan --output-on-failure -j $(JOBS)
 
 bench: install
-	@for b in propagation od guidance guidance_nonlinear analysis; do echo "== bench/$$b.py"; $(PY) bench/$$b.py || exit 1; done
+	@for b in propagation od guidance guidance_nonlinear analysis observation; do echo "== bench/$$b.py"; $(PY) bench/$$b.py || exit 1; done
 
 CXX_SOURCES = $$(find cpp tests/cpp examples/cpp bench/cpp -name '*.hpp' -o -name '*.cpp')
 

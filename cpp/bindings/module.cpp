@@ -10,6 +10,7 @@ void init_od(pybind11::module_& m);
 void init_guidance(pybind11::module_& m);
 void init_guidance_nonlinear(pybind11::module_& m);
 void init_analysis(pybind11::module_& m);
+void init_observation(pybind11::module_& m);
 }  // namespace satgnc::bindings
 
 PYBIND11_MODULE(_satgnc, m) {
@@ -24,4 +25,5 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_guidance(m);
   b::init_guidance_nonlinear(m);
   b::init_analysis(m);
+  b::init_observation(m);
 }
