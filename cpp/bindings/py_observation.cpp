@@ -15,7 +15,9 @@
 
 #include "checks.hpp"
 #include "satgnc/dynamics/station.hpp"
+#include "satgnc/frames/earth_orientation.hpp"
 #include "satgnc/frames/earth_rotation.hpp"
+#include "satgnc/frames/ground_station.hpp"
 #include "satgnc/observation/light_time.hpp"
 #include "satgnc/observation/measurement_model.hpp"
 #include "satgnc/observation/modifiers.hpp"
@@ -150,6 +152,15 @@ void init_observation(py::module_& m) {
                }),
            py::arg("latitude_deg"), py::arg("longitude_deg"), py::arg("height_km"), py::arg("theta0") = 0.0,
            py::arg("omega") = core::earth::omega)
+      .def_static(
+          "from_ground_station",
+          [](const frames::GroundStation& station, const frames::IauEarthRotation& rotation) {
+            return observation::EarthFixedStationEphemeris::from_ground_station(
+                station, std::make_shared<frames::IauEarthRotation>(rotation));
+          },
+          py::arg("station"), py::arg("rotation"),
+          "The GroundStation carried to GCRF by the IAU 2006/2000A chain with EOP (t = s after "
+          "rotation.epoch).")
       .def_property_readonly("longitude", &observation::EarthFixedStationEphemeris::longitude, "rad (east)")
       .def_property_readonly("position_itrf", &observation::EarthFixedStationEphemeris::position_itrf, "km");
 

@@ -342,3 +342,44 @@ TEST(StationEphemerides, EarthFixedOnUniformRotationMatchesTheRotatingStation) {
 }
 
 }  // namespace
+
+namespace {
+
+// A GroundStation carried by the IAU 2006/2000A chain with EOP (IauEarthRotation on its 1 h grid)
+// against the station's own GCRF state from the full chain at the same epochs (TIME's
+// GroundStation::state_gcrf): the two differ by the grid interpolation (2.9e-12 rad -> 2e-8 km).
+TEST(StationEphemerides, GroundStationWithEopMatchesItsFullChainState) {
+  namespace fr = satgnc::frames;
+  using satgnc::core::Epoch;
+  using satgnc::core::TimeScale;
+  using satgnc::observation::EarthFixedStationEphemeris;
+  using satgnc::observation::StationState;
+  const std::string eop_path = std::string(SATGNC_TEST_EOP_DIR) + "/finals2000A_2016-12.txt";
+  const fr::EopTable eop = fr::EopTable::read(eop_path);
+  const Epoch epoch = Epoch::parse("2016-12-20T10:00:00", TimeScale::utc);
+  const fr::GroundStation gs(-35.4, 149.0, 0.69, 10.0, "Canberra");
+  const auto rotation = std::make_shared<fr::IauEarthRotation>(epoch, eop, -7200.0, 7200.0);
+  const EarthFixedStationEphemeris st = EarthFixedStationEphemeris::from_ground_station(gs, rotation);
+  EXPECT_LT((st.position_itrf() - gs.position_itrf()).norm(), 1e-12);  // km: both from eraGd2gc
+  for (double t : {0.0, 1800.0, -3600.0}) {
+    StationState s;
+    st.state(t, s);
+    const satgnc::Vec6 ref = gs.state_gcrf(epoch + t, eop);
+    std::printf("t = %+6.0f s: |dr| = %.1e km, |dv| = %.1e km/s\n", t, (s.r - ref.head<3>()).norm(),
+                (s.v - ref.tail<3>()).norm());
+    EXPECT_LT((s.r - ref.head<3>()).norm(), 1e-7);   // km: grid bound 2.9e-12 rad x 6371 km; measured 4e-12
+    EXPECT_LT((s.v - ref.tail<3>()).norm(), 1e-10);  // km/s: same Earth-rotation term, same LOD
+  }
+  // A two-way range from this station is a normal prediction.
+  const MeasurementModel model{MeasurementSettings{}};
+  StationState s0;
+  st.state(0.0, s0);
+  Vec6 x;
+  x << s0.r.normalized() * 7000.0, s0.r.normalized().cross(Vec3::UnitZ()).normalized() * 7.5;
+  Prediction p;
+  model.predict(st, 0.0, x, Biases{}, p);
+  EXPECT_EQ(p.status, ObservationStatus::success);
+  EXPECT_NEAR(p.value(0), 7000.0 - s0.r.norm(), 1.0);  // km: overhead, minus the ~0.05 km light-time motion
+}
+
+}  // namespace

@@ -273,3 +273,31 @@ def test_private_bench_loop_runs_and_times():
     per_call, checksum = _satgnc._bench_two_way_range(eph, x, 10, 2)
     assert 0.0 < per_call < 1e-2  # s per call: microseconds expected, 10 ms is a broken loop
     assert np.isfinite(checksum) and checksum > 0.0  # 20 values of ~600 km plus partials
+
+
+def test_ground_station_with_eop_predicts_at_epochs():
+    """A satgnc.frames.GroundStation on the IAU 2006/2000A chain with EOP (the 2016-12 sample): the
+    station state equals GroundStation.state_gcrf at epoch + t, and tags given as Epochs become t."""
+    import pathlib
+
+    from satgnc import frames
+    from satgnc.time import Epoch
+
+    eop_dir = pathlib.Path(__file__).resolve().parents[1] / "data" / "eop"
+    eop = frames.load_eop(eop_dir / "finals2000A_2016-12.txt")
+    epoch = Epoch.parse("2016-12-20T10:00:00")
+    gs = frames.GroundStation(-35.4, 149.0, 0.69, name="Canberra")
+    rotation = frames.IauEarthRotation(epoch, eop, -3600.0, 3600.0)
+    eph = obs.EarthFixedStationEphemeris.from_ground_station(gs, rotation)
+    tags = [epoch + 0.0, epoch + 600.0]
+    t = np.array([tag - epoch for tag in tags])  # s after the rotation's epoch
+    for tk, tag in zip(t, tags):
+        r, v, _, _ = eph.state(float(tk))
+        ref = np.asarray(gs.state_gcrf(tag, eop))
+        assert np.linalg.norm(np.asarray(r) - ref[:3]) < 1e-7  # km: 1 h grid interpolation, 2.9e-12 rad
+        assert np.linalg.norm(np.asarray(v) - ref[3:]) < 1e-10  # km/s
+    up = np.asarray(eph.state(0.0)[0])
+    x = np.concatenate([7000.0 * up / np.linalg.norm(up), [0.0, 0.0, 7.5]])
+    p = obs.predict(obs.measurement_model("two_way_range", troposphere=True), eph, t, np.vstack([x, x]))
+    assert p.status[0] == "success"
+    assert abs(p.value[0] - (7000.0 - np.linalg.norm(up))) < 1.0  # km: overhead at t = 0

@@ -63,6 +63,13 @@ EarthFixedStationEphemeris::EarthFixedStationEphemeris(
   enu_itrf_.row(2) = Vec3(cp * cl, cp * sl, sp).transpose();
 }
 
+EarthFixedStationEphemeris EarthFixedStationEphemeris::from_ground_station(
+    const frames::GroundStation& station, std::shared_ptr<const frames::EarthRotationModel> rotation) {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  return EarthFixedStationEphemeris(station.latitude_deg() * kDeg, station.longitude_deg() * kDeg,
+                                    station.height_km(), std::move(rotation));
+}
+
 void EarthFixedStationEphemeris::state(double t, StationState& out) const noexcept {
   Mat3 M;
   Vec3 w;

@@ -13,6 +13,7 @@
 #include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/station.hpp"
 #include "satgnc/frames/earth_rotation.hpp"
+#include "satgnc/frames/ground_station.hpp"
 
 namespace satgnc::observation {
 
@@ -73,6 +74,9 @@ class EarthFixedStationEphemeris final : public StationEphemeris {
   /// std::invalid_argument naming the argument; `rotation` must be non-null.
   EarthFixedStationEphemeris(double latitude_rad, double longitude_rad, double height_km,
                              std::shared_ptr<const frames::EarthRotationModel> rotation);
+  /// The same station from a frames::GroundStation (its WGS-84 latitude, longitude and height).
+  static EarthFixedStationEphemeris from_ground_station(
+      const frames::GroundStation& station, std::shared_ptr<const frames::EarthRotationModel> rotation);
   void state(double t, StationState& out) const noexcept override;
   double latitude() const noexcept override { return latitude_; }  ///< rad (geodetic)
   double height() const noexcept override { return height_; }      ///< km
