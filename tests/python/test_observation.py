@@ -301,3 +301,11 @@ def test_ground_station_with_eop_predicts_at_epochs():
     p = obs.predict(obs.measurement_model("two_way_range", troposphere=True), eph, t, np.vstack([x, x]))
     assert p.status[0] == "success"
     assert abs(p.value[0] - (7000.0 - np.linalg.norm(up))) < 1.0  # km: overhead at t = 0
+    # tags as Epochs: the same predictions (t = tag - epoch exactly: 0 and 600 s)
+    q = obs.predict(obs.measurement_model("two_way_range", troposphere=True), eph, tags, np.vstack([x, x]),
+                    epoch=epoch)
+    assert np.array_equal(q.value, p.value)
+    with pytest.raises(TypeError, match="^epoch: tags are Epochs"):
+        obs.predict(obs.measurement_model("two_way_range"), eph, tags, np.vstack([x, x]))
+    with pytest.raises(TypeError, match="^epoch: give it only with tags"):
+        obs.predict(obs.measurement_model("two_way_range"), eph, t, np.vstack([x, x]), epoch=epoch)

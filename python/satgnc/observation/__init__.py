@@ -148,6 +148,23 @@ def measurement_model(
         raise ValueError(msg) from None
 
 
+def _tags_as_seconds(t: Any, epoch: Any) -> Any:
+    """Tags as seconds after ``epoch`` when they are Epochs; numbers pass through unchanged."""
+    epoch_type = _satgnc.Epoch
+    tags = [t] if isinstance(t, epoch_type) else t
+    is_epochs = isinstance(tags, (list, tuple)) and len(tags) > 0 and isinstance(tags[0], epoch_type)
+    if not is_epochs:
+        if epoch is not None:
+            raise TypeError("epoch: give it only with tags that are satgnc.time.Epoch values")
+        return t
+    if not isinstance(epoch, epoch_type):
+        raise TypeError(f"epoch: tags are Epochs, so epoch must be the satgnc.time.Epoch of t = 0, got "
+                        f"{type(epoch).__name__}")
+    if not all(isinstance(tag, epoch_type) for tag in tags):
+        raise TypeError("t: mixes Epoch values and numbers")
+    return np.array([tag - epoch for tag in tags], dtype=float)
+
+
 def predict(
     model: Any,
     station: Any,
@@ -156,11 +173,16 @@ def predict(
     *,
     range_bias: Any = 0.0,
     time_bias: Any = 0.0,
+    epoch: Any = None,
 ) -> Predictions:
     """Predict ``model``'s observable for each reception tag ``t`` (s, the station's time axis;
     scalar or (n,)) and spacecraft GCRF state ``states`` ((6,) or (n, 6), km and km/s, at the tags).
-    ``range_bias`` (km) and ``time_bias`` (s): a number or one per tag. Failures are statuses, not
-    exceptions; bad arguments raise ``ValueError`` / ``TypeError`` naming them."""
+    Tags may also be :class:`satgnc.time.Epoch` values (one or a sequence) when ``epoch`` gives the
+    epoch of t = 0 of the station ephemeris (e.g. its ``IauEarthRotation``'s epoch): t = tag - epoch,
+    exact to the double's resolution of the difference. ``range_bias`` (km) and ``time_bias`` (s): a
+    number or one per tag. Failures are statuses, not exceptions; bad arguments raise ``ValueError`` /
+    ``TypeError`` naming them."""
+    t = _tags_as_seconds(t, epoch)
     if not isinstance(model, MeasurementModel):
         raise TypeError(f"model: must be a satgnc.observation.MeasurementModel, got {type(model).__name__}")
     if not isinstance(station, StationEphemeris):
