@@ -380,6 +380,12 @@ TEST(StationEphemerides, GroundStationWithEopMatchesItsFullChainState) {
   model.predict(st, 0.0, x, Biases{}, p);
   EXPECT_EQ(p.status, ObservationStatus::success);
   EXPECT_NEAR(p.value(0), 7000.0 - s0.r.norm(), 1.0);  // km: overhead, minus the ~0.05 km light-time motion
+  // Tags as epochs: t = tag - epoch (the rotation's epoch), the same prediction bit for bit.
+  Prediction pe, pt;
+  model.predict(st, epoch, epoch + 600.0, x, Biases{}, pe);
+  model.predict(st, 600.0, x, Biases{}, pt);
+  EXPECT_EQ(pe.value(0), pt.value(0));
+  EXPECT_EQ(rotation->epoch(), epoch);
 }
 
 }  // namespace

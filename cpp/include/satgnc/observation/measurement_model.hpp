@@ -26,6 +26,7 @@
 #include <string>
 
 #include "satgnc/core/constants.hpp"
+#include "satgnc/core/epoch.hpp"
 #include "satgnc/core/status.hpp"
 #include "satgnc/core/types.hpp"
 #include "satgnc/observation/light_time.hpp"
@@ -103,6 +104,12 @@ class MeasurementModel {
   /// `station` with a measurement tagged at reception t (s, the station's time axis).
   void predict(const StationEphemeris& station, double t, const Vec6& x, const Biases& bias,
                Prediction& out) const noexcept;
+  /// The same with the tag as an epoch: t = tag - epoch, where `epoch` is the epoch of t = 0 of the
+  /// station ephemeris (e.g. frames::IauEarthRotation::epoch()); the difference is exact.
+  void predict(const StationEphemeris& station, const core::Epoch& epoch, const core::Epoch& tag,
+               const Vec6& x, const Biases& bias, Prediction& out) const noexcept {
+    predict(station, tag - epoch, x, bias, out);
+  }
 
  private:
   void evaluate(const StationEphemeris& station, double t, const Vec6& x, const Biases& bias, Prediction& out,
