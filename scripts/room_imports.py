@@ -17,7 +17,7 @@ import pathlib
 import re
 import sys
 
-ROOMS = ["core", "frames", "dynamics", "propagation", "io", "od", "guidance", "analysis"]
+ROOMS = ["core", "frames", "dynamics", "propagation", "observation", "io", "od", "guidance", "analysis"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"satgnc/([a-z_]+)/', re.M)
 
 
@@ -50,7 +50,7 @@ def topological(m: dict[str, dict[str, int]]) -> list[list[str]] | None:
     return levels
 
 
-PY_LIBRARY = ["od", "guidance", "analysis", "propagation", "io"]
+PY_LIBRARY = ["od", "guidance", "analysis", "propagation", "observation", "io"]
 PY_IMPORT = re.compile(r"^\s*(?:from|import)\s+(?:satgnc\.|\.\.?)([a-z_]+)", re.M)
 
 

@@ -25,6 +25,8 @@ _WHERE = {
     "Python `Trajectory.status` (a string)",
     "Dop853Status": "`propagation::Dop853::solve()` (`Dop853Info::status`)",
     "KeplerStatus": "`propagation::kepler_step` (`KeplerInfo::status`)",
+    "ObservationStatus": "`observation::MeasurementModel::predict()` (`Prediction::status`); "
+    "Python `Predictions.status` (strings)",
     "Verdict": "`analysis` rank tests (staircase, PBH, Kalman); a verdict, not a run outcome: no `unsolved`",
 }
 

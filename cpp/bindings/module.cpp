@@ -15,6 +15,7 @@ void init_guidance(pybind11::module_& m);
 void init_guidance_nonlinear(pybind11::module_& m);
 void init_analysis(pybind11::module_& m);
 void init_io(pybind11::module_& m);
+void init_observation(pybind11::module_& m);
 }  // namespace satgnc::bindings
 
 PYBIND11_MODULE(_satgnc, m) {
@@ -34,4 +35,5 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_guidance_nonlinear(m);
   b::init_analysis(m);
   b::init_io(m);
+  b::init_observation(m);
 }

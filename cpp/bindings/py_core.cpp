@@ -40,6 +40,7 @@ void init_core(py::module_& m) {
         d["Dop853Status"] = table_rows<core::Dop853Status>();
         d["KeplerStatus"] = table_rows<core::KeplerStatus>();
         d["Verdict"] = table_rows<core::Verdict>();
+        d["ObservationStatus"] = table_rows<core::ObservationStatus>();
         return d;
       },
       "Every C++ status table (satgnc/core/status.hpp): {enum name: [(value, name, message), ...]} "

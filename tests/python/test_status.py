@@ -8,14 +8,15 @@ from satgnc import _satgnc, guidance
 from satgnc.guidance import planning as nl  # the library module that reads the C++ tables
 
 TABLES = _satgnc.status_tables()
-BOUND = ["AdmmStatus", "IlqrAdmmStatus", "ScpStatus", "OdStatus"]
+BOUND = ["AdmmStatus", "IlqrAdmmStatus", "ScpStatus", "OdStatus", "ObservationStatus"]
 # old Python member names kept as aliases of the same value (not table rows)
 ALIASES = {"IlqrAdmmStatus": {"not_run": "unsolved"}, "ScpStatus": {"not_run": "unsolved"}}
 
 
 def test_tables_unsolved_first_unique_snake_case():
     assert sorted(TABLES) == sorted(["AdmmStatus", "RiccatiStatus", "IlqrAdmmStatus", "ScpStatus", "OdStatus",
-                                     "PropagationStatus", "Dop853Status", "KeplerStatus", "Verdict"])
+                                     "PropagationStatus", "Dop853Status", "KeplerStatus", "Verdict",
+                                     "ObservationStatus"])
     for name, rows in TABLES.items():
         names = [r[1] for r in rows]
         values = [r[0] for r in rows]

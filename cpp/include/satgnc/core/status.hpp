@@ -220,6 +220,18 @@ SATGNC_DEFINE_STATUS_(Dop853Status, SATGNC_DOP853_STATUS, SATGNC_NO_ALIASES_)
   X(overflow, 3, "hyperbolic functions overflowed (time of flight too long for this hyperbola)")
 SATGNC_DEFINE_STATUS_(KeplerStatus, SATGNC_KEPLER_STATUS, SATGNC_NO_ALIASES_)
 
+/// ObservationStatus: outcome of one observation::MeasurementModel::predict() (docs/observation.md).
+#define SATGNC_OBSERVATION_STATUS(X)                                                                   \
+  X(unsolved, 4, "not predicted yet")                                                                  \
+  X(success, 0, "success: light time converged and the value and partials are set")                    \
+  X(no_convergence, 1,                                                                                 \
+    "the light-time iteration did not converge within max_iterations; value and partials of the last " \
+    "iterate")                                                                                         \
+  X(degenerate_geometry, 2,                                                                            \
+    "degenerate geometry: range below min_range, or the angle is undefined (zenith, celestial pole)")  \
+  X(invalid_input, 3, "invalid input: non-finite state, time, bias or station state")
+SATGNC_DEFINE_STATUS_(ObservationStatus, SATGNC_OBSERVATION_STATUS, SATGNC_NO_ALIASES_)
+
 /// Verdict of an analysis rank test (intended exception: a verdict, not a run outcome, so no
 /// `unsolved`). The message is the verdict in words ("full rank", ...).
 #define SATGNC_VERDICT(X)                                                                                \

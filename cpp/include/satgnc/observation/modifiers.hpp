@@ -1,0 +1,41 @@
+#pragma once
+/// @file modifiers.hpp
+/// Optional corrections of a range measurement (Orekit's "modifiers"): the tropospheric delay
+/// (Saastamoinen zenith delay in a standard atmosphere, mapped to the elevation) and the Shapiro
+/// (general-relativistic) delay of the Earth's gravity. Pure functions, allocation-free.
+#include "satgnc/core/constants.hpp"
+
+namespace satgnc::observation {
+
+/// Meteorological conditions at a station.
+struct Weather {
+  double pressure = 1013.25;    ///< total pressure, hPa
+  double temperature = 288.15;  ///< K
+  double water_vapour = 0.0;    ///< partial pressure of water vapour, hPa
+};
+
+/// Standard atmosphere at height h (km above the ellipsoid; valid up to 11 km) with relative
+/// humidity rh in [0, 1]: P = 1013.25 (1 - 2.2557e-5 h_m)^5.2568 hPa, T = 288.15 - 6.5e-3 h_m K
+/// (the ICAO / US 1976 troposphere), water vapour e = rh * exp(-37.2465 + 0.213166 T - 2.56908e-4 T^2) hPa
+/// (the saturation fit used with Saastamoinen's model by Berg 1948 and Orekit's standard
+/// atmosphere). Heights outside [-0.5, 11] km are clamped to that range.
+Weather standard_atmosphere(double height_km, double relative_humidity = 0.5) noexcept;
+
+/// Zenith tropospheric delay (km) of Saastamoinen's model: hydrostatic part
+/// 0.0022768 P / (1 - 0.00266 cos 2 phi - 0.28e-6 H) m (Saastamoinen 1972 with Davis et al. 1985;
+/// IERS Conventions 2010, eq. 9.11: 2.3070 m at sea level, P = 1013.25 hPa, phi = 45 deg) plus the
+/// wet part 0.002277 (1255 / T + 0.05) e m (Saastamoinen 1972). phi geodetic latitude (rad), height km.
+double saastamoinen_zenith_delay(const Weather& weather, double latitude_rad, double height_km) noexcept;
+
+/// Tropospheric mapping function of Black and Eisner (1984; RTCA DO-229 appendix A):
+/// m(el) = 1.001 / sqrt(0.002001 + sin^2 el), el in rad; and its derivative dm/del in *dm_del.
+double tropo_mapping(double elevation_rad, double* dm_del = nullptr) noexcept;
+
+/// One-way Shapiro delay (km) of the Earth's gravity on a signal between points at geocentric
+/// distances r1, r2 (km) separated by rho (km): (2 mu / c^2) ln((r1 + r2 + rho) / (r1 + r2 - rho))
+/// (Moyer 2000, eq. 8-38 with the Earth as the only body; 1.7 cm from a station to GEO). Optional
+/// partials d/d(r1 + r2) and d/d rho. Returns 0 when r1 + r2 <= rho (degenerate).
+double shapiro_delay(double r1, double r2, double rho, double mu = core::earth::mu, double* d_dsum = nullptr,
+                     double* d_drho = nullptr) noexcept;
+
+}  // namespace satgnc::observation

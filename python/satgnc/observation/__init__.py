@@ -1,0 +1,212 @@
+"""Tracking measurements with light time and analytic partials (issue 13 item 4).
+
+Orekit's estimation architecture in three concepts:
+
+* a **station ephemeris** (:class:`StationEphemeris`): where the station is in GCRF (km, km/s) at
+  t seconds after the ephemeris' epoch; :func:`rotating_station` wraps the paper's rotating
+  :class:`satgnc.od.Station`; :class:`EarthFixedStationEphemeris` is a WGS-84 geodetic station fixed in
+  the ITRF, carried to GCRF by an Earth rotation model;
+* a **measurement model** (:class:`MeasurementModel`, built once, settings checked there): the
+  observable (``"one_way_range"``, ``"two_way_range"``, ``"one_way_range_rate"``,
+  ``"two_way_range_rate"``, ``"azimuth_elevation"``, ``"right_ascension_declination"``) and its
+  modifiers (``troposphere``: Saastamoinen + Black-Eisner mapping in a standard atmosphere;
+  ``shapiro``: the Earth's relativistic delay), both for range observables;
+* :func:`predict`: the model over arrays of reception tags and spacecraft GCRF states at those tags,
+  returning :class:`Predictions` (values, partials d value / d state, d value / d [range bias km,
+  time bias s], light times, statuses).
+
+Units: km, km/s, s, rad. Measurements are tagged at reception; the up leg uses the station at its
+transmit time; the spacecraft state at the bounce is the two-body Taylor shift of the state at the
+tag. docs/observation.md gives the equations, the tolerances and what is left out. The
+instantaneous model of the Gao-Luo paper stays :func:`satgnc.od.predict`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from .. import _satgnc
+from .._results import Result, adopt
+from .._validate import as_real, one_of
+
+MeasurementModel = _satgnc.MeasurementModel
+StationEphemeris = _satgnc.StationEphemeris
+RotatingStationEphemeris = _satgnc.RotatingStationEphemeris
+EarthFixedStationEphemeris = _satgnc.EarthFixedStationEphemeris
+ObservationStatus = _satgnc.ObservationStatus
+SPEED_OF_LIGHT: float = _satgnc.SPEED_OF_LIGHT  # km/s
+shift_state = _satgnc.shift_state
+standard_atmosphere = _satgnc.standard_atmosphere
+saastamoinen_zenith_delay = _satgnc.saastamoinen_zenith_delay
+tropo_mapping = _satgnc.tropo_mapping
+shapiro_delay = _satgnc.shapiro_delay
+
+OBSERVABLES: tuple[str, ...] = (
+    "one_way_range",
+    "two_way_range",
+    "one_way_range_rate",
+    "two_way_range_rate",
+    "azimuth_elevation",
+    "right_ascension_declination",
+)
+#: {value: name} of the prediction statuses (read from the C++ table).
+STATUS_NAMES: dict[int, str] = {int(v): k for k, v in ObservationStatus.__members__.items()}
+
+__all__ = [
+    "OBSERVABLES",
+    "STATUS_NAMES",
+    "SPEED_OF_LIGHT",
+    "EarthFixedStationEphemeris",
+    "MeasurementModel",
+    "ObservationStatus",
+    "Predictions",
+    "RotatingStationEphemeris",
+    "StationEphemeris",
+    "measurement_model",
+    "predict",
+    "rotating_station",
+    "saastamoinen_zenith_delay",
+    "shapiro_delay",
+    "shift_state",
+    "standard_atmosphere",
+    "tropo_mapping",
+]
+
+
+@dataclasses.dataclass(frozen=True)
+class Predictions(Result):
+    """One prediction per tag. ``m`` = 1 (range, range-rate) or 2 (angle pairs).
+
+    ``value``: (n,) km or km/s, or (n, 2) rad, biases and modifiers included; ``dx``: (n, 6) or
+    (n, 2, 6), d value / d state at the tag (km, km/s); ``dbias``: (n, 2) or (n, 2, 2), d value /
+    d [range bias (km), time bias (s)]; ``tau_down``, ``tau_up`` (s), ``troposphere``, ``shapiro``
+    (km, included in value), ``iterations`` (light-time updates); ``status``: one name per tag
+    (``"success"``, ``"no_convergence"``, ``"degenerate_geometry"``, ``"invalid_input"``)."""
+
+    observable: str
+    value: np.ndarray
+    dx: np.ndarray
+    dbias: np.ndarray
+    tau_down: np.ndarray
+    tau_up: np.ndarray
+    troposphere: np.ndarray
+    shapiro: np.ndarray
+    iterations: np.ndarray
+    status: tuple[str, ...]
+
+    @property
+    def ok(self) -> bool:
+        """Whether every tag has status ``"success"``."""
+        return all(s == "success" for s in self.status)
+
+
+def rotating_station(station: Any, ellipsoid: str = "WGS-84") -> Any:
+    """The paper's rotating station (:class:`satgnc.od.Station`) as a :class:`StationEphemeris`
+    (t = seconds after the station's epoch; topocentric axes geodetic on ``ellipsoid``)."""
+    if not isinstance(station, _satgnc.Station):
+        raise TypeError(f"station: must be a satgnc.od.Station, got {type(station).__name__}")
+    return RotatingStationEphemeris(station, ellipsoid)
+
+
+def measurement_model(
+    observable: str,
+    *,
+    troposphere: bool = False,
+    shapiro: bool = False,
+    relative_humidity: float = 0.5,
+    tolerance: float = 1e-14,
+    max_iterations: int = 10,
+    mu: float = float(_satgnc.EARTH_MU),
+    min_range: float = 1e-3,
+    time_bias_partials: bool = True,
+) -> Any:
+    """A :class:`MeasurementModel` for ``observable`` (one of :data:`OBSERVABLES`). ``tolerance`` (s)
+    and ``max_iterations`` stop the light-time iteration of each leg; ``mu`` (km^3/s^2) is used by the
+    bounce-time shift and the Shapiro delay; ``min_range`` (km) marks degenerate geometry. Raises
+    ``ValueError`` naming the argument (a modifier on a non-range observable, a humidity outside
+    [0, 1], ...)."""
+    name = one_of(observable, "observable", OBSERVABLES)
+    try:
+        return MeasurementModel(
+            name,
+            troposphere=troposphere,
+            shapiro=shapiro,
+            relative_humidity=relative_humidity,
+            tolerance=tolerance,
+            max_iterations=max_iterations,
+            mu=mu,
+            min_range=min_range,
+            time_bias_partials=time_bias_partials,
+        )
+    except ValueError as e:  # C++ std::invalid_argument "field: rule": name the Python argument
+        msg = str(e)
+        for field in ("tolerance", "max_iterations"):
+            msg = msg.replace(f"light_time.{field}", field)
+        raise ValueError(msg) from None
+
+
+def _tags_as_seconds(t: Any, epoch: Any) -> Any:
+    """Tags as seconds after ``epoch`` when they are Epochs; numbers pass through unchanged."""
+    epoch_type = _satgnc.Epoch
+    tags = [t] if isinstance(t, epoch_type) else t
+    is_epochs = isinstance(tags, (list, tuple)) and len(tags) > 0 and isinstance(tags[0], epoch_type)
+    if not is_epochs:
+        if epoch is not None:
+            raise TypeError("epoch: give it only with tags that are satgnc.time.Epoch values")
+        return t
+    if not isinstance(epoch, epoch_type):
+        raise TypeError(f"epoch: tags are Epochs, so epoch must be the satgnc.time.Epoch of t = 0, got "
+                        f"{type(epoch).__name__}")
+    if not all(isinstance(tag, epoch_type) for tag in tags):
+        raise TypeError("t: mixes Epoch values and numbers")
+    return np.array([tag - epoch for tag in tags], dtype=float)
+
+
+def predict(
+    model: Any,
+    station: Any,
+    t: Any,
+    states: Any,
+    *,
+    range_bias: Any = 0.0,
+    time_bias: Any = 0.0,
+    epoch: Any = None,
+) -> Predictions:
+    """Predict ``model``'s observable for each reception tag ``t`` (s, the station's time axis;
+    scalar or (n,)) and spacecraft GCRF state ``states`` ((6,) or (n, 6), km and km/s, at the tags).
+    Tags may also be :class:`satgnc.time.Epoch` values (one or a sequence) when ``epoch`` gives the
+    epoch of t = 0 of the station ephemeris (e.g. its ``IauEarthRotation``'s epoch): t = tag - epoch,
+    exact to the double's resolution of the difference. ``range_bias`` (km) and ``time_bias`` (s): a
+    number or one per tag. Failures are statuses, not exceptions; bad arguments raise ``ValueError`` /
+    ``TypeError`` naming them."""
+    t = _tags_as_seconds(t, epoch)
+    if not isinstance(model, MeasurementModel):
+        raise TypeError(f"model: must be a satgnc.observation.MeasurementModel, got {type(model).__name__}")
+    if not isinstance(station, StationEphemeris):
+        got = type(station).__name__
+        raise TypeError(f"station: must be a satgnc.observation.StationEphemeris, got {got}")
+    if np.ndim(t) == 0:
+        t = [as_real(t, "t")]
+    out = model.predict_many(station, t, states, range_bias, time_bias)
+    m = int(model.size)
+    value = out["value"][:, :m]
+    dx = out["dx"][:, :m, :]
+    dbias = out["dbias"][:, :m, :]
+    if m == 1:
+        value, dx, dbias = value[:, 0], dx[:, 0, :], dbias[:, 0, :]
+    return adopt(
+        Predictions,
+        observable=str(model.type),
+        value=np.ascontiguousarray(value),
+        dx=np.ascontiguousarray(dx),
+        dbias=np.ascontiguousarray(dbias),
+        tau_down=out["tau_down"],
+        tau_up=out["tau_up"],
+        troposphere=out["troposphere"],
+        shapiro=out["shapiro"],
+        iterations=out["iterations"],
+        status=tuple(STATUS_NAMES[int(s)] for s in out["status"]),
+    )
