@@ -8,6 +8,7 @@
 #include <string>
 
 #include "detail/cholesky.hpp"
+#include "detail/ilqr_admm_workspace.hpp"
 #include "detail/model_step.hpp"
 #include "detail/quadratic.hpp"
 #include "satgnc/core/no_malloc.hpp"
@@ -214,9 +215,12 @@ void IlqrAdmmSettings::validate() const {
           "must be finite and >= 1");
 }
 
+IlqrAdmmSolver::~IlqrAdmmSolver() = default;
+IlqrAdmmSolver::IlqrAdmmSolver(IlqrAdmmSolver&&) noexcept = default;
+
 IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
                                const IlqrAdmmSettings& settings)
-    : model_(model), prob_(problem), set_(settings) {
+    : model_(model), prob_(problem), set_(settings), ws_(std::make_unique<detail::IlqrAdmmWorkspace>()) {
   set_.validate();
   nx_ = model.state_dim();
   nu_ = model.control_dim();
@@ -270,35 +274,35 @@ IlqrAdmmSolver::IlqrAdmmSolver(const DiscreteModel& model, const NonlinearL1Prob
   res_.U = MatrixXd::Zero(nu_, N_);
   res_.Y = MatrixXd::Zero(nu_, N_);
   res_.Lambda = MatrixXd::Zero(nu_, N_);
-  A_.assign(N_, MatrixXd::Zero(nx_, nx_));
-  B_.assign(N_, MatrixXd::Zero(nx_, nu_));
-  K_.assign(N_, MatrixXd::Zero(nu_, nx_));
-  d_ = MatrixXd::Zero(nu_, N_);
-  Xn_ = MatrixXd::Zero(nx_, N_ + 1);
-  Xtmp_ = Xn_;
-  Xbest_ = Xn_;
-  Un_ = MatrixXd::Zero(nu_, N_);
-  Yprev_ = Un_;
-  Ubest_ = Un_;
-  Ybest_ = Un_;
-  Lbest_ = Un_;
-  V_ = Un_;
-  Slo_ = Un_;
-  Shi_ = Un_;
-  S_ = MatrixXd::Zero(nx_, nx_);
-  Qxx_ = S_;
-  SA_ = S_;
-  SB_ = MatrixXd::Zero(nx_, nu_);
-  Quu_ = MatrixXd::Zero(nu_, nu_);
-  L_ = Quu_;
-  Qux_ = MatrixXd::Zero(nu_, nx_);
-  QuuK_ = Qux_;
-  s_ = VectorXd::Zero(nx_);
-  Qx_ = s_;
-  dx_ = s_;
-  tmpx_ = s_;
-  Qu_ = VectorXd::Zero(nu_);
-  tmpu_ = Qu_;
+  ws_->A_.assign(N_, MatrixXd::Zero(nx_, nx_));
+  ws_->B_.assign(N_, MatrixXd::Zero(nx_, nu_));
+  ws_->K_.assign(N_, MatrixXd::Zero(nu_, nx_));
+  ws_->d_ = MatrixXd::Zero(nu_, N_);
+  ws_->Xn_ = MatrixXd::Zero(nx_, N_ + 1);
+  ws_->Xtmp_ = ws_->Xn_;
+  ws_->Xbest_ = ws_->Xn_;
+  ws_->Un_ = MatrixXd::Zero(nu_, N_);
+  ws_->Yprev_ = ws_->Un_;
+  ws_->Ubest_ = ws_->Un_;
+  ws_->Ybest_ = ws_->Un_;
+  ws_->Lbest_ = ws_->Un_;
+  ws_->V_ = ws_->Un_;
+  Slo_ = ws_->Un_;
+  Shi_ = ws_->Un_;
+  ws_->S_ = MatrixXd::Zero(nx_, nx_);
+  ws_->Qxx_ = ws_->S_;
+  ws_->SA_ = ws_->S_;
+  ws_->SB_ = MatrixXd::Zero(nx_, nu_);
+  ws_->Quu_ = MatrixXd::Zero(nu_, nu_);
+  ws_->L_ = ws_->Quu_;
+  ws_->Qux_ = MatrixXd::Zero(nu_, nx_);
+  ws_->QuuK_ = ws_->Qux_;
+  ws_->s_ = VectorXd::Zero(nx_);
+  ws_->Qx_ = ws_->s_;
+  ws_->dx_ = ws_->s_;
+  ws_->tmpx_ = ws_->s_;
+  ws_->Qu_ = VectorXd::Zero(nu_);
+  ws_->tmpu_ = ws_->Qu_;
 }
 
 void IlqrAdmmSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
@@ -386,8 +390,8 @@ double IlqrAdmmSolver::control_cost(const Eigen::Ref<const MatrixXd>& U) const {
 }
 
 double IlqrAdmmSolver::true_cost(const Eigen::Ref<const MatrixXd>& U) {
-  if (rollout(U, Xtmp_) >= 0) return std::numeric_limits<double>::infinity();
-  return terminal_cost(Xtmp_.col(N_)) + control_cost(U);
+  if (rollout(U, ws_->Xtmp_) >= 0) return std::numeric_limits<double>::infinity();
+  return terminal_cost(ws_->Xtmp_.col(N_)) + control_cost(U);
 }
 
 double IlqrAdmmSolver::subproblem_cost(const MatrixXd& X, const MatrixXd& U) const {
@@ -403,8 +407,8 @@ double IlqrAdmmSolver::subproblem_cost(const MatrixXd& X, const MatrixXd& U) con
 bool IlqrAdmmSolver::linearize() {
   if (jac_valid_) return true;
   for (int k = 0; k < N_; ++k) {
-    if (!detail::model_step(model_, k, res_.X.col(k).data(), res_.U.col(k).data(), Xtmp_.col(k + 1).data(),
-                            A_[k].data(), B_[k].data()))
+    if (!detail::model_step(model_, k, res_.X.col(k).data(), res_.U.col(k).data(),
+                            ws_->Xtmp_.col(k + 1).data(), ws_->A_[k].data(), ws_->B_[k].data()))
       return false;
   }
   jac_valid_ = true;
@@ -414,66 +418,67 @@ bool IlqrAdmmSolver::linearize() {
 bool IlqrAdmmSolver::backward_pass(double reg, double& dv1, double& dv2) {
   const double w = prob_.stage_weight;
   if (nx_ == 12 && nu_ == 3 && n_exo_ == 6) {
-    dx_ = res_.X.col(N_) - prob_.x_target;
-    return backward_reduced<6, 6, 3>(N_, endo_idx_.data(), exo_idx_.data(), A_, B_, K_, d_, prob_.Qf, dx_,
-                                     res_.U, res_.Lambda, res_.Y, w, rho_, reg, dv1, dv2);
+    ws_->dx_ = res_.X.col(N_) - prob_.x_target;
+    return backward_reduced<6, 6, 3>(N_, endo_idx_.data(), exo_idx_.data(), ws_->A_, ws_->B_, ws_->K_,
+                                     ws_->d_, prob_.Qf, ws_->dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,
+                                     dv1, dv2);
   }
   if ((nx_ == 12 || nx_ == 6) && nu_ == 3) {
-    dx_ = res_.X.col(N_) - prob_.x_target;
+    ws_->dx_ = res_.X.col(N_) - prob_.x_target;
     if (nx_ == 12)
-      return backward_fixed<12, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_,
-                                   reg, dv1, dv2);
-    return backward_fixed<6, 3>(N_, A_, B_, K_, d_, prob_.Qf, dx_, res_.U, res_.Lambda, res_.Y, w, rho_, reg,
-                                dv1, dv2);
+      return backward_fixed<12, 3>(N_, ws_->A_, ws_->B_, ws_->K_, ws_->d_, prob_.Qf, ws_->dx_, res_.U,
+                                   res_.Lambda, res_.Y, w, rho_, reg, dv1, dv2);
+    return backward_fixed<6, 3>(N_, ws_->A_, ws_->B_, ws_->K_, ws_->d_, prob_.Qf, ws_->dx_, res_.U,
+                                res_.Lambda, res_.Y, w, rho_, reg, dv1, dv2);
   }
-  S_ = prob_.Qf;
-  s_.noalias() = prob_.Qf * (res_.X.col(N_) - prob_.x_target);
+  ws_->S_ = prob_.Qf;
+  ws_->s_.noalias() = prob_.Qf * (res_.X.col(N_) - prob_.x_target);
   dv1 = 0.0;
   dv2 = 0.0;
   for (int k = N_ - 1; k >= 0; --k) {
-    const MatrixXd& A = A_[k];
-    const MatrixXd& B = B_[k];
-    SA_.noalias() = S_ * A;
-    SB_.noalias() = S_ * B;
-    Qx_.noalias() = A.transpose() * s_;
-    Qu_.noalias() = B.transpose() * s_;
+    const MatrixXd& A = ws_->A_[k];
+    const MatrixXd& B = ws_->B_[k];
+    ws_->SA_.noalias() = ws_->S_ * A;
+    ws_->SB_.noalias() = ws_->S_ * B;
+    ws_->Qx_.noalias() = A.transpose() * ws_->s_;
+    ws_->Qu_.noalias() = B.transpose() * ws_->s_;
     for (int i = 0; i < nu_; ++i)
-      Qu_(i) += w * (rho_ * res_.U(i, k) + res_.Lambda(i, k) - rho_ * res_.Y(i, k));
-    Qxx_.noalias() = A.transpose() * SA_;
-    Quu_.noalias() = B.transpose() * SB_;
-    Quu_.diagonal().array() += w * rho_;
-    Qux_.noalias() = B.transpose() * SA_;
-    L_ = Quu_;
-    L_.diagonal().array() += reg;
-    if (!detail::cholesky_factor_inplace<Eigen::Dynamic>(L_)) return false;
-    MatrixXd& K = K_[k];
-    K = -Qux_;
-    detail::cholesky_solve_inplace<Eigen::Dynamic>(L_, K);
-    auto d = d_.col(k);
-    d = -Qu_;
-    detail::cholesky_solve_inplace<Eigen::Dynamic>(L_, d);
-    tmpu_.noalias() = Quu_ * d;
-    dv1 += d.dot(Qu_);
-    dv2 += 0.5 * d.dot(tmpu_);
+      ws_->Qu_(i) += w * (rho_ * res_.U(i, k) + res_.Lambda(i, k) - rho_ * res_.Y(i, k));
+    ws_->Qxx_.noalias() = A.transpose() * ws_->SA_;
+    ws_->Quu_.noalias() = B.transpose() * ws_->SB_;
+    ws_->Quu_.diagonal().array() += w * rho_;
+    ws_->Qux_.noalias() = B.transpose() * ws_->SA_;
+    ws_->L_ = ws_->Quu_;
+    ws_->L_.diagonal().array() += reg;
+    if (!detail::cholesky_factor_inplace<Eigen::Dynamic>(ws_->L_)) return false;
+    MatrixXd& K = ws_->K_[k];
+    K = -ws_->Qux_;
+    detail::cholesky_solve_inplace<Eigen::Dynamic>(ws_->L_, K);
+    auto d = ws_->d_.col(k);
+    d = -ws_->Qu_;
+    detail::cholesky_solve_inplace<Eigen::Dynamic>(ws_->L_, d);
+    ws_->tmpu_.noalias() = ws_->Quu_ * d;
+    dv1 += d.dot(ws_->Qu_);
+    dv2 += 0.5 * d.dot(ws_->tmpu_);
     // s = Qx + K^T (Quu d + Qu) + Qux^T d
-    tmpu_ += Qu_;
-    s_ = Qx_;
-    s_.noalias() += K.transpose() * tmpu_;
-    s_.noalias() += Qux_.transpose() * d;
+    ws_->tmpu_ += ws_->Qu_;
+    ws_->s_ = ws_->Qx_;
+    ws_->s_.noalias() += K.transpose() * ws_->tmpu_;
+    ws_->s_.noalias() += ws_->Qux_.transpose() * d;
     // S = Qxx + K^T Quu K + K^T Qux + Qux^T K
-    QuuK_.noalias() = Quu_ * K;
-    S_ = Qxx_;
-    S_.noalias() += K.transpose() * QuuK_;
-    S_.noalias() += K.transpose() * Qux_;
-    S_.noalias() += Qux_.transpose() * K;
+    ws_->QuuK_.noalias() = ws_->Quu_ * K;
+    ws_->S_ = ws_->Qxx_;
+    ws_->S_.noalias() += K.transpose() * ws_->QuuK_;
+    ws_->S_.noalias() += K.transpose() * ws_->Qux_;
+    ws_->S_.noalias() += ws_->Qux_.transpose() * K;
     // symmetrize
     for (int i = 0; i < nx_; ++i)
       for (int j = i + 1; j < nx_; ++j) {
-        const double v = 0.5 * (S_(i, j) + S_(j, i));
-        S_(i, j) = v;
-        S_(j, i) = v;
+        const double v = 0.5 * (ws_->S_(i, j) + ws_->S_(j, i));
+        ws_->S_(i, j) = v;
+        ws_->S_(j, i) = v;
       }
-    if (!s_.allFinite() || !S_.allFinite()) return false;
+    if (!ws_->s_.allFinite() || !ws_->S_.allFinite()) return false;
   }
   return true;
 }
@@ -481,21 +486,22 @@ bool IlqrAdmmSolver::backward_pass(double reg, double& dv1, double& dv2) {
 bool IlqrAdmmSolver::forward_pass(double dv1, double dv2, double& J) {
   double a = 1.0;
   for (int ls = 0; ls < set_.line_search_iters; ++ls, a *= 0.5) {
-    Xn_.col(0) = prob_.x0;
+    ws_->Xn_.col(0) = prob_.x0;
     bool ok = true;
     // The full step is usually accepted: linearize along it on the way (the gains K_k are already
     // computed, so A_k, B_k may be overwritten; they are recomputed if this step is rejected).
     const bool with_jac = ls == 0;
     jac_valid_ = false;
     for (int k = 0; k < N_ && ok; ++k) {
-      dx_ = Xn_.col(k) - res_.X.col(k);
-      Un_.col(k) = res_.U.col(k) + a * d_.col(k);
-      Un_.col(k).noalias() += K_[k] * dx_;
-      ok = detail::model_step(model_, k, Xn_.col(k).data(), Un_.col(k).data(), Xn_.col(k + 1).data(),
-                              with_jac ? A_[k].data() : nullptr, with_jac ? B_[k].data() : nullptr);
+      ws_->dx_ = ws_->Xn_.col(k) - res_.X.col(k);
+      ws_->Un_.col(k) = res_.U.col(k) + a * ws_->d_.col(k);
+      ws_->Un_.col(k).noalias() += ws_->K_[k] * ws_->dx_;
+      ok = detail::model_step(model_, k, ws_->Xn_.col(k).data(), ws_->Un_.col(k).data(),
+                              ws_->Xn_.col(k + 1).data(), with_jac ? ws_->A_[k].data() : nullptr,
+                              with_jac ? ws_->B_[k].data() : nullptr);
     }
     if (!ok) continue;
-    const double Jn = subproblem_cost(Xn_, Un_);
+    const double Jn = subproblem_cost(ws_->Xn_, ws_->Un_);
     if (!std::isfinite(Jn)) continue;
     const double expected = -a * (dv1 + a * dv2);
     bool accept;
@@ -507,8 +513,8 @@ bool IlqrAdmmSolver::forward_pass(double dv1, double dv2, double& J) {
     }
     if (accept) {
       jac_valid_ = with_jac;
-      res_.X.swap(Xn_);
-      res_.U.swap(Un_);
+      res_.X.swap(ws_->Xn_);
+      res_.U.swap(ws_->Un_);
       J = Jn;
       return true;
     }
@@ -616,9 +622,9 @@ const IlqrAdmmResult& IlqrAdmmSolver::solve() noexcept {
       break;
     }
     // y-step and multiplier step
-    Yprev_ = res_.Y;
-    V_ = res_.U + res_.Lambda / rho_;
-    prox(V_, res_.Y);
+    ws_->Yprev_ = res_.Y;
+    ws_->V_ = res_.U + res_.Lambda / rho_;
+    prox(ws_->V_, res_.Y);
     res_.Lambda += rho_ * (res_.U - res_.Y);
     if (it == 1 && set_.paper_multiplier_rescale) {
       for (int i = 0; i < nu_; ++i) {
@@ -627,17 +633,17 @@ const IlqrAdmmResult& IlqrAdmmSolver::solve() noexcept {
       }
     }
     const double primal = (res_.U - res_.Y).norm();
-    const double dual = w * rho_ * (res_.Y - Yprev_).norm();
+    const double dual = w * rho_ * (res_.Y - ws_->Yprev_).norm();
     info.primal_residual = primal;
     info.dual_residual = dual;
     info.paper_criterion = primal / (N_ * nu_);
     if (primal < best_primal) {
       best_primal = primal;
       best_dual = dual;
-      Ubest_ = res_.U;
-      Ybest_ = res_.Y;
-      Lbest_ = res_.Lambda;
-      Xbest_ = res_.X;
+      ws_->Ubest_ = res_.U;
+      ws_->Ybest_ = res_.Y;
+      ws_->Lbest_ = res_.Lambda;
+      ws_->Xbest_ = res_.X;
     }
     bool done;
     if (set_.stop == StopRule::paper) {
@@ -664,10 +670,10 @@ const IlqrAdmmResult& IlqrAdmmSolver::solve() noexcept {
   }
   // Without success the best iterate (smallest ||U - Y||) is returned, whichever limit stopped it.
   if (status != IlqrAdmmStatus::solved && set_.return_best && std::isfinite(best_primal)) {
-    res_.U.swap(Ubest_);
-    res_.Y.swap(Ybest_);
-    res_.Lambda.swap(Lbest_);
-    res_.X.swap(Xbest_);
+    res_.U.swap(ws_->Ubest_);
+    res_.Y.swap(ws_->Ybest_);
+    res_.Lambda.swap(ws_->Lbest_);
+    res_.X.swap(ws_->Xbest_);
     info.primal_residual = best_primal;
     info.dual_residual = best_dual;
     info.paper_criterion = best_primal / (N_ * nu_);
@@ -683,7 +689,7 @@ const IlqrAdmmResult& IlqrAdmmSolver::solve() noexcept {
   info.rho = rho_;
   info.lqr_passes = info.ilqr_iterations + info.iterations;
   info.objective_u = true_cost(res_.U);
-  const int fail_y = rollout(res_.Y, Xtmp_);
+  const int fail_y = rollout(res_.Y, ws_->Xtmp_);
   if (fail_y >= 0) {
     info.objective_y = info.terminal_miss = std::numeric_limits<double>::infinity();
     // "solved" promises a plan that flies on the model.
@@ -692,8 +698,8 @@ const IlqrAdmmResult& IlqrAdmmSolver::solve() noexcept {
       info.failed_interval = fail_y;
     }
   } else {
-    info.objective_y = terminal_cost(Xtmp_.col(N_)) + control_cost(res_.Y);
-    info.terminal_miss = (Xtmp_.col(N_) - prob_.x_target).norm();
+    info.objective_y = terminal_cost(ws_->Xtmp_.col(N_)) + control_cost(res_.Y);
+    info.terminal_miss = (ws_->Xtmp_.col(N_) - prob_.x_target).norm();
   }
   info.status = status;
   info.solve_time = elapsed();

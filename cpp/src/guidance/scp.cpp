@@ -8,6 +8,7 @@
 
 #include "detail/quadratic.hpp"
 #include "detail/scp_inner.hpp"
+#include "detail/scp_workspace.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
@@ -102,9 +103,15 @@ NonlinearL1Problem soft_copy(const NonlinearL1Problem& p) {
 }
 }  // namespace
 
+ScpSolver::~ScpSolver() = default;
+
 ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
                      const ScpSettings& settings)
-    : model_(model), prob_(problem), set_(settings), checker_(model, soft_copy(problem)) {
+    : model_(model),
+      prob_(problem),
+      set_(settings),
+      checker_(model, soft_copy(problem)),
+      ws_(std::make_unique<detail::ScpWorkspace>()) {
   set_.validate();
   set_.inner_ilqr.validate();
   hard_ = problem.terminal_equality;
@@ -129,18 +136,18 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
     if (!is_exo_[i]) endo_.push_back(i);
   reduced_ = hard_ && has_exo_;
   const int nxi = reduced_ ? static_cast<int>(endo_.size()) : nx_;  // the inner's state dimension
-  lam_ = VectorXd::Zero(nxi);
-  lam2_ = lam_;
-  su_ = VectorXd::Zero(nu_);
-  Ytmp_ = res_.U;
-  Utmp_ = res_.U;
-  Xtmp_ = res_.X;
-  Xlin_ = res_.X;
-  Ywarm_ = res_.U;
-  Lwarm_ = res_.U;
-  Tlo_ = res_.U;
-  Thi_ = res_.U;
-  Ucand_ = res_.U;
+  ws_->lam_ = VectorXd::Zero(nxi);
+  ws_->lam2_ = ws_->lam_;
+  ws_->su_ = VectorXd::Zero(nu_);
+  ws_->Ytmp_ = res_.U;
+  ws_->Utmp_ = res_.U;
+  ws_->Xtmp_ = res_.X;
+  ws_->Xlin_ = res_.X;
+  ws_->Ywarm_ = res_.U;
+  ws_->Lwarm_ = res_.U;
+  ws_->Tlo_ = res_.U;
+  ws_->Thi_ = res_.U;
+  ws_->Ucand_ = res_.U;
   lo_ = VectorXd::Constant(nu_, -std::numeric_limits<double>::infinity());
   hi_ = VectorXd::Constant(nu_, std::numeric_limits<double>::infinity());
   if (prob_.cost == ControlCost::l1_box) {
@@ -206,7 +213,7 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
         if (is_exo_[i]) el.Qf(i, i) = 0.0;
     elastic_ = std::make_unique<AdmmSolver>(el, set_.inner);
   }
-  Zu_ = MatrixXd::Zero(nu_, N_);
+  ws_->Zu_ = MatrixXd::Zero(nu_, N_);
 }
 
 void ScpSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
@@ -220,8 +227,8 @@ void ScpSolver::set_initial_controls(const Eigen::Ref<const MatrixXd>& U0) {
     core::require(inside, "U0", "must lie inside the bounds u_min <= u <= u_max");
   }
   res_.U = U0;
-  Ywarm_.setZero();
-  Lwarm_.setZero();
+  ws_->Ywarm_.setZero();
+  ws_->Lwarm_.setZero();
 }
 
 void ScpSolver::set_initial_state(const Eigen::Ref<const VectorXd>& x0) {
@@ -295,41 +302,41 @@ double ScpSolver::infeasibility_margin(const VectorXd& y) {
   // B_k' Phi(N, k+1)' y), in the inner's states
   const LtvProblem& q = reduced_ ? red_ : sub_;
   double reach = 0.0;
-  lam_ = y;
+  ws_->lam_ = y;
   for (int k = N_ - 1; k >= 0; --k) {
-    su_.noalias() = q.dynamics.B[k].transpose() * lam_;
+    ws_->su_.noalias() = q.dynamics.B[k].transpose() * ws_->lam_;
     for (int i = 0; i < nu_; ++i) {
-      if (su_(i) == 0.0) continue;
-      reach += su_(i) > 0.0 ? su_(i) * hi_(i) : su_(i) * lo_(i);  // +inf without that bound
+      if (ws_->su_(i) == 0.0) continue;
+      reach += ws_->su_(i) > 0.0 ? ws_->su_(i) * hi_(i) : ws_->su_(i) * lo_(i);  // +inf without that bound
     }
-    lam2_.noalias() = q.dynamics.A[k].transpose() * lam_;
-    lam_.swap(lam2_);
+    ws_->lam2_.noalias() = q.dynamics.A[k].transpose() * ws_->lam_;
+    ws_->lam_.swap(ws_->lam2_);
   }
-  lam_ = q.x0;  // x_N(0)
+  ws_->lam_ = q.x0;  // x_N(0)
   for (int k = 0; k < N_; ++k) {
-    lam2_.noalias() = q.dynamics.A[k] * lam_;
-    lam2_ += q.dynamics.c[k];
-    lam_.swap(lam2_);
+    ws_->lam2_.noalias() = q.dynamics.A[k] * ws_->lam_;
+    ws_->lam2_ += q.dynamics.c[k];
+    ws_->lam_.swap(ws_->lam2_);
   }
-  lam2_ = q.xf - lam_;
-  return y.dot(lam2_) - reach;
+  ws_->lam2_ = q.xf - ws_->lam_;
+  return y.dot(ws_->lam2_) - reach;
 }
 
 double ScpSolver::model_cost(const MatrixXd& U) {
-  Xlin_.col(0) = prob_.x0;
+  ws_->Xlin_.col(0) = prob_.x0;
   for (int k = 0; k < N_; ++k) {
-    Xlin_.col(k + 1).noalias() = sub_.dynamics.A[k] * Xlin_.col(k);
-    Xlin_.col(k + 1).noalias() += sub_.dynamics.B[k] * U.col(k);
-    Xlin_.col(k + 1) += sub_.dynamics.c[k];
+    ws_->Xlin_.col(k + 1).noalias() = sub_.dynamics.A[k] * ws_->Xlin_.col(k);
+    ws_->Xlin_.col(k + 1).noalias() += sub_.dynamics.B[k] * U.col(k);
+    ws_->Xlin_.col(k + 1) += sub_.dynamics.c[k];
   }
-  const double J = terminal_cost(Xlin_.col(N_)) + control_cost(U);
-  return mu_ > 0.0 ? J + mu_ * constraint_miss(Xlin_.col(N_)) : J;
+  const double J = terminal_cost(ws_->Xlin_.col(N_)) + control_cost(U);
+  return mu_ > 0.0 ? J + mu_ * constraint_miss(ws_->Xlin_.col(N_)) : J;
 }
 
 int ScpSolver::restore(double& J, double time_left) {
   const LtvDynamics& d = reduced_ ? red_.dynamics : sub_.dynamics;
   if (!elastic_->update_dynamics(d.A, d.B, d.c)) return -1;
-  elastic_->warm_start(res_.U, Zu_);
+  elastic_->warm_start(res_.U, ws_->Zu_);
   if (time_left > 0.0) {
     const double own = set_.inner.time_limit;
     elastic_->set_time_limit(own > 0.0 ? std::min(own, time_left) : time_left);
@@ -342,24 +349,24 @@ int ScpSolver::restore(double& J, double time_left) {
   // predicted / actual decrease of 1/2 ||e_c||^2 along U + t (Y - U); the model is exact at U
   const double miss = constraint_miss(res_.X.col(N_));
   const double m0 = 0.5 * miss * miss;
-  Ucand_ = r.Y;
+  ws_->Ucand_ = r.Y;
   const double mu = mu_;
   mu_ = 0.0;  // model_cost's rollout only
-  model_cost(Ucand_);
+  model_cost(ws_->Ucand_);
   mu_ = mu;
-  const double mlin = constraint_miss(Xlin_.col(N_));
+  const double mlin = constraint_miss(ws_->Xlin_.col(N_));
   const double pred = m0 - 0.5 * mlin * mlin;
   // Stationary: the linearization predicts less than terminal_tol_inaccurate (1e-4) of 1/2 miss^2
   // (the restoration subproblem's minimizer set is flat; ADMM creeps along it by ~1e-6 per step)
   if (!(pred > set_.terminal_tol_inaccurate * m0)) return 0;
   double t = 1.0;
   for (int ls = 0; ls < set_.line_search_iters; ++ls, t *= 0.5) {
-    Utmp_ = res_.U + t * (Ucand_ - res_.U);
-    if (rollout(Utmp_, Xtmp_) >= 0) continue;
-    const double mn = constraint_miss(Xtmp_.col(N_));
+    ws_->Utmp_ = res_.U + t * (ws_->Ucand_ - res_.U);
+    if (rollout(ws_->Utmp_, ws_->Xtmp_) >= 0) continue;
+    const double mn = constraint_miss(ws_->Xtmp_.col(N_));
     if (m0 - 0.5 * mn * mn >= set_.armijo * t * pred && mn < miss) {
-      res_.U.swap(Utmp_);
-      res_.X.swap(Xtmp_);
+      res_.U.swap(ws_->Utmp_);
+      res_.X.swap(ws_->Xtmp_);
       J = terminal_cost(res_.X.col(N_)) + control_cost(res_.U) + mu_ * mn;
       res_.info.last_step = t;
       return 1;
@@ -468,13 +475,13 @@ ScpStatus ScpSolver::solve_impl() {
     if (!lin_valid) {
       // Linearize along (X, U): c_k makes the affine model exact at the current trajectory.
       for (int k = 0; k < N_; ++k) {
-        if (!model_.step(k, res_.X.col(k).data(), res_.U.col(k).data(), Xtmp_.col(k + 1).data(),
+        if (!model_.step(k, res_.X.col(k).data(), res_.U.col(k).data(), ws_->Xtmp_.col(k + 1).data(),
                          sub_.dynamics.A[k].data(), sub_.dynamics.B[k].data())) {
           info.failed_interval = k;
           return ScpStatus::propagation_failed;
         }
         VectorXd& c = sub_.dynamics.c[k];  // products in place: no temporaries
-        c = Xtmp_.col(k + 1);
+        c = ws_->Xtmp_.col(k + 1);
         c.noalias() -= sub_.dynamics.A[k] * res_.X.col(k);
         c.noalias() -= sub_.dynamics.B[k] * res_.U.col(k);
       }
@@ -506,31 +513,31 @@ ScpStatus ScpSolver::solve_impl() {
       if (box_tr && std::isfinite(Delta)) {
         for (int k = 0; k < N_; ++k)
           for (int i = 0; i < nu_; ++i) {
-            Tlo_(i, k) = std::max(res_.U(i, k) - Delta, lo_(i));
-            Thi_(i, k) = std::min(res_.U(i, k) + Delta, hi_(i));
+            ws_->Tlo_(i, k) = std::max(res_.U(i, k) - Delta, lo_(i));
+            ws_->Thi_(i, k) = std::min(res_.U(i, k) + Delta, hi_(i));
           }
-        inner_->set_stage_bounds(Tlo_, Thi_);
+        inner_->set_stage_bounds(ws_->Tlo_, ws_->Thi_);
       } else {
         inner_->clear_stage_bounds();
       }
       if (first_inner)
         inner_->set_initial_controls(res_.U);
       else
-        inner_->warm_start(res_.U, Ywarm_, Lwarm_);
+        inner_->warm_start(res_.U, ws_->Ywarm_, ws_->Lwarm_);
       const IlqrAdmmStatus ist = inner_->solve().info.status;
       const IlqrAdmmResult& r = inner_->result();
       info.inner_iterations += r.info.iterations;
       info.inner_ilqr_status = ist;
       in = classify(ist, set_.inner_ilqr.stop);
       inner_out_of_time = ist == IlqrAdmmStatus::time_limit;
-      detail::keep_warm_start(r, in != Inner::failed && in != Inner::infeasible, Ywarm_, Lwarm_);
+      detail::keep_warm_start(r, in != Inner::failed && in != Inner::infeasible, ws_->Ywarm_, ws_->Lwarm_);
     } else {
       if (timed) {
         const double own = set_.inner.time_limit;
         admm_->set_time_limit(std::max(own > 0.0 ? std::min(own, remaining) : remaining, 1e-300));
       }
       if (!first_inner)
-        admm_->warm_start(Ywarm_, Lwarm_);
+        admm_->warm_start(ws_->Ywarm_, ws_->Lwarm_);
       else
         admm_->cold_start();
       const AdmmResult& r = admm_->solve();
@@ -538,7 +545,7 @@ ScpStatus ScpSolver::solve_impl() {
       info.inner_status = r.info.status;
       in = classify(r.info.status);
       inner_out_of_time = r.info.status == AdmmStatus::time_limit;
-      detail::keep_warm_start(r, in != Inner::failed && in != Inner::infeasible, Ywarm_, Lwarm_);
+      detail::keep_warm_start(r, in != Inner::failed && in != Inner::infeasible, ws_->Ywarm_, ws_->Lwarm_);
       if (in == Inner::infeasible) {
         // in full coordinates (zeros on the exogenous states when the inner saw the others only)
         const VectorXd& y = r.infeasibility_certificate;
@@ -586,32 +593,32 @@ ScpStatus ScpSolver::solve_impl() {
       info.merit_history.push_back(J);
       return ScpStatus::time_limit;
     }
-    if (in == Inner::failed || !Ywarm_.allFinite() || !Lwarm_.allFinite()) {
+    if (in == Inner::failed || !ws_->Ywarm_.allFinite() || !ws_->Lwarm_.allFinite()) {
       info.merit_history.push_back(J);
       return ScpStatus::inner_failed;
     }
-    res_.Lambda = Lwarm_;
+    res_.Lambda = ws_->Lwarm_;
     // Candidate: the subproblem's minimizer, scaled into the trust region when it is not inside it.
-    Ucand_ = Ywarm_;
+    ws_->Ucand_ = ws_->Ywarm_;
     bool tr_active = false;
-    const double full_step = (Ucand_ - res_.U).cwiseAbs().maxCoeff();
+    const double full_step = (ws_->Ucand_ - res_.U).cwiseAbs().maxCoeff();
     if (tr && std::isfinite(Delta)) {
       if (box_tr) {
         const double tiny = 1e-12 * std::max(1.0, Delta);
         for (int k = 0; k < N_ && !tr_active; ++k)
           for (int i = 0; i < nu_; ++i)
-            if ((Tlo_(i, k) > lo_(i) && Ucand_(i, k) <= Tlo_(i, k) + tiny) ||
-                (Thi_(i, k) < hi_(i) && Ucand_(i, k) >= Thi_(i, k) - tiny)) {
+            if ((ws_->Tlo_(i, k) > lo_(i) && ws_->Ucand_(i, k) <= ws_->Tlo_(i, k) + tiny) ||
+                (ws_->Thi_(i, k) < hi_(i) && ws_->Ucand_(i, k) >= ws_->Thi_(i, k) - tiny)) {
               tr_active = true;
               break;
             }
       } else if (full_step > Delta) {
-        Ucand_ = res_.U + (Delta / full_step) * (Ucand_ - res_.U);
+        ws_->Ucand_ = res_.U + (Delta / full_step) * (ws_->Ucand_ - res_.U);
         tr_active = true;
       }
     }
-    const double step = (Ucand_ - res_.U).cwiseAbs().maxCoeff();
-    const double pred = J - model_cost(Ucand_);  // the model is exact at U: model(U) = J
+    const double step = (ws_->Ucand_ - res_.U).cwiseAbs().maxCoeff();
+    const double pred = J - model_cost(ws_->Ucand_);  // the model is exact at U: model(U) = J
     info.predicted_decrease = pred;
     const double scale = std::max(1.0, std::abs(J));
     if (!tr_active) {
@@ -652,11 +659,11 @@ ScpStatus ScpSolver::solve_impl() {
     bool accepted = false;
     bool out_of_time = false;
     if (tr) {
-      const double Jn = true_cost(Ucand_, Xtmp_);
+      const double Jn = true_cost(ws_->Ucand_, ws_->Xtmp_);
       const double ratio = (J - Jn) / pred;
       if (std::isfinite(Jn) && Jn < J && ratio >= set_.tr_accept) {
-        res_.U.swap(Ucand_);
-        res_.X.swap(Xtmp_);
+        res_.U.swap(ws_->Ucand_);
+        res_.X.swap(ws_->Xtmp_);
         J = Jn;
         accepted = true;
         if (ratio > set_.tr_grow_ratio && std::isfinite(Delta)) Delta = std::max(Delta, set_.tr_grow * step);
@@ -672,11 +679,11 @@ ScpStatus ScpSolver::solve_impl() {
           out_of_time = true;
           break;
         }
-        Utmp_ = res_.U + t * (Ucand_ - res_.U);
-        const double Jn = true_cost(Utmp_, Xtmp_);
+        ws_->Utmp_ = res_.U + t * (ws_->Ucand_ - res_.U);
+        const double Jn = true_cost(ws_->Utmp_, ws_->Xtmp_);
         if (std::isfinite(Jn) && Jn < J && Jn <= J - set_.armijo * t * pred) {
-          res_.U.swap(Utmp_);
-          res_.X.swap(Xtmp_);
+          res_.U.swap(ws_->Utmp_);
+          res_.X.swap(ws_->Xtmp_);
           J = Jn;
           accepted = true;
           break;

@@ -18,6 +18,7 @@
 /// lambda += rho (U - Y). One iLQR iteration per ADMM iteration reproduces the paper.
 #include <Eigen/Core>
 #include <chrono>
+#include <memory>
 #include <vector>
 
 #include "satgnc/core/solver.hpp"
@@ -124,9 +125,20 @@ struct IlqrAdmmResult {
   [[deprecated("use solve().info.status")]] operator IlqrAdmmStatus() const noexcept { return info.status; }
 };
 
-/// ADMM with an iLQR step. Workspace allocated in the constructor; solve() does not allocate.
+namespace detail {
+struct IlqrAdmmWorkspace;  // src/guidance/detail/ilqr_admm_workspace.hpp: the buffers of IlqrAdmmSolver
+}  // namespace detail
+
+/// ADMM with an iLQR step. Workspace (detail::IlqrAdmmWorkspace) allocated in the constructor;
+/// solve() does not allocate. Move-only.
 class IlqrAdmmSolver {
  public:
+  ~IlqrAdmmSolver();
+  IlqrAdmmSolver(IlqrAdmmSolver&&) noexcept;
+  IlqrAdmmSolver(const IlqrAdmmSolver&) = delete;
+  IlqrAdmmSolver& operator=(const IlqrAdmmSolver&) = delete;
+  IlqrAdmmSolver& operator=(IlqrAdmmSolver&&) = delete;  // holds a reference to its model
+
   /// Validates and allocates. Throws std::invalid_argument on inconsistent dimensions, non-finite
   /// data, rho <= 0, negative weights, u_min > u_max or a box excluding 0. The model must outlive
   /// the solver.
@@ -194,13 +206,9 @@ class IlqrAdmmSolver {
   bool jac_valid_ = false;  // A_, B_ hold the Jacobians along (X, U)
   int n_exo_ = 0;           // number of exogenous states (DiscreteModel::exogenous_states)
   std::vector<int> exo_idx_, endo_idx_;
-  // workspace
-  std::vector<Eigen::MatrixXd> A_, B_, K_;
-  Eigen::MatrixXd d_, Xn_, Un_, Yprev_, Xtmp_, Ubest_, Ybest_, Lbest_, Xbest_, V_;
   bool stage_bounds_ = false;
-  Eigen::MatrixXd Slo_, Shi_;  // per-stage bounds (set_stage_bounds), nu x N
-  Eigen::MatrixXd S_, Qxx_, Quu_, Qux_, QuuK_, SA_, SB_, L_;
-  Eigen::VectorXd s_, Qx_, Qu_, dx_, tmpx_, tmpu_;
+  Eigen::MatrixXd Slo_, Shi_;                      // per-stage bounds (set_stage_bounds), nu x N
+  std::unique_ptr<detail::IlqrAdmmWorkspace> ws_;  // every buffer, sized in the constructor
 };
 
 }  // namespace satgnc::guidance

@@ -169,6 +169,10 @@ struct ScpResult {
   [[deprecated("use solve().info.status")]] operator ScpStatus() const noexcept { return info.status; }
 };
 
+namespace detail {
+struct ScpWorkspace;  // src/guidance/detail/scp_workspace.hpp: the scratch buffers of ScpSolver
+}  // namespace detail
+
 /// Sequential convex programming solver. solve() does not allocate with either inner solver (the
 /// linear AdmmSolver is built once and re-linearized with AdmmSolver::update_dynamics).
 class ScpSolver {
@@ -176,6 +180,9 @@ class ScpSolver {
   /// Validates (std::invalid_argument) with the same rules as IlqrAdmmSolver.
   ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& problem,
             const ScpSettings& settings = ScpSettings());
+  ~ScpSolver();
+  ScpSolver(const ScpSolver&) = delete;
+  ScpSolver& operator=(const ScpSolver&) = delete;
   /// Initial control guess (nu x N); default zeros.
   void set_initial_controls(const Eigen::Ref<const Eigen::MatrixXd>& U0);
   /// Initial state (receding horizon).
@@ -209,17 +216,16 @@ class ScpSolver {
   std::unique_ptr<AdmmSolver> admm_;
   std::unique_ptr<AdmmSolver> elastic_;  // restoration: min 1/2 ||e_c||^2 on the linearization, box
   ScpResult res_;
-  Eigen::MatrixXd Ytmp_, Utmp_, Xtmp_, Ywarm_, Lwarm_, Xlin_, Tlo_, Thi_, Ucand_, Zu_;
   Eigen::VectorXd lo_, hi_;  // real bounds (+-inf without a box)
   bool hard_ = false;        // hard terminal state
   double mu_ = 0.0;          // merit penalty
   std::vector<char> is_exo_;
   bool has_exo_ = false;
-  bool reduced_ = false;             // hard terminal with exogenous states: the inner sees red_
-  std::vector<int> endo_;            // non-exogenous state indices
-  LtvProblem red_;                   // the subproblem on the non-exogenous states
-  Eigen::VectorXd lam_, lam2_, su_;  // costate scratch (inner nx, inner nx, nu)
+  bool reduced_ = false;   // hard terminal with exogenous states: the inner sees red_
+  std::vector<int> endo_;  // non-exogenous state indices
+  LtvProblem red_;         // the subproblem on the non-exogenous states
   LtvProblem sub_;
+  std::unique_ptr<detail::ScpWorkspace> ws_;  // scratch buffers, sized in the constructor
 };
 
 }  // namespace satgnc::guidance

@@ -17,7 +17,9 @@ class StmPropagator {
   virtual ~StmPropagator() = default;
   /// Propagate x0 = [r km, v km/s] given at t = 0 to the n ascending times (s; times[0] may be 0 or
   /// negative), writing states[i] and stms[i] = d x(times[i]) / d x0. Return false on failure.
-  /// Implementations used inside solve() must not allocate.
+  /// Implementations used inside OdSolver::solve() must not allocate with Eigen (its
+  /// SATGNC_NO_MALLOC_SCOPE covers this call in guarded builds); an exception thrown here ends the
+  /// evaluation as OdStatus::propagation_failed.
   virtual bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) = 0;
 };
 
