@@ -271,6 +271,10 @@ void init_force_model_fields(py::module_& m) {
       .def_readwrite("srp", &dy::ForceModel::srp, "SolarRadiationPressure or None")
       .def_readwrite("epoch_jd1", &dy::ForceModel::epoch_jd1, "TT Julian date of t = 0, part 1 (days)")
       .def_readwrite("epoch_jd2", &dy::ForceModel::epoch_jd2, "TT Julian date of t = 0, part 2 (days)")
+      .def_property(
+          "ephemeris_step_days", [](const dy::ForceModel& f) { return f.ephemeris.step_days(); },
+          [](dy::ForceModel& f, double step) { f.ephemeris = dy::EphemerisInterpolator(step); },
+          "Node spacing (days) of the interpolated ERFA Sun and Moon; 0: ERFA at every evaluation.")
       .def(
           "potential_at",
           [](const dy::ForceModel& f, py::handle r, double t) {

@@ -255,6 +255,13 @@ class ForceModel:
     @property
     def conservative(self) -> bool: ...
     @property
+    def ephemeris_step_days(self) -> float:
+        """
+        Node spacing (days) of the interpolated ERFA Sun and Moon; 0: ERFA at every evaluation.
+        """
+    @ephemeris_step_days.setter
+    def ephemeris_step_days(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
+    @property
     def epoch_jd1(self) -> float:
         """
         TT Julian date of t = 0, part 1 (days)

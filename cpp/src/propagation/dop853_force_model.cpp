@@ -46,10 +46,10 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
       !force_model.srp)
     return propagate_dop853_with<false>(PointMassAccel{force_model.mu}, x0, t0, times, settings, with_stm,
                                         surface_radius);
-  // A gravity field evaluates into its own workspace: a private copy keeps concurrent propagations
-  // of one ForceModel (the Python module releases the GIL) apart.
+  // A gravity field and the ephemeris cache evaluate into their own workspace: a private copy keeps
+  // concurrent propagations of one ForceModel (the Python module releases the GIL) apart.
   std::optional<dynamics::ForceModel> own;
-  if (force_model.gravity) own.emplace(force_model);
+  if (force_model.gravity || force_model.third_body || force_model.srp) own.emplace(force_model);
   const Accel accel{own ? *own : force_model};
   // Without drag nothing depends on v: skip the da/dv * Phi_v products in the variational equations.
   if (force_model.drag.has_value())

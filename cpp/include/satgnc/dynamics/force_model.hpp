@@ -83,6 +83,9 @@ struct ForceModel {
   /// Used by third_body and srp (default J2000.0, 2000-01-01T12:00:00 TT).
   double epoch_jd1 = 2451545.0;
   double epoch_jd2 = 0.0;  ///< second part of the epoch's TT Julian date, days
+  /// Sun and Moon positions for third_body and srp: ERFA interpolated on 1/8-day nodes (a cache:
+  /// one ForceModel per thread). EphemerisInterpolator(0.0) calls ERFA at every evaluation.
+  EphemerisInterpolator ephemeris;
   /// Potential energy per unit mass V(t, r) of every gravity term, third bodies included, km^2/s^2
   /// (a_grav = -grad V; time-dependent with a rotating field or third bodies).
   double potential(double t, const Vec3& r) const;
