@@ -3,6 +3,8 @@
 
 namespace satgnc::bindings {
 void init_core(pybind11::module_& m);
+void init_time(pybind11::module_& m);
+void init_frames(pybind11::module_& m);
 void init_dynamics(pybind11::module_& m);
 void init_force_models(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
@@ -18,6 +20,8 @@ PYBIND11_MODULE(_satgnc, m) {
   m.attr("__version__") = SATGNC_VERSION_STRING;
   namespace b = satgnc::bindings;
   b::init_core(m);
+  b::init_time(m);
+  b::init_frames(m);
   b::init_dynamics(m);
   b::init_force_models(m);
   b::init_propagation(m);

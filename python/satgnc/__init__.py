@@ -3,6 +3,8 @@
 Orbits are in km, km/s and s; relative motion in m, m/s, N and kg, unless a function says otherwise.
 Subpackages mirror the C++ rooms: :mod:`satgnc.od`, :mod:`satgnc.guidance`, :mod:`satgnc.analysis`.
 Propagation (state and state transition matrix): :func:`satgnc.propagate`.
+Time scales and Earth orientation (IAU 2006/2000A with EOP, ground stations): :mod:`satgnc.time`,
+:mod:`satgnc.frames`.
 """
 
 from __future__ import annotations

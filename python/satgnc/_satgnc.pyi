@@ -34,12 +34,18 @@ __all__: list[str] = [
     "EARTH_MU",
     "EARTH_OMEGA",
     "EARTH_RADIUS",
+    "EarthOrientation",
     "EarthRotationModel",
     "Ellipsoid",
+    "EopTable",
+    "EopValues",
+    "Epoch",
     "ExponentialDrag",
     "ForceModel",
     "GravityCoefficients",
     "GravityField",
+    "GroundStation",
+    "IauEarthRotation",
     "IlqrAdmmInfo",
     "IlqrAdmmSettings",
     "IlqrAdmmSolver",
@@ -47,6 +53,7 @@ __all__: list[str] = [
     "J2Gravity",
     "KeplerStmPropagator",
     "LinearDiscreteModel",
+    "LookAngles",
     "LtvProblem",
     "Measurement",
     "MeasurementType",
@@ -79,6 +86,7 @@ __all__: list[str] = [
     "StopRule",
     "StoppingRule",
     "ThirdBodies",
+    "TimeScale",
     "Trajectory",
     "TwoSatelliteMap",
     "TwoSatelliteMapSettings",
@@ -93,7 +101,14 @@ __all__: list[str] = [
     "cw_relative_state_published",
     "cw_stm",
     "default_truth_settings",
+    "earth_orientation",
+    "eme2000_to_gcrs",
+    "gcrs_to_eme2000",
+    "gcrs_to_eme2000_matrix",
+    "gcrs_to_itrs",
+    "gcrs_to_itrs_matrix",
     "ilqr_admm_status_message",
+    "itrs_to_gcrs",
     "kepler_step",
     "load_gfc",
     "moon_position",
@@ -117,8 +132,498 @@ __all__: list[str] = [
     "status_message",
     "status_tables",
     "sun_position",
+    "time_scale_from_name",
     "two_satellite_state",
 ]
+
+class TimeScale:
+    """
+    Time scales of an Epoch (UT1 needs EOP: satgnc.frames.EopTable).
+
+    Members:
+
+      TAI
+
+      TT
+
+      UTC
+
+      GPS
+
+      TDB
+    """
+
+    GPS: typing.ClassVar[TimeScale]
+    TAI: typing.ClassVar[TimeScale]
+    TDB: typing.ClassVar[TimeScale]
+    TT: typing.ClassVar[TimeScale]
+    UTC: typing.ClassVar[TimeScale]
+    __members__: typing.ClassVar[dict[str, TimeScale]]
+    @typing.overload
+    def __eq__(self, other: TimeScale) -> bool: ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool: ...
+    def __getstate__(self) -> int: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __int__(self) -> int: ...
+    @typing.overload
+    def __ne__(self, other: TimeScale) -> bool: ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __str__(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+
+class Epoch:
+    """
+    An instant stored in TAI as whole seconds + fraction since J2000 TAI (no precision lost over decades).
+    Build with Epoch.parse / from_calendar / from_jd / from_mjd.
+    """
+    @staticmethod
+    def from_calendar(
+        year: typing.SupportsInt | typing.SupportsIndex,
+        month: typing.SupportsInt | typing.SupportsIndex,
+        day: typing.SupportsInt | typing.SupportsIndex,
+        hour: typing.SupportsInt | typing.SupportsIndex = 0,
+        minute: typing.SupportsInt | typing.SupportsIndex = 0,
+        second: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        scale: typing.Any = "UTC",
+    ) -> Epoch:
+        """
+        From a Gregorian calendar date and time in scale.
+        """
+    @staticmethod
+    def from_jd(
+        jd1: typing.SupportsFloat | typing.SupportsIndex,
+        jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        scale: typing.Any = "TT",
+    ) -> Epoch:
+        """
+        From a two-part Julian date (days).
+        """
+    @staticmethod
+    def from_mjd(mjd: typing.SupportsFloat | typing.SupportsIndex, scale: typing.Any = "TT") -> Epoch:
+        """
+        From a Modified Julian Date (days).
+        """
+    @staticmethod
+    def from_tai_seconds(
+        whole: typing.SupportsInt | typing.SupportsIndex,
+        fraction: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+    ) -> Epoch:
+        """
+        From TAI seconds since J2000 TAI (whole + fraction).
+        """
+    @staticmethod
+    def parse(text: str, scale: typing.Any = "UTC") -> Epoch:
+        """
+        ISO-8601 'YYYY-MM-DDThh:mm:ss[.f]' or 'YYYY-DDDThh:mm:ss[.f]' in scale (23:59:60 on a UTC leap day).
+        """
+    def __add__(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> Epoch: ...
+    def __eq__(self, arg0: Epoch) -> bool: ...
+    def __ge__(self, arg0: Epoch) -> bool: ...
+    def __getstate__(self) -> tuple[int, float]: ...
+    def __gt__(self, arg0: Epoch) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __init__(self) -> None:
+        """
+        J2000 TAI (2000-01-01T12:00:00 TAI).
+        """
+    def __le__(self, arg0: Epoch) -> bool: ...
+    def __lt__(self, arg0: Epoch) -> bool: ...
+    def __ne__(self, arg0: Epoch) -> bool: ...
+    def __radd__(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> Epoch: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, arg0: tuple) -> None: ...
+    def __str__(self) -> str: ...
+    @typing.overload
+    def __sub__(self, arg0: Epoch) -> float: ...
+    @typing.overload
+    def __sub__(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> Epoch: ...
+    def calendar(
+        self, scale: typing.Any = "UTC", decimals: typing.SupportsInt | typing.SupportsIndex = 9
+    ) -> tuple[int, int, int, int, int, float]:
+        """
+        (year, month, day, hour, minute, second) in scale, second rounded to decimals.
+        """
+    def jd(self, scale: typing.Any = "TT") -> tuple[float, float]:
+        """
+        Two-part Julian date (jd1, jd2) in scale, days.
+        """
+    def mjd(self, scale: typing.Any = "TT") -> float:
+        """
+        Modified Julian Date in scale (days, one float).
+        """
+    def offset_from_tai(self, scale: typing.Any) -> float:
+        """
+        scale - TAI at this instant, s.
+        """
+    def tai_minus_utc(self) -> float:
+        """
+        TAI - UTC at this instant, s.
+        """
+    def to_iso(
+        self, scale: typing.Any = "UTC", decimals: typing.SupportsInt | typing.SupportsIndex = 3
+    ) -> str:
+        """
+        ISO-8601 text in scale with decimals (0..12) digits.
+        """
+    @property
+    def tai_fraction(self) -> float:
+        """
+        Fraction of the TAI second, [0, 1).
+        """
+    @property
+    def tai_seconds(self) -> float:
+        """
+        TAI seconds since J2000 TAI (one float).
+        """
+    @property
+    def tai_whole(self) -> int:
+        """
+        Whole TAI seconds since J2000 TAI.
+        """
+
+class EopValues:
+    """
+    EOP interpolated at an epoch (arcsec, s).
+    """
+    def __repr__(self) -> str: ...
+    @property
+    def dx(self) -> float:
+        """
+        celestial pole offset dX, arcsec
+        """
+    @property
+    def dy(self) -> float:
+        """
+        celestial pole offset dY, arcsec
+        """
+    @property
+    def lod(self) -> float:
+        """
+        excess length of day, s
+        """
+    @property
+    def ut1_tai(self) -> float:
+        """
+        UT1-TAI, s
+        """
+    @property
+    def ut1_utc(self) -> float:
+        """
+        UT1-UTC, s
+        """
+    @property
+    def xp(self) -> float:
+        """
+        polar motion x, arcsec
+        """
+    @property
+    def yp(self) -> float:
+        """
+        polar motion y, arcsec
+        """
+
+class EopTable:
+    """
+    Daily Earth orientation parameters with 4-point Lagrange interpolation (UT1 as UT1-TAI across leap
+    seconds). Read with EopTable.read(path).
+    """
+    @staticmethod
+    def read(path: str, policy: str = "error") -> EopTable:
+        """
+        Read an IERS finals2000A or EOP 20 C04 file (format detected).
+        """
+    @staticmethod
+    def read_c04(path: str, policy: str = "error") -> EopTable:
+        """
+        Read an IERS EOP 20 C04 file.
+        """
+    @staticmethod
+    def read_finals2000a(path: str, policy: str = "error") -> EopTable:
+        """
+        Read an IERS finals2000A file (Bulletin B where present).
+        """
+    def __init__(
+        self,
+        mjd: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+        xp: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+        yp: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+        ut1_utc: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+        lod: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        dx: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        dy: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        policy: str = "error",
+    ) -> None:
+        """
+        From columns: mjd (UTC days, whole, increasing), xp, yp (arcsec), ut1_utc, lod (s), dx, dy (arcsec);
+        lod, dx, dy default to zeros.
+        """
+    def __len__(self) -> int: ...
+    def __repr__(self) -> str: ...
+    def at(self, epoch: Epoch) -> EopValues:
+        """
+        EOP interpolated at epoch (the policy applies outside).
+        """
+    def covers(self, epoch: Epoch) -> bool:
+        """
+        True when epoch is within the table.
+        """
+    def ut1_jd(self, epoch: Epoch) -> tuple[float, float]:
+        """
+        UT1 at epoch as a two-part Julian date (days).
+        """
+    def ut1_minus_utc(self, epoch: Epoch) -> float:
+        """
+        UT1-UTC at epoch, s.
+        """
+    def with_policy(self, policy: str) -> EopTable:
+        """
+        The same rows with another out-of-range policy: 'error', 'hold_last' or 'zero'.
+        """
+    @property
+    def dx(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        arcsec
+        """
+    @property
+    def dy(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        arcsec
+        """
+    @property
+    def first_epoch(self) -> Epoch:
+        """
+        0h UTC of the first row
+        """
+    @property
+    def last_epoch(self) -> Epoch:
+        """
+        0h UTC of the last row
+        """
+    @property
+    def lod(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        s
+        """
+    @property
+    def mjd(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        MJD (UTC), days
+        """
+    @property
+    def policy(self) -> str: ...
+    @property
+    def sources(self) -> list[str]:
+        """
+        per row: 'bulletin_b', 'bulletin_a', 'bulletin_a_prediction', 'c04' or 'user'
+        """
+    @property
+    def ut1_utc(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        s
+        """
+    @property
+    def xp(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        arcsec
+        """
+    @property
+    def yp(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        arcsec
+        """
+
+class EarthOrientation:
+    """
+    GCRS -> ITRS factors: r_itrs = w R3(era) q r_gcrs.
+    """
+    @property
+    def era(self) -> float:
+        """
+        Earth rotation angle, rad
+        """
+    @property
+    def gcrs_to_itrs(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        """
+        GCRS -> ITRS matrix
+        """
+    @property
+    def omega(self) -> float:
+        """
+        Earth rotation rate with LOD, rad/s
+        """
+    @property
+    def q(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        """
+        GCRS -> CIRS matrix
+        """
+    @property
+    def w(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+        """
+        TIRS -> ITRS (polar motion) matrix
+        """
+
+class EarthRotationModel:
+    """
+    Orientation of ITRF with respect to GCRF at t seconds after the epoch.
+    """
+    def rotation(
+        self, t: typing.SupportsFloat | typing.SupportsIndex
+    ) -> tuple[
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+    ]:
+        """
+        (gcrf_to_itrf 3x3, omega rad/s in GCRF) at t s after the epoch.
+        """
+
+class UniformRotation(EarthRotationModel):
+    """
+    Rotation about the inertial z axis by theta0 + omega t (rad; omega rad/s): the paper's / GMST-only Earth
+    rotation. UniformRotation(0, 0) is the identity (ITRF = GCRF).
+    """
+    def __init__(
+        self,
+        theta0: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        omega: typing.SupportsFloat | typing.SupportsIndex = 7.292115e-05,
+    ) -> None: ...
+    @property
+    def omega(self) -> float:
+        """
+        rad/s
+        """
+    @property
+    def theta0(self) -> float:
+        """
+        rad
+        """
+
+class IauEarthRotation(EarthRotationModel):
+    """
+    IAU 2006/2000A Earth orientation for a propagation: slowly varying parts on a grid, exact ERA (max error
+    2.9e-12 rad at the default 3600 s step).
+    """
+    def __init__(
+        self,
+        epoch: Epoch,
+        eop: EopTable,
+        t_begin: typing.SupportsFloat | typing.SupportsIndex,
+        t_end: typing.SupportsFloat | typing.SupportsIndex,
+        step: typing.SupportsFloat | typing.SupportsIndex = 3600.0,
+    ) -> None: ...
+    def rotation(
+        self, t: typing.SupportsFloat | typing.SupportsIndex
+    ) -> tuple[
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+    ]:
+        """
+        (gcrf_to_itrf (3, 3), omega_gcrf (3,) rad/s) at t seconds after the epoch.
+        """
+    @property
+    def step(self) -> float: ...
+    @property
+    def t_begin(self) -> float: ...
+    @property
+    def t_end(self) -> float: ...
+
+class LookAngles:
+    """
+    Topocentric azimuth (from north, east positive), elevation, range.
+    """
+    @property
+    def azimuth(self) -> float:
+        """
+        rad, [0, 2 pi)
+        """
+    @property
+    def azimuth_rate(self) -> float:
+        """
+        rad/s
+        """
+    @property
+    def elevation(self) -> float:
+        """
+        rad
+        """
+    @property
+    def elevation_rate(self) -> float:
+        """
+        rad/s
+        """
+    @property
+    def range(self) -> float:
+        """
+        km
+        """
+    @property
+    def range_rate(self) -> float:
+        """
+        km/s
+        """
+
+class GroundStation:
+    """
+    A station fixed in the ITRF at WGS-84 geodetic coordinates.
+    """
+    def __init__(
+        self,
+        latitude_deg: typing.SupportsFloat | typing.SupportsIndex,
+        longitude_deg: typing.SupportsFloat | typing.SupportsIndex,
+        height_km: typing.SupportsFloat | typing.SupportsIndex,
+        elevation_mask_deg: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        name: str = "",
+    ) -> None: ...
+    def look(
+        self,
+        satellite_gcrf: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"],
+        epoch: Epoch,
+        eop: EopTable,
+    ) -> LookAngles:
+        """
+        Look angles of a satellite GCRF state.
+        """
+    def look_itrf(
+        self, satellite_itrf: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[6, 1]"]
+    ) -> LookAngles:
+        """
+        Look angles of a satellite ITRF state.
+        """
+    def state_gcrf(
+        self, epoch: Epoch, eop: EopTable
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"]:
+        """
+        Station state [r km, v km/s] in the GCRF at epoch.
+        """
+    def visible(self, elevation: typing.SupportsFloat | typing.SupportsIndex) -> bool:
+        """
+        elevation (rad) >= the mask.
+        """
+    @property
+    def elevation_mask_deg(self) -> float: ...
+    @property
+    def height_km(self) -> float: ...
+    @property
+    def itrf_to_enu(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]: ...
+    @property
+    def latitude_deg(self) -> float: ...
+    @property
+    def longitude_deg(self) -> float: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def position_itrf(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        km
+        """
 
 class J2Gravity:
     """
@@ -641,41 +1146,6 @@ class LinearDiscreteModel(DiscreteModel):
         B: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]],
         c: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]],
     ) -> None: ...
-
-class EarthRotationModel:
-    """
-    Orientation of ITRF with respect to GCRF at t seconds after the epoch.
-    """
-    def rotation(
-        self, t: typing.SupportsFloat | typing.SupportsIndex
-    ) -> tuple[
-        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
-        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
-    ]:
-        """
-        (gcrf_to_itrf 3x3, omega rad/s in GCRF) at t s after the epoch.
-        """
-
-class UniformRotation(EarthRotationModel):
-    """
-    Rotation about the inertial z axis by theta0 + omega t (rad; omega rad/s): the paper's / GMST-only Earth
-    rotation. UniformRotation(0, 0) is the identity (ITRF = GCRF).
-    """
-    def __init__(
-        self,
-        theta0: typing.SupportsFloat | typing.SupportsIndex = 0.0,
-        omega: typing.SupportsFloat | typing.SupportsIndex = 7.292115e-05,
-    ) -> None: ...
-    @property
-    def omega(self) -> float:
-        """
-        rad/s
-        """
-    @property
-    def theta0(self) -> float:
-        """
-        rad
-        """
 
 class GravityCoefficients:
     """
@@ -2773,7 +3243,53 @@ def cw_stm(
     n: typing.SupportsFloat, t: typing.SupportsFloat
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
 def default_truth_settings() -> CvodesOdeSettings: ...
+def earth_orientation(epoch: Epoch, eop: EopTable) -> EarthOrientation:
+    """
+    The IAU 2006/2000A GCRS -> ITRS factors at epoch (full series).
+    """
+
+def eme2000_to_gcrs(
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Vector (3,) or state (6,) from EME2000 to GCRS.
+    """
+
+def gcrs_to_eme2000(
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Vector (3,) or state (6,) from GCRS to EME2000 (constant rotation).
+    """
+
+def gcrs_to_eme2000_matrix() -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+    """
+    Frame bias B (eraBp06): r_EME2000 = B r_GCRS.
+    """
+
+def gcrs_to_itrs(
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], epoch: Epoch, eop: EopTable
+) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Position (3,) km or state (6,) km, km/s from GCRS to ITRS at epoch (velocity with the Earth-rotation
+    term).
+    """
+
+def gcrs_to_itrs_matrix(
+    epoch: Epoch, eop: EopTable
+) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
+    """
+    GCRS -> ITRS rotation matrix at epoch.
+    """
+
 def ilqr_admm_status_message(arg0: IlqrAdmmStatus) -> str: ...
+def itrs_to_gcrs(
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], epoch: Epoch, eop: EopTable
+) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Position (3,) or state (6,) from ITRS to GCRS at epoch.
+    """
+
 def kepler_step(
     x0: numpy.typing.ArrayLike, dt: typing.SupportsFloat, mu: typing.SupportsFloat
 ) -> tuple[
@@ -2892,6 +3408,11 @@ def sun_position(
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
     """
     Geocentric Sun (km, GCRF) at the TT Julian date jd1 + jd2 (ERFA eraEpv00).
+    """
+
+def time_scale_from_name(name: str) -> TimeScale:
+    """
+    The TimeScale named name (case-insensitive); ValueError naming the choices.
     """
 
 def two_satellite_state(

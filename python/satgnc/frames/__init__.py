@@ -1,0 +1,101 @@
+"""satgnc.frames: Earth orientation (IAU 2006/2000A, CIO-based, with EOP), EME2000, ground stations.
+
+- :class:`EopTable`: daily EOP (xp, yp arcsec; UT1-UTC, LOD s; dX, dY arcsec) from the IERS files
+  (``finals2000A.all/.data``: Bulletin B where present, else A; EOP 20 C04), 4-point Lagrange
+  interpolation (UT1 as UT1-TAI across leap seconds), out-of-range policy ``"error"`` (default),
+  ``"hold_last"`` or ``"zero"``. :func:`default_eop` reads the table shipped by the PyPI package
+  ``astropy-iers-data``; :func:`load_eop` reads any file (the C++ reader: a flight program reads the
+  same files without Python).
+- :func:`gcrs_to_itrs`, :func:`itrs_to_gcrs`: position (3,) km or state (6,) km, km/s at an
+  :class:`satgnc.time.Epoch`; velocities include the Earth-rotation term with LOD (the
+  precession-nutation and polar-motion rates, < 1e-7 km/s, are left out). :func:`gcrs_to_eme2000`:
+  the frame bias (eraBp06).
+- :class:`IauEarthRotation`: the same chain for a propagation (grid + exact ERA, 2.9e-12 rad).
+- :class:`GroundStation`: WGS-84 geodetic station in the ITRF, its GCRF state, look angles
+  (:class:`LookAngles`, rad, km, with rates) and an elevation mask; a height below -0.5 km is refused.
+
+Files with a malformed line raise :class:`satgnc.FileFormatError` (``path:line: reason``).
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import pathlib
+from typing import Any
+
+from .. import _satgnc as _s
+from .._validate import FileFormatError, one_of
+
+EopTable = _s.EopTable
+EopValues = _s.EopValues
+EarthOrientation = _s.EarthOrientation
+IauEarthRotation = _s.IauEarthRotation
+GroundStation = _s.GroundStation
+LookAngles = _s.LookAngles
+earth_orientation = _s.earth_orientation
+gcrs_to_itrs = _s.gcrs_to_itrs
+itrs_to_gcrs = _s.itrs_to_gcrs
+gcrs_to_itrs_matrix = _s.gcrs_to_itrs_matrix
+gcrs_to_eme2000 = _s.gcrs_to_eme2000
+eme2000_to_gcrs = _s.eme2000_to_gcrs
+gcrs_to_eme2000_matrix = _s.gcrs_to_eme2000_matrix
+
+POLICIES: tuple[str, ...] = ("error", "hold_last", "zero")
+FORMATS: tuple[str, ...] = ("auto", "finals2000a", "c04")
+MIN_STATION_HEIGHT_KM = -0.5  # km: the Dead Sea shore is -0.43 km (C++ frames::kMinStationHeightKm)
+
+__all__ = [
+    "EopTable", "EopValues", "EarthOrientation", "IauEarthRotation", "GroundStation", "LookAngles",
+    "earth_orientation", "gcrs_to_itrs", "itrs_to_gcrs", "gcrs_to_itrs_matrix", "gcrs_to_eme2000",
+    "eme2000_to_gcrs", "gcrs_to_eme2000_matrix", "load_eop", "default_eop", "default_eop_path",
+    "POLICIES", "FORMATS", "MIN_STATION_HEIGHT_KM",
+]
+
+
+def _file_error(path: str, err: ValueError) -> Exception:
+    """The C++ reader's ``"<path>:<line>: <reason>"`` as a FileFormatError; other errors unchanged."""
+    msg = str(err)
+    prefix = path + ":"
+    if msg.startswith(prefix):
+        line_text, _, reason = msg[len(prefix):].partition(": ")
+        if line_text.isdigit():
+            return FileFormatError(path, int(line_text), reason)
+    return err
+
+
+def load_eop(path: Any, policy: str = "error", format: str = "auto") -> EopTable:
+    """Read an IERS EOP file: ``finals2000A.all/.data/.daily`` or EOP 20 C04 (``format="auto"`` detects
+    it from the first data line). ``policy``: ``"error"``, ``"hold_last"`` or ``"zero"``.
+
+    Raises FileNotFoundError for a missing file and :class:`satgnc.FileFormatError` naming the file and
+    the line for a malformed one."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: must be a str or os.PathLike, got {type(path).__name__}")
+    one_of(policy, "policy", POLICIES)
+    one_of(format, "format", FORMATS)
+    p = pathlib.Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"path: EOP file '{p}' does not exist")
+    readers = {"auto": EopTable.read, "finals2000a": EopTable.read_finals2000a, "c04": EopTable.read_c04}
+    reader = readers[format]
+    try:
+        return reader(str(p), policy)
+    except ValueError as err:
+        raise _file_error(str(p), err) from None
+
+
+def default_eop_path() -> pathlib.Path:
+    """Path of ``finals2000A.all`` inside the installed PyPI package ``astropy-iers-data``."""
+    import astropy_iers_data  # type: ignore[import-untyped]  # a dependency of satgnc (pyproject.toml)
+
+    return pathlib.Path(str(astropy_iers_data.IERS_A_FILE))
+
+
+@functools.cache
+def default_eop(policy: str = "error") -> EopTable:
+    """The EOP table of the installed ``astropy-iers-data`` (``finals2000A.all``: IERS Bulletin B
+    values where present, Bulletin A and its one-year prediction after). Read once per policy and
+    cached (tables are immutable). Update the table with ``pip install -U astropy-iers-data``."""
+    one_of(policy, "policy", POLICIES)
+    return load_eop(default_eop_path(), policy)
