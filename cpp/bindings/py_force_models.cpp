@@ -53,7 +53,11 @@ dy::ForceParameter parameter_of(const std::string& s) {
   throw std::invalid_argument("parameter: must be 'mu', 'cr' or 'cd', got '" + s + "'");
 }
 
-void init_rotation(py::module_& m) {
+}  // namespace
+
+/// EarthRotationModel and UniformRotation (called by init_frames before IauEarthRotation, and again
+/// by init_force_models: the second call finds them registered).
+void init_earth_rotation_models(py::module_& m) {
   // The frames room's interface; another room's bindings may register it first (then reuse it).
   if (py::detail::get_type_info(typeid(fr::EarthRotationModel)) == nullptr) {
     py::class_<fr::EarthRotationModel, std::shared_ptr<fr::EarthRotationModel>>(
@@ -78,6 +82,8 @@ void init_rotation(py::module_& m) {
         .def_property_readonly("omega", &fr::UniformRotation::omega, "rad/s");
   }
 }
+
+namespace {
 
 void init_gravity(py::module_& m) {
   py::class_<dy::GravityCoefficients, std::shared_ptr<dy::GravityCoefficients>>(
@@ -298,7 +304,7 @@ void init_force_model_fields(py::module_& m) {
 }  // namespace
 
 void init_force_models(py::module_& m) {
-  init_rotation(m);
+  init_earth_rotation_models(m);
   init_gravity(m);
   init_third_body_srp(m);
   init_force_model_fields(m);
