@@ -260,13 +260,13 @@ Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r,
       return a / mu;
     }
     case ForceParameter::cr: {
-      core::require(srp.has_value(), "parameter", "cr needs an srp term");
+      if (!srp) core::require(false, "parameter", "cr needs an srp term");  // message built on failure only
       SolarRadiationPressure unit = *srp;
       unit.cr = 1.0;
       return srp_acceleration(unit, ephemeris.sun(epoch_jd1, epoch_jd2 + t / 86400.0), r);
     }
     case ForceParameter::cd: {
-      core::require(drag.has_value(), "parameter", "cd needs a drag term");
+      if (!drag) core::require(false, "parameter", "cd needs a drag term");
       ExponentialDrag unit = *drag;
       unit.cd = 1.0;
       return drag_acceleration(unit, r, v);
