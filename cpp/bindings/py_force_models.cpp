@@ -53,7 +53,11 @@ dy::ForceParameter parameter_of(const std::string& s) {
   throw std::invalid_argument("parameter: must be 'mu', 'cr' or 'cd', got '" + s + "'");
 }
 
-void init_rotation(py::module_& m) {
+}  // namespace
+
+/// EarthRotationModel and UniformRotation (called by init_frames before IauEarthRotation, and again
+/// by init_force_models: the second call finds them registered).
+void init_earth_rotation_models(py::module_& m) {
   // The frames room's interface; another room's bindings may register it first (then reuse it).
   if (py::detail::get_type_info(typeid(fr::EarthRotationModel)) == nullptr) {
     py::class_<fr::EarthRotationModel, std::shared_ptr<fr::EarthRotationModel>>(
@@ -78,6 +82,8 @@ void init_rotation(py::module_& m) {
         .def_property_readonly("omega", &fr::UniformRotation::omega, "rad/s");
   }
 }
+
+namespace {
 
 void init_gravity(py::module_& m) {
   py::class_<dy::GravityCoefficients, std::shared_ptr<dy::GravityCoefficients>>(
@@ -271,6 +277,12 @@ void init_force_model_fields(py::module_& m) {
       .def_readwrite("srp", &dy::ForceModel::srp, "SolarRadiationPressure or None")
       .def_readwrite("epoch_jd1", &dy::ForceModel::epoch_jd1, "TT Julian date of t = 0, part 1 (days)")
       .def_readwrite("epoch_jd2", &dy::ForceModel::epoch_jd2, "TT Julian date of t = 0, part 2 (days)")
+      .def("set_epoch", &dy::ForceModel::set_epoch, py::arg("epoch"),
+           "Set epoch_jd1/2 to the TT Julian date of a satgnc.time.Epoch (the epoch of t = 0).")
+      .def_property(
+          "ephemeris_step_days", [](const dy::ForceModel& f) { return f.ephemeris.step_days(); },
+          [](dy::ForceModel& f, double step) { f.ephemeris = dy::EphemerisInterpolator(step); },
+          "Node spacing (days) of the interpolated ERFA Sun and Moon; 0: ERFA at every evaluation.")
       .def(
           "potential_at",
           [](const dy::ForceModel& f, py::handle r, double t) {
@@ -294,7 +306,7 @@ void init_force_model_fields(py::module_& m) {
 }  // namespace
 
 void init_force_models(py::module_& m) {
-  init_rotation(m);
+  init_earth_rotation_models(m);
   init_gravity(m);
   init_third_body_srp(m);
   init_force_model_fields(m);

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,8 @@
 namespace py = pybind11;
 
 namespace satgnc::bindings {
+
+void init_earth_rotation_models(py::module_& m);  // py_force_models.cpp
 
 namespace {
 namespace fr = satgnc::frames;
@@ -220,7 +223,9 @@ void init_frames(py::module_& m) {
       },
       py::arg("x"), "Vector (3,) or state (6,) from EME2000 to GCRS.");
 
-  py::class_<fr::IauEarthRotation>(
+  // The EarthRotationModel interface first (py_force_models.cpp): a GravityField takes any model.
+  init_earth_rotation_models(m);
+  py::class_<fr::IauEarthRotation, fr::EarthRotationModel, std::shared_ptr<fr::IauEarthRotation>>(
       m, "IauEarthRotation",
       "IAU 2006/2000A Earth orientation for a propagation: slowly varying parts on a "
       "grid, exact ERA (max error 2.9e-12 rad at the default 3600 s step).")

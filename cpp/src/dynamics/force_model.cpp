@@ -177,8 +177,8 @@ double ForceModel::potential(double t, const Vec3& r) const {
   if (gravity) p += gravity->potential(t, r);
   if (third_body) {
     const double d2 = epoch_jd2 + t / 86400.0;
-    if (third_body->sun) p += third_body_potential(third_body->mu_sun, sun_position(epoch_jd1, d2), r);
-    if (third_body->moon) p += third_body_potential(third_body->mu_moon, moon_position(epoch_jd1, d2), r);
+    if (third_body->sun) p += third_body_potential(third_body->mu_sun, ephemeris.sun(epoch_jd1, d2), r);
+    if (third_body->moon) p += third_body_potential(third_body->mu_moon, ephemeris.moon(epoch_jd1, d2), r);
   }
   return p;
 }
@@ -217,7 +217,7 @@ void ForceModel::add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr
   if (!third_body && !srp) return;
   const double d2 = epoch_jd2 + t / 86400.0;
   const bool need_sun = (third_body && third_body->sun) || srp;
-  const Vec3 sun = need_sun ? sun_position(epoch_jd1, d2) : Vec3::Zero();
+  const Vec3 sun = need_sun ? ephemeris.sun(epoch_jd1, d2) : Vec3::Zero();
   Vec3 at;
   Mat3 gt;
   if (third_body && third_body->sun) {
@@ -230,7 +230,7 @@ void ForceModel::add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr
     }
   }
   if (third_body && third_body->moon) {
-    const Vec3 moon = moon_position(epoch_jd1, d2);
+    const Vec3 moon = ephemeris.moon(epoch_jd1, d2);
     if (da_dr) {
       third_body_jacobian(third_body->mu_moon, moon, r, at, gt);
       a += at;
@@ -260,13 +260,13 @@ Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r,
       return a / mu;
     }
     case ForceParameter::cr: {
-      core::require(srp.has_value(), "parameter", "cr needs an srp term");
+      if (!srp) core::require(false, "parameter", "cr needs an srp term");  // message built on failure only
       SolarRadiationPressure unit = *srp;
       unit.cr = 1.0;
-      return srp_acceleration(unit, sun_position(epoch_jd1, epoch_jd2 + t / 86400.0), r);
+      return srp_acceleration(unit, ephemeris.sun(epoch_jd1, epoch_jd2 + t / 86400.0), r);
     }
     case ForceParameter::cd: {
-      core::require(drag.has_value(), "parameter", "cd needs a drag term");
+      if (!drag) core::require(false, "parameter", "cd needs a drag term");
       ExponentialDrag unit = *drag;
       unit.cd = 1.0;
       return drag_acceleration(unit, r, v);

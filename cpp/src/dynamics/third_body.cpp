@@ -26,6 +26,53 @@ Vec3 moon_position(double jd1, double jd2) {
   return Vec3(pv[0][0], pv[0][1], pv[0][2]) * kAstronomicalUnitKm;
 }
 
+namespace {
+constexpr double kJ2000 = 2451545.0;
+
+void sun_pv(double jd1, double jd2, Vec3& p, Vec3& v) {
+  double pvh[2][3], pvb[2][3];
+  eraEpv00(jd1, jd2, pvh, pvb);
+  p = -Vec3(pvh[0][0], pvh[0][1], pvh[0][2]) * kAstronomicalUnitKm;
+  v = -Vec3(pvh[1][0], pvh[1][1], pvh[1][2]) * kAstronomicalUnitKm;  // km/day
+}
+
+void moon_pv(double jd1, double jd2, Vec3& p, Vec3& v) {
+  double pv[2][3];
+  eraMoon98(jd1, jd2, pv);
+  p = Vec3(pv[0][0], pv[0][1], pv[0][2]) * kAstronomicalUnitKm;
+  v = Vec3(pv[1][0], pv[1][1], pv[1][2]) * kAstronomicalUnitKm;  // km/day
+}
+
+template <typename Pv>
+Vec3 hermite(double step, double jd1, double jd2, Pv pv, double& node, Vec3& p0, Vec3& v0, Vec3& p1,
+             Vec3& v1) {
+  const double u = ((jd1 - kJ2000) + jd2) / step;
+  const double k = std::floor(u);
+  if (k != node) {
+    pv(kJ2000, k * step, p0, v0);
+    pv(kJ2000, (k + 1.0) * step, p1, v1);
+    node = k;
+  }
+  const double s = u - k, s2 = s * s, s3 = s2 * s;
+  const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+  return h00 * p0 + (h10 * step) * v0 + h01 * p1 + (h11 * step) * v1;
+}
+}  // namespace
+
+EphemerisInterpolator::EphemerisInterpolator(double step_days) : step_(step_days) {
+  core::require_nonnegative(step_days, "step_days");
+}
+
+Vec3 EphemerisInterpolator::sun(double jd1, double jd2) const {
+  if (step_ == 0.0) return sun_position(jd1, jd2);
+  return hermite(step_, jd1, jd2, sun_pv, sun_.node, sun_.p0, sun_.v0, sun_.p1, sun_.v1);
+}
+
+Vec3 EphemerisInterpolator::moon(double jd1, double jd2) const {
+  if (step_ == 0.0) return moon_position(jd1, jd2);
+  return hermite(step_, jd1, jd2, moon_pv, moon_.node, moon_.p0, moon_.v0, moon_.p1, moon_.v1);
+}
+
 Vec3 third_body_acceleration(double mu, const Vec3& s, const Vec3& r) {
   const Vec3 d = s - r;
   const double dn = d.norm();

@@ -12,10 +12,10 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
                             const std::vector<double>& times, const Dop853Settings& settings, bool with_stm,
                             double surface_radius) {
   force_model.validate();
-  // A gravity field evaluates into its own workspace: a private copy keeps concurrent propagations
-  // of one ForceModel (the Python module releases the GIL) apart.
+  // A gravity field and the ephemeris cache evaluate into their own workspace: a private copy keeps
+  // concurrent propagations of one ForceModel (the Python module releases the GIL) apart.
   std::optional<dynamics::ForceModel> own;
-  if (force_model.gravity) own.emplace(force_model);
+  if (force_model.gravity || force_model.third_body || force_model.srp) own.emplace(force_model);
   return detail::with_force_model_accel(own ? *own : force_model,
                                         [&](const auto& accel, auto velocity_dependent) {
                                           return propagate_dop853_with<decltype(velocity_dependent)::value>(

@@ -45,12 +45,14 @@ def force_model(
     third_body: ThirdBodies | None = None,
     srp: SolarRadiationPressure | None = None,
     epoch_jd: tuple[float, float] | float = (2451545.0, 0.0),
+    epoch: _c.Epoch | None = None,
 ) -> _c.ForceModel:
     """A :class:`satgnc.ForceModel` with the precise terms set.
 
     mu (km^3/s^2) defaults to the gravity field's GM when a field is given (else Earth's EGM-96
     value); ``epoch_jd`` is the TT Julian date of t = 0 (one number or two parts, days), used by the
-    Sun, the Moon and SRP. The result is validated (``ValueError`` names the field)."""
+    Sun, the Moon and SRP; ``epoch`` (a :class:`satgnc.time.Epoch`), when given, replaces it. The
+    result is validated (``ValueError`` names the field)."""
     if mu is None:
         mu = gravity.mu if gravity is not None else _c.EARTH_MU
     jd = as_real_array(epoch_jd, "epoch_jd", ndim=(0, 1))
@@ -62,5 +64,7 @@ def force_model(
     fm.third_body = third_body
     fm.srp = srp
     fm.epoch_jd1, fm.epoch_jd2 = parts
+    if epoch is not None:
+        fm.set_epoch(epoch)
     fm.validate()
     return fm
