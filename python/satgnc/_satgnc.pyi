@@ -34,9 +34,11 @@ __all__: list[str] = [
     "EARTH_MU",
     "EARTH_OMEGA",
     "EARTH_RADIUS",
+    "EarthFixedStationEphemeris",
     "EarthOrientation",
     "EarthRotationModel",
     "Ellipsoid",
+    "EnsemblePropagator",
     "EopTable",
     "EopValues",
     "Epoch",
@@ -56,8 +58,10 @@ __all__: list[str] = [
     "LookAngles",
     "LtvProblem",
     "Measurement",
+    "MeasurementModel",
     "MeasurementType",
     "NonlinearL1Problem",
+    "ObservationStatus",
     "OdInfo",
     "OdMethod",
     "OdResult",
@@ -73,6 +77,8 @@ __all__: list[str] = [
     "Root",
     "RootSearchResult",
     "RootSearchSettings",
+    "RotatingStationEphemeris",
+    "SPEED_OF_LIGHT",
     "ScpGlobalization",
     "ScpInfo",
     "ScpInner",
@@ -82,6 +88,7 @@ __all__: list[str] = [
     "ShortArcStmPropagator",
     "SolarRadiationPressure",
     "Station",
+    "StationEphemeris",
     "StmPropagator",
     "StopRule",
     "StoppingRule",
@@ -108,6 +115,14 @@ __all__: list[str] = [
     "gcrs_to_itrs",
     "gcrs_to_itrs_matrix",
     "ilqr_admm_status_message",
+    "io_epoch_seconds",
+    "io_epochs_at",
+    "io_format_oem",
+    "io_format_opm",
+    "io_format_tdm",
+    "io_parse_oem",
+    "io_parse_opm",
+    "io_parse_tdm",
     "itrs_to_gcrs",
     "kepler_step",
     "load_gfc",
@@ -128,11 +143,16 @@ __all__: list[str] = [
     "propagate_dop853",
     "propagate_kepler",
     "published_scaling",
+    "saastamoinen_zenith_delay",
     "scp_status_message",
+    "shapiro_delay",
+    "shift_state",
+    "standard_atmosphere",
     "status_message",
     "status_tables",
     "sun_position",
     "time_scale_from_name",
+    "tropo_mapping",
     "two_satellite_state",
 ]
 
@@ -1558,6 +1578,36 @@ class ReferenceScaling:
     def state_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
     @property
     def time_scale(self) -> float: ...
+
+class EnsemblePropagator:
+    """
+    DOP853 ensemble propagator (km, km/s, s): a fixed pool of threads started once; per-member step control
+    and status.
+    """
+    def __init__(
+        self,
+        force_model: ForceModel,
+        rtol: typing.SupportsFloat = 3e-12,
+        atol: numpy.typing.ArrayLike = 3e-14,
+        with_stm: bool = True,
+        max_steps: typing.SupportsInt = 100000,
+        surface_radius: typing.SupportsFloat = 0.0,
+        threads: typing.Any = 1,
+        simd: typing.Any = True,
+        simd_portable: typing.Any = False,
+    ) -> None: ...
+    def propagate(
+        self,
+        x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64],
+        t0: typing.SupportsFloat,
+        times: numpy.typing.ArrayLike,
+    ) -> dict[str, typing.Any]:
+        """
+        Propagate K states x0 (K, 6) from t0 (s) to `times` (s); returns a dict of (K, ...) arrays and per-
+        member status names and messages.
+        """
+    @property
+    def threads(self) -> int: ...
 
 class StmPropagator:
     def propagate(
@@ -3059,9 +3109,164 @@ class ScpSolver:
     @property
     def info(self) -> ScpInfo: ...
 
+class ObservationStatus:
+    """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
+    Members:
+
+      unsolved : not predicted yet
+
+      success : success: light time converged and the value and partials are set
+
+      no_convergence : the light-time iteration did not converge within max_iterations; value and partials of
+      the last iterate
+
+      degenerate_geometry : degenerate geometry: range below min_range, or the angle is undefined (zenith,
+      celestial pole)
+
+      invalid_input : invalid input: non-finite state, time, bias or station state
+    """
+
+    __members__: typing.ClassVar[dict[str, ObservationStatus]]
+    degenerate_geometry: typing.ClassVar[ObservationStatus]
+    invalid_input: typing.ClassVar[ObservationStatus]
+    no_convergence: typing.ClassVar[ObservationStatus]
+    success: typing.ClassVar[ObservationStatus]
+    unsolved: typing.ClassVar[ObservationStatus]
+    @typing.overload
+    def __eq__(self, other: ObservationStatus) -> bool: ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool: ...
+    def __getstate__(self) -> int: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __int__(self) -> int: ...
+    @typing.overload
+    def __ne__(self, other: ObservationStatus) -> bool: ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+
+class StationEphemeris:
+    """
+    GCRF ephemeris of a tracking station (km, km/s; t in s after its epoch).
+    """
+    def state(
+        self, t: typing.SupportsFloat
+    ) -> tuple[
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
+    ]:
+        """
+        (r km, v km/s, a km/s^2, enu 3x3 rows east/north/up) in GCRF at t (s).
+        """
+    @property
+    def height(self) -> float:
+        """
+        height above the ellipsoid, km
+        """
+    @property
+    def latitude(self) -> float:
+        """
+        geodetic latitude, rad
+        """
+
+class RotatingStationEphemeris(StationEphemeris):
+    """
+    The paper's rotating station (Station: inertial r0 at t = 0 turning about +z) as a StationEphemeris.
+    """
+    def __init__(self, station: Station, ellipsoid: str = "WGS-84") -> None: ...
+    @property
+    def station(self) -> Station: ...
+
+class EarthFixedStationEphemeris(StationEphemeris):
+    """
+    Station fixed in the ITRF at WGS-84 geodetic coordinates, carried to GCRF by an Earth rotation model
+    (here: uniform rotation by theta0 + omega t about +z).
+    """
+    @staticmethod
+    def from_ground_station(station: GroundStation, rotation: IauEarthRotation) -> EarthFixedStationEphemeris:
+        """
+        The GroundStation carried to GCRF by the IAU 2006/2000A chain with EOP (t = s after rotation.epoch).
+        """
+    def __init__(
+        self,
+        latitude_deg: typing.Any,
+        longitude_deg: typing.Any,
+        height_km: typing.Any,
+        theta0: typing.Any = 0.0,
+        omega: typing.SupportsFloat = 7.292115e-05,
+    ) -> None: ...
+    @property
+    def longitude(self) -> float:
+        """
+        rad (east)
+        """
+    @property
+    def position_itrf(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        km
+        """
+
+class MeasurementModel:
+    """
+    Light-time measurement model (observation/measurement_model.hpp).
+    """
+    def __init__(
+        self,
+        type: str,
+        troposphere: typing.Any = False,
+        shapiro: typing.Any = False,
+        relative_humidity: typing.Any = 0.5,
+        tolerance: typing.Any = 1e-14,
+        max_iterations: typing.Any = 10,
+        mu: typing.SupportsFloat = 398600.4418,
+        min_range: typing.Any = 0.001,
+        time_bias_partials: typing.Any = True,
+    ) -> None: ...
+    def predict_many(
+        self,
+        station: StationEphemeris,
+        t: typing.SupportsFloat,
+        states: typing.Any,
+        range_bias: typing.Any = 0.0,
+        time_bias: typing.Any = 0.0,
+    ) -> dict[str, typing.Any]:
+        """
+        Arrays of one predict() per tag: value (n, 2), dx (n, 2, 6), dbias (n, 2, 2), tau_down, tau_up,
+        troposphere, shapiro (n,), status, iterations (n,) ints.
+        """
+    @property
+    def shapiro(self) -> bool: ...
+    @property
+    def size(self) -> int: ...
+    @property
+    def troposphere(self) -> bool: ...
+    @property
+    def type(self) -> str: ...
+
 def _analyze_gramian(
     W: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
 ) -> dict[str, typing.Any]: ...
+def _bench_two_way_range(
+    station: StationEphemeris, x: numpy.typing.ArrayLike, calls: typing.Any, repeats: typing.Any = 5
+) -> tuple[float, float]:
+    """
+    Private: best-of-repeats seconds per two-way range predict() with partials (and a checksum).
+    """
+
 def _controllability_gramian(
     A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
     B: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
@@ -3287,6 +3492,52 @@ def gcrs_to_itrs_matrix(
     """
 
 def ilqr_admm_status_message(arg0: IlqrAdmmStatus) -> str: ...
+def io_epoch_seconds(
+    epochs: collections.abc.Sequence[str], origin: str, time_system: typing.Any
+) -> numpy.ndarray:
+    """
+    Seconds (float64) of each epoch text after origin, both in time_system (core::Epoch: leap seconds counted,
+    exact to the double rounding of each difference).
+    """
+
+def io_epochs_at(
+    origin: str, seconds: typing.Annotated[numpy.typing.ArrayLike, numpy.float64], time_system: typing.Any
+) -> tuple:
+    """
+    Epoch texts origin + seconds[i] in time_system (ISO-8601, up to 12 fraction digits).
+    """
+
+def io_format_oem(model: dict[str, typing.Any]) -> str:
+    """
+    OEM KVN text of the dict form of satgnc.io.Oem.
+    """
+
+def io_format_opm(model: dict[str, typing.Any]) -> str:
+    """
+    OPM KVN text of the dict form of satgnc.io.Opm.
+    """
+
+def io_format_tdm(model: dict[str, typing.Any], xml: bool) -> str:
+    """
+    TDM text (KVN, or XML when xml is True) of the dict form of satgnc.io.Tdm.
+    """
+
+def io_parse_oem(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse OEM KVN text (CCSDS 502.0-B-3) into the dict form of satgnc.io.Oem.
+    """
+
+def io_parse_opm(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse OPM KVN text (CCSDS 502.0-B-3) into the dict form of satgnc.io.Opm.
+    """
+
+def io_parse_tdm(text: str, source: str) -> dict[str, typing.Any]:
+    """
+    Parse TDM text (KVN or XML, CCSDS 503.0-B-2) into the dict form of satgnc.io.Tdm; errors name source, line
+    and keyword.
+    """
+
 def itrs_to_gcrs(
     x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], epoch: Epoch, eop: EopTable
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -3370,8 +3621,8 @@ def propagate_dop853(
     t0: typing.SupportsFloat,
     times: numpy.typing.ArrayLike,
     force_model: ForceModel,
-    rtol: typing.SupportsFloat = 1e-10,
-    atol: numpy.typing.ArrayLike = 1e-12,
+    rtol: typing.SupportsFloat = 3e-12,
+    atol: numpy.typing.ArrayLike = 3e-14,
     with_stm: bool = True,
     max_steps: typing.SupportsInt = 100000,
     surface_radius: typing.SupportsFloat = 0.0,
@@ -3399,7 +3650,42 @@ def published_scaling(
     mu: typing.SupportsFloat | typing.SupportsIndex,
     mass_chaser: typing.SupportsFloat | typing.SupportsIndex,
 ) -> ReferenceScaling: ...
+def saastamoinen_zenith_delay(
+    pressure: typing.Any,
+    temperature: typing.Any,
+    water_vapour: typing.Any,
+    latitude: typing.Any,
+    height: typing.Any,
+) -> float:
+    """
+    Saastamoinen zenith delay (km): hPa, K, hPa, latitude rad, height km.
+    """
+
 def scp_status_message(arg0: ScpStatus) -> str: ...
+def shapiro_delay(
+    r1: typing.Any, r2: typing.Any, rho: typing.Any, mu: typing.SupportsFloat = 398600.4418
+) -> float:
+    """
+    One-way Shapiro delay (km) between geocentric distances r1, r2 (km) separated by rho (km).
+    """
+
+def shift_state(
+    x: numpy.typing.ArrayLike, dt: typing.SupportsFloat, mu: typing.SupportsFloat = 398600.4418
+) -> tuple[
+    typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 1]"],
+    typing.Annotated[numpy.typing.NDArray[numpy.float64], "[6, 6]"],
+]:
+    """
+    Third-order two-body Taylor shift of x (km, km/s) by dt (s): (x', d x' / d x).
+    """
+
+def standard_atmosphere(
+    height: typing.Any, relative_humidity: typing.Any = 0.5
+) -> tuple[float, float, float]:
+    """
+    (pressure hPa, temperature K, water vapour hPa) of the standard atmosphere at height km.
+    """
+
 def status_message(arg0: str) -> str: ...
 def status_tables() -> dict[str, typing.Any]:
     """
@@ -3419,6 +3705,11 @@ def time_scale_from_name(name: str) -> TimeScale:
     The TimeScale named name (case-insensitive); ValueError naming the choices.
     """
 
+def tropo_mapping(elevation: typing.Any) -> float:
+    """
+    Black-Eisner mapping function at elevation (rad).
+    """
+
 def two_satellite_state(
     r_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"],
     v_t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"],
@@ -3429,4 +3720,5 @@ EARTH_J2: float = 0.0010826266835
 EARTH_MU: float = 398600.4418
 EARTH_OMEGA: float = 7.292115e-05
 EARTH_RADIUS: float = 6378.1363
+SPEED_OF_LIGHT: float = 299792.458
 __version__: str = "0.1.0"
