@@ -41,12 +41,12 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
                             const std::vector<double>& times, const Dop853Settings& settings, bool with_stm,
                             double surface_radius) {
   force_model.validate();
-  if (!force_model.j2 && !force_model.drag)
+  if (!force_model.j2 && force_model.conservative())
     return propagate_dop853_with<false>(PointMassAccel{force_model.mu}, x0, t0, times, settings, with_stm,
                                         surface_radius);
   const Accel accel{force_model};
   // Without drag nothing depends on v: skip the da/dv * Phi_v products in the variational equations.
-  if (force_model.drag.has_value())
+  if (!force_model.conservative())
     return propagate_dop853_with<true>(accel, x0, t0, times, settings, with_stm, surface_radius);
   return propagate_dop853_with<false>(accel, x0, t0, times, settings, with_stm, surface_radius);
 }
