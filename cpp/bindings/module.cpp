@@ -3,6 +3,7 @@
 
 namespace satgnc::bindings {
 void init_core(pybind11::module_& m);
+void init_atmosphere(pybind11::module_& m);
 void init_dynamics(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
 void init_propagation_analytic(pybind11::module_& m);
@@ -17,6 +18,7 @@ PYBIND11_MODULE(_satgnc, m) {
   m.attr("__version__") = SATGNC_VERSION_STRING;
   namespace b = satgnc::bindings;
   b::init_core(m);
+  b::init_atmosphere(m);  // before init_dynamics: ForceModel names AtmosphereDrag
   b::init_dynamics(m);
   b::init_propagation(m);
   b::init_propagation_analytic(m);
