@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "malloc_counter.hpp"
 #include "satgnc/dynamics/atmosphere.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/frames/earth_rotation.hpp"
@@ -277,4 +278,24 @@ TEST(AtmosphereDrag, StmOfCvodesAndDop853AgainstWholePropagations) {
   const Mat6 with = dop853(fm).stms.back();
   const Mat6 without = dop853(no_drag).stms.back();
   EXPECT_GT(satgnc::testing::rel_err(without, with), 1e-5);
+}
+
+TEST(AtmosphereDrag, EvaluationAllocatesNothing) {
+  // The right-hand side of a propagation calls these at every stage: no heap allocation (the ERFA Sun
+  // table, inside and outside its span, Harris-Priester, the geodetic point, the ForceModel term).
+  dyn::ForceModel fm;
+  fm.atmosphere_drag = make_drag();
+  Vec3 a, sum = Vec3::Zero();
+  Mat3 gr, gv;
+  g_mallocs = 0;
+  g_count = true;
+  for (int i = 0; i < 100; ++i) {
+    const double t = i * 600.0 + (i % 2 == 0 ? 0.0 : 1e8);  // odd i: outside the table (eraEpv00)
+    sum += fm.acceleration(t, kR, kV);
+    fm.acceleration_jacobians(t, kR, kV, a, gr, gv);
+    sum += a + dyn::atmosphere_drag_cd_partial(*fm.atmosphere_drag, t, kR, kV);
+  }
+  g_count = false;
+  EXPECT_EQ(g_mallocs.load(), 0) << "heap allocations in the drag evaluation";
+  EXPECT_TRUE(sum.allFinite());
 }
