@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "checks.hpp"
@@ -35,11 +36,11 @@ void check_drag(const dy::AtmosphereDrag& d) { d.validate("AtmosphereDrag"); }
 void init_atmosphere(py::module_& m) {
   py::class_<dy::SpaceWeather>(m, "SpaceWeather",
                                "Solar and geomagnetic activity: f107, f107a (sfu, 0-400) and ap (0-400).")
-      .def(py::init([](py::handle f107, py::handle f107a, py::handle ap) {
+      .def(py::init([](double f107, double f107a, double ap) {
              dy::SpaceWeather w;
-             w.f107 = checks::real_arg(f107, "f107", false);
-             w.f107a = checks::real_arg(f107a, "f107a", false);
-             w.ap = checks::real_arg(ap, "ap", false);
+             w.f107 = f107;
+             w.f107a = f107a;
+             w.ap = ap;
              w.validate("SpaceWeather");
              return w;
            }),
@@ -87,10 +88,7 @@ void init_atmosphere(py::module_& m) {
   py::class_<dy::HarrisPriester, dy::AtmosphereModel, std::shared_ptr<dy::HarrisPriester>>(
       m, "HarrisPriester",
       "Harris-Priester density (Montenbruck & Gill 2000, 3.5.2, Table 3.8; 100-1000 km, 0 above).")
-      .def(py::init([](py::handle n, py::handle lag) {
-             return std::make_shared<dy::HarrisPriester>(checks::real_arg(n, "n"),
-                                                         checks::real_arg(lag, "lag"));
-           }),
+      .def(py::init([](double n, double lag) { return std::make_shared<dy::HarrisPriester>(n, lag); }),
            py::arg("n") = 2.0, py::arg("lag") = 0.523599,
            "n in [2, 6] (2 low inclination, 6 polar); lag of the bulge behind the Sun, rad, in [0, pi].")
       .def_property_readonly("n", &dy::HarrisPriester::n)
@@ -116,13 +114,9 @@ void init_atmosphere(py::module_& m) {
            py::arg("direction"));
   py::class_<dy::ErfaSun, dy::SunDirectionModel, std::shared_ptr<dy::ErfaSun>>(
       m, "ErfaSun", "Geocentric Sun from ERFA eraEpv00, tabulated every node_spacing s (cubic Hermite).")
-      .def(py::init(
-               [](py::handle jd1, py::handle jd2, py::handle t_begin, py::handle t_end, py::handle spacing) {
-                 return std::make_shared<dy::ErfaSun>(
-                     checks::real_arg(jd1, "epoch_jd1", false), checks::real_arg(jd2, "epoch_jd2", false),
-                     checks::real_arg(t_begin, "t_begin", false), checks::real_arg(t_end, "t_end", false),
-                     checks::real_arg(spacing, "node_spacing", false));
-               }),
+      .def(py::init([](double jd1, double jd2, double t_begin, double t_end, double spacing) {
+             return std::make_shared<dy::ErfaSun>(jd1, jd2, t_begin, t_end, spacing);
+           }),
            py::arg("epoch_jd1") = 2451545.0, py::arg("epoch_jd2") = 0.0, py::arg("t_begin") = -86400.0,
            py::arg("t_end") = 31.0 * 86400.0, py::arg("node_spacing") = 21600.0,
            "Epoch: TT Julian date epoch_jd1 + epoch_jd2 (days); table over [t_begin, t_end] s.")
@@ -133,15 +127,15 @@ void init_atmosphere(py::module_& m) {
                                  "Drag through an AtmosphereModel with a co-rotating atmosphere (GCRF; "
                                  "km, km/s, s; area m^2, mass kg).")
       .def(py::init([](std::shared_ptr<dy::AtmosphereModel> atmosphere,
-                       std::shared_ptr<dy::SunDirectionModel> sun, py::handle cd, py::handle area,
-                       py::handle mass) {
+                       std::optional<std::shared_ptr<dy::SunDirectionModel>> sun, double cd, double area,
+                       double mass) {
              dy::AtmosphereDrag d;
              d.atmosphere = std::move(atmosphere);
-             d.sun = sun ? std::shared_ptr<const dy::SunDirectionModel>(std::move(sun))
-                         : std::make_shared<dy::ErfaSun>(2451545.0);
-             d.cd = checks::real_arg(cd, "cd", false);
-             d.area = checks::real_arg(area, "area", false);
-             d.mass = checks::real_arg(mass, "mass", false);
+             d.sun = sun && *sun ? std::shared_ptr<const dy::SunDirectionModel>(std::move(*sun))
+                                 : std::make_shared<dy::ErfaSun>(2451545.0);
+             d.cd = cd;
+             d.area = area;
+             d.mass = mass;
              d.validate("AtmosphereDrag");
              return d;
            }),

@@ -122,7 +122,12 @@ class SpaceWeather:
     """
     Solar and geomagnetic activity: f107, f107a (sfu, 0-400) and ap (0-400).
     """
-    def __init__(self, f107: typing.Any = 150.0, f107a: typing.Any = 150.0, ap: typing.Any = 4.0) -> None:
+    def __init__(
+        self,
+        f107: typing.SupportsFloat | typing.SupportsIndex = 150.0,
+        f107a: typing.SupportsFloat | typing.SupportsIndex = 150.0,
+        ap: typing.SupportsFloat | typing.SupportsIndex = 4.0,
+    ) -> None:
         """
         F10.7 of the previous day and its 81-day mean (sfu), daily Ap; defaults: the NRLMSISE-00 reference
         cases' moderate activity.
@@ -159,7 +164,11 @@ class HarrisPriester(AtmosphereModel):
     """
     Harris-Priester density (Montenbruck & Gill 2000, 3.5.2, Table 3.8; 100-1000 km, 0 above).
     """
-    def __init__(self, n: typing.SupportsFloat = 2.0, lag: typing.Any = 0.523599) -> None:
+    def __init__(
+        self,
+        n: typing.SupportsFloat | typing.SupportsIndex = 2.0,
+        lag: typing.SupportsFloat | typing.SupportsIndex = 0.523599,
+    ) -> None:
         """
         n in [2, 6] (2 low inclination, 6 polar); lag of the bulge behind the Sun, rad, in [0, pi].
         """
@@ -192,11 +201,11 @@ class ErfaSun(SunDirectionModel):
     """
     def __init__(
         self,
-        epoch_jd1: typing.Any = 2451545.0,
-        epoch_jd2: typing.Any = 0.0,
-        t_begin: typing.Any = -86400.0,
-        t_end: typing.Any = 2678400.0,
-        node_spacing: typing.Any = 21600.0,
+        epoch_jd1: typing.SupportsFloat | typing.SupportsIndex = 2451545.0,
+        epoch_jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        t_begin: typing.SupportsFloat | typing.SupportsIndex = -86400.0,
+        t_end: typing.SupportsFloat | typing.SupportsIndex = 2678400.0,
+        node_spacing: typing.SupportsFloat | typing.SupportsIndex = 21600.0,
     ) -> None:
         """
         Epoch: TT Julian date epoch_jd1 + epoch_jd2 (days); table over [t_begin, t_end] s.
@@ -213,10 +222,10 @@ class AtmosphereDrag:
     def __init__(
         self,
         atmosphere: AtmosphereModel,
-        sun: SunDirectionModel = None,
-        cd: typing.Any = 2.2,
-        area: typing.Any = 1.0,
-        mass: typing.Any = 1.0,
+        sun: SunDirectionModel | None = None,
+        cd: typing.SupportsFloat | typing.SupportsIndex = 2.2,
+        area: typing.SupportsFloat | typing.SupportsIndex = 1.0,
+        mass: typing.SupportsFloat | typing.SupportsIndex = 1.0,
     ) -> None:
         """
         atmosphere: e.g. HarrisPriester(); sun: a SunDirectionModel (default ErfaSun() at J2000 TT); cd >= 0;

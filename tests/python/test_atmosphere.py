@@ -6,6 +6,7 @@ whole propagations, and bad input naming the argument."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -62,7 +63,7 @@ def hp_numpy(r_itrf: np.ndarray, sun_itrf: np.ndarray, n: float = 2.0) -> float:
                      s[2]])
     cos_psi = float(apex @ r_itrf) / float(np.linalg.norm(r_itrf))
     q = (0.5 + 0.5 * cos_psi) ** (0.5 * n)
-    return (interp(RHO_MIN) + (interp(RHO_MAX) - interp(RHO_MIN)) * q) * 1e-12
+    return float((interp(RHO_MIN) + (interp(RHO_MAX) - interp(RHO_MIN)) * q) * 1e-12)
 
 
 def rot_z(theta: float) -> np.ndarray:
@@ -151,7 +152,7 @@ def test_drag_jacobians_against_fourth_order_differences() -> None:
     a, da_dr, da_dv = d.acceleration_jacobians(R0, V0, t)
     np.testing.assert_allclose(a, d.acceleration(R0, V0, t), rtol=1e-15)
 
-    def fd(f, x: np.ndarray, h: float) -> np.ndarray:
+    def fd(f: Callable[[np.ndarray], np.ndarray], x: np.ndarray, h: float) -> np.ndarray:
         out = np.empty((3, 3))
         for k in range(3):
             e = np.zeros(3)
@@ -206,6 +207,7 @@ def test_propagation_stm_against_whole_propagations(method: str) -> None:
     x0 = np.concatenate([r, u / np.linalg.norm(u) * math.sqrt(satgnc.EARTH_MU / np.linalg.norm(r))])
     t = 3600.0
     tr = satgnc.propagate(x0, [0.0, t], forces=forces, method=method, rtol=1e-13, atol=1e-15)
+    assert tr.stms is not None
     fd = _stm_fd(forces, x0, t)
     d = np.array([np.linalg.norm(x0[:3])] * 3 + [np.linalg.norm(x0[3:])] * 3)
     a = tr.stms[-1] * d[None, :] / d[:, None]
@@ -230,7 +232,7 @@ def test_bad_input_names_the_argument() -> None:
         AtmosphereDrag(HarrisPriester(), mass=0.0)
     with pytest.raises(ValueError, match=r"^AtmosphereDrag\.area: "):
         AtmosphereDrag(HarrisPriester(), area=-1.0)
-    with pytest.raises(ValueError, match=r"^cd: must be finite"):
+    with pytest.raises(ValueError, match=r"^AtmosphereDrag\.cd: must be finite and >= 0"):
         AtmosphereDrag(HarrisPriester(), cd=float("nan"))
     with pytest.raises(ValueError, match=r"^epoch_jd1: must be finite"):
         ErfaSun(float("nan"))
