@@ -111,6 +111,16 @@ void ForceModel::validate_position(const Vec3& r, const char* name) const {
   core::require(r.norm() > 0.0, name, "must be non-zero (|r| = 0 is the centre of the body)",
                 "point-mass gravity is singular there");
   if (drag) validate_density_radius(*drag, r.norm(), name);
+  // --- atmosphere drag ---
+  if (atmosphere_drag) {
+    Mat3 rot;  // the height depends on the rotation only through polar motion: t = 0 is enough
+    Vec3 omega;
+    const double h = atmosphere_drag_point(*atmosphere_drag, 0.0, r, rot, omega).height;
+    core::require(h >= 0.0, name,
+                  "is below the WGS-84 ellipsoid (geodetic height " + std::to_string(h) + " km < 0)",
+                  "the atmosphere models hold from the surface up");
+  }
+  // --- end atmosphere drag ---
 }
 
 void ForceModel::validate() const {
@@ -135,6 +145,7 @@ void ForceModel::validate() const {
     require_positive(d.mass, "drag.mass");
     core::require_finite(d.omega, "drag.omega");
   }
+  if (atmosphere_drag) atmosphere_drag->validate("atmosphere_drag");  // atmosphere drag
   validate_precise_terms();
 }
 
@@ -142,6 +153,7 @@ Vec3 ForceModel::acceleration(double t, const Vec3& r, const Vec3& v) const {
   Vec3 a = point_mass_acceleration(mu, r);
   if (j2) a += j2_acceleration(*j2, r);
   if (drag) a += drag_acceleration(*drag, r, v);
+  if (atmosphere_drag) a += atmosphere_drag_acceleration(*atmosphere_drag, t, r, v);  // atmosphere drag
   add_precise_terms(t, r, a, nullptr);
   return a;
 }
@@ -165,6 +177,16 @@ void ForceModel::acceleration_jacobians(double t, const Vec3& r, const Vec3& v, 
     da_dr += gr;
     da_dv += gv;
   }
+  // --- atmosphere drag ---
+  if (atmosphere_drag) {
+    Vec3 ad;
+    Mat3 gr, gv;
+    atmosphere_drag_jacobians(*atmosphere_drag, t, r, v, ad, gr, gv);
+    a += ad;
+    da_dr += gr;
+    da_dv += gv;
+  }
+  // --- end atmosphere drag ---
   add_precise_terms(t, r, a, &da_dr);
 }
 

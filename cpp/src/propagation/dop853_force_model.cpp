@@ -42,8 +42,8 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
                             const std::vector<double>& times, const Dop853Settings& settings, bool with_stm,
                             double surface_radius) {
   force_model.validate();
-  if (!force_model.j2 && !force_model.drag && !force_model.gravity && !force_model.third_body &&
-      !force_model.srp)
+  if (!force_model.j2 && !force_model.drag && !force_model.atmosphere_drag && !force_model.gravity &&
+      !force_model.third_body && !force_model.srp)
     return propagate_dop853_with<false>(PointMassAccel{force_model.mu}, x0, t0, times, settings, with_stm,
                                         surface_radius);
   // A gravity field and the ephemeris cache evaluate into their own workspace: a private copy keeps
@@ -52,7 +52,7 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
   if (force_model.gravity || force_model.third_body || force_model.srp) own.emplace(force_model);
   const Accel accel{own ? *own : force_model};
   // Without drag nothing depends on v: skip the da/dv * Phi_v products in the variational equations.
-  if (force_model.drag.has_value())
+  if (force_model.drag || force_model.atmosphere_drag)
     return propagate_dop853_with<true>(accel, x0, t0, times, settings, with_stm, surface_radius);
   return propagate_dop853_with<false>(accel, x0, t0, times, settings, with_stm, surface_radius);
 }

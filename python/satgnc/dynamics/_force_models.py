@@ -44,6 +44,7 @@ def force_model(
     gravity: GravityField | None = None,
     third_body: ThirdBodies | None = None,
     srp: SolarRadiationPressure | None = None,
+    atmosphere_drag: _c.AtmosphereDrag | None = None,
     epoch_jd: tuple[float, float] | float = (2451545.0, 0.0),
 ) -> _c.ForceModel:
     """A :class:`satgnc.ForceModel` with the precise terms set.
@@ -57,7 +58,7 @@ def force_model(
     if jd.ndim == 1 and jd.shape != (2,):
         raise ValueError(f"epoch_jd: must be one number or two parts (jd1, jd2), got shape {jd.shape}")
     parts = (float(jd), 0.0) if jd.ndim == 0 else (float(jd[0]), float(jd[1]))
-    fm = _c.ForceModel(mu=mu, j2=j2, drag=drag)
+    fm = _c.ForceModel(mu=mu, j2=j2, drag=drag, atmosphere_drag=atmosphere_drag)
     fm.gravity = gravity
     fm.third_body = third_body
     fm.srp = srp

@@ -8,6 +8,7 @@
 
 #include "satgnc/core/constants.hpp"
 #include "satgnc/core/types.hpp"
+#include "satgnc/dynamics/atmosphere.hpp"
 #include "satgnc/dynamics/gravity_field.hpp"
 #include "satgnc/dynamics/srp.hpp"
 #include "satgnc/dynamics/third_body.hpp"
@@ -49,6 +50,11 @@ struct ForceModel {
   double mu = earth::mu;                ///< central-body gravitational parameter, km^3/s^2
   std::optional<J2Gravity> j2;          ///< J2 term (its mu should equal mu)
   std::optional<ExponentialDrag> drag;  ///< drag term
+  // --- atmosphere drag (issue 14 item 4) ---
+  /// Drag through a density model (Harris-Priester, ...) with a co-rotating atmosphere
+  /// (dynamics/atmosphere.hpp); independent of `drag` (the paper's exponential model).
+  std::optional<AtmosphereDrag> atmosphere_drag;
+  // --- end atmosphere drag ---
 
   /// Throw std::invalid_argument (naming the field and the rule) on non-positive mu, radius, etc.
   void validate() const;
@@ -57,9 +63,10 @@ struct ForceModel {
   /// single evaluations from an API; propagators check |r| > 0 in validate_orbit_arc_input instead.
   void validate_position(const Vec3& r, const char* name = "r") const;
   /// True when every term derives from a potential (no drag): det(STM) = 1 and symplecticity hold.
-  /// SRP with an Earth shadow is not (the shadow switches it off), nor is drag.
+  /// SRP with an Earth shadow is not (the shadow switches it off), nor is drag of either kind.
   bool conservative() const {
-    return !drag.has_value() && !(srp.has_value() && srp->shadow != ShadowModel::none);
+    return !drag.has_value() && !atmosphere_drag.has_value() &&
+           !(srp.has_value() && srp->shadow != ShadowModel::none);
   }
   /// Acceleration a(t, r, v), km/s^2.
   Vec3 acceleration(double t, const Vec3& r, const Vec3& v) const;
