@@ -288,10 +288,17 @@ Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r,
       return srp_acceleration(unit, ephemeris.sun(epoch_jd1, epoch_jd2 + t / 86400.0), r);
     }
     case ForceParameter::cd: {
-      core::require(drag.has_value(), "parameter", "cd needs a drag term");
-      ExponentialDrag unit = *drag;
-      unit.cd = 1.0;
-      return drag_acceleration(unit, r, v);
+      // One Cd scales every drag term: the exponential drag and the atmosphere drag add up.
+      core::require(drag.has_value() || atmosphere_drag.has_value(), "parameter",
+                    "cd needs a drag or atmosphere_drag term");
+      Vec3 a = Vec3::Zero();
+      if (drag) {
+        ExponentialDrag unit = *drag;
+        unit.cd = 1.0;
+        a += drag_acceleration(unit, r, v);
+      }
+      if (atmosphere_drag) a += atmosphere_drag_cd_partial(*atmosphere_drag, t, r, v);
+      return a;
     }
   }
   throw std::invalid_argument("parameter: unknown ForceParameter");

@@ -103,7 +103,8 @@ struct ForceModel {
   /// Partial derivative of the acceleration with respect to a model parameter (km/s^2 per unit of the
   /// parameter: per km^3/s^2 for mu, per unit Cr, per unit Cd) at t (s), r (km), v (km/s): the hook
   /// for estimated / consider parameters. mu scales the point mass, J2 and the gravity field; cr scales
-  /// srp; cd scales drag. Throws std::invalid_argument when the term it scales is absent.
+  /// srp; cd scales drag and atmosphere_drag together (one Cd: their partials add). Throws
+  /// std::invalid_argument when no term it scales is present.
   Vec3 acceleration_partial(ForceParameter p, double t, const Vec3& r, const Vec3& v) const;
 
  private:
