@@ -128,11 +128,12 @@ void init_atmosphere(py::module_& m) {
                                  "km, km/s, s; area m^2, mass kg).")
       .def(py::init([](std::shared_ptr<dy::AtmosphereModel> atmosphere,
                        std::optional<std::shared_ptr<dy::SunDirectionModel>> sun, double cd, double area,
-                       double mass) {
+                       double mass,
+                       std::optional<std::shared_ptr<frames::EarthRotationModel>> earth_rotation) {
              dy::AtmosphereDrag d;
              d.atmosphere = std::move(atmosphere);
-             d.sun = sun && *sun ? std::shared_ptr<const dy::SunDirectionModel>(std::move(*sun))
-                                 : std::make_shared<dy::ErfaSun>(2451545.0);
+             if (sun && *sun) d.sun = std::move(*sun);  // None: the force model's Sun
+             if (earth_rotation && *earth_rotation) d.earth_rotation = std::move(*earth_rotation);
              d.cd = cd;
              d.area = area;
              d.mass = mass;
@@ -140,9 +141,15 @@ void init_atmosphere(py::module_& m) {
              return d;
            }),
            py::arg("atmosphere"), py::arg("sun") = py::none(), py::arg("cd") = 2.2, py::arg("area") = 1.0,
-           py::arg("mass") = 1.0,
-           "atmosphere: e.g. HarrisPriester(); sun: a SunDirectionModel (default ErfaSun() at J2000 TT); "
-           "cd >= 0; area m^2 >= 0; mass kg > 0. The Earth turns uniformly about GCRF z from t = 0.")
+           py::arg("mass") = 1.0, py::arg("earth_rotation") = py::none(),
+           "atmosphere: e.g. HarrisPriester(); sun: a SunDirectionModel or None (the force model's Sun: "
+           "its cached ERFA Sun at its epoch; alone, ERFA at t s after J2000 TT); cd >= 0; area m^2 >= 0; "
+           "mass kg > 0; earth_rotation: an EarthRotationModel (UniformRotation, IauEarthRotation) or None "
+           "(UniformRotation(0): uniform about GCRF z from t = 0).")
+      .def_property_readonly("earth_rotation",
+                             [](const dy::AtmosphereDrag& d) {
+                               return std::const_pointer_cast<frames::EarthRotationModel>(d.earth_rotation);
+                             })
       .def_property_readonly("atmosphere",
                              [](const dy::AtmosphereDrag& d) {
                                return std::const_pointer_cast<dy::AtmosphereModel>(d.atmosphere);

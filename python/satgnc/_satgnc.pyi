@@ -740,10 +740,13 @@ class AtmosphereDrag:
         cd: typing.SupportsFloat | typing.SupportsIndex = 2.2,
         area: typing.SupportsFloat | typing.SupportsIndex = 1.0,
         mass: typing.SupportsFloat | typing.SupportsIndex = 1.0,
+        earth_rotation: EarthRotationModel | None = None,
     ) -> None:
         """
-        atmosphere: e.g. HarrisPriester(); sun: a SunDirectionModel (default ErfaSun() at J2000 TT); cd >= 0;
-        area m^2 >= 0; mass kg > 0. The Earth turns uniformly about GCRF z from t = 0.
+        atmosphere: e.g. HarrisPriester(); sun: a SunDirectionModel or None (the force model's Sun: its cached
+        ERFA Sun at its epoch; alone, ERFA at t s after J2000 TT); cd >= 0; area m^2 >= 0; mass kg > 0;
+        earth_rotation: an EarthRotationModel (UniformRotation, IauEarthRotation) or None (UniformRotation(0):
+        uniform about GCRF z from t = 0).
         """
     def __repr__(self) -> str: ...
     def acceleration(
@@ -778,6 +781,8 @@ class AtmosphereDrag:
     def atmosphere(self) -> AtmosphereModel: ...
     @property
     def cd(self) -> float: ...
+    @property
+    def earth_rotation(self) -> EarthRotationModel: ...
     @property
     def mass(self) -> float: ...
     @property
@@ -874,6 +879,8 @@ class ForceModel:
         j2: J2Gravity | None = None,
         drag: ExponentialDrag | None = None,
         atmosphere_drag: AtmosphereDrag | None = None,
+        epoch_jd1: typing.SupportsFloat | typing.SupportsIndex = 2451545.0,
+        epoch_jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0,
     ) -> None: ...
     def __repr__(self) -> str: ...
     def acceleration(

@@ -158,20 +158,27 @@ TEST(AtmosphereDrag, SunFromErfaAgainstTheAlmanac) {
 
 TEST(AtmosphereDrag, ForceModelTermAndBadInput) {
   dyn::ForceModel fm;
+  fm.epoch_jd1 = 2460000.5;  // make_drag's ErfaSun epoch: one epoch (validate refuses another)
   fm.atmosphere_drag = make_drag();
   EXPECT_NO_THROW(fm.validate());
   EXPECT_FALSE(fm.conservative());
   const double t = 50.0;
+  // Inside the ForceModel the drag's Sun is the ForceModel's ephemeris (the third body's and SRP's).
+  const Vec3 sun = fm.ephemeris.sun(fm.epoch_jd1, fm.epoch_jd2 + t / 86400.0);
   SATGNC_EXPECT_REL(fm.acceleration(t, kR, kV),
                     Vec3(dyn::point_mass_acceleration(fm.mu, kR) +
-                         dyn::atmosphere_drag_acceleration(*fm.atmosphere_drag, t, kR, kV)),
+                         dyn::atmosphere_drag_acceleration(*fm.atmosphere_drag, t, kR, kV, sun)),
                     1e-15);
+  // ErfaSun's own table is the same Sun to 1.2e-12 rad (measured over 30 days): the drag alone with it
+  // agrees to 1e-9 relative (Harris-Priester's cos^6(psi/2) turns 1e-12 rad into ~1e-11).
+  SATGNC_EXPECT_REL(Vec3(fm.acceleration(t, kR, kV) - dyn::point_mass_acceleration(fm.mu, kR)),
+                    dyn::atmosphere_drag_acceleration(*fm.atmosphere_drag, t, kR, kV), 1e-9);
   Vec3 a;
   Mat3 gr, gv;
   fm.acceleration_jacobians(t, kR, kV, a, gr, gv);
   Vec3 ad;
   Mat3 dr, dv;
-  dyn::atmosphere_drag_jacobians(*fm.atmosphere_drag, t, kR, kV, ad, dr, dv);
+  dyn::atmosphere_drag_jacobians(*fm.atmosphere_drag, t, kR, kV, sun, ad, dr, dv);
   SATGNC_EXPECT_REL(gv, dv, 1e-15);
   auto message = [&](auto edit) {
     dyn::ForceModel f = fm;
@@ -190,9 +197,12 @@ TEST(AtmosphereDrag, ForceModelTermAndBadInput) {
   EXPECT_EQ(message([](dyn::AtmosphereDrag& d) { d.area = -1.0; }).rfind("atmosphere_drag.area: ", 0), 0u);
   EXPECT_EQ(message([](dyn::AtmosphereDrag& d) { d.mass = 0.0; }).rfind("atmosphere_drag.mass: ", 0), 0u);
   EXPECT_EQ(message([](dyn::AtmosphereDrag& d) { d.cd = -2.0; }).rfind("atmosphere_drag.cd: ", 0), 0u);
-  EXPECT_EQ(
-      message([](dyn::AtmosphereDrag& d) { d.sun = nullptr; }).rfind("atmosphere_drag.sun: must be set", 0),
-      0u);
+  // A null Sun is the force model's Sun; an ErfaSun at another epoch than the ForceModel's is refused.
+  EXPECT_EQ(message([](dyn::AtmosphereDrag& d) { d.sun = nullptr; }), "no throw");
+  EXPECT_EQ(message([](dyn::AtmosphereDrag& d) {
+              d.sun = std::make_shared<dyn::ErfaSun>(2460001.5);
+            }).rfind("atmosphere_drag.sun: ErfaSun epoch must equal the force model's epoch", 0),
+            0u);
   // Below the ellipsoid: refused by validate_position, naming the argument.
   try {
     fm.validate_position(Vec3(0.0, 0.0, 6300.0), "r");
@@ -252,6 +262,7 @@ TEST(AtmosphereDrag, StmOfCvodesAndDop853AgainstWholePropagations) {
   // orbit stays between 290 and 320 km). Tolerance 5e-8 against the differences (measured 6e-9). The
   // drag's share of the STM is far larger: without the drag the STM differs by more than 1e-5.
   dyn::ForceModel fm;
+  fm.epoch_jd1 = 2460000.5;  // make_drag's ErfaSun epoch: one epoch (validate refuses another)
   fm.j2 = dyn::J2Gravity{};
   fm.atmosphere_drag = make_drag();
   fm.atmosphere_drag->area = 200.0;
@@ -284,6 +295,7 @@ TEST(AtmosphereDrag, EvaluationAllocatesNothing) {
   // The right-hand side of a propagation calls these at every stage: no heap allocation (the ERFA Sun
   // table, inside and outside its span, Harris-Priester, the geodetic point, the ForceModel term).
   dyn::ForceModel fm;
+  fm.epoch_jd1 = 2460000.5;  // make_drag's ErfaSun epoch: one epoch (validate refuses another)
   fm.atmosphere_drag = make_drag();
   Vec3 a, sum = Vec3::Zero();
   Mat3 gr, gv;

@@ -8,6 +8,7 @@
 
 #include "satgnc/dynamics/atmosphere.hpp"
 #include "satgnc/dynamics/force_model.hpp"
+#include "satgnc/dynamics/third_body.hpp"
 #include "satgnc/frames/earth_rotation.hpp"
 #include "testing.hpp"
 
@@ -85,5 +86,54 @@ TEST(ForceModelDrag, CdPartialWithoutDragNamesBothTerms) {
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), "parameter: cd needs a drag or atmosphere_drag term");
+  }
+}
+
+TEST(ForceModelDrag, OneSunOneEpoch) {
+  // With sun unset the drag's Sun is the ForceModel's ephemeris at the ForceModel's epoch: the same
+  // cached ERFA Sun as the third body and SRP. Checked against the drag evaluated with that Sun
+  // given, and against the drag with the Sun straight from ERFA (sun_position) to 1e-9
+  // (the 1/8-day Hermite Sun is within 1e-13 rad of ERFA, measured).
+  dyn::ForceModel fm;
+  fm.epoch_jd1 = 2460000.5;
+  fm.epoch_jd2 = 0.25;
+  fm.atmosphere_drag = harris_priester_drag(2.2);
+  fm.atmosphere_drag->sun = nullptr;
+  fm.third_body = dyn::ThirdBodies{};
+  ASSERT_NO_THROW(fm.validate());
+  const Vec3 pm = dyn::point_mass_acceleration(fm.mu, kR);
+  for (double t : {0.0, 5000.0, 86400.0 * 3.3}) {
+    const Vec3 sun = fm.ephemeris.sun(fm.epoch_jd1, fm.epoch_jd2 + t / 86400.0);
+    const Vec3 third =
+        dyn::third_body_acceleration(fm.third_body->mu_sun, sun, kR) +
+        dyn::third_body_acceleration(fm.third_body->mu_moon,
+                                     fm.ephemeris.moon(fm.epoch_jd1, fm.epoch_jd2 + t / 86400.0), kR);
+    const Vec3 drag = dyn::atmosphere_drag_acceleration(*fm.atmosphere_drag, t, kR, kV, sun);
+    // The Cd partial is the drag term alone (a / Cd): same evaluation, exact to rounding.
+    SATGNC_EXPECT_REL(Vec3(2.2 * fm.acceleration_partial(dyn::ForceParameter::cd, t, kR, kV)), drag, 1e-15);
+    // The total minus the other terms: |a| ~ 8e-3 km/s^2 against a drag of 3e-9 km/s^2, so the
+    // subtraction leaves ~1e-18 / 3e-9 ~ 4e-10 relative rounding (measured 3.6e-10); tolerance 1e-8.
+    SATGNC_EXPECT_REL(Vec3(fm.acceleration(t, kR, kV) - pm - third), drag, 1e-8);
+    const Vec3 erfa = dyn::sun_position(fm.epoch_jd1, fm.epoch_jd2 + t / 86400.0);
+    SATGNC_EXPECT_REL(drag, dyn::atmosphere_drag_acceleration(*fm.atmosphere_drag, t, kR, kV, erfa), 1e-9);
+    // The epoch matters: the Sun of 90 days later (~89 deg away) moves the diurnal bulge.
+    EXPECT_GT(satgnc::testing::rel_err(drag, dyn::atmosphere_drag_acceleration(
+                                                 *fm.atmosphere_drag, t, kR, kV,
+                                                 dyn::sun_position(fm.epoch_jd1, 90.25 + t / 86400.0))),
+              1e-3);
+  }
+  // An ErfaSun is accepted only at the ForceModel's epoch, and then gives the ForceModel's Sun.
+  fm.atmosphere_drag->sun = std::make_shared<dyn::ErfaSun>(2460000.5, 0.25);
+  ASSERT_NO_THROW(fm.validate());
+  dyn::ForceModel unset = fm;
+  unset.atmosphere_drag->sun = nullptr;
+  SATGNC_EXPECT_REL(fm.acceleration(700.0, kR, kV), unset.acceleration(700.0, kR, kV), 1e-15);
+  fm.atmosphere_drag->sun = std::make_shared<dyn::ErfaSun>(2451545.0);
+  try {
+    fm.validate();
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("atmosphere_drag.sun: ErfaSun epoch must equal", 0), 0u)
+        << e.what();
   }
 }

@@ -123,8 +123,11 @@ def test_harris_priester_gradient_against_fourth_order_differences() -> None:
         assert np.max(np.abs(grad - fd)) <= 1e-6 * np.max(np.abs(fd))
 
 
+EPOCH = 2460000.5  # TT Julian date of t = 0 of make_drag's ErfaSun; a ForceModel must share it (one epoch)
+
+
 def make_drag(area: float = 12.0) -> AtmosphereDrag:
-    return AtmosphereDrag(HarrisPriester(n=6.0), sun=ErfaSun(2460000.5), cd=2.3, area=area, mass=400.0)
+    return AtmosphereDrag(HarrisPriester(n=6.0), sun=ErfaSun(EPOCH), cd=2.3, area=area, mass=400.0)
 
 
 R0 = np.array([-4502.0, 3870.0, 3420.0]) / np.linalg.norm([-4502.0, 3870.0, 3420.0]) * (6378.137 + 400.0)
@@ -171,7 +174,7 @@ def test_at_rest_in_itrf_feels_no_drag() -> None:
     d = make_drag()
     v = np.cross([0.0, 0.0, OMEGA], R0)  # co-rotating with the Earth
     assert np.all(d.acceleration(R0, v, 100.0) == 0.0)
-    fm = satgnc.ForceModel(atmosphere_drag=d)
+    fm = satgnc.ForceModel(atmosphere_drag=d, epoch_jd1=EPOCH)
     np.testing.assert_array_equal(fm.acceleration(R0, v, 100.0), fm.acceleration(R0, v, 100.0))
     a_pm = satgnc.ForceModel().acceleration(R0, v, 100.0)
     np.testing.assert_array_equal(fm.acceleration(R0, v, 100.0), a_pm)  # drag adds exactly 0
@@ -201,7 +204,7 @@ def test_propagation_stm_against_whole_propagations(method: str) -> None:
     # Circular 300 km, A/m = 0.5 m^2/kg, one hour, J2 + Harris-Priester n = 6 with the ERFA Sun: the
     # STM of the variational equations against differences of whole propagations. Error of
     # D^-1 Phi D, D = diag(|r0|, |v0|): tolerance 5e-8 (C++ measures 6e-9 against capped-step runs).
-    forces = satgnc.ForceModel(j2=satgnc.J2Gravity(), atmosphere_drag=make_drag(area=200.0))
+    forces = satgnc.ForceModel(j2=satgnc.J2Gravity(), atmosphere_drag=make_drag(area=200.0), epoch_jd1=EPOCH)
     r = R0 / np.linalg.norm(R0) * (6378.137 + 300.0)  # circular at 300 km, inclined ~50 deg
     u = V0 - (V0 @ r) * r / (r @ r)
     x0 = np.concatenate([r, u / np.linalg.norm(u) * math.sqrt(satgnc.EARTH_MU / np.linalg.norm(r))])
@@ -244,7 +247,7 @@ def test_bad_input_names_the_argument() -> None:
         HarrisPriester().density([0.0, 0.0, 0.0], [1.0, 0.0, 0.0])
     with pytest.raises(ValueError, match=r"^sun_itrf: must be finite"):
         HarrisPriester().density([7000.0, 0.0, 0.0], [float("nan"), 0.0, 0.0])
-    fm = satgnc.ForceModel(atmosphere_drag=make_drag())
+    fm = satgnc.ForceModel(atmosphere_drag=make_drag(), epoch_jd1=EPOCH)
     with pytest.raises(ValueError, match=r"^r: is below the WGS-84 ellipsoid"):
         fm.acceleration([0.0, 0.0, 6300.0], [0.0, 7.5, 0.0])
 

@@ -102,17 +102,30 @@ void AtmosphereDrag::validate(const char* prefix) const {
   const std::string p = std::string(prefix) + ".";
   core::require(atmosphere != nullptr, p + "atmosphere",
                 "must be set (an AtmosphereModel, e.g. HarrisPriester)");
-  core::require(sun != nullptr, p + "sun", "must be set (a SunDirectionModel: ErfaSun(epoch) or FixedSun)");
   core::require_nonnegative(cd, p + "cd");
   core::require_nonnegative(area, p + "area");
   core::require_positive(mass, p + "mass");
 }
 
+namespace {
+AtmospherePoint drag_point(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& sun,
+                           Mat3& gcrf_to_itrf, Vec3& omega_gcrf) noexcept {
+  rotation(d, t, gcrf_to_itrf, omega_gcrf);
+  return atmosphere_point(t, gcrf_to_itrf * r, gcrf_to_itrf * sun);
+}
+}  // namespace
+
+Vec3 atmosphere_drag_sun(const AtmosphereDrag& d, double t) noexcept {
+  if (d.sun) return d.sun->direction(t);
+  double pvh[2][3];
+  double pvb[2][3];
+  eraEpv00(2451545.0, t / kSecondsPerDay, pvh, pvb);  // J2000.0 TT, ForceModel's default epoch
+  return -Vec3(pvh[0][0], pvh[0][1], pvh[0][2]).normalized();
+}
+
 AtmospherePoint atmosphere_drag_point(const AtmosphereDrag& d, double t, const Vec3& r, Mat3& gcrf_to_itrf,
                                       Vec3& omega_gcrf) noexcept {
-  rotation(d, t, gcrf_to_itrf, omega_gcrf);
-  const Vec3 sun = d.sun ? d.sun->direction(t) : Vec3(Vec3::UnitX());  // null only before validate()
-  return atmosphere_point(t, gcrf_to_itrf * r, gcrf_to_itrf * sun);
+  return drag_point(d, t, r, atmosphere_drag_sun(d, t), gcrf_to_itrf, omega_gcrf);
 }
 
 double atmosphere_drag_density(const AtmosphereDrag& d, double t, const Vec3& r) noexcept {
@@ -122,19 +135,29 @@ double atmosphere_drag_density(const AtmosphereDrag& d, double t, const Vec3& r)
 }
 
 Vec3 atmosphere_drag_acceleration(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v) noexcept {
+  return atmosphere_drag_acceleration(d, t, r, v, atmosphere_drag_sun(d, t));
+}
+
+Vec3 atmosphere_drag_acceleration(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
+                                  const Vec3& sun_gcrf) noexcept {
   Mat3 rot;
   Vec3 omega;
-  const double rho = d.atmosphere->density(atmosphere_drag_point(d, t, r, rot, omega));
+  const double rho = d.atmosphere->density(drag_point(d, t, r, sun_gcrf, rot, omega));
   const Vec3 w = v - omega.cross(r);
   return (-beta(d) * rho * w.norm()) * w;
 }
 
 void atmosphere_drag_jacobians(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v, Vec3& a,
                                Mat3& da_dr, Mat3& da_dv) noexcept {
+  atmosphere_drag_jacobians(d, t, r, v, atmosphere_drag_sun(d, t), a, da_dr, da_dv);
+}
+
+void atmosphere_drag_jacobians(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
+                               const Vec3& sun_gcrf, Vec3& a, Mat3& da_dr, Mat3& da_dv) noexcept {
   Mat3 rot;
   Vec3 omega;
   Vec3 grad_itrf;
-  const double rho = d.atmosphere->density_gradient(atmosphere_drag_point(d, t, r, rot, omega), grad_itrf);
+  const double rho = d.atmosphere->density_gradient(drag_point(d, t, r, sun_gcrf, rot, omega), grad_itrf);
   const Vec3 grad = rot.transpose() * grad_itrf;  // d rho / d r_gcrf, kg/m^3 per km
   const Vec3 w = v - omega.cross(r);
   const double wn = w.norm();
@@ -152,9 +175,14 @@ void atmosphere_drag_jacobians(const AtmosphereDrag& d, double t, const Vec3& r,
 }
 
 Vec3 atmosphere_drag_cd_partial(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v) noexcept {
+  return atmosphere_drag_cd_partial(d, t, r, v, atmosphere_drag_sun(d, t));
+}
+
+Vec3 atmosphere_drag_cd_partial(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
+                                const Vec3& sun_gcrf) noexcept {
   Mat3 rot;
   Vec3 omega;
-  const double rho = d.atmosphere->density(atmosphere_drag_point(d, t, r, rot, omega));
+  const double rho = d.atmosphere->density(drag_point(d, t, r, sun_gcrf, rot, omega));
   const Vec3 w = v - omega.cross(r);
   return (-0.5 * d.area / d.mass * kPerMeterToPerKm * rho * w.norm()) * w;  // a / Cd
 }

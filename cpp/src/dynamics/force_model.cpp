@@ -145,7 +145,14 @@ void ForceModel::validate() const {
     require_positive(d.mass, "drag.mass");
     core::require_finite(d.omega, "drag.omega");
   }
-  if (atmosphere_drag) atmosphere_drag->validate("atmosphere_drag");  // atmosphere drag
+  if (atmosphere_drag) {  // atmosphere drag: one epoch, the ForceModel's
+    atmosphere_drag->validate("atmosphere_drag");
+    if (const auto* erfa = dynamic_cast<const ErfaSun*>(atmosphere_drag->sun.get())) {
+      core::require(erfa->epoch_jd1() + erfa->epoch_jd2() == epoch_jd1 + epoch_jd2, "atmosphere_drag.sun",
+                    "ErfaSun epoch must equal the force model's epoch_jd1 + epoch_jd2 (or leave sun "
+                    "unset: the force model's Sun)");
+    }
+  }
   validate_precise_terms();
 }
 
@@ -153,7 +160,7 @@ Vec3 ForceModel::acceleration(double t, const Vec3& r, const Vec3& v) const {
   Vec3 a = point_mass_acceleration(mu, r);
   if (j2) a += j2_acceleration(*j2, r);
   if (drag) a += drag_acceleration(*drag, r, v);
-  if (atmosphere_drag) a += atmosphere_drag_acceleration(*atmosphere_drag, t, r, v);  // atmosphere drag
+  if (atmosphere_drag) a += atmosphere_drag_acceleration(*atmosphere_drag, t, r, v, drag_sun(t));
   add_precise_terms(t, r, a, nullptr);
   return a;
 }
@@ -181,7 +188,7 @@ void ForceModel::acceleration_jacobians(double t, const Vec3& r, const Vec3& v, 
   if (atmosphere_drag) {
     Vec3 ad;
     Mat3 gr, gv;
-    atmosphere_drag_jacobians(*atmosphere_drag, t, r, v, ad, gr, gv);
+    atmosphere_drag_jacobians(*atmosphere_drag, t, r, v, drag_sun(t), ad, gr, gv);
     a += ad;
     da_dr += gr;
     da_dv += gv;
@@ -272,6 +279,12 @@ void ForceModel::add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr
   }
 }
 
+Vec3 ForceModel::drag_sun(double t) const {
+  const SunDirectionModel* sun = atmosphere_drag ? atmosphere_drag->sun.get() : nullptr;
+  if (sun != nullptr && dynamic_cast<const ErfaSun*>(sun) == nullptr) return sun->direction(t);  // FixedSun
+  return ephemeris.sun(epoch_jd1, epoch_jd2 + t / 86400.0);  // the cached Sun of third_body and srp
+}
+
 Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r, const Vec3& v) const {
   switch (p) {
     case ForceParameter::mu: {
@@ -297,7 +310,7 @@ Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r,
         unit.cd = 1.0;
         a += drag_acceleration(unit, r, v);
       }
-      if (atmosphere_drag) a += atmosphere_drag_cd_partial(*atmosphere_drag, t, r, v);
+      if (atmosphere_drag) a += atmosphere_drag_cd_partial(*atmosphere_drag, t, r, v, drag_sun(t));
       return a;
     }
   }

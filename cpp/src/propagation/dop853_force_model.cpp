@@ -49,7 +49,8 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
   // A gravity field and the ephemeris cache evaluate into their own workspace: a private copy keeps
   // concurrent propagations of one ForceModel (the Python module releases the GIL) apart.
   std::optional<dynamics::ForceModel> own;
-  if (force_model.gravity || force_model.third_body || force_model.srp) own.emplace(force_model);
+  if (force_model.gravity || force_model.third_body || force_model.srp || force_model.atmosphere_drag)
+    own.emplace(force_model);
   const Accel accel{own ? *own : force_model};
   // Without drag nothing depends on v: skip the da/dv * Phi_v products in the variational equations.
   if (force_model.drag || force_model.atmosphere_drag)

@@ -133,15 +133,19 @@ struct AtmosphereDrag {
   /// ITRF x axis on GCRF x at t = 0). Harris-Priester depends on the rotation only through the
   /// position's latitude, so the start angle does not matter to it.
   std::shared_ptr<const frames::EarthRotationModel> earth_rotation;
-  /// Direction of the Sun (GCRF) for the models with a diurnal bulge; required (validate() refuses
-  /// null): ErfaSun(epoch) for real epochs, FixedSun for tests.
+  /// Direction of the Sun (GCRF) for the models with a diurnal bulge. Null (the default) means the
+  /// force model's Sun: inside a ForceModel, ForceModel::ephemeris at the ForceModel's epoch (the same
+  /// cached ERFA Sun as the third body and SRP, one epoch); alone, ERFA (eraEpv00) at t s after J2000.0
+  /// TT, the ForceModel's default epoch. An ErfaSun inside a ForceModel must have the ForceModel's
+  /// epoch (validate refuses another) and is then replaced by the ForceModel's ephemeris; a FixedSun
+  /// (tests, short arcs) is used as given.
   std::shared_ptr<const SunDirectionModel> sun;
   double cd = 2.2;    ///< drag coefficient, dimensionless (>= 0)
   double area = 1.0;  ///< cross-section, m^2 (>= 0)
   double mass = 1.0;  ///< kg (> 0)
 
-  /// Throw std::invalid_argument naming prefix + the field on a null atmosphere or sun, negative cd
-  /// or area, or non-positive mass.
+  /// Throw std::invalid_argument naming prefix + the field on a null atmosphere, negative cd or area,
+  /// or non-positive mass.
   void validate(const char* prefix = "atmosphere_drag") const;
 };
 
@@ -158,5 +162,18 @@ void atmosphere_drag_jacobians(const AtmosphereDrag& d, double t, const Vec3& r,
                                Mat3& da_dr, Mat3& da_dv) noexcept;
 /// Partial of the acceleration with respect to Cd, km/s^2 per unit Cd (a / Cd; exact also at Cd = 0).
 Vec3 atmosphere_drag_cd_partial(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v) noexcept;
+
+/// The Sun direction (GCRF, unit) the drag term uses at t (s) when alone: d.sun, or with a null sun
+/// ERFA at t s after J2000.0 TT.
+Vec3 atmosphere_drag_sun(const AtmosphereDrag& d, double t) noexcept;
+/// atmosphere_drag_acceleration with the Sun given: sun_gcrf (any length > 0) towards the Sun, GCRF.
+Vec3 atmosphere_drag_acceleration(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
+                                  const Vec3& sun_gcrf) noexcept;
+/// atmosphere_drag_jacobians with the Sun given (sun_gcrf towards the Sun, GCRF, any length > 0).
+void atmosphere_drag_jacobians(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
+                               const Vec3& sun_gcrf, Vec3& a, Mat3& da_dr, Mat3& da_dv) noexcept;
+/// atmosphere_drag_cd_partial with the Sun given (sun_gcrf towards the Sun, GCRF, any length > 0).
+Vec3 atmosphere_drag_cd_partial(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
+                                const Vec3& sun_gcrf) noexcept;
 
 }  // namespace satgnc::dynamics

@@ -109,6 +109,9 @@ struct ForceModel {
 
  private:
   void validate_precise_terms() const;
+  // The drag's Sun (GCRF, any length) at t: AtmosphereDrag::sun if a FixedSun (or another user model),
+  // else ephemeris at the ForceModel's epoch.
+  Vec3 drag_sun(double t) const;
   // Adds gravity, third bodies and SRP to a (and da_dr when not null).
   void add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr) const;
   // --- end gravity field, Sun and Moon, SRP ---
