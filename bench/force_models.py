@@ -22,7 +22,7 @@ from satgnc.dynamics import (
     force_model,
 )
 
-EPOCH = (2460676.5, 0.0)  # 2025-01-01T12:00 TT
+EPOCH = (2460676.5, 0.0)  # 2025-01-01T00:00 TT
 MU = egm2008(2).mu
 
 

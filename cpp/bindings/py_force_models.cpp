@@ -277,6 +277,8 @@ void init_force_model_fields(py::module_& m) {
       .def_readwrite("srp", &dy::ForceModel::srp, "SolarRadiationPressure or None")
       .def_readwrite("epoch_jd1", &dy::ForceModel::epoch_jd1, "TT Julian date of t = 0, part 1 (days)")
       .def_readwrite("epoch_jd2", &dy::ForceModel::epoch_jd2, "TT Julian date of t = 0, part 2 (days)")
+      .def("set_epoch", &dy::ForceModel::set_epoch, py::arg("epoch"),
+           "Set epoch_jd1/2 to the TT Julian date of a satgnc.time.Epoch (the epoch of t = 0).")
       .def_property(
           "ephemeris_step_days", [](const dy::ForceModel& f) { return f.ephemeris.step_days(); },
           [](dy::ForceModel& f, double step) { f.ephemeris = dy::EphemerisInterpolator(step); },

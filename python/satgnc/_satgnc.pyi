@@ -923,6 +923,10 @@ class ForceModel:
         """
         Potential energy per unit mass V(t, r) of every gravity term (third bodies included), km^2/s^2.
         """
+    def set_epoch(self, epoch: Epoch) -> None:
+        """
+        Set epoch_jd1/2 to the TT Julian date of a satgnc.time.Epoch (the epoch of t = 0).
+        """
     def validate(self) -> None: ...
     @property
     def conservative(self) -> bool: ...

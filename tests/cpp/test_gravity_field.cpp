@@ -201,6 +201,31 @@ TEST(GravityField, EvaluationAllocatesNothing) {
   EXPECT_TRUE(std::isfinite(v));
 }
 
+TEST(GravityField, FullForceModelEvaluationAllocatesNothing) {
+  // Field + Sun + Moon + SRP: the field's workspace and the ephemeris nodes are sized at setup; a
+  // jump of t by days refreshes the Hermite nodes (two ERFA calls each) without allocating.
+  dy::ForceModel fm;
+  fm.mu = 398600.4415;
+  fm.gravity.emplace(egm2008(), 70, 70, std::make_shared<const UniformRotation>());
+  fm.third_body = dy::ThirdBodies{};
+  fm.srp = dy::SolarRadiationPressure{};
+  fm.validate();
+  const Vec3 r(6778.0, 100.0, 200.0), v(0.0, 7.6, 1.0);
+  Vec3 a;
+  Mat3 ar, av;
+  g_mallocs = 0;
+  g_count = true;
+  for (double t : {0.0, 60.0, 2.0 * 86400.0, -86400.0}) {
+    fm.acceleration_jacobians(t, r, v, a, ar, av);
+    a += fm.acceleration(t, r, v);
+    a += fm.acceleration_partial(dy::ForceParameter::cr, t, r, v);
+  }
+  const double e = fm.energy(10.0, r, v);
+  g_count = false;
+  EXPECT_EQ(g_mallocs.load(), 0);
+  EXPECT_TRUE(std::isfinite(e) && a.allFinite());
+}
+
 TEST(GravityField, ForceModelWithTheFieldMatchesTheFieldAndRefusesJ2) {
   dy::ForceModel fm;
   fm.mu = 398600.4415;

@@ -135,6 +135,9 @@ TEST(ThirdBody, ForceModelUsesTheEpochAndRefusesBadParameters) {
   const double tidal = (a - dy::point_mass_acceleration(fm.mu, r)).norm();
   EXPECT_GT(tidal, 3e-10);
   EXPECT_LT(tidal, 3e-9);
+  // The epoch from a core::Epoch: 2000-01-01T12:00:00 TT is JD 2451545.0 TT exactly.
+  fm.set_epoch(satgnc::core::Epoch::parse("2000-01-01T12:00:00", satgnc::core::TimeScale::tt));
+  EXPECT_EQ(fm.epoch_jd1 + fm.epoch_jd2, 2451545.0);
   fm.third_body->mu_moon = -1.0;
   try {
     fm.validate();

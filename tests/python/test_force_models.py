@@ -127,7 +127,7 @@ def _full_model(degree=20):
         gravity=field,
         third_body=ThirdBodies(),
         srp=SolarRadiationPressure(area=10.0, mass=100.0, cr=1.5, shadow="conical"),
-        epoch_jd=(2460676.5, 0.25),  # 2025-01-01T18:00 TT
+        epoch_jd=(2460676.5, 0.25),  # 2025-01-01T06:00 TT
     )
 
 
@@ -277,3 +277,20 @@ def test_j2_field_on_the_iau_2006_pole_against_j2_about_gcrf_z(tmp_path):
     print("J2 on the IAU 2006 pole vs GCRF z, km after 24 h (nodes 0, 90 deg):", np.round(moved, 3))
     # Same physics as the rotated-frame test above with a 0.094 deg tilt: 0.3 to 10 km.
     assert all(0.3 < d < 10.0 for d in moved)
+
+
+def test_epoch_from_satgnc_time_equals_the_two_part_julian_date():
+    from satgnc.time import Epoch
+
+    e = Epoch.parse("2025-01-01T18:00:00", "TT")
+    a = force_model(third_body=ThirdBodies(), epoch=e)
+    b = force_model(third_body=ThirdBodies(), epoch_jd=(2460676.5, 0.75))
+    assert a.epoch_jd1 + a.epoch_jd2 == 2460677.25
+    r, v = np.array([7000.0, 100.0, -50.0]), np.array([0.0, 7.5, 0.0])
+    # Same date split differently: the accelerations agree to the rounding of the date (1e-10 day).
+    np.testing.assert_allclose(a.acceleration(r, v, 3600.0), b.acceleration(r, v, 3600.0), rtol=1e-14)
+    # ERFA at every evaluation (step 0) and the 1/8-day Hermite nodes agree to the interpolation error
+    # (Moon 3e-3 km of 4e5 km: 1e-8 of the tidal term, i.e. ~1e-15 of the total acceleration).
+    b.ephemeris_step_days = 0.0
+    assert b.ephemeris_step_days == 0.0
+    np.testing.assert_allclose(a.acceleration(r, v, 3600.0), b.acceleration(r, v, 3600.0), rtol=1e-13)

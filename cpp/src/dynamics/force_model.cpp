@@ -295,15 +295,16 @@ Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r,
       return a / mu;
     }
     case ForceParameter::cr: {
-      core::require(srp.has_value(), "parameter", "cr needs an srp term");
+      if (!srp) core::require(false, "parameter", "cr needs an srp term");  // message built on failure only
       SolarRadiationPressure unit = *srp;
       unit.cr = 1.0;
       return srp_acceleration(unit, ephemeris.sun(epoch_jd1, epoch_jd2 + t / 86400.0), r);
     }
     case ForceParameter::cd: {
-      // One Cd scales every drag term: the exponential drag and the atmosphere drag add up.
-      core::require(drag.has_value() || atmosphere_drag.has_value(), "parameter",
-                    "cd needs a drag or atmosphere_drag term");
+      // One Cd scales every drag term: the exponential drag and the atmosphere drag add up. The
+      // message is built on failure only (no allocation on the hot path).
+      if (!drag && !atmosphere_drag)
+        core::require(false, "parameter", "cd needs a drag or atmosphere_drag term");
       Vec3 a = Vec3::Zero();
       if (drag) {
         ExponentialDrag unit = *drag;

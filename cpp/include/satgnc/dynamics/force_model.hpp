@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "satgnc/core/constants.hpp"
+#include "satgnc/core/epoch.hpp"
 #include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/atmosphere.hpp"
 #include "satgnc/dynamics/gravity_field.hpp"
@@ -90,6 +91,12 @@ struct ForceModel {
   /// Used by third_body and srp (default J2000.0, 2000-01-01T12:00:00 TT).
   double epoch_jd1 = 2451545.0;
   double epoch_jd2 = 0.0;  ///< second part of the epoch's TT Julian date, days
+  /// Set epoch_jd1/2 to the TT Julian date of e (the epoch of t = 0).
+  void set_epoch(const core::Epoch& e) {
+    const core::JulianDate j = e.jd(core::TimeScale::tt);
+    epoch_jd1 = j.jd1;
+    epoch_jd2 = j.jd2;
+  }
   /// Sun and Moon positions for third_body and srp: ERFA interpolated on 1/8-day nodes (a cache:
   /// one ForceModel per thread). EphemerisInterpolator(0.0) calls ERFA at every evaluation.
   EphemerisInterpolator ephemeris;
