@@ -5,6 +5,7 @@ namespace satgnc::bindings {
 void init_core(pybind11::module_& m);
 void init_time(pybind11::module_& m);
 void init_frames(pybind11::module_& m);
+void init_atmosphere(pybind11::module_& m);
 void init_dynamics(pybind11::module_& m);
 void init_force_models(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
@@ -25,6 +26,7 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_core(m);
   b::init_time(m);
   b::init_frames(m);
+  b::init_atmosphere(m);  // before init_dynamics: ForceModel names AtmosphereDrag
   b::init_dynamics(m);
   b::init_force_models(m);
   b::init_propagation(m);

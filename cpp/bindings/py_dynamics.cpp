@@ -418,18 +418,25 @@ void init_dynamics(py::module_& m) {
       });
 
   py::class_<ForceModel>(m, "ForceModel", "Point-mass gravity plus optional J2 and drag (km, km/s, s).")
-      .def(py::init([](double mu, std::optional<J2Gravity> j2, std::optional<ExponentialDrag> drag) {
+      .def(py::init([](double mu, std::optional<J2Gravity> j2, std::optional<ExponentialDrag> drag,
+                       std::optional<AtmosphereDrag> atmosphere_drag, double epoch_jd1, double epoch_jd2) {
              ForceModel f;
              f.mu = mu;
              f.j2 = j2;
              f.drag = drag;
+             f.atmosphere_drag = atmosphere_drag;  // atmosphere drag (issue 14 item 4)
+             f.epoch_jd1 = epoch_jd1;              // TT Julian date of t = 0: the Sun and Moon of every term
+             f.epoch_jd2 = epoch_jd2;
              f.validate();
              return f;
            }),
-           py::arg("mu") = earth::mu, py::arg("j2") = py::none(), py::arg("drag") = py::none())
+           py::arg("mu") = earth::mu, py::arg("j2") = py::none(), py::arg("drag") = py::none(),
+           py::arg("atmosphere_drag") = py::none(), py::arg("epoch_jd1") = 2451545.0,
+           py::arg("epoch_jd2") = 0.0)
       .def_readwrite("mu", &ForceModel::mu)
       .def_readwrite("j2", &ForceModel::j2)
       .def_readwrite("drag", &ForceModel::drag)
+      .def_readwrite("atmosphere_drag", &ForceModel::atmosphere_drag)  // atmosphere drag
       .def("validate", &ForceModel::validate)
       .def_property_readonly("conservative", &ForceModel::conservative)
       .def(
@@ -469,7 +476,8 @@ void init_dynamics(py::module_& m) {
         std::ostringstream s;
         s.precision(12);
         s << "ForceModel(mu=" << f.mu << ", j2=" << (f.j2 ? "J2Gravity(...)" : "None")
-          << ", drag=" << (f.drag ? "ExponentialDrag(...)" : "None") << ")";
+          << ", drag=" << (f.drag ? "ExponentialDrag(...)" : "None")
+          << (f.atmosphere_drag ? ", atmosphere_drag=AtmosphereDrag(...)" : "") << ")";
         return s.str();
       });
 

@@ -21,6 +21,8 @@ __all__: list[str] = [
     "AdmmSettings",
     "AdmmSolver",
     "AdmmStatus",
+    "AtmosphereDrag",
+    "AtmosphereModel",
     "AtmosphereRotation",
     "BoundaryCondition",
     "ConditionType",
@@ -42,11 +44,14 @@ __all__: list[str] = [
     "EopTable",
     "EopValues",
     "Epoch",
+    "ErfaSun",
     "ExponentialDrag",
+    "FixedSun",
     "ForceModel",
     "GravityCoefficients",
     "GravityField",
     "GroundStation",
+    "HarrisPriester",
     "IauEarthRotation",
     "IlqrAdmmInfo",
     "IlqrAdmmSettings",
@@ -87,11 +92,13 @@ __all__: list[str] = [
     "ScpStatus",
     "ShortArcStmPropagator",
     "SolarRadiationPressure",
+    "SpaceWeather",
     "Station",
     "StationEphemeris",
     "StmPropagator",
     "StopRule",
     "StoppingRule",
+    "SunDirectionModel",
     "ThirdBodies",
     "TimeScale",
     "Trajectory",
@@ -645,6 +652,162 @@ class GroundStation:
         km
         """
 
+class SpaceWeather:
+    """
+    Solar and geomagnetic activity: f107, f107a (sfu, 0-400) and ap (0-400).
+    """
+    def __init__(
+        self,
+        f107: typing.SupportsFloat | typing.SupportsIndex = 150.0,
+        f107a: typing.SupportsFloat | typing.SupportsIndex = 150.0,
+        ap: typing.SupportsFloat | typing.SupportsIndex = 4.0,
+    ) -> None:
+        """
+        F10.7 of the previous day and its 81-day mean (sfu), daily Ap; defaults: the NRLMSISE-00 reference
+        cases' moderate activity.
+        """
+    def __repr__(self) -> str: ...
+    @property
+    def ap(self) -> float: ...
+    @property
+    def f107(self) -> float: ...
+    @property
+    def f107a(self) -> float: ...
+
+class AtmosphereModel:
+    """
+    Density model interface: density (kg/m^3) at an ITRF position (km).
+    """
+    @staticmethod
+    def geodetic(r_itrf: typing.Any) -> tuple[float, float, float]:
+        """
+        (geodetic latitude rad, east longitude rad, height km) on WGS-84 (ERFA).
+        """
+    def density(self, r_itrf: typing.Any, sun_itrf: typing.Any, t: typing.SupportsFloat = 0.0) -> float:
+        """
+        Density, kg/m^3, at r_itrf (km, ITRF) with the Sun along sun_itrf (ITRF, any length), t s.
+        """
+    def density_gradient(
+        self, r_itrf: typing.Any, sun_itrf: typing.Any, t: typing.SupportsFloat = 0.0
+    ) -> tuple[float, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]]:
+        """
+        (density kg/m^3, gradient d rho / d r_itrf in kg/m^3 per km, ITRF).
+        """
+
+class HarrisPriester(AtmosphereModel):
+    """
+    Harris-Priester density (Montenbruck & Gill 2000, 3.5.2, Table 3.8; 100-1000 km, 0 above).
+    """
+    def __init__(
+        self,
+        n: typing.SupportsFloat | typing.SupportsIndex = 2.0,
+        lag: typing.SupportsFloat | typing.SupportsIndex = 0.523599,
+    ) -> None:
+        """
+        n in [2, 6] (2 low inclination, 6 polar); lag of the bulge behind the Sun, rad, in [0, pi].
+        """
+    def __repr__(self) -> str: ...
+    @property
+    def lag(self) -> float: ...
+    @property
+    def n(self) -> float: ...
+
+class SunDirectionModel:
+    """
+    Direction of the Sun (GCRF unit vector) at t s after the epoch.
+    """
+    def direction(
+        self, t: typing.SupportsFloat
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Unit vector towards the Sun, GCRF, at t (s after the epoch).
+        """
+
+class FixedSun(SunDirectionModel):
+    """
+    A fixed Sun direction (GCRF).
+    """
+    def __init__(self, direction: typing.Any) -> None: ...
+
+class ErfaSun(SunDirectionModel):
+    """
+    Geocentric Sun from ERFA eraEpv00, tabulated every node_spacing s (cubic Hermite).
+    """
+    def __init__(
+        self,
+        epoch_jd1: typing.SupportsFloat | typing.SupportsIndex = 2451545.0,
+        epoch_jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        t_begin: typing.SupportsFloat | typing.SupportsIndex = -86400.0,
+        t_end: typing.SupportsFloat | typing.SupportsIndex = 2678400.0,
+        node_spacing: typing.SupportsFloat | typing.SupportsIndex = 21600.0,
+    ) -> None:
+        """
+        Epoch: TT Julian date epoch_jd1 + epoch_jd2 (days); table over [t_begin, t_end] s.
+        """
+    @property
+    def epoch_jd1(self) -> float: ...
+    @property
+    def epoch_jd2(self) -> float: ...
+
+class AtmosphereDrag:
+    """
+    Drag through an AtmosphereModel with a co-rotating atmosphere (GCRF; km, km/s, s; area m^2, mass kg).
+    """
+    def __init__(
+        self,
+        atmosphere: AtmosphereModel,
+        sun: SunDirectionModel | None = None,
+        cd: typing.SupportsFloat | typing.SupportsIndex = 2.2,
+        area: typing.SupportsFloat | typing.SupportsIndex = 1.0,
+        mass: typing.SupportsFloat | typing.SupportsIndex = 1.0,
+        earth_rotation: EarthRotationModel | None = None,
+    ) -> None:
+        """
+        atmosphere: e.g. HarrisPriester(); sun: a SunDirectionModel or None (the force model's Sun: its cached
+        ERFA Sun at its epoch; alone, ERFA at t s after J2000 TT); cd >= 0; area m^2 >= 0; mass kg > 0;
+        earth_rotation: an EarthRotationModel (UniformRotation, IauEarthRotation) or None (UniformRotation(0):
+        uniform about GCRF z from t = 0).
+        """
+    def __repr__(self) -> str: ...
+    def acceleration(
+        self, r: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, t: typing.SupportsFloat = 0.0
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Drag acceleration, km/s^2 (r km, v km/s, t s; GCRF).
+        """
+    def acceleration_jacobians(
+        self, r: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, t: typing.SupportsFloat = 0.0
+    ) -> tuple[
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"],
+    ]:
+        """
+        (a km/s^2, da/dr 1/s^2, da/dv 1/s).
+        """
+    def cd_partial(
+        self, r: numpy.typing.ArrayLike, v: numpy.typing.ArrayLike, t: typing.SupportsFloat = 0.0
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        d a / d Cd, km/s^2 per unit Cd.
+        """
+    def density(self, r: numpy.typing.ArrayLike, t: typing.SupportsFloat = 0.0) -> float:
+        """
+        Density (kg/m^3) at GCRF r (km) and t (s).
+        """
+    @property
+    def area(self) -> float: ...
+    @property
+    def atmosphere(self) -> AtmosphereModel: ...
+    @property
+    def cd(self) -> float: ...
+    @property
+    def earth_rotation(self) -> EarthRotationModel: ...
+    @property
+    def mass(self) -> float: ...
+    @property
+    def sun(self) -> SunDirectionModel: ...
+
 class J2Gravity:
     """
     Zonal J2 term: mu km^3/s^2, j2, radius km.
@@ -727,6 +890,7 @@ class ForceModel:
     Point-mass gravity plus optional J2 and drag (km, km/s, s).
     """
 
+    atmosphere_drag: AtmosphereDrag | None
     drag: ExponentialDrag | None
     j2: J2Gravity | None
     def __init__(
@@ -734,6 +898,9 @@ class ForceModel:
         mu: typing.SupportsFloat | typing.SupportsIndex = 398600.4418,
         j2: J2Gravity | None = None,
         drag: ExponentialDrag | None = None,
+        atmosphere_drag: AtmosphereDrag | None = None,
+        epoch_jd1: typing.SupportsFloat | typing.SupportsIndex = 2451545.0,
+        epoch_jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0,
     ) -> None: ...
     def __repr__(self) -> str: ...
     def acceleration(

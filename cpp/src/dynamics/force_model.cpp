@@ -111,6 +111,16 @@ void ForceModel::validate_position(const Vec3& r, const char* name) const {
   core::require(r.norm() > 0.0, name, "must be non-zero (|r| = 0 is the centre of the body)",
                 "point-mass gravity is singular there");
   if (drag) validate_density_radius(*drag, r.norm(), name);
+  // --- atmosphere drag ---
+  if (atmosphere_drag) {
+    Mat3 rot;  // the height depends on the rotation only through polar motion: t = 0 is enough
+    Vec3 omega;
+    const double h = atmosphere_drag_point(*atmosphere_drag, 0.0, r, rot, omega).height;
+    core::require(h >= 0.0, name,
+                  "is below the WGS-84 ellipsoid (geodetic height " + std::to_string(h) + " km < 0)",
+                  "the atmosphere models hold from the surface up");
+  }
+  // --- end atmosphere drag ---
 }
 
 void ForceModel::validate() const {
@@ -135,6 +145,14 @@ void ForceModel::validate() const {
     require_positive(d.mass, "drag.mass");
     core::require_finite(d.omega, "drag.omega");
   }
+  if (atmosphere_drag) {  // atmosphere drag: one epoch, the ForceModel's
+    atmosphere_drag->validate("atmosphere_drag");
+    if (const auto* erfa = dynamic_cast<const ErfaSun*>(atmosphere_drag->sun.get())) {
+      core::require(erfa->epoch_jd1() + erfa->epoch_jd2() == epoch_jd1 + epoch_jd2, "atmosphere_drag.sun",
+                    "ErfaSun epoch must equal the force model's epoch_jd1 + epoch_jd2 (or leave sun "
+                    "unset: the force model's Sun)");
+    }
+  }
   validate_precise_terms();
 }
 
@@ -142,6 +160,7 @@ Vec3 ForceModel::acceleration(double t, const Vec3& r, const Vec3& v) const {
   Vec3 a = point_mass_acceleration(mu, r);
   if (j2) a += j2_acceleration(*j2, r);
   if (drag) a += drag_acceleration(*drag, r, v);
+  if (atmosphere_drag) a += atmosphere_drag_acceleration(*atmosphere_drag, t, r, v, drag_sun(t));
   add_precise_terms(t, r, a, nullptr);
   return a;
 }
@@ -165,6 +184,16 @@ void ForceModel::acceleration_jacobians(double t, const Vec3& r, const Vec3& v, 
     da_dr += gr;
     da_dv += gv;
   }
+  // --- atmosphere drag ---
+  if (atmosphere_drag) {
+    Vec3 ad;
+    Mat3 gr, gv;
+    atmosphere_drag_jacobians(*atmosphere_drag, t, r, v, drag_sun(t), ad, gr, gv);
+    a += ad;
+    da_dr += gr;
+    da_dv += gv;
+  }
+  // --- end atmosphere drag ---
   add_precise_terms(t, r, a, &da_dr);
 }
 
@@ -250,6 +279,12 @@ void ForceModel::add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr
   }
 }
 
+Vec3 ForceModel::drag_sun(double t) const {
+  const SunDirectionModel* sun = atmosphere_drag ? atmosphere_drag->sun.get() : nullptr;
+  if (sun != nullptr && dynamic_cast<const ErfaSun*>(sun) == nullptr) return sun->direction(t);  // FixedSun
+  return ephemeris.sun(epoch_jd1, epoch_jd2 + t / 86400.0);  // the cached Sun of third_body and srp
+}
+
 Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r, const Vec3& v) const {
   switch (p) {
     case ForceParameter::mu: {
@@ -266,10 +301,18 @@ Vec3 ForceModel::acceleration_partial(ForceParameter p, double t, const Vec3& r,
       return srp_acceleration(unit, ephemeris.sun(epoch_jd1, epoch_jd2 + t / 86400.0), r);
     }
     case ForceParameter::cd: {
-      if (!drag) core::require(false, "parameter", "cd needs a drag term");
-      ExponentialDrag unit = *drag;
-      unit.cd = 1.0;
-      return drag_acceleration(unit, r, v);
+      // One Cd scales every drag term: the exponential drag and the atmosphere drag add up. The
+      // message is built on failure only (no allocation on the hot path).
+      if (!drag && !atmosphere_drag)
+        core::require(false, "parameter", "cd needs a drag or atmosphere_drag term");
+      Vec3 a = Vec3::Zero();
+      if (drag) {
+        ExponentialDrag unit = *drag;
+        unit.cd = 1.0;
+        a += drag_acceleration(unit, r, v);
+      }
+      if (atmosphere_drag) a += atmosphere_drag_cd_partial(*atmosphere_drag, t, r, v, drag_sun(t));
+      return a;
     }
   }
   throw std::invalid_argument("parameter: unknown ForceParameter");

@@ -94,7 +94,7 @@ struct CvodesPropagator::Impl {
       const Eigen::Map<const Mat6> phi(yd + 6);
       Eigen::Map<Mat6> dphi(fd + 6);
       dphi.topRows<3>() = phi.bottomRows<3>();
-      if (p->model.drag)
+      if (p->model.drag || p->model.atmosphere_drag)  // velocity-dependent terms (drag)
         dphi.bottomRows<3>().noalias() = g * phi.topRows<3>() + d * phi.bottomRows<3>();
       else
         dphi.bottomRows<3>().noalias() = g * phi.topRows<3>();

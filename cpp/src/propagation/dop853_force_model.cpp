@@ -15,7 +15,8 @@ Trajectory propagate_dop853(const dynamics::ForceModel& force_model, const Vec6&
   // A gravity field and the ephemeris cache evaluate into their own workspace: a private copy keeps
   // concurrent propagations of one ForceModel (the Python module releases the GIL) apart.
   std::optional<dynamics::ForceModel> own;
-  if (force_model.gravity || force_model.third_body || force_model.srp) own.emplace(force_model);
+  if (force_model.gravity || force_model.third_body || force_model.srp || force_model.atmosphere_drag)
+    own.emplace(force_model);
   return detail::with_force_model_accel(own ? *own : force_model,
                                         [&](const auto& accel, auto velocity_dependent) {
                                           return propagate_dop853_with<decltype(velocity_dependent)::value>(

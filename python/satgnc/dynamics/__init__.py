@@ -1,10 +1,13 @@
 """satgnc.dynamics: force-model terms for orbit propagation.
 
-Units: km, km/s, s; accelerations km/s^2, gradients 1/s^2, potentials km^2/s^2; SRP area m^2, mass kg.
-Frames: states in GCRF; a gravity field is evaluated in ITRF through an :class:`EarthRotationModel`
-(:class:`UniformRotation` by default: the Earth turning about the inertial z axis).
+Units: km, km/s, s; accelerations km/s^2, gradients 1/s^2, potentials km^2/s^2; densities kg/m^3;
+SRP and drag area m^2, mass kg.
+Frames: states in GCRF; a gravity field and an atmosphere are evaluated in ITRF through an
+:class:`EarthRotationModel` (:class:`UniformRotation` by default: the Earth turning about the
+inertial z axis).
 
-Precise force models (issue 14): see :mod:`satgnc.dynamics._force_models` and docs/force_models.md.
+Precise force models (issue 14): see :mod:`satgnc.dynamics._force_models` and docs/force_models.md;
+atmosphere drag (issue 14 item 4): :mod:`satgnc.dynamics.atmosphere` and docs/atmosphere.md.
 """
 
 from __future__ import annotations
@@ -23,13 +26,29 @@ from ._force_models import (
     moon_position,
     sun_position,
 )
+from .atmosphere import (
+    AtmosphereDrag,
+    AtmosphereModel,
+    ErfaSun,
+    FixedSun,
+    HarrisPriester,
+    SpaceWeather,
+    SunDirectionModel,
+)
 
 __all__ = [
     "EGM2008_PATH",
+    "AtmosphereDrag",
+    "AtmosphereModel",
     "EarthRotationModel",
+    "ErfaSun",
+    "FixedSun",
     "GravityCoefficients",
     "GravityField",
+    "HarrisPriester",
     "SolarRadiationPressure",
+    "SpaceWeather",
+    "SunDirectionModel",
     "ThirdBodies",
     "UniformRotation",
     "egm2008",

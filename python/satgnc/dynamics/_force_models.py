@@ -44,6 +44,7 @@ def force_model(
     gravity: GravityField | None = None,
     third_body: ThirdBodies | None = None,
     srp: SolarRadiationPressure | None = None,
+    atmosphere_drag: _c.AtmosphereDrag | None = None,
     epoch_jd: tuple[float, float] | float = (2451545.0, 0.0),
     epoch: _c.Epoch | None = None,
 ) -> _c.ForceModel:
@@ -51,20 +52,21 @@ def force_model(
 
     mu (km^3/s^2) defaults to the gravity field's GM when a field is given (else Earth's EGM-96
     value); ``epoch_jd`` is the TT Julian date of t = 0 (one number or two parts, days), used by the
-    Sun, the Moon and SRP; ``epoch`` (a :class:`satgnc.time.Epoch`), when given, replaces it. The
-    result is validated (``ValueError`` names the field)."""
+    Sun, the Moon, SRP and the atmosphere drag's Sun (one epoch); ``epoch`` (a
+    :class:`satgnc.time.Epoch`), when given, replaces it. The result is validated (``ValueError``
+    names the field)."""
     if mu is None:
         mu = gravity.mu if gravity is not None else _c.EARTH_MU
     jd = as_real_array(epoch_jd, "epoch_jd", ndim=(0, 1))
     if jd.ndim == 1 and jd.shape != (2,):
         raise ValueError(f"epoch_jd: must be one number or two parts (jd1, jd2), got shape {jd.shape}")
     parts = (float(jd), 0.0) if jd.ndim == 0 else (float(jd[0]), float(jd[1]))
-    fm = _c.ForceModel(mu=mu, j2=j2, drag=drag)
+    fm = _c.ForceModel(mu=mu, j2=j2, drag=drag, epoch_jd1=parts[0], epoch_jd2=parts[1])
     fm.gravity = gravity
     fm.third_body = third_body
     fm.srp = srp
-    fm.epoch_jd1, fm.epoch_jd2 = parts
     if epoch is not None:
         fm.set_epoch(epoch)
+    fm.atmosphere_drag = atmosphere_drag  # after the epoch: an ErfaSun must carry the model's epoch
     fm.validate()
     return fm

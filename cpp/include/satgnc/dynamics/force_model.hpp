@@ -9,6 +9,7 @@
 #include "satgnc/core/constants.hpp"
 #include "satgnc/core/epoch.hpp"
 #include "satgnc/core/types.hpp"
+#include "satgnc/dynamics/atmosphere.hpp"
 #include "satgnc/dynamics/gravity_field.hpp"
 #include "satgnc/dynamics/srp.hpp"
 #include "satgnc/dynamics/third_body.hpp"
@@ -50,6 +51,11 @@ struct ForceModel {
   double mu = earth::mu;                ///< central-body gravitational parameter, km^3/s^2
   std::optional<J2Gravity> j2;          ///< J2 term (its mu should equal mu)
   std::optional<ExponentialDrag> drag;  ///< drag term
+  // --- atmosphere drag (issue 14 item 4) ---
+  /// Drag through a density model (Harris-Priester, ...) with a co-rotating atmosphere
+  /// (dynamics/atmosphere.hpp); independent of `drag` (the paper's exponential model).
+  std::optional<AtmosphereDrag> atmosphere_drag;
+  // --- end atmosphere drag ---
 
   /// Throw std::invalid_argument (naming the field and the rule) on non-positive mu, radius, etc.
   void validate() const;
@@ -58,9 +64,10 @@ struct ForceModel {
   /// single evaluations from an API; propagators check |r| > 0 in validate_orbit_arc_input instead.
   void validate_position(const Vec3& r, const char* name = "r") const;
   /// True when every term derives from a potential (no drag): det(STM) = 1 and symplecticity hold.
-  /// SRP with an Earth shadow is not (the shadow switches it off), nor is drag.
+  /// SRP with an Earth shadow is not (the shadow switches it off), nor is drag of either kind.
   bool conservative() const {
-    return !drag.has_value() && !(srp.has_value() && srp->shadow != ShadowModel::none);
+    return !drag.has_value() && !atmosphere_drag.has_value() &&
+           !(srp.has_value() && srp->shadow != ShadowModel::none);
   }
   /// Acceleration a(t, r, v), km/s^2.
   Vec3 acceleration(double t, const Vec3& r, const Vec3& v) const;
@@ -103,11 +110,15 @@ struct ForceModel {
   /// Partial derivative of the acceleration with respect to a model parameter (km/s^2 per unit of the
   /// parameter: per km^3/s^2 for mu, per unit Cr, per unit Cd) at t (s), r (km), v (km/s): the hook
   /// for estimated / consider parameters. mu scales the point mass, J2 and the gravity field; cr scales
-  /// srp; cd scales drag. Throws std::invalid_argument when the term it scales is absent.
+  /// srp; cd scales drag and atmosphere_drag together (one Cd: their partials add). Throws
+  /// std::invalid_argument when no term it scales is present.
   Vec3 acceleration_partial(ForceParameter p, double t, const Vec3& r, const Vec3& v) const;
 
  private:
   void validate_precise_terms() const;
+  // The drag's Sun (GCRF, any length) at t: AtmosphereDrag::sun if a FixedSun (or another user model),
+  // else ephemeris at the ForceModel's epoch.
+  Vec3 drag_sun(double t) const;
   // Adds gravity, third bodies and SRP to a (and da_dr when not null).
   void add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr) const;
   // --- end gravity field, Sun and Moon, SRP ---

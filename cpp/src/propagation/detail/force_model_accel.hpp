@@ -41,19 +41,20 @@ struct PointMassAccel {
   }
 };
 
-/// Call f(accel, std::integral_constant<bool, VelocityDependent>{}) with the functor that serves
-/// `fm`: the inlined point mass when the model has no perturbation, else the ForceModel itself;
-/// velocity-dependent (the da/dv products of the variational equations) unless the model is
-/// conservative. A new force term must make the first test false (it is not a point mass).
 /// True when fm holds nothing but the point mass and J2 (the terms the inlined and lane kernels know).
 inline bool point_mass_j2_only(const dynamics::ForceModel& fm) {
-  return !fm.drag && !fm.gravity && !fm.third_body && !fm.srp;
+  return !fm.drag && !fm.atmosphere_drag && !fm.gravity && !fm.third_body && !fm.srp;
 }
 
+/// Call f(accel, std::integral_constant<bool, VelocityDependent>{}) with the functor that serves
+/// `fm`: the inlined point mass when the model has no perturbation, else the ForceModel itself;
+/// velocity-dependent (the da/dv products of the variational equations) when it holds a drag term.
+/// A new force term must make point_mass_j2_only false.
 template <class F>
 decltype(auto) with_force_model_accel(const dynamics::ForceModel& fm, F&& f) {
   if (!fm.j2 && point_mass_j2_only(fm)) return std::forward<F>(f)(PointMassAccel{fm.mu}, std::false_type{});
-  if (!fm.conservative()) return std::forward<F>(f)(ForceModelAccel{fm}, std::true_type{});
+  // Only drag depends on v (an SRP shadow makes the model non-conservative but has no da/dv).
+  if (fm.drag || fm.atmosphere_drag) return std::forward<F>(f)(ForceModelAccel{fm}, std::true_type{});
   return std::forward<F>(f)(ForceModelAccel{fm}, std::false_type{});
 }
 
