@@ -265,13 +265,9 @@ std::string format_oem(const Oem& oem) {
       out << "COVARIANCE_STOP\n";
     }
   }
-  std::string text = out.str();
-  try {  // the writer's check: what it wrote must read back under the reader's rules
-    (void)parse_oem(text, "<written OEM>");
-  } catch (const FormatError& e) {
-    throw std::invalid_argument("oem: not a valid OEM: " + e.keyword() + ": " + e.rule());
-  }
-  return text;
+  return detail::read_back_checked(out.str(), "oem", "OEM", [](const std::string& t, const std::string& src) {
+    return parse_oem(t, src);
+  });
 }
 
 void write_oem(const std::string& path, const Oem& oem) { detail::write_file(path, format_oem(oem)); }

@@ -275,13 +275,9 @@ std::string format_opm(const Opm& opm) {
   }
   if (!opm.user_defined.empty()) out << "\n";
   for (const auto& [k, v] : opm.user_defined) put(out, "USER_DEFINED_" + k, v);
-  std::string text = out.str();
-  try {  // the writer's check: what it wrote must read back under the reader's rules
-    (void)parse_opm(text, "<written OPM>");
-  } catch (const FormatError& e) {
-    throw std::invalid_argument("opm: not a valid OPM: " + e.keyword() + ": " + e.rule());
-  }
-  return text;
+  return detail::read_back_checked(out.str(), "opm", "OPM", [](const std::string& t, const std::string& src) {
+    return parse_opm(t, src);
+  });
 }
 
 void write_opm(const std::string& path, const Opm& opm) { detail::write_file(path, format_opm(opm)); }

@@ -416,13 +416,9 @@ std::string format_tdm_kvn(const Tdm& tdm) {
     }
     out << "DATA_STOP\n";
   }
-  std::string text = out.str();
-  try {  // the writer's check: what it wrote must read back under the reader's rules
-    (void)detail::parse_tdm_kvn(text, "<written TDM>");
-  } catch (const FormatError& e) {
-    throw std::invalid_argument("tdm: not a valid TDM: " + e.keyword() + ": " + e.rule());
-  }
-  return text;
+  return detail::read_back_checked(out.str(), "tdm", "TDM", [](const std::string& t, const std::string& src) {
+    return detail::parse_tdm_kvn(t, src);
+  });
 }
 
 void write_tdm(const std::string& path, const Tdm& tdm, bool xml) {

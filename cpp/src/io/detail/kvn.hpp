@@ -3,6 +3,7 @@
 // file, the line and the keyword, epoch and time-system checks, and the number formatter of the writers.
 #include <initializer_list>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,20 @@ void check_unit(const KvnLine& l, const std::string& expected, const std::string
 /// (empty file, missing first line, or unsupported version naming the supported ones).
 const KvnLine& check_version_line(const std::vector<KvnLine>& lines, const std::string& keyword,
                                   std::initializer_list<const char*> versions, const std::string& source);
+
+/// The writers' check: what a writer wrote must read back under the reader's rules. Runs
+/// `parse(text, "<written KIND>")`; a FormatError becomes std::invalid_argument("<name>: not a valid KIND:
+/// <keyword>: <rule>"). Returns `text`.
+template <class Parse>
+std::string read_back_checked(std::string text, const std::string& name, const std::string& kind,
+                              Parse parse) {
+  try {
+    (void)parse(text, "<written " + kind + ">");
+  } catch (const FormatError& e) {
+    throw std::invalid_argument(name + ": not a valid " + kind + ": " + e.keyword() + ": " + e.rule());
+  }
+  return text;
+}
 
 /// Writer: `key = value` and a line end.
 void put(std::ostream& out, const std::string& key, const std::string& value);
