@@ -31,104 +31,200 @@ TimeSystem time_system_of(const py::handle& h) {
                               "' (supported: UTC, TAI, TT, GPS, TDB)");
 }
 
-py::tuple strings(const std::vector<std::string>& v) {
-  py::tuple t(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) t[i] = v[i];
-  return t;
-}
-std::vector<std::string> strings_of(const py::handle& h) { return h.cast<std::vector<std::string>>(); }
-
-py::tuple pairs(const std::vector<io::KeyValue>& v) {
-  py::tuple t(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) t[i] = py::make_tuple(v[i].first, v[i].second);
-  return t;
-}
-std::vector<io::KeyValue> pairs_of(const py::handle& h) {
-  std::vector<io::KeyValue> out;
-  for (const py::handle& p : h) {
-    const auto t = p.cast<py::tuple>();
-    out.emplace_back(t[0].cast<std::string>(), t[1].cast<std::string>());
-  }
-  return out;
-}
-
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-py::array matrix(const Mat6& m) {
+// ------------------------------------------------------------------ C++ value <-> Python value
+// to_py / from_py: one overload per field type of the io model; the structs of the model go through
+// their field tables (fields_of) below, so that each field is named once for both directions.
+py::object to_py(const std::string& v) { return py::str(v); }
+void from_py(const py::handle& h, std::string& v) { v = h.cast<std::string>(); }
+py::object to_py(double v) { return py::float_(v); }
+void from_py(const py::handle& h, double& v) { v = h.cast<double>(); }
+py::object to_py(int v) { return py::int_(v); }
+void from_py(const py::handle& h, int& v) { v = h.cast<int>(); }
+py::object to_py(TimeSystem v) { return py::str(std::string(io::time_system_name(v))); }
+void from_py(const py::handle& h, TimeSystem& v) { v = time_system_of(h); }
+
+py::object to_py(const std::vector<std::string>& v) {
+  py::tuple t(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) t[i] = v[i];
+  return std::move(t);
+}
+void from_py(const py::handle& h, std::vector<std::string>& v) { v = h.cast<std::vector<std::string>>(); }
+py::object to_py(const std::vector<int>& v) { return py::tuple(py::cast(v)); }
+void from_py(const py::handle& h, std::vector<int>& v) { v = h.cast<std::vector<int>>(); }
+
+py::object to_py(const std::vector<io::KeyValue>& v) {
+  py::tuple t(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) t[i] = py::make_tuple(v[i].first, v[i].second);
+  return std::move(t);
+}
+void from_py(const py::handle& h, std::vector<io::KeyValue>& v) {
+  v.clear();
+  for (const py::handle& p : h) {
+    const auto t = p.cast<py::tuple>();
+    v.emplace_back(t[0].cast<std::string>(), t[1].cast<std::string>());
+  }
+}
+
+py::object to_py(const Mat6& m) {
   py::array_t<double> a({6, 6});
   auto w = a.mutable_unchecked<2>();
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 6; ++j) w(i, j) = m(i, j);
   return std::move(a);
 }
-Mat6 matrix_of(const py::handle& h) {
+void from_py(const py::handle& h, Mat6& m) {
   const Array a = Array::ensure(h);
   const auto r = a.unchecked<2>();
-  Mat6 m;
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < 6; ++j) m(i, j) = r(i, j);
-  return m;
 }
-py::array vector6(const Vec6& v) {
+py::object to_py(const Vec6& v) {
   py::array_t<double> a(6);
   auto w = a.mutable_unchecked<1>();
   for (int i = 0; i < 6; ++i) w(i) = v(i);
   return std::move(a);
 }
-Vec6 vector6_of(const py::handle& h) {
+void from_py(const py::handle& h, Vec6& v) {
   const Array a = Array::ensure(h);
   const auto r = a.unchecked<1>();
-  Vec6 v;
   for (int i = 0; i < 6; ++i) v(i) = r(i);
-  return v;
 }
-py::object opt(const std::optional<double>& v) {
-  return v ? py::object(py::float_(*v)) : py::object(py::none());
-}
-std::optional<double> opt_of(const py::handle& h) {
-  if (h.is_none()) return std::nullopt;
-  return h.cast<double>();
+py::object to_py(const Vec3& v) { return py::make_tuple(v(0), v(1), v(2)); }
+void from_py(const py::handle& h, Vec3& v) {
+  const auto d = h.cast<std::vector<double>>();
+  v = Vec3(d.at(0), d.at(1), d.at(2));
 }
 
-py::dict header_dict(const io::Header& h) {
-  py::dict d;
-  d["version"] = h.version;
-  d["comments"] = strings(h.comments);
-  d["classification"] = h.classification;
-  d["creation_date"] = h.creation_date;
-  d["originator"] = h.originator;
-  d["message_id"] = h.message_id;
-  return d;
+// Field tables: (dict key, member) pairs of each model struct, in the order of the dict.
+template <class T, class F>
+struct Field {
+  const char* key;
+  F T::* member;
+};
+template <class T, class F>
+constexpr Field<T, F> field(const char* key, F T::* member) {
+  return {key, member};
 }
-io::Header header_of(const py::dict& d) {
-  io::Header h;
-  h.version = d["version"].cast<std::string>();
-  h.comments = strings_of(d["comments"]);
-  h.classification = d["classification"].cast<std::string>();
-  h.creation_date = d["creation_date"].cast<std::string>();
-  h.originator = d["originator"].cast<std::string>();
-  h.message_id = d["message_id"].cast<std::string>();
-  return h;
+
+auto fields_of(const io::Header*) {
+  using T = io::Header;
+  return std::make_tuple(field("version", &T::version), field("comments", &T::comments),
+                         field("classification", &T::classification),
+                         field("creation_date", &T::creation_date), field("originator", &T::originator),
+                         field("message_id", &T::message_id));
+}
+auto fields_of(const io::TdmMetadata*) {
+  using T = io::TdmMetadata;
+  return std::make_tuple(
+      field("comments", &T::comments), field("time_system", &T::time_system),
+      field("participants", &T::participants), field("mode", &T::mode), field("path", &T::path),
+      field("start_time", &T::start_time), field("stop_time", &T::stop_time),
+      field("integration_interval", &T::integration_interval), field("integration_ref", &T::integration_ref),
+      field("range_units", &T::range_units), field("angle_type", &T::angle_type), field("other", &T::other));
+}
+auto fields_of(const io::OemMetadata*) {
+  using T = io::OemMetadata;
+  return std::make_tuple(field("comments", &T::comments), field("object_name", &T::object_name),
+                         field("object_id", &T::object_id), field("center_name", &T::center_name),
+                         field("ref_frame", &T::ref_frame), field("ref_frame_epoch", &T::ref_frame_epoch),
+                         field("time_system", &T::time_system), field("start_time", &T::start_time),
+                         field("useable_start_time", &T::useable_start_time),
+                         field("useable_stop_time", &T::useable_stop_time), field("stop_time", &T::stop_time),
+                         field("interpolation", &T::interpolation),
+                         field("interpolation_degree", &T::interpolation_degree));
+}
+auto fields_of(const io::OemCovariance*) {
+  using T = io::OemCovariance;
+  return std::make_tuple(field("comments", &T::comments), field("epoch", &T::epoch),
+                         field("cov_ref_frame", &T::cov_ref_frame), field("matrix", &T::matrix));
+}
+auto fields_of(const io::OpmKeplerian*) {
+  using T = io::OpmKeplerian;
+  return std::make_tuple(
+      field("semi_major_axis", &T::semi_major_axis), field("eccentricity", &T::eccentricity),
+      field("inclination", &T::inclination), field("ra_of_asc_node", &T::ra_of_asc_node),
+      field("arg_of_pericenter", &T::arg_of_pericenter), field("true_anomaly", &T::true_anomaly),
+      field("mean_anomaly", &T::mean_anomaly), field("gm", &T::gm));
+}
+auto fields_of(const io::OpmSpacecraft*) {
+  using T = io::OpmSpacecraft;
+  return std::make_tuple(field("mass", &T::mass), field("solar_rad_area", &T::solar_rad_area),
+                         field("solar_rad_coeff", &T::solar_rad_coeff), field("drag_area", &T::drag_area),
+                         field("drag_coeff", &T::drag_coeff));
+}
+auto fields_of(const io::OpmManeuver*) {
+  using T = io::OpmManeuver;
+  return std::make_tuple(field("comments", &T::comments), field("epoch_ignition", &T::epoch_ignition),
+                         field("duration", &T::duration), field("delta_mass", &T::delta_mass),
+                         field("ref_frame", &T::ref_frame), field("dv", &T::dv));
+}
+auto fields_of(const io::Opm*) {
+  using T = io::Opm;
+  return std::make_tuple(field("header", &T::header), field("metadata_comments", &T::metadata_comments),
+                         field("object_name", &T::object_name), field("object_id", &T::object_id),
+                         field("center_name", &T::center_name), field("ref_frame", &T::ref_frame),
+                         field("ref_frame_epoch", &T::ref_frame_epoch), field("time_system", &T::time_system),
+                         field("comments", &T::data_comments), field("epoch", &T::epoch),
+                         field("state", &T::state), field("keplerian", &T::keplerian),
+                         field("spacecraft", &T::spacecraft), field("cov_ref_frame", &T::cov_ref_frame),
+                         field("covariance", &T::covariance), field("maneuvers", &T::maneuvers),
+                         field("user_defined", &T::user_defined));
+}
+
+// A struct with a field table <-> a dict with its keys; optional -> None; vector of structs -> list.
+template <class T, class = decltype(fields_of(static_cast<const T*>(nullptr)))>
+py::object to_py(const T& v);
+template <class T, class = decltype(fields_of(static_cast<const T*>(nullptr)))>
+void from_py(const py::handle& h, T& v);
+template <class T>
+py::object to_py(const std::optional<T>& v) {
+  return v ? to_py(*v) : py::object(py::none());
+}
+template <class T>
+void from_py(const py::handle& h, std::optional<T>& v) {
+  if (h.is_none()) {
+    v.reset();
+    return;
+  }
+  T t{};
+  from_py(h, t);
+  v = std::move(t);
+}
+template <class T, class = decltype(fields_of(static_cast<const T*>(nullptr)))>
+py::object to_py(const std::vector<T>& v) {
+  py::list l;
+  for (const T& e : v) l.append(to_py(e));
+  return std::move(l);
+}
+template <class T, class = decltype(fields_of(static_cast<const T*>(nullptr)))>
+void from_py(const py::handle& h, std::vector<T>& v) {
+  v.clear();
+  for (const py::handle& e : h) {
+    T t{};
+    from_py(e, t);
+    v.push_back(std::move(t));
+  }
+}
+template <class T, class>
+py::object to_py(const T& v) {
+  py::dict d;
+  std::apply([&](const auto&... f) { ((d[f.key] = to_py(v.*(f.member))), ...); },
+             fields_of(static_cast<const T*>(nullptr)));
+  return std::move(d);
+}
+template <class T, class>
+void from_py(const py::handle& h, T& v) {
+  const py::dict d = h.cast<py::dict>();
+  std::apply([&](const auto&... f) { (from_py(d[f.key], v.*(f.member)), ...); },
+             fields_of(static_cast<const T*>(nullptr)));
 }
 
 // ------------------------------------------------------------------------------------------ TDM
 py::dict tdm_dict(const io::Tdm& t) {
   py::list segs;
   for (const io::TdmSegment& s : t.segments) {
-    const io::TdmMetadata& m = s.metadata;
-    py::dict md;
-    md["comments"] = strings(m.comments);
-    md["time_system"] = std::string(io::time_system_name(m.time_system));
-    md["participants"] = strings(m.participants);
-    md["mode"] = m.mode;
-    md["path"] = py::tuple(py::cast(m.path));
-    md["start_time"] = m.start_time;
-    md["stop_time"] = m.stop_time;
-    md["integration_interval"] = opt(m.integration_interval);
-    md["integration_ref"] = m.integration_ref;
-    md["range_units"] = m.range_units;
-    md["angle_type"] = m.angle_type;
-    md["other"] = pairs(m.other);
     const std::size_t n = s.observations.size();
     py::tuple kw(n), ep(n), un(n);
     py::array_t<double> val(static_cast<py::ssize_t>(n));
@@ -140,8 +236,8 @@ py::dict tdm_dict(const io::Tdm& t) {
       w(static_cast<py::ssize_t>(i)) = s.observations[i].value;
     }
     py::dict sd;
-    sd["metadata"] = md;
-    sd["comments"] = strings(s.data_comments);
+    sd["metadata"] = to_py(s.metadata);
+    sd["comments"] = to_py(s.data_comments);
     sd["keywords"] = kw;
     sd["epochs"] = ep;
     sd["values"] = val;
@@ -149,34 +245,22 @@ py::dict tdm_dict(const io::Tdm& t) {
     segs.append(sd);
   }
   py::dict d;
-  d["header"] = header_dict(t.header);
+  d["header"] = to_py(t.header);
   d["segments"] = segs;
   return d;
 }
 
 io::Tdm tdm_of(const py::dict& d) {
   io::Tdm t;
-  t.header = header_of(d["header"].cast<py::dict>());
+  from_py(d["header"], t.header);
   for (const py::handle& sh : d["segments"]) {
     const py::dict sd = sh.cast<py::dict>();
-    const py::dict md = sd["metadata"].cast<py::dict>();
     io::TdmSegment s;
-    io::TdmMetadata& m = s.metadata;
-    m.comments = strings_of(md["comments"]);
-    m.time_system = time_system_of(md["time_system"]);
-    m.participants = strings_of(md["participants"]);
-    m.mode = md["mode"].cast<std::string>();
-    m.path = md["path"].cast<std::vector<int>>();
-    m.start_time = md["start_time"].cast<std::string>();
-    m.stop_time = md["stop_time"].cast<std::string>();
-    m.integration_interval = opt_of(md["integration_interval"]);
-    m.integration_ref = md["integration_ref"].cast<std::string>();
-    m.range_units = md["range_units"].cast<std::string>();
-    m.angle_type = md["angle_type"].cast<std::string>();
-    m.other = pairs_of(md["other"]);
-    s.data_comments = strings_of(sd["comments"]);
-    const auto kw = strings_of(sd["keywords"]);
-    const auto ep = strings_of(sd["epochs"]);
+    from_py(sd["metadata"], s.metadata);
+    from_py(sd["comments"], s.data_comments);
+    std::vector<std::string> kw, ep;
+    from_py(sd["keywords"], kw);
+    from_py(sd["epochs"], ep);
     const Array val = Array::ensure(sd["values"]);
     const auto v = val.unchecked<1>();
     for (std::size_t i = 0; i < kw.size(); ++i) {
@@ -192,22 +276,6 @@ io::Tdm tdm_of(const py::dict& d) {
 py::dict oem_dict(const io::Oem& o) {
   py::list segs;
   for (const io::OemSegment& s : o.segments) {
-    const io::OemMetadata& m = s.metadata;
-    py::dict md;
-    md["comments"] = strings(m.comments);
-    md["object_name"] = m.object_name;
-    md["object_id"] = m.object_id;
-    md["center_name"] = m.center_name;
-    md["ref_frame"] = m.ref_frame;
-    md["ref_frame_epoch"] = m.ref_frame_epoch;
-    md["time_system"] = std::string(io::time_system_name(m.time_system));
-    md["start_time"] = m.start_time;
-    md["useable_start_time"] = m.useable_start_time;
-    md["useable_stop_time"] = m.useable_stop_time;
-    md["stop_time"] = m.stop_time;
-    md["interpolation"] = m.interpolation;
-    md["interpolation_degree"] =
-        m.interpolation_degree ? py::object(py::int_(*m.interpolation_degree)) : py::object(py::none());
     const auto n = static_cast<py::ssize_t>(s.states.size());
     py::tuple ep(s.states.size());
     py::array_t<double> st({n, py::ssize_t(6)});
@@ -223,54 +291,31 @@ py::dict oem_dict(const io::Oem& o) {
         wa(i, j) = e.acceleration ? (*e.acceleration)(j) : std::numeric_limits<double>::quiet_NaN();
       any_acc = any_acc || e.acceleration.has_value();
     }
-    py::list covs;
-    for (const io::OemCovariance& c : s.covariances) {
-      py::dict cd;
-      cd["comments"] = strings(c.comments);
-      cd["epoch"] = c.epoch;
-      cd["cov_ref_frame"] = c.cov_ref_frame;
-      cd["matrix"] = matrix(c.matrix);
-      covs.append(cd);
-    }
     py::dict sd;
-    sd["metadata"] = md;
-    sd["comments"] = strings(s.data_comments);
+    sd["metadata"] = to_py(s.metadata);
+    sd["comments"] = to_py(s.data_comments);
     sd["epochs"] = ep;
     sd["states"] = st;
     sd["accelerations"] = any_acc ? py::object(acc) : py::object(py::none());
-    sd["covariances"] = covs;
+    sd["covariances"] = to_py(s.covariances);
     segs.append(sd);
   }
   py::dict d;
-  d["header"] = header_dict(o.header);
+  d["header"] = to_py(o.header);
   d["segments"] = segs;
   return d;
 }
 
 io::Oem oem_of(const py::dict& d) {
   io::Oem o;
-  o.header = header_of(d["header"].cast<py::dict>());
+  from_py(d["header"], o.header);
   for (const py::handle& sh : d["segments"]) {
     const py::dict sd = sh.cast<py::dict>();
-    const py::dict md = sd["metadata"].cast<py::dict>();
     io::OemSegment s;
-    io::OemMetadata& m = s.metadata;
-    m.comments = strings_of(md["comments"]);
-    m.object_name = md["object_name"].cast<std::string>();
-    m.object_id = md["object_id"].cast<std::string>();
-    m.center_name = md["center_name"].cast<std::string>();
-    m.ref_frame = md["ref_frame"].cast<std::string>();
-    m.ref_frame_epoch = md["ref_frame_epoch"].cast<std::string>();
-    m.time_system = time_system_of(md["time_system"]);
-    m.start_time = md["start_time"].cast<std::string>();
-    m.useable_start_time = md["useable_start_time"].cast<std::string>();
-    m.useable_stop_time = md["useable_stop_time"].cast<std::string>();
-    m.stop_time = md["stop_time"].cast<std::string>();
-    m.interpolation = md["interpolation"].cast<std::string>();
-    if (!md["interpolation_degree"].is_none())
-      m.interpolation_degree = md["interpolation_degree"].cast<int>();
-    s.data_comments = strings_of(sd["comments"]);
-    const auto ep = strings_of(sd["epochs"]);
+    from_py(sd["metadata"], s.metadata);
+    from_py(sd["comments"], s.data_comments);
+    std::vector<std::string> ep;
+    from_py(sd["epochs"], ep);
     const Array st = Array::ensure(sd["states"]);
     const auto rs = st.unchecked<2>();
     const bool has_acc = !sd["accelerations"].is_none();
@@ -287,128 +332,18 @@ io::Oem oem_of(const py::dict& d) {
       }
       s.states.push_back(std::move(e));
     }
-    for (const py::handle& ch : sd["covariances"]) {
-      const py::dict cd = ch.cast<py::dict>();
-      io::OemCovariance c;
-      c.comments = strings_of(cd["comments"]);
-      c.epoch = cd["epoch"].cast<std::string>();
-      c.cov_ref_frame = cd["cov_ref_frame"].cast<std::string>();
-      c.matrix = matrix_of(cd["matrix"]);
-      s.covariances.push_back(std::move(c));
-    }
+    from_py(sd["covariances"], s.covariances);
     o.segments.push_back(std::move(s));
   }
   return o;
 }
 
 // ------------------------------------------------------------------------------------------ OPM
-py::dict opm_dict(const io::Opm& o) {
-  py::dict d;
-  d["header"] = header_dict(o.header);
-  d["metadata_comments"] = strings(o.metadata_comments);
-  d["object_name"] = o.object_name;
-  d["object_id"] = o.object_id;
-  d["center_name"] = o.center_name;
-  d["ref_frame"] = o.ref_frame;
-  d["ref_frame_epoch"] = o.ref_frame_epoch;
-  d["time_system"] = std::string(io::time_system_name(o.time_system));
-  d["comments"] = strings(o.data_comments);
-  d["epoch"] = o.epoch;
-  d["state"] = vector6(o.state);
-  if (o.keplerian) {
-    py::dict k;
-    k["semi_major_axis"] = o.keplerian->semi_major_axis;
-    k["eccentricity"] = o.keplerian->eccentricity;
-    k["inclination"] = o.keplerian->inclination;
-    k["ra_of_asc_node"] = o.keplerian->ra_of_asc_node;
-    k["arg_of_pericenter"] = o.keplerian->arg_of_pericenter;
-    k["true_anomaly"] = opt(o.keplerian->true_anomaly);
-    k["mean_anomaly"] = opt(o.keplerian->mean_anomaly);
-    k["gm"] = o.keplerian->gm;
-    d["keplerian"] = k;
-  } else {
-    d["keplerian"] = py::none();
-  }
-  if (o.spacecraft) {
-    py::dict p;
-    p["mass"] = opt(o.spacecraft->mass);
-    p["solar_rad_area"] = opt(o.spacecraft->solar_rad_area);
-    p["solar_rad_coeff"] = opt(o.spacecraft->solar_rad_coeff);
-    p["drag_area"] = opt(o.spacecraft->drag_area);
-    p["drag_coeff"] = opt(o.spacecraft->drag_coeff);
-    d["spacecraft"] = p;
-  } else {
-    d["spacecraft"] = py::none();
-  }
-  d["cov_ref_frame"] = o.cov_ref_frame;
-  d["covariance"] = o.covariance ? py::object(matrix(*o.covariance)) : py::object(py::none());
-  py::list mans;
-  for (const io::OpmManeuver& m : o.maneuvers) {
-    py::dict md;
-    md["comments"] = strings(m.comments);
-    md["epoch_ignition"] = m.epoch_ignition;
-    md["duration"] = m.duration;
-    md["delta_mass"] = m.delta_mass;
-    md["ref_frame"] = m.ref_frame;
-    md["dv"] = py::make_tuple(m.dv(0), m.dv(1), m.dv(2));
-    mans.append(md);
-  }
-  d["maneuvers"] = mans;
-  d["user_defined"] = pairs(o.user_defined);
-  return d;
-}
+py::dict opm_dict(const io::Opm& o) { return to_py(o).cast<py::dict>(); }
 
 io::Opm opm_of(const py::dict& d) {
   io::Opm o;
-  o.header = header_of(d["header"].cast<py::dict>());
-  o.metadata_comments = strings_of(d["metadata_comments"]);
-  o.object_name = d["object_name"].cast<std::string>();
-  o.object_id = d["object_id"].cast<std::string>();
-  o.center_name = d["center_name"].cast<std::string>();
-  o.ref_frame = d["ref_frame"].cast<std::string>();
-  o.ref_frame_epoch = d["ref_frame_epoch"].cast<std::string>();
-  o.time_system = time_system_of(d["time_system"]);
-  o.data_comments = strings_of(d["comments"]);
-  o.epoch = d["epoch"].cast<std::string>();
-  o.state = vector6_of(d["state"]);
-  if (!d["keplerian"].is_none()) {
-    const py::dict k = d["keplerian"].cast<py::dict>();
-    io::OpmKeplerian e;
-    e.semi_major_axis = k["semi_major_axis"].cast<double>();
-    e.eccentricity = k["eccentricity"].cast<double>();
-    e.inclination = k["inclination"].cast<double>();
-    e.ra_of_asc_node = k["ra_of_asc_node"].cast<double>();
-    e.arg_of_pericenter = k["arg_of_pericenter"].cast<double>();
-    e.true_anomaly = opt_of(k["true_anomaly"]);
-    e.mean_anomaly = opt_of(k["mean_anomaly"]);
-    e.gm = k["gm"].cast<double>();
-    o.keplerian = e;
-  }
-  if (!d["spacecraft"].is_none()) {
-    const py::dict p = d["spacecraft"].cast<py::dict>();
-    io::OpmSpacecraft s;
-    s.mass = opt_of(p["mass"]);
-    s.solar_rad_area = opt_of(p["solar_rad_area"]);
-    s.solar_rad_coeff = opt_of(p["solar_rad_coeff"]);
-    s.drag_area = opt_of(p["drag_area"]);
-    s.drag_coeff = opt_of(p["drag_coeff"]);
-    o.spacecraft = s;
-  }
-  o.cov_ref_frame = d["cov_ref_frame"].cast<std::string>();
-  if (!d["covariance"].is_none()) o.covariance = matrix_of(d["covariance"]);
-  for (const py::handle& mh : d["maneuvers"]) {
-    const py::dict md = mh.cast<py::dict>();
-    io::OpmManeuver m;
-    m.comments = strings_of(md["comments"]);
-    m.epoch_ignition = md["epoch_ignition"].cast<std::string>();
-    m.duration = md["duration"].cast<double>();
-    m.delta_mass = md["delta_mass"].cast<double>();
-    m.ref_frame = md["ref_frame"].cast<std::string>();
-    const auto dv = md["dv"].cast<std::vector<double>>();
-    m.dv = Vec3(dv.at(0), dv.at(1), dv.at(2));
-    o.maneuvers.push_back(std::move(m));
-  }
-  o.user_defined = pairs_of(d["user_defined"]);
+  from_py(d, o);
   return o;
 }
 

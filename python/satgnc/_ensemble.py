@@ -77,6 +77,8 @@ def _check_states(states) -> np.ndarray:
 
 
 def _check_times(times) -> np.ndarray:
+    """The output times (s) of propagate and propagate_ensemble as a float64 1-D array: a scalar
+    becomes one time; not empty, finite, strictly monotone (forward or backward), else ValueError."""
     t = as_float_array(times, "times")
     if t.ndim == 0:
         t = t.reshape(1)

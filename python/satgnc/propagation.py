@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import _satgnc
-from ._ensemble import EnsembleResult, propagate_ensemble
+from ._ensemble import EnsembleResult, _check_times, propagate_ensemble
 from ._satgnc import (
     EARTH_MU,
     EARTH_RADIUS,
@@ -246,18 +246,7 @@ def propagate(
     # x0 = 1e300 was a "force model failed" PropagationError at t0
     check_magnitude(x, "x0", 1e100, "|r|^3 overflows double precision in the force model "
                     "(hint: check the units)", subject="every component", detail="km, km/s")
-    t = as_float_array(times, "times")
-    if t.ndim == 0:
-        t = t.reshape(1)
-    if t.ndim != 1:
-        raise ValueError(f"times: must be one-dimensional, got shape {t.shape}")
-    if t.size == 0:
-        raise ValueError("times: must not be empty")
-    if not np.all(np.isfinite(t)):
-        raise ValueError("times: must be finite (no NaN or Inf)")
-    d = np.diff(t)
-    if d.size and not (np.all(d > 0) or np.all(d < 0)):
-        raise ValueError("times: must be strictly monotone (sorted, no duplicates), forward or backward")
+    t = _check_times(times)
     t0f = float(t[0]) if t0 is None else as_finite_positive(t0, "t0", positive=False)
     # A span no orbit integration can cover (1e300 s) is the times' fault, not the force model's.
     span = float(np.max(np.abs(t - t0f)))

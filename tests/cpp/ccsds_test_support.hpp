@@ -6,6 +6,7 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "satgnc/io/ccsds.hpp"
 
@@ -88,6 +89,36 @@ inline std::string replace_line(const std::string& text, int n, const std::strin
     pos = end + 1;
   }
   return out;
+}
+
+/// Exact comparison (tolerance 0: strings) of two headers; the version only when `same_version`.
+inline void expect_same_header(const io::Header& a, const io::Header& b, bool same_version = true) {
+  if (same_version) EXPECT_EQ(a.version, b.version);
+  EXPECT_EQ(a.comments, b.comments);
+  EXPECT_EQ(a.creation_date, b.creation_date);
+  EXPECT_EQ(a.originator, b.originator);
+  EXPECT_EQ(a.message_id, b.message_id);
+}
+
+/// One bad-input case: line `line` of a valid base text replaced by `with` ("" removes it).
+struct BadLine {
+  int line;              // line replaced
+  const char* with;      // replacement ("" removes it)
+  int error_line;        // line the error names
+  const char* keyword;   // keyword it names
+  const char* fragment;  // part of the rule
+};
+
+/// For each case, `parse(text, source)` of the changed base must throw FormatError naming `source`, the
+/// case's error line and keyword, with the fragment in its message (expect_format_error).
+inline void expect_bad_lines(const std::string& base, const std::vector<BadLine>& cases,
+                             const std::string& source,
+                             const std::function<void(const std::string&, const std::string&)>& parse) {
+  for (const BadLine& c : cases) {
+    SCOPED_TRACE(std::string("line ") + std::to_string(c.line) + " -> '" + c.with + "'");
+    const std::string text = replace_line(base, c.line, c.with);
+    expect_format_error([&] { parse(text, source); }, source, c.error_line, c.keyword, c.fragment);
+  }
 }
 
 }  // namespace satgnc::testing

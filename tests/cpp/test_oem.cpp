@@ -22,10 +22,7 @@ using satgnc::testing::replace_line;
 
 // Exact comparisons (tolerance 0): from_chars and the compiler round the same decimal text the same way.
 void expect_same(const Oem& a, const Oem& b) {
-  EXPECT_EQ(a.header.version, b.header.version);
-  EXPECT_EQ(a.header.comments, b.header.comments);
-  EXPECT_EQ(a.header.creation_date, b.header.creation_date);
-  EXPECT_EQ(a.header.originator, b.header.originator);
+  satgnc::testing::expect_same_header(a.header, b.header);
   ASSERT_EQ(a.segments.size(), b.segments.size());
   for (std::size_t s = 0; s < a.segments.size(); ++s) {
     const auto& sa = a.segments[s];
@@ -160,31 +157,22 @@ const std::string kBase =
 
 TEST(Oem, BadInputNamesFileLineAndKeyword) {
   ASSERT_EQ(parse_oem(kBase).segments[0].covariances.size(), 1u);
-  struct Case {
-    int line;
-    const char* with;
-    int error_line;
-    const char* keyword;
-    const char* fragment;
-  };
-  const Case cases[] = {
-      {9, "TIME_SYSTEM = MET", 9, "TIME_SYSTEM", "unsupported time system 'MET'"},
-      {9, "TIME_SYSTEM = UTX", 9, "TIME_SYSTEM", "unknown time system 'UTX'"},
-      {8, "", 11, "REF_FRAME", "missing mandatory keyword"},
-      {8, "REF_FRAMES = GCRF", 8, "REF_FRAMES", "unknown metadata keyword"},
-      {13, "2026-01-01T00:00:00 7000 0 0 0 7.5", 13, "EPHEMERIS", "got 6 fields"},
-      {13, "2026-01-01T00:00:00 7000 0 zero 0 7.5 0", 13, "EPHEMERIS", "not a number: 'zero'"},
-      {13, "2026-01-01 7000 0 0 0 7.5 0", 13, "EPOCH", "not an epoch"},
-      {18, "0 1 2", 18, "COVARIANCE", "row 2 of the lower triangle needs 2 numbers, got 3"},
-      {22, "", 22, "COVARIANCE", "has 5 of 6 rows"},
-      {23, "", 22, "COVARIANCE_STOP", "missing at the end of the file"},
-      {10, "START_TIME = 2026-02-30T00:00:00", 10, "START_TIME", "day out of range"},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(std::string("line ") + std::to_string(c.line) + " -> '" + c.with + "'");
-    const std::string text = replace_line(kBase, c.line, c.with);
-    expect_format_error([&] { parse_oem(text, "bad.oem"); }, "bad.oem", c.error_line, c.keyword, c.fragment);
-  }
+  satgnc::testing::expect_bad_lines(
+      kBase,
+      {
+          {9, "TIME_SYSTEM = MET", 9, "TIME_SYSTEM", "unsupported time system 'MET'"},
+          {9, "TIME_SYSTEM = UTX", 9, "TIME_SYSTEM", "unknown time system 'UTX'"},
+          {8, "", 11, "REF_FRAME", "missing mandatory keyword"},
+          {8, "REF_FRAMES = GCRF", 8, "REF_FRAMES", "unknown metadata keyword"},
+          {13, "2026-01-01T00:00:00 7000 0 0 0 7.5", 13, "EPHEMERIS", "got 6 fields"},
+          {13, "2026-01-01T00:00:00 7000 0 zero 0 7.5 0", 13, "EPHEMERIS", "not a number: 'zero'"},
+          {13, "2026-01-01 7000 0 0 0 7.5 0", 13, "EPOCH", "not an epoch"},
+          {18, "0 1 2", 18, "COVARIANCE", "row 2 of the lower triangle needs 2 numbers, got 3"},
+          {22, "", 22, "COVARIANCE", "has 5 of 6 rows"},
+          {23, "", 22, "COVARIANCE_STOP", "missing at the end of the file"},
+          {10, "START_TIME = 2026-02-30T00:00:00", 10, "START_TIME", "day out of range"},
+      },
+      "bad.oem", [](const std::string& text, const std::string& source) { parse_oem(text, source); });
 }
 
 TEST(Oem, WriterRefusesAnInvalidModel) {

@@ -21,11 +21,7 @@ using satgnc::testing::replace_line;
 
 // Exact comparisons (tolerance 0): from_chars and the compiler round the same decimal text the same way.
 void expect_same(const Opm& a, const Opm& b) {
-  EXPECT_EQ(a.header.version, b.header.version);
-  EXPECT_EQ(a.header.comments, b.header.comments);
-  EXPECT_EQ(a.header.creation_date, b.header.creation_date);
-  EXPECT_EQ(a.header.originator, b.header.originator);
-  EXPECT_EQ(a.header.message_id, b.header.message_id);
+  satgnc::testing::expect_same_header(a.header, b.header);
   EXPECT_EQ(a.metadata_comments, b.metadata_comments);
   EXPECT_EQ(a.object_name, b.object_name);
   EXPECT_EQ(a.object_id, b.object_id);
@@ -180,35 +176,26 @@ const std::string kBase =
 
 TEST(Opm, BadInputNamesFileLineAndKeyword) {
   ASSERT_TRUE(parse_opm(kBase).keplerian.has_value());
-  struct Case {
-    int line;
-    const char* with;
-    int error_line;
-    const char* keyword;
-    const char* fragment;
-  };
-  const Case cases[] = {
-      {8, "TIME_SYSTEM = GMST", 8, "TIME_SYSTEM", "unsupported time system 'GMST'"},
-      {8, "TIME_SYSTEM = local", 8, "TIME_SYSTEM", "unknown time system 'local'"},
-      {9, "", 21, "EPOCH", "missing mandatory keyword"},
-      {11, "", 21, "Y", "missing mandatory keyword"},
-      {10, "X = 7000 [m]", 10, "X", "unsupported unit '[m]' (this keyword is in km)"},
-      {14, "Y_DOT = fast", 14, "Y_DOT", "not a number: 'fast'"},
-      {17, "", 21, "ECCENTRICITY", "Keplerian elements are all given or none"},
-      {22, "GM = 398600.4415\nMEAN_ANOMALY = 0", 23, "TRUE_ANOMALY",
-       "exactly one of TRUE_ANOMALY and MEAN_ANOMALY"},
-      {18, "INCLINATION = 0 [rad]", 18, "INCLINATION", "unsupported unit '[rad]'"},
-      {12, "Q = 0", 12, "Q", "unknown keyword"},
-      {12, "CX_Q = 0", 12, "CX_Q", "unknown keyword"},
-      {22, "CX_X = 1", 22, "GM", "Keplerian elements are all given or none"},
-      {22, "MAN_DURATION = 1", 22, "MAN_DURATION", "before MAN_EPOCH_IGNITION"},
-      {1, "CCSDS_OEM_VERS = 2.0", 1, "CCSDS_OPM_VERS", "missing mandatory keyword"},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE(std::string("line ") + std::to_string(c.line) + " -> '" + c.with + "'");
-    const std::string text = replace_line(kBase, c.line, c.with);
-    expect_format_error([&] { parse_opm(text, "bad.opm"); }, "bad.opm", c.error_line, c.keyword, c.fragment);
-  }
+  satgnc::testing::expect_bad_lines(
+      kBase,
+      {
+          {8, "TIME_SYSTEM = GMST", 8, "TIME_SYSTEM", "unsupported time system 'GMST'"},
+          {8, "TIME_SYSTEM = local", 8, "TIME_SYSTEM", "unknown time system 'local'"},
+          {9, "", 21, "EPOCH", "missing mandatory keyword"},
+          {11, "", 21, "Y", "missing mandatory keyword"},
+          {10, "X = 7000 [m]", 10, "X", "unsupported unit '[m]' (this keyword is in km)"},
+          {14, "Y_DOT = fast", 14, "Y_DOT", "not a number: 'fast'"},
+          {17, "", 21, "ECCENTRICITY", "Keplerian elements are all given or none"},
+          {22, "GM = 398600.4415\nMEAN_ANOMALY = 0", 23, "TRUE_ANOMALY",
+           "exactly one of TRUE_ANOMALY and MEAN_ANOMALY"},
+          {18, "INCLINATION = 0 [rad]", 18, "INCLINATION", "unsupported unit '[rad]'"},
+          {12, "Q = 0", 12, "Q", "unknown keyword"},
+          {12, "CX_Q = 0", 12, "CX_Q", "unknown keyword"},
+          {22, "CX_X = 1", 22, "GM", "Keplerian elements are all given or none"},
+          {22, "MAN_DURATION = 1", 22, "MAN_DURATION", "before MAN_EPOCH_IGNITION"},
+          {1, "CCSDS_OEM_VERS = 2.0", 1, "CCSDS_OPM_VERS", "missing mandatory keyword"},
+      },
+      "bad.opm", [](const std::string& text, const std::string& source) { parse_opm(text, source); });
   // Partial covariance: the first missing term is named.
   expect_format_error([&] { parse_opm(kBase + "CX_X = 1\nCY_X = 0\n", "bad.opm"); }, "bad.opm", 24, "CY_Y",
                       "all 21 lower-triangle terms");

@@ -24,11 +24,7 @@ using satgnc::testing::replace_line;
 // Values are compared with ==: the reader converts with std::from_chars (correctly rounded), as the
 // compiler converts the literal below, so the same decimal text gives the same double (tolerance 0).
 void expect_same(const Tdm& a, const Tdm& b, bool same_version = true) {
-  if (same_version) EXPECT_EQ(a.header.version, b.header.version);
-  EXPECT_EQ(a.header.comments, b.header.comments);
-  EXPECT_EQ(a.header.creation_date, b.header.creation_date);
-  EXPECT_EQ(a.header.originator, b.header.originator);
-  EXPECT_EQ(a.header.message_id, b.header.message_id);
+  satgnc::testing::expect_same_header(a.header, b.header, same_version);
   ASSERT_EQ(a.segments.size(), b.segments.size());
   for (std::size_t s = 0; s < a.segments.size(); ++s) {
     const auto& ma = a.segments[s].metadata;
@@ -221,54 +217,44 @@ TEST(Tdm, BaseCaseIsValid) {
   EXPECT_EQ(t.segments[0].observations[1].value, 10.25);
 }
 
-struct BadCase {
-  int line;              // line replaced
-  const char* with;      // replacement ("" removes it)
-  int error_line;        // line the error names
-  const char* keyword;   // keyword it names
-  const char* fragment;  // part of the rule
-};
-
 TEST(Tdm, BadInputNamesFileLineAndKeyword) {
-  const BadCase cases[] = {
-      {5, "TIME_SYSTEM = XYZ", 5, "TIME_SYSTEM", "unknown time system 'XYZ'"},
-      {5, "TIME_SYSTEM = UT1", 5, "TIME_SYSTEM", "unsupported time system 'UT1'"},
-      {5, "", 11, "TIME_SYSTEM",
-       "missing mandatory keyword"},  // reported at META_STOP (line 11 once removed)
-      {6, "", 11, "PARTICIPANT_1", "missing mandatory keyword"},
-      {9, "PATH = 1,3,1", 9, "PATH", "names participant 3, but only PARTICIPANT_1..PARTICIPANT_2"},
-      {9, "PATH = 1,x", 9, "PATH", "malformed path"},
-      {9, "", 8, "PATH", "MODE = SEQUENTIAL requires PATH"},
-      {8, "", 8, "MODE", "PATH requires MODE = SEQUENTIAL"},  // PATH moved up to line 8
-      {10, "RANGE_UNITS = s", 10, "RANGE_UNITS", "unsupported range unit 's' (supported: km)"},
-      {10, "RANGE_UNITS = RU", 10, "RANGE_UNITS", "unsupported range unit 'RU'"},
-      {10, "RANGE_UNITS = furlong", 10, "RANGE_UNITS", "unknown range unit"},
-      {11, "ANGLE_TYPE = XEYN", 11, "ANGLE_TYPE", "unsupported angle type"},
-      {11, "", 14, "ANGLE_1", "need ANGLE_TYPE"},
-      {10, "CORRECTION_RANGE = two", 10, "CORRECTION_RANGE", "not a number: 'two'"},
-      {10, "RANGE_FOO = 1", 10, "RANGE_FOO", "unknown metadata keyword"},
-      {14, "RANGE = 2026-01-01T00:00:00 12a", 14, "RANGE", "not a number: '12a'"},
-      {14, "RANGE = 2026-01-01T00:00:00", 14, "RANGE", "malformed data line"},
-      {14, "RANGE = 2026-01-01T00:00:00 +-1", 14, "RANGE", "not a number: '+-1'"},
-      {14, "RANGE = 2026-01-01T00:00:00 nan", 14, "RANGE", "not a number: 'nan'"},
-      {14, "RANGE = 2026-13-01T00:00:00 1.0", 14, "RANGE", "month out of range"},
-      {14, "RANGE = 2026-01-01T00:00:00.12a 1.0", 14, "RANGE", "not an epoch"},
-      {14, "RANGE = 2026-01-01T23:58:60 1.0", 14, "RANGE", "seconds out of range"},
-      {14, "RANGEX = 2026-01-01T00:00:00 1.0", 14, "RANGEX", "unknown data keyword"},
-      {14, "DOPPLER_COUNT = 2026-01-01T00:00:00 1.0", 14, "DOPPLER_COUNT", "unsupported data keyword"},
-      {1, "CCSDS_TDM_VERS = 9.9", 1, "CCSDS_TDM_VERS", "unsupported version"},
-      {1, "", 1, "CCSDS_TDM_VERS", "missing mandatory keyword"},
-      {3, "", 3, "ORIGINATOR", "missing mandatory header keyword"},  // at META_START
-      {16, "", 15, "DATA_STOP", "missing at the end of the file"},
-      {7, "PARTICIPANT_3 = SAT", 7, "PARTICIPANT_3", "without a gap"},
-      {3, "ORIGINATOR =", 3, "ORIGINATOR", "empty value"},
-      {15, "ANGLE_1 = 2026-01-01T00:00:00 360.0", 15, "ANGLE_1", "angle 360.0 deg outside [-180, 360)"},
-  };
-  for (const BadCase& c : cases) {
-    SCOPED_TRACE(std::string("line ") + std::to_string(c.line) + " -> '" + c.with + "'");
-    const std::string text = replace_line(kBase, c.line, c.with);
-    expect_format_error([&] { parse_tdm(text, "bad.kvn"); }, "bad.kvn", c.error_line, c.keyword, c.fragment);
-  }
+  satgnc::testing::expect_bad_lines(
+      kBase,
+      {
+          {5, "TIME_SYSTEM = XYZ", 5, "TIME_SYSTEM", "unknown time system 'XYZ'"},
+          {5, "TIME_SYSTEM = UT1", 5, "TIME_SYSTEM", "unsupported time system 'UT1'"},
+          {5, "", 11, "TIME_SYSTEM",
+           "missing mandatory keyword"},  // reported at META_STOP (line 11 once removed)
+          {6, "", 11, "PARTICIPANT_1", "missing mandatory keyword"},
+          {9, "PATH = 1,3,1", 9, "PATH", "names participant 3, but only PARTICIPANT_1..PARTICIPANT_2"},
+          {9, "PATH = 1,x", 9, "PATH", "malformed path"},
+          {9, "", 8, "PATH", "MODE = SEQUENTIAL requires PATH"},
+          {8, "", 8, "MODE", "PATH requires MODE = SEQUENTIAL"},  // PATH moved up to line 8
+          {10, "RANGE_UNITS = s", 10, "RANGE_UNITS", "unsupported range unit 's' (supported: km)"},
+          {10, "RANGE_UNITS = RU", 10, "RANGE_UNITS", "unsupported range unit 'RU'"},
+          {10, "RANGE_UNITS = furlong", 10, "RANGE_UNITS", "unknown range unit"},
+          {11, "ANGLE_TYPE = XEYN", 11, "ANGLE_TYPE", "unsupported angle type"},
+          {11, "", 14, "ANGLE_1", "need ANGLE_TYPE"},
+          {10, "CORRECTION_RANGE = two", 10, "CORRECTION_RANGE", "not a number: 'two'"},
+          {10, "RANGE_FOO = 1", 10, "RANGE_FOO", "unknown metadata keyword"},
+          {14, "RANGE = 2026-01-01T00:00:00 12a", 14, "RANGE", "not a number: '12a'"},
+          {14, "RANGE = 2026-01-01T00:00:00", 14, "RANGE", "malformed data line"},
+          {14, "RANGE = 2026-01-01T00:00:00 +-1", 14, "RANGE", "not a number: '+-1'"},
+          {14, "RANGE = 2026-01-01T00:00:00 nan", 14, "RANGE", "not a number: 'nan'"},
+          {14, "RANGE = 2026-13-01T00:00:00 1.0", 14, "RANGE", "month out of range"},
+          {14, "RANGE = 2026-01-01T00:00:00.12a 1.0", 14, "RANGE", "not an epoch"},
+          {14, "RANGE = 2026-01-01T23:58:60 1.0", 14, "RANGE", "seconds out of range"},
+          {14, "RANGEX = 2026-01-01T00:00:00 1.0", 14, "RANGEX", "unknown data keyword"},
+          {14, "DOPPLER_COUNT = 2026-01-01T00:00:00 1.0", 14, "DOPPLER_COUNT", "unsupported data keyword"},
+          {1, "CCSDS_TDM_VERS = 9.9", 1, "CCSDS_TDM_VERS", "unsupported version"},
+          {1, "", 1, "CCSDS_TDM_VERS", "missing mandatory keyword"},
+          {3, "", 3, "ORIGINATOR", "missing mandatory header keyword"},  // at META_START
+          {16, "", 15, "DATA_STOP", "missing at the end of the file"},
+          {7, "PARTICIPANT_3 = SAT", 7, "PARTICIPANT_3", "without a gap"},
+          {3, "ORIGINATOR =", 3, "ORIGINATOR", "empty value"},
+          {15, "ANGLE_1 = 2026-01-01T00:00:00 360.0", 15, "ANGLE_1", "angle 360.0 deg outside [-180, 360)"},
+      },
+      "bad.kvn", [](const std::string& text, const std::string& source) { parse_tdm(text, source); });
 }
 
 TEST(Tdm, StandardExamplesWithUnsupportedUnitsAreRefusedByName) {

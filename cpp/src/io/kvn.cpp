@@ -241,5 +241,41 @@ void check_unit(const KvnLine& l, const std::string& expected, const std::string
              (expected.empty() ? "no unit" : expected) + ")");
 }
 
+const KvnLine& check_version_line(const std::vector<KvnLine>& lines, const std::string& keyword,
+                                  std::initializer_list<const char*> versions, const std::string& source) {
+  using K = KvnLine::Kind;
+  if (lines.empty()) fail(source, 0, keyword, "missing mandatory keyword (empty file)");
+  const KvnLine& v = lines.front();
+  if (v.kind != K::key_value || v.key != keyword)
+    fail(source, v.line, keyword, "missing mandatory keyword (must be the first line)");
+  std::string supported;
+  for (const char* s : versions) {
+    if (v.value == s) return v;
+    supported += (supported.empty() ? "" : ", ") + std::string(s);
+  }
+  fail(source, v.line, v.key, "unsupported version '" + v.value + "' (supported: " + supported + ")");
+}
+
+void put(std::ostream& out, const std::string& key, const std::string& value) {
+  out << key << " = " << value << "\n";
+}
+
+void put_opt(std::ostream& out, const std::string& key, const std::string& value) {
+  if (!value.empty()) put(out, key, value);
+}
+
+void put_comments(std::ostream& out, const std::vector<std::string>& comments) {
+  for (const auto& c : comments) out << "COMMENT " << c << "\n";
+}
+
+void put_header(std::ostream& out, const std::string& version_keyword, const Header& h) {
+  put(out, version_keyword, h.version);
+  put_comments(out, h.comments);
+  put_opt(out, "CLASSIFICATION", h.classification);
+  put(out, "CREATION_DATE", h.creation_date);
+  put(out, "ORIGINATOR", h.originator);
+  put_opt(out, "MESSAGE_ID", h.message_id);
+}
+
 }  // namespace detail
 }  // namespace satgnc::io

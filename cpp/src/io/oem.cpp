@@ -70,12 +70,7 @@ Oem parse_oem(const std::string& text, const std::string& source) {
   const std::vector<KvnLine> lines = detail::tokenize_kvn(text, source);
   using K = KvnLine::Kind;
   Oem oem;
-  if (lines.empty()) fail(source, 0, "CCSDS_OEM_VERS", "missing mandatory keyword (empty file)");
-  const KvnLine& v = lines.front();
-  if (v.kind != K::key_value || v.key != "CCSDS_OEM_VERS")
-    fail(source, v.line, "CCSDS_OEM_VERS", "missing mandatory keyword (must be the first line)");
-  if (v.value != "1.0" && v.value != "2.0" && v.value != "3.0")
-    fail(source, v.line, v.key, "unsupported version '" + v.value + "' (supported: 1.0, 2.0, 3.0)");
+  const KvnLine& v = detail::check_version_line(lines, "CCSDS_OEM_VERS", {"1.0", "2.0", "3.0"}, source);
   oem.header.version = v.value;
   enum class State { header, meta, data, cov } st = State::header;
   std::map<std::string, int> header_seen, meta_seen;
@@ -214,29 +209,19 @@ Oem parse_oem(const std::string& text, const std::string& source) {
 
 Oem read_oem(const std::string& path) { return parse_oem(detail::read_file(path), path); }
 
-namespace {
-void put(std::ostringstream& out, const char* key, const std::string& value) {
-  out << key << " = " << value << "\n";
-}
-void put_opt(std::ostringstream& out, const char* key, const std::string& value) {
-  if (!value.empty()) put(out, key, value);
-}
-}  // namespace
+using detail::put;
+using detail::put_comments;
+using detail::put_opt;
 
 std::string format_oem(const Oem& oem) {
   std::ostringstream out;
-  put(out, "CCSDS_OEM_VERS", oem.header.version);
-  for (const auto& c : oem.header.comments) out << "COMMENT " << c << "\n";
-  put_opt(out, "CLASSIFICATION", oem.header.classification);
-  put(out, "CREATION_DATE", oem.header.creation_date);
-  put(out, "ORIGINATOR", oem.header.originator);
-  put_opt(out, "MESSAGE_ID", oem.header.message_id);
+  detail::put_header(out, "CCSDS_OEM_VERS", oem.header);
   for (std::size_t s = 0; s < oem.segments.size(); ++s) {
     const OemSegment& seg = oem.segments[s];
     const OemMetadata& m = seg.metadata;
     const std::string at = "segments[" + std::to_string(s) + "]";
     out << "\nMETA_START\n";
-    for (const auto& c : m.comments) out << "COMMENT " << c << "\n";
+    put_comments(out, m.comments);
     put(out, "OBJECT_NAME", m.object_name);
     put(out, "OBJECT_ID", m.object_id);
     put(out, "CENTER_NAME", m.center_name);
@@ -250,7 +235,7 @@ std::string format_oem(const Oem& oem) {
     put_opt(out, "INTERPOLATION", m.interpolation);
     if (m.interpolation_degree) put(out, "INTERPOLATION_DEGREE", std::to_string(*m.interpolation_degree));
     out << "META_STOP\n\n";
-    for (const auto& c : seg.data_comments) out << "COMMENT " << c << "\n";
+    put_comments(out, seg.data_comments);
     for (std::size_t i = 0; i < seg.states.size(); ++i) {
       const OemState& st = seg.states[i];
       const std::string name = at + ".states[" + std::to_string(i) + "]";
@@ -269,7 +254,7 @@ std::string format_oem(const Oem& oem) {
         if (!cv.matrix.isApprox(cv.matrix.transpose(), 1e-12) &&
             !(cv.matrix - cv.matrix.transpose()).isZero(0.0))
           throw std::invalid_argument(name + ": must be symmetric");
-        for (const auto& cm : cv.comments) out << "COMMENT " << cm << "\n";
+        put_comments(out, cv.comments);
         put(out, "EPOCH", detail::epoch_or_time(cv.epoch, cv.time, m.time_system));
         put_opt(out, "COV_REF_FRAME", cv.cov_ref_frame);
         for (int r = 0; r < 6; ++r) {
@@ -280,13 +265,9 @@ std::string format_oem(const Oem& oem) {
       out << "COVARIANCE_STOP\n";
     }
   }
-  std::string text = out.str();
-  try {  // the writer's check: what it wrote must read back under the reader's rules
-    (void)parse_oem(text, "<written OEM>");
-  } catch (const FormatError& e) {
-    throw std::invalid_argument("oem: not a valid OEM: " + e.keyword() + ": " + e.rule());
-  }
-  return text;
+  return detail::read_back_checked(out.str(), "oem", "OEM", [](const std::string& t, const std::string& src) {
+    return parse_oem(t, src);
+  });
 }
 
 void write_oem(const std::string& path, const Oem& oem) { detail::write_file(path, format_oem(oem)); }

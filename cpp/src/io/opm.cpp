@@ -40,12 +40,7 @@ Opm parse_opm(const std::string& text, const std::string& source) {
   const std::vector<KvnLine> lines = detail::tokenize_kvn(text, source);
   using K = KvnLine::Kind;
   Opm opm;
-  if (lines.empty()) fail(source, 0, "CCSDS_OPM_VERS", "missing mandatory keyword (empty file)");
-  const KvnLine& v = lines.front();
-  if (v.kind != K::key_value || v.key != "CCSDS_OPM_VERS")
-    fail(source, v.line, "CCSDS_OPM_VERS", "missing mandatory keyword (must be the first line)");
-  if (v.value != "1.0" && v.value != "2.0" && v.value != "3.0")
-    fail(source, v.line, v.key, "unsupported version '" + v.value + "' (supported: 1.0, 2.0, 3.0)");
+  const KvnLine& v = detail::check_version_line(lines, "CCSDS_OPM_VERS", {"1.0", "2.0", "3.0"}, source);
   opm.header.version = v.value;
   std::map<std::string, int> seen;  // keyword -> line (maneuver keywords: per maneuver)
   std::map<std::string, int> man_seen;
@@ -212,29 +207,15 @@ Opm parse_opm(const std::string& text, const std::string& source) {
 
 Opm read_opm(const std::string& path) { return parse_opm(detail::read_file(path), path); }
 
-namespace {
-void put(std::ostringstream& out, const std::string& key, const std::string& value) {
-  out << key << " = " << value << "\n";
-}
-void put_opt(std::ostringstream& out, const std::string& key, const std::string& value) {
-  if (!value.empty()) put(out, key, value);
-}
-void comments(std::ostringstream& out, const std::vector<std::string>& cs) {
-  for (const auto& c : cs) out << "COMMENT " << c << "\n";
-}
-}  // namespace
+using detail::put;
+using detail::put_opt;
 
 std::string format_opm(const Opm& opm) {
   std::ostringstream out;
   auto num = [](double v, const std::string& name) { return format_number(v, name); };
-  put(out, "CCSDS_OPM_VERS", opm.header.version);
-  comments(out, opm.header.comments);
-  put_opt(out, "CLASSIFICATION", opm.header.classification);
-  put(out, "CREATION_DATE", opm.header.creation_date);
-  put(out, "ORIGINATOR", opm.header.originator);
-  put_opt(out, "MESSAGE_ID", opm.header.message_id);
+  detail::put_header(out, "CCSDS_OPM_VERS", opm.header);
   out << "\n";
-  comments(out, opm.metadata_comments);
+  detail::put_comments(out, opm.metadata_comments);
   put(out, "OBJECT_NAME", opm.object_name);
   put(out, "OBJECT_ID", opm.object_id);
   put(out, "CENTER_NAME", opm.center_name);
@@ -242,7 +223,7 @@ std::string format_opm(const Opm& opm) {
   put_opt(out, "REF_FRAME_EPOCH", opm.ref_frame_epoch);
   put(out, "TIME_SYSTEM", time_system_name(opm.time_system));
   out << "\n";
-  comments(out, opm.data_comments);
+  detail::put_comments(out, opm.data_comments);
   put(out, "EPOCH", detail::epoch_or_time(opm.epoch, opm.time, opm.time_system));
   for (int j = 0; j < 6; ++j) put(out, kAxes[j], num(opm.state(j), "state") + (j < 3 ? " [km]" : " [km/s]"));
   if (opm.keplerian) {
@@ -284,7 +265,7 @@ std::string format_opm(const Opm& opm) {
     const OpmManeuver& m = opm.maneuvers[i];
     const std::string at = "maneuvers[" + std::to_string(i) + "]";
     out << "\n";
-    comments(out, m.comments);
+    detail::put_comments(out, m.comments);
     put(out, "MAN_EPOCH_IGNITION", detail::epoch_or_time(m.epoch_ignition, m.ignition_time, opm.time_system));
     put(out, "MAN_DURATION", num(m.duration, at + ".duration") + " [s]");
     put(out, "MAN_DELTA_MASS", num(m.delta_mass, at + ".delta_mass") + " [kg]");
@@ -294,13 +275,9 @@ std::string format_opm(const Opm& opm) {
   }
   if (!opm.user_defined.empty()) out << "\n";
   for (const auto& [k, v] : opm.user_defined) put(out, "USER_DEFINED_" + k, v);
-  std::string text = out.str();
-  try {  // the writer's check: what it wrote must read back under the reader's rules
-    (void)parse_opm(text, "<written OPM>");
-  } catch (const FormatError& e) {
-    throw std::invalid_argument("opm: not a valid OPM: " + e.keyword() + ": " + e.rule());
-  }
-  return text;
+  return detail::read_back_checked(out.str(), "opm", "OPM", [](const std::string& t, const std::string& src) {
+    return parse_opm(t, src);
+  });
 }
 
 void write_opm(const std::string& path, const Opm& opm) { detail::write_file(path, format_opm(opm)); }

@@ -374,31 +374,24 @@ Tdm parse_tdm(const std::string& text, const std::string& source) {
 
 Tdm read_tdm(const std::string& path) { return parse_tdm(detail::read_file(path), path); }
 
-namespace {
-void put(std::ostringstream& out, const std::string& key, const std::string& value) {
-  out << key << " = " << value << "\n";
-}
-}  // namespace
+using detail::put;
+using detail::put_comments;
+using detail::put_opt;
 
 std::string format_tdm_kvn(const Tdm& tdm) {
   std::ostringstream out;
-  put(out, "CCSDS_TDM_VERS", tdm.header.version);
-  for (const auto& c : tdm.header.comments) out << "COMMENT " << c << "\n";
-  if (!tdm.header.classification.empty()) put(out, "CLASSIFICATION", tdm.header.classification);
-  put(out, "CREATION_DATE", tdm.header.creation_date);
-  put(out, "ORIGINATOR", tdm.header.originator);
-  if (!tdm.header.message_id.empty()) put(out, "MESSAGE_ID", tdm.header.message_id);
+  detail::put_header(out, "CCSDS_TDM_VERS", tdm.header);
   for (std::size_t s = 0; s < tdm.segments.size(); ++s) {
     const TdmSegment& seg = tdm.segments[s];
     const TdmMetadata& m = seg.metadata;
     out << "META_START\n";
-    for (const auto& c : m.comments) out << "COMMENT " << c << "\n";
+    put_comments(out, m.comments);
     put(out, "TIME_SYSTEM", time_system_name(m.time_system));
-    if (!m.start_time.empty()) put(out, "START_TIME", m.start_time);
-    if (!m.stop_time.empty()) put(out, "STOP_TIME", m.stop_time);
+    put_opt(out, "START_TIME", m.start_time);
+    put_opt(out, "STOP_TIME", m.stop_time);
     for (std::size_t i = 0; i < m.participants.size(); ++i)
       put(out, "PARTICIPANT_" + std::to_string(i + 1), m.participants[i]);
-    if (!m.mode.empty()) put(out, "MODE", m.mode);
+    put_opt(out, "MODE", m.mode);
     if (!m.path.empty()) {
       std::string p;
       for (std::size_t i = 0; i < m.path.size(); ++i) p += (i ? "," : "") + std::to_string(m.path[i]);
@@ -408,12 +401,12 @@ std::string format_tdm_kvn(const Tdm& tdm) {
       put(out, "INTEGRATION_INTERVAL",
           detail::format_number(*m.integration_interval,
                                 "segments[" + std::to_string(s) + "].integration_interval"));
-    if (!m.integration_ref.empty()) put(out, "INTEGRATION_REF", m.integration_ref);
-    if (!m.range_units.empty()) put(out, "RANGE_UNITS", m.range_units);
-    if (!m.angle_type.empty()) put(out, "ANGLE_TYPE", m.angle_type);
+    put_opt(out, "INTEGRATION_REF", m.integration_ref);
+    put_opt(out, "RANGE_UNITS", m.range_units);
+    put_opt(out, "ANGLE_TYPE", m.angle_type);
     for (const auto& [k, v] : m.other) put(out, k, v);
     out << "META_STOP\nDATA_START\n";
-    for (const auto& c : seg.data_comments) out << "COMMENT " << c << "\n";
+    put_comments(out, seg.data_comments);
     for (std::size_t i = 0; i < seg.observations.size(); ++i) {
       const TdmObservation& o = seg.observations[i];
       out << o.keyword << " = " << detail::epoch_or_time(o.epoch, o.time, m.time_system) << " "
@@ -423,13 +416,9 @@ std::string format_tdm_kvn(const Tdm& tdm) {
     }
     out << "DATA_STOP\n";
   }
-  std::string text = out.str();
-  try {  // the writer's check: what it wrote must read back under the reader's rules
-    (void)detail::parse_tdm_kvn(text, "<written TDM>");
-  } catch (const FormatError& e) {
-    throw std::invalid_argument("tdm: not a valid TDM: " + e.keyword() + ": " + e.rule());
-  }
-  return text;
+  return detail::read_back_checked(out.str(), "tdm", "TDM", [](const std::string& t, const std::string& src) {
+    return detail::parse_tdm_kvn(t, src);
+  });
 }
 
 void write_tdm(const std::string& path, const Tdm& tdm, bool xml) {

@@ -161,13 +161,9 @@ std::string format_tdm_xml(const Tdm& tdm) {
   }
   std::ostringstream out;
   doc.save(out, "  ", pugi::format_default, pugi::encoding_utf8);
-  std::string text = out.str();
-  try {  // the writer's check: what it wrote must read back under the reader's rules
-    (void)detail::parse_tdm_xml(text, "<written TDM>");
-  } catch (const FormatError& e) {
-    throw std::invalid_argument("tdm: not a valid TDM: " + e.keyword() + ": " + e.rule());
-  }
-  return text;
+  return detail::read_back_checked(out.str(), "tdm", "TDM", [](const std::string& t, const std::string& src) {
+    return detail::parse_tdm_xml(t, src);
+  });
 }
 
 }  // namespace satgnc::io

@@ -24,7 +24,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import pathlib
-from typing import Any
+from typing import Any, Callable, TypeVar
 
 import numpy as np
 
@@ -66,6 +66,8 @@ __all__ = [
 
 TIME_SYSTEMS = ("UTC", "TAI", "TT", "GPS", "TDB")  #: TIME_SYSTEM values read and written
 
+_M = TypeVar("_M")
+
 
 def _strings(value: Any, name: str) -> tuple[str, ...]:
     if isinstance(value, str) or not all(isinstance(v, str) for v in value):
@@ -85,6 +87,34 @@ def _epochs(value: Any, name: str) -> tuple[str, ...]:
 def _set(obj: Any, **fields: Any) -> None:
     for k, v in fields.items():
         object.__setattr__(obj, k, v)
+
+
+def _field_dict(obj: Any) -> dict[str, Any]:
+    """The fields of a model dataclass as a dict (values as they are: the C++ side converts them)."""
+    return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
+
+
+def _require_model(value: Any, name: str, cls: type) -> None:
+    if not isinstance(value, cls):
+        raise TypeError(f"{name}: must be a satgnc.io.{cls.__name__}, got {type(value).__name__}")
+
+
+def _checked_text(text: Any) -> str:
+    if not isinstance(text, str):
+        raise TypeError(f"text: must be a str, got {type(text).__name__}")
+    return text
+
+
+def _read_with(path: str | os.PathLike[str], parse: Callable[[str, str], _M]) -> _M:
+    """``parse(text, path)`` of the text of the file at ``path``."""
+    p, text = read_text_file(path)
+    return parse(text, str(p))
+
+
+def _write_text(path: str | os.PathLike[str], text: str) -> pathlib.Path:
+    p = pathlib.Path(path)
+    p.write_text(text, encoding="utf-8")
+    return p
 
 
 def _opt_float(value: Any, name: str) -> float | None:
@@ -251,20 +281,17 @@ def _tdm_from(d: dict[str, Any]) -> Tdm:
 
 
 def _header_dict(h: Header) -> dict[str, Any]:
-    if not isinstance(h, Header):
-        raise TypeError(f"header: must be a satgnc.io.Header, got {type(h).__name__}")
-    return {f.name: getattr(h, f.name) for f in dataclasses.fields(h)}
+    _require_model(h, "header", Header)
+    return _field_dict(h)
 
 
 def _tdm_dict(t: Tdm) -> dict[str, Any]:
-    if not isinstance(t, Tdm):
-        raise TypeError(f"tdm: must be a satgnc.io.Tdm, got {type(t).__name__}")
+    _require_model(t, "tdm", Tdm)
     segs = []
     for s in t.segments:
-        m = s.metadata
         segs.append(
             {
-                "metadata": {f.name: getattr(m, f.name) for f in dataclasses.fields(m)},
+                "metadata": _field_dict(s.metadata),
                 "keywords": s.keywords,
                 "epochs": s.epochs,
                 "values": s.values,
@@ -277,16 +304,13 @@ def _tdm_dict(t: Tdm) -> dict[str, Any]:
 
 def parse_tdm(text: str, source: str = "<string>") -> Tdm:
     """A :class:`Tdm` from TDM text, KVN or XML (told by a leading ``<``). Errors name ``source``."""
-    if not isinstance(text, str):
-        raise TypeError(f"text: must be a str, got {type(text).__name__}")
-    return _tdm_from(_c.io_parse_tdm(text, str(source)))
+    return _tdm_from(_c.io_parse_tdm(_checked_text(text), str(source)))
 
 
 def read_tdm(path: str | os.PathLike[str]) -> Tdm:
     """Read a TDM file (KVN or XML). A malformed file raises :class:`satgnc.FileFormatError` naming
     the file, the line and the keyword."""
-    p, text = read_text_file(path)
-    return parse_tdm(text, str(p))
+    return _read_with(path, parse_tdm)
 
 
 def format_tdm(tdm: Tdm, *, format: str = "kvn") -> str:  # noqa: A002 (the CCSDS word)
@@ -298,10 +322,7 @@ def format_tdm(tdm: Tdm, *, format: str = "kvn") -> str:  # noqa: A002 (the CCSD
 
 def write_tdm(path: str | os.PathLike[str], tdm: Tdm, *, format: str = "kvn") -> pathlib.Path:  # noqa: A002
     """Write ``tdm`` to ``path`` (KVN or XML); returns the path."""
-    text = format_tdm(tdm, format=format)
-    p = pathlib.Path(path)
-    p.write_text(text, encoding="utf-8")
-    return p
+    return _write_text(path, format_tdm(tdm, format=format))
 
 
 # ----------------------------------------------------------------------------------------------- OEM
@@ -412,14 +433,12 @@ def _oem_from(d: dict[str, Any]) -> Oem:
 
 
 def _oem_dict(o: Oem) -> dict[str, Any]:
-    if not isinstance(o, Oem):
-        raise TypeError(f"oem: must be a satgnc.io.Oem, got {type(o).__name__}")
+    _require_model(o, "oem", Oem)
     segs = []
     for s in o.segments:
-        m = s.metadata
         segs.append(
             {
-                "metadata": {f.name: getattr(m, f.name) for f in dataclasses.fields(m)},
+                "metadata": _field_dict(s.metadata),
                 "epochs": s.epochs,
                 "states": s.states,
                 "accelerations": s.accelerations,
@@ -440,15 +459,12 @@ def _oem_dict(o: Oem) -> dict[str, Any]:
 
 def parse_oem(text: str, source: str = "<string>") -> Oem:
     """An :class:`Oem` from OEM KVN text. Errors name ``source``, the line and the keyword."""
-    if not isinstance(text, str):
-        raise TypeError(f"text: must be a str, got {type(text).__name__}")
-    return _oem_from(_c.io_parse_oem(text, str(source)))
+    return _oem_from(_c.io_parse_oem(_checked_text(text), str(source)))
 
 
 def read_oem(path: str | os.PathLike[str]) -> Oem:
     """Read an OEM KVN file."""
-    p, text = read_text_file(path)
-    return parse_oem(text, str(p))
+    return _read_with(path, parse_oem)
 
 
 def format_oem(oem: Oem) -> str:
@@ -458,10 +474,7 @@ def format_oem(oem: Oem) -> str:
 
 def write_oem(path: str | os.PathLike[str], oem: Oem) -> pathlib.Path:
     """Write ``oem`` to ``path`` (KVN); returns the path."""
-    text = format_oem(oem)
-    p = pathlib.Path(path)
-    p.write_text(text, encoding="utf-8")
-    return p
+    return _write_text(path, format_oem(oem))
 
 
 # ----------------------------------------------------------------------------------------------- OPM
@@ -561,27 +574,23 @@ def _opm_from(d: dict[str, Any]) -> Opm:
 
 
 def _opm_dict(o: Opm) -> dict[str, Any]:
-    if not isinstance(o, Opm):
-        raise TypeError(f"opm: must be a satgnc.io.Opm, got {type(o).__name__}")
-    d = {f.name: getattr(o, f.name) for f in dataclasses.fields(o)}
+    _require_model(o, "opm", Opm)
+    d = _field_dict(o)
     d["header"] = _header_dict(o.header)
     d["keplerian"] = dataclasses.asdict(o.keplerian) if o.keplerian is not None else None
     d["spacecraft"] = dataclasses.asdict(o.spacecraft) if o.spacecraft is not None else None
-    d["maneuvers"] = [{f.name: getattr(m, f.name) for f in dataclasses.fields(m)} for m in o.maneuvers]
+    d["maneuvers"] = [_field_dict(m) for m in o.maneuvers]
     return d
 
 
 def parse_opm(text: str, source: str = "<string>") -> Opm:
     """An :class:`Opm` from OPM KVN text. Errors name ``source``, the line and the keyword."""
-    if not isinstance(text, str):
-        raise TypeError(f"text: must be a str, got {type(text).__name__}")
-    return _opm_from(_c.io_parse_opm(text, str(source)))
+    return _opm_from(_c.io_parse_opm(_checked_text(text), str(source)))
 
 
 def read_opm(path: str | os.PathLike[str]) -> Opm:
     """Read an OPM KVN file."""
-    p, text = read_text_file(path)
-    return parse_opm(text, str(p))
+    return _read_with(path, parse_opm)
 
 
 def format_opm(opm: Opm) -> str:
@@ -591,7 +600,4 @@ def format_opm(opm: Opm) -> str:
 
 def write_opm(path: str | os.PathLike[str], opm: Opm) -> pathlib.Path:
     """Write ``opm`` to ``path`` (KVN); returns the path."""
-    text = format_opm(opm)
-    p = pathlib.Path(path)
-    p.write_text(text, encoding="utf-8")
-    return p
+    return _write_text(path, format_opm(opm))

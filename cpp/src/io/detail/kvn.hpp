@@ -1,6 +1,9 @@
 #pragma once
 // Private helpers of the io room: the KVN tokenizer, value parsers that throw FormatError naming the
 // file, the line and the keyword, epoch and time-system checks, and the number formatter of the writers.
+#include <initializer_list>
+#include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -53,5 +56,33 @@ std::string read_file(const std::string& path);
 void write_file(const std::string& path, const std::string& text);
 /// Check a unit given in brackets against the standard's unit (case-insensitive); "" passes.
 void check_unit(const KvnLine& l, const std::string& expected, const std::string& source);
+/// The first line of a KVN message, checked: `keyword = v` with v one of `versions`, else FormatError
+/// (empty file, missing first line, or unsupported version naming the supported ones).
+const KvnLine& check_version_line(const std::vector<KvnLine>& lines, const std::string& keyword,
+                                  std::initializer_list<const char*> versions, const std::string& source);
+
+/// The writers' check: what a writer wrote must read back under the reader's rules. Runs
+/// `parse(text, "<written KIND>")`; a FormatError becomes std::invalid_argument("<name>: not a valid KIND:
+/// <keyword>: <rule>"). Returns `text`.
+template <class Parse>
+std::string read_back_checked(std::string text, const std::string& name, const std::string& kind,
+                              Parse parse) {
+  try {
+    (void)parse(text, "<written " + kind + ">");
+  } catch (const FormatError& e) {
+    throw std::invalid_argument(name + ": not a valid " + kind + ": " + e.keyword() + ": " + e.rule());
+  }
+  return text;
+}
+
+/// Writer: `key = value` and a line end.
+void put(std::ostream& out, const std::string& key, const std::string& value);
+/// Writer: put(out, key, value) when `value` is not empty, else nothing.
+void put_opt(std::ostream& out, const std::string& key, const std::string& value);
+/// Writer: one `COMMENT text` line per comment.
+void put_comments(std::ostream& out, const std::vector<std::string>& comments);
+/// Writer: the version line `version_keyword = h.version`, the header comments, then CLASSIFICATION
+/// (when set), CREATION_DATE, ORIGINATOR and MESSAGE_ID (when set).
+void put_header(std::ostream& out, const std::string& version_keyword, const Header& h);
 
 }  // namespace satgnc::io::detail
