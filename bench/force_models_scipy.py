@@ -223,7 +223,7 @@ def main() -> int:
     print(f"{arc:34s}{best_arc:12.4f}{wall_sc:12.2f}{wall_sc / best_arc:10.0f}")
     if SCIPY_HOURS != 24.0:
         print(f"{'wall, 24 h arc (s)':34s}{best_day:12.4f}{'':>12s}")
-    per_h_sg, per_h_sc = best_day / 24.0, wall_sc / SCIPY_HOURS
+    per_h_sg, per_h_sc = best_arc / SCIPY_HOURS, wall_sc / SCIPY_HOURS  # the same arc for both
     print(f"{'wall per simulated hour (s)':34s}{per_h_sg:12.4f}{per_h_sc:12.2f}{per_h_sc / per_h_sg:10.0f}")
     print(f"{'RHS evaluations, arc':34s}{nfev_sg:12d}{sol.nfev:12d}")
     us_sg, us_sc = best_arc / nfev_sg * 1e6, wall_sc / sol.nfev * 1e6
