@@ -100,6 +100,7 @@ __all__: list[str] = [
     "StoppingRule",
     "SunDirectionModel",
     "ThirdBodies",
+    "ThrusterLayout",
     "TimeScale",
     "Trajectory",
     "TwoSatelliteMap",
@@ -3423,6 +3424,37 @@ class MeasurementModel:
     def troposphere(self) -> bool: ...
     @property
     def type(self) -> str: ...
+
+class ThrusterLayout:
+    """
+    Thruster layout (directions in the target's CW frame, positions m, thrust N, minimum impulse bit N s); see
+    satgnc.guidance.ThrusterLayout
+    """
+    def __init__(
+        self,
+        directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+        positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+        max_thrust: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+        min_impulse_bit: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+        names: collections.abc.Sequence[str],
+    ) -> None: ...
+    def allocation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    def input_matrix(
+        self, B_force: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.f_contiguous"]
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    def max_thrust(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
+    def min_impulse_bit(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
+    def names(self) -> list[str]: ...
+    def positions(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    def survivors(
+        self, failed: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]
+    ) -> list[int]: ...
+    def torque_allocation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    def without(
+        self, failed: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]
+    ) -> ThrusterLayout: ...
+    @property
+    def size(self) -> int: ...
 
 def _analyze_gramian(
     W: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
