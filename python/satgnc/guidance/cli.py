@@ -16,6 +16,26 @@ def _run(args: argparse.Namespace) -> int:
     from ..papers import l1_admm_rendezvous_linear as rv
     from ..scenarios import l1_rendezvous as scen
 
+    extra = ("failures", "passive_safety", "min_time")
+    if any(getattr(args, k, False) for k in extra):
+        from ..scenarios import rendezvous
+
+        sc = rendezvous.load(getattr(args, "scenario", None), "scenario")
+        cases = getattr(args, "case", None) or [next(iter(sc.cases))]
+        for case in cases:
+            if case not in sc.cases:
+                raise ValueError(f"--case: unknown {case!r}; the scenario has {sorted(sc.cases)}")
+        out = pathlib.Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        for case in cases:
+            if getattr(args, "failures", False):
+                run_failures(sc, case, out)
+            if getattr(args, "passive_safety", False):
+                run_passive_safety(sc, case, out)
+            if getattr(args, "min_time", False):
+                run_min_time(sc, case, out)
+        return 0
+
     if getattr(args, "model", "linear") == "nonlinear":
         from ..scenarios import rendezvous
 
@@ -135,6 +155,89 @@ def run_nonlinear(sc, cases, out, closed_loop: bool = False) -> int:
     return 0
 
 
+def _layout(sc, flag: str):
+    from ..scenarios import rendezvous
+
+    lay = rendezvous.thruster_layout(sc)
+    if lay is None:
+        raise ValueError(f"{flag}: the scenario {sc.path} has no [[thrusters]] tables (the thruster layout)")
+    return lay
+
+
+def run_failures(sc, case: str, out: pathlib.Path) -> int:
+    """The thruster-loss table of ``case`` (:func:`satgnc.mission.failures.failure_table`) with the
+    scenario's ``[[thrusters]]``, ``[failures]`` and ``[truth]``: prints it and writes
+    ``failures_<case>.md`` and ``failures_<case>.json``."""
+    from ..mission.failures import failure_table
+    from ..scenarios import rendezvous
+
+    lay = _layout(sc, "--failures")
+    pb = rendezvous.problem(sc, case, "linear")
+    t = failure_table(pb, lay, pairs=sc.sections["failures"]["pairs"], truth=rendezvous.truth_params(sc))
+    md = t.markdown()
+    title = (f"Thruster-loss table, case {case}: {lay.size} thrusters, N = {pb.horizon}, dt = {pb.dt:.4g} s, "
+             f"{t.elapsed:.3f} s\n\n")
+    (out / f"failures_{case}.md").write_text(title + md + "\n")
+    rows = [{k: v for k, v in r.to_dict().items() if k != "thrusts"} for r in t.rows] \
+        if hasattr(t.rows[0], "to_dict") else [
+            {f: getattr(r, f) for f in ("failed", "survivors", "rank", "verdict", "distance", "sign_ok",
+                                        "controllable", "status", "certified", "fuel", "delta_v", "miss",
+                                        "impulse_bit_violations", "solve_time")} for r in t.rows]
+    (out / f"failures_{case}.json").write_text(json.dumps({"elapsed_s": t.elapsed, "rows": rows}, indent=2,
+                                                          default=float))
+    print(title + md)
+    return 0
+
+
+def run_passive_safety(sc, case: str, out: pathlib.Path) -> int:
+    """Passive safety of ``case``'s linear plan flown open loop on the ``[truth]``: each node's free drift
+    for ``[passive_safety] drift_time`` s against ``[keep_out]``; writes ``passive_safety_<case>.png``."""
+    from ..scenarios import rendezvous
+    from .flight import fly
+    from .planning import plan
+    from .safety import cw_positions, passive_safety, safety_figure
+
+    ps_cfg, ko = sc.sections["passive_safety"], rendezvous.keep_out(sc)
+    if ps_cfg is None or ko is None:
+        raise ValueError(f"--passive-safety: the scenario {sc.path} needs [passive_safety] and [keep_out]")
+    truth = rendezvous.truth_params(sc)
+    pb = rendezvous.problem(sc, case, "linear")
+    p = plan(pb, "linear", discretization="zoh")
+    fl = fly(truth, pb.state_eci(), p.U, pb.dt)
+    ps = passive_safety(truth, fl.X, ko, ps_cfg["drift_time"], ps_cfg["samples"])
+    path = out / f"passive_safety_{case}.png"
+    safety_figure(ps, path, cw_positions(fl.X))
+    print(f"{case}: passive safety over {ps.drift_time:.0f} s: {int(ps.safe.sum())}/{ps.safe.size} "
+          "nodes safe, "
+          f"smallest ellipsoidal radius {float(ps.min_rho.min()):.3g}; figure {path}")
+    return 0
+
+
+def run_min_time(sc, case: str, out: pathlib.Path) -> int:
+    """Minimum horizon (bisection on N at the scenario's dt, up to its knots - 1) and the fuel-time
+    curve of ``case`` with the ``[[thrusters]]`` layout (or the case's box); writes
+    ``fuel_time_<case>.md`` and ``.png``."""
+    import numpy as np
+
+    from ..scenarios import rendezvous
+    from .min_time import fuel_time_curve, minimum_horizon, trade_figure
+
+    pb = rendezvous.problem(sc, case, "linear")
+    lay = rendezvous.thruster_layout(sc)
+    m = minimum_horizon(pb, lay)
+    if m.horizon == 0:
+        print(f"{case}: the target is not reachable within N = {pb.horizon} (certified)")
+        return 0
+    Ns = np.unique(np.linspace(max(m.horizon - 1, 1), pb.horizon, 12).astype(int))
+    c = fuel_time_curve(pb, Ns, lay)
+    trade_figure(c, out / f"fuel_time_{case}.png", m)
+    md = (f"Minimum time {m.transfer_time:.1f} s (N = {m.horizon}, dt = {m.dt:.4g} s; monotone at the "
+          f"bracket: {m.monotone_at_bracket})\n\n" + c.markdown())
+    (out / f"fuel_time_{case}.md").write_text(md + "\n")
+    print(md)
+    return 0
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser("rendezvous",
                               help="fuel-optimal L1 rendezvous guidance (ADMM) for a scenario file")
@@ -151,4 +254,11 @@ def register(subparsers) -> None:
     p.add_argument("--closed-loop", action="store_true",
                    help="fly the plans on the scenario's [truth] model (linear: the converged plan open "
                         "loop; nonlinear: the CW and nonlinear plans open loop, and MPC)")
+    p.add_argument("--failures", action="store_true",
+                   help="the thruster-loss table of the scenario's [[thrusters]] layout: controllability and "
+                        "margin of the survivors, L1 replan, fuel and miss on the [truth] (issue 16)")
+    p.add_argument("--passive-safety", action="store_true",
+                   help="free drift from each node of the flown plan against [keep_out] ([passive_safety])")
+    p.add_argument("--min-time", action="store_true",
+                   help="minimum horizon by bisection on N and the fuel-versus-transfer-time curve")
     p.set_defaults(func=_run)

@@ -24,6 +24,20 @@ file, the line, the key and its section). SI units (m, m/s, N, kg, s) except whe
   model's ADMM settings), and optional ``[cases.<name>.nonlinear]`` ``rho``, ``eps``,
   ``terminal_equality``: the nonlinear model's iLQR-ADMM settings (paper stopping rule) and its
   terminal condition (default: the case's).
+
+Issue 16 (all optional; a file without them reads as before):
+
+* ``[[thrusters]]`` (an array of tables, one per thruster): ``direction`` (unit vector, CW frame:
+  the chaser's body axes are held aligned with it), ``max_thrust`` (N, > 0), ``min_impulse_bit``
+  (N s, >= 0, default 0), ``position`` (m from the centre of mass, default [0, 0, 0]), ``name``
+  (default ``T<i>``): the layout of :class:`satgnc.guidance.thrusters.ThrusterLayout`; a non-unit
+  direction is an error naming the thruster;
+* ``[keep_out]`` ``semi_axes`` (m, > 0, along the CW axes), ``center`` (m, default [0, 0, 0]): the
+  keep-out ellipsoid (:class:`satgnc.guidance.safety.KeepOut`);
+* ``[passive_safety]`` ``drift_time`` (s, > 0), ``samples`` (default 100): the free drift checked from
+  each node (:func:`satgnc.guidance.safety.passive_safety`);
+* ``[failures]`` ``pairs`` (default false): the thruster-loss table also loses every pair
+  (``satgnc rendezvous --failures``; needs ``[[thrusters]]``).
 """
 
 from __future__ import annotations
@@ -43,7 +57,7 @@ from .._validate import (
     toml_line,
 )
 
-__all__ = ["RendezvousScenario", "load", "problem", "truth_params", "DEFAULT"]
+__all__ = ["RendezvousScenario", "load", "problem", "truth_params", "thruster_layout", "keep_out", "DEFAULT"]
 
 DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
 
@@ -89,9 +103,31 @@ SECTIONS = {
         "drag": Key("bool", required=False, default=True),
         "atmosphere": Key("string", required=False, default="co_rotating", choices=_ATMOSPHERES),
     },
+    "keep_out": {
+        "semi_axes": Key("vector", length=3, positive=True, unit="m"),
+        "center": Key("vector", length=3, required=False, default=[0.0, 0.0, 0.0], unit="m"),
+    },
+    "passive_safety": {
+        "drift_time": Key("number", positive=True, high=1e9, unit="s"),
+        "samples": Key("integer", required=False, default=100, low=1, high=10**6, unit="samples per drift"),
+    },
+    "failures": {"pairs": Key("bool", required=False, default=False)},
 }
-#: sections a file may leave out (all their keys have defaults; [release] absent means no release).
-OPTIONAL_SECTIONS = ("release", "discretization", "planner", "truth")
+#: sections a file may leave out (all their keys have defaults; [release], [keep_out] and
+#: [passive_safety] absent mean none).
+OPTIONAL_SECTIONS = (
+    "release", "discretization", "planner", "truth", "keep_out", "passive_safety", "failures"
+)
+#: sections whose absence reads as None (no defaults to fill in).
+ABSENT_IS_NONE = ("release", "keep_out", "passive_safety")
+#: one ``[[thrusters]]`` table (issue 16).
+THRUSTER = {
+    "direction": Key("vector", length=3, nonzero=True, unit="unit vector, CW frame"),
+    "max_thrust": Key("number", positive=True, high=1e9, unit="N"),
+    "min_impulse_bit": Key("number", required=False, default=0.0, nonnegative=True, unit="N s"),
+    "position": Key("vector", length=3, required=False, default=[0.0, 0.0, 0.0], unit="m"),
+    "name": Key("string", required=False),
+}
 CASE = {
     "rho": Key("number", positive=True),
     "eps": Key("number", positive=True),
@@ -111,7 +147,7 @@ def read(path, name: str = "path"):
     ``"nonlinear"`` entry is its checked ``[cases.<name>.nonlinear]`` table or None; an absent
     ``[release]`` is None. ``name`` is the caller's argument in errors about the path itself."""
     p, text, d = load_toml(path, name)
-    known = [*_TOP, *SECTIONS, "cases"]
+    known = [*_TOP, *SECTIONS, "cases", "thrusters"]
     for key, value in d.items():
         if key not in known:
             what = "section" if isinstance(value, dict) else "key"
@@ -133,9 +169,10 @@ def read(path, name: str = "path"):
                 raise FileFormatError(
                     p, None, f"missing section [{sec}] (keys: {', '.join(schema)})", key=sec
                 )
-            secs[sec] = None if sec == "release" else check_toml_table({}, schema, sec, p, text)
+            secs[sec] = None if sec in ABSENT_IS_NONE else check_toml_table({}, schema, sec, p, text)
             continue
         secs[sec] = check_toml_table(d[sec], schema, sec, p, text)
+    secs["thrusters"] = read_thrusters(d.get("thrusters"), p, text)
     cases_raw = d.get("cases")
     if cases_raw is None:
         raise FileFormatError(
@@ -164,6 +201,51 @@ def read(path, name: str = "path"):
             key="tf",
         )
     return p, text, top, secs, cases
+
+
+def _nth_table_line(text: str, section: str, n: int, key: str) -> int | None:
+    """Line of ``key`` in the ``n``-th (0-based) ``[[section]]`` table of a TOML text, or None."""
+    count, inside = -1, False
+    for i, raw in enumerate(text.splitlines(), start=1):
+        s = raw.strip()
+        if s.startswith("["):
+            name = s.lstrip("[").split("]")[0].strip()
+            inside = s.startswith("[[") and name == section
+            count += inside
+            inside = inside and count == n
+        elif inside and s.split("=")[0].strip().strip('"') == key:
+            return i
+    return None
+
+
+def read_thrusters(raw, p, text: str) -> list[dict] | None:
+    """The checked ``[[thrusters]]`` tables (None when absent): each against :data:`THRUSTER`, a
+    direction more than 1e-9 from unit length named by its table number and line."""
+    if raw is None:
+        return None
+    line = toml_line(text, "thrusters")
+    if not isinstance(raw, list) or not raw or not all(isinstance(t, dict) for t in raw):
+        raise FileFormatError(p, line, "thrusters: must be an array of tables [[thrusters]], one per "
+                              "thruster (direction, max_thrust, ...)", key="thrusters")
+    out = []
+    for i, t in enumerate(raw):
+        row = check_toml_table(t, THRUSTER, "thrusters", p, text)
+        norm = float(np.linalg.norm(row["direction"]))
+        if abs(norm - 1.0) > 1e-9:
+            raise FileFormatError(
+                p, _nth_table_line(text, "thrusters", i, "direction"),
+                f"key 'direction' in [[thrusters]] number {i + 1}: must be a unit vector, got norm {norm!r} "
+                "(tolerance 1e-9)", key="direction")
+        if row["name"] is None:
+            row["name"] = f"T{i}"
+        out.append(row)
+    names = [r["name"] for r in out]
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise FileFormatError(p, line,
+                              f"key 'name' in [[thrusters]]: names must be unique, {dup[0]!r} repeats",
+                              key="name")
+    return out
 
 
 @dataclasses.dataclass(frozen=True)
@@ -269,3 +351,19 @@ def problem(sc: RendezvousScenario, case: str, model: str = "linear", x0_eci=Non
         nonlinear_discretization=s["discretization"]["nonlinear"],
         substeps=s["discretization"]["substeps"],
     )
+
+
+def thruster_layout(sc: RendezvousScenario):
+    """The scenario's ``[[thrusters]]`` as a :class:`satgnc.guidance.thrusters.ThrusterLayout`, or None."""
+    from ..guidance.thrusters import ThrusterLayout
+
+    rows = sc.sections.get("thrusters")
+    return None if rows is None else ThrusterLayout.from_table(rows)
+
+
+def keep_out(sc: RendezvousScenario):
+    """The scenario's ``[keep_out]`` as a :class:`satgnc.guidance.safety.KeepOut`, or None."""
+    from ..guidance.safety import KeepOut
+
+    k = sc.sections.get("keep_out")
+    return None if k is None else KeepOut(np.array(k["center"]), np.array(k["semi_axes"]))
