@@ -94,7 +94,8 @@ def test_sections_read_with_units_and_defaults(tmp_path):
          "unknown key 'thrust' in section [thrusters]"),
         ("direction = [1.0, 0.0, 0.0]", "direction = [1.0, 1.0, 0.0]",
          "key 'direction' in [[thrusters]] number 1: must be a unit vector, got norm 1.4142135623730951"),
-        ("max_thrust = 0.5        # N", "max_thrust = -0.5", "key 'max_thrust' in section [thrusters] (N): must be > 0"),
+        ("max_thrust = 0.5        # N", "max_thrust = -0.5",
+         "key 'max_thrust' in section [thrusters] (N): must be > 0"),
         ("semi_axes = [20.0, 20.0, 20.0]   # m", "semi_axes = [20.0, 0.0, 20.0]",
          "key 'semi_axes' in section [keep_out] (m): must be > 0"),
         ("samples = 60", "samples = 60\nhorizon = 3", "unknown key 'horizon' in section [passive_safety]"),
@@ -141,7 +142,8 @@ def test_cli_failures_without_thrusters_is_an_error(tmp_path, capsys):
 def test_cli_passive_safety_and_min_time(tmp_path, capsys):
     p = write(tmp_path, BASE + THRUSTERS)
     out = tmp_path / "out"
-    assert cli.main(["rendezvous", "--scenario", str(p), "--passive-safety", "--min-time", "--out", str(out)]) == 0
+    argv = ["rendezvous", "--scenario", str(p), "--passive-safety", "--min-time", "--out", str(out)]
+    assert cli.main(argv) == 0
     text = capsys.readouterr().out
     assert "passive safety over 1800 s" in text and "Minimum time" in text
     assert (out / "passive_safety_hard.png").stat().st_size > 10_000
