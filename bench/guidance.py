@@ -232,6 +232,12 @@ def main():
           f"{fl_c / tc_cpu / 1e9:.2f} Gflop/s achieved; "
           f"time / (flops / dgemm rate) = {tc_cpu / (fl_c / rate):.1f}x")
     random_suite()
+    # issue 16 rows (bench/guidance_safety.py): the 12-thruster failure table
+    spec = importlib.util.spec_from_file_location("guidance_safety", pathlib.Path(__file__).with_name(
+        "guidance_safety.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    mod.main()
 
 
 if __name__ == "__main__":

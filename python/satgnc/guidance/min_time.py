@@ -53,7 +53,9 @@ def reach(problem: RendezvousProblem, horizon: int, layout: ThrusterLayout | Non
     :class:`satgnc.guidance.L1Result` (``status`` ``solved`` or ``primal_infeasible``, or a limit)."""
     horizon = as_int(horizon, "horizon", low=1, high=10**6)
     Ad, B, lo, hi = _controls(problem, layout)
-    st = {"eps_gap": 1e-7, "infeasibility_check_interval": 5} if settings is None else settings
+    # ADMM + polish only: the interior-point endgame certifies nothing on the nonnegative-thrust LPs
+    # (mission.failures.REPLAN_SETTINGS says what was measured)
+    st = {"method": "admm", "eps_gap": 1e-7, "infeasibility_check_interval": 5} if settings is None else settings
     return L1Solver(Ad, B, np.asarray(problem.x0), horizon=horizon,
                     l1_weights=np.full(B.shape[1], problem.dt),
                     u_lower=lo, u_upper=hi, terminal_equality=True, settings=st).solve()

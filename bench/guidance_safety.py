@@ -1,0 +1,49 @@
+"""Issue 16 rows of bench/guidance.py: the 12-thruster failure table (target: under 1 s) and, when
+available, the keep-out SCP plan. Run alone: ``python bench/guidance_safety.py``. Wall times, best of
+3 (the machine may be shared); no timed assertion anywhere (tests assert numbers, not speed)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from satgnc.guidance import RendezvousProblem
+from satgnc.guidance.thrusters import cube_layout
+from satgnc.mission.failures import failure_table
+
+MU, R = 3.986004418e14, 7231.0e3
+
+
+def failure_table_row() -> dict:
+    """The loss table of a canted 12-thruster cube (13 rows: nominal + each single loss), N = 40,
+    tf = 2400 s, from 140 m; with and without the 13 CVODES truth flights."""
+    pb = RendezvousProblem(mu=MU, radius=R, mass=100.0, x0=np.array([120.0, -60.0, 30.0, 0, 0, 0]), tf=2400.0,
+                           horizon=40, alpha=1.0, Qf=0.0, terminal_equality=True)
+    lay = cube_layout(0.5)
+    best_fly, best_nofly, t = float("inf"), float("inf"), None
+    for _ in range(3):
+        t0 = time.perf_counter()
+        t = failure_table(pb, lay)
+        best_fly = min(best_fly, time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        failure_table(pb, lay, fly_truth=False)
+        best_nofly = min(best_nofly, time.perf_counter() - t0)
+    assert t is not None
+    solved = sum(r.status == "solved" for r in t.rows)
+    solve_ms = sum(r.solve_time for r in t.rows) * 1e3
+    return {"rows": len(t.rows), "solved": solved, "wall_s": best_fly, "wall_no_truth_s": best_nofly,
+            "replan_solve_ms": solve_ms}
+
+
+def main() -> None:
+    r = failure_table_row()
+    print("\n| issue 16 bench | value | target |")
+    print("|---|---|---|")
+    print(f"| failure table, 12-thruster cube ({r['rows']} rows, {r['solved']} solved), with truth flights "
+          f"| {r['wall_s']:.3f} s | < 1 s |")
+    print(f"| same, without the truth flights | {r['wall_no_truth_s']:.3f} s | |")
+    print(f"| of which the {r['rows']} L1 replans' solve time | {r['replan_solve_ms']:.1f} ms | |")
+
+
+if __name__ == "__main__":
+    main()
