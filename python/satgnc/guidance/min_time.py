@@ -55,7 +55,8 @@ def reach(problem: RendezvousProblem, horizon: int, layout: ThrusterLayout | Non
     Ad, B, lo, hi = _controls(problem, layout)
     # ADMM + polish only: the interior-point endgame certifies nothing on the nonnegative-thrust LPs
     # (mission.failures.REPLAN_SETTINGS says what was measured)
-    st = {"method": "admm", "eps_gap": 1e-7, "infeasibility_check_interval": 5} if settings is None else settings
+    default = {"method": "admm", "eps_gap": 1e-7, "infeasibility_check_interval": 5}
+    st = default if settings is None else settings
     return L1Solver(Ad, B, np.asarray(problem.x0), horizon=horizon,
                     l1_weights=np.full(B.shape[1], problem.dt),
                     u_lower=lo, u_upper=hi, terminal_equality=True, settings=st).solve()
