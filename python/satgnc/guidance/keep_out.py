@@ -1,0 +1,218 @@
+"""Keep-out ellipsoid in sequential convex programming (issue 16 item 1, the nonconvex constraint).
+
+Problem: the linear CW rendezvous of :mod:`satgnc.guidance.min_time` (zero-order hold, interval
+``problem.dt``, thrusts of a :class:`ThrusterLayout` or the per-axis box ``problem.u_max``), fuel-optimal
+(L1, weights dt: the objective is the total impulse, N s), hard terminal state x_N = ``xf`` (a hold
+point outside the zone), and p_k outside the keep-out ellipsoid at the constrained nodes.
+
+Convexification: at iteration j each constrained node's previous position p is scaled radially onto
+the (inflated) ellipsoid's surface, q = c + (p - c) / rho(p), and replaced by the supporting half-space
+n' (p_k - q) >= 0 with n = (q - c) / a^2 the surface normal there. The half-space lies entirely outside
+the ellipsoid (tangent plane of a convex set), so every subproblem plan keeps the nodes out of the zone
+exactly; and the previous plan satisfies the new half-spaces (n' (p - q) = rho(p) - 1 >= 0 for p
+outside), so from the first feasible iterate on the fuel never rises. A trust region |p_k - p_k^j|_inf
+<= ``trust_radius`` (m) on the positions bounds each step. Iterations stop when the positions move
+less than ``tol`` (m) or the fuel changes by less than 1e-9 relative.
+
+Between nodes the trajectory is not constrained: the zone is inflated by ``margin`` (relative) for the
+planning, and :func:`keep_out_plan` reports the true ellipsoidal radius at every node and between nodes
+on the continuous trajectory flown open loop on the truth (J2 + drag two-satellite model, sampled
+``per_interval`` times per interval).
+
+Subproblem solvers: ``"admm"`` (satgnc's L1 ADMM with state half-spaces and boxes, parcel GUID16A) or
+``"cvxpy"`` (cvxpy + Clarabel, the independent reference; needs the optional packages).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import Any
+
+import numpy as np
+
+from .._results import Result
+from .._validate import as_int, as_real, as_real_array, one_of
+from . import L1Solver
+from .min_time import _controls
+from .problem import RendezvousProblem
+from .safety import KeepOut, cw_positions, sample_flight
+from .thrusters import ThrusterLayout
+
+__all__ = ["KeepOutPlan", "keep_out_plan", "supporting_half_spaces"]
+
+
+def supporting_half_spaces(P: Any, keep_out: KeepOut, inflate: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Rows (a (k, 3), b (k,)) of the half-spaces a' p <= b supporting the ellipsoid (semi-axes times
+    1 + ``inflate``) at the radial projections of the positions ``P`` (k, 3) m (module docstring)."""
+    P = as_real_array(P, "P", shape=(None, 3))
+    c = keep_out.center
+    ax = keep_out.semi_axes * (1.0 + inflate)
+    d = P - c
+    rho = np.linalg.norm(d / ax, axis=1)
+    tiny = rho <= 1e-12
+    if np.any(tiny):  # a position at the centre: any direction supports; take +x of the frame
+        d[tiny] = np.array([ax[0], 0.0, 0.0])
+        rho[tiny] = 1.0
+    Q = c + d / rho[:, None]
+    n = (Q - c) / ax**2
+    return -n, -np.sum(n * Q, axis=1)  # -n'p <= -n'q
+
+
+@dataclasses.dataclass(frozen=True)
+class KeepOutPlan(Result):
+    """:func:`keep_out_plan`'s result. ``U`` (N, nu): the controls (thrusts N, or forces N per axis);
+    ``forces`` (N, 3) N, CW frame; ``X`` (N+1, 6): the CW plan (m, m/s); ``status`` of the last
+    subproblem, ``converged`` (positions moved < tol), ``iterations``; ``fuel`` (N s) and
+    ``fuel_history`` per iteration (the unconstrained plan first); ``node_rho`` (N+1,): the true
+    ellipsoidal radius of the plan's nodes; ``flown_rho_nodes`` / ``flown_rho_min`` : the smallest
+    radius at the constrained nodes / anywhere between them on the truth flight (sampled);
+    ``satisfied_nodes`` (every constrained node of the plan outside the true zone), ``satisfied_flown``
+    (the sampled truth flight never inside over the constrained span); ``solve_time`` (s, the
+    subproblems) and ``wall_time`` (s, the whole loop without the truth flight)."""
+
+    U: np.ndarray
+    forces: np.ndarray
+    X: np.ndarray
+    status: str
+    converged: bool
+    iterations: int
+    fuel: float
+    fuel_history: np.ndarray
+    node_rho: np.ndarray
+    flown_rho_nodes: float
+    flown_rho_min: float
+    satisfied_nodes: bool
+    satisfied_flown: bool
+    solve_time: float
+    wall_time: float
+    flown_X: np.ndarray | None = dataclasses.field(default=None, repr=False)
+
+
+def _solve_admm(Ad, B, x0, xf, N, w, lo, hi, hs, box, settings):
+    kw: dict[str, Any] = {}
+    if hs is not None:
+        kw["half_spaces"] = {"nodes": hs[0], "a": hs[1], "b": hs[2]}
+    if box is not None:
+        kw.update(state_lower=box[1], state_upper=box[2], state_box_nodes=box[0])
+    try:
+        s = L1Solver(Ad, B, x0, horizon=N, xf=xf, l1_weights=w, u_lower=lo, u_upper=hi,
+                     terminal_equality=True, settings=settings, **kw)
+    except TypeError as e:
+        if "half_spaces" in str(e) or "state_lower" in str(e):
+            raise NotImplementedError("solver: 'admm' needs the ADMM state constraints (half_spaces, "
+                                      "state boxes; parcel GUID16A); use solver='cvxpy'") from None
+        raise
+    r = s.solve()
+    return r.status, np.asarray(r.Y), np.asarray(r.X_flown), float(r.solve_time)
+
+
+def _solve_cvxpy(Ad, B, x0, xf, N, w, lo, hi, hs, box, settings):
+    import cvxpy as cp
+
+    nx, nu = B.shape
+    X = cp.Variable((N + 1, nx))
+    U = cp.Variable((N, nu))
+    cons = [X[0] == x0, U >= lo[None, :], U <= hi[None, :], X[N] == xf]
+    cons += [X[k + 1] == Ad @ X[k] + B @ U[k] for k in range(N)]
+    if hs is not None:
+        nodes, a, b = hs
+        cons += [a[i] @ X[k] <= b[i] for i, k in enumerate(nodes)]
+    if box is not None:
+        nodes, L, H = box
+        for i, k in enumerate(nodes):
+            fin = np.isfinite(L[i])
+            cons += [X[k][np.flatnonzero(fin)] >= L[i][fin], X[k][np.flatnonzero(fin)] <= H[i][fin]]
+    prob = cp.Problem(cp.Minimize(cp.sum(cp.multiply(np.tile(w, (N, 1)), cp.abs(U)))), cons)
+    t0 = time.perf_counter()
+    prob.solve(solver=cp.CLARABEL)
+    t = time.perf_counter() - t0
+    if prob.status not in ("optimal", "optimal_inaccurate"):
+        return ("primal_infeasible" if "infeasible" in prob.status else prob.status), None, None, t
+    return ("solved" if prob.status == "optimal" else "solved_inaccurate"), np.asarray(U.value), \
+        np.asarray(X.value), t
+
+
+def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = None,
+                  layout: ThrusterLayout | None = None, nodes: Any = None, margin: float = 0.05,
+                  trust_radius: float | None = None, max_iterations: int = 20, tol: float = 1e-3,
+                  solver: str = "admm", truth: Any = None, per_interval: int = 20,
+                  settings: Any = None) -> KeepOutPlan:
+    """Fuel-optimal plan from ``problem.x0`` to the hold point ``xf`` (6,) m, m/s (default: zeros, which
+    is inside a zone centred on the target: then pass ``nodes`` to exempt the final approach) that stays
+    out of ``keep_out`` at ``nodes`` (default 1..N), by SCP (module docstring). ``trust_radius`` (m,
+    default: 2 x the largest semi-axis); ``truth``: ``TwoSatelliteParams`` of the check flight (default
+    J2 + drag, the problem's mu and mass; ``False`` skips the flight)."""
+    from .problem import satellite_params
+
+    if not isinstance(problem, RendezvousProblem):
+        raise TypeError(f"problem: must be a RendezvousProblem, got {type(problem).__name__}")
+    if not isinstance(keep_out, KeepOut):
+        raise TypeError(f"keep_out: must be a KeepOut, got {type(keep_out).__name__}")
+    solver = one_of(solver, "solver", ("admm", "cvxpy"))
+    N = problem.horizon
+    xf = np.zeros(6) if xf is None else as_real_array(xf, "xf", shape=(6,))
+    idx = list(range(1, N + 1)) if nodes is None else sorted(
+        {as_int(k, "nodes[]", low=1, high=N) for k in nodes})
+    if not idx:
+        raise ValueError("nodes: must hold at least one node in 1..N")
+    margin = as_real(margin, "margin", nonnegative=True)
+    if N in idx and keep_out.rho(xf[:3]) < 1.0 + margin:
+        raise ValueError(f"xf: the hold point {xf[:3].tolist()} m lies inside the (inflated) keep-out zone; "
+                         "move it out or leave node N out of `nodes` (the final approach)")
+    if float(keep_out.rho(np.asarray(problem.x0)[:3])) < 1.0:
+        raise ValueError("problem.x0: the start lies inside the keep-out zone")
+    tr = (2.0 * float(keep_out.semi_axes.max()) if trust_radius is None
+          else as_real(trust_radius, "trust_radius", positive=True))
+    max_iterations = as_int(max_iterations, "max_iterations", low=1, high=10**4)
+    tol = as_real(tol, "tol", positive=True)
+    Ad, B, lo, hi = _controls(problem, layout)
+    w = np.full(B.shape[1], problem.dt)
+    x0 = np.asarray(problem.x0, dtype=float)
+    st = {"method": "admm", "eps_gap": 1e-7} if settings is None else settings
+    sub = _solve_admm if solver == "admm" else _solve_cvxpy
+    t_wall = time.perf_counter()
+    status, U, X, t_solve = sub(Ad, B, x0, xf, N, w, lo, hi, None, None, st)
+    if U is None or status not in ("solved", "solved_inaccurate"):
+        raise RuntimeError(f"problem: the plan without the keep-out zone ended {status!r} (hint: a longer "
+                           "horizon or larger thrust bounds)")
+    fuel_hist = [float(np.sum(np.abs(U)) * problem.dt)]
+    converged, it = False, 0
+    while it < max_iterations:
+        it += 1
+        P = X[idx, :3]
+        a3, b = supporting_half_spaces(P, keep_out, margin)
+        a = np.zeros((len(idx), 6))
+        a[:, :3] = a3
+        L = np.full((len(idx), 6), -np.inf)
+        H = np.full((len(idx), 6), np.inf)
+        L[:, :3] = P - tr
+        H[:, :3] = P + tr
+        status, Un, Xn, ts = sub(Ad, B, x0, xf, N, w, lo, hi, (idx, a, b), (idx, L, H), st)
+        t_solve += ts
+        if Un is None or status not in ("solved", "solved_inaccurate"):
+            break
+        step = float(np.max(np.abs(Xn[:, :3] - X[:, :3])))
+        U, X = Un, Xn
+        fuel_hist.append(float(np.sum(np.abs(U)) * problem.dt))
+        if step < tol or abs(fuel_hist[-1] - fuel_hist[-2]) <= 1e-9 * abs(fuel_hist[-2]):
+            converged = True
+            break
+    wall = time.perf_counter() - t_wall
+    forces = U @ layout.directions if layout is not None else U.copy()
+    node_rho = keep_out.rho(X[:, :3])
+    sat_nodes = bool(np.all(node_rho[idx] >= 1.0))
+    flown_nodes = flown_min = math.nan
+    sat_flown = False
+    Xf = None
+    if truth is not False:
+        tp = satellite_params(problem.mu, j2=True, drag=True, mass=problem.mass) if truth is None else truth
+        Xf = sample_flight(tp, problem.state_eci(), forces, problem.dt, per_interval)
+        rho_f = keep_out.rho(cw_positions(Xf))
+        span = slice(idx[0] * per_interval, idx[-1] * per_interval + 1)
+        flown_nodes = float(np.min(rho_f[[k * per_interval for k in idx]]))
+        flown_min = float(np.min(rho_f[span]))
+        sat_flown = flown_min >= 1.0
+    return KeepOutPlan(U, forces, X, status, converged, it, fuel_hist[-1], np.array(fuel_hist), node_rho,
+                       flown_nodes, flown_min, sat_nodes, sat_flown, t_solve, wall, Xf)

@@ -1,0 +1,79 @@
+"""Keep-out ellipsoid by SCP with supporting half-spaces and a trust region (satgnc.guidance.keep_out,
+issue 16 item 1): the plan stays out at every node and between nodes on the J2 + drag truth."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from satgnc.guidance import RendezvousProblem, cw_discretize, solve_l1
+from satgnc.guidance.keep_out import keep_out_plan, supporting_half_spaces
+from satgnc.guidance.safety import KeepOut
+
+MU, R = 3.986004418e14, 7231.0e3  # the l1 scenario's orbit (its drag density is referenced to 6731 km)
+
+
+def problem(tf=600.0, N=20):
+    # from the V-bar 150 m ahead to a hold point 60 m behind in 600 s: the unconstrained L1 plan cuts
+    # straight through a 40 m sphere about the target
+    return RendezvousProblem(mu=MU, radius=R, mass=100.0, x0=np.array([150.0, 0, 0, 0, 0, 0]), tf=tf,
+                             horizon=N, alpha=1.0, Qf=0.0, u_max=0.5, terminal_equality=True)
+
+
+XF = [-60.0, 0, 0, 0, 0, 0]
+
+
+def test_supporting_half_spaces_exclude_the_ellipsoid():
+    rng = np.random.default_rng(7)
+    ko = KeepOut([5.0, -3.0, 1.0], [40.0, 25.0, 10.0])
+    P = ko.center + rng.normal(size=(200, 3)) * 60.0
+    a, b = supporting_half_spaces(P, ko)
+    # each point outside satisfies its own half-space (a'p - b = -(rho - 1) <= 0, round-off 1e-9)
+    out = ko.rho(P) >= 1.0
+    assert np.all(np.einsum("ij,ij->i", a, P)[out] - b[out] <= 1e-9)
+    # no point of the ellipsoid satisfies any half-space strictly: sample its interior and surface
+    u = rng.normal(size=(2000, 3))
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    inside = ko.center + u * ko.semi_axes * rng.uniform(0, 1, size=(2000, 1)) ** (1 / 3)
+    worst = np.max(inside @ a.T - b[None, :], axis=0)  # per half-space, the best point of the zone
+    assert np.all(worst >= -1e-9)
+
+
+def test_keep_out_scp_with_clarabel_subproblems():
+    pb = problem()
+    ko = KeepOut.sphere(40.0)
+    r = keep_out_plan(pb, ko, xf=XF, solver="cvxpy")
+    # the unconstrained plan (fuel_history[0]) enters the zone: the constraint is active
+    Ad, Bd = cw_discretize(pb.n, pb.mass, pb.dt, "zoh")
+    free = solve_l1(Ad, Bd, np.asarray(pb.x0), horizon=pb.horizon, xf=np.array(XF),
+                    l1_weights=np.full(3, pb.dt), u_lower=-0.5 * np.ones(3), u_upper=0.5 * np.ones(3),
+                    terminal_equality=True)
+    assert free.status == "solved" and ko.rho(free.X_flown[:, :3]).min() < 0.7  # 0.60: 24 m from the target
+    assert float(np.abs(free.Y).sum() * pb.dt) == pytest.approx(r.fuel_history[0], rel=1e-6)
+    assert r.converged and r.status == "solved"
+    # every constrained node of the plan is outside the inflated zone (half-spaces exact; Clarabel 1e-7)
+    assert r.node_rho[1:].min() >= 1.05 - 1e-6
+    assert r.satisfied_nodes and r.satisfied_flown
+    # between nodes on the J2 + drag truth (20 samples per interval): still out of the true zone
+    assert r.flown_rho_min >= 1.0
+    # after the first constrained iterate the fuel never rises (the previous plan stays feasible)
+    h = r.fuel_history[1:]
+    assert np.all(np.diff(h) <= 1e-6 * h[:-1])
+    assert r.fuel >= r.fuel_history[0] * (1 - 1e-6)  # the zone costs fuel
+
+
+def test_bad_input():
+    pb = problem()
+    ko = KeepOut.sphere(40.0)
+    with pytest.raises(ValueError) as e:
+        keep_out_plan(pb, ko, solver="cvxpy")
+    assert str(e.value).startswith("xf: the hold point [0.0, 0.0, 0.0] m lies inside the (inflated) "
+                                   "keep-out zone")
+    with pytest.raises(ValueError) as e:
+        keep_out_plan(pb, KeepOut.sphere(200.0), xf=[-300.0, 0, 0, 0, 0, 0], solver="cvxpy")
+    assert str(e.value) == "problem.x0: the start lies inside the keep-out zone"
+    with pytest.raises(ValueError) as e:
+        keep_out_plan(pb, ko, xf=XF, solver="osqp")
+    assert str(e.value).startswith("solver: must be one of")
+    with pytest.raises(TypeError) as e:
+        keep_out_plan(pb, 40.0, xf=XF)
+    assert str(e.value) == "keep_out: must be a KeepOut, got float"
