@@ -148,3 +148,15 @@ def test_cli_passive_safety_and_min_time(tmp_path, capsys):
     assert "passive safety over 1800 s" in text and "Minimum time" in text
     assert (out / "passive_safety_hard.png").stat().st_size > 10_000
     assert (out / "fuel_time_hard.png").stat().st_size > 10_000
+
+
+def test_cli_keep_out_with_clarabel_subproblems(tmp_path, capsys):
+    text = (BASE + THRUSTERS).replace("semi_axes = [20.0, 20.0, 20.0]   # m",
+                                      "semi_axes = [20.0, 20.0, 20.0]   # m\nhold_point = [-40.0, 0.0, 0.0]")
+    text = text.replace("position = [120.0, -60.0, 30.0]", "position = [120.0, 0.0, 0.0]")
+    p = write(tmp_path, text.replace("velocity = [0.0, 0.0, 0.001]", "velocity = [-0.001, 0.0, 0.0]"))
+    out = tmp_path / "out"
+    argv = ["rendezvous", "--scenario", str(p), "--keep-out", "--subproblem", "cvxpy", "--out", str(out)]
+    assert cli.main(argv) == 0
+    d = json.loads((out / "keep_out_hard.json").read_text())
+    assert d["satisfied_nodes"] and d["satisfied_flown"] and d["min_node_rho"] >= 1.05 - 1e-6

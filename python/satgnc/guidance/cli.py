@@ -16,7 +16,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..papers import l1_admm_rendezvous_linear as rv
     from ..scenarios import l1_rendezvous as scen
 
-    extra = ("failures", "passive_safety", "min_time")
+    extra = ("failures", "passive_safety", "min_time", "keep_out")
     if any(getattr(args, k, False) for k in extra):
         from ..scenarios import rendezvous
 
@@ -34,6 +34,8 @@ def _run(args: argparse.Namespace) -> int:
                 run_passive_safety(sc, case, out)
             if getattr(args, "min_time", False):
                 run_min_time(sc, case, out)
+            if getattr(args, "keep_out", False):
+                run_keep_out(sc, case, out, getattr(args, "subproblem", "admm"))
         return 0
 
     if getattr(args, "model", "linear") == "nonlinear":
@@ -238,6 +240,33 @@ def run_min_time(sc, case: str, out: pathlib.Path) -> int:
     return 0
 
 
+def run_keep_out(sc, case: str, out: pathlib.Path, subproblem: str = "admm") -> int:
+    """The keep-out plan of ``case`` (:func:`satgnc.guidance.keep_out.keep_out_plan`) to the
+    ``[keep_out] hold_point`` with the ``[[thrusters]]`` layout (or the case's box), its check on the
+    ``[truth]`` at the nodes and between them; writes ``keep_out_<case>.json``."""
+    import numpy as np
+
+    from ..scenarios import rendezvous
+    from .keep_out import keep_out_plan
+
+    ko, k = rendezvous.keep_out(sc), sc.sections["keep_out"]
+    if ko is None or k["hold_point"] is None:
+        raise ValueError(f"--keep-out: the scenario {sc.path} needs [keep_out] with hold_point")
+    pb = rendezvous.problem(sc, case, "linear")
+    r = keep_out_plan(pb, ko, xf=np.r_[k["hold_point"], 0.0, 0.0, 0.0], layout=rendezvous.thruster_layout(sc),
+                      margin=k["margin"], solver=subproblem, truth=rendezvous.truth_params(sc))
+    d = {"status": r.status, "converged": r.converged, "iterations": r.iterations, "fuel_Ns": r.fuel,
+         "fuel_history": r.fuel_history.tolist(), "min_node_rho": float(r.node_rho[1:].min()),
+         "flown_rho_nodes": r.flown_rho_nodes, "flown_rho_min": r.flown_rho_min,
+         "satisfied_nodes": r.satisfied_nodes, "satisfied_flown": r.satisfied_flown,
+         "wall_time_s": r.wall_time}
+    (out / f"keep_out_{case}.json").write_text(json.dumps(d, indent=2, default=float))
+    print(f"{case}: keep-out plan {r.status} after {r.iterations} SCP iterations (converged: {r.converged}), "
+          f"fuel {r.fuel:.4g} N s; outside the zone at every node: {r.satisfied_nodes}; on the truth "
+          f"between nodes: {r.satisfied_flown} (smallest radius {r.flown_rho_min:.3f})")
+    return 0
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser("rendezvous",
                               help="fuel-optimal L1 rendezvous guidance (ADMM) for a scenario file")
@@ -261,4 +290,9 @@ def register(subparsers) -> None:
                    help="free drift from each node of the flown plan against [keep_out] ([passive_safety])")
     p.add_argument("--min-time", action="store_true",
                    help="minimum horizon by bisection on N and the fuel-versus-transfer-time curve")
+    p.add_argument("--keep-out", action="store_true",
+                   help="fuel-optimal plan to [keep_out] hold_point outside the keep-out zone (SCP with "
+                        "supporting half-spaces), checked at the nodes and between them on the [truth]")
+    p.add_argument("--subproblem", choices=["admm", "cvxpy"], default="admm",
+                   help="--keep-out's convex subproblem solver (cvxpy: cvxpy + Clarabel, the reference)")
     p.set_defaults(func=_run)

@@ -175,7 +175,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     t_wall = time.perf_counter()
     status, U, X, t_solve = sub(Ad, B, x0, xf, N, w, lo, hi, None, None, st)
     if U is None or status not in ("solved", "solved_inaccurate"):
-        raise RuntimeError(f"problem: the plan without the keep-out zone ended {status!r} (hint: a longer "
+        raise ValueError(f"problem: the plan without the keep-out zone ended {status!r} (hint: a longer "
                            "horizon or larger thrust bounds)")
     fuel_hist = [float(np.sum(np.abs(U)) * problem.dt)]
     converged, it = False, 0

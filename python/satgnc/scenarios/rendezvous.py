@@ -33,7 +33,9 @@ Issue 16 (all optional; a file without them reads as before):
   (default ``T<i>``): the layout of :class:`satgnc.guidance.thrusters.ThrusterLayout`; a non-unit
   direction is an error naming the thruster;
 * ``[keep_out]`` ``semi_axes`` (m, > 0, along the CW axes), ``center`` (m, default [0, 0, 0]): the
-  keep-out ellipsoid (:class:`satgnc.guidance.safety.KeepOut`);
+  keep-out ellipsoid (:class:`satgnc.guidance.safety.KeepOut`); ``hold_point`` (m, optional): the
+  keep-out plan's end, a V-bar hold point outside the zone (``satgnc rendezvous --keep-out``);
+  ``margin`` (relative, default 0.05): the zone's inflation for the planning;
 * ``[passive_safety]`` ``drift_time`` (s, > 0), ``samples`` (default 100): the free drift checked from
   each node (:func:`satgnc.guidance.safety.passive_safety`);
 * ``[failures]`` ``pairs`` (default false): the thruster-loss table also loses every pair
@@ -106,6 +108,8 @@ SECTIONS = {
     "keep_out": {
         "semi_axes": Key("vector", length=3, positive=True, unit="m"),
         "center": Key("vector", length=3, required=False, default=[0.0, 0.0, 0.0], unit="m"),
+        "hold_point": Key("vector", length=3, required=False, unit="m"),
+        "margin": Key("number", required=False, default=0.05, nonnegative=True, high=10.0, unit="relative"),
     },
     "passive_safety": {
         "drift_time": Key("number", positive=True, high=1e9, unit="s"),
