@@ -254,8 +254,9 @@ def test_od_batch_on_tracking_data(tmp_path: pathlib.Path) -> None:
     res = od.batch_estimate(data, [st], x, epoch=epoch, max_iterations=1)
     assert isinstance(res, od.BatchResult) and res.state.shape == (6,) and res.residuals.shape == (7, 2)
     path = tmp_path / "t.tdm"
-    path.write_text("CCSDS_TDM_VERS = 2.0\nCREATION_DATE = 2016-12-10T00:00:00\nORIGINATOR = X\nMETA_START\n"
-                    "TIME_SYSTEM = UTC\nPARTICIPANT_1 = GS\nPARTICIPANT_2 = SC\nMODE = SEQUENTIAL\nPATH = 1,2,1\n"
+    path.write_text("CCSDS_TDM_VERS = 2.0\nCREATION_DATE = 2016-12-10T00:00:00\nORIGINATOR = X\n"
+                    "META_START\nTIME_SYSTEM = UTC\nPARTICIPANT_1 = GS\nPARTICIPANT_2 = SC\n"
+                    "MODE = SEQUENTIAL\nPATH = 1,2,1\n"
                     "META_STOP\nDATA_START\nRANGE = 2016-12-10T00:00:00 700.0\nDATA_STOP\n")
     assert od.read_tracking_tdm(path, ["GS"]).size == 1
 
