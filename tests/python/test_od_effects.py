@@ -8,7 +8,6 @@ import re
 
 import numpy as np
 import pytest
-
 from satgnc import frames
 from satgnc.report import od_effects
 
