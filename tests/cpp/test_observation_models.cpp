@@ -260,7 +260,8 @@ TEST(ObservationModels, StatusesAndBadInput) {
   s.troposphere = true;
   throws_naming(s, "troposphere");
   s = MeasurementSettings{};
-  s.type = ObservableType::two_way_range_rate;
+  s.type =
+      ObservableType::right_ascension_declination;  // range-rates take the modifiers' rates (issue 13 item 6)
   s.shapiro = true;
   throws_naming(s, "shapiro");
   s = MeasurementSettings{};

@@ -77,7 +77,7 @@ TEST(TrackingData, BadInputNamesFieldAndIndex) {
                "measurements[1].station: unknown station 3 (n_stations = 2)");
   m = meas(1.0, ObservableType::two_way_range, -1, 1.0);
   expect_error([&] { TrackingData(one(m), 2); }, "measurements[1].station: unknown station -1");
-  m = meas(1.0, ObservableType::two_way_range_rate, 0, 1.0);
+  m = meas(1.0, ObservableType::azimuth_elevation, 0, 1.0, 0.5);
   m.corrections = satgnc::od::kTroposphereApplied;
   expect_error([&] { TrackingData(one(m), 1); }, "measurements[1].corrections");
   m = meas(-5.0, ObservableType::two_way_range, 0, 1.0);

@@ -38,10 +38,12 @@ def test_effects_within_physical_bounds(sizes):
     assert 10e3 < rng["EOP vs GMST-only"] < 30e3
     # Polar motion (0.13, 0.27 arcsec in 2016-12) moves the station by ~9 m: a few m in range.
     assert 2.0 < rng["polar motion"] < 10.0
-    # OD: ignoring light time or polar motion biases the state by metres, the troposphere (weighted to
-    # 5 deg) by decimetres, Shapiro by less than 1 cm; the GMST-only rotation by kilometres.
+    # OD: ignoring light time, the troposphere (its rate reaches 0.28 m/s at 5 deg on range-rates
+    # weighted at 1 mm/s) or polar motion biases the state by metres, Shapiro by less than 1 cm; the
+    # GMST-only rotation by kilometres.
     assert pos["light time"] > 10.0 and 1.0 < pos["polar motion"] < 50.0
-    assert 0.05 < pos["troposphere"] < 5.0 and pos["Shapiro"] < 0.01
+    assert 5.0 < pos["troposphere"] < 100.0 and pos["Shapiro"] < 0.01
+    assert 100.0 < rr["troposphere"] < 1000.0  # mm/s: the range-rate modifier at 5 deg
     assert pos["EOP vs GMST-only"] > 1e3
 
 

@@ -18,6 +18,9 @@ using Rows36 = Eigen::Matrix<double, 3, 6>;
 inline bool is_range(ObservableType t) {
   return t == ObservableType::one_way_range || t == ObservableType::two_way_range;
 }
+inline bool is_range_rate(ObservableType t) {
+  return t == ObservableType::one_way_range_rate || t == ObservableType::two_way_range_rate;
+}
 inline bool is_two_way(ObservableType t) {
   return t == ObservableType::two_way_range || t == ObservableType::two_way_range_rate;
 }
@@ -88,10 +91,13 @@ void MeasurementSettings::validate() const {
   const int t = static_cast<int>(type);
   core::require(t >= 0 && t <= 5, "type", "unknown observable");
   light_time.validate();
-  core::require(!(troposphere && !is_range(type)), "troposphere",
-                "applies to range observables only, not " + std::string(observable_name(type)));
-  core::require(!(shapiro && !is_range(type)), "shapiro",
-                "applies to range observables only, not " + std::string(observable_name(type)));
+  const bool delayed = is_range(type) || is_range_rate(type);
+  core::require(!(troposphere && !delayed), "troposphere",
+                "applies to range observables only (range: the delay; range-rate: its rate), not " +
+                    std::string(observable_name(type)));
+  core::require(!(shapiro && !delayed), "shapiro",
+                "applies to range observables only (range: the delay; range-rate: its rate), not " +
+                    std::string(observable_name(type)));
   core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
                 "relative_humidity", "must be in [0, 1]");
   core::require_positive(mu, "mu");
@@ -284,6 +290,56 @@ void MeasurementModel::evaluate(const StationEphemeris& station, double t, const
     out.value(0) += out.troposphere + out.shapiro + bias.range;
     out.dbias(0, 0) = 1.0;
     if (!s.time_bias_partials) out.dbias(0, 1) = 0.0;
+  }
+  if (is_range_rate(type) && (s.troposphere || s.shapiro)) {
+    // Range-rate modifiers: the rate of the delays along the down-leg geometry, a central difference
+    // over +-h of the delay at reception t_r +- h with the bounce state two-body-shifted by +-h (the
+    // rate of the light time itself, 2e-5 relative, is left out). Both legs of a two-way measurement
+    // carry the same delay, so the mean of the legs carries its rate once. h = 0.1 s: truncation
+    // (h / T)^2 / 6 < 2e-6 relative for the fastest change of a LEO pass (T ~ 30 s at 5 deg elevation).
+    constexpr double h = 0.1;
+    const double zenith =
+        s.troposphere ? saastamoinen_zenith_delay(standard_atmosphere(station.height(), s.relative_humidity),
+                                                  station.latitude(), station.height())
+                      : 0.0;
+    double tropo[2] = {0.0, 0.0}, shap[2] = {0.0, 0.0};
+    Row6 g_tropo[2] = {Row6::Zero(), Row6::Zero()}, g_shap[2] = {Row6::Zero(), Row6::Zero()};
+    for (int k = 0; k < 2; ++k) {
+      const double dt = k == 0 ? h : -h;
+      Vec6 xh;
+      Mat6 Jh;
+      shift_state(xb, dt, s.mu, xh, &Jh);
+      StationState sh;
+      station.state(tr + dt, sh);
+      const Vec3 rh = xh.head<3>();
+      const Vec3 dh = rh - sh.r;
+      if (s.troposphere) {
+        Mat3 M;
+        M.row(0) = sh.enu.row(1);
+        M.row(1) = sh.enu.row(0);
+        M.row(2) = sh.enu.row(2);
+        Eigen::Matrix<double, 2, 3> g;
+        double az = 0.0, el = 0.0;
+        if (angle_pair(M * dh, az, el, g)) {
+          double dm = 0.0;
+          tropo[k] = zenith * tropo_mapping(el, &dm);
+          if (want) g_tropo[k] = zenith * dm * (g.row(1) * M * Jh.topRows<3>());
+        } else {
+          tropo[k] = zenith * tropo_mapping(0.25 * kTwoPi);
+        }
+      }
+      if (s.shapiro) {
+        const double r1 = sh.r.norm(), r2 = rh.norm(), rho = dh.norm();
+        double dsum = 0.0, drho = 0.0;
+        shap[k] = shapiro_delay(r1, r2, rho, s.mu, &dsum, &drho);
+        if (want && rho > 0.0)
+          g_shap[k] = (dsum * (rh / r2).transpose() + drho * (dh / rho).transpose()) * Jh.topRows<3>();
+      }
+    }
+    out.troposphere = (tropo[0] - tropo[1]) / (2.0 * h);  // km/s for a range-rate
+    out.shapiro = (shap[0] - shap[1]) / (2.0 * h);
+    out.value(0) += out.troposphere + out.shapiro;
+    if (want) H.row(0) += ((g_tropo[0] - g_tropo[1] + g_shap[0] - g_shap[1]) / (2.0 * h)) * Dxb;
   }
   if (want) out.dx = shifted ? Eigen::Matrix<double, 2, 6>(H * Jshift) : H;
   out.status = converged ? ObservationStatus::success : ObservationStatus::no_convergence;

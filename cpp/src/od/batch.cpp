@@ -359,9 +359,9 @@ BatchEstimator::BatchEstimator(BatchProblem problem, std::shared_ptr<StmPropagat
   int row = 0;
   for (int i = 0; i < w.n_meas; ++i) {
     const TrackingMeasurement& m = data[i];
-    const bool rng = is_range(m.type);
-    const bool tropo = rng && settings.troposphere && !(m.corrections & kTroposphereApplied);
-    const bool shap = rng && settings.shapiro && !(m.corrections & kShapiroApplied);
+    const bool delayed = is_range(m.type) || is_range_rate(m.type);  // range: delay; range-rate: its rate
+    const bool tropo = delayed && settings.troposphere && !(m.corrections & kTroposphereApplied);
+    const bool shap = delayed && settings.shapiro && !(m.corrections & kShapiroApplied);
     const int mi = static_cast<int>(m.type) * 4 + 2 * (tropo ? 1 : 0) + (shap ? 1 : 0);
     if (!w.models[static_cast<std::size_t>(mi)]) {
       MeasurementSettings ms;
@@ -380,7 +380,6 @@ BatchEstimator::BatchEstimator(BatchProblem problem, std::shared_ptr<StmPropagat
     w.row0[static_cast<std::size_t>(i)] = row;
     row += m.size();
   }
-  (void)is_range_rate;
   w.problem = std::move(problem);
   const std::size_t nt = w.times.size();
   w.states.resize(nt);

@@ -16,6 +16,9 @@ using observation::ObservableType;
 bool is_range(ObservableType t) {
   return t == ObservableType::one_way_range || t == ObservableType::two_way_range;
 }
+bool is_range_rate(ObservableType t) {
+  return t == ObservableType::one_way_range_rate || t == ObservableType::two_way_range_rate;
+}
 
 std::string at(std::size_t i) { return "measurements[" + std::to_string(i) + "]"; }
 
@@ -38,8 +41,8 @@ TrackingData::TrackingData(std::vector<TrackingMeasurement> measurements, int n_
     core::require(m.station >= 0 && m.station < n_stations, at(i) + ".station",
                   "unknown station " + std::to_string(m.station) +
                       " (n_stations = " + std::to_string(n_stations) + ")");
-    core::require(m.corrections == 0 || is_range(m.type), at(i) + ".corrections",
-                  "troposphere / Shapiro flags apply only to range observables");
+    core::require(m.corrections == 0 || is_range(m.type) || is_range_rate(m.type), at(i) + ".corrections",
+                  "troposphere / Shapiro flags apply only to range and range-rate observables");
     core::require((m.corrections & ~(kTroposphereApplied | kShapiroApplied)) == 0, at(i) + ".corrections",
                   "unknown flag bits");
     if (order == TrackingOrder::require_sorted && i > 0 && m.epoch < measurements[i - 1].epoch)

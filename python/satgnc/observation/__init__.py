@@ -10,7 +10,8 @@ Orekit's estimation architecture in three concepts:
   observable (``"one_way_range"``, ``"two_way_range"``, ``"one_way_range_rate"``,
   ``"two_way_range_rate"``, ``"azimuth_elevation"``, ``"right_ascension_declination"``) and its
   modifiers (``troposphere``: Saastamoinen + Black-Eisner mapping in a standard atmosphere;
-  ``shapiro``: the Earth's relativistic delay), both for range observables;
+  ``shapiro``: the Earth's relativistic delay), both for range observables (on range-rates: the
+  delays' rate);
 * :func:`predict`: the model over arrays of reception tags and spacecraft GCRF states at those tags,
   returning :class:`Predictions` (values, partials d value / d state, d value / d [range bias km,
   time bias s], light times, statuses).

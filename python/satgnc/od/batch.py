@@ -90,7 +90,7 @@ def tracking_data(
     :class:`satgnc.time.Epoch`); ``types``: one observable name (or code) per measurement, or one name
     for all; ``stations``: (n,) station indices; ``values``: (n,) or (n, 2) (km, km/s, rad; angle
     pairs need 2 columns); ``sigmas``: a number, (n,) or (n, 2), > 0; ``corrections``: (n,) flags of
-    corrections already applied (1 troposphere, 2 Shapiro; range observables only); ``order``:
+    corrections already applied (1 troposphere, 2 Shapiro; range and range-rate observables); ``order``:
     ``"sort"`` (stable sort by time) or ``"require_sorted"`` (an error names the first index out of
     order). Raises ``ValueError`` / ``TypeError`` naming the argument (and the index)."""
     ep = _epoch(epoch)

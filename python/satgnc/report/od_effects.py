@@ -11,14 +11,16 @@ Effects (each the largest |difference| over the pass, m and mm/s):
 * light time: two-way range / range-rate (light-time equations, mean of the legs) against the
   instantaneous geometry at the tag;
 * troposphere: Saastamoinen zenith delay in the standard atmosphere at the station's height mapped
-  by Black-Eisner to 5, 10 and 30 deg elevation (m), and its largest rate over the pass (mm/s);
-* Shapiro: the Earth's relativistic delay over the pass;
+  by Black-Eisner to 5, 10 and 30 deg elevation (m), its largest value and its largest rate (the
+  range-rate modifier) over the pass;
+* Shapiro: the Earth's relativistic delay and its rate over the pass;
 * EOP: the station by the full IAU 2006/2000A chain with EOP against a GMST-only rotation
   (IAU-1982 GMST at UTC, uniform rate, no precession-nutation, polar motion or UT1-UTC);
 * polar motion alone: the full chain against the same with xp = yp = 0.
 
 OD: noise-free data of every pass of the day (two-way range 1 m, two-way range-rate 1 mm/s,
-az/el 1e-4 rad weights) made with the effect, fitted (batch_estimate) without it; the table gives
+az/el 1e-4 rad weights) made with the effect (troposphere and Shapiro on range and range-rate),
+fitted (batch_estimate) without it; the table gives
 the position and velocity error of the fitted epoch state.
 
 Run ``python -m satgnc.report.od_effects`` for the Markdown table.
@@ -147,6 +149,8 @@ def effect_sizes(eop: Any = None) -> EffectSizes:
         inst_rr[i] = rho @ (xi[3:] - np.asarray(vs)) / inst_r[i]
     trop = pred("two_way_range", st["full"], tp, xp, troposphere=True).troposphere
     shap = pred("two_way_range", st["full"], tp, xp, shapiro=True).shapiro
+    trop_rate = pred("two_way_range_rate", st["full"], tp, xp, troposphere=True).troposphere
+    shap_rate = pred("two_way_range_rate", st["full"], tp, xp, shapiro=True).shapiro
     r_gmst, rr_gmst = ranges(st["gmst"])
     r_nopm, rr_nopm = ranges(st["no_pm"])
 
@@ -164,8 +168,8 @@ def effect_sizes(eop: Any = None) -> EffectSizes:
         np.array(
             [
                 amax(rr_full - inst_rr),
-                amax(np.gradient(trop, tp)),
-                amax(np.gradient(shap, tp)),
+                amax(trop_rate),
+                amax(shap_rate),
                 amax(rr_full - rr_gmst),
                 amax(rr_full - rr_nopm),
             ]
@@ -182,7 +186,7 @@ def effect_sizes(eop: Any = None) -> EffectSizes:
 
     def data(station: Any, **kw: Any) -> Any:
         rng = pred("two_way_range", station, td, xd, **kw).value
-        rr = pred("two_way_range_rate", station, td, xd).value
+        rr = pred("two_way_range_rate", station, td, xd, **kw).value
         ae = pred("azimuth_elevation", station, td, xd).value
         n = len(td)
         vals = np.zeros((3 * n, 2))

@@ -18,10 +18,12 @@
 ///   declination of the down-leg line of sight in GCRF (topocentric). No aberration, no refraction;
 /// - biases: a per-station range bias b (km, added to range types) and time bias dt (s): the true
 ///   reception is t + dt, the state there is shift_state(x, dt);
-/// - modifiers (range types only): troposphere (Saastamoinen zenith delay in the standard atmosphere
-///   at the station's height, Black-Eisner mapping at the down-leg elevation) and the Shapiro delay
-///   of the down leg; in a two-way range both legs carry the same delay and the half round trip
-///   carries it once.
+/// - modifiers (range and range-rate types): troposphere (Saastamoinen zenith delay in the standard
+///   atmosphere at the station's height, Black-Eisner mapping at the down-leg elevation) and the Shapiro
+///   delay of the down leg; in a two-way range both legs carry the same delay and the half round trip
+///   carries it once. A range-rate carries the delays' rate along the down-leg geometry (central
+///   difference over +-0.1 s of the reception time, the bounce state two-body-shifted; analytic partials
+///   of that difference), once for two-way (the mean of the legs).
 /// The instantaneous model of the Gao-Luo paper stays in dynamics/measurement.hpp (no light time).
 #include <string>
 
@@ -58,15 +60,15 @@ int observable_size(ObservableType type) noexcept;
 struct MeasurementSettings {
   ObservableType type = ObservableType::two_way_range;  ///< the observable
   LightTimeSettings light_time{};                       ///< iteration tolerance and limit
-  bool troposphere = false;                             ///< add the tropospheric delay (range types only)
-  double relative_humidity = 0.5;                       ///< of the standard atmosphere, [0, 1]
-  bool shapiro = false;                                 ///< add the Shapiro delay (range types only)
+  bool troposphere = false;  ///< add the tropospheric delay (range types) or its rate (range-rate types)
+  double relative_humidity = 0.5;  ///< of the standard atmosphere, [0, 1]
+  bool shapiro = false;            ///< add the Shapiro delay (range types) or its rate (range-rate types)
   double mu = core::earth::mu;     ///< km^3/s^2, for the bounce-time shift and the Shapiro delay
   double min_range = 1e-3;         ///< km: below it the geometry is degenerate
   bool time_bias_partials = true;  ///< compute d value / d time bias (range types: analytic; the
                                    ///< others: central difference of predict() over +-1 ms, 3 calls)
 
-  /// Throws std::invalid_argument naming the field: a modifier on a non-range observable, humidity
+  /// Throws std::invalid_argument naming the field: a modifier on an angle observable, humidity
   /// outside [0, 1], mu or min_range not finite and > 0, light_time.validate().
   void validate() const;
 };
@@ -88,8 +90,8 @@ struct Prediction {
   double tau_down = 0.0;                    ///< s
   double tau_up = 0.0;                      ///< s (0 unless a two-way observable)
   int iterations = 0;                       ///< light-time updates, both legs
-  double troposphere = 0.0;                 ///< km, included in value
-  double shapiro = 0.0;                     ///< km, included in value
+  double troposphere = 0.0;                 ///< km (range) or km/s (range-rate), included in value
+  double shapiro = 0.0;                     ///< km (range) or km/s (range-rate), included in value
 };
 
 /// A measurement model: settings validated at construction; predict() is noexcept and allocates

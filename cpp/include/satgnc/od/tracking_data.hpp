@@ -51,8 +51,8 @@ class TrackingData {
   /// Validate and (order = sort) stable-sort the measurements. Throws std::invalid_argument naming
   /// the field and the input index: "measurements[i].value: must be finite", "measurements[i].sigma:
   /// must be finite and > 0", "measurements[i].station: unknown station k (n_stations = n)",
-  /// "measurements[i].corrections: ... only for range observables", "measurements[i].epoch: not in
-  /// time order (...)" (require_sorted), "n_stations: must be >= 1".
+  /// "measurements[i].corrections: ... only for range and range-rate observables", "measurements[i].epoch:
+  /// not in time order (...)" (require_sorted), "n_stations: must be >= 1".
   TrackingData(std::vector<TrackingMeasurement> measurements, int n_stations,
                TrackingOrder order = TrackingOrder::sort);
 
