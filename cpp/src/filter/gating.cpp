@@ -53,6 +53,12 @@ double p_unchecked(double a, double x) {
   return x < a + 1.0 ? gamma_series(a, x) : 1.0 - gamma_cf_q(a, x);
 }
 
+// Q = 1 - P, accurate in the upper tail (relative accuracy where P is close to 1).
+double q_unchecked(double a, double x) {
+  if (x <= 0.0) return 1.0;
+  return x < a + 1.0 ? 1.0 - gamma_series(a, x) : gamma_cf_q(a, x);
+}
+
 }  // namespace
 
 double regularized_gamma_p(double a, double x) {
@@ -78,10 +84,13 @@ double chi_square_quantile(double dof, double probability) {
   }
   const double c = 2.0 / (9.0 * dof);
   double x = dof * std::pow(std::max(1.0 - c + zq * std::sqrt(c), 0.1), 3);  // chi-square value
-  // Halley on F(u) = P(a, u) - p with u = x / 2.
+  // Halley on F(u) = P(a, u) - p with u = x / 2; above the median as F = (1 - p) - Q(a, u), so
+  // that the upper tail keeps its relative accuracy (1 - p is exact-ish there, P - p is not).
   double u = 0.5 * x;
+  const bool upper = probability > 0.5;
+  const double q_target = 1.0 - probability;
   for (int i = 0; i < 100; ++i) {
-    const double f = p_unchecked(a, u) - probability;
+    const double f = upper ? q_target - q_unchecked(a, u) : p_unchecked(a, u) - probability;
     const double logpdf = (a - 1.0) * std::log(u) - u - std::lgamma(a);
     const double fp = std::exp(logpdf);
     if (!(fp > 0.0)) break;
