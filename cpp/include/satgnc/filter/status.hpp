@@ -99,6 +99,10 @@ constexpr const char* status_message(EditFlag s) noexcept {
 
 #define SATGNC_FILTER_ROW_(name, value, message) StatusEntry{value, #name, message},
 namespace satgnc::core {
+// The filter enums' name / message functions, visible as core::status_name / core::status_message
+// like every other status (the bindings call them qualified).
+using filter::status_message;
+using filter::status_name;
 /// Status table of filter::FilterStatus.
 template <>
 struct StatusTraits<filter::FilterStatus> {
