@@ -100,9 +100,22 @@ bool FilterWorkspace::covariance_pd() noexcept {
   if (settings.algorithm == FilterAlgorithm::ekf && settings.form == CovarianceForm::ud) {
     return d.allFinite() && d.minCoeff() > 0.0 && U.allFinite();
   }
-  if (!P.allFinite()) return false;
-  llt.compute(P);
-  return llt.info() == Eigen::Success;
+  // Unblocked Cholesky of P's lower triangle into T (cheaper than Eigen's LLT set-up at small n).
+  const double* p = P.data();
+  double* l = T.data();
+  for (int c = 0; c < n; ++c) {
+    double dgl = p[c * n + c];
+    for (int k = 0; k < c; ++k) dgl -= l[k * n + c] * l[k * n + c];
+    if (!(dgl > 0.0) || !std::isfinite(dgl)) return false;
+    const double lc = std::sqrt(dgl);
+    l[c * n + c] = lc;
+    for (int i = c + 1; i < n; ++i) {
+      double v = p[c * n + i];
+      for (int k = 0; k < c; ++k) v -= l[k * n + i] * l[k * n + c];
+      l[c * n + i] = v / lc;
+    }
+  }
+  return true;
 }
 
 FilterStatus FilterWorkspace::innovation(const MeasurementRecord& rec, int m, StepRecord& out) noexcept {
@@ -175,11 +188,13 @@ void fill_nan(StepRecord& s) noexcept {
   s.gate = 0.0;
 }
 
-// Scalar Joseph (or conventional) update with row j of H, variance rv, residual res.
-FilterStatus scalar_update(detail::FilterWorkspace& w, int j, double rv, double res) noexcept {
-  auto h = w.H.row(j);
-  w.ph.noalias() = w.P * h.transpose();
-  const double s = h.dot(w.ph) + rv;
+// Scalar Joseph (or conventional) update with row j of H, variance rv, residual res. When
+// ph_ready, w.ph already holds P h' (the first component: computed for the gate).
+FilterStatus scalar_update(detail::FilterWorkspace& w, int j, double rv, double res, bool ph_ready) noexcept {
+  const int n = w.n;
+  w.f = w.H.row(j).transpose();  // contiguous copy of h
+  if (!ph_ready) w.ph.noalias() = w.P * w.f;
+  const double s = w.f.dot(w.ph) + rv;
   if (!(s > 0.0) || !std::isfinite(s)) return FilterStatus::innovation_not_pd;
   w.kv = w.ph / s;
   if (w.nc > 0) w.kv.tail(w.nc).setZero();
@@ -188,15 +203,27 @@ FilterStatus scalar_update(detail::FilterWorkspace& w, int j, double rv, double 
     w.P.noalias() -= w.kv * w.ph.transpose();
     return FilterStatus::success;
   }
-  // Joseph: T = (I - k h) P; P = T (I - k h)' + r k k' = T - (T h') k' + r k k'
-  w.T = w.P;
-  w.T.noalias() -= w.kv * w.ph.transpose();
-  w.wv.noalias() = w.T * h.transpose();
-  w.P = w.T;
-  w.P.noalias() -= w.wv * w.kv.transpose();
-  w.wv = rv * w.kv;
-  w.P.noalias() += w.wv * w.kv.transpose();
-  w.symmetrize();
+  // Joseph as the product: T = (I - k h) P = P - k (P h)'; w = T h'; P+ = T (I - k h)' + r k k'
+  // = T - w k' + r k k', both triangles formed and averaged (symmetric by construction).
+  double* t = w.T.data();
+  const double* p = w.P.data();
+  const double* k = w.kv.data();
+  const double* ph = w.ph.data();
+  for (int c = 0; c < n; ++c) {
+    for (int i = 0; i < n; ++i) t[c * n + i] = p[c * n + i] - k[i] * ph[c];
+  }
+  w.wv.noalias() = w.T * w.f;
+  const double* wv = w.wv.data();
+  double* po = w.P.data();
+  for (int c = 0; c < n; ++c) {
+    for (int i = 0; i < c; ++i) {
+      const double a = t[c * n + i] - wv[i] * k[c] + rv * k[i] * k[c];
+      const double b = t[i * n + c] - wv[c] * k[i] + rv * k[c] * k[i];
+      po[c * n + i] = 0.5 * (a + b);
+      po[i * n + c] = 0.5 * (a + b);
+    }
+    po[c * n + c] = t[c * n + c] - wv[c] * k[c] + rv * k[c] * k[c];
+  }
   return FilterStatus::success;
 }
 
@@ -455,9 +482,14 @@ FilterStatus KalmanFilter::update(const MeasurementRecord& rec) noexcept {
     }
   } else if (w.settings.sequential) {
     for (int j = 0; j < m && st == FilterStatus::success; ++j) {
-      w.wv = w.x - w.xbar;
-      const double res = w.y(j) - w.H.row(j).dot(w.wv);
-      st = scalar_update(w, j, w.r(j), res);
+      double res = w.y(j);
+      if (j == 0) {
+        w.ph = w.PHt.col(0);  // P h' of the gate's innovation
+      } else {
+        w.wv = w.x - w.xbar;
+        res -= w.H.row(j).dot(w.wv);
+      }
+      st = scalar_update(w, j, w.r(j), res, j == 0);
     }
   } else {
     vector_gain(w, m);
