@@ -46,6 +46,8 @@ __all__: list[str] = [
     "Epoch",
     "ErfaSun",
     "ExponentialDrag",
+    "FilterEditFlag",
+    "FilterStatus",
     "FixedSun",
     "ForceModel",
     "GravityCoefficients",
@@ -3424,6 +3426,118 @@ class MeasurementModel:
     @property
     def type(self) -> str: ...
 
+class FilterStatus:
+    """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
+    Members:
+
+      unsolved : not run yet
+
+      success : success: the step was processed and the covariance is positive definite
+
+      rejected : the measurement failed the chi-square gate: state and covariance unchanged, the record lists
+      its normalized residual
+
+      covariance_not_pd : the covariance lost positive definiteness (Cholesky failed or a UD diagonal <= 0);
+      the step's numbers are kept for inspection
+
+      innovation_not_pd : the innovation covariance H P H' + R is not positive definite; no update
+
+      process_failed : the process model failed, returned non-finite values or negative process noise (diag Qd
+      < 0); the run stops
+
+      measurement_failed : the measurement function failed or returned non-finite values; no update
+
+      not_converged : the iterated EKF did not meet its tolerance within max_iterations; the last iterate is
+      kept
+
+      unknown_measurement_type : the record's type is not set up by the measurement function (dimension(type)
+      == 0); no update
+
+      invalid_time : a non-finite time, or a record time before the filter time; no update
+    """
+
+    __members__: typing.ClassVar[dict[str, FilterStatus]]
+    covariance_not_pd: typing.ClassVar[FilterStatus]
+    innovation_not_pd: typing.ClassVar[FilterStatus]
+    invalid_time: typing.ClassVar[FilterStatus]
+    measurement_failed: typing.ClassVar[FilterStatus]
+    not_converged: typing.ClassVar[FilterStatus]
+    process_failed: typing.ClassVar[FilterStatus]
+    rejected: typing.ClassVar[FilterStatus]
+    success: typing.ClassVar[FilterStatus]
+    unknown_measurement_type: typing.ClassVar[FilterStatus]
+    unsolved: typing.ClassVar[FilterStatus]
+    @typing.overload
+    def __eq__(self, other: FilterStatus) -> bool: ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool: ...
+    def __getstate__(self) -> int: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __int__(self) -> int: ...
+    @typing.overload
+    def __ne__(self, other: FilterStatus) -> bool: ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+
+class FilterEditFlag:
+    """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
+    Members:
+
+      unsolved : not processed yet
+
+      accepted : accepted: passed the gate and used in the update
+
+      rejected : rejected by the chi-square gate (Mahalanobis distance above the quantile)
+
+      warm_up : used without gating: inside the warm-up period (or gating off)
+
+      failed : not used: the measurement function failed, the type is unknown or S is not PD
+    """
+
+    __members__: typing.ClassVar[dict[str, FilterEditFlag]]
+    accepted: typing.ClassVar[FilterEditFlag]
+    failed: typing.ClassVar[FilterEditFlag]
+    rejected: typing.ClassVar[FilterEditFlag]
+    unsolved: typing.ClassVar[FilterEditFlag]
+    warm_up: typing.ClassVar[FilterEditFlag]
+    @typing.overload
+    def __eq__(self, other: FilterEditFlag) -> bool: ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool: ...
+    def __getstate__(self) -> int: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __int__(self) -> int: ...
+    @typing.overload
+    def __ne__(self, other: FilterEditFlag) -> bool: ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+
 def _analyze_gramian(
     W: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
 ) -> dict[str, typing.Any]: ...
@@ -3432,6 +3546,13 @@ def _bench_two_way_range(
 ) -> tuple[float, float]:
     """
     Private: best-of-repeats seconds per two-way range predict() with partials (and a checksum).
+    """
+
+def _chi_square_quantile(
+    dof: typing.SupportsFloat | typing.SupportsIndex, probability: typing.SupportsFloat | typing.SupportsIndex
+) -> float:
+    """
+    Private: chi-square quantile (satgnc.filter.chi_square_quantile).
     """
 
 def _controllability_gramian(
@@ -3485,6 +3606,40 @@ def _fd_jacobian(
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
 ]: ...
+def _filter_bench_update(
+    p0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[1, n]"],
+    sigma: typing.SupportsFloat | typing.SupportsIndex,
+    z: typing.SupportsFloat | typing.SupportsIndex,
+    repeats: typing.SupportsInt | typing.SupportsIndex,
+    samples: typing.SupportsInt | typing.SupportsIndex,
+    form: str,
+) -> float:
+    """
+    Private: ns per EKF update, best of samples (bench/filter_update.py).
+    """
+
+def _filter_run(
+    phi: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    qd: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    measurement: str,
+    h_by_type: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]],
+    beacons: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    p0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    type: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+    station: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+    value: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    settings: dict[str, typing.Any],
+    smooth: bool,
+) -> dict[str, typing.Any]:
+    """
+    Private: one KalmanFilter run on the generic models (satgnc.filter.run_filter).
+    """
+
 def _kalman_controllability_matrix(
     A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
     B: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
