@@ -19,6 +19,7 @@ void init_analysis(pybind11::module_& m);
 void init_io(pybind11::module_& m);
 void init_observation(pybind11::module_& m);
 void init_thrusters(pybind11::module_& m);
+void init_filter(pybind11::module_& m);
 }  // namespace satgnc::bindings
 
 PYBIND11_MODULE(_satgnc, m) {
@@ -42,4 +43,5 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_observation(m);
   b::init_thrusters(m);
   b::init_od_batch(m);  // after init_observation (StationEphemeris) and init_dynamics (ForceModel)
+  b::init_filter(m);
 }

@@ -46,6 +46,8 @@ __all__: list[str] = [
     "Epoch",
     "ErfaSun",
     "ExponentialDrag",
+    "FilterEditFlag",
+    "FilterStatus",
     "FixedSun",
     "ForceModel",
     "GravityCoefficients",
@@ -100,9 +102,7 @@ __all__: list[str] = [
     "StoppingRule",
     "SunDirectionModel",
     "ThirdBodies",
-    "ThrusterLayout",
     "TimeScale",
-    "TrackingData",
     "Trajectory",
     "TwoSatelliteMap",
     "TwoSatelliteMapSettings",
@@ -136,8 +136,6 @@ __all__: list[str] = [
     "kepler_step",
     "load_gfc",
     "moon_position",
-    "od_batch_estimate",
-    "od_batch_evaluate",
     "od_box_guesses",
     "od_ellipsoid_by_name",
     "od_geodetic_to_ecef",
@@ -3428,95 +3426,117 @@ class MeasurementModel:
     @property
     def type(self) -> str: ...
 
-class ThrusterLayout:
+class FilterStatus:
     """
-    Thruster layout (directions in the target's CW frame, positions m, thrust N, minimum impulse bit N s); see
-    satgnc.guidance.ThrusterLayout
-    """
-    def __init__(
-        self,
-        directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
-        positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
-        max_thrust: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
-        min_impulse_bit: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
-        names: collections.abc.Sequence[str],
-    ) -> None: ...
-    def allocation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
-    def input_matrix(
-        self, B_force: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.f_contiguous"]
-    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
-    def max_thrust(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
-    def min_impulse_bit(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
-    def names(self) -> list[str]: ...
-    def positions(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
-    def survivors(
-        self, failed: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]
-    ) -> list[int]: ...
-    def torque_allocation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
-    def without(
-        self, failed: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]
-    ) -> ThrusterLayout: ...
-    @property
-    def size(self) -> int: ...
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
 
-class TrackingData:
+    Members:
+
+      unsolved : not run yet
+
+      success : success: the step was processed and the covariance is positive definite
+
+      rejected : the measurement failed the chi-square gate: state and covariance unchanged, the record lists
+      its normalized residual
+
+      covariance_not_pd : the covariance lost positive definiteness (Cholesky failed or a UD diagonal <= 0);
+      the step's numbers are kept for inspection
+
+      innovation_not_pd : the innovation covariance H P H' + R is not positive definite; no update
+
+      process_failed : the process model failed, returned non-finite values or negative process noise (diag Qd
+      < 0); the run stops
+
+      measurement_failed : the measurement function failed or returned non-finite values; no update
+
+      not_converged : the iterated EKF did not meet its tolerance within max_iterations; the last iterate is
+      kept
+
+      unknown_measurement_type : the record's type is not set up by the measurement function (dimension(type)
+      == 0); no update
+
+      invalid_time : a non-finite time, or a record time before the filter time; no update
     """
-    Tracking measurements sorted by reception epoch (od/tracking_data.hpp). Build with
-    satgnc.od.tracking_data(...) or TrackingData.from_tdm(...).
+
+    __members__: typing.ClassVar[dict[str, FilterStatus]]
+    covariance_not_pd: typing.ClassVar[FilterStatus]
+    innovation_not_pd: typing.ClassVar[FilterStatus]
+    invalid_time: typing.ClassVar[FilterStatus]
+    measurement_failed: typing.ClassVar[FilterStatus]
+    not_converged: typing.ClassVar[FilterStatus]
+    process_failed: typing.ClassVar[FilterStatus]
+    rejected: typing.ClassVar[FilterStatus]
+    success: typing.ClassVar[FilterStatus]
+    unknown_measurement_type: typing.ClassVar[FilterStatus]
+    unsolved: typing.ClassVar[FilterStatus]
+    @typing.overload
+    def __eq__(self, other: FilterStatus) -> bool: ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool: ...
+    def __getstate__(self) -> int: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __int__(self) -> int: ...
+    @typing.overload
+    def __ne__(self, other: FilterStatus) -> bool: ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+
+class FilterEditFlag:
     """
-    @staticmethod
-    def from_arrays(
-        epoch: Epoch,
-        t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
-        types: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
-        stations: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
-        values: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
-        sigmas: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
-        corrections: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
-        n_stations: typing.SupportsInt | typing.SupportsIndex,
-        require_sorted: bool = False,
-    ) -> TrackingData:
-        """
-        From arrays (t: s after epoch; types: observable ints; values, sigmas: (n, 2)).
-        """
-    @staticmethod
-    def from_tdm(
-        path: str,
-        names: collections.abc.Sequence[str],
-        indices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex],
-        n_stations: typing.SupportsInt | typing.SupportsIndex,
-        sigma_range: typing.SupportsFloat | typing.SupportsIndex = 0.001,
-        sigma_range_rate: typing.SupportsFloat | typing.SupportsIndex = 1e-06,
-        sigma_angle: typing.SupportsFloat | typing.SupportsIndex = 0.0001,
-    ) -> TrackingData:
-        """
-        Read a CCSDS TDM (KVN or XML); receiving participant names[i] is station indices[i].
-        """
-    def __len__(self) -> int: ...
-    def arrays(self, epoch: Epoch) -> dict[str, typing.Any]:
-        """
-        Dict of arrays: t (s after epoch), types, stations, values (n, 2), sigmas, corrections.
-        """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
+    Members:
+
+      unsolved : not processed yet
+
+      accepted : accepted: passed the gate and used in the update
+
+      rejected : rejected by the chi-square gate (Mahalanobis distance above the quantile)
+
+      warm_up : used without gating: inside the warm-up period (or gating off)
+
+      failed : not used: the measurement function failed, the type is unknown or S is not PD
+    """
+
+    __members__: typing.ClassVar[dict[str, FilterEditFlag]]
+    accepted: typing.ClassVar[FilterEditFlag]
+    failed: typing.ClassVar[FilterEditFlag]
+    rejected: typing.ClassVar[FilterEditFlag]
+    unsolved: typing.ClassVar[FilterEditFlag]
+    warm_up: typing.ClassVar[FilterEditFlag]
+    @typing.overload
+    def __eq__(self, other: FilterEditFlag) -> bool: ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool: ...
+    def __getstate__(self) -> int: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __int__(self) -> int: ...
+    @typing.overload
+    def __ne__(self, other: FilterEditFlag) -> bool: ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __str__(self) -> str: ...
     @property
-    def input_index(self) -> list[int]:
-        """
-        input index of each (sorted) measurement
-        """
+    def message(self) -> str: ...
     @property
-    def n_stations(self) -> int:
-        """
-        stations the indices refer to
-        """
+    def name(self) -> str: ...
     @property
-    def rows(self) -> int:
-        """
-        scalar rows (angle pairs count 2)
-        """
-    @property
-    def size(self) -> int:
-        """
-        number of measurements
-        """
+    def value(self) -> int: ...
 
 def _analyze_gramian(
     W: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
@@ -3526,6 +3546,13 @@ def _bench_two_way_range(
 ) -> tuple[float, float]:
     """
     Private: best-of-repeats seconds per two-way range predict() with partials (and a checksum).
+    """
+
+def _chi_square_quantile(
+    dof: typing.SupportsFloat | typing.SupportsIndex, probability: typing.SupportsFloat | typing.SupportsIndex
+) -> float:
+    """
+    Private: chi-square quantile (satgnc.filter.chi_square_quantile).
     """
 
 def _controllability_gramian(
@@ -3579,6 +3606,40 @@ def _fd_jacobian(
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
 ]: ...
+def _filter_bench_update(
+    p0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[1, n]"],
+    sigma: typing.SupportsFloat | typing.SupportsIndex,
+    z: typing.SupportsFloat | typing.SupportsIndex,
+    repeats: typing.SupportsInt | typing.SupportsIndex,
+    samples: typing.SupportsInt | typing.SupportsIndex,
+    form: str,
+) -> float:
+    """
+    Private: ns per EKF update, best of samples (bench/filter_update.py).
+    """
+
+def _filter_run(
+    phi: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    qd: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    measurement: str,
+    h_by_type: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]],
+    beacons: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    p0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    type: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+    station: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+    value: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    settings: dict[str, typing.Any],
+    smooth: bool,
+) -> dict[str, typing.Any]:
+    """
+    Private: one KalmanFilter run on the generic models (satgnc.filter.run_filter).
+    """
+
 def _kalman_controllability_matrix(
     A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
     B: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
@@ -3827,53 +3888,6 @@ def moon_position(
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
     """
     Geocentric Moon (km, GCRF) at the TT Julian date jd1 + jd2 (ERFA eraMoon98).
-    """
-
-def od_batch_estimate(
-    data: TrackingData,
-    epoch: Epoch,
-    stations: list[typing.Any],
-    x0_guess: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
-    force_model: ForceModel,
-    estimate_range_bias: collections.abc.Sequence[bool],
-    estimate_time_bias: collections.abc.Sequence[bool],
-    range_bias: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
-    time_bias: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
-    names: collections.abc.Sequence[str],
-    max_iterations: typing.SupportsInt | typing.SupportsIndex,
-    sigma_tol: typing.SupportsFloat | typing.SupportsIndex,
-    light_time: bool,
-    troposphere: bool,
-    shapiro: bool,
-    relative_humidity: typing.SupportsFloat | typing.SupportsIndex,
-    rtol: typing.SupportsFloat | typing.SupportsIndex,
-    atol: typing.SupportsFloat | typing.SupportsIndex,
-) -> dict[str, typing.Any]:
-    """
-    Batch least squares (od/batch.hpp) on DOP853 with the force model; returns a dict (see
-    satgnc.od.batch_estimate).
-    """
-
-def od_batch_evaluate(
-    data: TrackingData,
-    epoch: Epoch,
-    stations: list[typing.Any],
-    parameters: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
-    force_model: ForceModel,
-    estimate_range_bias: collections.abc.Sequence[bool],
-    estimate_time_bias: collections.abc.Sequence[bool],
-    light_time: bool,
-    troposphere: bool,
-    shapiro: bool,
-    rtol: typing.SupportsFloat | typing.SupportsIndex,
-    atol: typing.SupportsFloat | typing.SupportsIndex,
-) -> tuple[
-    bool,
-    typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"],
-    typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
-]:
-    """
-    (ok, whitened residuals (O - C)/sigma, whitened Jacobian d predicted/sigma / dp) at parameters.
     """
 
 def od_box_guesses(
