@@ -122,7 +122,8 @@ def test_stm_with_nrlmsise00_drag_matches_finite_differences_of_whole_propagatio
 
     epoch = (2460676.5, 0.0)
     rot = UniformRotation(0.0, satgnc.EARTH_OMEGA)
-    msis = Nrlmsise00(epoch_jd1=epoch[0], epoch_jd2=epoch[1], space_weather=SpaceWeather(f107=200.0, f107a=180.0))
+    msis = Nrlmsise00(epoch_jd1=epoch[0], epoch_jd2=epoch[1],
+                      space_weather=SpaceWeather(f107=200.0, f107a=180.0))
     drag = AtmosphereDrag(atmosphere=msis, earth_rotation=rot, cd=2.2, area=20.0, mass=100.0)
     mu = 398600.4418
     # 350 km (geodetic 343-370 km on this orbit): clear of the heights where the model switches a
