@@ -75,7 +75,53 @@ def main() -> int:
             _final(orbits["LEO 400 km 51.6 deg"], models[name], with_stm=True)
             best = min(best, time.perf_counter() - t0)
         print(f"{name:42s}{best:10.4f}")
+    _nrlmsise00_rows(orbits["LEO 400 km 51.6 deg"])
     return 0
+
+
+def _nrlmsise00_rows(x0) -> None:
+    """NRLMSISE-00 against Harris-Priester: one density evaluation (Python call, best of 3 x 20000
+    calls, the same call overhead in both) and a LEO day of drag (A/m 0.01 m^2/kg, Cd 2.2) with each,
+    all else equal (point mass + J2 about ITRF z is not needed: drag alone on the point mass)."""
+    from satgnc.dynamics import AtmosphereDrag, HarrisPriester, Nrlmsise00, SpaceWeather
+
+    rot = UniformRotation(0.0, satgnc.EARTH_OMEGA)
+    atmos = {
+        "Harris-Priester (n=2)": HarrisPriester(),
+        "NRLMSISE-00 (F10.7 150, Ap 4)": Nrlmsise00(epoch_jd1=EPOCH[0], epoch_jd2=EPOCH[1],
+                                                    space_weather=SpaceWeather()),
+    }
+    print("\nNRLMSISE-00 vs Harris-Priester")
+    r = np.array([6778.0, 100.0, 200.0])
+    sun = np.array([0.3, 0.9, 0.1])
+    for name, a in atmos.items():
+        best = float("inf")
+        for _ in range(3):
+            t0 = time.perf_counter()
+            for _ in range(20000):
+                a.density(r, sun, 0.0)
+            best = min(best, (time.perf_counter() - t0) / 20000)
+        best_g = float("inf")
+        for _ in range(3):
+            t0 = time.perf_counter()
+            for _ in range(2000):
+                a.density_gradient(r, sun, 0.0)
+            best_g = min(best_g, (time.perf_counter() - t0) / 2000)
+        print(f"{name:42s} density {best * 1e6:8.2f} us/call, with gradient {best_g * 1e6:8.2f} us/call "
+              f"(Python call included)")
+    finals = {}
+    for name, a in atmos.items():
+        drag = AtmosphereDrag(atmosphere=a, earth_rotation=rot, cd=2.2, area=1.0, mass=100.0)
+        fm = force_model(mu=MU, atmosphere_drag=drag, epoch_jd=EPOCH)
+        t0 = time.perf_counter()
+        finals[name] = _final(x0, fm)
+        print(f"{name:42s} LEO day with drag: {time.perf_counter() - t0:8.3f} s wall")
+    names = list(finals)
+    ref = _final(x0, force_model(mu=MU))
+    for name in names:
+        print(f"{name:42s} drag effect after 24 h: {np.linalg.norm(finals[name][:3] - ref[:3]):10.4f} km")
+    d = np.linalg.norm(finals[names[0]][:3] - finals[names[1]][:3])
+    print(f"{'NRLMSISE-00 vs Harris-Priester after 24 h':42s} {d:10.4f} km")
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ void init_core(pybind11::module_& m);
 void init_time(pybind11::module_& m);
 void init_frames(pybind11::module_& m);
 void init_atmosphere(pybind11::module_& m);
+void init_nrlmsise00(pybind11::module_& m);
 void init_dynamics(pybind11::module_& m);
 void init_force_models(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
@@ -30,6 +31,7 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_time(m);
   b::init_frames(m);
   b::init_atmosphere(m);  // before init_dynamics: ForceModel names AtmosphereDrag
+  b::init_nrlmsise00(m);  // after init_atmosphere (its base class)
   b::init_dynamics(m);
   b::init_force_models(m);
   b::init_propagation(m);

@@ -68,6 +68,7 @@ __all__: list[str] = [
     "MeasurementModel",
     "MeasurementType",
     "NonlinearL1Problem",
+    "Nrlmsise00",
     "ObservationStatus",
     "OdInfo",
     "OdMethod",
@@ -809,6 +810,40 @@ class AtmosphereDrag:
     def mass(self) -> float: ...
     @property
     def sun(self) -> SunDirectionModel: ...
+
+class Nrlmsise00(AtmosphereModel):
+    """
+    NRLMSISE-00 (Picone et al. 2002) total mass density, kg/m^3, with the anomalous-oxygen drag density
+    option; inputs from the ITRF position, the Sun direction and the epoch + t.
+    """
+    def __init__(
+        self,
+        *,
+        epoch_jd1: typing.SupportsFloat | typing.SupportsIndex = 2451545.0,
+        epoch_jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        space_weather: SpaceWeather = ...,
+        ap_history: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        anomalous_oxygen: bool = True,
+        switches: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        gradient_step: typing.SupportsFloat | typing.SupportsIndex = 0.01,
+    ) -> None:
+        """
+        epoch of t = 0 as a two-part TT Julian date (days); space_weather: F10.7, F10.7a (sfu), daily Ap;
+        ap_history: 7 Ap values (daily; 3-h now, -3 h, -6 h, -9 h; means of 12-33 h and 36-57 h before), given
+        = switch 9 is -1; anomalous_oxygen: GTD7D drag density (True) or GTD7 mass density; switches: the
+        model's 23 switches 1..23 (0, 1 or 2; switch 9 also -1); gradient_step km (central difference).
+        """
+    def __repr__(self) -> str: ...
+    def inputs(
+        self,
+        r_itrf: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"],
+        sun_itrf: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"],
+        t: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+    ) -> dict[str, typing.Any]:
+        """
+        The model's inputs at r_itrf (km) with the Sun along sun_itrf (ITRF) at t s: day_of_year, ut_seconds
+        (s), altitude (km), latitude, longitude (deg), local_solar_time (h, apparent).
+        """
 
 class J2Gravity:
     """
@@ -3687,6 +3722,24 @@ def _nondimensionalize(
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
 ]: ...
+def _nrlmsise00_evaluate(
+    day_of_year: typing.SupportsInt | typing.SupportsIndex,
+    ut_seconds: typing.SupportsFloat | typing.SupportsIndex,
+    altitude: typing.SupportsFloat | typing.SupportsIndex,
+    latitude: typing.SupportsFloat | typing.SupportsIndex,
+    longitude: typing.SupportsFloat | typing.SupportsIndex,
+    local_solar_time: typing.SupportsFloat | typing.SupportsIndex,
+    f107a: typing.SupportsFloat | typing.SupportsIndex,
+    f107: typing.SupportsFloat | typing.SupportsIndex,
+    ap: typing.SupportsFloat | typing.SupportsIndex,
+    ap_history: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None,
+    anomalous_oxygen: bool,
+    switches: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None,
+) -> dict[str, typing.Any]:
+    """
+    Private: one NRLMSISE-00 evaluation (satgnc.dynamics.nrlmsise00 wraps it in a result).
+    """
+
 def _observability_gramian(
     A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
     C: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],

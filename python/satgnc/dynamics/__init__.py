@@ -35,6 +35,7 @@ from .atmosphere import (
     SpaceWeather,
     SunDirectionModel,
 )
+from .nrlmsise00 import Nrlmsise00, Nrlmsise00Result, nrlmsise00
 
 __all__ = [
     "EGM2008_PATH",
@@ -46,6 +47,8 @@ __all__ = [
     "GravityCoefficients",
     "GravityField",
     "HarrisPriester",
+    "Nrlmsise00",
+    "Nrlmsise00Result",
     "SolarRadiationPressure",
     "SpaceWeather",
     "SunDirectionModel",
@@ -55,5 +58,6 @@ __all__ = [
     "force_model",
     "load_gfc",
     "moon_position",
+    "nrlmsise00",
     "sun_position",
 ]
