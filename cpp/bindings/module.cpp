@@ -10,6 +10,7 @@ void init_dynamics(pybind11::module_& m);
 void init_force_models(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
 void init_propagation_analytic(pybind11::module_& m);
+void init_sensitivity(pybind11::module_& m);
 void init_ensemble(pybind11::module_& m);
 void init_od(pybind11::module_& m);
 void init_guidance(pybind11::module_& m);
@@ -31,6 +32,7 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_force_models(m);
   b::init_propagation(m);
   b::init_propagation_analytic(m);
+  b::init_sensitivity(m);
   b::init_ensemble(m);
   b::init_od(m);
   b::init_guidance(m);

@@ -26,12 +26,15 @@ from .propagation import (  # noqa: E402
     elements_to_state,
     propagate,
 )
+from .sensitivity import SensitivityResult, propagate_sensitivity  # noqa: E402
 
 __version__: str = _satgnc.__version__
 
 __all__ = [
     "__version__",
     "propagate",
+    "propagate_sensitivity",
+    "SensitivityResult",
     "available_methods",
     "elements_to_state",
     "Trajectory",
