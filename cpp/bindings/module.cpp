@@ -11,6 +11,7 @@ void init_force_models(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
 void init_propagation_analytic(pybind11::module_& m);
 void init_sensitivity(pybind11::module_& m);
+void init_force_model_config(pybind11::module_& m);
 void init_ensemble(pybind11::module_& m);
 void init_od(pybind11::module_& m);
 void init_guidance(pybind11::module_& m);
@@ -30,6 +31,7 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_atmosphere(m);  // before init_dynamics: ForceModel names AtmosphereDrag
   b::init_dynamics(m);
   b::init_force_models(m);
+  b::init_force_model_config(m);  // after init_time and init_atmosphere: Epoch, SpaceWeather
   b::init_propagation(m);
   b::init_propagation_analytic(m);
   b::init_sensitivity(m);

@@ -32,7 +32,8 @@ void init_sensitivity(py::module_& m) {
       .def_property_readonly("parameters",
                              [](const SensitivityTrajectory& s) {
                                std::vector<std::string> names;
-                               for (auto p : s.parameters) names.emplace_back(propagation::force_parameter_name(p));
+                               for (auto p : s.parameters)
+                                 names.emplace_back(propagation::force_parameter_name(p));
                                return names;
                              })
       .def_property_readonly("sensitivities", [](const SensitivityTrajectory& s) {
@@ -42,7 +43,8 @@ void init_sensitivity(py::module_& m) {
         auto r = a.mutable_unchecked<3>();
         for (py::ssize_t i = 0; i < n; ++i)
           for (py::ssize_t row = 0; row < 6; ++row)
-            for (py::ssize_t j = 0; j < k; ++j) r(i, row, j) = s.sensitivities[static_cast<std::size_t>(i)](row, j);
+            for (py::ssize_t j = 0; j < k; ++j)
+              r(i, row, j) = s.sensitivities[static_cast<std::size_t>(i)](row, j);
         return a;
       });
 

@@ -16,6 +16,7 @@ _harden_module(_satgnc)  # before any room imports a compiled name: type checks 
 
 from ._satgnc import EARTH_J2, EARTH_MU, EARTH_OMEGA, EARTH_RADIUS  # noqa: E402
 from ._validate import FileFormatError  # noqa: E402
+from .forcemodel import load_force_model  # noqa: E402
 from .propagation import (  # noqa: E402
     ExponentialDrag,
     ForceModel,
@@ -35,6 +36,7 @@ __all__ = [
     "propagate",
     "propagate_sensitivity",
     "SensitivityResult",
+    "load_force_model",
     "available_methods",
     "elements_to_state",
     "Trajectory",

@@ -88,7 +88,8 @@ TEST(Sensitivity, NamesRoundTripAndUnknownNameIsAnError) {
     pr::force_parameter_from_name("Cd ");
     FAIL() << "no throw";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("parameters: unknown parameter 'Cd '"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("parameters: unknown parameter 'Cd '"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -102,7 +103,8 @@ TEST(Sensitivity, CdOnLeoWithDragMatchesCentralDifferences) {
   // h = 0.2 in Cd: x is nearly linear in Cd (drag is linear in Cd), so the O(h^2) truncation stays
   // below the integration noise of the two runs / 2h (measured 3.4e-8 relative at h = 0.2, 2.5e-7 at
   // h = 0.05 where the noise dominates) against |S| ~ 0.14 km after 2 h.
-  const auto fd = central_difference([](double cd) { return leo_drag_model(cd); }, 2.2, 0.2, leo_state(), times);
+  const auto fd =
+      central_difference([](double cd) { return leo_drag_model(cd); }, 2.2, 0.2, leo_state(), times);
   for (std::size_t i = 0; i < times.size(); ++i) {
     const Vec6 col = st.sensitivities[i].col(0);
     EXPECT_GT(col.head<3>().norm(), 1e-4);  // drag moves the orbit: S is not trivially zero
@@ -110,17 +112,20 @@ TEST(Sensitivity, CdOnLeoWithDragMatchesCentralDifferences) {
     SATGNC_EXPECT_REL(col, fd[i], 1e-6);  // 30x the measured FD error
   }
   // The 2 h position sensitivity, stated (km per unit Cd).
-  std::printf("LEO dr/dCd at 2 h = %.6e km (FD %.6e), rel err %.2e\n", st.sensitivities[2].col(0).head<3>().norm(),
-              fd[2].head<3>().norm(), satgnc::testing::rel_err(Vec6(st.sensitivities[2].col(0)), fd[2]));
+  std::printf("LEO dr/dCd at 2 h = %.6e km (FD %.6e), rel err %.2e\n",
+              st.sensitivities[2].col(0).head<3>().norm(), fd[2].head<3>().norm(),
+              satgnc::testing::rel_err(Vec6(st.sensitivities[2].col(0)), fd[2]));
 }
 
 TEST(Sensitivity, CrOnGeoWithSrpMatchesCentralDifferences) {
   const std::vector<double> times{21600.0, 43200.0, 86400.0};
-  const auto st = pr::propagate_dop853_sensitivity(geo_srp_model(), geo_state(), 0.0, times, {P::cr}, tight());
+  const auto st =
+      pr::propagate_dop853_sensitivity(geo_srp_model(), geo_state(), 0.0, times, {P::cr}, tight());
   ASSERT_EQ(st.trajectory.status, pr::PropagationStatus::success);
   // h = 0.5 in Cr: SRP is linear in Cr; measured 2.1e-8 relative at h = 0.5 (8.4e-7 at h = 0.1, where
   // the integration noise of the two runs / 2h dominates) against |S| ~ 0.19 km after a day.
-  const auto fd = central_difference([](double cr) { return geo_srp_model(cr); }, 1.3, 0.5, geo_state(), times);
+  const auto fd =
+      central_difference([](double cr) { return geo_srp_model(cr); }, 1.3, 0.5, geo_state(), times);
   for (std::size_t i = 0; i < times.size(); ++i) {
     const Vec6 col = st.sensitivities[i].col(0);
     EXPECT_GT(col.head<3>().norm(), 1e-3);
@@ -169,7 +174,8 @@ TEST(Sensitivity, ThreeParametersAtOnceEqualOneAtATime) {
   s.mass = 500.0;
   fm.srp = s;
   const std::vector<double> times{3600.0, 7200.0};
-  const auto all = pr::propagate_dop853_sensitivity(fm, leo_state(), 0.0, times, {P::cr, P::mu, P::cd}, tight());
+  const auto all =
+      pr::propagate_dop853_sensitivity(fm, leo_state(), 0.0, times, {P::cr, P::mu, P::cd}, tight());
   ASSERT_EQ(all.sensitivities[1].cols(), 3);
   const P order[3] = {P::cr, P::mu, P::cd};
   for (int j = 0; j < 3; ++j) {
@@ -214,10 +220,13 @@ TEST(Sensitivity, CvodesAgreesWithDop853AndFiniteDifferences) {
   pr::CvodesSettings cs;
   cs.rtol = 1e-12;
   cs.atol = 1e-14;
-  const auto cv = pr::propagate_cvodes_sensitivity(leo_drag_model(), leo_state(), 0.0, times, {P::cd, P::mu}, cs);
+  const auto cv =
+      pr::propagate_cvodes_sensitivity(leo_drag_model(), leo_state(), 0.0, times, {P::cd, P::mu}, cs);
   ASSERT_EQ(cv.trajectory.status, pr::PropagationStatus::success) << cv.trajectory.message;
-  const auto dp = pr::propagate_dop853_sensitivity(leo_drag_model(), leo_state(), 0.0, times, {P::cd, P::mu}, tight());
-  const auto fd = central_difference([](double cd) { return leo_drag_model(cd); }, 2.2, 0.2, leo_state(), times);
+  const auto dp =
+      pr::propagate_dop853_sensitivity(leo_drag_model(), leo_state(), 0.0, times, {P::cd, P::mu}, tight());
+  const auto fd =
+      central_difference([](double cd) { return leo_drag_model(cd); }, 2.2, 0.2, leo_state(), times);
   for (std::size_t i = 0; i < times.size(); ++i) {
     // CVODES Adams at rtol 1e-12 is off by ~1e-8 relative over 2 h (docs/propagation.md): 1e-6.
     SATGNC_EXPECT_REL(Vec6(cv.sensitivities[i].col(0)), fd[i], 1e-6);
@@ -242,7 +251,7 @@ TEST(Sensitivity, ReusedCvodesPropagationAllocatesNothing) {
   g_count = true;
   p.propagate(leo_state(), 0.0, times, out);
   g_count = false;
-  EXPECT_EQ(g_mallocs.load(), 0);  // CVODES memory sized at construction, out keeps its capacity
+  EXPECT_EQ(g_mallocs.load(), 0);              // CVODES memory sized at construction, out keeps its capacity
   EXPECT_TRUE(out.sensitivities[2] == first);  // the reused propagation repeats the first exactly
 }
 

@@ -71,7 +71,9 @@ def kepler_dx_dmu(x0, t, mu):
     x, phi = k.states[0], k.stms[0]
     r, v = x[:3], x[3:]
     a = -mu * r / np.linalg.norm(r) ** 3
-    return np.concatenate([(t * v - phi[:3, 3:] @ x0[3:]) / (2 * mu), (v + t * a - phi[3:, 3:] @ x0[3:]) / (2 * mu)])
+    dr = (t * v - phi[:3, 3:] @ x0[3:]) / (2 * mu)
+    dv = (v + t * a - phi[3:, 3:] @ x0[3:]) / (2 * mu)
+    return np.concatenate([dr, dv])
 
 
 @pytest.mark.parametrize("method", ["dop853", "adams"])

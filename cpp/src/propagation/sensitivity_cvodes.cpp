@@ -212,9 +212,10 @@ struct CvodesSensitivityPropagator::Impl {
         }
         tr.t_reached = tcur;
         char buf[256];
-        std::snprintf(buf, sizeof buf, "CVODES (sensitivity) stopped at t = %.17g s before t = %.17g s: %s",
-                      tcur, times[i],
-                      flag == CV_ROOT_RETURN ? "impact: |r| reached surface_radius" : status_message(tr.status));
+        std::snprintf(
+            buf, sizeof buf, "CVODES (sensitivity) stopped at t = %.17g s before t = %.17g s: %s", tcur,
+            times[i],
+            flag == CV_ROOT_RETURN ? "impact: |r| reached surface_radius" : status_message(tr.status));
         tr.message.assign(buf);
         return;
       }

@@ -109,7 +109,8 @@ void run_sensitivity_arc(const ForceModel& fm, const std::vector<ForceParameter>
   using R = SensitivityRhs<K, VD>;
   using Vec = typename R::Vec;
   R rhs{fm, {}};
-  for (int j = 0; j < K; ++j) rhs.params[static_cast<std::size_t>(j)] = parameters[static_cast<std::size_t>(j)];
+  for (int j = 0; j < K; ++j)
+    rhs.params[static_cast<std::size_t>(j)] = parameters[static_cast<std::size_t>(j)];
   Dop853<R::N, R> integ(rhs, settings);
   Vec y0 = Vec::Zero();
   y0.template head<6>() = x0;
@@ -217,9 +218,10 @@ SensitivityTrajectory propagate_dop853_sensitivity(const ForceModel& model, cons
     } else if (info.status != Dop853Status::success) {
       failed = true;
       tr.status = dop853_to_propagation_status(info.status);
-      tr.message = std::string("propagate_dop853_sensitivity (") + name + " arc): " +
-                   status_message(info.status) + "; reached t = " + std::to_string(info.t_reached) +
-                   " s after " + std::to_string(info.steps) + " steps";
+      tr.message = std::string("propagate_dop853_sensitivity (") + name +
+                   " arc): " + status_message(info.status) +
+                   "; reached t = " + std::to_string(info.t_reached) + " s after " +
+                   std::to_string(info.steps) + " steps";
     }
   };
   if (!bwd.empty() && times.front() < t0) {

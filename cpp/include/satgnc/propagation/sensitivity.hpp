@@ -10,11 +10,10 @@
 /// one enum value and one name here. Units: x in km, km/s; S column j in km (or km/s) per unit of
 /// p_j: per km^3/s^2 for mu, per unit Cd, per unit Cr. With no parameter the functions return
 /// exactly what propagate_dop853 / CvodesPropagator return (the same call).
+#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/force_model.hpp"
@@ -44,9 +43,9 @@ void validate_sensitivity_parameters(const dynamics::ForceModel& model,
 /// A propagation with its parameter sensitivities: trajectory.states, trajectory.stms (always filled)
 /// and one 6 x k sensitivity per output time (the same times as trajectory.times).
 struct SensitivityTrajectory {
-  Trajectory trajectory;                              ///< states (km, km/s), STMs, stats, status
-  std::vector<dynamics::ForceParameter> parameters;   ///< the k parameters, in the columns' order
-  std::vector<SensitivityMatrix> sensitivities;       ///< dx(t_i)/dp, 6 x k; empty columns when k = 0
+  Trajectory trajectory;                             ///< states (km, km/s), STMs, stats, status
+  std::vector<dynamics::ForceParameter> parameters;  ///< the k parameters, in the columns' order
+  std::vector<SensitivityMatrix> sensitivities;      ///< dx(t_i)/dp, 6 x k; empty columns when k = 0
 };
 
 /// DOP853 propagation of the state, the STM and dx/dp for `parameters` (any order, each at most
