@@ -60,8 +60,10 @@ void init_sensitivity(py::module_& m) {
         s.rtol = rtol;
         s.atol = atol;
         s.max_steps = max_steps;
+        // Copied with the GIL held: the model's caches (gravity workspace, ephemeris) are guarded by it.
+        const dynamics::ForceModel own = model;
         py::gil_scoped_release release;
-        return propagation::propagate_dop853_sensitivity(model, x, t0, ts, ps, s, surface_radius);
+        return propagation::propagate_dop853_sensitivity(own, x, t0, ts, ps, s, surface_radius);
       },
       py::arg("x0"), py::arg("t0"), py::arg("times"), py::arg("force_model"), py::arg("parameters"),
       py::arg("rtol"), py::arg("atol"), py::arg("max_steps"), py::arg("surface_radius"));
