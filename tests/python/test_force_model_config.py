@@ -219,3 +219,30 @@ def test_two_satellite_truth_refuses_terms_it_does_not_have():
     # The example's first such term is its gravity field.
     with pytest.raises(FileFormatError, match=r"\[gravity\]: the two-satellite truth model has no spherical"):
         two_satellite_params(EXAMPLE)
+
+
+def test_od_cli_force_model_option_end_to_end(tmp_path, capsys):
+    """`satgnc od solve --propagator cvodes --force-model FILE` on the paper's simulated (two-body) CSV: a
+    point-mass TOML converges like the Kepler propagator; the kepler propagator beside the option and a
+    bad file are one-line errors (exit 2) naming the option or the file and line."""
+    from satgnc import cli
+    from satgnc.papers import od_newton_raphson as paper
+
+    obs = tmp_path / "obs.csv"
+    sim = ["od", "simulate", "--out", str(obs), "--duration", "300", "--step", "30", "--no-noise"]
+    assert cli.main(sim) == 0
+    guess = ",".join(f"{v:.9g}" for v in paper.truth() + np.array([10, 0, 0, 0, 0, 0]))
+    r0 = ",".join(f"{v:.9g}" for v in paper.station_state_table3()[:3])
+    two_body = tmp_path / "two_body.toml"
+    two_body.write_text('[central_body]\nmu = 398600.4418\n[gravity]\nmodel = "point_mass"\n')
+    base = ["od", "solve", str(obs), "--station-inertial", f"STATION:{r0}", "--guess", guess]
+    capsys.readouterr()
+    assert cli.main([*base, "--propagator", "cvodes", "--force-model", str(two_body)]) == 0
+    assert "converged" in capsys.readouterr().out
+    assert cli.main([*base, "--propagator", "kepler", "--force-model", str(two_body)]) == 2
+    assert "--force-model: needs --propagator cvodes" in capsys.readouterr().err
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[srp]\narea = -2.0\nmass = 1.0\n")
+    assert cli.main([*base, "--force-model", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and f"{bad}:2: [srp] area: must be >= 0 m^2, got -2" in err
