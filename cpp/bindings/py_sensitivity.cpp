@@ -18,9 +18,7 @@ using propagation::SensitivityTrajectory;
 namespace {
 
 std::vector<dynamics::ForceParameter> parameter_list(const std::vector<std::string>& names) {
-  std::vector<dynamics::ForceParameter> ps;
-  for (const std::string& n : names) ps.push_back(propagation::force_parameter_from_name(n));
-  return ps;
+  return propagation::force_parameters_from_names(names);
 }
 
 }  // namespace

@@ -84,6 +84,10 @@ TEST(Sensitivity, NamesRoundTripAndUnknownNameIsAnError) {
   EXPECT_EQ(pr::force_parameter_from_name("cr"), P::cr);
   EXPECT_EQ(pr::force_parameter_from_name("mu"), P::mu);
   EXPECT_STREQ(pr::force_parameter_name(P::cr), "cr");
+  const std::vector<P> ps = pr::force_parameters_from_names({"cd", "cr", "mu"});
+  ASSERT_EQ(ps.size(), 3u);
+  EXPECT_EQ(ps[0], P::cd);
+  EXPECT_EQ(ps[2], P::mu);
   try {
     pr::force_parameter_from_name("Cd ");
     FAIL() << "no throw";

@@ -22,6 +22,13 @@ dynamics::ForceParameter force_parameter_from_name(const std::string& name) {
   throw std::logic_error("unreachable");
 }
 
+std::vector<dynamics::ForceParameter> force_parameters_from_names(const std::vector<std::string>& names) {
+  std::vector<dynamics::ForceParameter> ps;
+  ps.reserve(names.size());
+  for (const std::string& n : names) ps.push_back(force_parameter_from_name(n));
+  return ps;
+}
+
 const char* force_parameter_name(dynamics::ForceParameter p) {
   switch (p) {
     case ForceParameter::mu:

@@ -32,6 +32,9 @@ using SensitivityMatrix = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, kMaxSen
 /// The ForceParameter named `name`: "mu", "cd" or "cr" (lower case). Throws
 /// std::invalid_argument("parameters: unknown parameter '<name>' ...") naming the accepted names.
 dynamics::ForceParameter force_parameter_from_name(const std::string& name);
+/// The ForceParameters named by `names` in order (choosing the parameters by name, as Python does:
+/// {"cd", "cr"}); throws like force_parameter_from_name.
+std::vector<dynamics::ForceParameter> force_parameters_from_names(const std::vector<std::string>& names);
 /// The name of a ForceParameter ("mu", "cd", "cr").
 const char* force_parameter_name(dynamics::ForceParameter p);
 
