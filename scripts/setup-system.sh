@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install the Debian packages satgnc builds against, only those missing; sudo when not root.
 set -euo pipefail
-pkgs=(g++ make libeigen3-dev libsundials-dev libgtest-dev libbenchmark-dev liberfa-dev libpugixml-dev ninja-build python3-dev python3-venv)
+pkgs=(g++ make libeigen3-dev libsundials-dev libgtest-dev libbenchmark-dev liberfa-dev libpugixml-dev libtomlplusplus-dev ninja-build python3-dev python3-venv)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

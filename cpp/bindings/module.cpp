@@ -11,6 +11,8 @@ void init_dynamics(pybind11::module_& m);
 void init_force_models(pybind11::module_& m);
 void init_propagation(pybind11::module_& m);
 void init_propagation_analytic(pybind11::module_& m);
+void init_sensitivity(pybind11::module_& m);
+void init_force_model_config(pybind11::module_& m);
 void init_ensemble(pybind11::module_& m);
 void init_od(pybind11::module_& m);
 void init_od_batch(pybind11::module_& m);
@@ -34,8 +36,10 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_nrlmsise00(m);  // after init_atmosphere (its base class)
   b::init_dynamics(m);
   b::init_force_models(m);
+  b::init_force_model_config(m);  // after init_time and init_atmosphere: Epoch, SpaceWeather
   b::init_propagation(m);
   b::init_propagation_analytic(m);
+  b::init_sensitivity(m);
   b::init_ensemble(m);
   b::init_od(m);
   b::init_guidance(m);

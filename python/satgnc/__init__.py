@@ -16,6 +16,7 @@ _harden_module(_satgnc)  # before any room imports a compiled name: type checks 
 
 from ._satgnc import EARTH_J2, EARTH_MU, EARTH_OMEGA, EARTH_RADIUS  # noqa: E402
 from ._validate import FileFormatError  # noqa: E402
+from .forcemodel import load_force_model  # noqa: E402
 from .propagation import (  # noqa: E402
     ExponentialDrag,
     ForceModel,
@@ -26,12 +27,16 @@ from .propagation import (  # noqa: E402
     elements_to_state,
     propagate,
 )
+from .sensitivity import SensitivityResult, propagate_sensitivity  # noqa: E402
 
 __version__: str = _satgnc.__version__
 
 __all__ = [
     "__version__",
     "propagate",
+    "propagate_sensitivity",
+    "SensitivityResult",
+    "load_force_model",
     "available_methods",
     "elements_to_state",
     "Trajectory",

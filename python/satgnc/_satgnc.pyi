@@ -50,6 +50,7 @@ __all__: list[str] = [
     "FilterStatus",
     "FixedSun",
     "ForceModel",
+    "ForceModelConfig",
     "GravityCoefficients",
     "GravityField",
     "GroundStation",
@@ -93,6 +94,7 @@ __all__: list[str] = [
     "ScpSettings",
     "ScpSolver",
     "ScpStatus",
+    "SensitivityTrajectory",
     "ShortArcStmPropagator",
     "SolarRadiationPressure",
     "SpaceWeather",
@@ -135,6 +137,7 @@ __all__: list[str] = [
     "io_parse_tdm",
     "itrs_to_gcrs",
     "kepler_step",
+    "load_force_model_config",
     "load_gfc",
     "moon_position",
     "od_box_guesses",
@@ -150,7 +153,10 @@ __all__: list[str] = [
     "od_rot_z",
     "od_status_message",
     "od_validate_measurements",
+    "parse_force_model_config",
+    "propagate_cvodes_sensitivity",
     "propagate_dop853",
+    "propagate_dop853_sensitivity",
     "propagate_kepler",
     "published_scaling",
     "saastamoinen_zenith_delay",
@@ -163,6 +169,7 @@ __all__: list[str] = [
     "sun_position",
     "time_scale_from_name",
     "tropo_mapping",
+    "two_satellite_params_from_config",
     "two_satellite_state",
 ]
 
@@ -1575,6 +1582,31 @@ class SolarRadiationPressure:
     @sun_radius.setter
     def sun_radius(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
 
+class ForceModelConfig:
+    """
+    A force-model TOML as read: the ForceModel and what it was built from.
+    """
+    @property
+    def atmosphere(self) -> str: ...
+    @property
+    def earth_orientation(self) -> str: ...
+    @property
+    def eop_file(self) -> str: ...
+    @property
+    def epoch(self) -> Epoch | None: ...
+    @property
+    def gravity_file(self) -> str: ...
+    @property
+    def gravity_model(self) -> str: ...
+    @property
+    def model(self) -> ForceModel: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def source(self) -> str: ...
+    @property
+    def space_weather(self) -> SpaceWeather: ...
+
 class PropagationStats:
     @property
     def error_test_fails(self) -> int: ...
@@ -1782,6 +1814,17 @@ class ReferenceScaling:
     def state_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
     @property
     def time_scale(self) -> float: ...
+
+class SensitivityTrajectory:
+    """
+    States (km, km/s), STMs and dx/dp (6 x k) at the requested times (s).
+    """
+    @property
+    def parameters(self) -> list[str]: ...
+    @property
+    def sensitivities(self) -> numpy.typing.NDArray[numpy.float64]: ...
+    @property
+    def trajectory(self) -> Trajectory: ...
 
 class EnsemblePropagator:
     """
@@ -3930,6 +3973,11 @@ def kepler_step(
     One universal-variable Kepler step: returns (x (6,), stm (6, 6)) after dt seconds.
     """
 
+def load_force_model_config(path: str, egm2008_path: str = "") -> ForceModelConfig:
+    """
+    Read a force-model TOML (schema: docs/force_models.md); errors name the file, line, section, key.
+    """
+
 def load_gfc(path: str, max_degree: typing.SupportsInt | typing.SupportsIndex = -1) -> GravityCoefficients:
     """
     Read an ICGEM .gfc file up to max_degree (-1: the file's). ValueError names the file, the line and the
@@ -3991,6 +4039,21 @@ def od_status_message(status: OdStatus) -> str: ...
 def od_validate_measurements(
     measurements: collections.abc.Sequence[Measurement], n_stations: typing.SupportsInt | typing.SupportsIndex
 ) -> None: ...
+def parse_force_model_config(
+    text: str, source: str, base_dir: str = ".", egm2008_path: str = ""
+) -> ForceModelConfig: ...
+def propagate_cvodes_sensitivity(
+    x0: numpy.typing.ArrayLike,
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    times: numpy.typing.ArrayLike,
+    force_model: ForceModel,
+    parameters: collections.abc.Sequence[str],
+    method: str,
+    rtol: typing.SupportsFloat | typing.SupportsIndex,
+    atol: typing.SupportsFloat | typing.SupportsIndex,
+    max_steps: typing.SupportsInt | typing.SupportsIndex,
+    surface_radius: typing.SupportsFloat | typing.SupportsIndex,
+) -> SensitivityTrajectory: ...
 def propagate_dop853(
     x0: numpy.typing.ArrayLike,
     t0: typing.SupportsFloat,
@@ -4007,6 +4070,17 @@ def propagate_dop853(
     An arc reaching |r| = surface_radius km stops with status 'impact', t_reached = its time.
     """
 
+def propagate_dop853_sensitivity(
+    x0: numpy.typing.ArrayLike,
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    times: numpy.typing.ArrayLike,
+    force_model: ForceModel,
+    parameters: collections.abc.Sequence[str],
+    rtol: typing.SupportsFloat | typing.SupportsIndex,
+    atol: typing.SupportsFloat | typing.SupportsIndex,
+    max_steps: typing.SupportsInt | typing.SupportsIndex,
+    surface_radius: typing.SupportsFloat | typing.SupportsIndex,
+) -> SensitivityTrajectory: ...
 def propagate_kepler(
     x0: numpy.typing.ArrayLike,
     t0: typing.SupportsFloat,
@@ -4083,6 +4157,13 @@ def time_scale_from_name(name: str) -> TimeScale:
 def tropo_mapping(elevation: typing.Any) -> float:
     """
     Black-Eisner mapping function at elevation (rad).
+    """
+
+def two_satellite_params_from_config(
+    config: ForceModelConfig, base: TwoSatelliteParams = ...
+) -> TwoSatelliteParams:
+    """
+    TwoSatelliteParams (SI) of the guidance truth from a force-model TOML's config.
     """
 
 def two_satellite_state(

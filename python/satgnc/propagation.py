@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from collections.abc import Sequence
 
 import numpy as np
@@ -134,6 +135,11 @@ def elements_to_state(a: float, e: float, i: float, raan: float, argp: float, nu
 def _force_model(forces, mu: float, mu_given: bool) -> ForceModel:
     if forces is None:
         return ForceModel(mu=mu)
+    if isinstance(forces, os.PathLike) or (isinstance(forces, str) and forces.lower().endswith(".toml")):
+        # a force-model TOML (satgnc.load_force_model)
+        from .forcemodel import load_force_model
+
+        forces = load_force_model(forces)
     if isinstance(forces, ForceModel):
         if mu_given and forces.mu != mu:
             raise ValueError(f"mu: {mu} conflicts with forces.mu = {forces.mu}; give one of them")
@@ -193,8 +199,10 @@ def propagate(
         Epoch of ``x0`` (s). Default: ``times[0]`` (so the first output is ``x0`` itself).
     mu : float, optional
         Central-body gravitational parameter, km^3/s^2 (default Earth, EGM-96 398600.4418).
-    forces : None, ForceModel, J2Gravity, ExponentialDrag or a list of J2Gravity/ExponentialDrag
-        Perturbations on top of point-mass gravity. ``None``: two-body.
+    forces : None, ForceModel, J2Gravity, ExponentialDrag, a list of J2Gravity/ExponentialDrag, or a path
+        Perturbations on top of point-mass gravity. ``None``: two-body. A path (an os.PathLike, or a
+        str ending in ``.toml``) is a force-model TOML read with :func:`satgnc.load_force_model`
+        (docs/force_models.md).
     method : {"dop853", "adams", "bdf", "kepler"}
         The fixed-size Dormand-Prince 8(5,3) integrator (default), CVODES Adams-Moulton, CVODES BDF
         (stiff cases, e.g. re-entry drag), or the analytic two-body solution (point mass only). See

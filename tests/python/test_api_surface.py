@@ -37,6 +37,15 @@ def test_propagate_and_methods() -> None:
         assert isinstance(x, np.ndarray) and x.shape == (6,)
 
 
+def test_propagate_sensitivity_and_load_force_model() -> None:
+    r = satgnc.propagate_sensitivity(X_LEO, [0.0, 30.0, 60.0], ["mu"])
+    assert isinstance(r, satgnc.SensitivityResult) and r.parameters == ("mu",)
+    assert r.sensitivities.shape == (3, 6, 1) and r.stms.shape == (3, 6, 6)
+    example = pathlib.Path(__file__).resolve().parents[2] / "examples" / "force_model.toml"
+    fm = satgnc.load_force_model(example)
+    assert isinstance(fm, satgnc.ForceModel) and fm.gravity is not None
+
+
 def test_propagate_ensemble() -> None:
     states = np.array([X_LEO, X_LEO * 1.001])
     r = prop.propagate_ensemble(states, [0.0, 30.0, 60.0], satgnc.J2Gravity(), threads=2)
@@ -263,7 +272,8 @@ def test_od_batch_on_tracking_data(tmp_path: pathlib.Path) -> None:
 
 # ----------------------------------------------------------------------------- completeness
 CALLED = {
-    "satgnc": {"propagate", "available_methods", "elements_to_state"},
+    "satgnc": {"propagate", "available_methods", "elements_to_state", "propagate_sensitivity",
+               "load_force_model"},
     "satgnc.propagation": {"propagate", "available_methods", "elements_to_state", "propagate_ensemble"},
     "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "solve_l1", "plan", "fly", "mpc",
                         "satellite_params"},

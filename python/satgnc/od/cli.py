@@ -162,6 +162,19 @@ def _load(args):
     return obs, None, args.epoch
 
 
+def _propagator(args):
+    """--propagator / --force-model: the name, or a CVODES propagator on the TOML's force model."""
+    if args.force_model is None:
+        return "kepler" if args.propagator is None else args.propagator
+    if args.propagator == "kepler":
+        raise ValueError("--force-model: needs --propagator cvodes (the Kepler propagator is two-body)")
+    from ..forcemodel import load_force_model
+    from . import make_propagator
+
+    fm = load_force_model(args.force_model)
+    return make_propagator("cvodes", mu=fm.mu, force_model=fm)
+
+
 def _solve(args) -> int:
     from . import EARTH_RADIUS, solve
 
@@ -195,9 +208,8 @@ def _solve(args) -> int:
             f"{args.observations}: observations use station index {used}, only {len(st)} station(s) "
             "given (--station/--station-inertial; indices start at 0)"
         )
-    r = solve(
-        obs, st, guess, method=args.method, propagator=args.propagator, max_iterations=args.max_iterations
-    )
+    propagator = _propagator(args)
+    r = solve(obs, st, guess, method=args.method, propagator=propagator, max_iterations=args.max_iterations)
     print(summary(r, obs))
     if args.plots:
         for p in plot_residuals(r, obs, args.plots):
@@ -276,7 +288,10 @@ def register(subparsers) -> None:
         default="levenberg_marquardt",
         choices=["levenberg_marquardt", "gauss_newton", "newton", "lm", "gn"],
     )
-    s.add_argument("--propagator", default="kepler", choices=["kepler", "cvodes"])
+    s.add_argument("--propagator", default=None, choices=["kepler", "cvodes"],
+                   help="STM propagator (default kepler; cvodes with --force-model)")
+    s.add_argument("--force-model", default=None, metavar="FILE",
+                   help="force-model TOML (docs/force_models.md) for the cvodes propagator")
     s.add_argument("--max-iterations", type=int_at_least(1), default=200)
     s.add_argument("--sigma-range", type=positive_float, default=None,
                    help="TDM range sigma, km (default 1e-3)")
