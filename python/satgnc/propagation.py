@@ -316,3 +316,8 @@ def propagate(
     if not traj.success:
         raise PropagationError(traj.message, traj)
     return traj
+
+
+from ._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

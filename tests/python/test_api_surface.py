@@ -154,6 +154,12 @@ def test_od_solvers(tmp_path: pathlib.Path) -> None:
     csv.write_text("t,type,value,sigma\n" + "".join(f"{ti},range,{vi},0.001\n" for ti, vi in zip(t, rho)))
     back = od.read_csv(csv)
     assert isinstance(back, od.Observations) and len(back) == 6
+    named = tmp_path / "named.csv"
+    named.write_text("t,type,value,sigma,station\n" + "".join(
+        f"{ti},range,{vi},0.001,{'BOULDER' if k % 2 else 'PERTH'}\n"
+        for k, (ti, vi) in enumerate(zip(t, rho))))
+    back, names = od.read_csv_names(named)
+    assert names == ["PERTH", "BOULDER"] and back.station.tolist() == [0, 1, 0, 1, 0, 1]
     guesses = od.box_guesses(x0, [1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3], 3, seed=1)
     assert guesses.shape == (3, 6)
     found = od.root_search(od.solver(obs, st, "gauss_newton"), guesses)
@@ -245,7 +251,8 @@ CALLED = {
                         "satellite_params"},
     "satgnc.od": {
         "julian_date", "gmst", "ellipsoid", "geodetic_to_ecef", "station_geodetic", "station_inertial",
-        "implied_rotation_rate", "predict", "make_propagator", "read_csv", "solve", "six_point_conditions",
+        "implied_rotation_rate", "predict", "make_propagator", "read_csv", "read_csv_names", "solve",
+        "six_point_conditions",
         "solve_six_point", "root_search", "box_guesses", "simulate", "settings",
     },
     "satgnc.analysis": {

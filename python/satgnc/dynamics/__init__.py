@@ -57,3 +57,8 @@ __all__ = [
     "moon_position",
     "sun_position",
 ]
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

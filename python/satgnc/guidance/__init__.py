@@ -385,3 +385,8 @@ from .planning import Plan, plan  # noqa: E402
 from .problem import RendezvousProblem, satellite_params  # noqa: E402
 
 __all__ += ["Flight", "MpcRun", "Plan", "RendezvousProblem", "fly", "mpc", "plan", "satellite_params"]
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)
