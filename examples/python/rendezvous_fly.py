@@ -9,8 +9,8 @@ model (sequential convex programming), then fly both plans open loop on the scen
 
 import pathlib
 
-import matplotlib.pyplot as plt
 import numpy as np
+from satgnc import plotting
 from satgnc.guidance.flight import fly
 from satgnc.guidance.planning import plan
 from satgnc.scenarios import rendezvous
@@ -28,9 +28,10 @@ flights = {"CW plan": fly(truth, x0, linear.U, problem.dt), "nonlinear plan": fl
 for label, f in flights.items():
     print(f"{label}: flown on the truth, miss {f.miss[0]:.2f} m, {f.miss[1] * 1e3:.2f} mm/s")
 
-fig, ax = plt.subplots(figsize=(6, 4))
+plt = plotting.pyplot()  # satgnc's style: colour-blind-safe palette, grid
+fig, ax = plt.subplots(figsize=(7, 4))
 for label, f in flights.items():
-    ax.plot(f.t, np.linalg.norm(f.X[:, 0:3], axis=1), label=label)  # X[:, 0:3]: relative position (m)
-ax.set(xlabel="time (s)", ylabel="range to target (m)", yscale="log", title="plans flown on the J2 truth")
-ax.legend()
+    ax.semilogy(f.t, np.linalg.norm(f.X[:, 0:3], axis=1), label=label)  # X[:, 0:3]: relative position (m)
+ax.set(xlabel="time (s)", ylabel="range to target (m)", title="Plans flown open loop on the J2 truth")
+plotting.legend_outside(ax)
 fig.tight_layout()

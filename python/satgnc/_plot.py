@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 
-
 #: Okabe & Ito (2008) colour-blind-safe palette: black, orange, sky blue, bluish green, yellow, blue,
 #: vermillion, reddish purple.
 PALETTE = {
@@ -103,7 +102,8 @@ def flight_figure(
     if start is not None:
         mark_start_target(ax[1], start)
     ax[0].set(xlabel="time (s)", ylabel="range to target (m)", title="range to the target")
-    ax[1].set(xlabel="x, minus along-track (CW) (m)", ylabel="y, radial (CW) (m)", title="track in the orbit plane")
+    ax[1].set(xlabel="x, minus along-track (CW) (m)", ylabel="y, radial (CW) (m)",
+              title="track in the orbit plane")
     legend_outside(ax[1])
     fig.suptitle(title)
     fig.tight_layout()

@@ -282,10 +282,10 @@ def _fig2(p, ctx, quick) -> str:
         fig, axs = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
         # Okabe-Ito colours and distinct markers; the rare classes drawn last and larger.
         classes = {
-            "diverged": (_plot.PALETTE["sky_blue"], "o", 6),
+            "diverged": (_plot.PALETTE["orange"], "o", 7),
             "truth": (_plot.PALETTE["blue"], "o", 8),
             "no fit": (_plot.PALETTE["black"], "x", 30),
-            "other root": (_plot.PALETTE["vermillion"], "D", 30),
+            "other root": (_plot.PALETTE["purple"], "D", 30),
         }
         for ax, method in zip(axs, ("newton", "levenberg_marquardt")):
             tab, cl = res[method]
@@ -298,7 +298,7 @@ def _fig2(p, ctx, quick) -> str:
             ax.legend(title="the solve ends at (guesses)", loc="upper center", bbox_to_anchor=(0.5, -0.16),
                       ncol=2, frameon=False)  # below the panel, outside the data
         axs[0].set_ylabel("initial guess: z - z_true (km, inertial)")
-        fig.suptitle("Fig. 2: where each guess ends (guesses uniform in truth +- 200 km, +- 0.2 km/s; "
+        fig.suptitle("Fig. 2: where each guess ends (guesses uniform in truth \u00b1 200 km, \u00b1 0.2 km/s; "
                      "shown: their x and z offsets)")
         fig.tight_layout()
         path = ctx.figure_path("od_convergence_map")
