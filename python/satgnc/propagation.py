@@ -162,7 +162,14 @@ def _force_model(forces, mu: float, mu_given: bool) -> ForceModel:
     return ForceModel(mu=mu, j2=j2, drag=drag)
 
 
-_DEFAULT = object()
+class _Default:
+    """The default of ``propagate(mu=...)``: the force model's mu (EARTH_MU without forces)."""
+
+    def __repr__(self) -> str:
+        return "<the forces' mu, else EARTH_MU = 398600.4418 km^3/s^2>"
+
+
+_DEFAULT = _Default()
 _MAX_SPAN = 1e12  # s
 
 

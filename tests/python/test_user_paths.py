@@ -14,6 +14,7 @@ import sys
 
 import numpy as np
 import pytest
+import satgnc
 from satgnc import _satgnc, analysis, cli, od
 from satgnc.papers import od_newton_raphson as paper
 
@@ -179,3 +180,23 @@ def test_reproduce_without_cvxpy_skips_with_one_line_and_exit_3(tmp_path, capsys
 def test_missing_matplotlib_names_the_extra():
     e = ModuleNotFoundError("No module named 'matplotlib'", name="matplotlib")
     assert cli._message(e).endswith('(install the optional dependency: pip install "satgnc[plot]")')
+
+
+def test_reprs_summarise_and_properties_have_units():
+    obs = od.simulate(paper.truth(), paper.station(), np.arange(0.0, 301.0, 30.0), seed=None)
+    r = od.solve(obs, paper.station(), paper.truth() + np.array([1.0, 0, 0, 0, 0, 0]))
+    text = repr(r)
+    assert text.startswith("OdResult(status=converged, iterations=") and "km/s" in text
+    assert " at 0x" not in text
+    assert repr(od.solver(obs, paper.station())).startswith("OdSolver(rows=22")
+    sig = str(__import__("inspect").signature(satgnc.propagate))
+    assert "object at" not in sig and "EARTH_MU" in sig
+    units = re.compile(r"\((km|m|s|kg|rad/s|km/s|kg/m\^3|m\^2|km\^3/s\^2|unit-free)[,)/ ^]")
+    for cls in (od.OdResult, od.Station, satgnc.Trajectory, satgnc.ExponentialDrag, satgnc.J2Gravity):
+        for name, v in vars(cls).items():
+            if isinstance(v, property):
+                assert (v.__doc__ or "").strip(), f"{cls.__name__}.{name} has no docstring"
+    for name in ("rho0", "h0", "scale_height", "area", "mass"):
+        doc = getattr(satgnc.ExponentialDrag, name).__doc__
+        assert units.search(doc), f"ExponentialDrag.{name}: no unit in {doc!r}"
+    assert "kg/m^3" in satgnc.ExponentialDrag.__doc__

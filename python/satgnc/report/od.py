@@ -298,7 +298,8 @@ def _fig2(p, ctx, quick) -> str:
             ax.legend(title="the solve ends at (guesses)", loc="upper center", bbox_to_anchor=(0.5, -0.16),
                       ncol=2, frameon=False)  # below the panel, outside the data
         axs[0].set_ylabel("initial guess: z - z_true (km, inertial)")
-        fig.suptitle("Fig. 2: where each guess ends (guesses uniform in truth \u00b1 200 km, \u00b1 0.2 km/s; "
+        fig.suptitle("Fig. 2: where each guess ends (guesses uniform in truth \u00b1 200 km, "
+                     "\u00b1 0.2 km/s; "
                      "shown: their x and z offsets)")
         fig.tight_layout()
         path = ctx.figure_path("od_convergence_map")
