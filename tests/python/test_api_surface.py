@@ -53,6 +53,8 @@ def test_guidance_functions() -> None:
     assert Phi.shape == (6, 6)
     Ad, Bd = g.cw_discretize(N_MEAN, 1.0, 60.0)
     assert Ad.shape == (6, 6) and Bd.shape == (6, 3)
+    h = g.cw_to_hill([1.0, 2.0, 3.0, 4.0, 5.0, 6.0])
+    assert h.shape == (6,) and g.hill_to_cw(h).tolist() == [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
     r = g.solve_l1(Ad, Bd, [100.0, 50.0, 0.0, 0.0, 0.0, 0.0], horizon=10, Qf=np.eye(6) * 1e4)
     assert isinstance(r, g.L1Result) and r.status == "solved"
     assert r.Y.shape == (10, 3) and r.X.shape == (11, 6) and isinstance(r.iterations, int)
@@ -247,8 +249,8 @@ def test_analysis_gramians_and_jacobians() -> None:
 CALLED = {
     "satgnc": {"propagate", "available_methods", "elements_to_state"},
     "satgnc.propagation": {"propagate", "available_methods", "elements_to_state", "propagate_ensemble"},
-    "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "solve_l1", "plan", "fly", "mpc",
-                        "satellite_params"},
+    "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "cw_to_hill", "hill_to_cw", "solve_l1",
+                        "plan", "fly", "mpc", "satellite_params"},
     "satgnc.od": {
         "julian_date", "gmst", "ellipsoid", "geodetic_to_ecef", "station_geodetic", "station_inertial",
         "implied_rotation_rate", "predict", "make_propagator", "read_csv", "read_csv_names", "solve",

@@ -27,12 +27,18 @@ def _readme_blocks() -> list[str]:
 
 def test_readme_python_blocks_run():
     blocks = _readme_blocks()
-    assert len(blocks) >= 1  # the quick start
+    assert len(blocks) >= 2  # the quick start, then OD + guidance + analysis
+    spaces = []
     for code in blocks:
         ns: dict = {}
         exec(compile(code, "README.md", "exec"), ns)  # noqa: S102 - the README's own code
+        spaces.append(ns)
     # The quick start's stated shapes (its comment says (5, 6), (5, 6, 6)).
-    assert ns["traj"].states.shape == (5, 6) and ns["traj"].stms.shape == (5, 6, 6)
+    assert spaces[0]["traj"].states.shape == (5, 6) and spaces[0]["traj"].stms.shape == (5, 6, 6)
+    # The second block's comments: a converged fit, a solved plan, an uncontrollable single axis.
+    assert spaces[1]["fit"].status.name == "converged"
+    assert spaces[1]["plan"].status == "solved"
+    assert spaces[1]["analysis"].controllability(spaces[1]["A"], spaces[1]["B"][:, [1]]).rank == 4  # of 6
 
 
 def test_stub_covers_every_compiled_name():
@@ -200,3 +206,37 @@ def test_reprs_summarise_and_properties_have_units():
         doc = getattr(satgnc.ExponentialDrag, name).__doc__
         assert units.search(doc), f"ExponentialDrag.{name}: no unit in {doc!r}"
     assert "kg/m^3" in satgnc.ExponentialDrag.__doc__
+
+
+def test_cw_frames_convert_by_name():
+    # Guidance's CW frame (y radial, x = minus along-track) and analysis's Hill frame (x radial,
+    # y along-track) describe the same dynamics: T A_cw T^-1 = A_hill and T B_cw R^T = B_hill (mass 1 kg, so
+    # a force of 1 N is an acceleration of 1 m/s^2), with T the state map of cw_to_hill. Exact up to
+    # rounding of the n^2 terms (rtol 1e-12).
+    from satgnc import guidance
+
+    n = 0.0011
+    T = guidance.cw_to_hill(np.eye(6)).T  # columns: images of the unit states
+    A_cw, B_cw = guidance.cw_matrices(n, 1.0)
+    A_h, B_h, _ = analysis.cw_model(n)
+    np.testing.assert_allclose(T @ A_cw @ np.linalg.inv(T), A_h, rtol=1e-12, atol=1e-15)
+    R = T[:3, :3]  # the force components rotate like the position: u_hill = R u_cw
+    np.testing.assert_allclose(T @ B_cw @ R.T, B_h, rtol=1e-12, atol=1e-15)
+    x = np.array([-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05])
+    np.testing.assert_array_equal(guidance.cw_to_hill(x), [200.0, 1500.0, 50.0, 0.0, -0.3, -0.05])
+    np.testing.assert_array_equal(guidance.hill_to_cw(guidance.cw_to_hill(x)), x)
+    assert "minus along-track" in guidance.CW_FRAME and "radial" in guidance.cw_discretize.__doc__
+
+
+def test_scenario_schema_documented_with_every_key():
+    # docs/scenarios.md lists every key of the strict schema (a key added to the schema without its
+    # documentation fails here), with its section.
+    from satgnc.scenarios import rendezvous as rv
+
+    doc = (ROOT / "docs" / "scenarios.md").read_text()
+    rows = [ln for ln in doc.splitlines() if ln.startswith("| `[")]
+    for section, keys in rv.SECTIONS.items():
+        for key in keys:
+            assert any(f"`[{section}]`" in r and f"`{key}`" in r for r in rows), f"[{section}] {key}"
+    for key in (*rv.CASE, *rv.CASE_NONLINEAR):
+        assert any("`[cases.<name>" in r and f"`{key}`" in r for r in rows), f"[cases.<name>] {key}"

@@ -118,8 +118,10 @@ def _indices(idx, n: int, name: str) -> list[int]:
 
 
 def cw_model(mean_motion: float, measured: Sequence[int] = (0, 1, 2)):
-    """(A, B, C) of Clohessy-Wiltshire in a Hill frame: x radial, y along-track, z orbit normal;
-    state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity."""
+    """(A, B, C) of Clohessy-Wiltshire in the Hill frame: x radial, y along-track, z orbit normal;
+    state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity.
+    Guidance uses another CW frame (:data:`satgnc.guidance.CW_FRAME`: y radial, x minus along-track);
+    :func:`satgnc.guidance.cw_to_hill` and :func:`~satgnc.guidance.hill_to_cw` convert states."""
     n = as_scale(mean_motion, "mean_motion", "rad/s")
     return _s._cw_model(n, _indices(measured, 6, "measured"))
 
