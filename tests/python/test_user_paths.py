@@ -240,3 +240,34 @@ def test_scenario_schema_documented_with_every_key():
             assert any(f"`[{section}]`" in r and f"`{key}`" in r for r in rows), f"[{section}] {key}"
     for key in (*rv.CASE, *rv.CASE_NONLINEAR):
         assert any("`[cases.<name>" in r and f"`{key}`" in r for r in rows), f"[cases.<name>] {key}"
+
+
+def test_observations_write_csv_round_trip(tmp_path):
+    obs = od.simulate(paper.truth(), paper.station(), np.arange(0.0, 301.0, 30.0), seed=4)
+    back = od.read_csv(obs.write_csv(tmp_path / "o.csv"))
+    # repr of a float is exact: the round trip is bitwise.
+    np.testing.assert_array_equal(back.value, obs.value)
+    np.testing.assert_array_equal(back.t, obs.t)
+    assert back.type_names() == obs.type_names() and back.station.tolist() == obs.station.tolist()
+    named, names = od.read_csv_names(obs.write_csv(tmp_path / "n.csv", ["BOULDER"]))
+    assert names == ["BOULDER"] and np.array_equal(named.value, obs.value)
+    with pytest.raises(ValueError, match="station_names: a name starts with a letter"):
+        obs.write_csv(tmp_path / "x.csv", ["1ST"])
+
+
+def test_plot_style_legend_outside_and_palette():
+    from satgnc import plotting
+
+    plt = plotting.pyplot()
+    # Okabe-Ito hex codes (Okabe & Ito 2008), one colour per axis.
+    assert plotting.AXIS_COLORS == ("#0072B2", "#D55E00", "#009E73")
+    fig, ax = plt.subplots()
+    for i in range(3):
+        ax.plot([0, 1], [i, i + 1], color=plotting.AXIS_COLORS[i], label=f"u{i + 1}")
+    plotting.mark_start_target(ax, (0.0, 0.0), (1.0, 3.0))
+    plotting.legend_outside(ax)
+    fig.canvas.draw()
+    leg = ax.get_legend().get_window_extent()
+    assert leg.x0 >= ax.get_window_extent().x1  # the legend starts right of the axes: never over data
+    assert [t.get_text() for t in ax.get_legend().get_texts()][-2:] == ["start", "target"]
+    plt.close(fig)

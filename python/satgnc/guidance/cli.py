@@ -58,7 +58,8 @@ def _run(args: argparse.Namespace) -> int:
         # paper_lqr_passes); a user's scenario is about its own problem.
         paper_case = sc.cases[case].get("paper_lqr_passes") is not None
         rv.plot_case(sc, run, out / f"{case}.png",
-                     f"{case} (converged; dashed: paper-stop U)" if paper_case else f"{case} (converged)")
+                     f"{case} (converged; dashed: paper-stop U)" if paper_case else f"{case} (converged)",
+                     paper_stop=paper_case)
         summary[case] = run.metrics
         m = run.metrics
         line = (f"{case}: {m['conv_status']} in {m['conv_iterations']} iterations, "

@@ -370,7 +370,34 @@ class Observations:
         )
 
     def type_names(self) -> list[str]:
+        """The measurement types as the strings 'range' / 'range_rate' (``type`` holds the enums)."""
         return ["range" if k == MeasurementType.range else "range_rate" for k in self.type]
+
+    def write_csv(self, path, station_names: Sequence[str] | None = None):
+        """Write the table as CSV (``t,type,value,sigma,station``; t in s, value and sigma in km or km/s,
+        17 significant digits) that :func:`read_csv` reads back exactly. ``station_names``: write names
+        (``station_names[i]`` for index i) instead of indices. Returns the path."""
+        import pathlib as _pathlib
+
+        if station_names is not None:
+            if isinstance(station_names, str) or not all(isinstance(n, str) and n for n in station_names):
+                raise TypeError("station_names: must be a list of non-empty names (str)")
+            if len(set(station_names)) != len(station_names):
+                raise ValueError(f"station_names: names must be unique, got {list(station_names)}")
+            bad = [n for n in station_names if not (n[0].isalpha() or n[0] == "_") or "," in n]
+            if bad:
+                raise ValueError(f"station_names: a name starts with a letter and has no comma, "
+                                 f"got {bad[0]!r}")
+            if len(self) and int(self.station.max()) >= len(station_names):
+                raise ValueError(f"station_names: {len(station_names)} name(s) for station index "
+                                 f"{int(self.station.max())}")
+        out = _pathlib.Path(path)
+        lines = ["t,type,value,sigma,station"]
+        for t, k, v, sg, st in zip(self.t, self.type_names(), self.value, self.sigma, self.station):
+            who = station_names[int(st)] if station_names is not None else str(int(st))
+            lines.append(f"{float(t)!r},{k},{float(v)!r},{float(sg)!r},{who}")
+        out.write_text("\n".join(lines) + "\n")
+        return out
 
 
 _CSV_COLUMNS = ("t", "type", "value", "sigma", "station")

@@ -20,10 +20,9 @@ def _leo() -> np.ndarray:
 
 
 def build(ctx) -> str:
-    import matplotlib
+    from .. import _plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = _plot._pyplot()  # satgnc's style: colour-blind-safe palette
 
     import satgnc
     from satgnc import _satgnc
