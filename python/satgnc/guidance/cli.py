@@ -80,7 +80,8 @@ def _run(args: argparse.Namespace) -> int:
             pb = rendezvous.problem(rsc, case, "linear")
             flight = fly(truth, pb.state_eci(), run.converged.Y * sc.u_ref, pb.dt)
             m["truth_miss_open_loop_m"] = flight.miss[0]
-            _plot.flight_figure(pb.dt, [("CW plan, open loop", flight.X)], out / f"{case}_flight.png")
+            _plot.flight_figure(pb.dt, [("CW plan, open loop", flight.X)], out / f"{case}_flight.png",
+                                _truth_title(rsc))
             print(f"  flown open loop on the scenario's truth model: miss {flight.miss[0]:.2f} m")
     if "unconstrained" in sc.cases:  # Fig. 1 is built from the unconstrained case
         dvq, dvl = rv.plot_fig1(sc, out / "quadratic_vs_l1.png")
@@ -88,6 +89,13 @@ def _run(args: argparse.Namespace) -> int:
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str))
     print(f"plots and summary.json written to {out}")
     return 0
+
+
+def _truth_title(sc) -> str:
+    """The flight figure's title naming the scenario's [truth] model (point mass, J2, drag)."""
+    t = sc.sections.get("truth") or {}
+    terms = [name for name, on in (("J2", t.get("j2", True)), ("drag", t.get("drag", True))) if on]
+    return f"Flying the plans on the truth model ({' + '.join(terms) or 'point mass'}, CVODES)"
 
 
 #: ADMM statuses that mean the target cannot be met with the case's bounds (or was not met).
@@ -168,7 +176,8 @@ def run_nonlinear(sc, cases, out, closed_loop: bool = False) -> int:
                 print(f"  {label}: truth miss {f.miss[0]:.2f} m")
             replan_ms = float(np.max(m.solve_times) * 1e3) if m.solve_times.size else 0.0
             summary[key]["mpc_replan_ms_max"] = replan_ms
-            _plot.flight_figure(pb.dt, [(label, f.X) for label, f in flights], out / f"{key}_flight.png")
+            _plot.flight_figure(pb.dt, [(label, f.X) for label, f in flights], out / f"{key}_flight.png",
+                                _truth_title(sc))
     (out / "nonlinear_summary.json").write_text(json.dumps(summary, indent=2, default=float))
     print(f"plots and nonlinear_summary.json written to {out}")
     return 0
