@@ -271,3 +271,12 @@ def test_plot_style_legend_outside_and_palette():
     assert leg.x0 >= ax.get_window_extent().x1  # the legend starts right of the axes: never over data
     assert [t.get_text() for t in ax.get_legend().get_texts()][-2:] == ["start", "target"]
     plt.close(fig)
+
+
+@pytest.mark.parametrize("page", ["od.md", "analysis.md"])
+def test_docs_python_blocks_run(page):
+    # The guides' ```python blocks are runnable as written (the gallery holds the longer scripts).
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "docs" / page).read_text(), flags=re.S)
+    assert blocks, f"docs/{page} has no code example"
+    for code in blocks:
+        exec(compile(code, f"docs/{page}", "exec"), {})  # noqa: S102 - the docs' own code
