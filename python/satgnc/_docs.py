@@ -69,6 +69,110 @@ _PROPS: dict[str, dict[str, str]] = {
         "body_radius": "Radius the height is measured from (km).",
         "omega": "Atmosphere rotation vector (rad/s), (3,).",
     },
+    "OdSettings": {
+        "method": ("OdMethod: gauss_newton (the struct's default), levenberg_marquardt (od.solve's default) "
+                   "or newton."),
+        "max_iterations": "Accepted steps at most (the history holds max_iterations + 1 rows); default 100.",
+        "step_tol": ("Step test: |dx_i| <= step_tol (1 + |x_i|) for every component (km, km/s); default "
+                     "1e-10."),
+        "step_sigma_tol": "Gradient test: the step in formal sigmas (Mahalanobis length); default 1e-6.",
+        "cost_tol": "Cost test: predicted relative cost decrease of a full step (unit-free); default 1e-6.",
+        "residual_tol": ("Also converged when max |normalized residual| <= this (the paper's xi); 0 = off "
+                         "(default)."),
+        "rank_tol": "Singular values below rank_tol * s_max count as zero (numerical rank); default 1e-13.",
+        "min_radius": "A state closer to the centre than this is diverged (km); default 6378.1363.",
+        "mu": ("Gravitational parameter of the unbound test, specific energy >= 0 (km^3/s^2); default "
+               "398600.4418."),
+        "fit_sigma": "A solution fits when its RMS normalized residual <= fit_sigma (unit-free); default 3.",
+        "min_range": "A smaller predicted range is degenerate_geometry (km); default 1e-6.",
+        "gn_max_halvings": "Gauss-Newton line search: step halvings before status stalled; default 40.",
+        "geodesic": ("Gauss-Newton and LM add the geodesic acceleration (Transtrum & Sethna 2012); default "
+                     "True."),
+        "valley_corrections": "Valley corrector steps per poor trial point, GN and LM (0 = off); default 3.",
+        "extrapolate": ("GN and LM try the minimizer of a parabola fitted along an accepted step; default "
+                        "True."),
+        "lm_lambda0": "Initial Levenberg-Marquardt damping, relative to the More scaling; default 1e-3.",
+        "lm_increase": "LM damping factor after a rejected step; default 10.",
+        "lm_decrease": "LM damping factor after a very successful step (gain ratio > 0.75); default 0.1.",
+        "lm_max_rejections": "LM rejected trials in a row before status stalled; default 30.",
+        "lm_stall_tol": "After 3 LM steps each lowering the cost by < this fraction, try a Newton polish; "
+                        "default 0.1.",
+        "lm_polish_iterations": "Undamped Newton steps tried when LM creeps (kept if lower and converged); "
+                                "default 10.",
+    },
+    "AdmmSettings": {
+        "rho": "Initial ADMM penalty (> 0, unit-free on the equilibrated problem); default 0.2.",
+        "max_iterations": "ADMM iterations at most (>= 1); default 10000.",
+        "stopping": "Stopping rule: 'residuals' (primal/dual residuals and the duality gap) or 'paper'.",
+        "eps_abs": "Absolute tolerance on both residuals (>= 0); default 1e-7.",
+        "eps_rel": "Relative tolerance on both residuals (>= 0); default 1e-6.",
+        "paper_eps": "Threshold of the paper's stopping rule ||U - Y||_2 / size (> 0); default 1e-3.",
+        "relaxation": "Over-relaxation alpha in (0, 2); 1 = none (the paper's); default 1.8.",
+        "adaptive_rho": "Residual balancing of rho (the OSQP rule); default True.",
+        "adaptive_rho_interval": "Iterations between rho checks; default 25.",
+        "adaptive_rho_tolerance": "Refactor only when rho changes by more than this factor; default 5.",
+        "rho_min": "Lower bound of the adaptive rho; default 1e-12.",
+        "rho_max": "Upper bound of the adaptive rho; default 1e6.",
+        "cache_gains": "Reuse the Riccati gains while rho is unchanged (False: recursion every iteration); "
+                       "default True.",
+        "condensed": ("Condensed x/u step when there is no stage state cost and R is empty or diagonal; "
+                      "default True."),
+        "paper_multiplier_rescale": "The published implementation's multiplier rescaling after iteration 1; "
+                                    "default False.",
+        "track_best": "Keep the best iterate (returned on max_iterations); default True.",
+        "polish": "Active-set polish with an optimality certificate (residual rule only); default True.",
+        "polish_interval": "Iterations between polish attempts (>= 1); default 5.",
+        "polish_max_free": "Largest free set the polish classifies (0 = 8 nx, capped at N nu); default 0.",
+        "polish_tolerance": "Relative tolerance of the polish's optimality check; default 1e-7.",
+        "polish_dual": "Also guess the active set from the dual estimate; default True.",
+        "polish_swaps": "Local repairs of a rejected dual guess (>= 0); default 3.",
+        "eps_gap": ("Relative duality gap of the flown plan required for 'solved' (residual rule); default "
+                    "1e-5."),
+        "gap_floor": "Denominator floor of the relative gap (objective units, >= 0); default 1e-300.",
+        "terminal_tolerance": "With a hard terminal state, 'solved' needs the miss <= this times the "
+                              "miss of doing nothing (unit-free); default 1e-6.",
+        "gap_check_interval": "Iterations between gap evaluations once the residuals pass (>= 1); default 5.",
+        "inaccurate_factor": "'solved_inaccurate' at a limit: residuals and gap within this factor of "
+                             "their tolerances; default 10.",
+        "time_limit": "Wall-time limit of solve() (s); 0 = none (default).",
+        "max_workspace_bytes": "Setup refuses a workspace estimated above this (bytes); default 512 MiB.",
+        "infeasibility_check_interval": "Iterations between primal infeasibility checks (hard terminal state "
+                                        "with box bounds); default 25.",
+        "equilibrate": "Equilibrate the problem at setup (off under the paper rule); default True.",
+        "method": "'admm_ipm' (ADMM then an interior-point endgame; default) or plain ADMM (residual rule "
+                  "only; the paper rule always runs plain ADMM).",
+        "ipm_after": "ADMM iterations before the interior-point endgame (>= 0); default 35.",
+        "ipm_max_iterations": "Interior-point iterations per run (>= 1); default 60.",
+        "ipm_tolerance": "Interior-point stopping tolerance (relative complementarity and stationarity); "
+                         "default 1e-7.",
+    },
+    "GroundStation": {
+        "name": "Station name.",
+        "latitude_deg": "Geodetic latitude (deg, WGS-84).",
+        "longitude_deg": "Longitude, east positive (deg).",
+        "height_km": "Height above the WGS-84 ellipsoid (km).",
+        "elevation_mask_deg": "Elevation below which the station does not observe (deg).",
+        "itrf_to_enu": "Rotation (3, 3), rows east, north, up (geodetic vertical) in ITRF axes: "
+                       "v_enu = itrf_to_enu v_itrf.",
+    },
+    "Ellipsoid": {
+        "name": "Ellipsoid name (WGS-84, GRS-80, ...).",
+        "a": "Equatorial radius (km).",
+        "f": "Flattening (unit-free).",
+    },
+    "PolarModel": {
+        "sigma": "Radius of the reference circular orbit (km).",
+        "omega": "Angular rate of the reference orbit (rad/s).",
+        "k": "Gravitational parameter of the model, k = sigma^3 omega^2 (km^3/s^2).",
+    },
+    "SpaceWeather": {
+        "f107": "F10.7 solar radio flux of the previous day (sfu, 1e-22 W/m^2/Hz), in [0, 400].",
+        "f107a": "81-day centred average of F10.7 (sfu), in [0, 400].",
+        "ap": "Daily planetary geomagnetic index Ap (unit-free), in [0, 400].",
+    },
+    "KeplerStmPropagator": {
+        "mu": "Gravitational parameter (km^3/s^2).",
+    },
     "J2Gravity": {
         "mu": "Gravitational parameter (km^3/s^2).",
         "j2": "Second zonal harmonic J2 (unit-free).",
