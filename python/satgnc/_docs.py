@@ -125,6 +125,8 @@ _PROPS: dict[str, dict[str, str]] = {
         "polish_max_free": "Largest free set the polish classifies (0 = 8 nx, capped at N nu); default 0.",
         "polish_tolerance": "Relative tolerance of the polish's optimality check; default 1e-7.",
         "polish_dual": "Also guess the active set from the dual estimate; default True.",
+        "paper_global_rescale_iterations": ("The published implementation's global multiplier "
+                                            "rescaling up to this iteration; default 0 (off)."),
         "polish_swaps": "Local repairs of a rejected dual guess (>= 0); default 3.",
         "eps_gap": ("Relative duality gap of the flown plan required for 'solved' (residual rule); default "
                     "1e-5."),
@@ -172,6 +174,27 @@ _PROPS: dict[str, dict[str, str]] = {
     },
     "KeplerStmPropagator": {
         "mu": "Gravitational parameter (km^3/s^2).",
+    },
+    "ForceModel": {
+        "mu": "Central-body gravitational parameter (km^3/s^2).",
+        "j2": "The J2 term (J2Gravity; its mu should equal mu), or None.",
+        "drag": "The exponential drag term (ExponentialDrag), or None.",
+        "atmosphere_drag": "Drag through a density model (AtmosphereDrag; independent of drag), or None.",
+        "conservative": "True when every term derives from a potential (no drag): det(STM) = 1.",
+    },
+    "BoundaryCondition": {
+        "t": "Time of the condition (s from the epoch).",
+        "type": "ConditionType: range (eq. 9) or doppler (eq. 11).",
+        "range": "Observed range (km).",
+        "range_rate": "Observed range rate, for doppler (km/s).",
+        "sigma_range": "Standard deviation of the range (km, > 0).",
+        "sigma_range_rate": "Standard deviation of the range rate (km/s, > 0).",
+        "station": "Index of the observing station.",
+    },
+    "RootSearchSettings": {
+        "distinct_position_km": "Two solutions closer than this in position (km) ...",
+        "distinct_velocity_kms": "... and in velocity (km/s) are the same root.",
+        "distinct_sigma": "Solutions within this many formal sigmas (Mahalanobis distance) are one root.",
     },
     "J2Gravity": {
         "mu": "Gravitational parameter (km^3/s^2).",
