@@ -22,7 +22,8 @@ endif
 SOURCES := $(shell find cpp python tests/cpp examples/cpp cmake -type f \
              -not -name '*.so' -not -path '*/__pycache__/*' 2>/dev/null) CMakeLists.txt pyproject.toml
 
-.PHONY: demo test setup install cpp-test py-test example sanitize bench lint typecheck format clean
+.PHONY: demo test setup install cpp-test py-test example sanitize bench lint typecheck format clean wheel \
+	wheel-test docs
 .DEFAULT_GOAL := test
 
 build/.system-stamp: scripts/setup-system.sh
@@ -59,7 +60,7 @@ example: install
 py-test: install
 	cd tests/python && ../../$(PY) -m pytest -q -p no:cacheprovider .
 
-test: cpp-test example py-test
+test: cpp-test example py-test wheel-test docs
 
 demo: install
 	$(VENV)/bin/satgnc reproduce
@@ -90,6 +91,35 @@ lint: setup typecheck
 
 format: setup
 	$(VENV)/bin/clang-format -i $(CXX_SOURCES)
+
+# A self-contained wheel: built once against Debian's SUNDIALS/ERFA/pugixml (ccache'd, its own build
+# dir), then `auditwheel repair` copies those libraries into satgnc.libs/ and tags it manylinux.
+WHEELHOUSE := build/wheelhouse
+$(VENV)/.wheel-stamp: requirements-wheel.txt $(VENV)/.stamp
+	$(PY) -m pip install -q -r requirements-wheel.txt
+	@touch $@
+
+$(WHEELHOUSE)/.stamp: $(VENV)/.wheel-stamp $(SOURCES) README.md
+	rm -rf build/wheel-raw $(WHEELHOUSE)
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip wheel -q --no-build-isolation --no-deps \
+	  -w build/wheel-raw -C build-dir=build/wheel $(LAUNCHER_PIP) .
+	PATH=$(abspath $(VENV))/bin:$$PATH $(VENV)/bin/auditwheel repair -w $(WHEELHOUSE) build/wheel-raw/satgnc-*.whl
+	@touch $@
+
+wheel: $(WHEELHOUSE)/.stamp
+
+# Installs the wheel into a clean venv (no build tools), checks with ldd that the bundled libraries are
+# used, runs the README's quick start and `satgnc reproduce --help` (scripts/check_wheel.py).
+wheel-test: wheel
+	$(PYTHON) scripts/check_wheel.py $(WHEELHOUSE) build/wheel-venv
+
+# The documentation site (Sphinx, warnings are errors; the gallery's examples run at build time).
+$(VENV)/.docs-stamp: requirements-docs.txt $(VENV)/.stamp
+	$(PY) -m pip install -q -r requirements-docs.txt
+	@touch $@
+
+docs: install $(VENV)/.docs-stamp
+	$(VENV)/bin/sphinx-build -W --keep-going -q -b html docs build/docs
 
 clean:
 	rm -rf build

@@ -1,4 +1,10 @@
-"""Propagate a LEO state with its state transition matrix under J2 and drag (km, km/s, s)."""
+"""
+Propagate with J2 and the state transition matrix
+=================================================
+
+Propagate a LEO state with its 6x6 state transition matrix under J2 and exponential drag
+(km, km/s, s), and catch a propagation failure.
+"""
 
 import numpy as np
 import satgnc

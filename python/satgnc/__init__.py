@@ -14,6 +14,10 @@ from ._validate import harden_module as _harden_module
 
 _harden_module(_satgnc)  # before any room imports a compiled name: type checks on every entry point
 
+from ._docs import attach as _attach_docs  # noqa: E402
+
+_attach_docs()  # property docstrings with units and summarising reprs on the compiled classes
+
 from ._satgnc import EARTH_J2, EARTH_MU, EARTH_OMEGA, EARTH_RADIUS  # noqa: E402
 from ._validate import FileFormatError  # noqa: E402
 from .forcemodel import load_force_model  # noqa: E402

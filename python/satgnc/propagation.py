@@ -168,7 +168,14 @@ def _force_model(forces, mu: float, mu_given: bool) -> ForceModel:
     return ForceModel(mu=mu, j2=j2, drag=drag)
 
 
-_DEFAULT = object()
+class _Default:
+    """The default of ``propagate(mu=...)``: the force model's mu (EARTH_MU without forces)."""
+
+    def __repr__(self) -> str:
+        return "<the forces' mu, else EARTH_MU = 398600.4418 km^3/s^2>"
+
+
+_DEFAULT = _Default()
 _MAX_SPAN = 1e12  # s
 
 
@@ -324,3 +331,8 @@ def propagate(
     if not traj.success:
         raise PropagationError(traj.message, traj)
     return traj
+
+
+from ._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

@@ -62,6 +62,8 @@ def test_guidance_functions() -> None:
     assert Phi.shape == (6, 6)
     Ad, Bd = g.cw_discretize(N_MEAN, 1.0, 60.0)
     assert Ad.shape == (6, 6) and Bd.shape == (6, 3)
+    h = g.cw_to_hill([1.0, 2.0, 3.0, 4.0, 5.0, 6.0])
+    assert h.shape == (6,) and g.hill_to_cw(h).tolist() == [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
     r = g.solve_l1(Ad, Bd, [100.0, 50.0, 0.0, 0.0, 0.0, 0.0], horizon=10, Qf=np.eye(6) * 1e4)
     assert isinstance(r, g.L1Result) and r.status == "solved"
     assert r.Y.shape == (10, 3) and r.X.shape == (11, 6) and isinstance(r.iterations, int)
@@ -163,6 +165,12 @@ def test_od_solvers(tmp_path: pathlib.Path) -> None:
     csv.write_text("t,type,value,sigma\n" + "".join(f"{ti},range,{vi},0.001\n" for ti, vi in zip(t, rho)))
     back = od.read_csv(csv)
     assert isinstance(back, od.Observations) and len(back) == 6
+    named = tmp_path / "named.csv"
+    named.write_text("t,type,value,sigma,station\n" + "".join(
+        f"{ti},range,{vi},0.001,{'BOULDER' if k % 2 else 'PERTH'}\n"
+        for k, (ti, vi) in enumerate(zip(t, rho))))
+    back, names = od.read_csv_names(named)
+    assert names == ["PERTH", "BOULDER"] and back.station.tolist() == [0, 1, 0, 1, 0, 1]
     guesses = od.box_guesses(x0, [1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3], 3, seed=1)
     assert guesses.shape == (3, 6)
     found = od.root_search(od.solver(obs, st, "gauss_newton"), guesses)
@@ -275,11 +283,12 @@ CALLED = {
     "satgnc": {"propagate", "available_methods", "elements_to_state", "propagate_sensitivity",
                "load_force_model"},
     "satgnc.propagation": {"propagate", "available_methods", "elements_to_state", "propagate_ensemble"},
-    "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "solve_l1", "plan", "fly", "mpc",
-                        "satellite_params"},
+    "satgnc.guidance": {"cw_matrices", "cw_stm", "cw_discretize", "cw_to_hill", "hill_to_cw", "solve_l1",
+                        "plan", "fly", "mpc", "satellite_params"},
     "satgnc.od": {
         "julian_date", "gmst", "ellipsoid", "geodetic_to_ecef", "station_geodetic", "station_inertial",
-        "implied_rotation_rate", "predict", "make_propagator", "read_csv", "solve", "six_point_conditions",
+        "implied_rotation_rate", "predict", "make_propagator", "read_csv", "read_csv_names", "solve",
+        "six_point_conditions",
         "solve_six_point", "root_search", "box_guesses", "simulate", "settings",
         "tracking_data", "read_tracking_tdm", "batch_estimate", "batch_residuals",
     },

@@ -427,9 +427,19 @@ def test_negative_state_for_simulate(files, capsys):
     x = paper.truth() * np.array([-1, -1, 1, -1, -1, 1])
     out = files / "neg_state.csv"
     assert (
-        cli.main(["od", "simulate", "--out", str(out), "--state", ",".join(map(str, x)), "--no-noise"]) == 0
+        cli.main(["od", "simulate", "--out", str(out), "--state", ",".join(map(str, x)), "--no-noise",
+                  "--elevation-mask", "-90"]) == 0  # this mirrored state is below the horizon: mask off
     )
     assert "wrote" in capsys.readouterr().out
+
+
+def test_simulate_masks_at_0_deg_by_default(files, capsys):
+    # The mirrored state is below the paper's station's horizon: with the default 0 deg mask nothing is
+    # observed, and the error names the option and how to turn the mask off.
+    x = paper.truth() * np.array([-1, -1, 1, -1, -1, 1])
+    rc = cli.main(["od", "simulate", "--out", str(files / "none.csv"), "--state", ",".join(map(str, x))])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.startswith("satgnc: error: --elevation-mask:") and "-90" in err, err
 
 
 def test_internal_bug_is_one_line_exit_1(monkeypatch, capsys):

@@ -23,6 +23,7 @@ from .._validate import as_int, as_matrix, as_real, as_real_array, as_scale, che
 
 MU_EARTH = _s.EARTH_MU  # km^3/s^2 (EGM-96), defined once in C++ (core/constants.hpp)
 EARTH_RATE_PAPER = 7.27e-5  # rad/s: the rotation rate implied by od_newton_raphson.md Table 3
+EARTH_RATE = _s.EARTH_OMEGA  # rad/s: the Earth's rotation rate (IERS), the default of every general function
 
 PolarModel = _s.PolarModel
 
@@ -117,8 +118,10 @@ def _indices(idx, n: int, name: str) -> list[int]:
 
 
 def cw_model(mean_motion: float, measured: Sequence[int] = (0, 1, 2)):
-    """(A, B, C) of Clohessy-Wiltshire in a Hill frame: x radial, y along-track, z orbit normal;
-    state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity."""
+    """(A, B, C) of Clohessy-Wiltshire in the Hill frame: x radial, y along-track, z orbit normal;
+    state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity.
+    Guidance uses another CW frame (:data:`satgnc.guidance.CW_FRAME`: y radial, x minus along-track);
+    :func:`satgnc.guidance.cw_to_hill` and :func:`~satgnc.guidance.hill_to_cw` convert states."""
     n = as_scale(mean_motion, "mean_motion", "rad/s")
     return _s._cw_model(n, _indices(measured, 6, "measured"))
 
@@ -598,11 +601,13 @@ class _kepler_blame:
         return False
 
 
-def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER,
+def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_RATE,
                mu: float = MU_EARTH) -> GramianReport:
     """Observability Gramian of single-station ``kind`` tracking ("range", "range_rate", "both") at
     ``times`` (s from the epoch) of the two-body state x0 (default: Table 1 of od_newton_raphson.md,
-    station Table 3 rotating at 7.27e-5 rad/s). extra: jacobi_condition (unit-free), times."""
+    station Table 3) with the station rotating at ``rate`` (rad/s; default the Earth's 7.292115e-5; the
+    paper's reproduction passes its implied 7.27e-5, :data:`EARTH_RATE_PAPER`). extra: jacobi_condition
+    (unit-free), times."""
     kind = one_of(kind, "kind", ("range", "range_rate", "both"))
     px, pr = paper_od_state()
     x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
@@ -613,9 +618,13 @@ def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_R
                                                      as_real(mu, "mu", positive=True)))
 
 
-def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE_PAPER, mu: float = MU_EARTH,
+def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE, mu: float = MU_EARTH,
                     t_max: float = 3600.0, dt: float = 10.0) -> tuple[float, float]:
-    """(rise, set) times (s) of the pass containing the epoch (elevation above the geocentric horizon)."""
+    """(rise, set) times (s) of the pass containing the epoch (elevation above the geocentric horizon)
+    of the two-body state ``x0`` (km, km/s; default Table 1 of od_newton_raphson.md) seen from the
+    station ``station_r0`` (km at the epoch, inertial; default Table 3) rotating at ``rate`` (rad/s;
+    default the Earth's 7.292115e-5, :data:`EARTH_RATE`; the paper's reproduction passes
+    :data:`EARTH_RATE_PAPER` = 7.27e-5), searched up to ``t_max`` (s) in steps of ``dt`` (s)."""
     px, pr = paper_od_state()
     x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else as_matrix(station_r0, "station_r0", ndim=1)
@@ -649,3 +658,8 @@ def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> LinearModel:
     A = np.array([_s._two_body_jacobian(x[:3], mu) for x in states])
     trans = np.array([stms[j + 1] @ np.linalg.inv(stms[j]) for j in range(len(times) - 1)])
     return LinearModel(times=times, states=states, stms=stms, A=A, transitions=trans)
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

@@ -61,3 +61,8 @@ __all__ = [
     "nrlmsise00",
     "sun_position",
 ]
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

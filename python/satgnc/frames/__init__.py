@@ -99,3 +99,8 @@ def default_eop(policy: str = "error") -> EopTable:
     cached (tables are immutable). Update the table with ``pip install -U astropy-iers-data``."""
     one_of(policy, "policy", POLICIES)
     return load_eop(default_eop_path(), policy)
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

@@ -24,9 +24,12 @@ __all__ = [
     "L1Result",
     "L1Solver",
     "STATUS_NAMES",
+    "CW_FRAME",
     "cw_discretize",
     "cw_matrices",
     "cw_stm",
+    "cw_to_hill",
+    "hill_to_cw",
     "solve_l1",
 ]
 
@@ -47,23 +50,59 @@ def _array(value: Any, name: str, ndim: int | tuple[int, ...], shape: tuple[int,
 
 
 def cw_matrices(n: float, mass: float) -> tuple[np.ndarray, np.ndarray]:
-    """Continuous Clohessy-Wiltshire A (6x6), B (6x3) in the paper's frame (y radial, z normal,
-    x = y cross z). ``n`` mean motion (rad/s, > 0), ``mass`` chaser mass (kg, > 0); u is a force (N)."""
+    """Continuous Clohessy-Wiltshire A (6x6), B (6x3) in guidance's CW frame (:data:`CW_FRAME`: y radial,
+    z orbit normal, x = y cross z = minus along-track), state [x y z vx vy vz] (m, m/s).
+    ``n`` mean motion (rad/s, > 0), ``mass`` chaser mass (kg, > 0); the input u is a force (N).
+    :func:`cw_to_hill` / :func:`hill_to_cw` convert to and from the Hill frame of
+    :func:`satgnc.analysis.cw_model` (x radial, y along-track)."""
     return _satgnc.cw_matrices(as_real(n, "n", positive=True), as_real(mass, "mass", positive=True))
 
 
 def cw_stm(n: float, t: float) -> np.ndarray:
-    """Analytic CW state transition matrix over ``t`` seconds (finite, any sign) (6x6), ``n`` rad/s > 0."""
+    """Analytic CW state transition matrix over ``t`` seconds (finite, any sign) (6x6) in guidance's CW
+    frame (:data:`CW_FRAME`; state m, m/s), ``n`` mean motion rad/s > 0."""
     return _satgnc.cw_stm(as_real(n, "n", positive=True), as_real(t, "t"))
 
 
 def cw_discretize(n: float, mass: float, dt: float, method: str = "zoh") -> tuple[np.ndarray, np.ndarray]:
     """Discrete CW (Ad 6x6, Bd 6x3) over ``dt`` s (> 0): ``"zoh"`` (analytic STM and input integral),
-    ``"expm"`` (Van Loan matrix exponential) or ``"midpoint"`` (the published implementation's).
-    ``n`` rad/s > 0, ``mass`` kg > 0."""
+    ``"expm"`` (Van Loan matrix exponential) or ``"midpoint"`` (the published implementation's), in
+    guidance's CW frame (:data:`CW_FRAME`: y radial, z normal, x = minus along-track; state m, m/s).
+    ``n`` mean motion rad/s > 0, ``mass`` kg > 0; the input is a force (N) held over each interval."""
     method = one_of(method, "method", ("zoh", "expm", "midpoint"))
     return _satgnc.cw_discretize(as_real(n, "n", positive=True), as_real(mass, "mass", positive=True),
                                  as_real(dt, "dt", positive=True), method)
+
+
+#: Guidance's CW frame: y radial (out), z orbit normal, x = y cross z (minus along-track). The Hill
+#: frame of :func:`satgnc.analysis.cw_model` is x radial, y along-track, z normal.
+CW_FRAME = "y radial, z orbit normal, x = y cross z (minus along-track)"
+_TO_HILL = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # Hill = _TO_HILL @ CW
+
+
+def cw_to_hill(x: Any) -> np.ndarray:
+    """A state [x y z vx vy vz] (m, m/s; or several, shape (..., 6)) from guidance's CW frame
+    (:data:`CW_FRAME`) to the Hill frame of :func:`satgnc.analysis.cw_model` (x radial, y along-track,
+    z normal): radial = y, along-track = -x, normal = z."""
+    a = as_real_array(x, "x")
+    if a.shape[-1:] != (6,):
+        raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
+    out = np.empty_like(a, dtype=float)
+    out[..., 0:3] = a[..., 0:3] @ _TO_HILL.T
+    out[..., 3:6] = a[..., 3:6] @ _TO_HILL.T
+    return out
+
+
+def hill_to_cw(x: Any) -> np.ndarray:
+    """The inverse of :func:`cw_to_hill`: a Hill-frame state (x radial, y along-track, z normal; m, m/s)
+    to guidance's CW frame (:data:`CW_FRAME`)."""
+    a = as_real_array(x, "x")
+    if a.shape[-1:] != (6,):
+        raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
+    out = np.empty_like(a, dtype=float)
+    out[..., 0:3] = a[..., 0:3] @ _TO_HILL
+    out[..., 3:6] = a[..., 3:6] @ _TO_HILL
+    return out
 
 
 #: The fields of AdmmInfo, in order; each is also an L1Result attribute of the same name and value.
@@ -385,3 +424,8 @@ from .planning import Plan, plan  # noqa: E402
 from .problem import RendezvousProblem, satellite_params  # noqa: E402
 
 __all__ += ["Flight", "MpcRun", "Plan", "RendezvousProblem", "fly", "mpc", "plan", "satellite_params"]
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

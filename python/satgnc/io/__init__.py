@@ -601,3 +601,8 @@ def format_opm(opm: Opm) -> str:
 def write_opm(path: str | os.PathLike[str], opm: Opm) -> pathlib.Path:
     """Write ``opm`` to ``path`` (KVN); returns the path."""
     return _write_text(path, format_opm(opm))
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

@@ -211,3 +211,8 @@ def predict(
         iterations=out["iterations"],
         status=tuple(STATUS_NAMES[int(s)] for s in out["status"]),
     )
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

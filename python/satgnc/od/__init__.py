@@ -89,6 +89,7 @@ __all__ = [
     "make_propagator",
     "Observations",
     "read_csv",
+    "read_csv_names",
     "solve",
     "six_point_conditions",
     "solve_six_point",
@@ -385,7 +386,34 @@ class Observations:
         )
 
     def type_names(self) -> list[str]:
+        """The measurement types as the strings 'range' / 'range_rate' (``type`` holds the enums)."""
         return ["range" if k == MeasurementType.range else "range_rate" for k in self.type]
+
+    def write_csv(self, path, station_names: Sequence[str] | None = None):
+        """Write the table as CSV (``t,type,value,sigma,station``; t in s, value and sigma in km or km/s,
+        17 significant digits) that :func:`read_csv` reads back exactly. ``station_names``: write names
+        (``station_names[i]`` for index i) instead of indices. Returns the path."""
+        import pathlib as _pathlib
+
+        if station_names is not None:
+            if isinstance(station_names, str) or not all(isinstance(n, str) and n for n in station_names):
+                raise TypeError("station_names: must be a list of non-empty names (str)")
+            if len(set(station_names)) != len(station_names):
+                raise ValueError(f"station_names: names must be unique, got {list(station_names)}")
+            bad = [n for n in station_names if not (n[0].isalpha() or n[0] == "_") or "," in n]
+            if bad:
+                raise ValueError(f"station_names: a name starts with a letter and has no comma, "
+                                 f"got {bad[0]!r}")
+            if len(self) and int(self.station.max()) >= len(station_names):
+                raise ValueError(f"station_names: {len(station_names)} name(s) for station index "
+                                 f"{int(self.station.max())}")
+        out = _pathlib.Path(path)
+        lines = ["t,type,value,sigma,station"]
+        for t, k, v, sg, st in zip(self.t, self.type_names(), self.value, self.sigma, self.station):
+            who = station_names[int(st)] if station_names is not None else str(int(st))
+            lines.append(f"{float(t)!r},{k},{float(v)!r},{float(sg)!r},{who}")
+        out.write_text("\n".join(lines) + "\n")
+        return out
 
 
 _CSV_COLUMNS = ("t", "type", "value", "sigma", "station")
@@ -406,17 +434,29 @@ def _csv_float(cell: str, column: str, p, lineno: int) -> float:
 def read_csv(path) -> Observations:
     """Observations from a CSV file with a header holding ``t,type,value,sigma[,station]`` in any
     order (t in s from the epoch; type range/range_rate; value and sigma in km or km/s; station a
-    0-based index, default 0). Blank lines and lines starting with ``#`` are skipped; UTF-8 with or
+    0-based index, default 0, or a station name: names are numbered 0, 1, ... in order of first
+    appearance, see :func:`read_csv_names`; a file uses indices or names, not both). Blank lines and
+    lines starting with ``#`` are skipped; UTF-8 with or
     without a byte-order mark, LF or CRLF line ends.
 
     Every error in the content is a :class:`satgnc.FileFormatError` (a ``ValueError``) naming the
     file, the line and the column: unknown, duplicated or missing header columns, a wrong number of
     cells, a non-numeric or non-finite cell, a range <= 0, a sigma <= 0, a negative station index, and
     two rows with the same time, type and station (both lines named). Rows need not be time-ordered."""
+    return read_csv_names(path)[0]
+
+
+def read_csv_names(path) -> tuple[Observations, list[str] | None]:
+    """:func:`read_csv` and the station names of a file whose station column holds names (e.g.
+    ``BOULDER``): ``(observations, names)`` with ``observations.station[i]`` indexing ``names``;
+    ``names`` is None when the column holds indices (or is absent)."""
     import csv
 
     p, text = read_text_file(path)
     header = None
+    names: list[str] = []
+    name_line: int | None = None  # the first row that named its station (a file mixing both is refused)
+    index_line: int | None = None
     rows = {"t": [], "type": [], "value": [], "sigma": [], "station": []}
     seen: dict[tuple, int] = {}
     for lineno, line in enumerate(text.splitlines(), start=1):
@@ -466,14 +506,29 @@ def read_csv(path) -> Observations:
             raise FileFormatError(p, lineno, f"column 'sigma': too small, got {d['sigma']} (1/sigma^2 "
                                   "overflows)", key="sigma")
         cell = d.get("station", "0")
+        if cell and not cell.lstrip("+-").isdigit() and (cell[0].isalpha() or cell[0] == "_"):
+            if index_line is not None:
+                raise FileFormatError(p, lineno, f"column 'station': a station name ({cell!r}) in a file "
+                                      f"that uses indices (line {index_line}); use one or the other",
+                                      key="station")
+            name_line = lineno if name_line is None else name_line
+            if cell not in names:
+                names.append(cell)
+            cell = str(names.index(cell))
+        elif "station" in d:
+            if name_line is not None:
+                raise FileFormatError(p, lineno, f"column 'station': an index ({cell!r}) in a file that "
+                                      f"names its stations (line {name_line}); use one or the other",
+                                      key="station")
+            index_line = lineno if index_line is None else index_line
         try:
             if "_" in cell:
                 raise ValueError
             station = int(cell)
         except ValueError:
             hint = " (an empty cell; 0 is the first station)" if not cell else ""
-            raise FileFormatError(p, lineno, f"column 'station': must be an integer index, got {cell!r}"
-                                  f"{hint}", key="station") from None
+            raise FileFormatError(p, lineno, f"column 'station': must be an integer index or a station "
+                                  f"name, got {cell!r}{hint}", key="station") from None
         if not 0 <= station < 2**31 - 1:
             raise FileFormatError(p, lineno, f"column 'station': must be in [0, 2^31 - 1), got {station}",
                                   key="station")
@@ -489,7 +544,8 @@ def read_csv(path) -> Observations:
         raise FileFormatError(p, None, "empty file (hint: a header t,type,value,sigma[,station] and rows)")
     if not rows["t"]:
         raise FileFormatError(p, None, "no observations after the header")
-    return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])
+    obs = Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])
+    return obs, (names or None)
 
 
 def _stations(stations) -> list:
@@ -692,7 +748,7 @@ def simulate(
     sigma_range_rate: float = 1e-6,
     bias_range: float = 0.0,
     bias_range_rate: float = 0.0,
-    elevation_mask_deg: float | None = None,
+    elevation_mask_deg: float | None = 0.0,
     seed: int | None = 0,
     propagator="kepler",
     mu: float = EARTH_MU,
@@ -700,8 +756,9 @@ def simulate(
 ) -> Observations:
     """Synthetic observations of the orbit from ``x0`` (at t = 0) by every station at ``times`` (s):
     each type in ``types`` per visible time, Gaussian noise (sigmas in km, km/s; seed=None for none),
-    constant biases (km, km/s), and an elevation mask (deg in [-90, 90], geocentric horizontal) that
-    drops low passes. ``force_model``: the truth the observed orbit follows, a :class:`satgnc.ForceModel`
+    constant biases (km, km/s), and an elevation mask (deg in [-90, 90], geocentric horizontal; default
+    0 deg: no observation through the Earth; ``None``: no mask, every time observed) that drops low
+    passes. ``force_model``: the truth the observed orbit follows, a :class:`satgnc.ForceModel`
     (J2 and ``ExponentialDrag`` optional; km, km/s, s) integrated by ``propagator="cvodes"`` (see
     :func:`make_propagator`); its ``mu`` is the orbit's.
 
@@ -798,3 +855,8 @@ def simulate(
                          f"({rows['value'][j]:.6g} km at t = {rows['t'][j]:.6g} s); they must stay well "
                          "below the ranges (km)")
     return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])
+
+
+from .._namespace import public_dir as _public_dir  # noqa: E402
+
+__dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

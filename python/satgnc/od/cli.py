@@ -79,6 +79,14 @@ def _stations(args, epoch, names=None):
                 f"--station: the file has {len(names)} station(s) {names}, {len(out)} given "
                 f"(hint: name them, --station {names[0]}:lat,lon,h)"
             )
+        elif len(names) > 1:  # unnamed options, several stations: say how they were matched
+            import sys
+
+            given = [*(args.station or []), *(args.station_inertial or [])]
+            mapping = ", ".join(f"{n} = {g}" for n, g in zip(names, given))
+            print(f"satgnc: warning: the --station options are not named; matched to the file's stations "
+                  f"in order: {mapping} (name them, --station {names[0]}:lat,lon,h, to match by name)",
+                  file=sys.stderr)
     return out
 
 
@@ -146,7 +154,7 @@ def _is_tdm(path: pathlib.Path) -> bool:
 
 
 def _load(args):
-    from . import read_csv
+    from . import read_csv_names
     from .tdm import read_tdm
 
     path = pathlib.Path(args.observations)
@@ -158,8 +166,8 @@ def _load(args):
     for opt, v in (("--sigma-range", args.sigma_range), ("--sigma-range-rate", args.sigma_range_rate)):
         if v is not None:
             raise ValueError(f"{opt}: only for TDM files; a CSV file gives sigma on every row")
-    obs = read_csv(path)
-    return obs, None, args.epoch
+    obs, names = read_csv_names(path)  # names: a station column with names (BOULDER), else None
+    return obs, names, args.epoch
 
 
 def _propagator(args):
@@ -239,8 +247,12 @@ def _simulate(args) -> int:
             sigma_range=args.sigma_range,
             sigma_range_rate=args.sigma_range_rate,
             seed=None if args.no_noise else args.seed,
+            elevation_mask_deg=args.elevation_mask,
         )
     except ValueError as e:  # the library names its argument x0; the user typed --state
+        if str(e).startswith("elevation_mask_deg:"):
+            raise ValueError("--elevation-mask" + str(e)[len("elevation_mask_deg"):]
+                             + " (hint: --elevation-mask -90 observes every time)") from None
         if str(e).startswith("x0:"):
             raise ValueError("--state" + str(e)[2:]) from None
         if str(e).startswith("sigma_range, bias_range:"):
@@ -308,6 +320,9 @@ def register(subparsers) -> None:
     m.add_argument("--sigma-range-rate", type=positive_float, default=1e-6, help="km/s")
     m.add_argument("--seed", type=int_at_least(0), default=0)
     m.add_argument("--no-noise", action="store_true")
+    m.add_argument("--elevation-mask", type=finite_float, default=0.0,
+                   help="deg above the station's geocentric horizon (default 0: nothing through the Earth; "
+                        "-90 observes every time)")
     m.set_defaults(func=_simulate)
 
 

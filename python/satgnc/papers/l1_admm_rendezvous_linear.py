@@ -79,59 +79,59 @@ def quadratic_vs_l1(sc: scen.Scenario):
     return quad.U * sc.u_ref, l1.Y * sc.u_ref
 
 
-def plot_case(sc: scen.Scenario, run: CaseRun, path, title: str) -> None:
+def plot_case(sc: scen.Scenario, run: CaseRun, path, title: str, paper_stop: bool = True) -> None:
     """Figs. 2-3 style: positions (m), velocities (m/s), controls (N) of the converged plan, with the
-    paper-stop LQR iterate U dashed."""
-    import matplotlib
+    paper-stop LQR iterate U dashed (``paper_stop``; off for a user's case). satgnc's plotting style:
+    one colour per axis, legends outside the data."""
+    from .. import _plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = _plot._pyplot()
     N = sc.horizon
     t = np.arange(N + 1) * sc.dt
     X = sc.to_si(X=run.converged.X_flown)
     U = run.converged.Y * sc.u_ref
     Up = run.paper.U * sc.u_ref
-    fig, ax = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
-    lab = ["x (-along-track)", "y (radial)", "z (normal)"]
+    fig, ax = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    lab = ["x (minus along-track)", "y (radial)", "z (normal)"]
     for i in range(3):
-        ax[0].plot(t, X[:, i], label=lab[i])
-        ax[1].plot(t, X[:, 3 + i], label=lab[i])
-        ax[2].step(t[:-1], U[:, i], where="post", label=f"u{i + 1} converged")
-        ax[2].step(t[:-1], Up[:, i], where="post", ls="--", lw=0.8, label=f"u{i + 1} paper stop (U)")
-    ax[0].set_ylabel("position (m)")
-    ax[1].set_ylabel("velocity (m/s)")
+        col = _plot.AXIS_COLORS[i]
+        ax[0].plot(t, X[:, i], color=col, label=lab[i])
+        ax[1].plot(t, X[:, 3 + i], color=col, label=f"v{'xyz'[i]}")
+        ax[2].step(t[:-1], U[:, i], where="post", color=col, label=f"u{i + 1} converged")
+        if paper_stop:
+            ax[2].step(t[:-1], Up[:, i], where="post", ls="--", lw=0.8, color=col,
+                       label=f"u{i + 1} paper stop (U)")
+    ax[0].set_ylabel("relative position (CW) (m)")
+    ax[1].set_ylabel("relative velocity (CW) (m/s)")
     ax[2].set_ylabel("force (N)")
     ax[2].set_xlabel("time (s)")
-    ax[0].legend(fontsize=7)
-    ax[2].legend(fontsize=6, ncol=2)
+    for a in ax:
+        _plot.legend_outside(a)
     ax[0].set_title(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
 
 
 def plot_fig1(sc: scen.Scenario, path) -> tuple[float, float]:
     """Fig. 1; returns the delta-v (m/s) of the quadratic and the L1 controls."""
-    import matplotlib
+    from .. import _plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = _plot._pyplot()
     Uq, Ul = quadratic_vs_l1(sc)
     t = np.arange(sc.horizon) * sc.dt
-    fig, ax = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
+    fig, ax = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
     for i in range(3):
-        ax[0].step(t, Uq[:, i], where="post", label=f"u{i + 1}")
-        ax[1].step(t, Ul[:, i], where="post", label=f"u{i + 1}")
+        ax[0].step(t, Uq[:, i], where="post", color=_plot.AXIS_COLORS[i], label=f"u{i + 1}")
+        ax[1].step(t, Ul[:, i], where="post", color=_plot.AXIS_COLORS[i], label=f"u{i + 1}")
     ax[0].set_title("quadratic control cost (same initial and final state)")
     ax[1].set_title("L1 control cost")
     for a in ax:
         a.set_ylabel("force (N)")
-        a.legend(fontsize=7)
+        _plot.legend_outside(a)
     ax[1].set_xlabel("time (s)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
     dv = lambda U: float(np.abs(U).sum() * sc.dt / sc.mass)  # noqa: E731
     return dv(Uq), dv(Ul)

@@ -40,7 +40,8 @@ def _solve_one(case: str, seed: int | None):
     st = p.station()
     if case in ("pass", "two_stations"):
         sts = [st] if case == "pass" else [st, second_station()]
-        obs = simulate(p.truth(), sts, _pass_times(), sigma_range=SIG_R, sigma_range_rate=SIG_RR, seed=seed)
+        obs = simulate(p.truth(), sts, _pass_times(), sigma_range=SIG_R, sigma_range_rate=SIG_RR, seed=seed,
+                       elevation_mask_deg=None)  # the paper's pass: every time observed
         r = solver(obs, sts, "levenberg_marquardt", max_iterations=300).solve(p.truth())
     else:
         rho, rhodot = p.observe()

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+import importlib.util
 import pathlib
 import time
 
@@ -22,12 +23,30 @@ class Context:
 
     outdir: pathlib.Path
     quick: bool = False
+    #: Cross-checks left out because an optional package (the ``test`` extra) is missing: one line each.
+    skipped: list[str] = dataclasses.field(default_factory=list)
+
+    def have(self, *modules: str, check: str = "") -> bool:
+        """True when every module in ``modules`` imports; otherwise record ``check`` as skipped (it needs
+        the ``test`` extra: ``pip install "satgnc[test]"``) and return False."""
+        missing = [m for m in modules if _find(m) is None]
+        if missing and check:
+            self.skipped.append(f"{check} (needs {', '.join(missing)})")
+        return not missing
 
     def figure_path(self, name: str) -> pathlib.Path:
         """Path for a PNG figure ``name`` (without extension) under ``outdir/figures``."""
         d = self.outdir / "figures"
         d.mkdir(parents=True, exist_ok=True)
         return d / f"{name}.png"
+
+
+def _find(module: str):
+    """``importlib.util.find_spec`` that treats a blocked import (sys.modules[name] = None) as absent."""
+    try:
+        return importlib.util.find_spec(module)
+    except (ValueError, ImportError):
+        return None
 
 
 def available_sections() -> list[str]:
@@ -45,8 +64,13 @@ def available_sections() -> list[str]:
 
 
 def write_report(outdir: str | pathlib.Path = "satgnc-report", sections: list[str] | None = None,
-                 quick: bool = False, progress: bool = True) -> pathlib.Path:
-    """Run the selected sections (default: all) and write ``outdir/README.md``; return its path."""
+                 quick: bool = False, progress: bool = True,
+                 skipped: list[str] | None = None) -> pathlib.Path:
+    """Run the selected sections (default: all) and write ``outdir/README.md``; return its path.
+
+    Cross-checks that need an optional package that is not installed (cvxpy + Clarabel, from the
+    ``test`` extra) are left out of the report and listed in ``skipped`` (when a list is given) and in
+    the report itself."""
     outdir = pathlib.Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     names = available_sections() if sections is None else list(sections)
@@ -65,6 +89,12 @@ def write_report(outdir: str | pathlib.Path = "satgnc-report", sections: list[st
         parts += [f"## {mod.TITLE}", "", body.strip(), "",
                   f"_section generated in {time.perf_counter() - t0:.1f} s_", ""]
         bar.step(name)
+    if ctx.skipped:
+        parts += ["## Cross-checks not run", "",
+                  "These need the test extra (`pip install \"satgnc[test]\"`):",
+                  ""] + [f"- {c}" for c in ctx.skipped] + [""]
+    if skipped is not None:
+        skipped.extend(ctx.skipped)
     path = outdir / "README.md"
     path.write_text("\n".join(parts))
     return path

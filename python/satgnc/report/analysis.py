@@ -67,6 +67,7 @@ def six_results() -> list[dict]:
 
 def build(ctx) -> str:
     from ..analysis import (
+        EARTH_RATE_PAPER,
         cw_model,
         distance_to_uncontrollability,
         format_loss_table,
@@ -168,7 +169,7 @@ def build(ctx) -> str:
                        f"{d.relative:.3g} |")
     out.append("")
     out.append("### Observability Gramian of single-station OD (od_newton_raphson.md Tables 1 and 3)")
-    rise, set_ = visibility_pass()
+    rise, set_ = visibility_pass(rate=EARTH_RATE_PAPER)
     out.append(f"Station rotating at 7.27e-5 rad/s; the pass containing the epoch lasts from {rise:.0f} s to "
                f"{set_:.0f} s (geocentric horizon). Gramian W = sum Phi^T H^T H Phi with Kepler STMs; "
                "condition in km, km/s and after Jacobi scaling (unit-free).")
@@ -180,7 +181,7 @@ def build(ctx) -> str:
             "one pass, every 10 s": np.arange(np.ceil(rise), np.floor(set_) + 1e-9, 10.0)}
     for kind in ("range", "range_rate"):
         for arc, times in arcs.items():
-            g = od_gramian(kind, times)
+            g = od_gramian(kind, times, rate=EARTH_RATE_PAPER)
             e = g.extra
             wd = " ".join(f"{v:+.2f}" for v in g.weakest)
             out.append(f"| {kind} | {arc} | {len(times)} | {e['sensitivity_condition'] ** 2:.3g} | "

@@ -18,10 +18,9 @@ TITLE = "The main job as one path: tracking, OD, relative state, L1 plan, flight
 
 def figure(run, path) -> pathlib.Path:
     """The 4-panel figure of a :class:`satgnc.mission.MissionRun`, saved as PNG at ``path``."""
-    import matplotlib
+    from .. import _plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = _plot._pyplot()  # satgnc's style: colour-blind-safe palette
 
     tr, est, pl, fl, ck = run.tracking, run.estimate, run.plan, run.flight, run.checks
     cl = run.closed_loop
@@ -48,11 +47,11 @@ def figure(run, path) -> pathlib.Path:
         if cl is not None:
             a.plot(cl.X_cw[:, 0], cl.X_cw[:, 1], ":",
                    label=f"flown closed loop (MPC), miss {cl.miss_position:.2f} m")
-        a.plot([0], [0], "k+", ms=12)
-        a.set_xlabel("x = y cross z (m)")
+        _plot.mark_start_target(a, pl.X[0, :2])
+        a.set_xlabel("x = y cross z, minus along-track (m)")
         a.set_ylabel("y radial (m)")
         a.set_title(title, fontsize=9)
-        a.legend(fontsize=8)
+        a.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
     if ck is not None:
         a = ax[1, 1]
         a.semilogy(np.arange(1, ck.controllability_sv.size + 1), ck.controllability_sv, "o-",
@@ -67,7 +66,7 @@ def figure(run, path) -> pathlib.Path:
     fig.tight_layout()
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
     return path
 

@@ -276,29 +276,34 @@ def _fig2(p, ctx, quick) -> str:
     ]
     # Figure: final position error vs initial, by class.
     try:
-        import matplotlib
+        from .. import _plot
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        fig, axs = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
-        colors = {
-            "truth": "tab:green",
-            "other root": "tab:orange",
-            "no fit": "tab:gray",
-            "diverged": "tab:red",
+        plt = _plot._pyplot()
+        fig, axs = plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
+        # Okabe-Ito colours and distinct markers; the rare classes drawn last and larger.
+        classes = {
+            "diverged": (_plot.PALETTE["orange"], "o", 7),
+            "truth": (_plot.PALETTE["blue"], "o", 8),
+            "no fit": (_plot.PALETTE["black"], "x", 30),
+            "other root": (_plot.PALETTE["purple"], "D", 30),
         }
         for ax, method in zip(axs, ("newton", "levenberg_marquardt")):
             tab, cl = res[method]
             d = g[:, :3] - p.truth()[:3]
-            for k, col in colors.items():
+            for k, (col, mk, size) in classes.items():
                 m = cl == k
-                ax.scatter(d[m, 0], d[m, 2], s=8, c=col, label=k)
-            ax.set(title=method, xlabel="guess dx1 (km)", ylabel="guess dx3 (km)")
-        axs[0].legend(fontsize=8)
+                ax.scatter(d[m, 0], d[m, 2], s=size, c=col, marker=mk, label=f"{k} ({int(m.sum())})")
+            ax.set(title={"newton": "plain Newton", "levenberg_marquardt": "Levenberg-Marquardt"}[method],
+                   xlabel="initial guess: x - x_true (km, inertial)")
+            ax.legend(title="the solve ends at (guesses)", loc="upper center", bbox_to_anchor=(0.5, -0.16),
+                      ncol=2, frameon=False)  # below the panel, outside the data
+        axs[0].set_ylabel("initial guess: z - z_true (km, inertial)")
+        fig.suptitle("Fig. 2: where each guess ends (guesses uniform in truth \u00b1 200 km, "
+                     "\u00b1 0.2 km/s; "
+                     "shown: their x and z offsets)")
         fig.tight_layout()
         path = ctx.figure_path("od_convergence_map")
-        fig.savefig(path, dpi=100)
+        fig.savefig(path, dpi=100, bbox_inches="tight")
         plt.close(fig)
         lines += [f"![convergence map](figures/{path.name})", ""]
     except ImportError:
