@@ -101,8 +101,8 @@ BAD_FILES = [
     ("[space_weather]\nf107 = 900\n", 2, "[space_weather] f107: must be in [0, 400] sfu, got 900"),
     ("[space_weather]\nap = -3\n", 2, "[space_weather] ap: must be in [0, 400], got -3"),
     ("[space_weather]\nf107a = 1e3\n", 2, "[space_weather] f107a: must be in [0, 400] sfu, got 1000"),
-    ("[drag]\narea = 1.0\nmass = 10.0\natmosphere = \"nrlmsise00\"\n", 4,
-     "[drag] atmosphere: 'nrlmsise00' is not built yet in this version of satgnc"),
+    ("[drag]\narea = 1.0\nmass = 10.0\natmosphere = \"nrlmsise00\"\nhp_n = 3\n", 5,
+     "[drag] hp_n: only with atmosphere = \"harris_priester\""),
     ("[drag]\narea = 1.0\nmass = 10.0\natmosphere = \"jacchia\"\n", 4,
      "[drag] atmosphere: unknown value 'jacchia' (choices: harris_priester, exponential, nrlmsise00)"),
     ("[drag]\narea = 1.0\nmass = 10.0\natmosphere = \"exponential\"\nrho0 = 1e-12\nh0 = 400\n", 1,
@@ -206,7 +206,8 @@ def test_propagation_od_and_guidance_truth_read_the_same_file(tmp_path):
     assert type(prop).__name__ == "CvodesStmPropagator"
     st = od.station_inertial([6378.1363, 0.0, 0.0])
     times = np.arange(0.0, 600.0, 20.0)
-    obs = od.simulate(x0, [st], times, seed=None, propagator=prop)
+    # elevation_mask_deg=None: every sample (the default 0 deg mask keeps only the visible part)
+    obs = od.simulate(x0, [st], times, seed=None, propagator=prop, elevation_mask_deg=None)
     guess = x0 + np.array([1.0, -1.0, 0.5, 1e-3, 0.0, -1e-3])
     r = od.solve(obs, [st], guess, propagator=prop)
     assert r.status.name == "converged"

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "satgnc/dynamics/nrlmsise00.hpp"
 #include "satgnc/frames/earth_orientation.hpp"
 #include "satgnc/frames/earth_rotation.hpp"
 #include "satgnc/frames/eop.hpp"
@@ -330,18 +331,23 @@ ForceModelConfig parse_force_model_config(std::string_view text, const std::stri
     dr.check(cd >= 0.0 && cd <= 10.0, "cd", "must be in [0, 10]", cd);
     cfg.atmosphere =
         dr.choice("atmosphere", "harris_priester", {"harris_priester", "exponential", "nrlmsise00"});
-    if (cfg.atmosphere == "nrlmsise00")
-      dr.fail(dr.line_of_key("atmosphere"), "atmosphere",
-              "'nrlmsise00' is not built yet in this version of satgnc (use \"harris_priester\" or "
-              "\"exponential\")");
     const bool expo = cfg.atmosphere == "exponential";
+    const bool msis = cfg.atmosphere == "nrlmsise00";
     for (const char* k : {"rho0", "h0", "scale_height"})
       if (!expo && dr.node(k) != nullptr)
         dr.fail(dr.line_of_key(k), k, "only with atmosphere = \"exponential\"");
     for (const char* k : {"hp_n", "hp_lag_deg"})
-      if (expo && dr.node(k) != nullptr)
+      if (cfg.atmosphere != "harris_priester" && dr.node(k) != nullptr)
         dr.fail(dr.line_of_key(k), k, "only with atmosphere = \"harris_priester\"");
-    if (expo) {
+    if (msis) {
+      // Built after [space_weather] is read (below): the model holds the space weather and epoch.
+      AtmosphereDrag a;
+      a.earth_rotation = rotation;
+      a.cd = cd;
+      a.area = area;
+      a.mass = mass;
+      fm.atmosphere_drag = a;
+    } else if (expo) {
       ExponentialDrag d;
       d.rho0 = dr.required("rho0", "kg/m^3");
       dr.check(d.rho0 > 0.0, "rho0", "must be > 0 kg/m^3", d.rho0);
@@ -381,6 +387,19 @@ ForceModelConfig parse_force_model_config(std::string_view text, const std::stri
   cfg.space_weather.ap = sw.number("ap", cfg.space_weather.ap);
   sw.check(cfg.space_weather.ap >= 0.0 && cfg.space_weather.ap <= SpaceWeather::max_ap, "ap",
            "must be in [0, 400]", cfg.space_weather.ap);
+
+  if (cfg.atmosphere == "nrlmsise00") {
+    // NRLMSISE-00 takes its day of year and UT from the epoch of t = 0 (TT two-part JD) and the
+    // space weather of [space_weather]; the ForceModel epoch alone does not reach it.
+    Nrlmsise00Settings ms;
+    ms.space_weather = cfg.space_weather;
+    if (cfg.epoch) {
+      const core::JulianDate jd = cfg.epoch->jd(core::TimeScale::tt);
+      ms.epoch_jd1 = jd.jd1;
+      ms.epoch_jd2 = jd.jd2;
+    }
+    fm.atmosphere_drag->atmosphere = std::make_shared<Nrlmsise00>(ms);
+  }
 
   cfg.radius = radius;
   if (cfg.epoch) fm.set_epoch(*cfg.epoch);

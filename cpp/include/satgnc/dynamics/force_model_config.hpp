@@ -24,7 +24,8 @@
 /// default,
 ///   "cylindrical", "none")
 /// - [drag] area (m^2, >= 0, required), mass (kg, > 0, required), cd ([0, 10], default 2.2), atmosphere
-///   ("harris_priester" default, "exponential", "nrlmsise00" reserved: not built yet), rho0
+///   ("harris_priester" default, "exponential", "nrlmsise00": NRLMSISE-00 with
+///   [space_weather] and the [epoch] (J2000 TT without one)), rho0
 ///   (kg/m^3, > 0), h0 (km), scale_height (km, > 0) for "exponential"; hp_n ([2, 6], default 2),
 ///   hp_lag_deg ([0, 180], default 30) for "harris_priester"
 /// - [space_weather] f107, f107a (sfu, [0, 400], default 150), ap ([0, 400], default 4)
@@ -67,7 +68,7 @@ struct ForceModelConfig {
   SpaceWeather space_weather;           ///< [space_weather] (for density models that use it)
   std::string gravity_model;            ///< "point_mass", "j2", "egm2008" or "file"
   std::string gravity_file;             ///< the .gfc path read (empty without a field)
-  std::string atmosphere;               ///< "", "harris_priester" or "exponential"
+  std::string atmosphere;               ///< "", "harris_priester", "exponential" or "nrlmsise00"
   std::string earth_orientation;        ///< "uniform" or "iau2006"
   std::string eop_file;                 ///< the EOP path read (iau2006), else empty
   std::string source;                   ///< the TOML file (or source name)
