@@ -17,6 +17,7 @@ void init_guidance_nonlinear(pybind11::module_& m);
 void init_analysis(pybind11::module_& m);
 void init_io(pybind11::module_& m);
 void init_observation(pybind11::module_& m);
+void init_filter(pybind11::module_& m);
 }  // namespace satgnc::bindings
 
 PYBIND11_MODULE(_satgnc, m) {
@@ -38,4 +39,5 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_analysis(m);
   b::init_io(m);
   b::init_observation(m);
+  b::init_filter(m);
 }
