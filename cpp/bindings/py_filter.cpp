@@ -89,6 +89,8 @@ py::dict run_filter(const dynamics::ForceModel& fm, const py::list& stations, co
   fs.gate_probability = fset["gate_probability"].cast<double>();
   fs.warmup = fset["warmup"].cast<int>();
   fs.consider = fset["consider"].cast<std::vector<int>>();
+  fs.method = fset["method"].cast<std::string>() == "ukf" ? filter::OrbitFilterMethod::ukf
+                                                           : filter::OrbitFilterMethod::ekf;
   OrbitFilter f(std::move(pm), std::move(mf), fs);
   std::vector<OrbitMeasurement> meas(t.size());
   for (std::size_t k = 0; k < t.size(); ++k)

@@ -54,6 +54,11 @@ void OrbitFilterSettings::validate(int n) const {
   core::require(std::isfinite(gate_probability) && gate_probability > 0.0 && gate_probability < 1.0,
                 "gate_probability", "must be in (0, 1), got " + std::to_string(gate_probability));
   core::require(warmup >= 0, "warmup", "must be >= 0, got " + std::to_string(warmup));
+  core::require(method == OrbitFilterMethod::ekf || method == OrbitFilterMethod::ukf, "method", "must be ekf or ukf");
+  core::require_positive(ukf_alpha, "ukf_alpha");
+  core::require_finite(ukf_beta, "ukf_beta");
+  core::require(std::isfinite(ukf_kappa) && n + ukf_kappa > 0.0, "ukf_kappa",
+                "must be finite with n + kappa > 0, got " + std::to_string(ukf_kappa));
   std::vector<int> seen(static_cast<std::size_t>(n), 0);
   for (std::size_t i = 0; i < consider.size(); ++i) {
     const int c = consider[i];
@@ -73,9 +78,14 @@ struct OrbitFilterWorkspace {
   MatrixXd h;  // 2 x n
   Eigen::LLT<MatrixXd> llt;
   VectorXd consider_mask;  // 1 for estimated, 0 for consider
+  // UKF
+  MatrixXd sig, dx, phi2, q2;  // n x (2n+1), n x (2n+1), n x n, n x n
+  Eigen::Matrix<double, 2, Eigen::Dynamic> z, dz;  // 2 x (2n+1)
+  VectorXd wm, wc;
   explicit OrbitFilterWorkspace(int n)
       : x(n), xp(n), p(n, n), phi(n, n), q(n, n), tmp(n, n), ikh(n, n), pht(n, 2), k(n, 2), kr(n, 2), h(2, n),
-        llt(n), consider_mask(VectorXd::Ones(n)) {}
+        llt(n), consider_mask(VectorXd::Ones(n)), sig(n, 2 * n + 1), dx(n, 2 * n + 1), phi2(n, n), q2(n, n),
+        z(2, 2 * n + 1), dz(2, 2 * n + 1), wm(2 * n + 1), wc(2 * n + 1) {}
 };
 }  // namespace detail
 
@@ -91,6 +101,32 @@ OrbitFilter::OrbitFilter(OrbitProcessModel process, OrbitMeasurementFunction mea
   gate2_ = chi2_quantile(2, settings_.gate_probability);
   ws_ = std::make_unique<detail::OrbitFilterWorkspace>(n_);
   for (int c : settings_.consider) ws_->consider_mask[c] = 0.0;
+  const double a = settings_.ukf_alpha, nd = n_;
+  lambda_ = a * a * (nd + settings_.ukf_kappa) - nd;
+  ws_->wm.setConstant(0.5 / (nd + lambda_));
+  ws_->wc = ws_->wm;
+  ws_->wm[0] = lambda_ / (nd + lambda_);
+  ws_->wc[0] = ws_->wm[0] + 1.0 - a * a + settings_.ukf_beta;
+}
+
+// Sigma points of (w.x, w.p) into w.sig; false when sqrt((n + lambda) P) fails (not positive definite).
+bool OrbitFilter::draw_sigma_points() noexcept {
+  auto& w = *ws_;
+  const int n = n_;
+  w.tmp = (n + lambda_) * w.p;
+  w.llt.compute(w.tmp);
+  if (w.llt.info() != Eigen::Success) return false;
+  w.sig.col(0) = w.x;
+  for (int i = 0; i < n; ++i) {
+    w.sig.col(1 + i) = w.x;
+    w.sig.col(1 + n + i) = w.x;
+    for (int r = i; r < n; ++r) {
+      const double l = w.llt.matrixLLT()(r, i);
+      w.sig(r, 1 + i) += l;
+      w.sig(r, 1 + n + i) -= l;
+    }
+  }
+  return true;
 }
 
 OrbitFilter::~OrbitFilter() = default;
@@ -180,36 +216,98 @@ OrbitFilterResult OrbitFilter::run(double t0, const VectorXd& x0, const MatrixXd
     auto& w = *ws_;
     w.x = x0;
     w.p = p0;
+    const bool ukf = settings_.method == OrbitFilterMethod::ukf;
+    const int ns = 2 * n + 1;
     double t = t0;
     for (std::size_t k = 0; k < K; ++k) {
       const OrbitMeasurement& m = meas[k];
       // --- predict
-      const OrbitProcessInfo pi = process_.propagate(t, m.t, w.x, w.phi, w.q);
-      r.propagation_steps += pi.steps;
-      if (pi.status != propagation::Dop853Status::success) {
-        r.status[k] = OrbitStepStatus::propagation_failed;
-        break;
+      if (!ukf) {
+        const OrbitProcessInfo pi = process_.propagate(t, m.t, w.x, w.phi, w.q);
+        r.propagation_steps += pi.steps;
+        if (pi.status != propagation::Dop853Status::success) {
+          r.status[k] = OrbitStepStatus::propagation_failed;
+          break;
+        }
+        w.tmp.noalias() = w.phi * w.p;
+        w.p.noalias() = w.tmp * w.phi.transpose();
+        w.p += w.q;
+      } else {
+        if (!draw_sigma_points()) {
+          r.status[k] = OrbitStepStatus::not_positive_definite;
+          break;
+        }
+        bool ok = true;
+        for (int j = 0; j < ns && ok; ++j) {
+          auto col = w.sig.col(j);
+          const OrbitProcessInfo pi = j == 0 ? process_.propagate(t, m.t, col, w.phi, w.q)
+                                             : process_.propagate(t, m.t, col, w.phi2, w.q2);
+          r.propagation_steps += pi.steps;
+          ok = pi.status == propagation::Dop853Status::success;
+        }
+        if (!ok) {
+          r.status[k] = OrbitStepStatus::propagation_failed;
+          break;
+        }
+        w.x.noalias() = w.sig * w.wm;
+        w.dx = w.sig.colwise() - w.x;
+        w.p.noalias() = w.dx * w.wc.asDiagonal() * w.dx.transpose();
+        w.p += w.q;
       }
       t = m.t;
-      w.tmp.noalias() = w.phi * w.p;
-      w.p.noalias() = w.tmp * w.phi.transpose();
-      w.p += w.q;
       w.tmp = w.p.transpose();
       w.p = 0.5 * (w.p + w.tmp);
       put(r.predicted_state, k, w.x.transpose());
       put(r.predicted_covariance, k, w.p);
       put(r.transition, k, w.phi);
       r.steps_run = static_cast<int>(k) + 1;
-      // --- measurement
-      Eigen::Vector2d pred, sig;
+      // --- measurement: predicted value zhat, innovation covariance s, gain pieces (pht = P H^T or Pxz)
       const int sz = r.size[k];
-      w.h.setZero();
-      const core::ObservationStatus os = measurement_.evaluate(m, w.x, pred, w.h, sig);
+      Eigen::Vector2d zhat, sig;
+      Eigen::Matrix2d s = Eigen::Matrix2d::Zero();
       OrbitStepStatus st = OrbitStepStatus::updated;
+      core::ObservationStatus os = core::ObservationStatus::success;
+      if (!ukf) {
+        w.h.setZero();
+        os = measurement_.evaluate(m, w.x, zhat, w.h, sig);
+        if (os == core::ObservationStatus::success) {
+          w.pht.noalias() = w.p * w.h.transpose();
+          s.noalias() = w.h * w.pht;
+        }
+      } else {
+        if (!draw_sigma_points()) {
+          r.status[k] = OrbitStepStatus::not_positive_definite;
+          break;
+        }
+        for (int j = 0; j < ns && os == core::ObservationStatus::success; ++j) {
+          Eigen::Vector2d zj, sj;
+          os = measurement_.evaluate(m, w.sig.col(j), zj, w.h, sj);
+          w.z.col(j) = zj;
+          if (j == 0) sig = sj;
+        }
+        if (os == core::ObservationStatus::success) {
+          // Differences from the central point (azimuth / right ascension wrapped), then the mean.
+          for (int j = 0; j < ns; ++j) {
+            OrbitMeasurement mj = m;
+            mj.value = w.z.col(j);
+            w.dz.col(j) = measurement_.residual(mj, w.z.col(0));
+          }
+          const Eigen::Vector2d mean_dz = w.dz * w.wm;
+          zhat = w.z.col(0) + mean_dz;
+          w.dz.colwise() -= mean_dz;
+          w.dx = w.sig.colwise() - w.x;
+          w.pht.noalias() = w.dx * w.wc.asDiagonal() * w.dz.transpose();
+          s.noalias() = w.dz * w.wc.asDiagonal() * w.dz.transpose();
+          if (sz == 1) {
+            w.pht.col(1).setZero();
+            s(0, 1) = s(1, 0) = s(1, 1) = 0.0;
+          }
+        }
+      }
       if (os != core::ObservationStatus::success) {
         st = OrbitStepStatus::measurement_failed;
       } else {
-        const Eigen::Vector2d y = measurement_.residual(m, pred);
+        const Eigen::Vector2d y = measurement_.residual(m, zhat);
         const Eigen::Vector2d r2 = sig.cwiseProduct(sig);
         r.prefit[2 * k] = y[0];
         r.sigma[2 * k] = sig[0];
@@ -217,8 +315,6 @@ OrbitFilterResult OrbitFilter::run(double t0, const VectorXd& x0, const MatrixXd
           r.prefit[2 * k + 1] = y[1];
           r.sigma[2 * k + 1] = sig[1];
         }
-        w.pht.noalias() = w.p * w.h.transpose();
-        Eigen::Matrix2d s = w.h * w.pht;
         s(0, 0) += r2[0];
         s(1, 1) += r2[1];
         Eigen::Matrix2d si = Eigen::Matrix2d::Zero();
@@ -243,17 +339,28 @@ OrbitFilterResult OrbitFilter::run(double t0, const VectorXd& x0, const MatrixXd
           r.postfit[2 * k] = y[0];
           if (sz == 2) r.postfit[2 * k + 1] = y[1];
         } else {
-          // Joseph update; consider rows of K zeroed (Schmidt-Kalman).
+          // Gain; consider rows zeroed (Schmidt-Kalman).
           w.k.noalias() = w.pht * si;
           if (sz == 1) w.k.col(1).setZero();
           w.k.array().colwise() *= w.consider_mask.array();
-          w.x.noalias() += w.k * (sz == 1 ? Eigen::Vector2d(y[0], 0.0) : y);
-          w.ikh.setIdentity();
-          w.ikh.noalias() -= w.k * w.h;
-          w.tmp.noalias() = w.ikh * w.p;
-          w.p.noalias() = w.tmp * w.ikh.transpose();
-          w.kr = w.k * r2.asDiagonal();
-          w.p.noalias() += w.kr * w.k.transpose();
+          const Eigen::Vector2d yy = sz == 1 ? Eigen::Vector2d(y[0], 0.0) : y;
+          w.x.noalias() += w.k * yy;
+          if (!ukf) {
+            // Joseph form: (I - K H) P (I - K H)^T + K R K^T.
+            w.ikh.setIdentity();
+            w.ikh.noalias() -= w.k * w.h;
+            w.tmp.noalias() = w.ikh * w.p;
+            w.p.noalias() = w.tmp * w.ikh.transpose();
+            w.kr = w.k * r2.asDiagonal();
+            w.p.noalias() += w.kr * w.k.transpose();
+          } else {
+            // General form for any gain: P - K Pxz^T - Pxz K^T + K S K^T.
+            w.kr.noalias() = w.k * s;
+            w.tmp.noalias() = w.k * w.pht.transpose();
+            w.p -= w.tmp;
+            w.p -= w.tmp.transpose();
+            w.p.noalias() += w.kr * w.k.transpose();
+          }
           w.tmp = w.p.transpose();
           w.p = 0.5 * (w.p + w.tmp);
           w.llt.compute(w.p);

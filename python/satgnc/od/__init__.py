@@ -782,3 +782,9 @@ def simulate(
                          f"({rows['value'][j]:.6g} km at t = {rows['t'][j]:.6g} s); they must stay well "
                          "below the ranges (km)")
     return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])
+
+
+# ----------------------------------------------------------------------------- sequential OD (issue 15)
+from .filtering import FilterResult, filter, smooth  # noqa: A004, E402
+
+__all__ += ["FilterResult", "filter", "smooth"]

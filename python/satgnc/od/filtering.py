@@ -31,7 +31,7 @@ import numpy as np
 
 from .. import _satgnc as _c
 from .._results import Result
-from .._validate import as_bool, as_int, as_real, as_real_array
+from .._validate import as_bool, as_int, as_real, as_real_array, one_of
 
 __all__ = ["FilterResult", "OBSERVABLES", "filter", "smooth", "process_noise"]
 
@@ -102,7 +102,8 @@ def _observable_names(observables: Any) -> tuple[str, ...]:
     out = []
     for i, o in enumerate(observables):
         if not isinstance(o, str) or o not in OBSERVABLES:
-            raise ValueError(f"observables[{i}]: unknown measurement type {o!r} (hint: one of {list(OBSERVABLES)})")
+            raise ValueError(f"observables[{i}]: unknown measurement type {o!r} "
+                             f"(hint: one of {list(OBSERVABLES)})")
         out.append(o)
     if len(set(out)) != len(out):
         raise ValueError(f"observables: a type is repeated in {out}")
@@ -162,7 +163,7 @@ def process_noise(
     dmc_tau: Any = None,
     dmc_sigma: Any = None,
     noise_step: float = 300.0,
-    quadrature_nodes: int = 3,
+    quadrature_nodes: int = 5,
     rtol: float = 1e-12,
     atol: float = 1e-14,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -190,6 +191,7 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
     x0: Any,
     P0: Any,
     t0: float = 0.0,
+    method: str = "ekf",
     observables: Sequence[str] = ("two_way_range", "two_way_range_rate"),
     sigma: Any = (0.005, 1e-6),
     force_model: Any = None,
@@ -207,12 +209,15 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
     gate_probability: float = 0.9973,
     warmup: int = 0,
     noise_step: float = 300.0,
-    quadrature_nodes: int = 3,
+    quadrature_nodes: int = 5,
     rtol: float = 1e-10,
     atol: float = 1e-12,
     _smooth: bool = False,
 ) -> FilterResult:
     """Run the orbit EKF over K measurements.
+
+    ``method``: "ekf" (STM covariance propagation, Joseph-form update) or "ukf" (2n + 1 sigma
+    points through DOP853 and the measurement model; alpha = 1, beta = 2, kappa = 0).
 
     Measurements: ``t`` (K,) tags, s (non-decreasing, >= ``t0``); ``station`` (K,) indices into
     ``stations`` (:class:`satgnc.observation.RotatingStationEphemeris` or
@@ -239,8 +244,8 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
         raise TypeError("stations: must be a non-empty list of station ephemerides")
     for i, s in enumerate(stations):
         if not isinstance(s, (_c.RotatingStationEphemeris, _c.EarthFixedStationEphemeris)):
-            raise TypeError(f"stations[{i}]: must be a RotatingStationEphemeris or EarthFixedStationEphemeris "
-                            f"(satgnc.observation), got {type(s).__name__}")
+            raise TypeError(f"stations[{i}]: must be a RotatingStationEphemeris or "
+                            f"EarthFixedStationEphemeris (satgnc.observation), got {type(s).__name__}")
     ns, no = len(stations), len(obs_names)
     tt = np.atleast_1d(as_real_array(t, "t", ndim=(0, 1)))
     k = tt.size
@@ -271,7 +276,8 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
         for i, name in enumerate(ob_in.tolist()):
             if name not in index:
                 hint = "unknown measurement type" if name not in OBSERVABLES else "not set up"
-                raise ValueError(f"observable[{i}]: {hint}: {name!r} (the filter was set up for {list(obs_names)})")
+                raise ValueError(f"observable[{i}]: {hint}: {name!r} "
+                                 f"(the filter was set up for {list(obs_names)})")
             ob[i] = index[name]
     val = as_real_array(value, "value", ndim=(1, 2))
     if val.ndim == 1:
@@ -353,6 +359,7 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
         ev = float(np.linalg.eigvalsh(p0).min())
         raise ValueError(f"P0: must be positive definite (smallest eigenvalue {ev:.3g})") from None
     fs = {
+        "method": one_of(method, "method", ("ekf", "ukf")),
         "gating": as_bool(gating, "gating"),
         "gate_probability": as_real(gate_probability, "gate_probability"),
         "warmup": as_int(warmup, "warmup", low=0),

@@ -5,6 +5,11 @@
 /// OrbitMeasurementFunction at each (light time, biases), a chi-square gate per measurement, a warm-up
 /// period, Schmidt-Kalman consider states, and the fixed-interval Rauch-Tung-Striebel smoother.
 ///
+/// UKF (method = ukf): 2n + 1 sigma points of (x, P) each propagated by the process model (the
+/// central point's STM and Q serve the smoother and the additive noise), redrawn from the predicted
+/// (x, P) and passed through the measurement model; update with the general form
+/// P+ = P - K Pxz^T - Pxz K^T + K S K^T, valid for any gain (consider rows zeroed).
+///
 /// Update: Joseph form P+ = (I - K H) P (I - K H)^T + K R K^T, with K = P H^T S^-1, S = H P H^T + R.
 /// It keeps P symmetric and positive semi-definite for ANY gain K (Bucy & Joseph 1968), so it stays
 /// valid when the consider rows of K are zeroed (Schmidt-Kalman: P then carries the consider
@@ -43,7 +48,20 @@ enum class OrbitStepStatus : int {
 const char* status_name(OrbitStepStatus s) noexcept;
 
 /// Settings of OrbitFilter.
+ /// Filter kind.
+enum class OrbitFilterMethod : int {
+  ekf = 0,  ///< extended Kalman filter: STM covariance propagation, Joseph-form update
+  ukf = 1,  ///< unscented Kalman filter: 2n + 1 sigma points through DOP853 and the measurement model
+};
+
 struct OrbitFilterSettings {
+  OrbitFilterMethod method = OrbitFilterMethod::ekf;  ///< EKF (default) or UKF
+  /// UKF scaling (Wan & van der Merwe 2000): lambda = alpha^2 (n + kappa) - n; weights W0m = lambda /
+  /// (n + lambda), W0c = W0m + 1 - alpha^2 + beta, Wi = 1 / (2 (n + lambda)). Defaults alpha = 1,
+  /// beta = 2, kappa = 0: lambda = 0, every weight >= 0 (the covariance stays positive semi-definite).
+  double ukf_alpha = 1.0;
+  double ukf_beta = 2.0;   ///< UKF: prior-distribution parameter (2: Gaussian)
+  double ukf_kappa = 0.0;  ///< UKF: secondary scaling, n + kappa > 0
   bool gating = true;              ///< apply the chi-square gate
   double gate_probability = 0.9973;  ///< probability of the gate, in (0, 1) (0.9973: 3 sigma in one dimension)
   int warmup = 0;                  ///< the first `warmup` measurements are used ungated, >= 0
@@ -129,7 +147,9 @@ class OrbitFilter {
   OrbitFilterSettings settings_;
   int n_ = 6;
   double gate1_ = 0.0, gate2_ = 0.0;
+  double lambda_ = 0.0;  // UKF scaling
   std::unique_ptr<detail::OrbitFilterWorkspace> ws_;
+  bool draw_sigma_points() noexcept;
 };
 
 /// Chi-square quantile: x with P(chi2_dof <= x) = p, dof 1 or 2, p in (0, 1) (dof 2: -2 ln(1 - p);
