@@ -17,7 +17,7 @@ import pathlib
 import re
 import sys
 
-ROOMS = ["core", "frames", "dynamics", "propagation", "observation", "io", "od", "guidance", "analysis"]
+ROOMS = ["core", "frames", "dynamics", "propagation", "observation", "io", "filter", "od", "guidance", "analysis"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"satgnc/([a-z_]+)/', re.M)
 
 
