@@ -87,4 +87,46 @@ Eigen::Vector2d OrbitMeasurementFunction::residual(const OrbitMeasurement& m,
   return r;
 }
 
+int OrbitMeasurementFunction::dimension(int type) const noexcept {
+  if (type < 0 || type >= static_cast<int>(models_.size())) return 0;
+  return observation::observable_size(settings_.observables[static_cast<std::size_t>(type)].type);
+}
+
+ModelStatus OrbitMeasurementFunction::measure(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                              const MeasurementRecord& record, Eigen::Ref<Eigen::VectorXd> z_pred,
+                                              Eigen::Ref<Eigen::MatrixXd> h, bool with_jacobian) noexcept {
+  OrbitMeasurement m;
+  m.t = record.t;
+  m.station = record.station;
+  m.observable = record.type;
+  m.value = Eigen::Vector2d(record.value[0], record.value[1]);
+  const int p = size(m);
+  if (p == 0 || z_pred.size() < p || (with_jacobian && (h.rows() < p || h.cols() != n_)))
+    return ModelStatus::failed;
+  // evaluate() writes a 2 x n H: a stack buffer (fixed capacity, no allocation), n <= 64.
+  if (n_ > 64) return ModelStatus::failed;
+  Eigen::Vector2d pred, sig;
+  Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, 64> hb(2, n_);
+  if (evaluate(m, x, pred, hb, sig) != core::ObservationStatus::success) return ModelStatus::failed;
+  const Eigen::Vector2d y = residual(m, pred);
+  for (int i = 0; i < p; ++i) z_pred[i] = m.value[i] - y[i];
+  if (with_jacobian) h.topRows(p) = hb.topRows(p);
+  return ModelStatus::success;
+}
+
+MeasurementRecord OrbitMeasurementFunction::record(const OrbitMeasurement& m) const noexcept {
+  MeasurementRecord r;
+  r.t = m.t;
+  r.type = m.observable;
+  r.station = m.station;
+  r.value = {m.value[0], m.value[1], 0.0};
+  const int p = size(m);
+  const bool ok = p > 0 && m.station >= 0 && m.station < static_cast<int>(settings_.stations.size());
+  const double s =
+      ok ? settings_.stations[static_cast<std::size_t>(m.station)].sigma[static_cast<std::size_t>(m.observable)]
+         : 0.0;
+  r.sigma = {s, p == 2 ? s : 0.0, 0.0};
+  return r;
+}
+
 }  // namespace satgnc::filter

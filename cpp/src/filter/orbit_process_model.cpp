@@ -284,4 +284,13 @@ OrbitProcessInfo OrbitProcessModel::propagate(double t0, double t1, Eigen::Ref<E
   return info;
 }
 
+ModelStatus OrbitProcessModel::propagate(const Eigen::Ref<const Eigen::VectorXd>& x0, double t0, double t1,
+                                         Eigen::Ref<Eigen::VectorXd> x1, Eigen::Ref<Eigen::MatrixXd> phi,
+                                         Eigen::Ref<Eigen::MatrixXd> qd, bool /*with_jacobian*/) noexcept {
+  if (x0.size() != n_ || x1.size() != n_) return ModelStatus::failed;
+  x1 = x0;
+  const OrbitProcessInfo info = propagate(t0, t1, x1, phi, qd);
+  return info.status == propagation::Dop853Status::success ? ModelStatus::success : ModelStatus::failed;
+}
+
 }  // namespace satgnc::filter

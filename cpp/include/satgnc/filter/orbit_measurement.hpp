@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "satgnc/core/types.hpp"
+#include "satgnc/filter/measurement_function.hpp"
 #include "satgnc/observation/measurement_model.hpp"
 #include "satgnc/observation/station_ephemeris.hpp"
 
@@ -50,8 +51,9 @@ struct OrbitMeasurementSettings {
 };
 
 /// Measurement function of the orbit filter: predict(), H and sigma of one record; noexcept and
-/// allocation-free.
-class OrbitMeasurementFunction {
+/// allocation-free. Implements filter::MeasurementFunction (record.type = observable index,
+/// record.station = station index; the generic filter takes sigma from the record).
+class OrbitMeasurementFunction final : public MeasurementFunction {
  public:
   /// Validates the settings against the state dimension n (throws std::invalid_argument).
   OrbitMeasurementFunction(const OrbitMeasurementSettings& settings, int state_dimension);
@@ -70,6 +72,15 @@ class OrbitMeasurementFunction {
                                    Eigen::Vector2d& sigma) const noexcept;
   /// measured - predicted, the first component of azimuth / right ascension wrapped to (-pi, pi].
   Eigen::Vector2d residual(const OrbitMeasurement& m, const Eigen::Vector2d& predicted) const noexcept;
+  /// MeasurementFunction: 1 or 2 for a configured observable index, else 0.
+  int dimension(int type) const noexcept override;
+  /// MeasurementFunction: z_pred (the angle of an az/el or RA/Dec pair shifted by a multiple of 2 pi
+  /// so that value - z_pred is the wrapped residual) and H (m x n).
+  ModelStatus measure(const Eigen::Ref<const Eigen::VectorXd>& x, const MeasurementRecord& record,
+                      Eigen::Ref<Eigen::VectorXd> z_pred, Eigen::Ref<Eigen::MatrixXd> h,
+                      bool with_jacobian) noexcept override;
+  /// A generic record (value and the station's sigma of its observable) from an orbit measurement.
+  MeasurementRecord record(const OrbitMeasurement& m) const noexcept;
 
  private:
   OrbitMeasurementSettings settings_;

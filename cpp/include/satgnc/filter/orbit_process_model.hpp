@@ -35,6 +35,7 @@
 
 #include "satgnc/core/types.hpp"
 #include "satgnc/dynamics/force_model.hpp"
+#include "satgnc/filter/process_model.hpp"
 #include "satgnc/propagation/dop853.hpp"
 
 namespace satgnc::filter {
@@ -67,7 +68,8 @@ struct OrbitProcessWorkspace;
 }
 
 /// Orbit process model: state, STM and discrete process noise between two epochs (see the file doc).
-class OrbitProcessModel {
+/// Implements filter::ProcessModel, so that the generic KalmanFilter (filter/kalman_filter.hpp) runs on it.
+class OrbitProcessModel final : public ProcessModel {
  public:
   /// Validates the settings and the force model (copied), sizes the workspace. Throws
   /// std::invalid_argument naming the field. Time axis: the force model's (s after its epoch).
@@ -80,6 +82,14 @@ class OrbitProcessModel {
 
   /// State dimension n = 6 + 3 (DMC) + parameters.
   int dimension() const noexcept { return n_; }
+  /// ProcessModel: the state dimension n.
+  int state_dimension() const noexcept override { return n_; }
+  /// ProcessModel: x1 = x0 propagated from t0 to t1 with phi and qd (the same arithmetic as the other
+  /// overload; the STM is always integrated, with_jacobian notwithstanding: DOP853 integrates the
+  /// state and the STM together, and qd needs the STM). Status failed when the integrator fails.
+  ModelStatus propagate(const Eigen::Ref<const Eigen::VectorXd>& x0, double t0, double t1,
+                        Eigen::Ref<Eigen::VectorXd> x1, Eigen::Ref<Eigen::MatrixXd> phi,
+                        Eigen::Ref<Eigen::MatrixXd> qd, bool with_jacobian) noexcept override;
   /// Index of the first parameter state (6 or 9).
   int parameter_offset() const noexcept { return settings_.dmc ? 9 : 6; }
   /// The validated settings.
