@@ -252,7 +252,7 @@ def _need_subcommand(parser):
     def run(args) -> int:
         from ..cli import CliError
 
-        raise CliError(f"{parser.prog}: choose a subcommand: solve or simulate (see '{parser.prog} --help')")
+        raise CliError(f"{parser.prog}: choose a subcommand: solve, simulate or filter (see '{parser.prog} --help')")
 
     return run
 
@@ -294,6 +294,9 @@ def register(subparsers) -> None:
     m.add_argument("--seed", type=int_at_least(0), default=0)
     m.add_argument("--no-noise", action="store_true")
     m.set_defaults(func=_simulate)
+    from .filter_cli import register as _register_filter  # issue 15: satgnc od filter
+
+    _register_filter(sub)
 
 
 if __name__ == "__main__":  # pragma: no cover
