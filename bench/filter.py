@@ -26,7 +26,6 @@ import sys
 import time
 
 import numpy as np
-
 import satgnc
 import satgnc.observation
 from satgnc.od import filter_sim as fsim
@@ -42,8 +41,9 @@ EPOCH = dt.datetime(2023, 2, 25)  # UTC of t = 0 (fsim.EPOCH_JD)
 
 def scenario():
     sc = fsim.two_station_scenario()
-    sim = fsim.simulate_tracking(sc.x0, sc.stations, np.arange(20.0, 6 * 3600.0 + 1, 20.0), seed=11,
-                                 force_model=sc.force_model)
+    sim = fsim.simulate_tracking(
+        sc.x0, sc.stations, np.arange(20.0, 6 * 3600.0 + 1, 20.0), seed=11, force_model=sc.force_model
+    )
     return sc, sim
 
 
@@ -55,13 +55,23 @@ def write_tdm(path: pathlib.Path) -> None:
         "CCSDS_TDM_VERS = 2.0",
         "COMMENT satgnc two-station scenario (satgnc.od.filter_sim, seed 11): 500 km 51.6 deg LEO, J2 truth,",
         "COMMENT two-way light-time range (5 m noise) and range-rate (1 mm/s), 20 s, elevation > 10 deg.",
-        "COMMENT Stations: STN_A 40 N 105 W 1.6 km, STN_B 35 S 149 E 0.7 km (WGS-84). Made by bench/filter.py.",
+        "COMMENT Stations: STN_A 40 N 105 W 1.6 km, STN_B 35 S 149 E 0.7 km (WGS-84).",
+        "COMMENT Made by bench/filter.py --write-tdm.",
         "CREATION_DATE = 2026-12-02T00:00:00",
         "ORIGINATOR = SATGNC",
     ]
     for s, name in enumerate(("STN_A", "STN_B")):
-        lines += ["META_START", "TIME_SYSTEM = UTC", f"PARTICIPANT_1 = {name}", "PARTICIPANT_2 = SAT",
-                  "MODE = SEQUENTIAL", "PATH = 1,2,1", "RANGE_UNITS = km", "META_STOP", "DATA_START"]
+        lines += [
+            "META_START",
+            "TIME_SYSTEM = UTC",
+            f"PARTICIPANT_1 = {name}",
+            "PARTICIPANT_2 = SAT",
+            "MODE = SEQUENTIAL",
+            "PATH = 1,2,1",
+            "RANGE_UNITS = km",
+            "META_STOP",
+            "DATA_START",
+        ]
         for t, st, ob, v in zip(sim["t"], sim["station"], sim["observable"], sim["value"][:, 0]):
             if st != s:
                 continue
@@ -73,9 +83,19 @@ def write_tdm(path: pathlib.Path) -> None:
 
 
 def run_satgnc(sc, sim):
-    return satgnc.od.filter(sim["t"], sim["station"], sim["observable"], sim["value"], stations=list(sc.stations),
-                            x0=sc.x0 + DX0, P0=P0, force_model=sc.force_model, snc_psd_ric=SNC, rtol=RTOL,
-                            atol=ATOL)
+    return satgnc.od.filter(
+        sim["t"],
+        sim["station"],
+        sim["observable"],
+        sim["value"],
+        stations=list(sc.stations),
+        x0=sc.x0 + DX0,
+        P0=P0,
+        force_model=sc.force_model,
+        snc_psd_ric=SNC,
+        rtol=RTOL,
+        atol=ATOL,
+    )
 
 
 def _rhs(t, y):
@@ -176,10 +196,15 @@ def main() -> int:
     sig = r.sigma_state[-1, :6]
     k = sim["t"].size
     print(f"two-station arc: {k} records over 6 h, J2, light time; EKF from a 1.5 km error")
-    print(f"satgnc.od.filter    : {min(ts) * 1e3:9.2f} ms (best of {len(ts)}), {r.propagation_steps} DOP853 steps, "
-          f"final position error {np.linalg.norm(xs[:3] - sim['truth'][-1, :3]) * 1e3:.3f} m")
-    print(f"filterpy EKF+scipy  : {min(tf) * 1e3:9.2f} ms (best of {len(tf)}), "
-          f"final position error {np.linalg.norm(xf[:3] - sim['truth'][-1, :3]) * 1e3:.3f} m")
+    print(
+        f"satgnc.od.filter    : {min(ts) * 1e3:9.2f} ms (best of {len(ts)}), "
+        f"{r.propagation_steps} DOP853 steps, "
+        f"final position error {np.linalg.norm(xs[:3] - sim['truth'][-1, :3]) * 1e3:.3f} m"
+    )
+    print(
+        f"filterpy EKF+scipy  : {min(tf) * 1e3:9.2f} ms (best of {len(tf)}), "
+        f"final position error {np.linalg.norm(xf[:3] - sim['truth'][-1, :3]) * 1e3:.3f} m"
+    )
     print(f"speed-up            : {min(tf) / min(ts):9.1f}x (goal >= 50x)")
     print(f"|satgnc - filterpy| / sigma, final state: max {np.max(np.abs(xs - xf) / sig):.3g}")
     return 0

@@ -30,7 +30,8 @@ using filter::OrbitProcessSettings;
 
 std::shared_ptr<const observation::StationEphemeris> station_copy(py::handle h, std::size_t i) {
   if (py::isinstance<observation::RotatingStationEphemeris>(h))
-    return std::make_shared<observation::RotatingStationEphemeris>(h.cast<observation::RotatingStationEphemeris>());
+    return std::make_shared<observation::RotatingStationEphemeris>(
+        h.cast<observation::RotatingStationEphemeris>());
   if (py::isinstance<observation::EarthFixedStationEphemeris>(h))
     return std::make_shared<observation::EarthFixedStationEphemeris>(
         h.cast<observation::EarthFixedStationEphemeris>());
@@ -67,8 +68,10 @@ py::dict run_filter(const dynamics::ForceModel& fm, const py::list& stations, co
   OrbitProcessModel pm(fm, process_settings(process));
   const int n = pm.dimension();
   OrbitMeasurementSettings ms;
-  for (py::handle h : models) ms.observables.push_back(h.cast<const observation::MeasurementModel&>().settings());
-  const auto sigma = stn["sigma"].cast<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>();
+  for (py::handle h : models)
+    ms.observables.push_back(h.cast<const observation::MeasurementModel&>().settings());
+  const auto sigma =
+      stn["sigma"].cast<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>();
   const auto rbs = stn["range_bias_state"].cast<std::vector<int>>();
   const auto tbs = stn["time_bias_state"].cast<std::vector<int>>();
   const auto rb = stn["range_bias"].cast<std::vector<double>>();
@@ -90,7 +93,7 @@ py::dict run_filter(const dynamics::ForceModel& fm, const py::list& stations, co
   fs.warmup = fset["warmup"].cast<int>();
   fs.consider = fset["consider"].cast<std::vector<int>>();
   fs.method = fset["method"].cast<std::string>() == "ukf" ? filter::OrbitFilterMethod::ukf
-                                                           : filter::OrbitFilterMethod::ekf;
+                                                          : filter::OrbitFilterMethod::ekf;
   OrbitFilter f(std::move(pm), std::move(mf), fs);
   std::vector<OrbitMeasurement> meas(t.size());
   for (std::size_t k = 0; k < t.size(); ++k)
@@ -148,13 +151,13 @@ py::tuple propagate_process(const dynamics::ForceModel& fm, const py::dict& proc
 
 void init_filter(py::module_& m) {
   m.def("filter_orbit_run", &run_filter, py::arg("force_model"), py::arg("stations"), py::arg("models"),
-        py::arg("process"), py::arg("station_setup"), py::arg("filter_settings"), py::arg("t0"), py::arg("x0"),
-        py::arg("P0"), py::arg("t"), py::arg("station"), py::arg("observable"), py::arg("value"),
-        py::arg("smooth") = false,
+        py::arg("process"), py::arg("station_setup"), py::arg("filter_settings"), py::arg("t0"),
+        py::arg("x0"), py::arg("P0"), py::arg("t"), py::arg("station"), py::arg("observable"),
+        py::arg("value"), py::arg("smooth") = false,
         "Private: the orbit EKF (filter/orbit_filter.hpp) over K measurements; dict of time-major arrays "
         "(use satgnc.od.filter).");
-  m.def("filter_orbit_propagate", &propagate_process, py::arg("force_model"), py::arg("process"), py::arg("t0"),
-        py::arg("t1"), py::arg("x"),
+  m.def("filter_orbit_propagate", &propagate_process, py::arg("force_model"), py::arg("process"),
+        py::arg("t0"), py::arg("t1"), py::arg("x"),
         "Private: OrbitProcessModel.propagate -> (x, Phi, Q, status, steps) (use satgnc.od.filter).");
   py::list names;
   for (int k = 0; k <= 5; ++k) names.append(filter::status_name(static_cast<filter::OrbitStepStatus>(k)));

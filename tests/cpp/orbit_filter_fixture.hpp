@@ -20,9 +20,9 @@ using satgnc::filter::OrbitStation;
 using satgnc::observation::ObservableType;
 
 inline constexpr double kJdEpoch = 2460000.5;
-inline constexpr double kSigmaRange = 0.005;    // km
-inline constexpr double kSigmaRate = 1e-6;      // km/s
-inline constexpr double kMinElevation = 0.1745; // rad (10 deg)
+inline constexpr double kSigmaRange = 0.005;     // km
+inline constexpr double kSigmaRate = 1e-6;       // km/s
+inline constexpr double kMinElevation = 0.1745;  // rad (10 deg)
 
 inline satgnc::dynamics::ForceModel truth_model() {
   satgnc::dynamics::ForceModel fm;

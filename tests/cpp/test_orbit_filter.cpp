@@ -127,7 +127,7 @@ TEST(OrbitFilter, InjectedOutlierIsRejectedAndListed) {
   // Listed with its normalized residual: 2 km over a few-metre innovation sigma is > 100 sigma.
   EXPECT_GT(r.normalized_residual[bad], 100.0);
   EXPECT_GT(r.nis[bad], r.gate[bad]);
-  EXPECT_NEAR(r.gate[bad], 9.0, 0.01);  // chi-square(1) at 0.9973 = 3^2
+  EXPECT_NEAR(r.gate[bad], 9.0, 0.01);                      // chi-square(1) at 0.9973 = 3^2
   EXPECT_NEAR(r.prefit[2 * bad], r.postfit[2 * bad], 0.0);  // state unchanged: the same residual
   // State and covariance are those before the measurement.
   for (int i = 0; i < 6; ++i) EXPECT_EQ(r.state[bad * 6 + i], r.predicted_state[bad * 6 + i]);
@@ -210,13 +210,15 @@ TEST(OrbitFilter, BadInputIsNamed) {
   };
   MatrixXd notpd = p0_km();
   notpd(0, 0) = -1.0;
-  EXPECT_NE(msg([&] { f.run(0.0, x0, notpd, meas); }).find("P0: must be positive definite"), std::string::npos);
+  EXPECT_NE(msg([&] { f.run(0.0, x0, notpd, meas); }).find("P0: must be positive definite"),
+            std::string::npos);
   auto unsorted = meas;
   std::swap(unsorted[0], unsorted[3]);
   EXPECT_NE(msg([&] { f.run(0.0, x0, p0_km(), unsorted); }).find("measurements[1].t"), std::string::npos);
   auto unknown = meas;
   unknown[2].observable = 7;
-  EXPECT_NE(msg([&] { f.run(0.0, x0, p0_km(), unknown); }).find("measurements[2].observable"), std::string::npos);
+  EXPECT_NE(msg([&] { f.run(0.0, x0, p0_km(), unknown); }).find("measurements[2].observable"),
+            std::string::npos);
   OrbitFilterSettings fs;
   fs.gate_probability = 1.0;
   EXPECT_NE(msg([&] { make_filter(0, fs); }).find("gate_probability: must be in (0, 1)"), std::string::npos);
@@ -224,8 +226,9 @@ TEST(OrbitFilter, BadInputIsNamed) {
   EXPECT_NE(msg([&] { make_filter(0, fs); }).find("gate_probability"), std::string::npos);
   OrbitProcessSettings ps;
   ps.snc_psd_ric[0] = -1e-12;
-  EXPECT_NE(msg([&] { OrbitProcessModel(fx::truth_model(), ps); }).find("snc_psd_ric[0]: must be finite and >= 0"),
-            std::string::npos);
+  EXPECT_NE(
+      msg([&] { OrbitProcessModel(fx::truth_model(), ps); }).find("snc_psd_ric[0]: must be finite and >= 0"),
+      std::string::npos);
   // The chi-square quantiles: 3 sigma in one dimension, and -2 ln(1 - p) in two.
   EXPECT_NEAR(satgnc::filter::chi2_quantile(1, 0.9973002039367398), 9.0, 1e-9);
   EXPECT_NEAR(satgnc::filter::chi2_quantile(1, 0.95), 3.841458820694124, 1e-9);  // scipy.stats.chi2.ppf
@@ -265,7 +268,8 @@ TEST(OrbitFilter, GenericKalmanFilterOnTheOrbitModelsMatchesOrbitFilter) {
   const VectorXd xf = Eigen::Map<const VectorXd>(r.state.data() + (K - 1) * 6, 6);
   const MatrixXd pf = Eigen::Map<const MatrixXd>(r.covariance.data() + (K - 1) * 36, 6, 6);
   for (int i = 0; i < 6; ++i) {
-    EXPECT_LT(std::abs(kr.states(i, static_cast<Eigen::Index>(K) - 1) - xf[i]), 1e-6 * std::sqrt(pf(i, i))) << i;
+    EXPECT_LT(std::abs(kr.states(i, static_cast<Eigen::Index>(K) - 1) - xf[i]), 1e-6 * std::sqrt(pf(i, i)))
+        << i;
     EXPECT_NEAR(kr.covariances(i, 6 * (static_cast<Eigen::Index>(K) - 1) + i) / pf(i, i), 1.0, 1e-6) << i;
   }
 }

@@ -16,6 +16,8 @@
 
 namespace {
 
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
 using satgnc::Mat3;
 using satgnc::Mat6;
 using satgnc::Vec3;
@@ -25,8 +27,6 @@ using satgnc::dynamics::J2Gravity;
 using satgnc::filter::OrbitProcessModel;
 using satgnc::filter::OrbitProcessSettings;
 using satgnc::propagation::Dop853Status;
-using Eigen::MatrixXd;
-using Eigen::VectorXd;
 
 ForceModel j2_model() {
   ForceModel fm;
@@ -180,7 +180,8 @@ TEST(OrbitProcess, SncNoiseMatchesCovarianceOdeIntegration) {
     EXPECT_LT(e, 1e-11) << "span " << span << " s";
     // Q is symmetric positive definite (Cholesky succeeds) for a non-zero PSD.
     EXPECT_EQ(Eigen::LLT<MatrixXd>(q).info(), Eigen::Success);
-    RecordProperty("snc_rel_err_" + std::to_string(static_cast<int>(span)), std::to_string(e * 1e12) + "e-12");
+    RecordProperty("snc_rel_err_" + std::to_string(static_cast<int>(span)),
+                   std::to_string(e * 1e12) + "e-12");
   }
 }
 
@@ -217,9 +218,9 @@ TEST(OrbitProcess, DmcNoiseMatchesCovarianceOdeAndExactBlock) {
   const ForceModel fm = j2_model();
   OrbitProcessSettings s;
   s.dmc = true;
-  s.dmc_tau = Vec3(200.0, 600.0, 1800.0);        // s
-  s.dmc_sigma = Vec3(2e-9, 5e-9, 1e-9);           // km/s^2 (2, 5, 1 um/s^2... x1e3: nm-class accelerations)
-  s.snc_psd_ric = Vec3(1e-14, 1e-14, 1e-14);      // km^2/s^3, both noises together
+  s.dmc_tau = Vec3(200.0, 600.0, 1800.0);     // s
+  s.dmc_sigma = Vec3(2e-9, 5e-9, 1e-9);       // km/s^2 (2, 5, 1 um/s^2... x1e3: nm-class accelerations)
+  s.snc_psd_ric = Vec3(1e-14, 1e-14, 1e-14);  // km^2/s^3, both noises together
   s.integrator.rtol = 1e-12;
   s.integrator.atol = 1e-16;
   OrbitProcessModel pm(fm, s);

@@ -54,7 +54,8 @@ void OrbitFilterSettings::validate(int n) const {
   core::require(std::isfinite(gate_probability) && gate_probability > 0.0 && gate_probability < 1.0,
                 "gate_probability", "must be in (0, 1), got " + std::to_string(gate_probability));
   core::require(warmup >= 0, "warmup", "must be >= 0, got " + std::to_string(warmup));
-  core::require(method == OrbitFilterMethod::ekf || method == OrbitFilterMethod::ukf, "method", "must be ekf or ukf");
+  core::require(method == OrbitFilterMethod::ekf || method == OrbitFilterMethod::ukf, "method",
+                "must be ekf or ukf");
   core::require_positive(ukf_alpha, "ukf_alpha");
   core::require_finite(ukf_beta, "ukf_beta");
   core::require(std::isfinite(ukf_kappa) && n + ukf_kappa > 0.0, "ukf_kappa",
@@ -79,13 +80,31 @@ struct OrbitFilterWorkspace {
   Eigen::LLT<MatrixXd> llt;
   VectorXd consider_mask;  // 1 for estimated, 0 for consider
   // UKF
-  MatrixXd sig, dx, phi2, q2;  // n x (2n+1), n x (2n+1), n x n, n x n
+  MatrixXd sig, dx, phi2, q2;                      // n x (2n+1), n x (2n+1), n x n, n x n
   Eigen::Matrix<double, 2, Eigen::Dynamic> z, dz;  // 2 x (2n+1)
   VectorXd wm, wc;
   explicit OrbitFilterWorkspace(int n)
-      : x(n), xp(n), p(n, n), phi(n, n), q(n, n), tmp(n, n), ikh(n, n), pht(n, 2), k(n, 2), kr(n, 2), h(2, n),
-        llt(n), consider_mask(VectorXd::Ones(n)), sig(n, 2 * n + 1), dx(n, 2 * n + 1), phi2(n, n), q2(n, n),
-        z(2, 2 * n + 1), dz(2, 2 * n + 1), wm(2 * n + 1), wc(2 * n + 1) {}
+      : x(n),
+        xp(n),
+        p(n, n),
+        phi(n, n),
+        q(n, n),
+        tmp(n, n),
+        ikh(n, n),
+        pht(n, 2),
+        k(n, 2),
+        kr(n, 2),
+        h(2, n),
+        llt(n),
+        consider_mask(VectorXd::Ones(n)),
+        sig(n, 2 * n + 1),
+        dx(n, 2 * n + 1),
+        phi2(n, n),
+        q2(n, n),
+        z(2, 2 * n + 1),
+        dz(2, 2 * n + 1),
+        wm(2 * n + 1),
+        wc(2 * n + 1) {}
 };
 }  // namespace detail
 
@@ -94,8 +113,8 @@ OrbitFilter::OrbitFilter(OrbitProcessModel process, OrbitMeasurementFunction mea
     : process_(std::move(process)), measurement_(std::move(measurement)), settings_(settings) {
   n_ = process_.dimension();
   core::require(measurement_.dimension() == n_, "measurement",
-                "state dimension " + std::to_string(measurement_.dimension()) + " differs from the process model's " +
-                    std::to_string(n_));
+                "state dimension " + std::to_string(measurement_.dimension()) +
+                    " differs from the process model's " + std::to_string(n_));
   settings_.validate(n_);
   gate1_ = chi2_quantile(1, settings_.gate_probability);
   gate2_ = chi2_quantile(2, settings_.gate_probability);
@@ -148,9 +167,11 @@ OrbitFilterResult OrbitFilter::run(double t0, const VectorXd& x0, const MatrixXd
                                    const std::vector<OrbitMeasurement>& meas) {
   const int n = n_;
   core::require_finite(t0, "t0");
-  core::require(x0.size() == n, "x0", "must have " + std::to_string(n) + " entries, got " + std::to_string(x0.size()));
+  core::require(x0.size() == n, "x0",
+                "must have " + std::to_string(n) + " entries, got " + std::to_string(x0.size()));
   core::require_finite(x0, "x0");
-  core::require(p0.rows() == n && p0.cols() == n, "P0", "must be " + std::to_string(n) + " x " + std::to_string(n));
+  core::require(p0.rows() == n && p0.cols() == n, "P0",
+                "must be " + std::to_string(n) + " x " + std::to_string(n));
   core::require_finite(p0, "P0");
   core::require((p0 - p0.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * p0.cwiseAbs().maxCoeff(), "P0",
                 "must be symmetric");
@@ -395,7 +416,8 @@ OrbitSmootherResult OrbitFilter::smooth(const OrbitFilterResult& f) {
     return RowMat(Eigen::Map<const RowMat>(v.data() + static_cast<std::size_t>(k) * nn, n, n));
   };
   auto vec = [&](const std::vector<double>& v, int k) {
-    return VectorXd(Eigen::Map<const VectorXd>(v.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(n), n));
+    return VectorXd(
+        Eigen::Map<const VectorXd>(v.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(n), n));
   };
   OrbitSmootherResult s;
   s.n = n;

@@ -29,8 +29,9 @@ void OrbitMeasurementSettings::validate(int n) const {
     for (const auto& [idx, field] : {std::pair<int, const char*>{s.range_bias_state, ".range_bias_state"},
                                      std::pair<int, const char*>{s.time_bias_state, ".time_bias_state"}}) {
       if (idx < 0) continue;
-      core::require(idx >= 6 && idx < n, name + field,
-                    "must be -1 or a parameter index in [6, " + std::to_string(n) + "), got " + std::to_string(idx));
+      core::require(
+          idx >= 6 && idx < n, name + field,
+          "must be -1 or a parameter index in [6, " + std::to_string(n) + "), got " + std::to_string(idx));
       core::require(used[static_cast<std::size_t>(idx)] == 0, name + field,
                     "state " + std::to_string(idx) + " is already a bias of another role or station");
       used[static_cast<std::size_t>(idx)] = 1;
@@ -53,7 +54,8 @@ int OrbitMeasurementFunction::size(const OrbitMeasurement& m) const noexcept {
 
 core::ObservationStatus OrbitMeasurementFunction::evaluate(const OrbitMeasurement& m,
                                                            const Eigen::Ref<const Eigen::VectorXd>& x,
-                                                           Eigen::Vector2d& predicted, Eigen::Ref<Eigen::MatrixXd> h,
+                                                           Eigen::Vector2d& predicted,
+                                                           Eigen::Ref<Eigen::MatrixXd> h,
                                                            Eigen::Vector2d& sigma) const noexcept {
   const int p = size(m);
   if (p == 0 || m.station < 0 || m.station >= static_cast<int>(settings_.stations.size()) || x.size() != n_ ||
@@ -93,7 +95,8 @@ int OrbitMeasurementFunction::dimension(int type) const noexcept {
 }
 
 ModelStatus OrbitMeasurementFunction::measure(const Eigen::Ref<const Eigen::VectorXd>& x,
-                                              const MeasurementRecord& record, Eigen::Ref<Eigen::VectorXd> z_pred,
+                                              const MeasurementRecord& record,
+                                              Eigen::Ref<Eigen::VectorXd> z_pred,
                                               Eigen::Ref<Eigen::MatrixXd> h, bool with_jacobian) noexcept {
   OrbitMeasurement m;
   m.t = record.t;
@@ -122,9 +125,9 @@ MeasurementRecord OrbitMeasurementFunction::record(const OrbitMeasurement& m) co
   r.value = {m.value[0], m.value[1], 0.0};
   const int p = size(m);
   const bool ok = p > 0 && m.station >= 0 && m.station < static_cast<int>(settings_.stations.size());
-  const double s =
-      ok ? settings_.stations[static_cast<std::size_t>(m.station)].sigma[static_cast<std::size_t>(m.observable)]
-         : 0.0;
+  const double s = ok ? settings_.stations[static_cast<std::size_t>(m.station)]
+                            .sigma[static_cast<std::size_t>(m.observable)]
+                      : 0.0;
   r.sigma = {s, p == 2 ? s : 0.0, 0.0};
   return r;
 }

@@ -83,8 +83,8 @@ struct ProcessRhs {
   static constexpr int N = Dmc ? 60 : 42;
   using Vec = Eigen::Matrix<double, N, 1>;
   const dynamics::ForceModel* fm = nullptr;
-  double t_a = 0.0;           // start of the sub-interval, s
-  Vec3 w_a = Vec3::Zero();    // DMC acceleration at t_a, km/s^2
+  double t_a = 0.0;             // start of the sub-interval, s
+  Vec3 w_a = Vec3::Zero();      // DMC acceleration at t_a, km/s^2
   Vec3 inv_tau = Vec3::Zero();  // 1/s
   void operator()(double t, const Vec& y, Vec& dy) const {
     const Vec3 r = y.template head<3>();
@@ -141,7 +141,8 @@ struct OrbitProcessWorkspace {
 
 }  // namespace detail
 
-OrbitProcessModel::OrbitProcessModel(const dynamics::ForceModel& force_model, const OrbitProcessSettings& settings)
+OrbitProcessModel::OrbitProcessModel(const dynamics::ForceModel& force_model,
+                                     const OrbitProcessSettings& settings)
     : force_model_(force_model), settings_(settings) {
   force_model_.validate();
   settings_.validate();

@@ -252,7 +252,9 @@ def _need_subcommand(parser):
     def run(args) -> int:
         from ..cli import CliError
 
-        raise CliError(f"{parser.prog}: choose a subcommand: solve, simulate or filter (see '{parser.prog} --help')")
+        raise CliError(
+            f"{parser.prog}: choose a subcommand: solve, simulate or filter (see '{parser.prog} --help')"
+        )
 
     return run
 

@@ -54,7 +54,9 @@ def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _
     for i, seg in enumerate(tdm.segments):
         md = seg.metadata
         if md.time_system != "UTC":
-            raise ValueError(f"{path}: segment {i + 1}: TIME_SYSTEM {md.time_system} (the filter CLI reads UTC)")
+            raise ValueError(
+                f"{path}: segment {i + 1}: TIME_SYSTEM {md.time_system} (the filter CLI reads UTC)"
+            )
         path_idx = tuple(md.path) if md.path else ()
         if path_idx in ((), (1, 2, 1)):
             way = "two_way"
@@ -65,8 +67,10 @@ def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _
         station = md.participants[0]
         for kw, ep, val in zip(seg.keywords, seg.epochs, np.asarray(seg.values)):
             if kw not in _KEYWORDS:
-                raise ValueError(f"{path}: segment {i + 1}: keyword {kw} not used by the filter "
-                                 f"(hint: RANGE, DOPPLER_INSTANTANEOUS)")
+                raise ValueError(
+                    f"{path}: segment {i + 1}: keyword {kw} not used by the filter "
+                    f"(hint: RANGE, DOPPLER_INSTANTANEOUS)"
+                )
             rows.append((_utc(ep, path), station, f"{way}_{_KEYWORDS[kw]}", float(val)))
     if not rows:
         raise ValueError(f"{path}: no RANGE or DOPPLER_INSTANTANEOUS observation")
@@ -78,10 +82,16 @@ def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _
             names.append(r[1])
     t = np.array([(r[0] - t_epoch).total_seconds() for r in rows])
     if t[0] < 0:
-        raise ValueError(f"--epoch: {t_epoch.isoformat()} is after the first observation ({rows[0][0].isoformat()})")
+        raise ValueError(
+            f"--epoch: {t_epoch.isoformat()} is after the first observation ({rows[0][0].isoformat()})"
+        )
     return (
-        {"t": t, "station": np.array([names.index(r[1]) for r in rows]), "observable": [r[2] for r in rows],
-         "value": np.array([r[3] for r in rows])},
+        {
+            "t": t,
+            "station": np.array([names.index(r[1]) for r in rows]),
+            "observable": [r[2] for r in rows],
+            "value": np.array([r[3] for r in rows]),
+        },
         names,
         t_epoch,
     )
@@ -102,28 +112,58 @@ def _run(args: Any) -> int:
         given[label] = _c.RotatingStationEphemeris(station_geodetic(lat, lon, h, epoch), "WGS-84")
     missing = [n for n in names if n not in given]
     if missing:
-        raise ValueError(f"--station: no coordinates for the TDM participant(s) {missing} (hint: --station "
-                         "NAME:lat,lon,height)")
+        raise ValueError(
+            f"--station: no coordinates for the TDM participant(s) {missing} (hint: --station "
+            "NAME:lat,lon,height)"
+        )
     guess = _floats(args.guess, 6, "--guess")
     if np.linalg.norm(guess[:3]) <= 6378.0:
-        raise ValueError("--guess: the position is inside the Earth (hint: x,y,z km, vx,vy,vz km/s, GCRF at t = 0)")
+        raise ValueError(
+            "--guess: the position is inside the Earth (hint: x,y,z km, vx,vy,vz km/s, GCRF at t = 0)"
+        )
     obs_names = sorted(set(meas["observable"]))
-    sig = {"two_way_range": args.sigma_range, "one_way_range": args.sigma_range,
-           "two_way_range_rate": args.sigma_range_rate, "one_way_range_rate": args.sigma_range_rate}
+    sig = {
+        "two_way_range": args.sigma_range,
+        "one_way_range": args.sigma_range,
+        "two_way_range_rate": args.sigma_range_rate,
+        "one_way_range_rate": args.sigma_range_rate,
+    }
     p0 = np.diag([args.sigma_position**2] * 3 + [args.sigma_velocity**2] * 3)
     run = filtering.smooth if args.smooth else filtering.filter
-    r = run(meas["t"], meas["station"], np.array(meas["observable"], dtype=object), meas["value"],
-            stations=[given[n] for n in names], x0=np.array(guess), P0=p0, observables=obs_names,
-            sigma=[sig[o] for o in obs_names], snc_psd_ric=args.snc_psd, method=args.method)
+    r = run(
+        meas["t"],
+        meas["station"],
+        np.array(meas["observable"], dtype=object),
+        meas["value"],
+        stations=[given[n] for n in names],
+        x0=np.array(guess),
+        P0=p0,
+        observables=obs_names,
+        sigma=[sig[o] for o in obs_names],
+        snc_psd_ric=args.snc_psd,
+        method=args.method,
+    )
     states = r.smoothed_state if args.smooth else r.state
     covs = r.smoothed_covariance if args.smooth else r.covariance
     keep = np.r_[np.diff(r.t) > 0, True]  # one OEM line per distinct tag: the last step at it
     eps = [(epoch + _dt.timedelta(seconds=float(tk))).isoformat(timespec="milliseconds") for tk in r.t[keep]]
-    md = _io.OemMetadata(object_name="SAT", object_id="UNKNOWN", center_name="EARTH", ref_frame="GCRF",
-                         time_system="UTC", start_time=eps[0], stop_time=eps[-1],
-                         comments=("satgnc od filter: " + ("RTS smoother" if args.smooth else f"{args.method.upper()}")
-                                   + f" over {args.tdm}; {r.message}",))
-    cv = tuple(_io.OemCovariance(epoch=e, matrix=0.5 * (c[:6, :6] + c[:6, :6].T)) for e, c in zip(eps, covs[keep]))
+    md = _io.OemMetadata(
+        object_name="SAT",
+        object_id="UNKNOWN",
+        center_name="EARTH",
+        ref_frame="GCRF",
+        time_system="UTC",
+        start_time=eps[0],
+        stop_time=eps[-1],
+        comments=(
+            "satgnc od filter: "
+            + ("RTS smoother" if args.smooth else f"{args.method.upper()}")
+            + f" over {args.tdm}; {r.message}",
+        ),
+    )
+    cv = tuple(
+        _io.OemCovariance(epoch=e, matrix=0.5 * (c[:6, :6] + c[:6, :6].T)) for e, c in zip(eps, covs[keep])
+    )
     seg = _io.OemSegment(metadata=md, epochs=tuple(eps), states=states[keep, :6], covariances=cv)
     now = _dt.datetime.now(_dt.timezone.utc).replace(tzinfo=None).isoformat(timespec="seconds")
     out = pathlib.Path(args.out)
@@ -131,7 +171,10 @@ def _run(args: Any) -> int:
         raise ValueError(f"--out: {out} is a directory (hint: a file name ending in .oem)")
     _io.write_oem(out, _io.Oem(header=_io.Header(creation_date=now, originator="SATGNC"), segments=(seg,)))
     print(f"{r.message}; status {r.status}")
-    print(f"final 1-sigma position {np.sqrt(np.trace(covs[-1][:3, :3])) * 1e3:.3f} m; wrote {len(eps)} states to {out}")
+    print(
+        f"final 1-sigma position {np.sqrt(np.trace(covs[-1][:3, :3])) * 1e3:.3f} m; "
+        f"wrote {len(eps)} states to {out}"
+    )
     return 0 if r.status == "completed" else 1
 
 
@@ -139,7 +182,9 @@ def register(sub: Any) -> None:
     """Add ``filter`` to the ``satgnc od`` subcommands."""
     from ..cli import finite_float, positive_float
 
-    f = sub.add_parser("filter", help="sequential OD (EKF/UKF, optional RTS smoother) over a TDM; writes an OEM")
+    f = sub.add_parser(
+        "filter", help="sequential OD (EKF/UKF, optional RTS smoother) over a TDM; writes an OEM"
+    )
     f.add_argument("--tdm", required=True, help="CCSDS TDM (KVN or XML): RANGE, DOPPLER_INSTANTANEOUS")
     f.add_argument("--out", required=True, help="OEM file to write (KVN, with covariance)")
     f.add_argument("--guess", required=True, help="x,y,z,vx,vy,vz at t = 0 (GCRF km, km/s)")
@@ -150,6 +195,8 @@ def register(sub: Any) -> None:
     f.add_argument("--sigma-range", type=positive_float, default=0.005, help="km (default 0.005)")
     f.add_argument("--sigma-range-rate", type=positive_float, default=1e-6, help="km/s (default 1e-6)")
     f.add_argument("--sigma-position", type=positive_float, default=1.0, help="a priori, km (default 1)")
-    f.add_argument("--sigma-velocity", type=positive_float, default=1e-3, help="a priori, km/s (default 1e-3)")
+    f.add_argument(
+        "--sigma-velocity", type=positive_float, default=1e-3, help="a priori, km/s (default 1e-3)"
+    )
     f.add_argument("--snc-psd", type=finite_float, default=1e-15, help="SNC PSD, km^2/s^3 (default 1e-15)")
     f.set_defaults(func=_run)

@@ -24,8 +24,8 @@
 /// std::invalid_argument naming the field); run() validates the measurement list (sorted times, known
 /// stations / observables) and sizes the result, then steps noexcept and allocation-free: a step that
 /// fails is a status in the result (OrbitStepStatus), never an exception.
-#include <Eigen/Core>
 #include <Eigen/Cholesky>
+#include <Eigen/Core>
 #include <memory>
 #include <vector>
 
@@ -40,15 +40,16 @@ enum class OrbitStepStatus : int {
   rejected = 1,            ///< measurement edited out by the gate (state unchanged), listed with its residual
   propagation_failed = 2,  ///< the process model failed: the filter stops here (later steps keep this status)
   measurement_failed = 3,  ///< the measurement model failed (light time, geometry): skipped, state unchanged
-  not_positive_definite = 4,  ///< the covariance lost positive definiteness after the update: the filter stops
-  not_run = 5,             ///< step after a stop
+  not_positive_definite =
+      4,        ///< the covariance lost positive definiteness after the update: the filter stops
+  not_run = 5,  ///< step after a stop
 };
 
 /// "updated", "rejected", ... (the enumerator's name).
 const char* status_name(OrbitStepStatus s) noexcept;
 
 /// Settings of OrbitFilter.
- /// Filter kind.
+/// Filter kind.
 enum class OrbitFilterMethod : int {
   ekf = 0,  ///< extended Kalman filter: STM covariance propagation, Joseph-form update
   ukf = 1,  ///< unscented Kalman filter: 2n + 1 sigma points through DOP853 and the measurement model
@@ -62,10 +63,11 @@ struct OrbitFilterSettings {
   double ukf_alpha = 1.0;
   double ukf_beta = 2.0;   ///< UKF: prior-distribution parameter (2: Gaussian)
   double ukf_kappa = 0.0;  ///< UKF: secondary scaling, n + kappa > 0
-  bool gating = true;              ///< apply the chi-square gate
-  double gate_probability = 0.9973;  ///< probability of the gate, in (0, 1) (0.9973: 3 sigma in one dimension)
-  int warmup = 0;                  ///< the first `warmup` measurements are used ungated, >= 0
-  std::vector<int> consider;       ///< state indices held as consider parameters (not updated), >= 6
+  bool gating = true;      ///< apply the chi-square gate
+  double gate_probability =
+      0.9973;                 ///< probability of the gate, in (0, 1) (0.9973: 3 sigma in one dimension)
+  int warmup = 0;             ///< the first `warmup` measurements are used ungated, >= 0
+  std::vector<int> consider;  ///< state indices held as consider parameters (not updated), >= 6
   /// Throws std::invalid_argument naming the field: gate_probability outside (0, 1), warmup < 0, a
   /// consider index outside [6, n) or repeated.
   void validate(int state_dimension) const;
@@ -73,20 +75,20 @@ struct OrbitFilterSettings {
 
 /// Time-major result of OrbitFilter::run (K measurements, n states). Rows follow the measurements.
 struct OrbitFilterResult {
-  int n = 0;                              ///< state dimension
-  std::vector<double> t;                  ///< K tags, s
-  std::vector<int> station;               ///< K station indices
-  std::vector<int> observable;            ///< K observable indices
-  std::vector<int> size;                  ///< K measurement dimensions (1 or 2)
-  std::vector<OrbitStepStatus> status;    ///< K step statuses
-  std::vector<double> state;              ///< K x n posterior states (row-major)
-  std::vector<double> covariance;         ///< K x n x n posterior covariances
-  std::vector<double> prefit;             ///< K x 2 pre-fit residuals (measured - predicted; NaN if unused)
-  std::vector<double> postfit;            ///< K x 2 post-fit residuals
-  std::vector<double> sigma;              ///< K x 2 measurement sigmas
-  std::vector<double> nis;                ///< K normalized innovation squared (NaN if not evaluated)
+  int n = 0;                                ///< state dimension
+  std::vector<double> t;                    ///< K tags, s
+  std::vector<int> station;                 ///< K station indices
+  std::vector<int> observable;              ///< K observable indices
+  std::vector<int> size;                    ///< K measurement dimensions (1 or 2)
+  std::vector<OrbitStepStatus> status;      ///< K step statuses
+  std::vector<double> state;                ///< K x n posterior states (row-major)
+  std::vector<double> covariance;           ///< K x n x n posterior covariances
+  std::vector<double> prefit;               ///< K x 2 pre-fit residuals (measured - predicted; NaN if unused)
+  std::vector<double> postfit;              ///< K x 2 post-fit residuals
+  std::vector<double> sigma;                ///< K x 2 measurement sigmas
+  std::vector<double> nis;                  ///< K normalized innovation squared (NaN if not evaluated)
   std::vector<double> normalized_residual;  ///< K sqrt(NIS), the editing statistic
-  std::vector<double> gate;               ///< K chi-square thresholds applied (0 during warm-up / no gating)
+  std::vector<double> gate;  ///< K chi-square thresholds applied (0 during warm-up / no gating)
   // For the smoother: a-priori (propagated) state / covariance at each tag and the STM from the
   // previous tag (the first: from the initial epoch).
   std::vector<double> predicted_state;       ///< K x n
@@ -104,11 +106,11 @@ struct OrbitFilterResult {
 
 /// RTS-smoothed states (same rows as the filter result, plus the initial epoch).
 struct OrbitSmootherResult {
-  int n = 0;                        ///< state dimension
-  std::vector<double> t;            ///< K tags, s
-  std::vector<double> state;        ///< K x n smoothed states
-  std::vector<double> covariance;   ///< K x n x n smoothed covariances
-  Eigen::VectorXd initial_state;    ///< n, smoothed at t0
+  int n = 0;                           ///< state dimension
+  std::vector<double> t;               ///< K tags, s
+  std::vector<double> state;           ///< K x n smoothed states
+  std::vector<double> covariance;      ///< K x n x n smoothed covariances
+  Eigen::VectorXd initial_state;       ///< n, smoothed at t0
   Eigen::MatrixXd initial_covariance;  ///< n x n, smoothed at t0
 };
 
@@ -120,7 +122,8 @@ struct OrbitFilterWorkspace;
 class OrbitFilter {
  public:
   /// Takes the models (moved in), validates the settings, sizes the workspace.
-  OrbitFilter(OrbitProcessModel process, OrbitMeasurementFunction measurement, const OrbitFilterSettings& settings);
+  OrbitFilter(OrbitProcessModel process, OrbitMeasurementFunction measurement,
+              const OrbitFilterSettings& settings);
   ~OrbitFilter();
   OrbitFilter(OrbitFilter&&) noexcept;             ///< movable
   OrbitFilter& operator=(OrbitFilter&&) noexcept;  ///< movable

@@ -43,8 +43,9 @@ namespace satgnc::filter {
 /// Settings of OrbitProcessModel (plain struct; validate() throws std::invalid_argument naming the field).
 struct OrbitProcessSettings {
   propagation::Dop853Settings integrator{};  ///< DOP853 tolerances (default: satgnc's orbit defaults)
-  Vec3 snc_psd_ric = Vec3::Zero();  ///< SNC white-acceleration PSD, radial / in-track / cross-track, km^2/s^3 (>= 0)
-  bool dmc = false;                 ///< append the three Gauss-Markov acceleration states w (GCRF axes)
+  Vec3 snc_psd_ric =
+      Vec3::Zero();  ///< SNC white-acceleration PSD, radial / in-track / cross-track, km^2/s^3 (>= 0)
+  bool dmc = false;  ///< append the three Gauss-Markov acceleration states w (GCRF axes)
   Vec3 dmc_tau = Vec3::Constant(600.0);  ///< DMC time constants per GCRF axis, s (> 0)
   Vec3 dmc_sigma = Vec3::Zero();         ///< DMC steady-state standard deviations per axis, km/s^2 (>= 0)
   int parameters = 0;                    ///< constant parameter states appended after r, v (, w), >= 0
@@ -101,8 +102,8 @@ class OrbitProcessModel final : public ProcessModel {
   /// forward interval mapped back, i.e. the negative of a covariance: use forward intervals in a
   /// filter); fills phi (n x n) = d x(t1) / d x(t0) and q (n x n), the discrete process noise.
   /// t1 == t0 gives the identity and zero. noexcept, allocation-free; phi and q must be n x n.
-  OrbitProcessInfo propagate(double t0, double t1, Eigen::Ref<Eigen::VectorXd> x, Eigen::Ref<Eigen::MatrixXd> phi,
-                             Eigen::Ref<Eigen::MatrixXd> q) noexcept;
+  OrbitProcessInfo propagate(double t0, double t1, Eigen::Ref<Eigen::VectorXd> x,
+                             Eigen::Ref<Eigen::MatrixXd> phi, Eigen::Ref<Eigen::MatrixXd> q) noexcept;
 
   /// The GCRF-to-RIC rotation rows (R, I, C unit vectors, km-free) of a state r (km), v (km/s).
   static Mat3 ric_rows(const Vec3& r, const Vec3& v) noexcept;
