@@ -9,7 +9,8 @@ time per solve of GN and LM, against scipy.optimize.least_squares on the same re
 3-point differences of the suite's independent numpy two-body model, and trf with satgnc's own
 residuals and analytic Jacobian), all measured in this run; the same passes 100-199 from 10 km /
 10 m/s off (converged share). Last, the Gao-Luo 300 s pass (one station, 1 m / 1 mm/s noise, 10 seeds)
-from the truth: GN and LM against scipy trf on satgnc's residuals and Jacobian.
+from the truth: GN and LM against scipy trf on satgnc's residuals and Jacobian. Last, batch_estimate on
+tracking data (2 stations x 3 passes, 20x20 gravity, light time): one iteration and one evaluation.
 
     .venv/bin/python bench/od.py [--quick]
 """
@@ -151,6 +152,7 @@ def main(argv=None) -> int:
     random_pass_suite(8 if args.quick else 24, 0.02 if args.quick else 0.1)
     far_start_share(20 if args.quick else 100)
     gao_luo_pass(0.02 if args.quick else 0.1)
+    batch_tracking(0.2 if args.quick else 1.0)
     return 0
 
 
@@ -267,6 +269,75 @@ def random_pass_suite(n: int, min_time: float) -> None:
         print(f"  {name:22s} {np.median(it):9.0f} {np.percentile(it, 95):9.0f} {np.median(ev):9.0f} "
               f"{np.median(t) * 1e3:9.3f} {np.median(t / t_lm):10.1f} {np.max(c - best):12.2e}")
     print("  (iter: scipy's njev; eval: nfev; ratio: time / satgnc LM time on the same pass)")
+
+
+def batch_tracking(min_time: float) -> None:
+    """od.batch_estimate (issue 13 item 6): 2 stations (Kiruna, Svalbard) x 3 passes of a 600 km SSO,
+    two-way range + range-rate + az/el every 12 s above 10 deg, 20x20 EGM2008 on the IAU 2006/2000A
+    rotation with EOP, light time; one Gauss-Newton iteration (max_iterations = 1: the evaluation at
+    the guess and one trial) and one evaluation (residuals + Jacobian through the STM)."""
+    from satgnc import dynamics, frames, observation, propagation
+    from satgnc.time import Epoch
+
+    epoch = Epoch.parse("2016-12-10T00:00:00", "UTC")
+    rot = frames.IauEarthRotation(epoch, frames.default_eop(), -3600.0, 2 * 86400.0)
+    fm = dynamics.force_model(gravity=dynamics.GravityField(dynamics.egm2008(20), 20, 20, rot), epoch=epoch)
+    sites = [(67.8571, 20.9641, 0.402), (78.2307, 15.4077, 0.458)]
+    sts = [
+        observation.EarthFixedStationEphemeris.from_ground_station(frames.GroundStation(*s), rot)
+        for s in sites
+    ]
+    a, inc = 6378.137 + 600.0, np.radians(97.8)
+    v = np.sqrt(MU / a)
+    x0 = np.array([a, 0.0, 0.0, 0.0, v * np.cos(inc), v * np.sin(inc)])
+    t = np.arange(0.0, 86400.0, 12.0)
+    xs = propagation.propagate(x0, t, forces=fm, with_stm=False).states
+    cols: dict[str, list] = {"t": [], "types": [], "st": [], "v": [], "s": []}
+    for k, st in enumerate(sts):
+        models = {
+            n: observation.measurement_model(n)
+            for n in ("two_way_range", "two_way_range_rate", "azimuth_elevation")
+        }
+        ae = observation.predict(models["azimuth_elevation"], st, t, xs).value
+        vis = ae[:, 1] > np.radians(10.0)
+        starts = np.flatnonzero(vis[1:] & ~vis[:-1]) + 1
+        keep = vis & (t < t[starts[3]]) if len(starts) > 3 else vis
+        idx = np.flatnonzero(keep)
+        for name, sig in (
+            ("two_way_range", [1e-3, 1.0]),
+            ("two_way_range_rate", [1e-6, 1.0]),
+            ("azimuth_elevation", [1e-4, 1e-4]),
+        ):
+            val = observation.predict(models[name], st, t[idx], xs[idx]).value
+            cols["t"] += list(t[idx])
+            cols["types"] += [name] * len(idx)
+            cols["st"] += [k] * len(idx)
+            cols["v"] += [np.atleast_1d(x).tolist() + [0.0] * (2 - np.size(x)) for x in val]
+            cols["s"] += [sig] * len(idx)
+    data = od.tracking_data(
+        np.array(cols["t"]),
+        cols["types"],
+        np.array(cols["st"]),
+        np.array(cols["v"]),
+        np.array(cols["s"]),
+        epoch=epoch,
+    )
+    guess = x0 + np.array([0.1, -0.1, 0.1, 1e-4, 0.0, 0.0])
+    res = od.batch_estimate(data, sts, guess, epoch=epoch, force_model=fm, max_iterations=1)
+    t_iter = timeit(
+        lambda: od.batch_estimate(data, sts, guess, epoch=epoch, force_model=fm, max_iterations=1),
+        min_time,
+        blocks=3,
+    )
+    t_eval = timeit(
+        lambda: od.batch_residuals(data, sts, guess, epoch=epoch, force_model=fm), min_time, blocks=3
+    )
+    print(
+        f"\nbatch_estimate: 2 stations x 3 passes, {data.size} measurements ({data.rows} rows), "
+        "20x20 EGM2008, IAU 2006 + EOP, light time"
+    )
+    print(f"  one iteration (max_iterations=1, {res.evaluations} evaluations): {t_iter * 1e3:8.1f} ms")
+    print(f"  one evaluation (residuals + Jacobian, incl. setup):      {t_eval * 1e3:8.1f} ms")
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ void init_propagation(pybind11::module_& m);
 void init_propagation_analytic(pybind11::module_& m);
 void init_ensemble(pybind11::module_& m);
 void init_od(pybind11::module_& m);
+void init_od_batch(pybind11::module_& m);
 void init_guidance(pybind11::module_& m);
 void init_guidance_nonlinear(pybind11::module_& m);
 void init_analysis(pybind11::module_& m);
@@ -40,4 +41,5 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_io(m);
   b::init_observation(m);
   b::init_filter(m);
+  b::init_od_batch(m);  // after init_observation (StationEphemeris) and init_dynamics (ForceModel)
 }

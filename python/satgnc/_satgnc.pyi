@@ -101,6 +101,7 @@ __all__: list[str] = [
     "SunDirectionModel",
     "ThirdBodies",
     "TimeScale",
+    "TrackingData",
     "Trajectory",
     "TwoSatelliteMap",
     "TwoSatelliteMapSettings",
@@ -134,6 +135,8 @@ __all__: list[str] = [
     "kepler_step",
     "load_gfc",
     "moon_position",
+    "od_batch_estimate",
+    "od_batch_evaluate",
     "od_box_guesses",
     "od_ellipsoid_by_name",
     "od_geodetic_to_ecef",
@@ -3424,6 +3427,65 @@ class MeasurementModel:
     @property
     def type(self) -> str: ...
 
+class TrackingData:
+    """
+    Tracking measurements sorted by reception epoch (od/tracking_data.hpp). Build with
+    satgnc.od.tracking_data(...) or TrackingData.from_tdm(...).
+    """
+    @staticmethod
+    def from_arrays(
+        epoch: Epoch,
+        t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+        types: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+        stations: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+        values: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+        sigmas: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+        corrections: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+        n_stations: typing.SupportsInt | typing.SupportsIndex,
+        require_sorted: bool = False,
+    ) -> TrackingData:
+        """
+        From arrays (t: s after epoch; types: observable ints; values, sigmas: (n, 2)).
+        """
+    @staticmethod
+    def from_tdm(
+        path: str,
+        names: collections.abc.Sequence[str],
+        indices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex],
+        n_stations: typing.SupportsInt | typing.SupportsIndex,
+        sigma_range: typing.SupportsFloat | typing.SupportsIndex = 0.001,
+        sigma_range_rate: typing.SupportsFloat | typing.SupportsIndex = 1e-06,
+        sigma_angle: typing.SupportsFloat | typing.SupportsIndex = 0.0001,
+    ) -> TrackingData:
+        """
+        Read a CCSDS TDM (KVN or XML); receiving participant names[i] is station indices[i].
+        """
+    def __len__(self) -> int: ...
+    def arrays(self, epoch: Epoch) -> dict[str, typing.Any]:
+        """
+        Dict of arrays: t (s after epoch), types, stations, values (n, 2), sigmas, corrections.
+        """
+    @property
+    def input_index(self) -> list[int]:
+        """
+        input index of each (sorted) measurement
+        """
+    @property
+    def n_stations(self) -> int:
+        """
+        stations the indices refer to
+        """
+    @property
+    def rows(self) -> int:
+        """
+        scalar rows (angle pairs count 2)
+        """
+    @property
+    def size(self) -> int:
+        """
+        number of measurements
+        """
+
 def _analyze_gramian(
     W: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
 ) -> dict[str, typing.Any]: ...
@@ -3733,6 +3795,53 @@ def moon_position(
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
     """
     Geocentric Moon (km, GCRF) at the TT Julian date jd1 + jd2 (ERFA eraMoon98).
+    """
+
+def od_batch_estimate(
+    data: TrackingData,
+    epoch: Epoch,
+    stations: list[typing.Any],
+    x0_guess: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    force_model: ForceModel,
+    estimate_range_bias: collections.abc.Sequence[bool],
+    estimate_time_bias: collections.abc.Sequence[bool],
+    range_bias: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+    time_bias: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+    names: collections.abc.Sequence[str],
+    max_iterations: typing.SupportsInt | typing.SupportsIndex,
+    sigma_tol: typing.SupportsFloat | typing.SupportsIndex,
+    light_time: bool,
+    troposphere: bool,
+    shapiro: bool,
+    relative_humidity: typing.SupportsFloat | typing.SupportsIndex,
+    rtol: typing.SupportsFloat | typing.SupportsIndex,
+    atol: typing.SupportsFloat | typing.SupportsIndex,
+) -> dict[str, typing.Any]:
+    """
+    Batch least squares (od/batch.hpp) on DOP853 with the force model; returns a dict (see
+    satgnc.od.batch_estimate).
+    """
+
+def od_batch_evaluate(
+    data: TrackingData,
+    epoch: Epoch,
+    stations: list[typing.Any],
+    parameters: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    force_model: ForceModel,
+    estimate_range_bias: collections.abc.Sequence[bool],
+    estimate_time_bias: collections.abc.Sequence[bool],
+    light_time: bool,
+    troposphere: bool,
+    shapiro: bool,
+    rtol: typing.SupportsFloat | typing.SupportsIndex,
+    atol: typing.SupportsFloat | typing.SupportsIndex,
+) -> tuple[
+    bool,
+    typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"],
+    typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
+]:
+    """
+    (ok, whitened residuals (O - C)/sigma, whitened Jacobian d predicted/sigma / dp) at parameters.
     """
 
 def od_box_guesses(

@@ -237,6 +237,30 @@ def test_analysis_gramians_and_jacobians() -> None:
     assert isinstance(lm, an.LinearModel) and lm.stms.shape == (3, 6, 6) and lm.transitions.shape == (2, 6, 6)
 
 
+def test_od_batch_on_tracking_data(tmp_path: pathlib.Path) -> None:
+    """satgnc.od.tracking_data / read_tracking_tdm / batch_estimate / batch_residuals (km, km/s, s, rad)."""
+    from satgnc.observation import EarthFixedStationEphemeris
+    from satgnc.time import Epoch
+
+    epoch = Epoch.parse("2016-12-10T00:00:00", "UTC")
+    st = EarthFixedStationEphemeris(0.0, 0.0, 0.0)
+    x = np.array([7000.0, 0.0, 0.0, 0.0, 7.5, 0.0])
+    t = np.arange(0.0, 70.0, 10.0)
+    rng = [float(np.linalg.norm(x[:3] + x[3:] * tk - np.array(st.state(float(tk))[0]))) for tk in t]
+    data = od.tracking_data(t, "two_way_range", np.zeros(7, dtype=int), rng, 1e-3, epoch=epoch)
+    assert isinstance(data, od.TrackingData) and data.size == 7
+    r, jac = od.batch_residuals(data, [st], x, epoch=epoch)
+    assert r.shape == (7,) and jac.shape == (7, 6)
+    res = od.batch_estimate(data, [st], x, epoch=epoch, max_iterations=1)
+    assert isinstance(res, od.BatchResult) and res.state.shape == (6,) and res.residuals.shape == (7, 2)
+    path = tmp_path / "t.tdm"
+    path.write_text("CCSDS_TDM_VERS = 2.0\nCREATION_DATE = 2016-12-10T00:00:00\nORIGINATOR = X\n"
+                    "META_START\nTIME_SYSTEM = UTC\nPARTICIPANT_1 = GS\nPARTICIPANT_2 = SC\n"
+                    "MODE = SEQUENTIAL\nPATH = 1,2,1\n"
+                    "META_STOP\nDATA_START\nRANGE = 2016-12-10T00:00:00 700.0\nDATA_STOP\n")
+    assert od.read_tracking_tdm(path, ["GS"]).size == 1
+
+
 # ----------------------------------------------------------------------------- completeness
 CALLED = {
     "satgnc": {"propagate", "available_methods", "elements_to_state"},
@@ -247,6 +271,7 @@ CALLED = {
         "julian_date", "gmst", "ellipsoid", "geodetic_to_ecef", "station_geodetic", "station_inertial",
         "implied_rotation_rate", "predict", "make_propagator", "read_csv", "solve", "six_point_conditions",
         "solve_six_point", "root_search", "box_guesses", "simulate", "settings",
+        "tracking_data", "read_tracking_tdm", "batch_estimate", "batch_residuals",
     },
     "satgnc.analysis": {
         "orbit", "polar_model", "polar_linear_model", "cw_model", "polar_units", "cw_units",

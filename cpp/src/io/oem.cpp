@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "detail/kvn.hpp"
+#include "detail/oem_lines.hpp"
 
 namespace satgnc::io {
 
@@ -66,8 +67,10 @@ void oem_meta(OemMetadata& m, const KvnLine& l, const std::string& source) {
 
 }  // namespace
 
-Oem parse_oem(const std::string& text, const std::string& source) {
-  const std::vector<KvnLine> lines = detail::tokenize_kvn(text, source);
+namespace detail {
+// The OEM of KVN lines (from tokenize_kvn, or synthesized from XML by oem_xml.cpp with the XML's line
+// numbers), so both encodings share one set of rules and messages.
+Oem parse_oem_lines(const std::vector<KvnLine>& lines, const std::string& source) {
   using K = KvnLine::Kind;
   Oem oem;
   const KvnLine& v = detail::check_version_line(lines, "CCSDS_OEM_VERS", {"1.0", "2.0", "3.0"}, source);
@@ -206,6 +209,13 @@ Oem parse_oem(const std::string& text, const std::string& source) {
   check_segment_end(last);
   return oem;
 }
+}  // namespace detail
+
+Oem parse_oem(const std::string& text, const std::string& source) {
+  const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+  if (first != std::string::npos && text[first] == '<') return detail::parse_oem_xml(text, source);
+  return detail::parse_oem_lines(detail::tokenize_kvn(text, source), source);
+}
 
 Oem read_oem(const std::string& path) { return parse_oem(detail::read_file(path), path); }
 
@@ -271,5 +281,9 @@ std::string format_oem(const Oem& oem) {
 }
 
 void write_oem(const std::string& path, const Oem& oem) { detail::write_file(path, format_oem(oem)); }
+
+void write_oem(const std::string& path, const Oem& oem, bool xml) {
+  detail::write_file(path, xml ? format_oem_xml(oem) : format_oem(oem));
+}
 
 }  // namespace satgnc::io

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "detail/kvn.hpp"
+#include "detail/opm_lines.hpp"
 
 namespace satgnc::io {
 
@@ -36,8 +37,10 @@ bool in(const char* const* list, std::size_t n, const std::string& k) {
 
 }  // namespace
 
-Opm parse_opm(const std::string& text, const std::string& source) {
-  const std::vector<KvnLine> lines = detail::tokenize_kvn(text, source);
+namespace detail {
+// The OPM of KVN lines (tokenize_kvn's, or synthesized from XML by opm_xml.cpp with the XML's line
+// numbers): one set of rules and messages for both encodings.
+Opm parse_opm_lines(const std::vector<KvnLine>& lines, const std::string& source) {
   using K = KvnLine::Kind;
   Opm opm;
   const KvnLine& v = detail::check_version_line(lines, "CCSDS_OPM_VERS", {"1.0", "2.0", "3.0"}, source);
@@ -204,6 +207,13 @@ Opm parse_opm(const std::string& text, const std::string& source) {
   }
   return opm;
 }
+}  // namespace detail
+
+Opm parse_opm(const std::string& text, const std::string& source) {
+  const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+  if (first != std::string::npos && text[first] == '<') return detail::parse_opm_xml(text, source);
+  return detail::parse_opm_lines(detail::tokenize_kvn(text, source), source);
+}
 
 Opm read_opm(const std::string& path) { return parse_opm(detail::read_file(path), path); }
 
@@ -281,5 +291,9 @@ std::string format_opm(const Opm& opm) {
 }
 
 void write_opm(const std::string& path, const Opm& opm) { detail::write_file(path, format_opm(opm)); }
+
+void write_opm(const std::string& path, const Opm& opm, bool xml) {
+  detail::write_file(path, xml ? format_opm_xml(opm) : format_opm(opm));
+}
 
 }  // namespace satgnc::io

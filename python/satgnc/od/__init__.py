@@ -96,7 +96,23 @@ __all__ = [
     "box_guesses",
     "simulate",
     "settings",
+    # batch least squares on tracking data (issue 13 item 6; satgnc.od.batch)
+    "BatchResult",
+    "TrackingData",
+    "batch_estimate",
+    "batch_residuals",
+    "read_tracking_tdm",
+    "tracking_data",
 ]
+
+from .batch import (  # noqa: E402  (after the names batch.py does not need)
+    BatchResult,
+    TrackingData,
+    batch_estimate,
+    batch_residuals,
+    read_tracking_tdm,
+    tracking_data,
+)
 
 _METHODS = {
     "newton": OdMethod.newton,

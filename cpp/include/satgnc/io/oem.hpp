@@ -60,14 +60,23 @@ struct Oem {
   std::vector<OemSegment> segments;  ///< one or more segments
 };
 
-/// Parse OEM KVN text. @param source the name used in error messages. @throws FormatError
+/// Parse OEM text, KVN or XML (told by the first non-blank character, '<': XML; the NDM/XML layout of
+/// CCSDS 505.0-B, <oem><header/><body><segment><metadata/><data><stateVector/>...<covarianceMatrix/>).
+/// Both encodings go through the same rules; XML errors name the XML line. @param source the name used
+/// in error messages. @throws FormatError
 Oem parse_oem(const std::string& text, const std::string& source = "<string>");
-/// Read an OEM KVN file. @throws FormatError, std::invalid_argument if unreadable
+/// Read an OEM file (KVN or XML). @throws FormatError, std::invalid_argument if unreadable
 Oem read_oem(const std::string& path);
 /// The KVN text of an OEM (numbers in the shortest form that reads back to the same double).
 /// @throws std::invalid_argument when the model misses a mandatory field or a value is not finite
 std::string format_oem(const Oem& oem);
 /// Write an OEM KVN file. @throws std::invalid_argument
 void write_oem(const std::string& path, const Oem& oem);
+/// The XML text of an OEM (NDM/XML, schema ndmxml-2.0.0: <stateVector> with EPOCH, X..Z_DOT[, X_DDOT..],
+/// <covarianceMatrix> with EPOCH, COV_REF_FRAME, CX_X..CZ_DOT_Z_DOT), read back and checked as the KVN
+/// writer does. @throws std::invalid_argument as format_oem
+std::string format_oem_xml(const Oem& oem);
+/// Write an OEM file. @param xml false: KVN, true: XML. @throws std::invalid_argument
+void write_oem(const std::string& path, const Oem& oem, bool xml);
 
 }  // namespace satgnc::io

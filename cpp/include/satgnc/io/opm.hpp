@@ -67,13 +67,22 @@ struct Opm {
   std::vector<KeyValue> user_defined;          ///< USER_DEFINED_xxx (keyword without the prefix)
 };
 
-/// Parse OPM KVN text. @param source the name used in error messages. @throws FormatError
+/// Parse OPM text, KVN or XML (told by the first non-blank character, '<': XML; the NDM/XML layout of
+/// CCSDS 505.0-B: <opm><header/><body><segment><metadata/><data> with stateVector, keplerianElements,
+/// spacecraftParameters, covarianceMatrix, maneuverParameters, userDefinedParameters). Both encodings go
+/// through the same rules; XML errors name the XML line. @param source the name used in error messages.
+/// @throws FormatError
 Opm parse_opm(const std::string& text, const std::string& source = "<string>");
-/// Read an OPM KVN file. @throws FormatError, std::invalid_argument if unreadable
+/// Read an OPM file (KVN or XML). @throws FormatError, std::invalid_argument if unreadable
 Opm read_opm(const std::string& path);
 /// The KVN text of an OPM. @throws std::invalid_argument when the model breaks a rule above
 std::string format_opm(const Opm& opm);
 /// Write an OPM KVN file. @throws std::invalid_argument
 void write_opm(const std::string& path, const Opm& opm);
+/// The XML text of an OPM (NDM/XML, schema ndmxml-2.0.0), read back and checked as the KVN writer does.
+/// @throws std::invalid_argument as format_opm
+std::string format_opm_xml(const Opm& opm);
+/// Write an OPM file. @param xml false: KVN, true: XML. @throws std::invalid_argument
+void write_opm(const std::string& path, const Opm& opm, bool xml);
 
 }  // namespace satgnc::io

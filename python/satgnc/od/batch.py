@@ -1,0 +1,435 @@
+"""Batch least-squares orbit determination on real tracking data (issue 13 item 6).
+
+:func:`batch_estimate` estimates the GCRF state at an epoch (km, km/s) and per-station range (km) and
+time (s) biases from two-way / one-way range, range-rate, azimuth/elevation and RA/Dec measured by
+several ground stations (:class:`satgnc.observation.StationEphemeris`, e.g. a
+:class:`satgnc.frames.GroundStation` on the IAU 2006/2000A chain with EOP), with the light-time
+models of :mod:`satgnc.observation`, satgnc's DOP853 with the STM on any
+:class:`satgnc.dynamics.ForceModel`, Gauss-Newton with a backtracking line search and the stated
+convergence test (the remaining Gauss-Newton step is at most ``sigma_tol`` formal sigmas long).
+C++: ``satgnc/od/batch.hpp``; docs/od.md "Batch least squares on tracking data".
+
+Measurements come as a :class:`TrackingData` (:func:`tracking_data` from arrays,
+:func:`read_tracking_tdm` from a CCSDS TDM) or a TDM file path.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from .. import _satgnc
+from .._results import Result, adopt
+from .._validate import as_bool, as_int, as_real, as_real_array
+
+TrackingData = _satgnc.TrackingData
+
+#: Observable names, in the order of their integer codes (observation::ObservableType).
+OBSERVABLES: tuple[str, ...] = (
+    "one_way_range",
+    "two_way_range",
+    "one_way_range_rate",
+    "two_way_range_rate",
+    "azimuth_elevation",
+    "right_ascension_declination",
+)
+_PAIRS = (4, 5)
+_OBS_STATUS: dict[int, str] = {int(v): k for k, v in _satgnc.ObservationStatus.__members__.items()}
+
+__all__ = [
+    "OBSERVABLES",
+    "BatchResult",
+    "TrackingData",
+    "batch_estimate",
+    "batch_residuals",
+    "read_tracking_tdm",
+    "tracking_data",
+]
+
+
+def _epoch(value: Any, name: str = "epoch") -> Any:
+    if not isinstance(value, _satgnc.Epoch):
+        raise TypeError(f"{name}: must be a satgnc.time.Epoch, got {type(value).__name__}")
+    return value
+
+
+def _type_codes(types: Any, n: int) -> np.ndarray:
+    if isinstance(types, str):
+        types = [types] * n
+    seq = list(types)
+    if len(seq) != n:
+        raise ValueError(f"types: must have one entry per measurement ({n}), got {len(seq)}")
+    codes = np.empty(n, dtype=np.int32)
+    for i, v in enumerate(seq):
+        if isinstance(v, str):
+            if v not in OBSERVABLES:
+                raise ValueError(f"types[{i}]: must be one of {list(OBSERVABLES)}, got {v!r}")
+            codes[i] = OBSERVABLES.index(v)
+        else:
+            codes[i] = as_int(v, f"types[{i}]", low=0, high=5)
+    return codes
+
+
+def tracking_data(
+    t: Any,
+    types: Any,
+    stations: Any,
+    values: Any,
+    sigmas: Any,
+    *,
+    epoch: Any,
+    n_stations: int | None = None,
+    corrections: Any = None,
+    order: str = "sort",
+) -> Any:
+    """A :class:`TrackingData` from arrays. ``t``: (n,) reception tags, s after ``epoch`` (a
+    :class:`satgnc.time.Epoch`); ``types``: one observable name (or code) per measurement, or one name
+    for all; ``stations``: (n,) station indices; ``values``: (n,) or (n, 2) (km, km/s, rad; angle
+    pairs need 2 columns); ``sigmas``: a number, (n,) or (n, 2), > 0; ``corrections``: (n,) flags of
+    corrections already applied (1 troposphere, 2 Shapiro; range observables only); ``order``:
+    ``"sort"`` (stable sort by time) or ``"require_sorted"`` (an error names the first index out of
+    order). Raises ``ValueError`` / ``TypeError`` naming the argument (and the index)."""
+    ep = _epoch(epoch)
+    tt = as_real_array(t, "t", ndim=1)
+    n = tt.size
+    codes = _type_codes(types, n)
+    st = np.asarray(stations)
+    if st.shape != (n,) or st.dtype.kind not in "iu":
+        raise ValueError(f"stations: must be an integer array of shape ({n},), got {st.dtype} {st.shape}")
+    vals = as_real_array(values, "values", ndim=(1, 2), finite=False)
+    if vals.ndim == 1:
+        if np.any(np.isin(codes, _PAIRS)):
+            raise ValueError(
+                "values: angle pairs (azimuth_elevation, right_ascension_declination) need shape (n, 2)"
+            )
+        vals = np.stack([vals, np.zeros_like(vals)], axis=1)
+    if vals.shape != (n, 2):
+        raise ValueError(f"values: must have shape ({n},) or ({n}, 2), got {vals.shape}")
+    sig = as_real_array(sigmas, "sigmas", ndim=(0, 1, 2), finite=False)
+    sig = (
+        np.broadcast_to(sig.reshape(-1, 1) if sig.ndim == 1 else sig, (n, 2)).astype(float)
+        if sig.ndim < 2
+        else sig
+    )
+    if sig.shape != (n, 2):
+        raise ValueError(f"sigmas: must be a number, ({n},) or ({n}, 2), got {sig.shape}")
+    corr = np.zeros(n, dtype=np.int32) if corrections is None else np.asarray(corrections, dtype=np.int32)
+    if corr.shape != (n,):
+        raise ValueError(f"corrections: must have shape ({n},), got {corr.shape}")
+    ns = int(st.max()) + 1 if n_stations is None and n > 0 else (1 if n_stations is None else n_stations)
+    ns = as_int(ns, "n_stations", low=1)
+    if order not in ("sort", "require_sorted"):
+        raise ValueError(f"order: must be one of ['sort', 'require_sorted'], got {order!r}")
+    return TrackingData.from_arrays(
+        ep,
+        tt,
+        codes,
+        st.astype(np.int32),
+        vals,
+        np.ascontiguousarray(sig),
+        corr,
+        ns,
+        order == "require_sorted",
+    )
+
+
+def read_tracking_tdm(
+    path: str | os.PathLike[str],
+    stations: Mapping[str, int] | Sequence[str],
+    *,
+    n_stations: int | None = None,
+    sigma_range: float = 1e-3,
+    sigma_range_rate: float = 1e-6,
+    sigma_angle: float = 1e-4,
+) -> Any:
+    """The measurements of a CCSDS TDM file (KVN or XML) as :class:`TrackingData`. ``stations`` maps
+    each receiving participant's name to its station index (or lists the names in index order).
+    A TDM carries no sigmas: ``sigma_range`` (km), ``sigma_range_rate`` (km/s), ``sigma_angle`` (rad).
+    A participant missing from ``stations`` is a ``ValueError`` naming it."""
+    names = _station_map(stations)
+    ns = max(names.values()) + 1 if n_stations is None else as_int(n_stations, "n_stations", low=1)
+    return TrackingData.from_tdm(
+        os.fspath(path),
+        list(names.keys()),
+        list(names.values()),
+        ns,
+        as_real(sigma_range, "sigma_range", positive=True),
+        as_real(sigma_range_rate, "sigma_range_rate", positive=True),
+        as_real(sigma_angle, "sigma_angle", positive=True),
+    )
+
+
+def _station_map(stations: Any) -> dict[str, int]:
+    if isinstance(stations, Mapping):
+        out = {}
+        for k, v in stations.items():
+            if not isinstance(k, str):
+                raise TypeError(f"stations: keys must be participant names (str), got {type(k).__name__}")
+            out[k] = as_int(v, f"stations[{k!r}]", low=0)
+        return out
+    if isinstance(stations, str) or not isinstance(stations, Sequence):
+        raise TypeError("stations: must be a mapping {participant name: index} or a sequence of names")
+    return {as_name(s, i): i for i, s in enumerate(stations)}
+
+
+def as_name(s: Any, i: int) -> str:
+    if not isinstance(s, str):
+        raise TypeError(f"stations[{i}]: must be a participant name (str), got {type(s).__name__}")
+    return s
+
+
+@dataclasses.dataclass(frozen=True)
+class BatchResult(Result):
+    """Result of :func:`batch_estimate`.
+
+    ``state``: (6,) GCRF state at the epoch, km, km/s; ``parameters``: [state, estimated biases]
+    named by ``parameter_names``; ``covariance`` / ``correlation``: formal, of the parameters
+    (km, km/s, km, s); ``sigma``: their standard deviations; ``range_bias`` (km) / ``time_bias`` (s):
+    per station, estimated or fixed; ``residuals``: (n, 2) post-fit O - C per measurement in time
+    order (km, km/s, rad; column 1 NaN for scalar observables), ``normalized`` the same / sigma;
+    ``measurement_status``: per measurement; ``rms``: RMS of the normalized residuals; ``status``:
+    ``"converged"`` (the remaining Gauss-Newton step ``step_sigma`` <= sigma_tol formal sigmas),
+    ``"max_iterations"``, ``"singular"``, ``"stalled"``, ``"diverged"``, ``"propagation_failed"``,
+    ``"degenerate_geometry"``: whatever the status, the best iterate."""
+
+    status: str
+    message: str
+    iterations: int
+    evaluations: int
+    state: np.ndarray
+    parameters: np.ndarray
+    parameter_names: tuple[str, ...]
+    covariance: np.ndarray
+    correlation: np.ndarray
+    sigma: np.ndarray
+    range_bias: np.ndarray
+    time_bias: np.ndarray
+    residuals: np.ndarray
+    normalized: np.ndarray
+    measurement_status: tuple[str, ...]
+    rms: float
+    cost: float
+    rank: int
+    condition_number: float
+    history_cost: np.ndarray
+    step_sigma: float
+    solve_time: float
+
+    @property
+    def converged(self) -> bool:
+        """Whether the status is ``"converged"``."""
+        return self.status == "converged"
+
+
+def _indices(value: Any, name: str, n: int, names: Sequence[str]) -> list[bool]:
+    """Stations chosen by index or name -> one bool per station."""
+    if isinstance(value, (bool, np.bool_)):
+        return [bool(value)] * n
+    if isinstance(value, (str, int)):
+        value = [value]
+    out = [False] * n
+    for j, v in enumerate(value):
+        if isinstance(v, str):
+            if v not in names:
+                raise ValueError(f"{name}[{j}]: unknown station {v!r} (stations: {list(names)})")
+            out[list(names).index(v)] = True
+        else:
+            k = as_int(v, f"{name}[{j}]")
+            if not 0 <= k < n:
+                raise ValueError(f"{name}[{j}]: unknown station {k} (there are {n} stations)")
+            out[k] = True
+    return out
+
+
+def _per_station(value: Any, name: str, n: int) -> list[float]:
+    if value is None:
+        return [0.0] * n
+    arr = as_real_array(value, name, ndim=(0, 1))
+    if arr.ndim == 0:
+        return [float(arr)] * n
+    if arr.shape != (n,):
+        raise ValueError(f"{name}: must be a number or one per station ({n},), got shape {arr.shape}")
+    return [float(v) for v in arr]
+
+
+def _setup(
+    data: Any, stations: Any, epoch: Any, force_model: Any, station_names: Any, tdm_sigmas: dict[str, float]
+):
+    ep = _epoch(epoch)
+    if isinstance(stations, _satgnc.StationEphemeris) or not isinstance(stations, Sequence) or not stations:
+        raise TypeError("stations: must be a non-empty sequence of satgnc.observation.StationEphemeris")
+    for k, s in enumerate(stations):
+        if not isinstance(s, _satgnc.StationEphemeris):
+            raise TypeError(
+                f"stations[{k}]: must be a satgnc.observation.StationEphemeris, got {type(s).__name__}"
+            )
+    n = len(stations)
+    if station_names is None:
+        names = [str(k) for k in range(n)]
+    else:
+        names = [as_name(s, i) for i, s in enumerate(station_names)]
+        if len(names) != n:
+            raise ValueError(f"station_names: must have one name per station ({n}), got {len(names)}")
+    if isinstance(data, (str, os.PathLike)):
+        if station_names is None:
+            raise ValueError("station_names: needed with a TDM file (the participant name of each station)")
+        data = read_tracking_tdm(data, names, n_stations=n, **tdm_sigmas)
+    if not isinstance(data, TrackingData):
+        raise TypeError(
+            f"data: must be a satgnc.od.TrackingData or a TDM file path, got {type(data).__name__}"
+        )
+    fm = _satgnc.ForceModel() if force_model is None else force_model
+    if not isinstance(fm, _satgnc.ForceModel):
+        raise TypeError(f"force_model: must be a satgnc.dynamics.ForceModel, got {type(fm).__name__}")
+    return ep, list(stations), names, data, fm
+
+
+def batch_estimate(
+    data: Any,
+    stations: Sequence[Any],
+    x0_guess: Any,
+    *,
+    epoch: Any,
+    force_model: Any = None,
+    station_names: Sequence[str] | None = None,
+    estimate_range_bias: Any = (),
+    estimate_time_bias: Any = (),
+    range_bias: Any = None,
+    time_bias: Any = None,
+    light_time: bool = True,
+    troposphere: bool = False,
+    shapiro: bool = False,
+    relative_humidity: float = 0.5,
+    max_iterations: int = 25,
+    sigma_tol: float = 1e-3,
+    rtol: float = 3e-12,
+    atol: float = 3e-14,
+    sigma_range: float = 1e-3,
+    sigma_range_rate: float = 1e-6,
+    sigma_angle: float = 1e-4,
+) -> BatchResult:
+    """Batch least squares: the GCRF state at ``epoch`` and per-station biases from ``data``.
+
+    ``data``: a :class:`TrackingData` or a CCSDS TDM path (then ``station_names`` gives each station's
+    participant name and ``sigma_range`` km, ``sigma_range_rate`` km/s, ``sigma_angle`` rad weight it);
+    ``stations``: one :class:`satgnc.observation.StationEphemeris` per station index, whose t = 0 is
+    ``epoch``; ``x0_guess``: (6,) km, km/s at ``epoch``; ``force_model``: a
+    :class:`satgnc.dynamics.ForceModel` (default: point mass; set its epoch to ``epoch`` for the Sun
+    and Moon); ``estimate_range_bias`` / ``estimate_time_bias``: station indices or names (or
+    ``True`` for all) whose bias is estimated; ``range_bias`` (km) / ``time_bias`` (s): fixed values
+    or initial guesses (a number or one per station); ``light_time`` (False: the instantaneous
+    geometry), ``troposphere``, ``shapiro``: model options of this run; ``max_iterations``,
+    ``sigma_tol`` (convergence: remaining step <= sigma_tol formal sigmas); ``rtol`` / ``atol``:
+    DOP853 tolerances. Raises ``ValueError`` / ``TypeError`` naming the argument."""
+    ep, sts, names, td, fm = _setup(
+        data,
+        stations,
+        epoch,
+        force_model,
+        station_names,
+        {"sigma_range": sigma_range, "sigma_range_rate": sigma_range_rate, "sigma_angle": sigma_angle},
+    )
+    n = len(sts)
+    guess = as_real_array(x0_guess, "x0_guess", shape=(6,))
+    er = _indices(estimate_range_bias, "estimate_range_bias", n, names)
+    et = _indices(estimate_time_bias, "estimate_time_bias", n, names)
+    rb = _per_station(range_bias, "range_bias", n)
+    tb = _per_station(time_bias, "time_bias", n)
+    out = _satgnc.od_batch_estimate(
+        td,
+        ep,
+        sts,
+        guess,
+        fm,
+        er,
+        et,
+        rb,
+        tb,
+        names,
+        as_int(max_iterations, "max_iterations", low=1),
+        as_real(sigma_tol, "sigma_tol", positive=True),
+        as_bool(light_time, "light_time"),
+        as_bool(troposphere, "troposphere"),
+        as_bool(shapiro, "shapiro"),
+        as_real(relative_humidity, "relative_humidity", low=0.0, high=1.0),
+        as_real(rtol, "rtol", positive=True),
+        as_real(atol, "atol", nonnegative=True),
+    )
+    return adopt(
+        BatchResult,
+        status=out["status"],
+        message=out["message"],
+        iterations=int(out["iterations"]),
+        evaluations=int(out["evaluations"]),
+        state=out["x0"],
+        parameters=out["parameters"],
+        parameter_names=tuple(out["parameter_names"]),
+        covariance=out["covariance"],
+        correlation=out["correlation"],
+        sigma=out["sigma"],
+        range_bias=out["range_bias"],
+        time_bias=out["time_bias"],
+        residuals=out["residuals"],
+        normalized=out["normalized"],
+        measurement_status=tuple(_OBS_STATUS.get(int(s), "unknown") for s in out["measurement_status"]),
+        rms=float(out["rms"]),
+        cost=float(out["cost"]),
+        rank=int(out["rank"]),
+        condition_number=float(out["condition_number"]),
+        history_cost=out["history_cost"],
+        step_sigma=float(out["step_sigma"]),
+        solve_time=float(out["solve_time"]),
+    )
+
+
+def batch_residuals(
+    data: Any,
+    stations: Sequence[Any],
+    parameters: Any,
+    *,
+    epoch: Any,
+    force_model: Any = None,
+    estimate_range_bias: Any = (),
+    estimate_time_bias: Any = (),
+    light_time: bool = True,
+    troposphere: bool = False,
+    shapiro: bool = False,
+    rtol: float = 3e-12,
+    atol: float = 3e-14,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Whitened residuals (O - C) / sigma and the whitened Jacobian d(predicted / sigma) / d parameters
+    of the batch problem at ``parameters`` ([state, estimated biases], as
+    :attr:`BatchResult.parameters`; fixed biases are 0). For checks and tools. Raises ``ValueError``
+    when the evaluation fails (propagation, degenerate geometry)."""
+    ep, sts, names, td, fm = _setup(data, stations, epoch, force_model, None, {})
+    n = len(sts)
+    er = _indices(estimate_range_bias, "estimate_range_bias", n, names)
+    et = _indices(estimate_time_bias, "estimate_time_bias", n, names)
+    p = as_real_array(parameters, "parameters", ndim=1)
+    if p.size != 6 + sum(er) + sum(et):
+        raise ValueError(
+            f"parameters: must have {6 + sum(er) + sum(et)} entries (state + estimated biases), got {p.size}"
+        )
+    ok, r, jac = _satgnc.od_batch_evaluate(
+        td,
+        ep,
+        sts,
+        p,
+        fm,
+        er,
+        et,
+        as_bool(light_time, "light_time"),
+        as_bool(troposphere, "troposphere"),
+        as_bool(shapiro, "shapiro"),
+        as_real(rtol, "rtol", positive=True),
+        as_real(atol, "atol", nonnegative=True),
+    )
+    if not ok:
+        raise ValueError(
+            "parameters: the residuals cannot be evaluated there (propagation or geometry failed)"
+        )
+    return np.asarray(r), np.asarray(jac)
