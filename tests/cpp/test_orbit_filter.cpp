@@ -275,3 +275,61 @@ TEST(OrbitFilter, GenericKalmanFilterOnTheOrbitModelsMatchesOrbitFilter) {
 }
 
 }  // namespace
+
+// The measurement function's H (state and bias columns) against central differences of its own
+// prediction, for every observable the filter accepts, with range and time biases as states.
+namespace {
+
+TEST(OrbitFilter, MeasurementJacobianMatchesCentralDifferencesForEveryObservable) {
+  using satgnc::observation::ObservableType;
+  const ObservableType types[] = {ObservableType::one_way_range,      ObservableType::two_way_range,
+                                  ObservableType::one_way_range_rate, ObservableType::two_way_range_rate,
+                                  ObservableType::azimuth_elevation,  ObservableType::right_ascension_declination};
+  auto ms = fx::measurement_settings(6);  // range biases at 6, 7
+  ms.observables.clear();
+  for (auto ty : types) {
+    satgnc::observation::MeasurementSettings o;
+    o.type = ty;
+    ms.observables.push_back(o);
+  }
+  for (auto& st : ms.stations) st.sigma.assign(6, 1e-3);
+  ms.stations[0].time_bias_state = 8;
+  ms.stations[1].time_bias_state = 9;
+  OrbitMeasurementFunction mf(ms, 10);
+  // A state seen by station 0 at high elevation (the first simulated record's truth).
+  std::vector<Vec6> truth;
+  const auto meas = fx::simulate(3600.0, 20.0, 1u, 0.0, 0.0, &truth);
+  ASSERT_FALSE(meas.empty());
+  VectorXd x = VectorXd::Zero(10);
+  x.head<6>() = truth[0];
+  x[6] = 0.01;
+  x[8] = 2e-3;
+  const double steps[10] = {1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6, 1e-4, 1e-4, 1e-5, 1e-5};
+  for (int o = 0; o < 6; ++o) {
+    OrbitMeasurement m{meas[0].t, meas[0].station, o, Eigen::Vector2d::Zero()};
+    Eigen::Vector2d z, s, zp, zm;
+    MatrixXd h(2, 10), dummy(2, 10);
+    ASSERT_EQ(mf.evaluate(m, x, z, h, s), satgnc::core::ObservationStatus::success) << o;
+    const int p = mf.size(m);
+    for (int j = 0; j < 10; ++j) {
+      VectorXd xp = x, xm = x;
+      xp[j] += steps[j];
+      xm[j] -= steps[j];
+      ASSERT_EQ(mf.evaluate(m, xp, zp, dummy, s), satgnc::core::ObservationStatus::success);
+      ASSERT_EQ(mf.evaluate(m, xm, zm, dummy, s), satgnc::core::ObservationStatus::success);
+      for (int i = 0; i < p; ++i) {
+        const double fd = (zp[i] - zm[i]) / (2 * steps[j]);
+        // Central-difference truncation ~ h^2 f''' and rounding ~ 1e-16 |z| / h: agreement to 1e-5 of
+        // the row's largest partial (the time-bias partials of the non-range types are themselves
+        // central differences over +-1 ms inside the observation room).
+        const double scale = h.row(i).cwiseAbs().maxCoeff();
+        EXPECT_NEAR(h(i, j), fd, 1e-5 * scale) << "observable " << o << " row " << i << " column " << j;
+      }
+    }
+    // Station 1's bias columns stay zero for a station-0 record.
+    EXPECT_EQ(h(0, 7), 0.0);
+    EXPECT_EQ(h(0, 9), 0.0);
+  }
+}
+
+}  // namespace

@@ -251,3 +251,24 @@ def test_unsorted_times_and_unknown_type(two_passes):
     with pytest.raises(ValueError, match=r"observable\[5\]: unknown measurement type: 'laser'"):
         satgnc.od.filter(sim["t"], sim["station"], obs, sim["value"], stations=list(SC.stations),
                          x0=SC.x0, P0=P0_KM)
+
+
+def test_every_observable_type_angles_and_one_way():
+    """One-way range and range-rate, az/el and RA/Dec (rad pairs) of both stations: the filter runs all
+    of them from a 100 m / 0.1 m/s error and ends within 3 sigma (angles at 20 arcsec, 1e-4 rad)."""
+    obs = ("one_way_range", "one_way_range_rate", "azimuth_elevation", "right_ascension_declination")
+    sig = (0.005, 1e-6, 1e-4, 1e-4)
+    sim = fsim.simulate_tracking(SC.x0, SC.stations, np.arange(20.0, 6 * 3600.0 + 1, 20.0), seed=5,
+                                 force_model=SC.force_model, observables=obs, sigma=sig)
+    p0 = np.diag([0.1**2] * 3 + [1e-4**2] * 3)
+    dx = np.array([0.05, -0.08, 0.03, 4e-5, -6e-5, 2e-5])
+    r = satgnc.od.filter(sim["t"], sim["station"], sim["observable"], sim["value"], stations=list(SC.stations),
+                         x0=SC.x0 + dx, P0=p0, observables=obs, sigma=sig, force_model=SC.force_model,
+                         snc_psd_ric=1e-15)
+    assert set(np.unique(r.observable).tolist()) == {0, 1, 2, 3}
+    assert r.status == "completed" and r.rejected.size <= 0.01 * sim["t"].size + 2
+    err = r.state[-1, :6] - sim["truth"][-1]
+    assert np.all(np.abs(err) < 3 * r.sigma_state[-1, :6]), (err, r.sigma_state[-1, :6])
+    # Angle pairs fill both residual columns; scalar types leave the second NaN.
+    pair = r.observable >= 2
+    assert np.all(np.isfinite(r.prefit[pair])) and np.all(np.isnan(r.prefit[~pair, 1]))
