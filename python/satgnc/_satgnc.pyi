@@ -46,6 +46,7 @@ __all__: list[str] = [
     "Epoch",
     "ErfaSun",
     "ExponentialDrag",
+    "FILTER_STEP_STATUS",
     "FixedSun",
     "ForceModel",
     "GravityCoefficients",
@@ -118,6 +119,8 @@ __all__: list[str] = [
     "default_truth_settings",
     "earth_orientation",
     "eme2000_to_gcrs",
+    "filter_orbit_propagate",
+    "filter_orbit_run",
     "gcrs_to_eme2000",
     "gcrs_to_eme2000_matrix",
     "gcrs_to_itrs",
@@ -3693,6 +3696,38 @@ def eme2000_to_gcrs(
     Vector (3,) or state (6,) from EME2000 to GCRS.
     """
 
+def filter_orbit_propagate(
+    force_model: ForceModel,
+    process: dict[str, typing.Any],
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    t1: typing.SupportsFloat | typing.SupportsIndex,
+    x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+) -> tuple:
+    """
+    Private: OrbitProcessModel.propagate -> (x, Phi, Q, status, steps) (use satgnc.od.filter).
+    """
+
+def filter_orbit_run(
+    force_model: ForceModel,
+    stations: list[typing.Any],
+    models: list[typing.Any],
+    process: dict[str, typing.Any],
+    station_setup: dict[str, typing.Any],
+    filter_settings: dict[str, typing.Any],
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    P0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    t: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex],
+    station: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex],
+    observable: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex],
+    value: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 2]"],
+    smooth: bool = False,
+) -> dict[str, typing.Any]:
+    """
+    Private: the orbit EKF (filter/orbit_filter.hpp) over K measurements; dict of time-major arrays (use
+    satgnc.od.filter).
+    """
+
 def gcrs_to_eme2000(
     x: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
 ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
@@ -3996,5 +4031,13 @@ EARTH_J2: float = 0.0010826266835
 EARTH_MU: float = 398600.4418
 EARTH_OMEGA: float = 7.292115e-05
 EARTH_RADIUS: float = 6378.1363
+FILTER_STEP_STATUS: list = [
+    "updated",
+    "rejected",
+    "propagation_failed",
+    "measurement_failed",
+    "not_positive_definite",
+    "not_run",
+]
 SPEED_OF_LIGHT: float = 299792.458
 __version__: str = "0.1.0"
