@@ -17,7 +17,6 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
 import satgnc  # noqa: E402
 import satgnc.time  # noqa: E402
 from satgnc.od import filter_sim as fsim  # noqa: E402
@@ -46,14 +45,32 @@ def main() -> int:
     a = ap.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
     sc = fsim.two_station_scenario()
-    sim = fsim.simulate_tracking(sc.x0, sc.stations, np.arange(20.0, 6 * 3600.0 + 1, 20.0), seed=11,
-                                 force_model=sc.force_model)
+    sim = fsim.simulate_tracking(
+        sc.x0, sc.stations, np.arange(20.0, 6 * 3600.0 + 1, 20.0), seed=11, force_model=sc.force_model
+    )
     st = list(sc.stations)
-    r = satgnc.od.smooth(sim["t"], sim["station"], sim["observable"], sim["value"], stations=st,
-                         x0=sc.x0 + DX0, P0=P0, force_model=sc.force_model, snc_psd_ric=SNC)
+    r = satgnc.od.smooth(
+        sim["t"],
+        sim["station"],
+        sim["observable"],
+        sim["value"],
+        stations=st,
+        x0=sc.x0 + DX0,
+        P0=P0,
+        force_model=sc.force_model,
+        snc_psd_ric=SNC,
+    )
     epoch = satgnc.time.parse("2023-02-25T00:00:00", "UTC")
-    b = satgnc.od.batch_estimate(str(TDM), st, sc.x0 + DX0, epoch=epoch, force_model=sc.force_model,
-                                 station_names=["STN_A", "STN_B"], sigma_range=0.005, sigma_range_rate=1e-6)
+    b = satgnc.od.batch_estimate(
+        str(TDM),
+        st,
+        sc.x0 + DX0,
+        epoch=epoch,
+        force_model=sc.force_model,
+        station_names=["STN_A", "STN_B"],
+        sigma_range=0.005,
+        sigma_range_rate=1e-6,
+    )
     # Batch state and covariance mapped to every tag (STM of the process model, no process noise).
     xb = np.empty((sim["t"].size, 6))
     pb = np.empty((sim["t"].size, 6, 6))
@@ -68,8 +85,17 @@ def main() -> int:
     # prior the single-station first pass moves the state by 100s of m again, and without process noise
     # the EKF's linearization there makes it overconfident: 47 rejections, 9.9 m error vs 0.46 m sigma)
     p0b = np.diag([0.01**2] * 3 + [1e-5**2] * 3)
-    r2 = satgnc.od.smooth(sim["t"], sim["station"], sim["observable"], sim["value"], stations=st,
-                          x0=r.smoothed_initial_state, P0=p0b, force_model=sc.force_model, snc_psd_ric=0.0)
+    r2 = satgnc.od.smooth(
+        sim["t"],
+        sim["station"],
+        sim["observable"],
+        sim["value"],
+        stations=st,
+        x0=r.smoothed_initial_state,
+        P0=p0b,
+        force_model=sc.force_model,
+        snc_psd_ric=0.0,
+    )
     runs = {
         "filter (EKF, SNC 1e-15)": (r.state[:, :6], r.covariance[:, :6, :6]),
         "RTS smoother (SNC 1e-15)": (r.smoothed_state[:, :6], r.smoothed_covariance[:, :6, :6]),
@@ -88,9 +114,16 @@ def main() -> int:
             err[k] = m @ (xs[k, :3] - sim["truth"][k, :3])
             sig[k] = np.sqrt(np.diag(m @ ps[k, :3, :3] @ m.T))
         inside = np.mean(np.all(np.abs(err) <= 3 * sig, axis=1))
-        rows.append((name, np.linalg.norm(xs[0, :3] - sim["truth"][0, :3]) * 1e3,
-                     np.sqrt(np.trace(ps[0, :3, :3])) * 1e3, np.linalg.norm(xs[-1, :3] - sim["truth"][-1, :3]) * 1e3,
-                     np.sqrt(np.trace(ps[-1, :3, :3])) * 1e3, inside))
+        rows.append(
+            (
+                name,
+                np.linalg.norm(xs[0, :3] - sim["truth"][0, :3]) * 1e3,
+                np.sqrt(np.trace(ps[0, :3, :3])) * 1e3,
+                np.linalg.norm(xs[-1, :3] - sim["truth"][-1, :3]) * 1e3,
+                np.sqrt(np.trace(ps[-1, :3, :3])) * 1e3,
+                inside,
+            )
+        )
         for i, lab in enumerate(("radial", "in-track", "cross-track")):
             ax = axes[i, j]
             ax.plot(t_h, err[:, i] * 1e3, ".", ms=3, label="error")
@@ -105,7 +138,9 @@ def main() -> int:
             if i == 2:
                 ax.set_xlabel("time, h (measurement tags)")
     axes[0, 0].legend(loc="upper right", fontsize=8)
-    fig.suptitle("Estimation error (RIC) and 3-sigma envelopes: filter, smoother, batch; 2 stations, 2 passes each")
+    fig.suptitle(
+        "Estimation error (RIC) and 3-sigma envelopes: filter, smoother, batch; 2 stations, 2 passes each"
+    )
     fig.tight_layout()
     fig.savefig(a.out / "errors_ric.png", dpi=90)
     plt.close(fig)
@@ -127,7 +162,9 @@ def main() -> int:
         axes[i].set_ylabel(f"{lab}, {unit}")
     axes[0].legend(loc="upper right", fontsize=8, ncol=4)
     axes[1].set_xlabel("time, h")
-    fig.suptitle("Residuals (measured - predicted); the first pre-fit values (1.5 km initial error) are off scale")
+    fig.suptitle(
+        "Residuals (measured - predicted); the first pre-fit values (1.5 km initial error) are off scale"
+    )
     fig.tight_layout()
     fig.savefig(a.out / "residuals.png", dpi=90)
     plt.close(fig)
@@ -151,21 +188,30 @@ def main() -> int:
     fig.savefig(a.out / "nees_nis.png", dpi=90)
     plt.close(fig)
 
-    print("| estimate | pos. error at first tag, m | 1-sigma there, m | pos. error at last tag, m | "
-          "1-sigma there, m | tags with |error| <= 3 sigma (RIC) |")
+    print(
+        "| estimate | pos. error at first tag, m | 1-sigma there, m | pos. error at last tag, m | "
+        "1-sigma there, m | tags with |error| <= 3 sigma (RIC) |"
+    )
     print("|---|---:|---:|---:|---:|---:|")
     for name, e0, s0, e1, s1, ins in rows:
         print(f"| {name} | {e0:.3f} | {s0:.3f} | {e1:.3f} | {s1:.3f} | {100 * ins:.1f} % |")
     for name, rr in (("smoother (SNC 1e-15)", r), ("smoother 2nd pass (no SNC)", r2)):
         d0 = (rr.smoothed_initial_state[:6] - b.state) / np.sqrt(np.diag(b.covariance[:6, :6]))
-        ratio = np.sqrt(np.diag(rr.smoothed_initial_covariance[:6, :6])) / np.sqrt(np.diag(b.covariance[:6, :6]))
-        print(f"{name} at t0 vs batch: max |dx| / sigma_batch = {np.max(np.abs(d0)):.3g}; "
-              f"sigma ratio (smoother / batch) {np.min(ratio):.4f} .. {np.max(ratio):.4f}")
+        ratio = np.sqrt(np.diag(rr.smoothed_initial_covariance[:6, :6])) / np.sqrt(
+            np.diag(b.covariance[:6, :6])
+        )
+        print(
+            f"{name} at t0 vs batch: max |dx| / sigma_batch = {np.max(np.abs(d0)):.3g}; "
+            f"sigma ratio (smoother / batch) {np.min(ratio):.4f} .. {np.max(ratio):.4f}"
+        )
     print(f"batch: {b.status}, {b.iterations} iterations, rms {b.rms:.3f}")
     print(f"filter: {r.message}; rejected {r.rejected.tolist()}; 2nd pass: {r2.message}")
     m = mc.nees.mean(axis=0)
-    print(f"MC: mean NEES last {m[-1]:.3f}, band ({lo:.3f}, {hi:.3f}), steps inside "
-          f"{np.mean((m > lo) & (m < hi)) * 100:.0f} %; mean NIS {mc.nis.mean():.3f} band ({nlo:.3f}, {nhi:.3f})")
+    print(
+        f"MC: mean NEES last {m[-1]:.3f}, band ({lo:.3f}, {hi:.3f}), steps inside "
+        f"{np.mean((m > lo) & (m < hi)) * 100:.0f} %; "
+        f"mean NIS {mc.nis.mean():.3f} band ({nlo:.3f}, {nhi:.3f})"
+    )
     return 0
 
 

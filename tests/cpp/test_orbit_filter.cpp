@@ -282,9 +282,10 @@ namespace {
 
 TEST(OrbitFilter, MeasurementJacobianMatchesCentralDifferencesForEveryObservable) {
   using satgnc::observation::ObservableType;
-  const ObservableType types[] = {ObservableType::one_way_range,      ObservableType::two_way_range,
-                                  ObservableType::one_way_range_rate, ObservableType::two_way_range_rate,
-                                  ObservableType::azimuth_elevation,  ObservableType::right_ascension_declination};
+  const ObservableType types[] = {
+      ObservableType::one_way_range,      ObservableType::two_way_range,
+      ObservableType::one_way_range_rate, ObservableType::two_way_range_rate,
+      ObservableType::azimuth_elevation,  ObservableType::right_ascension_declination};
   auto ms = fx::measurement_settings(6);  // range biases at 6, 7
   ms.observables.clear();
   for (auto ty : types) {

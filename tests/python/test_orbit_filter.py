@@ -262,9 +262,9 @@ def test_every_observable_type_angles_and_one_way():
                                  force_model=SC.force_model, observables=obs, sigma=sig)
     p0 = np.diag([0.1**2] * 3 + [1e-4**2] * 3)
     dx = np.array([0.05, -0.08, 0.03, 4e-5, -6e-5, 2e-5])
-    r = satgnc.od.filter(sim["t"], sim["station"], sim["observable"], sim["value"], stations=list(SC.stations),
-                         x0=SC.x0 + dx, P0=p0, observables=obs, sigma=sig, force_model=SC.force_model,
-                         snc_psd_ric=1e-15)
+    r = satgnc.od.filter(sim["t"], sim["station"], sim["observable"], sim["value"],
+                         stations=list(SC.stations), x0=SC.x0 + dx, P0=p0, observables=obs, sigma=sig,
+                         force_model=SC.force_model, snc_psd_ric=1e-15)
     assert set(np.unique(r.observable).tolist()) == {0, 1, 2, 3}
     assert r.status == "completed" and r.rejected.size <= 0.01 * sim["t"].size + 2
     err = r.state[-1, :6] - sim["truth"][-1]
