@@ -50,6 +50,8 @@ OrbitProcessSettings process_settings(const py::dict& d) {
   s.quadrature_nodes = d["quadrature_nodes"].cast<int>();
   s.integrator.rtol = d["rtol"].cast<double>();
   s.integrator.atol = d["atol"].cast<double>();
+  if (d.contains("cd_state")) s.cd_state = d["cd_state"].cast<int>();
+  if (d.contains("cr_state")) s.cr_state = d["cr_state"].cast<int>();
   return s;
 }
 

@@ -247,6 +247,71 @@ TEST(OrbitProcess, DmcNoiseMatchesCovarianceOdeAndExactBlock) {
   RecordProperty("dmc_rel_err", std::to_string(e * 1e12) + "e-12");
 }
 
+TEST(OrbitProcess, CdAndCrColumnsMatchCentralDifferences) {
+  // 350 km LEO with exponential drag (rho0 at 350 km, 50 km scale height, A/m = 0.02 m^2/kg) and
+  // cannonball SRP (shadowless, A/m = 0.02): the Cd and Cr columns of the STM (sensitivities integrated
+  // with it) against central differences of the propagated state over 1200 s.
+  ForceModel fm = j2_model();
+  satgnc::dynamics::ExponentialDrag d;
+  d.rho0 = 1e-11;
+  d.h0 = 350.0;
+  d.scale_height = 50.0;
+  d.area = 2.0;
+  d.mass = 100.0;
+  fm.drag = d;
+  satgnc::dynamics::SolarRadiationPressure srp;
+  srp.area = 2.0;
+  srp.mass = 100.0;
+  srp.shadow = satgnc::dynamics::ShadowModel::none;
+  fm.srp = srp;
+  for (bool dmc : {false, true}) {
+    OrbitProcessSettings s;
+    s.dmc = dmc;
+    s.dmc_sigma = Vec3::Constant(1e-9);
+    const int o = dmc ? 9 : 6;
+    s.parameters = 2;
+    s.cd_state = o;
+    s.cr_state = o + 1;
+    s.integrator.rtol = 1e-13;
+    s.integrator.atol = 1e-16;
+    OrbitProcessModel pm(fm, s);
+    const int n = pm.dimension();
+    VectorXd x0 = VectorXd::Zero(n);
+    x0.head<6>() << 6728.0, 0.0, 0.0, 0.0, 4.83, 6.1;
+    if (dmc) x0.segment<3>(6) << 1e-9, -2e-9, 1e-9;
+    x0[o] = 2.2;
+    x0[o + 1] = 1.3;
+    VectorXd x = x0;
+    MatrixXd phi(n, n), q(n, n), dq(n, n), dphi(n, n);
+    ASSERT_EQ(pm.propagate(0.0, 1200.0, x, phi, q).status, Dop853Status::success);
+    EXPECT_EQ(x[o], 2.2);  // constants
+    EXPECT_EQ(x[o + 1], 1.3);
+    for (int j : {o, o + 1}) {
+      VectorXd xp = x0, xm = x0;
+      xp[j] += 0.01;
+      xm[j] -= 0.01;
+      ASSERT_EQ(pm.propagate(0.0, 1200.0, xp, dphi, dq).status, Dop853Status::success);
+      ASSERT_EQ(pm.propagate(0.0, 1200.0, xm, dphi, dq).status, Dop853Status::success);
+      const VectorXd col = (xp - xm) / 0.02;
+      // The state is linear in Cd and Cr to first order; the central difference over +-0.01 has a
+      // truncation ~ 1e-4 of the column (second order in the drag's effect on the orbit): bound 1e-4.
+      EXPECT_GT(phi.col(j).head(6).norm(), 0.0);
+      EXPECT_LT((col.head(6) - phi.col(j).head(6)).norm() / phi.col(j).head(6).norm(), 1e-4)
+          << "dmc " << dmc << " column " << j;
+    }
+  }
+  // A model without the term is a named error at setup.
+  OrbitProcessSettings bad;
+  bad.parameters = 1;
+  bad.cd_state = 6;
+  try {
+    OrbitProcessModel p2(j2_model(), bad);
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cd_state: the force model has no drag term"), std::string::npos);
+  }
+}
+
 TEST(OrbitProcess, PropagateAllocatesNothing) {
   const ForceModel fm = j2_model();
   OrbitProcessSettings s;

@@ -6,15 +6,16 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::filter {
 
-using Mat9 = Eigen::Matrix<double, 9, 9>;
+using Mat11 = Eigen::Matrix<double, 11, 11>;  // r, v, w (DMC), Cd, Cr: the dynamic block
 using Mat63 = Eigen::Matrix<double, 6, 3>;
-using Mat93 = Eigen::Matrix<double, 9, 3>;
+using Mat113 = Eigen::Matrix<double, 11, 3>;
 
 void OrbitProcessSettings::validate() const {
   integrator.validate();
@@ -77,15 +78,18 @@ constexpr GaussRule gauss_rule(int n) {
   return g;
 }
 
-// dy/dt of [r, v, Phi (6x6 column-major), S (6x3 column-major, DMC only)].
-template <bool Dmc>
+// dy/dt of [r, v, Phi (6x6 column-major), S (6x3 column-major, DMC only), Sp (6x2: d/dCd, d/dCr; Par
+// only)].
+template <bool Dmc, bool Par>
 struct ProcessRhs {
-  static constexpr int N = Dmc ? 60 : 42;
+  static constexpr int kSp = Dmc ? 60 : 42;  // offset of Sp
+  static constexpr int N = kSp + (Par ? 12 : 0);
   using Vec = Eigen::Matrix<double, N, 1>;
   const dynamics::ForceModel* fm = nullptr;
   double t_a = 0.0;             // start of the sub-interval, s
   Vec3 w_a = Vec3::Zero();      // DMC acceleration at t_a, km/s^2
   Vec3 inv_tau = Vec3::Zero();  // 1/s
+  bool cd = false, cr = false;  // which parameter partials are non-zero
   void operator()(double t, const Vec& y, Vec& dy) const {
     const Vec3 r = y.template head<3>();
     const Vec3 v = y.template segment<3>(3);
@@ -112,31 +116,54 @@ struct ProcessRhs {
       ds.template bottomRows<3>().noalias() += da_dv * s.template bottomRows<3>();
       ds.template bottomRows<3>().diagonal() += decay;
     }
+    if constexpr (Par) {
+      using Mat62 = Eigen::Matrix<double, 6, 2>;
+      const Eigen::Map<const Mat62> s(y.data() + kSp);
+      Eigen::Map<Mat62> ds(dy.data() + kSp);
+      ds.template topRows<3>() = s.template bottomRows<3>();
+      ds.template bottomRows<3>().noalias() = da_dr * s.template topRows<3>();
+      ds.template bottomRows<3>().noalias() += da_dv * s.template bottomRows<3>();
+      // Partials validated at setup (the model holds the terms they scale): no throw here.
+      if (cd)
+        ds.template block<3, 1>(3, 0) += fm->acceleration_partial(dynamics::ForceParameter::cd, t, r, v);
+      if (cr)
+        ds.template block<3, 1>(3, 1) += fm->acceleration_partial(dynamics::ForceParameter::cr, t, r, v);
+    }
   }
 };
 
 }  // namespace
 
 struct OrbitProcessWorkspace {
-  ProcessRhs<false> rhs6;
-  ProcessRhs<true> rhs9;
-  propagation::Dop853<42, ProcessRhs<false>> integ6;
-  propagation::Dop853<60, ProcessRhs<true>> integ9;
+  ProcessRhs<false, false> rhs6;
+  ProcessRhs<true, false> rhs9;
+  ProcessRhs<false, true> rhs6p;
+  ProcessRhs<true, true> rhs9p;
+  propagation::Dop853<42, ProcessRhs<false, false>> integ6;
+  propagation::Dop853<60, ProcessRhs<true, false>> integ9;
+  propagation::Dop853<54, ProcessRhs<false, true>> integ6p;
+  propagation::Dop853<72, ProcessRhs<true, true>> integ9p;
   // Outputs of one sub-interval: the nodes, then its end (index nodes).
   std::array<double, 6> t_out{};
   std::array<Vec6, 6> x{};
   std::array<Mat6, 6> phi{};
   std::array<Mat63, 6> sens{};
-  Mat9 phi_tot = Mat9::Identity();
-  Mat9 q_tot = Mat9::Zero();
-  Mat9 tmp = Mat9::Zero();
+  std::array<Eigen::Matrix<double, 6, 2>, 6> sensp{};
+  Mat11 phi_tot = Mat11::Identity();
+  Mat11 q_tot = Mat11::Zero();
+  Mat11 tmp = Mat11::Zero();
 
   OrbitProcessWorkspace(const dynamics::ForceModel& fm, const OrbitProcessSettings& s)
-      : integ6(rhs6, s.integrator), integ9(rhs9, s.integrator) {
-    rhs6.fm = &fm;
-    rhs9.fm = &fm;
-    rhs9.inv_tau = s.dmc_tau.cwiseInverse();
+      : integ6(rhs6, s.integrator),
+        integ9(rhs9, s.integrator),
+        integ6p(rhs6p, s.integrator),
+        integ9p(rhs9p, s.integrator) {
+    point_at(fm);
+    rhs9.inv_tau = rhs9p.inv_tau = s.dmc_tau.cwiseInverse();
+    rhs6p.cd = rhs9p.cd = s.cd_state >= 0;
+    rhs6p.cr = rhs9p.cr = s.cr_state >= 0;
   }
+  void point_at(const dynamics::ForceModel& fm) { rhs6.fm = rhs9.fm = rhs6p.fm = rhs9p.fm = &fm; }
 };
 
 }  // namespace detail
@@ -147,6 +174,26 @@ OrbitProcessModel::OrbitProcessModel(const dynamics::ForceModel& force_model,
   force_model_.validate();
   settings_.validate();
   n_ = 6 + (settings_.dmc ? 3 : 0) + settings_.parameters;
+  const int off = settings_.dmc ? 9 : 6;
+  for (const auto& [idx, name] : {std::pair<int, const char*>{settings_.cd_state, "cd_state"},
+                                  std::pair<int, const char*>{settings_.cr_state, "cr_state"}}) {
+    core::require(idx == -1 || (idx >= off && idx < n_), name,
+                  "must be -1 or a parameter index in [" + std::to_string(off) + ", " + std::to_string(n_) +
+                      "), got " + std::to_string(idx));
+  }
+  core::require(settings_.cd_state < 0 || settings_.cd_state != settings_.cr_state, "cr_state",
+                "must differ from cd_state");
+  // The partials throw std::invalid_argument here (setup) when the model has no drag / SRP term.
+  const Vec3 r0(7000.0, 0.0, 0.0), v0(0.0, 7.5, 0.0);
+  if (settings_.cd_state >= 0) {
+    core::require(force_model_.drag.has_value() || force_model_.atmosphere_drag.has_value(), "cd_state",
+                  "the force model has no drag term to scale");
+    static_cast<void>(force_model_.acceleration_partial(dynamics::ForceParameter::cd, 0.0, r0, v0));
+  }
+  if (settings_.cr_state >= 0) {
+    core::require(force_model_.srp.has_value(), "cr_state", "the force model has no SRP term to scale");
+    static_cast<void>(force_model_.acceleration_partial(dynamics::ForceParameter::cr, 0.0, r0, v0));
+  }
   ws_ = std::make_unique<detail::OrbitProcessWorkspace>(force_model_, settings_);
 }
 
@@ -155,7 +202,7 @@ OrbitProcessModel::~OrbitProcessModel() = default;
 // The workspace points at force_model_: re-point it after a move.
 OrbitProcessModel::OrbitProcessModel(OrbitProcessModel&& o) noexcept
     : force_model_(std::move(o.force_model_)), settings_(o.settings_), n_(o.n_), ws_(std::move(o.ws_)) {
-  if (ws_) ws_->rhs6.fm = ws_->rhs9.fm = &force_model_;
+  if (ws_) ws_->point_at(force_model_);
 }
 
 OrbitProcessModel& OrbitProcessModel::operator=(OrbitProcessModel&& o) noexcept {
@@ -163,7 +210,7 @@ OrbitProcessModel& OrbitProcessModel::operator=(OrbitProcessModel&& o) noexcept 
   settings_ = o.settings_;
   n_ = o.n_;
   ws_ = std::move(o.ws_);
-  if (ws_) ws_->rhs6.fm = ws_->rhs9.fm = &force_model_;
+  if (ws_) ws_->point_at(force_model_);
   return *this;
 }
 
@@ -187,6 +234,14 @@ OrbitProcessInfo OrbitProcessModel::propagate(double t0, double t1, Eigen::Ref<E
   w.q_tot.setZero();
   Vec6 xa = x.head<6>();
   Vec3 wa = dmc ? Vec3(x.segment<3>(6)) : Vec3::Zero();
+  const int cd_i = settings_.cd_state, cr_i = settings_.cr_state;
+  const bool par = cd_i >= 0 || cr_i >= 0;
+  // Estimated Cd / Cr: the force model flies the state's current values (constant over the interval).
+  if (cd_i >= 0) {
+    if (force_model_.drag) force_model_.drag->cd = x[cd_i];
+    if (force_model_.atmosphere_drag) force_model_.atmosphere_drag->cd = x[cd_i];
+  }
+  if (cr_i >= 0 && force_model_.srp) force_model_.srp->cr = x[cr_i];
   const double span = t1 - t0;
   const int segments = span == 0.0 ? 0 : static_cast<int>(std::ceil(std::abs(span) / settings_.noise_step));
   const detail::GaussRule g = detail::gauss_rule(settings_.quadrature_nodes);
@@ -204,7 +259,30 @@ OrbitProcessInfo OrbitProcessModel::propagate(double t0, double t1, Eigen::Ref<E
     w.t_out[nn] = b;
     const std::size_t n_out = static_cast<std::size_t>(nn + 1);
     propagation::Dop853Info di;
-    if (dmc) {
+    if (par && dmc) {
+      w.rhs9p.t_a = a;
+      w.rhs9p.w_a = wa;
+      Eigen::Matrix<double, 72, 1> y0 = Eigen::Matrix<double, 72, 1>::Zero();
+      y0.head<6>() = xa;
+      Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
+      di = w.integ9p.solve(a, y0, w.t_out.data(), n_out,
+                           [&w](std::size_t i, double, const Eigen::Matrix<double, 72, 1>& y) {
+                             w.x[i] = y.head<6>();
+                             w.phi[i] = Eigen::Map<const Mat6>(y.data() + 6);
+                             w.sens[i] = Eigen::Map<const Mat63>(y.data() + 42);
+                             w.sensp[i] = Eigen::Map<const Eigen::Matrix<double, 6, 2>>(y.data() + 60);
+                           });
+    } else if (par) {
+      Eigen::Matrix<double, 54, 1> y0 = Eigen::Matrix<double, 54, 1>::Zero();
+      y0.head<6>() = xa;
+      Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
+      di = w.integ6p.solve(a, y0, w.t_out.data(), n_out,
+                           [&w](std::size_t i, double, const Eigen::Matrix<double, 54, 1>& y) {
+                             w.x[i] = y.head<6>();
+                             w.phi[i] = Eigen::Map<const Mat6>(y.data() + 6);
+                             w.sensp[i] = Eigen::Map<const Eigen::Matrix<double, 6, 2>>(y.data() + 42);
+                           });
+    } else if (dmc) {
       w.rhs9.t_a = a;
       w.rhs9.w_a = wa;
       Eigen::Matrix<double, 60, 1> y0 = Eigen::Matrix<double, 60, 1>::Zero();
@@ -232,17 +310,18 @@ OrbitProcessInfo OrbitProcessModel::propagate(double t0, double t1, Eigen::Ref<E
       info.status = di.status == Dop853Status::success ? Dop853Status::rhs_failure : di.status;
       return info;
     }
-    // Segment transition matrix (m x m in the 9x9 storage) and noise.
+    // Segment transition matrix and noise in the 11 x 11 storage (r, v | w | Cd, Cr).
     const Mat6& pb = w.phi[nn];
-    Mat9 phis = Mat9::Identity();
+    Mat11 phis = Mat11::Identity();
     phis.topLeftCorner<6, 6>() = pb;
     Vec3 eb = Vec3::Ones();
     if (dmc) {
       eb = (-h * inv_tau).array().exp().matrix();
-      phis.topRightCorner<6, 3>() = w.sens[nn];
-      phis.bottomRightCorner<3, 3>() = eb.asDiagonal();
+      phis.block<6, 3>(0, 6) = w.sens[nn];
+      phis.block<3, 3>(6, 6) = eb.asDiagonal();
     }
-    Mat9 qs = Mat9::Zero();
+    if (par) phis.block<6, 2>(0, 9) = w.sensp[nn];
+    Mat11 qs = Mat11::Zero();
     for (int i = 0; i < nn; ++i) {
       const double wk = 0.5 * h * g.w[i];
       // Phi(b, s_i) = Phi(b, a) Phi(s_i, a)^-1.
@@ -257,9 +336,9 @@ OrbitProcessInfo OrbitProcessModel::propagate(double t0, double t1, Eigen::Ref<E
         const double s = w.t_out[i];
         const Vec3 grow = ((s - a) * inv_tau).array().exp().matrix();
         const Vec3 ebs = (-(b - s) * inv_tau).array().exp().matrix();
-        Mat93 mk;
+        Mat113 mk = Mat113::Zero();
         mk.topRows<6>() = (w.sens[nn] - pbs * w.sens[i]) * grow.asDiagonal();
-        mk.bottomRows<3>() = ebs.asDiagonal();
+        mk.block<3, 3>(6, 0) = ebs.asDiagonal();
         qs.noalias() += wk * (mk * q_dmc.asDiagonal() * mk.transpose());
       }
     }
@@ -267,7 +346,7 @@ OrbitProcessInfo OrbitProcessModel::propagate(double t0, double t1, Eigen::Ref<E
       // The w block exactly: sigma^2 (1 - exp(-2 |h| / tau)), signed like h.
       const double sgn = h >= 0.0 ? 1.0 : -1.0;
       const Vec3 ew2 = (-2.0 * std::abs(h) * inv_tau).array().exp().matrix();
-      qs.bottomRightCorner<3, 3>() =
+      qs.block<3, 3>(6, 6) =
           (sgn * settings_.dmc_sigma.array().square() * (1.0 - ew2.array())).matrix().asDiagonal();
     }
     w.tmp.noalias() = phis * w.q_tot;
@@ -281,6 +360,8 @@ OrbitProcessInfo OrbitProcessModel::propagate(double t0, double t1, Eigen::Ref<E
   x.head<6>() = xa;
   if (dmc) x.segment<3>(6) = wa;
   phi.topLeftCorner(m, m) = w.phi_tot.topLeftCorner(m, m);
+  if (cd_i >= 0) phi.col(cd_i).head(m) = w.phi_tot.col(9).head(m);
+  if (cr_i >= 0) phi.col(cr_i).head(m) = w.phi_tot.col(10).head(m);
   q.topLeftCorner(m, m) = 0.5 * (w.q_tot.topLeftCorner(m, m) + w.q_tot.topLeftCorner(m, m).transpose());
   return info;
 }

@@ -8,7 +8,8 @@ Rauch-Tung-Striebel smoother.
 State (GCRF; the layout is ``FilterResult.state_names``)::
 
     [x, y, z (km), vx, vy, vz (km/s) | w_x, w_y, w_z (km/s^2, DMC only) |
-     range bias per station (km, if estimated) | time bias per station (s, if estimated)]
+     range bias per station (km, if estimated) | time bias per station (s, if estimated) |
+     Cd, Cr (if estimated)]
 
 Between measurements the state and its STM are propagated with DOP853 on ``force_model``; process
 noise is state-noise compensation (white acceleration, PSD ``snc_psd_ric`` in km^2/s^3 along the
@@ -200,6 +201,10 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
     dmc_sigma: Any = None,
     estimate_range_bias: bool = False,
     estimate_time_bias: bool = False,
+    estimate_cd: bool = False,
+    estimate_cr: bool = False,
+    cd_sigma: float = 0.2,
+    cr_sigma: float = 0.2,
     range_bias: Any = 0.0,
     time_bias: Any = 0.0,
     range_bias_sigma: float = 0.01,
@@ -234,7 +239,10 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
     ``estimate_range_bias`` / ``estimate_time_bias`` add one state per station; ``consider`` lists
     the groups ("range_bias", "time_bias") held as consider parameters (not updated; the reported
     covariance carries their effect). ``range_bias`` / ``time_bias`` (scalar or per station): the
-    fixed values or the initial estimates.
+    fixed values or the initial estimates. ``estimate_cd`` / ``estimate_cr`` append the drag and SRP
+    coefficients (initial values from ``force_model``, a priori sigmas ``cd_sigma`` / ``cr_sigma``;
+    "cd" / "cr" in ``consider`` hold them as consider parameters); their STM columns come from the
+    force model's parameter partials integrated with the STM.
 
     Raises ``ValueError`` / ``TypeError`` naming the argument: a P0 that is not positive definite,
     negative process noise, unsorted times, an unknown measurement type or one not in
@@ -309,9 +317,22 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
         tbs = list(range(off, off + ns))
         names += [f"time_bias_{i}" for i in range(ns)]
         off += ns
+    fmodel = _force_model(force_model)
+    cd_i = cr_i = -1
+    if as_bool(estimate_cd, "estimate_cd"):
+        if fmodel.drag is None and fmodel.atmosphere_drag is None:
+            raise ValueError("estimate_cd: the force model has no drag term (drag or atmosphere_drag)")
+        cd_i, off = off, off + 1
+        names.append("cd")
+    if as_bool(estimate_cr, "estimate_cr"):
+        if fmodel.srp is None:
+            raise ValueError("estimate_cr: the force model has no SRP term (srp)")
+        cr_i, off = off, off + 1
+        names.append("cr")
     n = off
     proc = _process_dict(snc_psd_ric, dmc_tau, dmc_sigma, n - (9 if dmc else 6), noise_step, quadrature_nodes,
                          rtol, atol)
+    proc["cd_state"], proc["cr_state"] = cd_i, cr_i
     cons: list[int] = []
     if isinstance(consider, str):
         consider = (consider,)
@@ -320,9 +341,13 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
             cons += rbs
         elif c == "time_bias" and et:
             cons += tbs
+        elif c == "cd" and cd_i >= 0:
+            cons.append(cd_i)
+        elif c == "cr" and cr_i >= 0:
+            cons.append(cr_i)
         else:
-            raise ValueError(f"consider[{i}]: must be 'range_bias' or 'time_bias' with the matching "
-                             f"estimate_*_bias=True, got {c!r}")
+            raise ValueError(f"consider[{i}]: must be 'range_bias', 'time_bias', 'cd' or 'cr' with the "
+                             f"matching estimate_*=True, got {c!r}")
     x0v = as_real_array(x0, "x0", ndim=1)
     if x0v.size == 6:
         full = np.zeros(n)
@@ -332,6 +357,10 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
                 full[rbs[i]] = rb[i]
             if tbs[i] >= 0:
                 full[tbs[i]] = tb[i]
+        if cd_i >= 0:
+            full[cd_i] = fmodel.drag.cd if fmodel.drag is not None else fmodel.atmosphere_drag.cd
+        if cr_i >= 0:
+            full[cr_i] = fmodel.srp.cr
         x0v = full
     if x0v.size != n:
         raise ValueError(f"x0: must have 6 or {n} entries ({names}), got {x0v.size}")
@@ -348,6 +377,10 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
                 full_p[rbs[i], rbs[i]] = rs * rs
             if tbs[i] >= 0:
                 full_p[tbs[i], tbs[i]] = ts * ts
+        if cd_i >= 0:
+            full_p[cd_i, cd_i] = as_real(cd_sigma, "cd_sigma", positive=True) ** 2
+        if cr_i >= 0:
+            full_p[cr_i, cr_i] = as_real(cr_sigma, "cr_sigma", positive=True) ** 2
         p0 = full_p
     if p0.shape != (n, n):
         raise ValueError(f"P0: must have shape (6, 6) or ({n}, {n}), got {p0.shape}")
@@ -371,7 +404,7 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
     stn = {"sigma": np.ascontiguousarray(sig, dtype=float), "range_bias_state": rbs, "time_bias_state": tbs,
            "range_bias": rb.tolist(), "time_bias": tb.tolist()}
     d = _c.filter_orbit_run(
-        _force_model(force_model), list(stations), models, proc, stn, fs, t0, x0v, p0, tt.tolist(),
+        fmodel, list(stations), models, proc, stn, fs, t0, x0v, p0, tt.tolist(),
         st.astype(int).tolist(), ob.astype(int).tolist(), np.ascontiguousarray(val), bool(_smooth),
     )
     codes = np.asarray(d["status"])

@@ -6,8 +6,9 @@
 ///
 /// State layout (dimension n = 6 + 3 dmc + parameters):
 ///   [ r (3, km, GCRF) | v (3, km/s, GCRF) | w (3, km/s^2, GCRF; only with DMC) | p (parameters) ]
-/// The parameters (per-station range biases in km, time biases in s, ...) are constants: their rows of
-/// the transition matrix are the identity and they receive no process noise.
+/// The parameters (per-station range biases in km, time biases in s, Cd, Cr) are constants: their rows
+/// of the transition matrix are the identity and they receive no process noise; Cd and Cr (cd_state,
+/// cr_state) also drive the force model, and their columns of the STM come from the sensitivity to them.
 ///
 /// Process noise (continuous white noise, discretized with the STM):
 /// - **SNC** (state-noise compensation): a white acceleration with power spectral density
@@ -51,6 +52,12 @@ struct OrbitProcessSettings {
   int parameters = 0;                    ///< constant parameter states appended after r, v (, w), >= 0
   double noise_step = 300.0;             ///< longest quadrature sub-interval, s (> 0)
   int quadrature_nodes = 5;              ///< Gauss-Legendre nodes per sub-interval, 1..5
+  /// State index of an estimated drag coefficient Cd (a parameter state, -1: none). The force model flies
+  /// the state's value (drag and atmosphere_drag), and the STM gets its column from the sensitivity
+  /// dS/dt = A S + [0; da/dCd] (ForceModel::acceleration_partial), integrated with the STM.
+  int cd_state = -1;
+  /// State index of an estimated SRP reflectivity Cr (-1: none); as cd_state, through srp.
+  int cr_state = -1;
   /// Throws std::invalid_argument("field: rule"): negative PSD or sigma, non-positive tau or
   /// noise_step, quadrature_nodes outside 1..5, parameters < 0, invalid integrator settings.
   void validate() const;
