@@ -23,6 +23,7 @@ void init_io(pybind11::module_& m);
 void init_observation(pybind11::module_& m);
 void init_thrusters(pybind11::module_& m);
 void init_filter(pybind11::module_& m);
+void init_orbit_filter(pybind11::module_& m);
 }  // namespace satgnc::bindings
 
 PYBIND11_MODULE(_satgnc, m) {
@@ -50,4 +51,5 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_thrusters(m);
   b::init_od_batch(m);  // after init_observation (StationEphemeris) and init_dynamics (ForceModel)
   b::init_filter(m);
+  b::init_orbit_filter(m);
 }

@@ -278,6 +278,23 @@ def test_od_batch_on_tracking_data(tmp_path: pathlib.Path) -> None:
     assert od.read_tracking_tdm(path, ["GS"]).size == 1
 
 
+def test_od_filter_and_smooth() -> None:
+    """satgnc.od.filter / smooth (issue 15): the orbit EKF over two range records (km, km/s, s)."""
+    from satgnc.observation import EarthFixedStationEphemeris
+
+    st = EarthFixedStationEphemeris(0.0, 0.0, 0.0)
+    x = np.array([7000.0, 0.0, 0.0, 0.0, 7.5, 0.0])
+    t = np.array([10.0, 20.0])
+    rng = [float(np.linalg.norm(x[:3] + x[3:] * tk - np.array(st.state(float(tk))[0]))) for tk in t]
+    p0 = np.diag([1.0, 1.0, 1.0, 1e-6, 1e-6, 1e-6])
+    f = od.filter(t, np.zeros(2, dtype=int), np.zeros(2, dtype=int), rng, stations=[st], x0=x, P0=p0,
+                  observables=("one_way_range",), sigma=1e-3)
+    assert isinstance(f, od.FilterResult) and f.state.shape == (2, 6) and f.covariance.shape == (2, 6, 6)
+    s = od.smooth(t, np.zeros(2, dtype=int), np.zeros(2, dtype=int), rng, stations=[st], x0=x, P0=p0,
+                  observables=("one_way_range",), sigma=1e-3)
+    assert s.smoothed_state is not None and s.smoothed_state.shape == (2, 6)
+
+
 # ----------------------------------------------------------------------------- completeness
 CALLED = {
     "satgnc": {"propagate", "available_methods", "elements_to_state", "propagate_sensitivity",
@@ -291,6 +308,7 @@ CALLED = {
         "six_point_conditions",
         "solve_six_point", "root_search", "box_guesses", "simulate", "settings",
         "tracking_data", "read_tracking_tdm", "batch_estimate", "batch_residuals",
+        "filter", "smooth",
     },
     "satgnc.analysis": {
         "orbit", "polar_model", "polar_linear_model", "cw_model", "polar_units", "cw_units",

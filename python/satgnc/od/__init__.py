@@ -857,6 +857,11 @@ def simulate(
     return Observations(rows["t"], rows["type"], rows["value"], rows["sigma"], rows["station"])
 
 
+# ----------------------------------------------------------------------------- sequential OD (issue 15)
+from .filtering import FilterResult, filter, smooth  # noqa: A004, E402
+
+__all__ += ["FilterResult", "filter", "smooth"]
+
 from .._namespace import public_dir as _public_dir  # noqa: E402
 
 __dir__ = _public_dir(__name__)  # dir(): the API, not the imported modules (np, math, ...)

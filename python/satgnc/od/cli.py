@@ -276,7 +276,9 @@ def _need_subcommand(parser):
     def run(args) -> int:
         from ..cli import CliError
 
-        raise CliError(f"{parser.prog}: choose a subcommand: solve or simulate (see '{parser.prog} --help')")
+        raise CliError(
+            f"{parser.prog}: choose a subcommand: solve, simulate or filter (see '{parser.prog} --help')"
+        )
 
     return run
 
@@ -324,6 +326,9 @@ def register(subparsers) -> None:
                    help="deg above the station's geocentric horizon (default 0: nothing through the Earth; "
                         "-90 observes every time)")
     m.set_defaults(func=_simulate)
+    from .filter_cli import register as _register_filter  # issue 15: satgnc od filter
+
+    _register_filter(sub)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,202 @@
+"""``satgnc od filter``: sequential orbit determination over a CCSDS TDM, writing an OEM with covariance.
+
+Example::
+
+    satgnc od filter --tdm tests/data/filter/two_station.tdm \
+        --station STN_A:40,-105,1.6 --station STN_B:-35,149,0.7 \
+        --guess 6878.8,-1.2,0.5,0.0004,4.7364,5.9872 --smooth --out est.oem
+
+The TDM (KVN or XML, read by :func:`satgnc.io.read_tdm`) holds RANGE (km) and DOPPLER_INSTANTANEOUS
+(km/s) of stations named by PARTICIPANT_1; PATH 1,2,1 (or none) makes them two-way (range, range-rate
+with light time), PATH 2,1 one-way. Stations are given by ``--station NAME:lat,lon,h`` (deg, deg, km,
+WGS-84, rotating with GMST from the epoch, the paper's station model). t = 0 is ``--epoch`` (UTC,
+default: the first observation). The OEM holds, per measurement epoch (one line per distinct tag), the
+filtered (or with ``--smooth`` the smoothed) GCRF state and its 6 x 6 covariance.
+
+Errors print one line ``satgnc: error: ...`` and exit with code 2.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import pathlib
+from typing import Any
+
+import numpy as np
+
+_KEYWORDS = {"RANGE": "range", "DOPPLER_INSTANTANEOUS": "range_rate"}
+
+
+def _floats(text: str, n: int, name: str) -> list[float]:
+    try:
+        vals = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ValueError(f"{name}: expected {n} comma-separated numbers, got {text!r}") from None
+    if len(vals) != n or not all(np.isfinite(vals)):
+        raise ValueError(f"{name}: expected {n} finite comma-separated numbers, got {text!r}")
+    return vals
+
+
+def _utc(text: str, name: str) -> _dt.datetime:
+    try:
+        return _dt.datetime.fromisoformat(text.strip().rstrip("Z"))
+    except ValueError:
+        raise ValueError(f"{name}: not an ISO-8601 UTC date-time: {text!r}") from None
+
+
+def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _dt.datetime]:
+    """Measurements of a TDM as arrays (t s from the epoch, station index, observable name, value) and
+    the station names in order of first appearance."""
+    from .. import io as _io
+
+    tdm = _io.read_tdm(path)
+    rows: list[tuple[_dt.datetime, str, str, float]] = []
+    for i, seg in enumerate(tdm.segments):
+        md = seg.metadata
+        if md.time_system != "UTC":
+            raise ValueError(
+                f"{path}: segment {i + 1}: TIME_SYSTEM {md.time_system} (the filter CLI reads UTC)"
+            )
+        path_idx = tuple(md.path) if md.path else ()
+        if path_idx in ((), (1, 2, 1)):
+            way = "two_way"
+        elif path_idx == (2, 1):
+            way = "one_way"
+        else:
+            raise ValueError(f"{path}: segment {i + 1}: PATH {md.path} not supported (hint: 1,2,1 or 2,1)")
+        station = md.participants[0]
+        for kw, ep, val in zip(seg.keywords, seg.epochs, np.asarray(seg.values)):
+            if kw not in _KEYWORDS:
+                raise ValueError(
+                    f"{path}: segment {i + 1}: keyword {kw} not used by the filter "
+                    f"(hint: RANGE, DOPPLER_INSTANTANEOUS)"
+                )
+            rows.append((_utc(ep, path), station, f"{way}_{_KEYWORDS[kw]}", float(val)))
+    if not rows:
+        raise ValueError(f"{path}: no RANGE or DOPPLER_INSTANTANEOUS observation")
+    rows.sort(key=lambda r: r[0])
+    t_epoch = rows[0][0] if epoch is None else _utc(epoch, "--epoch")
+    names: list[str] = []
+    for r in rows:
+        if r[1] not in names:
+            names.append(r[1])
+    t = np.array([(r[0] - t_epoch).total_seconds() for r in rows])
+    if t[0] < 0:
+        raise ValueError(
+            f"--epoch: {t_epoch.isoformat()} is after the first observation ({rows[0][0].isoformat()})"
+        )
+    return (
+        {
+            "t": t,
+            "station": np.array([names.index(r[1]) for r in rows]),
+            "observable": [r[2] for r in rows],
+            "value": np.array([r[3] for r in rows]),
+        },
+        names,
+        t_epoch,
+    )
+
+
+def _run(args: Any) -> int:
+    from .. import _satgnc as _c
+    from .. import io as _io
+    from . import filtering, station_geodetic
+
+    meas, names, epoch = load_tdm(args.tdm, args.epoch)
+    given: dict[str, Any] = {}
+    for spec in args.station or []:
+        label, _, coords = spec.rpartition(":")
+        if not label:
+            raise ValueError(f"--station: expected NAME:lat,lon,height (deg, deg, km), got {spec!r}")
+        lat, lon, h = _floats(coords, 3, "--station")
+        given[label] = _c.RotatingStationEphemeris(station_geodetic(lat, lon, h, epoch), "WGS-84")
+    missing = [n for n in names if n not in given]
+    if missing:
+        raise ValueError(
+            f"--station: no coordinates for the TDM participant(s) {missing} (hint: --station "
+            "NAME:lat,lon,height)"
+        )
+    guess = _floats(args.guess, 6, "--guess")
+    if np.linalg.norm(guess[:3]) <= 6378.0:
+        raise ValueError(
+            "--guess: the position is inside the Earth (hint: x,y,z km, vx,vy,vz km/s, GCRF at t = 0)"
+        )
+    obs_names = sorted(set(meas["observable"]))
+    sig = {
+        "two_way_range": args.sigma_range,
+        "one_way_range": args.sigma_range,
+        "two_way_range_rate": args.sigma_range_rate,
+        "one_way_range_rate": args.sigma_range_rate,
+    }
+    p0 = np.diag([args.sigma_position**2] * 3 + [args.sigma_velocity**2] * 3)
+    run = filtering.smooth if args.smooth else filtering.filter
+    r = run(
+        meas["t"],
+        meas["station"],
+        np.array(meas["observable"], dtype=object),
+        meas["value"],
+        stations=[given[n] for n in names],
+        x0=np.array(guess),
+        P0=p0,
+        observables=obs_names,
+        sigma=[sig[o] for o in obs_names],
+        snc_psd_ric=args.snc_psd,
+        method=args.method,
+    )
+    states = r.smoothed_state if args.smooth else r.state
+    covs = r.smoothed_covariance if args.smooth else r.covariance
+    keep = np.r_[np.diff(r.t) > 0, True]  # one OEM line per distinct tag: the last step at it
+    eps = [(epoch + _dt.timedelta(seconds=float(tk))).isoformat(timespec="milliseconds") for tk in r.t[keep]]
+    md = _io.OemMetadata(
+        object_name="SAT",
+        object_id="UNKNOWN",
+        center_name="EARTH",
+        ref_frame="GCRF",
+        time_system="UTC",
+        start_time=eps[0],
+        stop_time=eps[-1],
+        comments=(
+            "satgnc od filter: "
+            + ("RTS smoother" if args.smooth else f"{args.method.upper()}")
+            + f" over {args.tdm}; {r.message}",
+        ),
+    )
+    cv = tuple(
+        _io.OemCovariance(epoch=e, matrix=0.5 * (c[:6, :6] + c[:6, :6].T)) for e, c in zip(eps, covs[keep])
+    )
+    seg = _io.OemSegment(metadata=md, epochs=tuple(eps), states=states[keep, :6], covariances=cv)
+    now = _dt.datetime.now(_dt.timezone.utc).replace(tzinfo=None).isoformat(timespec="seconds")
+    out = pathlib.Path(args.out)
+    if out.is_dir():
+        raise ValueError(f"--out: {out} is a directory (hint: a file name ending in .oem)")
+    _io.write_oem(out, _io.Oem(header=_io.Header(creation_date=now, originator="SATGNC"), segments=(seg,)))
+    print(f"{r.message}; status {r.status}")
+    print(
+        f"final 1-sigma position {np.sqrt(np.trace(covs[-1][:3, :3])) * 1e3:.3f} m; "
+        f"wrote {len(eps)} states to {out}"
+    )
+    return 0 if r.status == "completed" else 1
+
+
+def register(sub: Any) -> None:
+    """Add ``filter`` to the ``satgnc od`` subcommands."""
+    from ..cli import finite_float, positive_float
+
+    f = sub.add_parser(
+        "filter", help="sequential OD (EKF/UKF, optional RTS smoother) over a TDM; writes an OEM"
+    )
+    f.add_argument("--tdm", required=True, help="CCSDS TDM (KVN or XML): RANGE, DOPPLER_INSTANTANEOUS")
+    f.add_argument("--out", required=True, help="OEM file to write (KVN, with covariance)")
+    f.add_argument("--guess", required=True, help="x,y,z,vx,vy,vz at t = 0 (GCRF km, km/s)")
+    f.add_argument("--station", action="append", help="NAME:lat_deg,lon_deg,height_km (WGS-84)")
+    f.add_argument("--epoch", help="UTC epoch of t = 0 (ISO); default: the first observation")
+    f.add_argument("--smooth", action="store_true", help="write the RTS-smoothed states")
+    f.add_argument("--method", default="ekf", choices=["ekf", "ukf"])
+    f.add_argument("--sigma-range", type=positive_float, default=0.005, help="km (default 0.005)")
+    f.add_argument("--sigma-range-rate", type=positive_float, default=1e-6, help="km/s (default 1e-6)")
+    f.add_argument("--sigma-position", type=positive_float, default=1.0, help="a priori, km (default 1)")
+    f.add_argument(
+        "--sigma-velocity", type=positive_float, default=1e-3, help="a priori, km/s (default 1e-3)"
+    )
+    f.add_argument("--snc-psd", type=finite_float, default=1e-15, help="SNC PSD, km^2/s^3 (default 1e-15)")
+    f.set_defaults(func=_run)

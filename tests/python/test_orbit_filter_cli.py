@@ -1,0 +1,74 @@
+"""``satgnc od filter --tdm FILE [--smooth] --out OEM`` (issue 15): the OEM it writes (states within
+3 sigma of the truth, covariances), the smoother option, and one-line errors with exit code 2."""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+import pytest
+import satgnc.io
+from satgnc import cli
+from satgnc.od import filter_sim as fsim
+
+TDM = pathlib.Path(__file__).resolve().parents[1] / "data" / "filter" / "two_station.tdm"
+STATIONS = ["--station", "STN_A:40,-105,1.6", "--station", "STN_B:-35,149,0.7"]
+GUESS = "6878.8,-1.2,0.5,0.0004,4.7364,5.9872"  # truth + (0.8, -1.2, 0.5) km, (0.4, -0.6, 0.2) m/s
+
+
+def _truth_at(seconds):
+    sc = fsim.two_station_scenario()
+    sim = fsim.simulate_tracking(sc.x0, sc.stations, np.asarray(seconds), seed=None, min_elevation_deg=-90.0,
+                                 force_model=sc.force_model, observables=("two_way_range",), sigma=0.005)
+    return sim["truth"][sim["station"] == 0]
+
+
+@pytest.mark.parametrize("smooth", [False, True])
+def test_filter_writes_an_oem_with_covariance(tmp_path, capsys, smooth):
+    out = tmp_path / "est.oem"
+    argv = ["od", "filter", "--tdm", str(TDM), "--out", str(out), "--guess", GUESS, "--epoch",
+            "2023-02-25T00:00:00", *STATIONS] + (["--smooth"] if smooth else [])
+    assert cli.main(argv) == 0
+    assert "220 measurements processed" in capsys.readouterr().out
+    oem = satgnc.io.read_oem(out)
+    seg = oem.segments[0]
+    assert seg.metadata.ref_frame == "GCRF" and len(seg.epochs) == 110  # one line per distinct tag
+    assert len(seg.covariances) == 110
+    # Seconds of each OEM epoch after t = 0, and the truth there (the TDM's own simulation).
+    t = np.array([(np.datetime64(e) - np.datetime64("2023-02-25T00:00:00")) / np.timedelta64(1, "ms") / 1e3
+                  for e in seg.epochs])
+    truth = _truth_at(t)
+    last = -1 if not smooth else 0  # the smoother's best-known epoch is any; check the first
+    err = seg.states[last] - truth[last]
+    sig = np.sqrt(np.diag(seg.covariances[last].matrix))
+    assert np.all(np.abs(err) < 3 * sig), (err, sig)
+    if smooth:  # smoothing makes the first pass metre-level (the filter's is ~km at its first line)
+        assert np.linalg.norm(err[:3]) < 0.02
+
+
+@pytest.mark.parametrize(
+    ("extra", "text"),
+    [
+        (["--station", "STN_A:40,-105,1.6"],
+         "--station: no coordinates for the TDM participant(s) ['STN_B']"),
+        (["--guess", "1,2,3,4,5,6", *STATIONS], "--guess: the position is inside the Earth"),
+        (["--guess", "1,2,3", *STATIONS], "--guess: expected 6 finite comma-separated numbers"),
+        (["--epoch", "2023-02-26T00:00:00", *STATIONS], "--epoch: 2023-02-26T00:00:00 is after the first"),
+    ],
+)
+def test_errors_are_one_line_exit_2(tmp_path, capsys, extra, text):
+    argv = ["od", "filter", "--tdm", str(TDM), "--out", str(tmp_path / "x.oem")]
+    if "--guess" not in extra:
+        argv += ["--guess", GUESS]
+    assert cli.main(argv + extra) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("satgnc: error: ") and text in err and err.count("\n") == 1, err
+
+
+def test_bad_tdm_names_the_file(tmp_path, capsys):
+    bad = tmp_path / "bad.tdm"
+    bad.write_text(TDM.read_text().replace("RANGE = 2023-02-25T00:13:00.000", "RANGE = 2023-02-25T00:13:xx"))
+    assert cli.main(["od", "filter", "--tdm", str(bad), "--out", str(tmp_path / "x.oem"), "--guess", GUESS,
+                     *STATIONS]) == 2
+    err = capsys.readouterr().err
+    assert "bad.tdm" in err and err.count("\n") == 1
