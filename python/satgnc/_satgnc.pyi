@@ -47,8 +47,11 @@ __all__: list[str] = [
     "ErfaSun",
     "ExponentialDrag",
     "FILTER_STEP_STATUS",
+    "FilterEditFlag",
+    "FilterStatus",
     "FixedSun",
     "ForceModel",
+    "ForceModelConfig",
     "GravityCoefficients",
     "GravityField",
     "GroundStation",
@@ -67,6 +70,7 @@ __all__: list[str] = [
     "MeasurementModel",
     "MeasurementType",
     "NonlinearL1Problem",
+    "Nrlmsise00",
     "ObservationStatus",
     "OdInfo",
     "OdMethod",
@@ -91,6 +95,7 @@ __all__: list[str] = [
     "ScpSettings",
     "ScpSolver",
     "ScpStatus",
+    "SensitivityTrajectory",
     "ShortArcStmPropagator",
     "SolarRadiationPressure",
     "SpaceWeather",
@@ -101,6 +106,7 @@ __all__: list[str] = [
     "StoppingRule",
     "SunDirectionModel",
     "ThirdBodies",
+    "ThrusterLayout",
     "TimeScale",
     "TrackingData",
     "Trajectory",
@@ -136,6 +142,7 @@ __all__: list[str] = [
     "io_parse_tdm",
     "itrs_to_gcrs",
     "kepler_step",
+    "load_force_model_config",
     "load_gfc",
     "moon_position",
     "od_batch_estimate",
@@ -153,7 +160,10 @@ __all__: list[str] = [
     "od_rot_z",
     "od_status_message",
     "od_validate_measurements",
+    "parse_force_model_config",
+    "propagate_cvodes_sensitivity",
     "propagate_dop853",
+    "propagate_dop853_sensitivity",
     "propagate_kepler",
     "published_scaling",
     "saastamoinen_zenith_delay",
@@ -166,6 +176,7 @@ __all__: list[str] = [
     "sun_position",
     "time_scale_from_name",
     "tropo_mapping",
+    "two_satellite_params_from_config",
     "two_satellite_state",
 ]
 
@@ -813,6 +824,40 @@ class AtmosphereDrag:
     def mass(self) -> float: ...
     @property
     def sun(self) -> SunDirectionModel: ...
+
+class Nrlmsise00(AtmosphereModel):
+    """
+    NRLMSISE-00 (Picone et al. 2002) total mass density, kg/m^3, with the anomalous-oxygen drag density
+    option; inputs from the ITRF position, the Sun direction and the epoch + t.
+    """
+    def __init__(
+        self,
+        *,
+        epoch_jd1: typing.SupportsFloat | typing.SupportsIndex = 2451545.0,
+        epoch_jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+        space_weather: SpaceWeather = ...,
+        ap_history: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        anomalous_oxygen: bool = True,
+        switches: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None = None,
+        gradient_step: typing.SupportsFloat | typing.SupportsIndex = 0.01,
+    ) -> None:
+        """
+        epoch of t = 0 as a two-part TT Julian date (days); space_weather: F10.7, F10.7a (sfu), daily Ap;
+        ap_history: 7 Ap values (daily; 3-h now, -3 h, -6 h, -9 h; means of 12-33 h and 36-57 h before), given
+        = switch 9 is -1; anomalous_oxygen: GTD7D drag density (True) or GTD7 mass density; switches: the
+        model's 23 switches 1..23 (0, 1 or 2; switch 9 also -1); gradient_step km (central difference).
+        """
+    def __repr__(self) -> str: ...
+    def inputs(
+        self,
+        r_itrf: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"],
+        sun_itrf: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"],
+        t: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+    ) -> dict[str, typing.Any]:
+        """
+        The model's inputs at r_itrf (km) with the Sun along sun_itrf (ITRF) at t s: day_of_year, ut_seconds
+        (s), altitude (km), latitude, longitude (deg), local_solar_time (h, apparent).
+        """
 
 class J2Gravity:
     """
@@ -1544,6 +1589,31 @@ class SolarRadiationPressure:
     @sun_radius.setter
     def sun_radius(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
 
+class ForceModelConfig:
+    """
+    A force-model TOML as read: the ForceModel and what it was built from.
+    """
+    @property
+    def atmosphere(self) -> str: ...
+    @property
+    def earth_orientation(self) -> str: ...
+    @property
+    def eop_file(self) -> str: ...
+    @property
+    def epoch(self) -> Epoch | None: ...
+    @property
+    def gravity_file(self) -> str: ...
+    @property
+    def gravity_model(self) -> str: ...
+    @property
+    def model(self) -> ForceModel: ...
+    @property
+    def radius(self) -> float: ...
+    @property
+    def source(self) -> str: ...
+    @property
+    def space_weather(self) -> SpaceWeather: ...
+
 class PropagationStats:
     @property
     def error_test_fails(self) -> int: ...
@@ -1751,6 +1821,17 @@ class ReferenceScaling:
     def state_scale(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
     @property
     def time_scale(self) -> float: ...
+
+class SensitivityTrajectory:
+    """
+    States (km, km/s), STMs and dx/dp (6 x k) at the requested times (s).
+    """
+    @property
+    def parameters(self) -> list[str]: ...
+    @property
+    def sensitivities(self) -> numpy.typing.NDArray[numpy.float64]: ...
+    @property
+    def trajectory(self) -> Trajectory: ...
 
 class EnsemblePropagator:
     """
@@ -3430,6 +3511,37 @@ class MeasurementModel:
     @property
     def type(self) -> str: ...
 
+class ThrusterLayout:
+    """
+    Thruster layout (directions in the target's CW frame, positions m, thrust N, minimum impulse bit N s); see
+    satgnc.guidance.ThrusterLayout
+    """
+    def __init__(
+        self,
+        directions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+        positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+        max_thrust: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+        min_impulse_bit: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+        names: collections.abc.Sequence[str],
+    ) -> None: ...
+    def allocation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    def input_matrix(
+        self, B_force: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.f_contiguous"]
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    def max_thrust(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
+    def min_impulse_bit(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]: ...
+    def names(self) -> list[str]: ...
+    def positions(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    def survivors(
+        self, failed: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]
+    ) -> list[int]: ...
+    def torque_allocation(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
+    def without(
+        self, failed: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]
+    ) -> ThrusterLayout: ...
+    @property
+    def size(self) -> int: ...
+
 class TrackingData:
     """
     Tracking measurements sorted by reception epoch (od/tracking_data.hpp). Build with
@@ -3489,6 +3601,118 @@ class TrackingData:
         number of measurements
         """
 
+class FilterStatus:
+    """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
+    Members:
+
+      unsolved : not run yet
+
+      success : success: the step was processed and the covariance is positive definite
+
+      rejected : the measurement failed the chi-square gate: state and covariance unchanged, the record lists
+      its normalized residual
+
+      covariance_not_pd : the covariance lost positive definiteness (Cholesky failed or a UD diagonal <= 0);
+      the step's numbers are kept for inspection
+
+      innovation_not_pd : the innovation covariance H P H' + R is not positive definite; no update
+
+      process_failed : the process model failed, returned non-finite values or negative process noise (diag Qd
+      < 0); the run stops
+
+      measurement_failed : the measurement function failed or returned non-finite values; no update
+
+      not_converged : the iterated EKF did not meet its tolerance within max_iterations; the last iterate is
+      kept
+
+      unknown_measurement_type : the record's type is not set up by the measurement function (dimension(type)
+      == 0); no update
+
+      invalid_time : a non-finite time, or a record time before the filter time; no update
+    """
+
+    __members__: typing.ClassVar[dict[str, FilterStatus]]
+    covariance_not_pd: typing.ClassVar[FilterStatus]
+    innovation_not_pd: typing.ClassVar[FilterStatus]
+    invalid_time: typing.ClassVar[FilterStatus]
+    measurement_failed: typing.ClassVar[FilterStatus]
+    not_converged: typing.ClassVar[FilterStatus]
+    process_failed: typing.ClassVar[FilterStatus]
+    rejected: typing.ClassVar[FilterStatus]
+    success: typing.ClassVar[FilterStatus]
+    unknown_measurement_type: typing.ClassVar[FilterStatus]
+    unsolved: typing.ClassVar[FilterStatus]
+    @typing.overload
+    def __eq__(self, other: FilterStatus) -> bool: ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool: ...
+    def __getstate__(self) -> int: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __int__(self) -> int: ...
+    @typing.overload
+    def __ne__(self, other: FilterStatus) -> bool: ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+
+class FilterEditFlag:
+    """
+    Status enum read from satgnc/core/status.hpp; .message gives the text.
+
+    Members:
+
+      unsolved : not processed yet
+
+      accepted : accepted: passed the gate and used in the update
+
+      rejected : rejected by the chi-square gate (Mahalanobis distance above the quantile)
+
+      warm_up : used without gating: inside the warm-up period (or gating off)
+
+      failed : not used: the measurement function failed, the type is unknown or S is not PD
+    """
+
+    __members__: typing.ClassVar[dict[str, FilterEditFlag]]
+    accepted: typing.ClassVar[FilterEditFlag]
+    failed: typing.ClassVar[FilterEditFlag]
+    rejected: typing.ClassVar[FilterEditFlag]
+    unsolved: typing.ClassVar[FilterEditFlag]
+    warm_up: typing.ClassVar[FilterEditFlag]
+    @typing.overload
+    def __eq__(self, other: FilterEditFlag) -> bool: ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool: ...
+    def __getstate__(self) -> int: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __int__(self) -> int: ...
+    @typing.overload
+    def __ne__(self, other: FilterEditFlag) -> bool: ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool: ...
+    def __repr__(self) -> str: ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None: ...
+    def __str__(self) -> str: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+
 def _analyze_gramian(
     W: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
 ) -> dict[str, typing.Any]: ...
@@ -3497,6 +3721,13 @@ def _bench_two_way_range(
 ) -> tuple[float, float]:
     """
     Private: best-of-repeats seconds per two-way range predict() with partials (and a checksum).
+    """
+
+def _chi_square_quantile(
+    dof: typing.SupportsFloat | typing.SupportsIndex, probability: typing.SupportsFloat | typing.SupportsIndex
+) -> float:
+    """
+    Private: chi-square quantile (satgnc.filter.chi_square_quantile).
     """
 
 def _controllability_gramian(
@@ -3550,6 +3781,40 @@ def _fd_jacobian(
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
 ]: ...
+def _filter_bench_update(
+    p0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    h: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[1, n]"],
+    sigma: typing.SupportsFloat | typing.SupportsIndex,
+    z: typing.SupportsFloat | typing.SupportsIndex,
+    repeats: typing.SupportsInt | typing.SupportsIndex,
+    samples: typing.SupportsInt | typing.SupportsIndex,
+    form: str,
+) -> float:
+    """
+    Private: ns per EKF update, best of samples (bench/filter_update.py).
+    """
+
+def _filter_run(
+    phi: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    qd: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    measurement: str,
+    h_by_type: collections.abc.Sequence[typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]],
+    beacons: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    x0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    p0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"],
+    type: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+    station: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"],
+    value: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    sigma: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
+    settings: dict[str, typing.Any],
+    smooth: bool,
+) -> dict[str, typing.Any]:
+    """
+    Private: one KalmanFilter run on the generic models (satgnc.filter.run_filter).
+    """
+
 def _kalman_controllability_matrix(
     A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
     B: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
@@ -3597,6 +3862,24 @@ def _nondimensionalize(
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"],
 ]: ...
+def _nrlmsise00_evaluate(
+    day_of_year: typing.SupportsInt | typing.SupportsIndex,
+    ut_seconds: typing.SupportsFloat | typing.SupportsIndex,
+    altitude: typing.SupportsFloat | typing.SupportsIndex,
+    latitude: typing.SupportsFloat | typing.SupportsIndex,
+    longitude: typing.SupportsFloat | typing.SupportsIndex,
+    local_solar_time: typing.SupportsFloat | typing.SupportsIndex,
+    f107a: typing.SupportsFloat | typing.SupportsIndex,
+    f107: typing.SupportsFloat | typing.SupportsIndex,
+    ap: typing.SupportsFloat | typing.SupportsIndex,
+    ap_history: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None,
+    anomalous_oxygen: bool,
+    switches: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] | None,
+) -> dict[str, typing.Any]:
+    """
+    Private: one NRLMSISE-00 evaluation (satgnc.dynamics.nrlmsise00 wraps it in a result).
+    """
+
 def _observability_gramian(
     A: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
     C: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"],
@@ -3819,6 +4102,11 @@ def kepler_step(
     One universal-variable Kepler step: returns (x (6,), stm (6, 6)) after dt seconds.
     """
 
+def load_force_model_config(path: str, egm2008_path: str = "") -> ForceModelConfig:
+    """
+    Read a force-model TOML (schema: docs/force_models.md); errors name the file, line, section, key.
+    """
+
 def load_gfc(path: str, max_degree: typing.SupportsInt | typing.SupportsIndex = -1) -> GravityCoefficients:
     """
     Read an ICGEM .gfc file up to max_degree (-1: the file's). ValueError names the file, the line and the
@@ -3927,6 +4215,21 @@ def od_status_message(status: OdStatus) -> str: ...
 def od_validate_measurements(
     measurements: collections.abc.Sequence[Measurement], n_stations: typing.SupportsInt | typing.SupportsIndex
 ) -> None: ...
+def parse_force_model_config(
+    text: str, source: str, base_dir: str = ".", egm2008_path: str = ""
+) -> ForceModelConfig: ...
+def propagate_cvodes_sensitivity(
+    x0: numpy.typing.ArrayLike,
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    times: numpy.typing.ArrayLike,
+    force_model: ForceModel,
+    parameters: collections.abc.Sequence[str],
+    method: str,
+    rtol: typing.SupportsFloat | typing.SupportsIndex,
+    atol: typing.SupportsFloat | typing.SupportsIndex,
+    max_steps: typing.SupportsInt | typing.SupportsIndex,
+    surface_radius: typing.SupportsFloat | typing.SupportsIndex,
+) -> SensitivityTrajectory: ...
 def propagate_dop853(
     x0: numpy.typing.ArrayLike,
     t0: typing.SupportsFloat,
@@ -3943,6 +4246,17 @@ def propagate_dop853(
     An arc reaching |r| = surface_radius km stops with status 'impact', t_reached = its time.
     """
 
+def propagate_dop853_sensitivity(
+    x0: numpy.typing.ArrayLike,
+    t0: typing.SupportsFloat | typing.SupportsIndex,
+    times: numpy.typing.ArrayLike,
+    force_model: ForceModel,
+    parameters: collections.abc.Sequence[str],
+    rtol: typing.SupportsFloat | typing.SupportsIndex,
+    atol: typing.SupportsFloat | typing.SupportsIndex,
+    max_steps: typing.SupportsInt | typing.SupportsIndex,
+    surface_radius: typing.SupportsFloat | typing.SupportsIndex,
+) -> SensitivityTrajectory: ...
 def propagate_kepler(
     x0: numpy.typing.ArrayLike,
     t0: typing.SupportsFloat,
@@ -4019,6 +4333,13 @@ def time_scale_from_name(name: str) -> TimeScale:
 def tropo_mapping(elevation: typing.Any) -> float:
     """
     Black-Eisner mapping function at elevation (rad).
+    """
+
+def two_satellite_params_from_config(
+    config: ForceModelConfig, base: TwoSatelliteParams = ...
+) -> TwoSatelliteParams:
+    """
+    TwoSatelliteParams (SI) of the guidance truth from a force-model TOML's config.
     """
 
 def two_satellite_state(
