@@ -177,10 +177,12 @@ class RankReport(Result):
 
     @property
     def robust(self) -> bool:
+        """True unless the verdict is "not robustly decidable" (the rank gap is clear at the tolerance)."""
         return self.verdict != "not robustly decidable"
 
     @property
     def full(self) -> bool:
+        """True when the verdict is "full rank" (controllable / observable)."""
         return self.verdict == "full rank"
 
 
