@@ -232,7 +232,7 @@ _PROPS: dict[str, dict[str, str]] = {
     },
     "GravityCoefficients": {
         "name": "Model name from the .gfc header (e.g. 'EGM2008').",
-        "tide_system": "Tide system of the coefficients from the .gfc header (e.g. 'tide_free', 'zero_tide').",
+        "tide_system": "Tide system of the coefficients, from the .gfc header (e.g. 'tide_free').",
         "max_degree": "Highest degree read (unit-free).",
     },
     "GravityField": {

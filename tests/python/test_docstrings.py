@@ -11,9 +11,7 @@ import inspect
 import re
 from typing import Any
 
-import numpy as np
 import pytest
-
 import satgnc
 
 # The public namespaces a user imports (od and guidance included: their properties count too).
@@ -86,3 +84,51 @@ def test_frame_named_where_a_property_is_a_vector_or_a_rotation():
     c = satgnc._satgnc
     assert "GCRF" in c.AtmosphereDrag.sun.__doc__ and "ITRF" in c.AtmosphereDrag.earth_rotation.__doc__
     assert "ITRF" in c.GravityField.degree.__doc__ and "GCRF" in c.ThirdBodies.sun.__doc__
+
+
+# The main public functions of the rooms this parcel documents (od and guidance: other parcels').
+MAIN_FUNCTIONS = {
+    "satgnc": ("propagate", "elements_to_state"),
+    "satgnc.time": ("parse",),
+    "satgnc.frames": ("load_eop", "default_eop", "default_eop_path"),
+    "satgnc.observation": ("measurement_model", "predict", "rotating_station"),
+    "satgnc.io": tuple(f"{verb}_{kind}" for kind in ("tdm", "oem", "opm")
+                       for verb in ("parse", "read", "format", "write")) + ("epoch_seconds", "epochs_at"),
+    "satgnc.analysis": ("cw_model", "controllability", "observability", "controllability_gramian",
+                        "observability_gramian", "loss_table", "visibility_pass"),
+}
+_SECTION = re.compile(r"^\s*(Parameters|Returns|Raises)\n\s*-{3,}\s*$", re.M)
+_UNIT_WORD = re.compile(r"\b(km|km/s|s|rad|rad/s|m|m/s|m/s\^2|arcsec|km\^3/s\^2|1/s)\b")
+
+
+def _main_functions() -> list[tuple[str, Any]]:
+    return [(f"{m}.{n}", getattr(importlib.import_module(m), n)) for m, names in MAIN_FUNCTIONS.items()
+            for n in names]
+
+
+@pytest.mark.parametrize("qual, fn", _main_functions(), ids=lambda v: v if isinstance(v, str) else "")
+def test_main_functions_have_numpy_sections(qual: str, fn: Any):
+    doc = inspect.getdoc(fn) or ""
+    sections = set(_SECTION.findall(doc))
+    # Every main function documents what it returns; those taking arguments document them.
+    assert "Returns" in sections, f"{qual}: no Returns section"
+    if inspect.signature(fn).parameters:
+        assert "Parameters" in sections, f"{qual}: no Parameters section"
+    # Each documented parameter is a real parameter (a renamed argument must not leave a stale entry).
+    params = set(inspect.signature(fn).parameters)
+    block = ""
+    if "Parameters" in sections:
+        block = doc.split("Parameters\n----------\n", 1)[-1].split("\n\n", 1)[0]
+    heads = [ln.split(" : ")[0] for ln in block.splitlines() if ln and not ln.startswith(" ") and " : " in ln]
+    names = {n.strip().lstrip("*") for h in heads for n in h.split(",")}
+    assert names <= params | {"kw"}, f"{qual}: documents {sorted(names - params)} not in {sorted(params)}"
+
+
+def test_main_function_docs_state_units():
+    # The functions taking or returning a dimensioned number name its unit in their docstring (io's
+    # parse/read/format/write take text and models: the units are in the models' docs).
+    no_units = {f"satgnc.io.{v}_{k}" for k in ("tdm", "oem", "opm") for v in ("write", "format")}
+    no_units |= {"satgnc.frames.default_eop_path", "satgnc.analysis.loss_table",
+                 "satgnc.analysis.controllability", "satgnc.analysis.observability"}
+    missing = [q for q, fn in _main_functions() if q not in no_units and not _UNIT_WORD.search(fn.__doc__)]
+    assert missing == []

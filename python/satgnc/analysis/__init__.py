@@ -118,10 +118,33 @@ def _indices(idx, n: int, name: str) -> list[int]:
 
 
 def cw_model(mean_motion: float, measured: Sequence[int] = (0, 1, 2)):
-    """(A, B, C) of Clohessy-Wiltshire in the Hill frame: x radial, y along-track, z orbit normal;
-    state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity.
-    Guidance uses another CW frame (:data:`satgnc.guidance.CW_FRAME`: y radial, x minus along-track);
-    :func:`satgnc.guidance.cw_to_hill` and :func:`~satgnc.guidance.hill_to_cw` convert states."""
+    """(A, B, C) of Clohessy-Wiltshire in the Hill frame.
+
+    Hill frame: x radial, y along-track, z orbit normal. Guidance uses another CW frame
+    (:data:`satgnc.guidance.CW_FRAME`: y radial, x minus along-track); :func:`satgnc.guidance.cw_to_hill`
+    and :func:`~satgnc.guidance.hill_to_cw` convert states.
+
+    Parameters
+    ----------
+    mean_motion : float
+        Mean motion n of the reference orbit (rad/s, > 0).
+    measured : sequence of int, optional
+        State indices measured, the rows of C (default ``(0, 1, 2)``: the position).
+
+    Returns
+    -------
+    A : numpy.ndarray
+        (6, 6), state [x y z vx vy vz] (m, m/s).
+    B : numpy.ndarray
+        (6, 3), inputs [ax ay az] (m/s^2).
+    C : numpy.ndarray
+        (len(measured), 6), rows of the identity.
+
+    Raises
+    ------
+    ValueError
+        A non-positive or non-finite mean motion, or an index outside 0..5.
+    """
     n = as_scale(mean_motion, "mean_motion", "rad/s")
     return _s._cw_model(n, _indices(measured, 6, "measured"))
 
@@ -335,12 +358,56 @@ def staircase(A, BC, property: str = "controllability", *, rtol: float | None = 
 
 
 def controllability(A, B, **kw) -> StaircaseReport:
-    """Staircase controllability test of (A, B); keyword options as :func:`staircase`."""
+    """Staircase controllability test of (A, B).
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) system matrix (continuous or discrete time, any consistent units).
+    B : array_like
+        (n, m) input matrix (a vector is one column).
+    **kw
+        Options of :func:`staircase`: ``rtol``, ``fuzz``, ``stair``, ``cluster_rtol``, ``units``
+        (a :class:`Units` to nondimensionalize first).
+
+    Returns
+    -------
+    StaircaseReport
+        ``rank``, ``verdict`` ("full rank", "rank deficient" or "not robustly decidable"), ``margin``,
+        the staircase form and the uncontrollable modes.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or mis-shaped matrices, naming the argument.
+    """
     return staircase(A, B, "controllability", **kw)
 
 
 def observability(A, C, **kw) -> StaircaseReport:
-    """Staircase observability test of (A, C) by duality; keyword options as :func:`staircase`."""
+    """Staircase observability test of (A, C) by duality.
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) system matrix (continuous or discrete time, any consistent units).
+    C : array_like
+        (p, n) output matrix (a vector is one row).
+    **kw
+        Options of :func:`staircase`: ``rtol``, ``fuzz``, ``stair``, ``cluster_rtol``, ``units``
+        (a :class:`Units` to nondimensionalize first).
+
+    Returns
+    -------
+    StaircaseReport
+        ``rank``, ``verdict`` ("full rank", "rank deficient" or "not robustly decidable"), ``margin``,
+        the staircase form and the unobservable modes.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or mis-shaped matrices, naming the argument.
+    """
     return staircase(A, C, "observability", **kw)
 
 
@@ -378,8 +445,35 @@ def distance_to_uncontrollability(A, BC, property: str = "controllability", *, m
 
 def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 100.0,
                units: Units | dict | None = None) -> list[LossRow]:
-    """Actuator (pass B) or sensor (pass C) loss table: every non-empty subset of the channels, full set
-    first; each row: channels, rank, verdict, margin, kalman_rank (numpy tolerance), kalman_ratio."""
+    """Actuator (pass B) or sensor (pass C) loss table.
+
+    Every non-empty subset of the channels, the full set first.
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) system matrix.
+    B : array_like, optional
+        (n, m) input matrix: an actuator loss table.
+    C : array_like, optional
+        (p, n) output matrix: a sensor loss table (pass exactly one of B and C).
+    rtol : float, optional
+        Relative rank tolerance (default: the staircase's).
+    fuzz : float, optional
+        Factor around the tolerance inside which the verdict is "not robustly decidable" (default 100).
+    units : Units or dict, optional
+        Scales to nondimensionalize with first (e.g. :func:`cw_units`).
+
+    Returns
+    -------
+    list of LossRow
+        One row per subset: channels, rank, verdict, margin, kalman_rank (numpy tolerance), kalman_ratio.
+
+    Raises
+    ------
+    ValueError
+        Both or neither of B and C, more than 20 channels, or non-finite matrices.
+    """
     if (B is None) == (C is None):
         raise ValueError("B, C: pass exactly one of them")
     prop = "controllability" if B is not None else "observability"
@@ -470,7 +564,28 @@ def _squarable(M: np.ndarray, name: str) -> np.ndarray:
 
 
 def controllability_gramian(A, B, T: float) -> GramianReport:
-    """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential (T in s)."""
+    """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential.
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) continuous-time system matrix (1/s).
+    B : array_like
+        (n, m) input matrix.
+    T : float
+        Horizon (s, > 0).
+
+    Returns
+    -------
+    GramianReport
+        ``W`` (n, n) symmetric PSD, ascending ``eigenvalues``, ``condition``, ``weakest`` / ``strongest``
+        directions.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or mis-shaped matrices, or T <= 0.
+    """
     T = as_real(T, "T", positive=True)
     A = as_matrix(A, "A")
     B = _squarable(as_matrix(B, "B", vector_as="column"), "B")
@@ -478,7 +593,28 @@ def controllability_gramian(A, B, T: float) -> GramianReport:
 
 
 def observability_gramian(A, C, T: float) -> GramianReport:
-    """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential (T in s)."""
+    """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential.
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) continuous-time system matrix (1/s).
+    C : array_like
+        (p, n) output matrix.
+    T : float
+        Horizon (s, > 0).
+
+    Returns
+    -------
+    GramianReport
+        ``W`` (n, n) symmetric PSD, ascending ``eigenvalues``, ``condition``, ``weakest`` / ``strongest``
+        directions.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or mis-shaped matrices, or T <= 0.
+    """
     T = as_real(T, "T", positive=True)
     A = as_matrix(A, "A")
     C = _squarable(as_matrix(C, "C", vector_as="row"), "C")
@@ -622,11 +758,36 @@ def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_R
 
 def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE, mu: float = MU_EARTH,
                     t_max: float = 3600.0, dt: float = 10.0) -> tuple[float, float]:
-    """(rise, set) times (s) of the pass containing the epoch (elevation above the geocentric horizon)
-    of the two-body state ``x0`` (km, km/s; default Table 1 of od_newton_raphson.md) seen from the
-    station ``station_r0`` (km at the epoch, inertial; default Table 3) rotating at ``rate`` (rad/s;
-    default the Earth's 7.292115e-5, :data:`EARTH_RATE`; the paper's reproduction passes
-    :data:`EARTH_RATE_PAPER` = 7.27e-5), searched up to ``t_max`` (s) in steps of ``dt`` (s)."""
+    """(rise, set) times of the pass containing the epoch.
+
+    Elevation above the geocentric horizon of a two-body orbit seen from a station rotating about +z.
+
+    Parameters
+    ----------
+    x0 : array_like, optional
+        Satellite state at the epoch (6,): km, km/s, inertial (default Table 1 of od_newton_raphson.md).
+    station_r0 : array_like, optional
+        Station position at the epoch (3,), km, inertial (default Table 3).
+    rate : float, optional
+        Station rotation rate (rad/s; default the Earth's 7.292115e-5, :data:`EARTH_RATE`; the paper's
+        reproduction passes :data:`EARTH_RATE_PAPER` = 7.27e-5).
+    mu : float, optional
+        Gravitational parameter (km^3/s^2, > 0).
+    t_max : float, optional
+        Search span each way (s, > 0; default 3600).
+    dt : float, optional
+        Search step (s, 0 < dt <= t_max; default 10).
+
+    Returns
+    -------
+    tuple of float
+        (rise, set) in s from the epoch.
+
+    Raises
+    ------
+    ValueError
+        A station at the centre, a bad step or span, or the satellite not visible at the epoch.
+    """
     px, pr = paper_od_state()
     x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else as_matrix(station_r0, "station_r0", ndim=1)

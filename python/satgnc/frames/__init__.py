@@ -65,11 +65,34 @@ def _file_error(path: str, err: ValueError) -> Exception:
 
 
 def load_eop(path: Any, policy: str = "error", format: str = "auto") -> EopTable:
-    """Read an IERS EOP file: ``finals2000A.all/.data/.daily`` or EOP 20 C04 (``format="auto"`` detects
-    it from the first data line). ``policy``: ``"error"``, ``"hold_last"`` or ``"zero"``.
+    """Read an IERS Earth orientation file into an :class:`EopTable`.
 
-    Raises FileNotFoundError for a missing file and :class:`satgnc.FileFormatError` naming the file and
-    the line for a malformed one."""
+    Parameters
+    ----------
+    path : str or os.PathLike
+        ``finals2000A.all/.data/.daily`` or EOP 20 C04 (xp, yp in arcsec; UT1-UTC, LOD in s; dX, dY in
+        arcsec).
+    policy : {"error", "hold_last", "zero"}, optional
+        What the table does outside its span (default ``"error"``).
+    format : {"auto", "finals2000a", "c04"}, optional
+        ``"auto"`` (default) detects it from the first data line.
+
+    Returns
+    -------
+    EopTable
+        Daily rows, 4-point Lagrange interpolation.
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    satgnc.FileFormatError
+        A malformed file, naming the file and the line.
+    ValueError
+        An unknown ``policy`` or ``format``.
+    TypeError
+        ``path`` is not a str or os.PathLike.
+    """
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path: must be a str or os.PathLike, got {type(path).__name__}")
     one_of(policy, "policy", POLICIES)
@@ -86,7 +109,13 @@ def load_eop(path: Any, policy: str = "error", format: str = "auto") -> EopTable
 
 
 def default_eop_path() -> pathlib.Path:
-    """Path of ``finals2000A.all`` inside the installed PyPI package ``astropy-iers-data``."""
+    """Path of ``finals2000A.all`` inside the installed PyPI package ``astropy-iers-data``.
+
+    Returns
+    -------
+    pathlib.Path
+        The file :func:`default_eop` reads.
+    """
     import astropy_iers_data  # type: ignore[import-untyped]  # a dependency of satgnc (pyproject.toml)
 
     return pathlib.Path(str(astropy_iers_data.IERS_A_FILE))
@@ -94,9 +123,26 @@ def default_eop_path() -> pathlib.Path:
 
 @functools.cache
 def default_eop(policy: str = "error") -> EopTable:
-    """The EOP table of the installed ``astropy-iers-data`` (``finals2000A.all``: IERS Bulletin B
-    values where present, Bulletin A and its one-year prediction after). Read once per policy and
-    cached (tables are immutable). Update the table with ``pip install -U astropy-iers-data``."""
+    """The EOP table of the installed ``astropy-iers-data`` (``finals2000A.all``).
+
+    IERS Bulletin B values where present, Bulletin A and its one-year prediction after. Read once per
+    policy and cached (tables are immutable). Update the table with ``pip install -U astropy-iers-data``.
+
+    Parameters
+    ----------
+    policy : {"error", "hold_last", "zero"}, optional
+        What the table does outside its span (default ``"error"``).
+
+    Returns
+    -------
+    EopTable
+        xp, yp (arcsec), UT1-UTC, LOD (s), dX, dY (arcsec) per day.
+
+    Raises
+    ------
+    ValueError
+        An unknown ``policy``.
+    """
     one_of(policy, "policy", POLICIES)
     return load_eop(default_eop_path(), policy)
 
