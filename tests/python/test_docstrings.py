@@ -90,7 +90,9 @@ def test_frame_named_where_a_property_is_a_vector_or_a_rotation():
 MAIN_FUNCTIONS = {
     "satgnc": ("propagate", "elements_to_state"),
     "satgnc.time": ("parse",),
-    "satgnc.frames": ("load_eop", "default_eop", "default_eop_path"),
+    "satgnc.frames": ("load_eop", "default_eop", "default_eop_path", "earth_orientation", "gcrs_to_itrs",
+                      "itrs_to_gcrs", "gcrs_to_itrs_matrix", "gcrs_to_eme2000", "eme2000_to_gcrs",
+                      "gcrs_to_eme2000_matrix"),
     "satgnc.observation": ("measurement_model", "predict", "rotating_station"),
     "satgnc.io": tuple(f"{verb}_{kind}" for kind in ("tdm", "oem", "opm")
                        for verb in ("parse", "read", "format", "write")) + ("epoch_seconds", "epochs_at"),
@@ -128,7 +130,8 @@ def test_main_function_docs_state_units():
     # The functions taking or returning a dimensioned number name its unit in their docstring (io's
     # parse/read/format/write take text and models: the units are in the models' docs).
     no_units = {f"satgnc.io.{v}_{k}" for k in ("tdm", "oem", "opm") for v in ("write", "format")}
-    no_units |= {"satgnc.frames.default_eop_path", "satgnc.analysis.loss_table",
+    no_units |= {"satgnc.frames.default_eop_path", "satgnc.frames.gcrs_to_eme2000_matrix",
+                 "satgnc.frames.gcrs_to_itrs_matrix", "satgnc.analysis.loss_table",
                  "satgnc.analysis.controllability", "satgnc.analysis.observability"}
     missing = [q for q, fn in _main_functions() if q not in no_units and not _UNIT_WORD.search(fn.__doc__)]
     assert missing == []
