@@ -96,7 +96,9 @@ MAIN_FUNCTIONS = {
     "satgnc.observation": ("measurement_model", "predict", "rotating_station"),
     "satgnc.io": tuple(f"{verb}_{kind}" for kind in ("tdm", "oem", "opm")
                        for verb in ("parse", "read", "format", "write")) + ("epoch_seconds", "epochs_at"),
-    "satgnc.analysis": ("cw_model", "controllability", "observability", "controllability_gramian",
+    "satgnc.analysis": ("orbit", "polar_model", "polar_linear_model", "od_gramian", "od_linear_model",
+                        "ltv_observability_gramian", "minimum_energy",
+                        "cw_model", "controllability", "observability", "controllability_gramian",
                         "observability_gramian", "loss_table", "visibility_pass"),
 }
 _SECTION = re.compile(r"^\s*(Parameters|Returns|Raises)\n\s*-{3,}\s*$", re.M)
