@@ -93,7 +93,9 @@ MAIN_FUNCTIONS = {
     "satgnc.frames": ("load_eop", "default_eop", "default_eop_path", "earth_orientation", "gcrs_to_itrs",
                       "itrs_to_gcrs", "gcrs_to_itrs_matrix", "gcrs_to_eme2000", "eme2000_to_gcrs",
                       "gcrs_to_eme2000_matrix"),
-    "satgnc.observation": ("measurement_model", "predict", "rotating_station"),
+    "satgnc.observation": ("measurement_model", "predict", "rotating_station", "shift_state",
+                           "standard_atmosphere", "saastamoinen_zenith_delay", "tropo_mapping",
+                           "shapiro_delay"),
     "satgnc.io": tuple(f"{verb}_{kind}" for kind in ("tdm", "oem", "opm")
                        for verb in ("parse", "read", "format", "write")) + ("epoch_seconds", "epochs_at"),
     "satgnc.analysis": ("orbit", "polar_model", "polar_linear_model", "od_gramian", "od_linear_model",

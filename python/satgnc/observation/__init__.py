@@ -39,11 +39,6 @@ RotatingStationEphemeris = _satgnc.RotatingStationEphemeris
 EarthFixedStationEphemeris = _satgnc.EarthFixedStationEphemeris
 ObservationStatus = _satgnc.ObservationStatus
 SPEED_OF_LIGHT: float = _satgnc.SPEED_OF_LIGHT  # km/s
-shift_state = _satgnc.shift_state
-standard_atmosphere = _satgnc.standard_atmosphere
-saastamoinen_zenith_delay = _satgnc.saastamoinen_zenith_delay
-tropo_mapping = _satgnc.tropo_mapping
-shapiro_delay = _satgnc.shapiro_delay
 
 OBSERVABLES: tuple[str, ...] = (
     "one_way_range",
@@ -288,6 +283,129 @@ def predict(
         iterations=out["iterations"],
         status=tuple(STATUS_NAMES[int(s)] for s in out["status"]),
     )
+
+
+
+
+# ------------------------------------------------------------------ the models' building blocks (C++)
+# Thin wrappers of the compiled functions, for their numpy-style sections with units (a compiled
+# function's docstring cannot be replaced at import). Scalars in, scalars out.
+def shift_state(x: Any, dt: float, mu: float = float(_satgnc.EARTH_MU)) -> tuple[np.ndarray, np.ndarray]:
+    """Third-order two-body Taylor shift of a state by ``dt`` (the bounce-time shift of two-way models).
+
+    Parameters
+    ----------
+    x : array_like
+        GCRF state (6,): km, km/s.
+    dt : float
+        Shift (s), small against the orbital period (light times: < 0.1 s).
+    mu : float, optional
+        Gravitational parameter (km^3/s^2; default EARTH_MU).
+
+    Returns
+    -------
+    x_shifted : numpy.ndarray
+        (6,) km, km/s at t + dt.
+    jacobian : numpy.ndarray
+        (6, 6) d x_shifted / d x (km, km/s, s blocks).
+
+    Raises
+    ------
+    ValueError
+        ``x`` not of shape (6,) or not finite.
+    """
+    x1, jac = _satgnc.shift_state(x, dt, mu)
+    return np.asarray(x1), np.asarray(jac)
+
+
+def standard_atmosphere(height: float, relative_humidity: float = 0.5) -> tuple[float, float, float]:
+    """Surface meteorology of the standard atmosphere at a station height (the troposphere's input).
+
+    Parameters
+    ----------
+    height : float
+        Station height above the ellipsoid (km).
+    relative_humidity : float, optional
+        In [0, 1] (default 0.5).
+
+    Returns
+    -------
+    tuple of float
+        (pressure hPa, temperature K, water-vapour partial pressure hPa).
+    """
+    p, t, e = _satgnc.standard_atmosphere(height, relative_humidity)
+    return float(p), float(t), float(e)
+
+
+def saastamoinen_zenith_delay(pressure: float, temperature: float, water_vapour: float, latitude: float,
+                              height: float) -> float:
+    """Saastamoinen zenith delay of the troposphere (dry plus wet).
+
+    Parameters
+    ----------
+    pressure : float
+        Surface pressure (hPa, >= 0).
+    temperature : float
+        Surface temperature (K).
+    water_vapour : float
+        Water-vapour partial pressure (hPa).
+    latitude : float
+        Geodetic latitude (rad).
+    height : float
+        Height above the ellipsoid (km).
+
+    Returns
+    -------
+    float
+        The zenith delay as a path length (km); about 0.0024 km at sea level.
+
+    Raises
+    ------
+    ValueError
+        A negative pressure or a non-finite input, naming it.
+    """
+    return float(_satgnc.saastamoinen_zenith_delay(pressure, temperature, water_vapour, latitude, height))
+
+
+def tropo_mapping(elevation: float) -> float:
+    """Black-Eisner mapping function: slant delay / zenith delay at an elevation.
+
+    Parameters
+    ----------
+    elevation : float
+        Elevation of the line of sight (rad).
+
+    Returns
+    -------
+    float
+        The unit-free factor (1 at the zenith, about 10 at 5 deg).
+
+    Raises
+    ------
+    TypeError
+        ``elevation`` is not a real number (arrays are not taken).
+    """
+    return float(_satgnc.tropo_mapping(elevation))
+
+
+def shapiro_delay(r1: float, r2: float, rho: float, mu: float = float(_satgnc.EARTH_MU)) -> float:
+    """One-way Shapiro (relativistic) delay of the Earth's field between two points.
+
+    Parameters
+    ----------
+    r1, r2 : float
+        Geocentric distances of the two ends (km).
+    rho : float
+        Distance between them (km).
+    mu : float, optional
+        Gravitational parameter (km^3/s^2; default EARTH_MU).
+
+    Returns
+    -------
+    float
+        The delay as a path length (km); about 2e-6 km from a 400 km orbit at 1500 km range.
+    """
+    return float(_satgnc.shapiro_delay(r1, r2, rho, mu))
 
 
 from .._namespace import public_dir as _public_dir  # noqa: E402
