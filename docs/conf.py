@@ -37,6 +37,9 @@ autodoc_typehints = "description"
 autosummary_generate = False
 napoleon_numpy_docstring = True
 napoleon_google_docstring = False
+# "Attributes" sections as :ivar: fields: as attribute directives they duplicated the dataclass fields
+# autodoc also lists (6 "duplicate object description" warnings on satgnc.SensitivityResult).
+napoleon_use_ivar = True
 
 # The pages in docs/*.md are also read on GitHub: they link to source files (../cpp/..., tests/...)
 # that are not pages of this site, and some open with a level-2 heading. Those links stay as they are.

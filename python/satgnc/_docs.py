@@ -201,6 +201,78 @@ _PROPS: dict[str, dict[str, str]] = {
         "j2": "Second zonal harmonic J2 (unit-free).",
         "radius": "Reference radius of J2 (km).",
     },
+    "AtmosphereDrag": {
+        "atmosphere": "The density model (AtmosphereModel: HarrisPriester, Nrlmsise00, ...; kg/m^3).",
+        "sun": ("The Sun direction model (SunDirectionModel, geocentric GCRF), or None: the force model's "
+                "ERFA Sun at its epoch."),
+        "earth_rotation": ("EarthRotationModel (GCRF -> ITRF) the atmosphere co-rotates with, or None: "
+                           "UniformRotation(0) about GCRF z from t = 0."),
+        "cd": "Drag coefficient (unit-free, >= 0).",
+        "area": "Cross-section area (m^2, >= 0).",
+        "mass": "Spacecraft mass (kg, > 0).",
+    },
+    "EopTable": {
+        "policy": "Out-of-range policy of the interpolation: 'error', 'hold_last' or 'zero'.",
+    },
+    "ErfaSun": {
+        "epoch_jd1": "TT Julian date of t = 0, part 1 (days); the table's t is s after it.",
+        "epoch_jd2": "TT Julian date of t = 0, part 2 (days).",
+    },
+    "ForceModelConfig": {
+        "model": "The validated ForceModel built from the file (epoch set from [epoch] when given).",
+        "epoch": "satgnc.time.Epoch of t = 0 ([epoch]), or None: J2000.0 TT.",
+        "space_weather": "SpaceWeather of [space_weather] (F10.7, F10.7a in sfu; Ap) for the density models.",
+        "gravity_model": "Gravity chosen in the file: 'point_mass', 'j2', 'egm2008' or 'file'.",
+        "gravity_file": "Path of the .gfc coefficient file read ('' without a gravity field).",
+        "atmosphere": "Density model chosen: '', 'harris_priester', 'exponential' or 'nrlmsise00'.",
+        "earth_orientation": "Earth rotation chosen: 'uniform' or 'iau2006' (IAU 2006/2000A CIO with EOP).",
+        "eop_file": "Path of the EOP file read (iau2006), else ''.",
+        "source": "The TOML file the configuration was read from (or the source name given).",
+        "radius": "[central_body] radius (km).",
+    },
+    "GravityCoefficients": {
+        "name": "Model name from the .gfc header (e.g. 'EGM2008').",
+        "tide_system": "Tide system of the coefficients, from the .gfc header (e.g. 'tide_free').",
+        "max_degree": "Highest degree read (unit-free).",
+    },
+    "GravityField": {
+        "degree": "Highest degree evaluated (unit-free; degrees 2..degree, ITRF).",
+        "order": "Highest order evaluated (unit-free, <= degree).",
+        "coefficients": "The GravityCoefficients the field evaluates (mu km^3/s^2, radius km).",
+    },
+    "HarrisPriester": {
+        "n": "Exponent of the bulge's cosine (unit-free, in [2, 6]: 2 low inclination, 6 polar).",
+        "lag": "Lag of the density bulge behind the Sun (rad, in [0, pi]).",
+    },
+    "IauEarthRotation": {
+        "t_begin": "Start of the tabulated span (s after the epoch).",
+        "t_end": "End of the tabulated span (s after the epoch).",
+        "step": "Grid step of the slowly varying parts (s); the ERA is exact.",
+    },
+    "MeasurementModel": {
+        "type": ("Observable name (str): 'one_way_range', 'two_way_range', 'one_way_range_rate', "
+                 "'two_way_range_rate', 'azimuth_elevation' or 'right_ascension_declination'."),
+        "size": "Values per measurement: 1 (range km, range rate km/s) or 2 (angle pairs, rad).",
+        "troposphere": "True when the Saastamoinen troposphere delay is added (range observables; km).",
+        "shapiro": "True when the Earth's Shapiro relativistic delay is added (range observables; km).",
+    },
+    "RotatingStationEphemeris": {
+        "station": "The rotating satgnc.od.Station (r0 km at t = 0 in GCRF, omega rad/s about +z).",
+    },
+    "SolarRadiationPressure": {
+        "cr": "Radiation pressure coefficient (unit-free, 1 absorbing .. 2 reflecting).",
+        "shadow": "Earth shadow model: 'none', 'cylindrical' or 'conical'.",
+    },
+    "ThirdBodies": {
+        "sun": "True when the Sun's point mass is included (ERFA ephemeris, GCRF).",
+        "moon": "True when the Moon's point mass is included (ERFA ephemeris, GCRF).",
+    },
+}
+
+#: Docstrings of the properties every pybind11 enum of the extension has (attached when empty).
+_ENUM_PROPS: dict[str, str] = {
+    "value": "The enumerator's integer value (the C++ enum's).",
+    "message": "One line describing this status (the C++ status table's message).",
 }
 
 _CLASS_DOCS = {
@@ -227,6 +299,13 @@ def _od_solver_repr(self: Any) -> str:
     return f"OdSolver(rows={self.rows}, method={self.settings.method.name})"
 
 
+def _set_doc(cls: Any, name: str, doc: str) -> None:
+    """Give ``cls.name`` (a property) the docstring ``doc`` when it has none."""
+    p = cls.__dict__.get(name)
+    if isinstance(p, property) and not (p.__doc__ or "").strip():
+        setattr(cls, name, property(p.fget, p.fset, p.fdel, doc))
+
+
 def attach() -> None:
     """Attach the docstrings and reprs above to the extension's classes (idempotent)."""
     for cls_name, props in _PROPS.items():
@@ -234,14 +313,16 @@ def attach() -> None:
         if cls is None:
             continue
         for name, doc in props.items():
-            p = cls.__dict__.get(name)
-            if isinstance(p, property) and not (p.__doc__ or "").strip():
-                setattr(cls, name, property(p.fget, p.fset, p.fdel, doc))
+            _set_doc(cls, name, doc)
         if cls_name in _CLASS_DOCS:  # these are complete, with the units the binding's lack
             try:
                 cls.__doc__ = _CLASS_DOCS[cls_name]
             except (AttributeError, TypeError):
                 pass
+    for obj in vars(_c).values():
+        if isinstance(obj, type) and hasattr(obj, "__members__"):  # a pybind11 enum
+            for name, doc in _ENUM_PROPS.items():
+                _set_doc(obj, name, doc)
     for cls, rep in ((_c.OdResult, _od_result_repr), (_c.OdSolver, _od_solver_repr)):
         if "__repr__" not in vars(cls):  # a repr the binding defines wins
             cls.__repr__ = rep

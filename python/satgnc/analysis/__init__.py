@@ -55,8 +55,26 @@ def _units(units):
 
 # ----------------------------------------------------------------------------- models
 def orbit(spec) -> tuple[float, float]:
-    """(sigma km, omega rad/s) for ``"one"`` (sigma = omega = 1, the paper's case), ``"leo"`` (400 km
-    altitude), ``"geo"``, a ``"sigma,omega"`` string or a (sigma, omega) pair (both > 0)."""
+    """(sigma, omega) of a named or given circular reference orbit.
+
+    Parameters
+    ----------
+    spec : str or (float, float)
+        ``"one"`` (sigma = omega = 1, the paper's case), ``"leo"`` (400 km altitude), ``"geo"``, a
+        ``"sigma,omega"`` string or a (sigma, omega) pair (both > 0).
+
+    Returns
+    -------
+    tuple of float
+        (sigma km, omega rad/s).
+
+    Raises
+    ------
+    ValueError
+        An unknown name or a non-positive value.
+    TypeError
+        Neither a string nor a pair.
+    """
     return _orbit(spec, "spec")
 
 
@@ -88,15 +106,58 @@ def _orbit(spec, name: str) -> tuple[float, float]:
 
 
 def polar_model(sigma: float, omega: float) -> PolarModel:
-    """Polar model about the circle r = sigma (km), theta = omega t (rad/s); k = sigma^3 omega^2."""
+    """Polar model about the circle r = sigma, theta = omega t; k = sigma^3 omega^2.
+
+    Parameters
+    ----------
+    sigma : float
+        Radius of the reference circular orbit (km, > 0).
+    omega : float
+        Its angular rate (rad/s, > 0).
+
+    Returns
+    -------
+    PolarModel
+        ``A``, ``B`` (scaled or raw coordinates), ``sigma`` (km), ``omega`` (rad/s), ``k`` (km^3/s^2).
+
+    Raises
+    ------
+    ValueError
+        A non-positive or non-finite value.
+    """
     return PolarModel(as_scale(sigma, "sigma", "km"), as_scale(omega, "omega", "rad/s"))
 
 
 def polar_linear_model(sigma: float, omega: float, measured: Sequence[int] = (0, 2),
                        coordinates: str = "scaled") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(A, B, C) of the linearized polar model. ``coordinates="scaled"`` is the paper's
-    x = [r - sigma, r', sigma (theta - omega t), sigma (theta' - omega)]; ``"raw"`` drops the sigma
-    factors. C selects the measured states (default radius and angle)."""
+    """(A, B, C) of the linearized polar model.
+
+    Parameters
+    ----------
+    sigma : float
+        Radius of the reference circular orbit (km, > 0).
+    omega : float
+        Its angular rate (rad/s, > 0).
+    measured : sequence of int, optional
+        State indices measured, the rows of C (default ``(0, 2)``: radius and angle).
+    coordinates : {"scaled", "raw"}, optional
+        ``"scaled"`` (default) is the paper's x = [r - sigma (km), r' (km/s), sigma (theta - omega t) (km),
+        sigma (theta' - omega) (km/s)]; ``"raw"`` drops the sigma factors (angles in rad, rates rad/s).
+
+    Returns
+    -------
+    A : numpy.ndarray
+        (4, 4) (1/s).
+    B : numpy.ndarray
+        (4, 2), radial and tangential accelerations (km/s^2).
+    C : numpy.ndarray
+        (len(measured), 4), rows of the identity.
+
+    Raises
+    ------
+    ValueError
+        A non-positive sigma or omega, an unknown coordinates name, or an index outside 0..3.
+    """
     m = polar_model(sigma, omega)
     C = np.eye(4)[list(_indices(measured, 4, "measured"))]
     return m.A(coordinates), m.B(coordinates), C
@@ -118,10 +179,33 @@ def _indices(idx, n: int, name: str) -> list[int]:
 
 
 def cw_model(mean_motion: float, measured: Sequence[int] = (0, 1, 2)):
-    """(A, B, C) of Clohessy-Wiltshire in the Hill frame: x radial, y along-track, z orbit normal;
-    state [x y z vx vy vz] (m, m/s), inputs [ax ay az] (m/s^2), C = measured rows of the identity.
-    Guidance uses another CW frame (:data:`satgnc.guidance.CW_FRAME`: y radial, x minus along-track);
-    :func:`satgnc.guidance.cw_to_hill` and :func:`~satgnc.guidance.hill_to_cw` convert states."""
+    """(A, B, C) of Clohessy-Wiltshire in the Hill frame.
+
+    Hill frame: x radial, y along-track, z orbit normal. Guidance uses another CW frame
+    (:data:`satgnc.guidance.CW_FRAME`: y radial, x minus along-track); :func:`satgnc.guidance.cw_to_hill`
+    and :func:`~satgnc.guidance.hill_to_cw` convert states.
+
+    Parameters
+    ----------
+    mean_motion : float
+        Mean motion n of the reference orbit (rad/s, > 0).
+    measured : sequence of int, optional
+        State indices measured, the rows of C (default ``(0, 1, 2)``: the position).
+
+    Returns
+    -------
+    A : numpy.ndarray
+        (6, 6), state [x y z vx vy vz] (m, m/s).
+    B : numpy.ndarray
+        (6, 3), inputs [ax ay az] (m/s^2).
+    C : numpy.ndarray
+        (len(measured), 6), rows of the identity.
+
+    Raises
+    ------
+    ValueError
+        A non-positive or non-finite mean motion, or an index outside 0..5.
+    """
     n = as_scale(mean_motion, "mean_motion", "rad/s")
     return _s._cw_model(n, _indices(measured, 6, "measured"))
 
@@ -177,10 +261,12 @@ class RankReport(Result):
 
     @property
     def robust(self) -> bool:
+        """True unless the verdict is "not robustly decidable" (the rank gap is clear at the tolerance)."""
         return self.verdict != "not robustly decidable"
 
     @property
     def full(self) -> bool:
+        """True when the verdict is "full rank" (controllable / observable)."""
         return self.verdict == "full rank"
 
 
@@ -333,12 +419,56 @@ def staircase(A, BC, property: str = "controllability", *, rtol: float | None = 
 
 
 def controllability(A, B, **kw) -> StaircaseReport:
-    """Staircase controllability test of (A, B); keyword options as :func:`staircase`."""
+    """Staircase controllability test of (A, B).
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) system matrix (continuous or discrete time, any consistent units).
+    B : array_like
+        (n, m) input matrix (a vector is one column).
+    **kw
+        Options of :func:`staircase`: ``rtol``, ``fuzz``, ``stair``, ``cluster_rtol``, ``units``
+        (a :class:`Units` to nondimensionalize first).
+
+    Returns
+    -------
+    StaircaseReport
+        ``rank``, ``verdict`` ("full rank", "rank deficient" or "not robustly decidable"), ``margin``,
+        the staircase form and the uncontrollable modes.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or mis-shaped matrices, naming the argument.
+    """
     return staircase(A, B, "controllability", **kw)
 
 
 def observability(A, C, **kw) -> StaircaseReport:
-    """Staircase observability test of (A, C) by duality; keyword options as :func:`staircase`."""
+    """Staircase observability test of (A, C) by duality.
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) system matrix (continuous or discrete time, any consistent units).
+    C : array_like
+        (p, n) output matrix (a vector is one row).
+    **kw
+        Options of :func:`staircase`: ``rtol``, ``fuzz``, ``stair``, ``cluster_rtol``, ``units``
+        (a :class:`Units` to nondimensionalize first).
+
+    Returns
+    -------
+    StaircaseReport
+        ``rank``, ``verdict`` ("full rank", "rank deficient" or "not robustly decidable"), ``margin``,
+        the staircase form and the unobservable modes.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or mis-shaped matrices, naming the argument.
+    """
     return staircase(A, C, "observability", **kw)
 
 
@@ -376,8 +506,35 @@ def distance_to_uncontrollability(A, BC, property: str = "controllability", *, m
 
 def loss_table(A, B=None, C=None, *, rtol: float | None = None, fuzz: float = 100.0,
                units: Units | dict | None = None) -> list[LossRow]:
-    """Actuator (pass B) or sensor (pass C) loss table: every non-empty subset of the channels, full set
-    first; each row: channels, rank, verdict, margin, kalman_rank (numpy tolerance), kalman_ratio."""
+    """Actuator (pass B) or sensor (pass C) loss table.
+
+    Every non-empty subset of the channels, the full set first.
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) system matrix.
+    B : array_like, optional
+        (n, m) input matrix: an actuator loss table.
+    C : array_like, optional
+        (p, n) output matrix: a sensor loss table (pass exactly one of B and C).
+    rtol : float, optional
+        Relative rank tolerance (default: the staircase's).
+    fuzz : float, optional
+        Factor around the tolerance inside which the verdict is "not robustly decidable" (default 100).
+    units : Units or dict, optional
+        Scales to nondimensionalize with first (e.g. :func:`cw_units`).
+
+    Returns
+    -------
+    list of LossRow
+        One row per subset: channels, rank, verdict, margin, kalman_rank (numpy tolerance), kalman_ratio.
+
+    Raises
+    ------
+    ValueError
+        Both or neither of B and C, more than 20 channels, or non-finite matrices.
+    """
     if (B is None) == (C is None):
         raise ValueError("B, C: pass exactly one of them")
     prop = "controllability" if B is not None else "observability"
@@ -468,7 +625,28 @@ def _squarable(M: np.ndarray, name: str) -> np.ndarray:
 
 
 def controllability_gramian(A, B, T: float) -> GramianReport:
-    """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential (T in s)."""
+    """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential.
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) continuous-time system matrix (1/s).
+    B : array_like
+        (n, m) input matrix.
+    T : float
+        Horizon (s, > 0).
+
+    Returns
+    -------
+    GramianReport
+        ``W`` (n, n) symmetric PSD, ascending ``eigenvalues``, ``condition``, ``weakest`` / ``strongest``
+        directions.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or mis-shaped matrices, or T <= 0.
+    """
     T = as_real(T, "T", positive=True)
     A = as_matrix(A, "A")
     B = _squarable(as_matrix(B, "B", vector_as="column"), "B")
@@ -476,7 +654,28 @@ def controllability_gramian(A, B, T: float) -> GramianReport:
 
 
 def observability_gramian(A, C, T: float) -> GramianReport:
-    """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential (T in s)."""
+    """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential.
+
+    Parameters
+    ----------
+    A : array_like
+        (n, n) continuous-time system matrix (1/s).
+    C : array_like
+        (p, n) output matrix.
+    T : float
+        Horizon (s, > 0).
+
+    Returns
+    -------
+    GramianReport
+        ``W`` (n, n) symmetric PSD, ascending ``eigenvalues``, ``condition``, ``weakest`` / ``strongest``
+        directions.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or mis-shaped matrices, or T <= 0.
+    """
     T = as_real(T, "T", positive=True)
     A = as_matrix(A, "A")
     C = _squarable(as_matrix(C, "C", vector_as="row"), "C")
@@ -484,7 +683,30 @@ def observability_gramian(A, C, T: float) -> GramianReport:
 
 
 def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
-    """W = sum_j w_j Phi_j^T H_j^T H_j Phi_j from transition matrices Phi_j and partials H_j."""
+    """W = sum_j w_j Phi_j^T H_j^T H_j Phi_j of a linear time-varying system.
+
+    Parameters
+    ----------
+    stms : sequence of array_like
+        Transition matrices Phi_j = Phi(t_j, t0), each (n, n).
+    H : sequence of array_like
+        Measurement partials H_j = d y_j / d x(t_j), each (m_j, n).
+    weights : sequence of float, optional
+        w_j >= 0, e.g. 1 / sigma_j^2 (1/km^2 for ranges); default 1.
+
+    Returns
+    -------
+    GramianReport
+        ``W`` (n, n) in the units of the products (e.g. 1/km^2 times the state units with weights
+        1 / sigma^2), its eigenvalues, condition and weakest / strongest directions.
+
+    Raises
+    ------
+    TypeError
+        ``stms``, ``H`` or ``weights`` not a sequence.
+    ValueError
+        Mismatched shapes, negative weights, or a sum that overflows double precision.
+    """
     for name, value in (("stms", stms), ("H", H), ("weights", weights)):
         if value is not None or name != "weights":  # None was "'NoneType' object is not iterable"
             if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
@@ -502,7 +724,25 @@ def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
 
 
 def minimum_energy(W, x_f) -> float:
-    """x_f^T W^+ x_f (inf if x_f leaves the range of W). W: a Gramian (symmetric PSD)."""
+    """x_f^T W^+ x_f: the minimum control energy to reach ``x_f`` with Gramian ``W``.
+
+    Parameters
+    ----------
+    W : array_like
+        A controllability Gramian (n, n), symmetric positive semidefinite.
+    x_f : array_like
+        Target state (n,), in the state's units.
+
+    Returns
+    -------
+    float
+        The energy (the input's units squared times s, e.g. (m/s^2)^2 s); inf if x_f leaves the range of W.
+
+    Raises
+    ------
+    ValueError
+        W not symmetric or not positive semidefinite, or mis-shaped arguments.
+    """
     W = as_matrix(W, "W")
     if W.shape[0] == W.shape[1]:
         # A non-PSD W (e.g. -I) gave inf ("unreachable") instead of an error.
@@ -603,11 +843,36 @@ class _kepler_blame:
 
 def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_RATE,
                mu: float = MU_EARTH) -> GramianReport:
-    """Observability Gramian of single-station ``kind`` tracking ("range", "range_rate", "both") at
-    ``times`` (s from the epoch) of the two-body state x0 (default: Table 1 of od_newton_raphson.md,
-    station Table 3) with the station rotating at ``rate`` (rad/s; default the Earth's 7.292115e-5; the
-    paper's reproduction passes its implied 7.27e-5, :data:`EARTH_RATE_PAPER`). extra: jacobi_condition
-    (unit-free), times."""
+    """Observability Gramian of single-station tracking along a two-body orbit.
+
+    Parameters
+    ----------
+    kind : {"range", "range_rate", "both"}
+        The observable(s) at each time.
+    times : array_like
+        Observation times (s from the epoch), (N,).
+    x0 : array_like, optional
+        Satellite state at the epoch (6,): km, km/s, inertial (default Table 1 of od_newton_raphson.md).
+    station_r0 : array_like, optional
+        Station position at the epoch (3,), km, inertial (default Table 3).
+    rate : float, optional
+        Station rotation rate about +z (rad/s; default the Earth's 7.292115e-5; the paper's reproduction
+        passes its implied 7.27e-5, :data:`EARTH_RATE_PAPER`).
+    mu : float, optional
+        Gravitational parameter (km^3/s^2, > 0).
+
+    Returns
+    -------
+    GramianReport
+        ``W`` (6, 6) = sum over the times of Phi^T H^T H Phi, unweighted (entries in the units of
+        d observable / d [r km, v km/s] squared), ascending ``eigenvalues``, ``condition``,
+        ``weakest`` / ``strongest`` directions; extra: ``jacobi_condition`` (unit-free), ``times`` (s).
+
+    Raises
+    ------
+    ValueError
+        An unknown kind, times not finite or too long for the Kepler solver, or a bad state.
+    """
     kind = one_of(kind, "kind", ("range", "range_rate", "both"))
     px, pr = paper_od_state()
     x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
@@ -620,11 +885,36 @@ def od_gramian(kind: str, times, x0=None, station_r0=None, rate: float = EARTH_R
 
 def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE, mu: float = MU_EARTH,
                     t_max: float = 3600.0, dt: float = 10.0) -> tuple[float, float]:
-    """(rise, set) times (s) of the pass containing the epoch (elevation above the geocentric horizon)
-    of the two-body state ``x0`` (km, km/s; default Table 1 of od_newton_raphson.md) seen from the
-    station ``station_r0`` (km at the epoch, inertial; default Table 3) rotating at ``rate`` (rad/s;
-    default the Earth's 7.292115e-5, :data:`EARTH_RATE`; the paper's reproduction passes
-    :data:`EARTH_RATE_PAPER` = 7.27e-5), searched up to ``t_max`` (s) in steps of ``dt`` (s)."""
+    """(rise, set) times of the pass containing the epoch.
+
+    Elevation above the geocentric horizon of a two-body orbit seen from a station rotating about +z.
+
+    Parameters
+    ----------
+    x0 : array_like, optional
+        Satellite state at the epoch (6,): km, km/s, inertial (default Table 1 of od_newton_raphson.md).
+    station_r0 : array_like, optional
+        Station position at the epoch (3,), km, inertial (default Table 3).
+    rate : float, optional
+        Station rotation rate (rad/s; default the Earth's 7.292115e-5, :data:`EARTH_RATE`; the paper's
+        reproduction passes :data:`EARTH_RATE_PAPER` = 7.27e-5).
+    mu : float, optional
+        Gravitational parameter (km^3/s^2, > 0).
+    t_max : float, optional
+        Search span each way (s, > 0; default 3600).
+    dt : float, optional
+        Search step (s, 0 < dt <= t_max; default 10).
+
+    Returns
+    -------
+    tuple of float
+        (rise, set) in s from the epoch.
+
+    Raises
+    ------
+    ValueError
+        A station at the centre, a bad step or span, or the satellite not visible at the epoch.
+    """
     px, pr = paper_od_state()
     x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
     r0 = pr if station_r0 is None else as_matrix(station_r0, "station_r0", ndim=1)
@@ -640,10 +930,29 @@ def visibility_pass(x0=None, station_r0=None, rate: float = EARTH_RATE, mu: floa
 
 
 def od_linear_model(times, x0=None, mu: float = MU_EARTH) -> LinearModel:
-    """Linear (LTV) model of the OD problem along the two-body orbit of x0 (default Table 1):
-    ``states`` (N x 6), ``stms`` Phi(t_j, t0) (N x 6 x 6, analytic Kepler STM), ``A`` = A(t_j) =
-    d Phi/dt Phi^-1 = [[0, I], [mu/r^3 (3 r r^T/r^2 - I), 0]] (N x 6 x 6), and ``transitions``
-    Phi(t_{j+1}, t_j) = Phi_{j+1} Phi_j^-1 ((N-1) x 6 x 6) for the discrete LTV model."""
+    """Linear (LTV) model of the OD problem along the two-body orbit of ``x0``.
+
+    Parameters
+    ----------
+    times : array_like
+        Strictly increasing times (s from the epoch), (N,).
+    x0 : array_like, optional
+        State at the epoch (6,): km, km/s (default Table 1 of od_newton_raphson.md).
+    mu : float, optional
+        Gravitational parameter (km^3/s^2, > 0).
+
+    Returns
+    -------
+    LinearModel
+        ``states`` (N, 6) km, km/s; ``stms`` Phi(t_j, t0) (N, 6, 6, analytic Kepler STM); ``A`` = A(t_j) =
+        [[0, I], [mu/r^3 (3 r r^T/r^2 - I), 0]] (N, 6, 6; 1/s and 1/s^2 blocks); ``transitions``
+        Phi(t_{j+1}, t_j) (N-1, 6, 6) for the discrete LTV model.
+
+    Raises
+    ------
+    ValueError
+        Times not strictly increasing, a non-positive mu, or a Kepler propagation that stops early.
+    """
     px, _ = paper_od_state()
     x0 = px if x0 is None else as_matrix(x0, "x0", ndim=1)
     times = _span_checked(as_matrix(times, "times", ndim=1))

@@ -156,6 +156,7 @@ class AdmmInfo(Result):
 
     @property
     def converged(self) -> bool:
+        """True when ``status`` is ``"solved"`` (residuals and duality gap within their tolerances)."""
         return self.status == "solved"
 
     def __getitem__(self, key: str) -> Any:
@@ -223,6 +224,7 @@ class L1Result(Result):
 
     @property
     def converged(self) -> bool:
+        """True when ``status`` is ``"solved"`` (residuals and duality gap within their tolerances)."""
         return self.status == "solved"
 
     @property

@@ -141,9 +141,32 @@ class Header(Result):
 
 
 def epoch_seconds(epochs: Any, origin: str, time_system: str = "UTC") -> np.ndarray:
-    """Seconds (float64) from ``origin`` to each epoch text, both read in ``time_system`` by the C++
-    ``core::Epoch`` (leap seconds counted: 2016-12-31T23:59:59 to 2017-01-01T00:00:00 UTC is 2 s).
-    The times an OD or a propagation uses, from a file's epochs."""
+    """Seconds from ``origin`` to each epoch text, read by the C++ ``core::Epoch``.
+
+    Leap seconds are counted: 2016-12-31T23:59:59 to 2017-01-01T00:00:00 UTC is 2 s. These are the times
+    an OD or a propagation uses, from a file's epochs.
+
+    Parameters
+    ----------
+    epochs : sequence of str
+        ISO-8601 epoch texts (``YYYY-MM-DDThh:mm:ss[.f]`` or ``YYYY-DDDThh:mm:ss[.f]``).
+    origin : str
+        The epoch of t = 0, same format.
+    time_system : str, optional
+        The CCSDS time system both are read in (default ``"UTC"``; e.g. ``"TAI"``, ``"TT"``, ``"GPS"``).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n,) float64, seconds (s) of SI time from ``origin``.
+
+    Raises
+    ------
+    ValueError
+        An unknown time system or a malformed epoch text.
+    TypeError
+        ``origin`` is not a str.
+    """
     one_of(time_system, "time_system", TIME_SYSTEMS)
     if not isinstance(origin, str):
         raise TypeError(f"origin: must be an epoch string, got {type(origin).__name__}")
@@ -151,9 +174,32 @@ def epoch_seconds(epochs: Any, origin: str, time_system: str = "UTC") -> np.ndar
 
 
 def epochs_at(origin: str, seconds: Any, time_system: str = "UTC") -> tuple[str, ...]:
-    """The epoch texts ``origin + seconds[i]`` in ``time_system`` (ISO-8601, up to 12 fraction
-    digits, trailing zeros dropped; ``23:59:60.x`` inside a UTC leap second): the epochs of a
-    propagated trajectory (times in s from ``origin``) for :class:`OemSegment`."""
+    """The epoch texts ``origin + seconds[i]`` in ``time_system``.
+
+    ISO-8601 with up to 12 fraction digits, trailing zeros dropped; ``23:59:60.x`` inside a UTC leap
+    second: the epochs of a propagated trajectory for :class:`OemSegment`.
+
+    Parameters
+    ----------
+    origin : str
+        The epoch of t = 0 (ISO-8601).
+    seconds : float or array_like
+        Times after ``origin`` (s), finite.
+    time_system : str, optional
+        The CCSDS time system (default ``"UTC"``).
+
+    Returns
+    -------
+    tuple of str
+        One epoch text per time.
+
+    Raises
+    ------
+    ValueError
+        An unknown time system, a malformed origin or a non-finite time.
+    TypeError
+        ``origin`` is not a str.
+    """
     one_of(time_system, "time_system", TIME_SYSTEMS)
     if not isinstance(origin, str):
         raise TypeError(f"origin: must be an epoch string, got {type(origin).__name__}")
@@ -303,25 +349,102 @@ def _tdm_dict(t: Tdm) -> dict[str, Any]:
 
 
 def parse_tdm(text: str, source: str = "<string>") -> Tdm:
-    """A :class:`Tdm` from TDM text, KVN or XML (told by a leading ``<``). Errors name ``source``."""
+    """A :class:`Tdm` from TDM (KVN or XML, told by a leading ``<``) text.
+
+    Parameters
+    ----------
+    text : str
+        The whole file's text.
+    source : str, optional
+        Name used in error messages (default ``"<string>"``).
+
+    Returns
+    -------
+    Tdm
+        The parsed message: values in the units of their keywords (km, km/s, deg, Hz, ...).
+
+    Raises
+    ------
+    satgnc.FileFormatError
+        A malformed message, naming ``source``, the line and the keyword.
+    TypeError
+        ``text`` is not a str.
+    """
     return _tdm_from(_c.io_parse_tdm(_checked_text(text), str(source)))
 
 
 def read_tdm(path: str | os.PathLike[str]) -> Tdm:
-    """Read a TDM file (KVN or XML). A malformed file raises :class:`satgnc.FileFormatError` naming
-    the file, the line and the keyword."""
+    """Read a TDM (KVN or XML, told by a leading ``<``) file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to read (UTF-8).
+
+    Returns
+    -------
+    Tdm
+        The parsed message: values in the units of their keywords (km, km/s, deg, Hz, ...).
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    satgnc.FileFormatError
+        A malformed file, naming the file, the line and the keyword.
+    """
     return _read_with(path, parse_tdm)
 
 
 def format_tdm(tdm: Tdm, *, format: str = "kvn") -> str:  # noqa: A002 (the CCSDS word)
-    """The TDM text of ``tdm``: ``format="kvn"`` or ``"xml"``. A model that would not read back
-    (e.g. a PATH naming an undefined participant) raises ``ValueError``."""
+    """The TDM text of ``tdm`` (KVN or XML).
+
+    Parameters
+    ----------
+    tdm : Tdm
+        The message to write (numbers in the shortest form that reads back to the same double; units in
+        brackets after each dimensioned value).
+    format : {"kvn", "xml"}, optional
+        The CCSDS encoding (keyword only; default ``"kvn"``).
+
+    Returns
+    -------
+    str
+        The message text.
+
+    Raises
+    ------
+    TypeError
+        ``tdm`` is not a :class:`Tdm`.
+    ValueError
+        A model that would not read back (e.g. a PATH naming an undefined participant), or an unknown format.
+    """
     one_of(format, "format", ("kvn", "xml"))
     return str(_c.io_format_tdm(_tdm_dict(tdm), format == "xml"))
 
 
 def write_tdm(path: str | os.PathLike[str], tdm: Tdm, *, format: str = "kvn") -> pathlib.Path:  # noqa: A002
-    """Write ``tdm`` to ``path`` (KVN or XML); returns the path."""
+    """Write ``tdm`` to ``path`` (:func:`format_tdm`'s text).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced if it exists).
+    tdm : Tdm
+        The message.
+    format : {"kvn", "xml"}, optional
+        The CCSDS encoding (keyword only; default ``"kvn"``).
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`format_tdm`.
+    """
     return _write_text(path, format_tdm(tdm, format=format))
 
 
@@ -458,22 +581,97 @@ def _oem_dict(o: Oem) -> dict[str, Any]:
 
 
 def parse_oem(text: str, source: str = "<string>") -> Oem:
-    """An :class:`Oem` from OEM KVN text. Errors name ``source``, the line and the keyword."""
+    """A :class:`Oem` from OEM (KVN) text.
+
+    Parameters
+    ----------
+    text : str
+        The whole file's text.
+    source : str, optional
+        Name used in error messages (default ``"<string>"``).
+
+    Returns
+    -------
+    Oem
+        The parsed message: states (n, 6) in km and km/s, accelerations km/s**2, covariances km**2....
+
+    Raises
+    ------
+    satgnc.FileFormatError
+        A malformed message, naming ``source``, the line and the keyword.
+    TypeError
+        ``text`` is not a str.
+    """
     return _oem_from(_c.io_parse_oem(_checked_text(text), str(source)))
 
 
 def read_oem(path: str | os.PathLike[str]) -> Oem:
-    """Read an OEM KVN file."""
+    """Read a OEM (KVN) file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to read (UTF-8).
+
+    Returns
+    -------
+    Oem
+        The parsed message: states (n, 6) in km and km/s, accelerations km/s**2, covariances km**2....
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    satgnc.FileFormatError
+        A malformed file, naming the file, the line and the keyword.
+    """
     return _read_with(path, parse_oem)
 
 
 def format_oem(oem: Oem) -> str:
-    """The OEM KVN text of ``oem`` (numbers in the shortest form that reads back to the same double)."""
+    """The OEM text of ``oem`` (KVN).
+
+    Parameters
+    ----------
+    oem : Oem
+        The message to write (numbers in the shortest form that reads back to the same double; units in
+        brackets after each dimensioned value).
+
+    Returns
+    -------
+    str
+        The message text.
+
+    Raises
+    ------
+    TypeError
+        ``oem`` is not a :class:`Oem`.
+    ValueError
+        A model that would not read back (e.g. a PATH naming an undefined participant).
+    """
     return str(_c.io_format_oem(_oem_dict(oem)))
 
 
 def write_oem(path: str | os.PathLike[str], oem: Oem) -> pathlib.Path:
-    """Write ``oem`` to ``path`` (KVN); returns the path."""
+    """Write ``oem`` to ``path`` (:func:`format_oem`'s text).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced if it exists).
+    oem : Oem
+        The message.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`format_oem`.
+    """
     return _write_text(path, format_oem(oem))
 
 
@@ -584,22 +782,97 @@ def _opm_dict(o: Opm) -> dict[str, Any]:
 
 
 def parse_opm(text: str, source: str = "<string>") -> Opm:
-    """An :class:`Opm` from OPM KVN text. Errors name ``source``, the line and the keyword."""
+    """A :class:`Opm` from OPM (KVN) text.
+
+    Parameters
+    ----------
+    text : str
+        The whole file's text.
+    source : str, optional
+        Name used in error messages (default ``"<string>"``).
+
+    Returns
+    -------
+    Opm
+        The parsed message: state (6,) in km and km/s in ``ref_frame``, covariance km**2....
+
+    Raises
+    ------
+    satgnc.FileFormatError
+        A malformed message, naming ``source``, the line and the keyword.
+    TypeError
+        ``text`` is not a str.
+    """
     return _opm_from(_c.io_parse_opm(_checked_text(text), str(source)))
 
 
 def read_opm(path: str | os.PathLike[str]) -> Opm:
-    """Read an OPM KVN file."""
+    """Read a OPM (KVN) file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to read (UTF-8).
+
+    Returns
+    -------
+    Opm
+        The parsed message: state (6,) in km and km/s in ``ref_frame``, covariance km**2....
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    satgnc.FileFormatError
+        A malformed file, naming the file, the line and the keyword.
+    """
     return _read_with(path, parse_opm)
 
 
 def format_opm(opm: Opm) -> str:
-    """The OPM KVN text of ``opm`` (units in brackets after each dimensioned value)."""
+    """The OPM text of ``opm`` (KVN).
+
+    Parameters
+    ----------
+    opm : Opm
+        The message to write (numbers in the shortest form that reads back to the same double; units in
+        brackets after each dimensioned value).
+
+    Returns
+    -------
+    str
+        The message text.
+
+    Raises
+    ------
+    TypeError
+        ``opm`` is not a :class:`Opm`.
+    ValueError
+        A model that would not read back (e.g. a PATH naming an undefined participant).
+    """
     return str(_c.io_format_opm(_opm_dict(opm)))
 
 
 def write_opm(path: str | os.PathLike[str], opm: Opm) -> pathlib.Path:
-    """Write ``opm`` to ``path`` (KVN); returns the path."""
+    """Write ``opm`` to ``path`` (:func:`format_opm`'s text).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced if it exists).
+    opm : Opm
+        The message.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`format_opm`.
+    """
     return _write_text(path, format_opm(opm))
 
 

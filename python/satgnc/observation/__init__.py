@@ -39,11 +39,6 @@ RotatingStationEphemeris = _satgnc.RotatingStationEphemeris
 EarthFixedStationEphemeris = _satgnc.EarthFixedStationEphemeris
 ObservationStatus = _satgnc.ObservationStatus
 SPEED_OF_LIGHT: float = _satgnc.SPEED_OF_LIGHT  # km/s
-shift_state = _satgnc.shift_state
-standard_atmosphere = _satgnc.standard_atmosphere
-saastamoinen_zenith_delay = _satgnc.saastamoinen_zenith_delay
-tropo_mapping = _satgnc.tropo_mapping
-shapiro_delay = _satgnc.shapiro_delay
 
 OBSERVABLES: tuple[str, ...] = (
     "one_way_range",
@@ -105,8 +100,25 @@ class Predictions(Result):
 
 
 def rotating_station(station: Any, ellipsoid: str = "WGS-84") -> Any:
-    """The paper's rotating station (:class:`satgnc.od.Station`) as a :class:`StationEphemeris`
-    (t = seconds after the station's epoch; topocentric axes geodetic on ``ellipsoid``)."""
+    """The paper's rotating station as a :class:`StationEphemeris`.
+
+    Parameters
+    ----------
+    station : satgnc.od.Station
+        Inertial position r0 (km, GCRF) at t = 0 rotating about +z at omega (rad/s).
+    ellipsoid : str, optional
+        Ellipsoid of the geodetic topocentric axes (default ``"WGS-84"``).
+
+    Returns
+    -------
+    RotatingStationEphemeris
+        Station position (km) and velocity (km/s) in GCRF at t seconds after the station's epoch.
+
+    Raises
+    ------
+    TypeError
+        ``station`` is not a :class:`satgnc.od.Station`.
+    """
     if not isinstance(station, _satgnc.Station):
         raise TypeError(f"station: must be a satgnc.od.Station, got {type(station).__name__}")
     return RotatingStationEphemeris(station, ellipsoid)
@@ -124,11 +136,43 @@ def measurement_model(
     min_range: float = 1e-3,
     time_bias_partials: bool = True,
 ) -> Any:
-    """A :class:`MeasurementModel` for ``observable`` (one of :data:`OBSERVABLES`). ``tolerance`` (s)
-    and ``max_iterations`` stop the light-time iteration of each leg; ``mu`` (km^3/s^2) is used by the
-    bounce-time shift and the Shapiro delay; ``min_range`` (km) marks degenerate geometry. Raises
-    ``ValueError`` naming the argument (a modifier on a non-range observable, a humidity outside
-    [0, 1], ...)."""
+    """A :class:`MeasurementModel` for ``observable``, its settings checked once here.
+
+    Parameters
+    ----------
+    observable : str
+        One of :data:`OBSERVABLES`: ``"one_way_range"``, ``"two_way_range"`` (km),
+        ``"one_way_range_rate"``, ``"two_way_range_rate"`` (km/s), ``"azimuth_elevation"``,
+        ``"right_ascension_declination"`` (rad).
+    troposphere : bool, optional
+        Add the Saastamoinen delay with the Black-Eisner mapping (range observables only; default False).
+    shapiro : bool, optional
+        Add the Earth's Shapiro delay (range observables only; default False).
+    relative_humidity : float, optional
+        Of the standard atmosphere, in [0, 1] (default 0.5).
+    tolerance : float, optional
+        Light-time iteration stop of each leg (s; default 1e-14).
+    max_iterations : int, optional
+        Light-time iterations per leg at most (default 10).
+    mu : float, optional
+        Gravitational parameter of the bounce-time shift and the Shapiro delay (km^3/s^2; default
+        EARTH_MU).
+    min_range : float, optional
+        A smaller range is degenerate geometry (km; default 1e-3).
+    time_bias_partials : bool, optional
+        Compute d value / d time bias (default True).
+
+    Returns
+    -------
+    MeasurementModel
+        The model, reusable for any number of :func:`predict` calls.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: an unknown observable, a modifier on a non-range observable, a humidity
+        outside [0, 1], a non-positive tolerance, ...
+    """
     name = one_of(observable, "observable", OBSERVABLES)
     try:
         return MeasurementModel(
@@ -176,13 +220,41 @@ def predict(
     time_bias: Any = 0.0,
     epoch: Any = None,
 ) -> Predictions:
-    """Predict ``model``'s observable for each reception tag ``t`` (s, the station's time axis;
-    scalar or (n,)) and spacecraft GCRF state ``states`` ((6,) or (n, 6), km and km/s, at the tags).
-    Tags may also be :class:`satgnc.time.Epoch` values (one or a sequence) when ``epoch`` gives the
-    epoch of t = 0 of the station ephemeris (e.g. its ``IauEarthRotation``'s epoch): t = tag - epoch,
-    exact to the double's resolution of the difference. ``range_bias`` (km) and ``time_bias`` (s): a
-    number or one per tag. Failures are statuses, not exceptions; bad arguments raise ``ValueError`` /
-    ``TypeError`` naming them."""
+    """Predict ``model``'s observable for each reception tag.
+
+    Failures are statuses, not exceptions.
+
+    Parameters
+    ----------
+    model : MeasurementModel
+        From :func:`measurement_model`.
+    station : StationEphemeris
+        The station (GCRF, km, km/s) on its own time axis.
+    t : float, array_like or satgnc.time.Epoch
+        Reception tags (s after the station ephemeris' epoch), scalar or (n,); or Epoch values (one or a
+        sequence) when ``epoch`` is given: t = tag - epoch.
+    states : array_like
+        Spacecraft GCRF states at the tags, (6,) or (n, 6): km, km/s.
+    range_bias : float or array_like, optional
+        Range bias (km), one number or one per tag (default 0).
+    time_bias : float or array_like, optional
+        Time-tag bias (s), one number or one per tag (default 0).
+    epoch : satgnc.time.Epoch, optional
+        The epoch of t = 0 of the station ephemeris, when the tags are Epochs.
+
+    Returns
+    -------
+    Predictions
+        ``value`` (n,) km or km/s or (n, 2) rad, ``dx`` d value / d state (km, km/s), ``dbias``,
+        light times ``tau_down`` / ``tau_up`` (s), delays (km) and one ``status`` per tag.
+
+    Raises
+    ------
+    TypeError
+        ``model`` or ``station`` of the wrong type, or tags mixing Epochs and numbers.
+    ValueError
+        Shapes or values that are not finite, naming the argument.
+    """
     t = _tags_as_seconds(t, epoch)
     if not isinstance(model, MeasurementModel):
         raise TypeError(f"model: must be a satgnc.observation.MeasurementModel, got {type(model).__name__}")
@@ -211,6 +283,129 @@ def predict(
         iterations=out["iterations"],
         status=tuple(STATUS_NAMES[int(s)] for s in out["status"]),
     )
+
+
+
+
+# ------------------------------------------------------------------ the models' building blocks (C++)
+# Thin wrappers of the compiled functions, for their numpy-style sections with units (a compiled
+# function's docstring cannot be replaced at import). Scalars in, scalars out.
+def shift_state(x: Any, dt: float, mu: float = float(_satgnc.EARTH_MU)) -> tuple[np.ndarray, np.ndarray]:
+    """Third-order two-body Taylor shift of a state by ``dt`` (the bounce-time shift of two-way models).
+
+    Parameters
+    ----------
+    x : array_like
+        GCRF state (6,): km, km/s.
+    dt : float
+        Shift (s), small against the orbital period (light times: < 0.1 s).
+    mu : float, optional
+        Gravitational parameter (km^3/s^2; default EARTH_MU).
+
+    Returns
+    -------
+    x_shifted : numpy.ndarray
+        (6,) km, km/s at t + dt.
+    jacobian : numpy.ndarray
+        (6, 6) d x_shifted / d x (km, km/s, s blocks).
+
+    Raises
+    ------
+    ValueError
+        ``x`` not of shape (6,) or not finite.
+    """
+    x1, jac = _satgnc.shift_state(x, dt, mu)
+    return np.asarray(x1), np.asarray(jac)
+
+
+def standard_atmosphere(height: float, relative_humidity: float = 0.5) -> tuple[float, float, float]:
+    """Surface meteorology of the standard atmosphere at a station height (the troposphere's input).
+
+    Parameters
+    ----------
+    height : float
+        Station height above the ellipsoid (km).
+    relative_humidity : float, optional
+        In [0, 1] (default 0.5).
+
+    Returns
+    -------
+    tuple of float
+        (pressure hPa, temperature K, water-vapour partial pressure hPa).
+    """
+    p, t, e = _satgnc.standard_atmosphere(height, relative_humidity)
+    return float(p), float(t), float(e)
+
+
+def saastamoinen_zenith_delay(pressure: float, temperature: float, water_vapour: float, latitude: float,
+                              height: float) -> float:
+    """Saastamoinen zenith delay of the troposphere (dry plus wet).
+
+    Parameters
+    ----------
+    pressure : float
+        Surface pressure (hPa, >= 0).
+    temperature : float
+        Surface temperature (K).
+    water_vapour : float
+        Water-vapour partial pressure (hPa).
+    latitude : float
+        Geodetic latitude (rad).
+    height : float
+        Height above the ellipsoid (km).
+
+    Returns
+    -------
+    float
+        The zenith delay as a path length (km); about 0.0024 km at sea level.
+
+    Raises
+    ------
+    ValueError
+        A negative pressure or a non-finite input, naming it.
+    """
+    return float(_satgnc.saastamoinen_zenith_delay(pressure, temperature, water_vapour, latitude, height))
+
+
+def tropo_mapping(elevation: float) -> float:
+    """Black-Eisner mapping function: slant delay / zenith delay at an elevation.
+
+    Parameters
+    ----------
+    elevation : float
+        Elevation of the line of sight (rad).
+
+    Returns
+    -------
+    float
+        The unit-free factor (1 at the zenith, about 10 at 5 deg).
+
+    Raises
+    ------
+    TypeError
+        ``elevation`` is not a real number (arrays are not taken).
+    """
+    return float(_satgnc.tropo_mapping(elevation))
+
+
+def shapiro_delay(r1: float, r2: float, rho: float, mu: float = float(_satgnc.EARTH_MU)) -> float:
+    """One-way Shapiro (relativistic) delay of the Earth's field between two points.
+
+    Parameters
+    ----------
+    r1, r2 : float
+        Geocentric distances of the two ends (km).
+    rho : float
+        Distance between them (km).
+    mu : float, optional
+        Gravitational parameter (km^3/s^2; default EARTH_MU).
+
+    Returns
+    -------
+    float
+        The delay as a path length (km); about 2e-6 km from a 400 km orbit at 1500 km range.
+    """
+    return float(_satgnc.shapiro_delay(r1, r2, rho, mu))
 
 
 from .._namespace import public_dir as _public_dir  # noqa: E402

@@ -25,7 +25,29 @@ __all__ = ["Epoch", "TimeScale", "time_scale_from_name", "SCALES", "parse"]
 
 
 def parse(text: str, scale: str | TimeScale = "UTC") -> Epoch:
-    """:meth:`Epoch.parse`: ISO-8601 ``YYYY-MM-DDThh:mm:ss[.f]`` or ``YYYY-DDDThh:mm:ss[.f]`` in scale."""
+    """An :class:`Epoch` from an ISO-8601 text (:meth:`Epoch.parse`).
+
+    Parameters
+    ----------
+    text : str
+        ``YYYY-MM-DDThh:mm:ss[.f]`` or ``YYYY-DDDThh:mm:ss[.f]`` (``23:59:60`` valid on a UTC leap-second
+        day).
+    scale : str or TimeScale, optional
+        The time scale of the text: ``"TAI"``, ``"TT"``, ``"UTC"`` (default), ``"GPS"`` or ``"TDB"``
+        (case-insensitive).
+
+    Returns
+    -------
+    Epoch
+        The instant (stored as TAI seconds (s) since J2000 TAI, whole plus fraction).
+
+    Raises
+    ------
+    TypeError
+        ``text`` is not a str.
+    ValueError
+        A malformed text or an unknown scale, naming it.
+    """
     if not isinstance(text, str):
         raise TypeError(f"text: must be a str, got {type(text).__name__}")
     return Epoch.parse(text, scale)
