@@ -126,7 +126,7 @@ def _station_obs() -> tuple[od.Station, od.Observations, npt.NDArray[np.float64]
 
 def _split(obs: od.Observations) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """(ranges km, range-rates km/s) of a simulated table, in time order."""
-    is_range = np.array([k == "range" for k in obs.type])
+    is_range = np.array([k == od.MeasurementType.range for k in obs.type])
     return obs.value[is_range], obs.value[~is_range]
 
 

@@ -28,7 +28,6 @@ from collections.abc import Sequence
 import numpy as np
 
 from .. import _satgnc as _c
-from .._observation_type import ObservationType
 from .._validate import (
     FileFormatError,
     as_bool,
@@ -68,7 +67,6 @@ __all__ = [
     "Station",
     "Ellipsoid",
     "MeasurementType",
-    "ObservationType",
     "OdStatus",
     "OdMethod",
     "OdSettings",
@@ -236,8 +234,6 @@ def implied_rotation_rate(station_state) -> float:
 def _mtype(kind, name: str = "type") -> MeasurementType:
     if isinstance(kind, MeasurementType):
         return kind
-    if isinstance(kind, ObservationType):
-        return kind.measurement_type
     if not isinstance(kind, str):
         raise TypeError(f"{name}: must be 'range' or 'range_rate', got {type(kind).__name__}")
     try:
@@ -329,11 +325,7 @@ def settings(method: str = "levenberg_marquardt", **kw) -> OdSettings:
 @dataclasses.dataclass
 class Observations:
     """A table of observations: time (s from the epoch), type ('range'/'range_rate'), value (km or
-    km/s), sigma (same unit) and station index.
-
-    ``type`` holds :class:`ObservationType` members: strings (``k == "range"``) that also compare
-    equal, with a DeprecationWarning, to the ``MeasurementType`` enums it held before; it accepts
-    strings, ObservationType or MeasurementType values."""
+    km/s), sigma (same unit) and station index."""
 
     t: np.ndarray
     type: list
@@ -352,7 +344,7 @@ class Observations:
             raise TypeError("station: must be integer station indices")
         self.station = np.full(n, int(st)) if st.ndim == 0 else st.astype(int)
         kinds = [self.type] * n if isinstance(self.type, (str, MeasurementType)) else list(self.type)
-        self.type = [ObservationType.of(_mtype(k)) for k in kinds]
+        self.type = [_mtype(k) for k in kinds]
         for name in ("value", "sigma", "station"):
             if getattr(self, name).shape != (n,):
                 raise ValueError(f"{name}: must have the length of t ({n}), got {getattr(self, name).shape}")
@@ -369,7 +361,7 @@ class Observations:
             raise ValueError(f"station: indices must be >= 0 (row {bad[0]}: {self.station[bad[0]]})")
         # A range is a distance: a negative one was accepted here (read_csv / read_tdm refuse it);
         # a zero range is left to the solver, which names it "zero range".
-        rng = np.array([k == "range" for k in self.type], dtype=bool)
+        rng = np.array([k == MeasurementType.range for k in self.type], dtype=bool)
         bad = np.flatnonzero(rng & (self.value < 0))
         if bad.size:
             raise ValueError(f"value: a range must be >= 0 km (row {bad[0]}: {self.value[bad[0]]})")
@@ -379,7 +371,7 @@ class Observations:
 
     def measurements(self) -> list:
         return [
-            _c.Measurement(float(t), k.measurement_type, float(v), float(s), int(st))
+            _c.Measurement(float(t), k, float(v), float(s), int(st))
             for t, k, v, s, st in zip(self.t, self.type, self.value, self.sigma, self.station)
         ]
 
@@ -394,9 +386,8 @@ class Observations:
         )
 
     def type_names(self) -> list[str]:
-        """The measurement types as plain strings 'range' / 'range_rate' (``type`` holds them as
-        :class:`ObservationType`, a str enum)."""
-        return [str(k) for k in self.type]
+        """The measurement types as the strings 'range' / 'range_rate' (``type`` holds the enums)."""
+        return ["range" if k == MeasurementType.range else "range_rate" for k in self.type]
 
     def write_csv(self, path, station_names: Sequence[str] | None = None):
         """Write the table as CSV (``t,type,value,sigma,station``; t in s, value and sigma in km or km/s,

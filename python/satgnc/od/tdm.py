@@ -304,7 +304,7 @@ def write_tdm(
             observations.t[sel], np.array(observations.type, dtype=object)[sel], observations.value[sel]
         ):
             when = epoch + _dt.timedelta(seconds=float(t))
-            key = "RANGE" if k == "range" else "DOPPLER_INSTANTANEOUS"
+            key = "RANGE" if k == MeasurementType.range else "DOPPLER_INSTANTANEOUS"
             lines.append(f"{key} = {when:%Y-%m-%dT%H:%M:%S.%f} {v:.12e}")
         lines.append("DATA_STOP")
     p.write_text("\n".join(lines) + "\n")
