@@ -324,8 +324,12 @@ def settings(method: str = "levenberg_marquardt", **kw) -> OdSettings:
 # ----------------------------------------------------------------------------- observations
 @dataclasses.dataclass
 class Observations:
-    """A table of observations: time (s from the epoch), type ('range'/'range_rate'), value (km or
-    km/s), sigma (same unit) and station index."""
+    """A table of observations: time (s from the epoch), type, value (km or km/s), sigma (same unit)
+    and station index.
+
+    ``type`` may be given as the strings ``'range'`` / ``'range_rate'`` or as ``MeasurementType``
+    members; it is stored as ``MeasurementType`` members (kept so for existing scripts:
+    ``k == MeasurementType.range``, ``k.value``). ``type_names()`` returns the strings."""
 
     t: np.ndarray
     type: list
