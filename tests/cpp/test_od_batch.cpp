@@ -12,6 +12,7 @@
 
 #include "malloc_counter.hpp"
 #include "satgnc/core/no_malloc.hpp"
+#include "satgnc/dynamics/gravity_field.hpp"
 #include "satgnc/frames/earth_orientation.hpp"
 #include "satgnc/frames/eop.hpp"
 #include "satgnc/frames/ground_station.hpp"
@@ -500,6 +501,37 @@ TEST(OdBatch, SolveDoesNotAllocate) {
   EXPECT_GE(g_mallocs.load(), evaluations);  // at least its output vectors per propagation
   EXPECT_EQ(spy->calls_guarded, satgnc::core::kNoMallocGuard ? spy->calls : 0);
   EXPECT_TRUE(satgnc::core::malloc_allowed());  // the scope ended with solve()
+}
+
+// The same with a flight-grade force model: 8x8 EGM2008 on the IAU 2006/2000A rotation with EOP, Sun
+// and Moon (the field's workspace and the ephemeris nodes are sized at setup), and Levenberg-Marquardt:
+// 0 mallocs in solve() (exact count).
+TEST(OdBatch, SolveWithGravityFieldAndThirdBodiesDoesNotAllocate) {
+  satgnc::dynamics::ForceModel fm;
+  const auto gfc = std::make_shared<const satgnc::dynamics::GravityCoefficients>(
+      satgnc::dynamics::load_gfc(SATGNC_GFC_PATH, 8));
+  fm.mu = gfc->mu;
+  fm.gravity.emplace(gfc, 8, 8, rotation());
+  fm.third_body = satgnc::dynamics::ThirdBodies{};
+  fm.set_epoch(kEpoch);
+  const Vec6 x0 = circular(6378.137 + 600.0, 97.8 * 3.14159265358979 / 180.0, 1.0, 2.5);
+  // Data from the J2 model (misfit by the field's higher terms is irrelevant to counting mallocs).
+  Scenario sc = simulate(x0, 2, 3, 43200.0, 30.0, 23, zero_biases(2));
+  sc.problem.stations[1].estimate_range_bias = true;
+  od::BatchSettings settings;
+  settings.method = od::BatchMethod::levenberg_marquardt;
+  settings.max_iterations = 4;
+  od::BatchEstimator est(sc.problem, std::make_shared<od::Dop853StmPropagator>(fm), settings);
+  Vec6 guess = x0;
+  guess[1] += 2.0;
+  est.set_initial_guess(guess);
+  g_mallocs = 0;
+  g_count = true;
+  const od::BatchResult& r = est.solve();
+  g_count = false;
+  EXPECT_EQ(g_mallocs.load(), 0);
+  EXPECT_GE(r.iterations, 1);  // it ran: at least one accepted step
+  EXPECT_GE(r.info.evaluations, 2);
 }
 
 // Levenberg-Marquardt (Moré scaling) from a far guess: 800 km off in position, Gauss-Newton with
