@@ -165,7 +165,8 @@ void init_od_batch(py::module_& m) {
         if (method == "levenberg_marquardt")
           s.method = od::BatchMethod::levenberg_marquardt;
         else if (method != "gauss_newton")
-          throw py::value_error("method: must be 'gauss_newton' or 'levenberg_marquardt', got '" + method + "'");
+          throw py::value_error("method: must be 'gauss_newton' or 'levenberg_marquardt', got '" + method +
+                                "'");
         propagation::Dop853Settings ds;
         ds.rtol = rtol;
         ds.atol = atol;
