@@ -138,7 +138,8 @@ void init_od_batch(py::module_& m) {
          const std::vector<bool>& est_range, const std::vector<bool>& est_time,
          const std::vector<double>& range_bias, const std::vector<double>& time_bias,
          const std::vector<std::string>& names, int max_iterations, double sigma_tol, bool light_time,
-         bool troposphere, bool shapiro, double relative_humidity, double rtol, double atol) {
+         bool troposphere, bool shapiro, double relative_humidity, double rtol, double atol,
+         const std::string& method) {
         od::BatchProblem p;
         p.epoch = epoch;
         p.data = data;
@@ -161,6 +162,11 @@ void init_od_batch(py::module_& m) {
         s.troposphere = troposphere;
         s.shapiro = shapiro;
         s.relative_humidity = relative_humidity;
+        if (method == "levenberg_marquardt")
+          s.method = od::BatchMethod::levenberg_marquardt;
+        else if (method != "gauss_newton")
+          throw py::value_error("method: must be 'gauss_newton' or 'levenberg_marquardt', got '" + method +
+                                "'");
         propagation::Dop853Settings ds;
         ds.rtol = rtol;
         ds.atol = atol;
@@ -176,7 +182,7 @@ void init_od_batch(py::module_& m) {
       py::arg("estimate_range_bias"), py::arg("estimate_time_bias"), py::arg("range_bias"),
       py::arg("time_bias"), py::arg("names"), py::arg("max_iterations"), py::arg("sigma_tol"),
       py::arg("light_time"), py::arg("troposphere"), py::arg("shapiro"), py::arg("relative_humidity"),
-      py::arg("rtol"), py::arg("atol"),
+      py::arg("rtol"), py::arg("atol"), py::arg("method") = "gauss_newton",
       "Batch least squares (od/batch.hpp) on DOP853 with the force model; returns a dict (see "
       "satgnc.od.batch_estimate).");
 

@@ -4139,6 +4139,7 @@ def od_batch_estimate(
     relative_humidity: typing.SupportsFloat | typing.SupportsIndex,
     rtol: typing.SupportsFloat | typing.SupportsIndex,
     atol: typing.SupportsFloat | typing.SupportsIndex,
+    method: str = "gauss_newton",
 ) -> dict[str, typing.Any]:
     """
     Batch least squares (od/batch.hpp) on DOP853 with the force model; returns a dict (see

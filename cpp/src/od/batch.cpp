@@ -9,8 +9,10 @@
 #include <stdexcept>
 
 #include "detail/householder_qr.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 #include "satgnc/observation/light_time.hpp"
+#include "satgnc/propagation/dop853_arc.hpp"
 
 namespace satgnc::od {
 
@@ -31,15 +33,44 @@ Dop853StmPropagator::Dop853StmPropagator(const dynamics::ForceModel& model,
   propagation::dop853_validate_settings(settings_);
 }
 
+void Dop853StmPropagator::reserve(int max_times) {
+  core::require(max_times >= 0, "max_times", "must be >= 0");
+  const auto m = static_cast<std::size_t>(max_times);
+  if (back_t_.size() < m) {
+    back_t_.resize(m);
+    back_x_.resize(m);
+    back_p_.resize(m);
+  }
+}
+
 bool Dop853StmPropagator::propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) {
+  // The checks of propagate_dop853's validate_orbit_arc_input, as a status instead of an exception.
+  if (n < 0 || !x0.allFinite() || !(x0.head<3>().norm() > 0.0)) return false;
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(times[i]) || (i > 0 && times[i] < times[i - 1])) return false;
   try {
-    t_.assign(times, times + n);
-    const propagation::Trajectory tr = propagation::propagate_dop853(model_, x0, 0.0, t_, settings_, true);
-    if (tr.status != propagation::PropagationStatus::success || static_cast<int>(tr.states.size()) != n)
-      return false;
-    for (int i = 0; i < n; ++i) {
-      states[i] = tr.states[static_cast<std::size_t>(i)];
-      stms[i] = tr.stms[static_cast<std::size_t>(i)];
+    // Split as propagate_dop853 does: t >= 0 forward (ascending), t < 0 backward (descending), the
+    // backward arc first when there is one (the first requested time is then negative).
+    int k = 0;
+    while (k < n && times[k] < 0.0) ++k;
+    if (k > 0) {
+      reserve(k);  // grows only when setup reserved fewer (then allocates once)
+      for (int j = 0; j < k; ++j) back_t_[static_cast<std::size_t>(j)] = times[k - 1 - j];
+      const propagation::Dop853Info info =
+          propagation::propagate_dop853_arc(model_, x0, 0.0, back_t_.data(), static_cast<std::size_t>(k),
+                                            settings_, back_x_.data(), back_p_.data());
+      if (info.status != core::Dop853Status::success || info.outputs != static_cast<std::size_t>(k))
+        return false;
+      for (int j = 0; j < k; ++j) {
+        states[k - 1 - j] = back_x_[static_cast<std::size_t>(j)];
+        stms[k - 1 - j] = back_p_[static_cast<std::size_t>(j)];
+      }
+    }
+    if (k < n) {
+      const auto m = static_cast<std::size_t>(n - k);
+      const propagation::Dop853Info info =
+          propagation::propagate_dop853_arc(model_, x0, 0.0, times + k, m, settings_, states + k, stms + k);
+      if (info.status != core::Dop853Status::success || info.outputs != m) return false;
     }
     return true;
   } catch (...) {
@@ -52,6 +83,13 @@ void BatchSettings::validate() const {
   core::require(max_iterations >= 1, "max_iterations", "must be >= 1");
   core::require_positive(sigma_tol, "sigma_tol");
   core::require(max_halvings >= 0 && max_halvings <= 100, "max_halvings", "must be in [0, 100]");
+  core::require(method == BatchMethod::gauss_newton || method == BatchMethod::levenberg_marquardt, "method",
+                "must be gauss_newton or levenberg_marquardt");
+  core::require_positive(lm_lambda0, "lm_lambda0");
+  core::require(std::isfinite(lm_increase) && lm_increase > 1.0, "lm_increase", "must be > 1");
+  core::require(std::isfinite(lm_decrease) && lm_decrease > 0.0 && lm_decrease < 1.0, "lm_decrease",
+                "must be in (0, 1)");
+  core::require(lm_max_rejections >= 1, "lm_max_rejections", "must be >= 1");
   core::require(std::isfinite(rank_tol) && rank_tol > 0.0 && rank_tol < 1.0, "rank_tol", "must be in (0, 1)");
   core::require_nonnegative(min_radius, "min_radius");
   core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
@@ -216,6 +254,9 @@ struct BatchWorkspace {
   HouseholderQrWorkspace qr;
   Eigen::MatrixXd R, Rinv, Rs;
   Eigen::VectorXd c, colscale;
+  Eigen::MatrixXd L;             // LM: [R c; sqrt(lambda) D 0], 2P x (P + 1)
+  HouseholderQrWorkspace qr_lm;  // its QR
+  Eigen::VectorXd diag, Rdp;     // LM: Moré scaling D; R dp
   Eigen::JacobiSVD<Eigen::MatrixXd> svd;
   Vec6 guess = Vec6::Zero();
   BatchResult result;
@@ -301,6 +342,17 @@ struct BatchWorkspace {
     cond = sv[n_par - 1] > 0.0 ? smax / sv[n_par - 1] : std::numeric_limits<double>::infinity();
     return c.norm();
   }
+
+  // LM step: dp = argmin |R dp - c|^2 + lambda |D dp|^2 by QR of [R c; sqrt(lambda) D 0].
+  void damped_step(double lambda) {
+    L.setZero();
+    L.topLeftCorner(n_par, n_par) = R;
+    L.col(n_par).head(n_par) = c;
+    L.bottomLeftCorner(n_par, n_par).diagonal() = std::sqrt(lambda) * diag;
+    householder_qr_inplace(L, qr_lm);
+    dp = L.col(n_par).head(n_par);
+    L.topLeftCorner(n_par, n_par).triangularView<Eigen::Upper>().solveInPlace(dp);
+  }
 };
 
 }  // namespace detail
@@ -384,6 +436,7 @@ BatchEstimator::BatchEstimator(BatchProblem problem, std::shared_ptr<StmPropagat
   const std::size_t nt = w.times.size();
   w.states.resize(nt);
   w.stms.resize(nt);
+  w.propagator->reserve(static_cast<int>(nt));  // propagate() allocation-free inside solve()
   const Eigen::Index R_ = w.rows, P = np, N = w.n_meas;
   for (Eigen::VectorXd* v : {&w.p, &w.p_best, &w.p_trial, &w.dp, &w.c, &w.colscale}) v->setZero(P);
   w.r.setZero(R_);
@@ -400,6 +453,10 @@ BatchEstimator::BatchEstimator(BatchProblem problem, std::shared_ptr<StmPropagat
   w.Rinv.setZero(P, P);
   w.Rs.setZero(P, P);
   w.svd = Eigen::JacobiSVD<Eigen::MatrixXd>(P, P);
+  w.L.setZero(2 * P, P + 1);
+  w.qr_lm.resize(2 * P, P + 1);
+  w.diag.setZero(P);
+  w.Rdp.setZero(P);
   BatchResult& res = w.result;
   res.range_bias.setZero(static_cast<Eigen::Index>(ns));
   res.time_bias.setZero(static_cast<Eigen::Index>(ns));
@@ -435,7 +492,70 @@ bool BatchEstimator::evaluate(const Eigen::VectorXd& p, Eigen::VectorXd& r, Eige
   return w.eval(p, r, J, raw, os, cost) == OdStatus::converged;
 }
 
+namespace {
+
+// Accept a trial: the trial buffers become the current ones.
+void accept_trial(detail::BatchWorkspace& w, double& cost, double ct) {
+  w.p.swap(w.p_trial);
+  w.r.swap(w.r_trial);
+  w.J.swap(w.J_trial);
+  w.raw.swap(w.raw_trial);
+  w.ostat.swap(w.ostat_trial);
+  cost = ct;
+}
+
+// Full Gauss-Newton step dp = R^-1 c, then backtracking on the cost. True when a step was taken.
+bool gauss_newton_step(detail::BatchWorkspace& w, double& cost) {
+  w.dp = w.R.triangularView<Eigen::Upper>().solve(w.c);
+  double t = 1.0;
+  for (int h = 0; h <= w.settings.max_halvings; ++h, t *= 0.5) {
+    w.p_trial = w.p + t * w.dp;
+    double ct = 0.0;
+    const OdStatus st = w.eval(w.p_trial, w.r_trial, w.J_trial, w.raw_trial, w.ostat_trial, ct);
+    if (st == OdStatus::converged && ct < cost) {
+      accept_trial(w, cost, ct);
+      return true;
+    }
+  }
+  return false;
+}
+
+// One Levenberg-Marquardt iteration (file comment of batch.hpp). True when a step was taken.
+bool lm_step(detail::BatchWorkspace& w, double& cost, double& lambda, int P) {
+  constexpr double kLambdaFloor = 1e-12;  // below: pure Gauss-Newton steps
+  for (int j = 0; j < P; ++j) w.diag[j] = std::max(w.diag[j], w.R.col(j).norm());
+  for (int rej = 0; rej < w.settings.lm_max_rejections; ++rej) {
+    w.damped_step(lambda);
+    if (!w.dp.allFinite()) {
+      lambda = std::max(lambda * w.settings.lm_increase, kLambdaFloor);
+      continue;
+    }
+    w.Rdp.noalias() = w.R.triangularView<Eigen::Upper>() * w.dp;
+    const double pred = 0.5 * (w.c.squaredNorm() - (w.c - w.Rdp).squaredNorm());
+    w.p_trial = w.p + w.dp;
+    double ct = 0.0;
+    const OdStatus st = w.eval(w.p_trial, w.r_trial, w.J_trial, w.raw_trial, w.ostat_trial, ct);
+    if (st == OdStatus::converged && ct < cost) {
+      const double rho = pred > 0.0 ? (cost - ct) / pred : 0.0;
+      if (rho > 0.75 && rej == 0) {
+        lambda *= w.settings.lm_decrease;
+      } else {
+        const double q = 2.0 * rho - 1.0;
+        lambda *= std::max(1.0 / 3.0, 1.0 - q * q * q);
+      }
+      if (lambda < kLambdaFloor) lambda = 0.0;
+      accept_trial(w, cost, ct);
+      return true;
+    }
+    lambda = std::max(lambda * w.settings.lm_increase, kLambdaFloor);
+  }
+  return false;
+}
+
+}  // namespace
+
 const BatchResult& BatchEstimator::solve() noexcept {
+  SATGNC_NO_MALLOC_SCOPE;  // every buffer was sized at setup (the propagator's by reserve())
   const auto start = std::chrono::steady_clock::now();
   detail::BatchWorkspace& w = *w_;
   BatchResult& res = w.result;
@@ -455,6 +575,8 @@ const BatchResult& BatchEstimator::solve() noexcept {
   double cond = std::numeric_limits<double>::infinity();
   double cnorm = std::numeric_limits<double>::infinity();
   bool have_point = status == OdStatus::converged;
+  double lambda = w.settings.lm_lambda0;
+  w.diag.setZero();
   if (have_point) {
     res.history_cost[0] = cost;
     for (;;) {
@@ -471,25 +593,9 @@ const BatchResult& BatchEstimator::solve() noexcept {
         status = OdStatus::max_iterations;
         break;
       }
-      // Full Gauss-Newton step dp = R^-1 c, then backtracking on the cost.
-      w.dp = w.R.triangularView<Eigen::Upper>().solve(w.c);
-      double t = 1.0;
-      bool accepted = false;
-      for (int h = 0; h <= w.settings.max_halvings; ++h, t *= 0.5) {
-        w.p_trial = w.p + t * w.dp;
-        double ct = 0.0;
-        const OdStatus st = w.eval(w.p_trial, w.r_trial, w.J_trial, w.raw_trial, w.ostat_trial, ct);
-        if (st == OdStatus::converged && ct < cost) {
-          w.p.swap(w.p_trial);
-          w.r.swap(w.r_trial);
-          w.J.swap(w.J_trial);
-          w.raw.swap(w.raw_trial);
-          w.ostat.swap(w.ostat_trial);
-          cost = ct;
-          accepted = true;
-          break;
-        }
-      }
+      const bool accepted = w.settings.method == BatchMethod::levenberg_marquardt
+                                ? lm_step(w, cost, lambda, P)
+                                : gauss_newton_step(w, cost);
       if (!accepted) {  // no trial point lowered the cost (or none could be evaluated)
         status = OdStatus::stalled;
         break;

@@ -24,7 +24,7 @@ import numpy as np
 
 from .. import _satgnc
 from .._results import Result, adopt
-from .._validate import as_bool, as_int, as_real, as_real_array
+from .._validate import as_bool, as_int, as_real, as_real_array, one_of
 
 TrackingData = _satgnc.TrackingData
 
@@ -306,6 +306,7 @@ def batch_estimate(
     relative_humidity: float = 0.5,
     max_iterations: int = 25,
     sigma_tol: float = 1e-3,
+    method: str = "gauss_newton",
     rtol: float = 3e-12,
     atol: float = 3e-14,
     sigma_range: float = 1e-3,
@@ -323,7 +324,9 @@ def batch_estimate(
     ``True`` for all) whose bias is estimated; ``range_bias`` (km) / ``time_bias`` (s): fixed values
     or initial guesses (a number or one per station); ``light_time`` (False: the instantaneous
     geometry), ``troposphere``, ``shapiro``: model options of this run; ``max_iterations``,
-    ``sigma_tol`` (convergence: remaining step <= sigma_tol formal sigmas); ``rtol`` / ``atol``:
+    ``sigma_tol`` (convergence: remaining step <= sigma_tol formal sigmas); ``method``:
+    ``"gauss_newton"`` (backtracking) or ``"levenberg_marquardt"`` (Moré scaling; robust from a far
+    guess, e.g. hundreds of km off in a LEO); ``rtol`` / ``atol``:
     DOP853 tolerances. Raises ``ValueError`` / ``TypeError`` naming the argument."""
     ep, sts, names, td, fm = _setup(
         data,
@@ -358,6 +361,7 @@ def batch_estimate(
         as_real(relative_humidity, "relative_humidity", low=0.0, high=1.0),
         as_real(rtol, "rtol", positive=True),
         as_real(atol, "atol", nonnegative=True),
+        one_of(method, "method", ("gauss_newton", "levenberg_marquardt")),
     )
     return adopt(
         BatchResult,

@@ -9,7 +9,10 @@
 /// dynamics::ForceModel).
 ///
 /// Contract (core/solver.hpp): BatchSettings::validate() and the problem's checks run in the
-/// constructor, which also sizes the workspace; solve() is noexcept and returns BatchResult + info.
+/// constructor, which also sizes the workspace (and the propagator's, StmPropagator::reserve);
+/// solve() is noexcept, allocates nothing on the heap (SATGNC_NO_MALLOC_SCOPE; with
+/// Dop853StmPropagator and a force model whose evaluation does not allocate, e.g. point mass + J2:
+/// tests/cpp/test_od_batch.cpp counts 0 mallocs) and returns BatchResult + info.
 ///
 /// Model of a measurement i (reception tag t_i = epoch_i - epoch, s) with parameters
 /// p = [x0 (km, km/s), estimated biases]: x(t_i) = flow(x0, t_i) from the propagator, and
@@ -24,9 +27,14 @@
 /// (stated, checked at the returned iterate): |c| <= BatchSettings::sigma_tol, i.e. the iterate is
 /// within sigma_tol formal standard deviations of the minimum of the local linear model. A step is
 /// accepted when the cost 0.5 |r|^2 decreases (halving up to max_halvings times); otherwise the status
-/// is stalled. The returned iterate is always the best (lowest cost) one evaluated with a Jacobian,
-/// and the covariance (R^T R)^-1 (parameters' units), the correlation and the residuals are those of
-/// that iterate.
+/// is stalled. With BatchMethod::levenberg_marquardt the step instead minimizes
+/// |R dp - c|^2 + lambda |D dp|^2 (QR of [R c; sqrt(lambda) D 0], no normal equations) with Moré's
+/// scaling D = diag(max over the iterations of the column norms of R); lambda starts at lm_lambda0,
+/// follows the gain ratio rho = actual / predicted decrease (x lm_decrease when rho > 0.75 right away,
+/// else Nielsen's max(1/3, 1 - (2 rho - 1)^3); x lm_increase after a rejected trial), and below 1e-12 is
+/// 0 (pure Gauss-Newton end game). Same convergence test. The returned iterate is always the best (lowest
+/// cost) one evaluated with a Jacobian, and the covariance (R^T R)^-1 (parameters' units), the correlation
+/// and the residuals are those of that iterate.
 #include <Eigen/Dense>
 #include <memory>
 #include <string>
@@ -52,23 +60,32 @@ struct BatchWorkspace;  // src/od/detail/batch_workspace.hpp
 }  // namespace detail
 
 /// StmPropagator on satgnc's DOP853 (propagation/dop853.hpp) with any dynamics::ForceModel: states
-/// and STMs at the requested times (either side of t = 0). The force model's epoch (for the Sun,
-/// Moon, SRP) is the caller's: set it to the estimator's epoch. Allocates its output per call
-/// (propagate_dop853 returns a Trajectory).
+/// and STMs at the requested ascending times (either side of t = 0: a forward arc over t >= 0 and a
+/// backward arc over t < 0, as propagate_dop853 splits them, with the same arithmetic bit for bit).
+/// The force model's epoch (for the Sun, Moon, SRP) is the caller's: set it to the estimator's epoch.
+/// Allocation-free after reserve(n) (propagation/dop853_arc.hpp writes straight into the caller's
+/// arrays; only the backward arc needs the reversed buffers sized by reserve); a call with more
+/// backward times than reserved grows the buffers once. Not for concurrent use (one force-model
+/// workspace).
 class Dop853StmPropagator final : public StmPropagator {
  public:
   /// Validates the model and the settings (std::invalid_argument naming the field).
   explicit Dop853StmPropagator(const dynamics::ForceModel& model,
                                const propagation::Dop853Settings& settings = {});
-  /// False when the propagation fails or throws.
+  /// False when the input is invalid (non-finite, |r0| = 0, times not ascending), the propagation
+  /// fails or the force model throws.
   bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) override;
+  /// Size the backward-arc buffers for up to max_times times (>= 0).
+  void reserve(int max_times) override;
   /// The force model.
   const dynamics::ForceModel& model() const noexcept { return model_; }
 
  private:
   dynamics::ForceModel model_;
   propagation::Dop853Settings settings_;
-  std::vector<double> t_;
+  std::vector<double> back_t_;  // backward arc: times in decreasing order
+  std::vector<Vec6> back_x_;
+  std::vector<Mat6> back_p_;
 };
 
 /// A station of the batch problem: its ephemeris and its biases (each estimated or fixed).
@@ -90,12 +107,23 @@ struct BatchProblem {
   TrackingData data;                   ///< the measurements (time order)
 };
 
+/// Iteration of BatchEstimator::solve() (see the file comment).
+enum class BatchMethod {
+  gauss_newton,        ///< Gauss-Newton with backtracking (default)
+  levenberg_marquardt  ///< Levenberg-Marquardt with Moré scaling: robust from a far initial guess
+};
+
 /// Settings (defaults documented; validate() names the field).
 struct BatchSettings {
-  int max_iterations = 25;  ///< accepted Gauss-Newton steps, >= 1
+  BatchMethod method = BatchMethod::gauss_newton;  ///< iteration
+  int max_iterations = 25;                         ///< accepted steps, >= 1
   /// Convergence: the full Gauss-Newton step is at most this many formal sigmas long (|c| above), > 0.
   double sigma_tol = 1e-3;
-  int max_halvings = 30;    ///< line-search halvings of a step before the status is stalled, >= 0
+  int max_halvings = 30;       ///< Gauss-Newton: line-search halvings before the status is stalled, [0, 100]
+  double lm_lambda0 = 1e-3;    ///< LM: initial damping, relative to the Moré scaling, > 0
+  double lm_increase = 10.0;   ///< LM: damping factor after a rejected trial, > 1
+  double lm_decrease = 0.1;    ///< LM: damping factor after a very successful step (rho > 0.75), in (0, 1)
+  int lm_max_rejections = 30;  ///< LM: rejected trials in a row before the status is stalled, >= 1
   double rank_tol = 1e-12;  ///< singular values of the column-scaled R below rank_tol * s_max count as zero
   double min_radius = dynamics::earth::radius;  ///< km: an iterate with |r0| below it is not tried (diverged)
   /// Light-time models (observation::MeasurementModel); false: the instantaneous geometry at the tag

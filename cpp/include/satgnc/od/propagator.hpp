@@ -21,6 +21,10 @@ class StmPropagator {
   /// SATGNC_NO_MALLOC_SCOPE covers this call in guarded builds); an exception thrown here ends the
   /// evaluation as OdStatus::propagation_failed.
   virtual bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) = 0;
+  /// Setup hook: size any internal buffer for calls with up to max_times output times, so that
+  /// propagate() allocates nothing afterwards. Solvers call it once at setup (BatchEstimator's
+  /// constructor); the default does nothing.
+  virtual void reserve(int max_times) { static_cast<void>(max_times); }
 };
 
 /// Two-body propagation with the exact STM (universal-variable Kepler step of satgnc::propagation).
