@@ -159,7 +159,6 @@ def cone_plan(repeats: int = 5):
     cold starts) against Clarabel's own solve time (best of `repeats`, solver_stats.solve_time) in one
     run. Prints the status, both objectives and the ratio."""
     import cvxpy as cp
-
     from satgnc import guidance as g
 
     N, dt, n = 100, 12.0, 0.0011
@@ -183,8 +182,9 @@ def cone_plan(repeats: int = 5):
         prob.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
         tc.append(prob.solver_stats.solve_time)
     ref = float(prob.value)
+    rel = abs(r.objective - ref) / abs(ref)
     print(f"cone plan N={N}: satgnc {r.status} ({r.iterations} it, polished={r.polished}) objective "
-          f"{r.objective:.10g}, Clarabel {prob.status} {ref:.10g} (rel {abs(r.objective - ref) / abs(ref):.1e})")
+          f"{r.objective:.10g}, Clarabel {prob.status} {ref:.10g} (rel {rel:.1e})")
     print(f"  satgnc solve {t_ours * 1e3:.3f} ms (best of {repeats}), Clarabel solve {min(tc) * 1e3:.3f} ms "
           f"(best of {repeats}): ratio Clarabel / satgnc = {min(tc) / t_ours:.2f}")
 

@@ -219,8 +219,9 @@ def test_constraints_are_active():
     differs = 0
     for _ in range(10):
         kw = draw(rng, "half_space")
-        base = {k: v for k, v in kw.items() if k not in ("half_spaces", "state_lower", "state_upper",
-                                                        "state_box_nodes", "closing_velocity", "approach_cone")}
+        state_keys = ("half_spaces", "state_lower", "state_upper", "state_box_nodes", "closing_velocity",
+                      "approach_cone")
+        base = {k: v for k, v in kw.items() if k not in state_keys}
         r0 = g.solve_l1(**base, settings=dict(TIGHT, max_iterations=MAX_ITER))
         r1 = g.solve_l1(**kw, settings=dict(TIGHT, max_iterations=MAX_ITER))
         differs += (r1.objective - r0.objective) > 1e-6 * abs(r1.objective)
@@ -287,26 +288,37 @@ def test_existing_l1_numbers_unchanged_without_state_constraints():
     assert np.isnan(r.max_violation) and r.state_multipliers is None
 
 
+def _cone(**kw):
+    return dict(approach_cone={"nodes": [1], "axis": [1, 0, 0], "half_angle_deg": 30.0, **kw})
+
+
+def _hs(**kw):
+    return dict(half_spaces={"nodes": [1], "a": np.ones((1, 6)), "b": [0.0], **kw})
+
+
+NODES = r"nodes must be in 1..N = 10"
+
+
 @pytest.mark.parametrize("kwargs,match", [
-    (dict(approach_cone=dict(nodes=[1], axis=[1, 0, 0], half_angle_deg=0.0)), r"approach_cone.half_angle_deg: must be in \(0, 90\)"),
-    (dict(approach_cone=dict(nodes=[1], axis=[1, 0, 0], half_angle_deg=90.0)), r"approach_cone.half_angle_deg: must be in \(0, 90\)"),
-    (dict(approach_cone=dict(nodes=[1], axis=[1, 0, 0], half_angle_deg=120.0)), r"approach_cone.half_angle_deg"),
-    (dict(approach_cone=dict(nodes=[1], axis=[0, 0, 0], half_angle_deg=30.0)), r"approach_cone.axis: must be nonzero"),
-    (dict(approach_cone=dict(nodes=[0], axis=[1, 0, 0], half_angle_deg=30.0)), r"approach_cone.nodes: nodes must be in 1..N = 10"),
-    (dict(approach_cone=dict(nodes=[11], axis=[1, 0, 0], half_angle_deg=30.0)), r"approach_cone.nodes: nodes must be in 1..N = 10"),
-    (dict(approach_cone=dict(nodes=[1], axis=[1, 0, 0], half_angle_deg=30.0, apex=1.0)), r"approach_cone: unknown key 'apex'"),
-    (dict(state_lower=np.ones(6), state_upper=np.zeros(6)), r"state_lower: must be <= state_upper \(node 1, entry 0"),
+    (_cone(half_angle_deg=0.0), r"approach_cone.half_angle_deg: must be in \(0, 90\)"),
+    (_cone(half_angle_deg=90.0), r"approach_cone.half_angle_deg: must be in \(0, 90\)"),
+    (_cone(half_angle_deg=120.0), r"approach_cone.half_angle_deg"),
+    (_cone(axis=[0, 0, 0]), r"approach_cone.axis: must be nonzero"),
+    (_cone(nodes=[0]), r"approach_cone.nodes: " + NODES),
+    (_cone(nodes=[11]), r"approach_cone.nodes: " + NODES),
+    (_cone(apex=1.0), r"approach_cone: unknown key 'apex'"),
+    (dict(state_lower=np.ones(6), state_upper=np.zeros(6)),
+     r"state_lower: must be <= state_upper \(node 1, entry 0"),
     (dict(state_lower=np.zeros(5)), r"state_lower: must have shape \(6,\)"),
-    (dict(state_lower=-np.ones(6), state_box_nodes=[0, 3]), r"state_box_nodes: nodes must be in 1..N = 10"),
+    (dict(state_lower=-np.ones(6), state_box_nodes=[0, 3]), r"state_box_nodes: " + NODES),
     (dict(state_box_nodes=[1]), r"state_box_nodes: given without state_lower"),
-    (dict(half_spaces=dict(nodes=[11], a=np.ones((1, 6)), b=[0.0])), r"half_spaces.nodes: nodes must be in 1..N = 10"),
-    (dict(half_spaces=dict(nodes=[1], a=np.zeros((1, 6)), b=[0.0])), r"half_spaces.a: a row is zero"),
-    (dict(half_spaces=dict(nodes=[1, 2], a=np.ones((1, 6)), b=[0.0])), r"half_spaces.a: must have shape \(2, 6\)"),
-    (dict(half_spaces=dict(nodes=[1], a=np.ones((1, 6)))), r"half_spaces: missing key 'b'"),
+    (_hs(nodes=[11]), r"half_spaces.nodes: " + NODES),
+    (_hs(a=np.zeros((1, 6))), r"half_spaces.a: a row is zero"),
+    (_hs(nodes=[1, 2]), r"half_spaces.a: must have shape \(2, 6\)"),
+    (dict(half_spaces={"nodes": [1], "a": np.ones((1, 6))}), r"half_spaces: missing key 'b'"),
     (dict(closing_velocity=dict(nodes=[1], axis=[1, 0, 0], intercept=[1.0, 2.0], slope=[0.1])),
      r"closing_velocity.intercept: must have one entry per segment"),
-    (dict(half_spaces=dict(nodes=[1], a=np.ones((1, 6)), b=[1.0]), R=np.ones((3, 3))),
-     r"R: must be diagonal with state constraints"),
+    (dict(_hs(b=[1.0]), R=np.ones((3, 3))), r"R: must be diagonal with state constraints"),
 ])
 def test_bad_arguments_name_the_argument(kwargs, match):
     A, B = g.cw_discretize(0.001, 1.0, 10.0, "zoh")

@@ -419,7 +419,8 @@ struct StateAdmmWorkspace {
     const double hmax = h.maxCoeff();
     Eigen::VectorXd dp(nu);
     const bool by_weight = w.minCoeff() > 0.0;
-    for (int i = 0; i < nu; ++i) dp(i) = by_weight ? 1.0 / w(i) : 1.0 / std::sqrt(h(i) > 1e-12 * hmax ? h(i) : hmax);
+    for (int i = 0; i < nu; ++i)
+      dp(i) = by_weight ? 1.0 / w(i) : 1.0 / std::sqrt(h(i) > 1e-12 * hmax ? h(i) : hmax);
     constexpr double kCurvature = 256.0;
     const double hbar = (h.array() * dp.array().square()).mean();
     double wmax = 0.0;
@@ -459,8 +460,7 @@ struct StateAdmmWorkspace {
     Qx.middleCols(N * nx, nx) = prob.Qf;
     for (int j = 0; j < m; ++j)  // rank-one updates, element-wise (no temporary)
       for (int c2 = 0; c2 < nx; ++c2)
-        for (int r2 = 0; r2 < nx; ++r2)
-          Qx(r2, node(j) * nx + c2) += rho_row(j) * Crow(r2, j) * Crow(c2, j);
+        for (int r2 = 0; r2 < nx; ++r2) Qx(r2, node(j) * nx + c2) += rho_row(j) * Crow(r2, j) * Crow(c2, j);
     P.middleCols(N * nx, nx) = Qx.middleCols(N * nx, nx);
     for (int k = N - 1; k >= 0; --k) {
       auto Pn = P.middleCols((k + 1) * nx, nx);
@@ -730,12 +730,14 @@ namespace {
 void check_nodes(const std::vector<int>& nodes, int N, const std::string& name) {
   core::require(!nodes.empty(), name, "must list at least one node");
   for (int n : nodes)
-    core::require(n >= 1 && n <= N, name,
-                  "nodes must be in 1..N = " + std::to_string(N) + " (x_0 is given), got " + std::to_string(n));
+    core::require(
+        n >= 1 && n <= N, name,
+        "nodes must be in 1..N = " + std::to_string(N) + " (x_0 is given), got " + std::to_string(n));
 }
 
 void check_index(const std::array<int, 3>& idx, int nx, const std::string& name) {
-  for (int i : idx) core::require(i >= 0 && i < nx, name, "state indices must be in 0..nx-1 = " + std::to_string(nx - 1));
+  for (int i : idx)
+    core::require(i >= 0 && i < nx, name, "state indices must be in 0..nx-1 = " + std::to_string(nx - 1));
 }
 
 struct RowBuilder {
@@ -809,8 +811,9 @@ StateConstrainedAdmm::StateConstrainedAdmm(const LtvProblem& problem, const Stat
   for (std::size_t i = 0; i < cons.half_spaces.size(); ++i) {
     const auto& h = cons.half_spaces[i];
     const std::string nm = "half_spaces[" + std::to_string(i) + "]";
-    core::require(h.node >= 1 && h.node <= N, nm + ".node",
-                  "must be in 1..N = " + std::to_string(N) + " (x_0 is given), got " + std::to_string(h.node));
+    core::require(
+        h.node >= 1 && h.node <= N, nm + ".node",
+        "must be in 1..N = " + std::to_string(N) + " (x_0 is given), got " + std::to_string(h.node));
     core::require(h.a.size() == nx && h.a.allFinite() && h.a.norm() > 0.0, nm + ".a",
                   "must have nx finite entries, not all zero");
     core::require(std::isfinite(h.b), nm + ".b", "must be finite");
@@ -943,8 +946,10 @@ StateConstrainedAdmm::StateConstrainedAdmm(const LtvProblem& problem, const Stat
   R.state_multipliers.setZero(m);
   R.state_consensus.setZero(m);
   // base linear terms: -Q xf (k = 1..N-1), -Qf xf (k = N)
-  if (settings.equilibrate) w.equilibrate();
-  else w.du = Eigen::VectorXd::Ones(nu);
+  if (settings.equilibrate)
+    w.equilibrate();
+  else
+    w.du = Eigen::VectorXd::Ones(nu);
   w.qbase.setZero();
   for (int k = 1; k < N; ++k)
     if (w.has_Q) w.qbase.col(k).noalias() = -w.prob.Q * w.prob.xf;

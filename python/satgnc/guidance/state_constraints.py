@@ -148,7 +148,8 @@ def parse_state_constraints(nx: int, horizon: int, *, half_spaces: Any = None, s
                           _index3(d.get("position_index"), f"{nm}.position_index", nx, (0, 1, 2))))
     if closing_velocity is not None:
         for i, c in enumerate(_as_list(closing_velocity)):
-            nm = "closing_velocity" if not isinstance(closing_velocity, (list, tuple)) else f"closing_velocity[{i}]"
+            many = isinstance(closing_velocity, (list, tuple))
+            nm = f"closing_velocity[{i}]" if many else "closing_velocity"
             d = _keys(c, nm, _CV_KEYS, ("nodes", "axis", "intercept", "slope"))
             ic = np.atleast_1d(as_real_array(d["intercept"], f"{nm}.intercept", ndim=(0, 1))).astype(float)
             sl = np.atleast_1d(as_real_array(d["slope"], f"{nm}.slope", ndim=(0, 1))).astype(float)

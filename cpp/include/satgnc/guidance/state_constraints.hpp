@@ -56,10 +56,10 @@ struct StateBox {
 /// p = the position entries of the state, a the unit docking axis (the target's approach corridor,
 /// apex at apex_offset a). Second-order cone, exact projection.
 struct ApproachCone {
-  std::vector<int> nodes;                   ///< nodes in 1..N
-  Eigen::Vector3d axis{1.0, 0.0, 0.0};      ///< docking axis (normalized at setup; nonzero)
-  double half_angle = 0.5;                  ///< rad, in (0, pi/2)
-  double apex_offset = 0.0;                 ///< apex along the axis (position units)
+  std::vector<int> nodes;                      ///< nodes in 1..N
+  Eigen::Vector3d axis{1.0, 0.0, 0.0};         ///< docking axis (normalized at setup; nonzero)
+  double half_angle = 0.5;                     ///< rad, in (0, pi/2)
+  double apex_offset = 0.0;                    ///< apex along the axis (position units)
   std::array<int, 3> position_index{0, 1, 2};  ///< state entries of the position
 };
 
