@@ -7,6 +7,7 @@ paper rho; (3) time per cached-gain iteration vs its flop count and this machine
 (4) the seeded random suite of tests/python/test_l1_random.py (default settings): solved share,
 iterations and solve time (median / 95th percentile) against Clarabel's own solve time.
 `--suite` runs only (4); `--suite --method=ipm` (or admm) with another AdmmSettings.method.
+`--cone` runs only the issue 16 row: a cone-constrained plan (N = 100) against Clarabel's own solve time.
 """
 
 from __future__ import annotations
@@ -152,7 +153,46 @@ def random_suite(settings=None):
               f"{q(ratios, 5):.2f}x (5th percentile) |")
 
 
+def cone_plan(repeats: int = 5):
+    """Issue 16 bench row: a cone-constrained linear CW plan, N = 100 (the approach cone at every node,
+    soft terminal state, box-bounded L1), satgnc's StateConstrainedAdmm solve time (best of `repeats`,
+    cold starts) against Clarabel's own solve time (best of `repeats`, solver_stats.solve_time) in one
+    run. Prints the status, both objectives and the ratio."""
+    import cvxpy as cp
+    from satgnc import guidance as g
+
+    N, dt, n = 100, 12.0, 0.0011
+    A, B = g.cw_discretize(n, 1.0, dt, "zoh")
+    x0 = np.array([150.0, 25.0, -10.0, -0.08, 0.0, 0.01])
+    cone = dict(nodes=list(range(1, N + 1)), axis=[1.0, 0.0, 0.0], half_angle_deg=20.0, apex_offset=-20.0)
+    kw = dict(horizon=N, Qf=np.eye(6), l1_weights=np.ones(3), u_lower=-0.01 * np.ones(3),
+              u_upper=0.01 * np.ones(3))
+    st = dict(max_iterations=2000)  # default tolerances (eps_gap 1e-5)
+    s = L1Solver(A, B, x0, **kw, approach_cone=cone, settings=st)
+    r = s.solve()
+    t_ours = s._solver.solve_time_only(repeats)
+    X = cp.Variable((N + 1, 6))
+    U = cp.Variable((N, 3))
+    t = np.tan(np.radians(20.0))
+    cons = [X[0] == x0, X[1:].T == A @ X[:-1].T + B @ U.T, U <= 0.01, U >= -0.01]
+    cons += [cp.SOC(t * (X[k, 0] + 20.0), X[k, 1:3]) for k in range(1, N + 1)]
+    prob = cp.Problem(cp.Minimize(0.5 * cp.sum_squares(X[N]) + cp.sum(cp.abs(U))), cons)
+    tc = []
+    for _ in range(repeats):
+        prob.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
+        tc.append(prob.solver_stats.solve_time)
+    ref = float(prob.value)
+    rel = abs(r.objective - ref) / abs(ref)
+    print(f"cone plan N={N}: satgnc {r.status} ({r.iterations} it, polished={r.polished}) objective "
+          f"{r.objective:.10g}, Clarabel {prob.status} {ref:.10g} (rel {rel:.1e})")
+    print(f"  satgnc solve {t_ours * 1e3:.3f} ms (best of {repeats}), Clarabel solve {min(tc) * 1e3:.3f} ms "
+          f"(best of {repeats}): ratio Clarabel / satgnc = {min(tc) / t_ours:.2f}")
+
+
 def main():
+    if "--cone" in sys.argv:
+        cone_plan()
+        return
     if "--suite" in sys.argv:
         # --method=ipm / admm: the suite with another AdmmSettings.method (default admm_ipm)
         meth = [a.split("=", 1)[1] for a in sys.argv if a.startswith("--method=")]
