@@ -108,6 +108,56 @@ def _solve_admm(Ad, B, x0, xf, N, w, lo, hi, hs, box, settings):
     return r.status, np.asarray(r.Y), np.asarray(r.X_flown), float(r.solve_time)
 
 
+def _rows(idx: list[int], P: np.ndarray, keep_out: KeepOut, margin: float, tr: float
+          ) -> tuple[list[int], np.ndarray, np.ndarray]:
+    """Half-space rows of one SCP subproblem: per node the supporting plane, then the trust region
+    |p_i - P_i| <= tr as six half-spaces (+-e_i); (nodes, a (rows, 6), b (rows,))."""
+    a3, b3 = supporting_half_spaces(P, keep_out, margin)
+    nodes, A, b = [], [], []
+    for j, k in enumerate(idx):
+        row = np.zeros(6)
+        row[:3] = a3[j]
+        nodes.append(k)
+        A.append(row)
+        b.append(b3[j])
+        for i in range(3):
+            for s in (1.0, -1.0):
+                row = np.zeros(6)
+                row[i] = s
+                nodes.append(k)
+                A.append(row)
+                b.append(s * P[j, i] + tr)
+    return nodes, np.array(A), np.array(b)
+
+
+class _EngineSubproblem:
+    """The state-constrained ADMM built once (GUID16A: ``L1Solver(..., half_spaces=...)``); each SCP
+    iteration replaces its half-space rows in place (``set_half_space``, no allocation) and solves warm
+    from the previous iterate."""
+
+    def __init__(self, Ad, B, x0, xf, N, w, lo, hi, rows, settings):
+        nodes, A, b = rows
+        try:
+            self.s = L1Solver(Ad, B, x0, horizon=N, xf=xf, l1_weights=w, u_lower=lo, u_upper=hi,
+                              terminal_equality=True, settings=settings,
+                              half_spaces={"nodes": nodes, "a": A, "b": b})
+        except TypeError as e:
+            if "half_spaces" in str(e):
+                raise NotImplementedError("solver: 'admm' needs the ADMM state constraints (half_spaces; "
+                                          "parcel GUID16A); use solver='cvxpy'") from None
+            raise
+        self.first = True
+
+    def solve(self, rows):
+        nodes, A, b = rows
+        if not self.first:
+            for i, k in enumerate(nodes):
+                self.s.set_half_space(i, k, A[i], float(b[i]))
+        self.first = False
+        r = self.s.solve()
+        return r.status, np.asarray(r.Y), np.asarray(r.X_flown), float(r.solve_time)
+
+
 def _solve_cvxpy(Ad, B, x0, xf, N, w, lo, hi, hs, box, settings):
     import cvxpy as cp
 
@@ -174,6 +224,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     sub = _solve_admm if solver == "admm" else _solve_cvxpy
     t_wall = time.perf_counter()
     status, U, X, t_solve = sub(Ad, B, x0, xf, N, w, lo, hi, None, None, st)
+    engine = None
     if U is None or status not in ("solved", "solved_inaccurate"):
         raise ValueError(f"problem: the plan without the keep-out zone ended {status!r} (hint: a longer "
                            "horizon or larger thrust bounds)")
@@ -189,7 +240,13 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
         H = np.full((len(idx), 6), np.inf)
         L[:, :3] = P - tr
         H[:, :3] = P + tr
-        status, Un, Xn, ts = sub(Ad, B, x0, xf, N, w, lo, hi, (idx, a, b), (idx, L, H), st)
+        if solver == "admm" and X is not None:  # the same rows as half-spaces, one solver kept warm
+            rows = _rows(idx, P, keep_out, margin, tr)
+            if engine is None:
+                engine = _EngineSubproblem(Ad, B, x0, xf, N, w, lo, hi, rows, st)
+            status, Un, Xn, ts = engine.solve(rows)
+        else:
+            status, Un, Xn, ts = sub(Ad, B, x0, xf, N, w, lo, hi, (idx, a, b), (idx, L, H), st)
         t_solve += ts
         if Un is None or status not in ("solved", "solved_inaccurate"):
             break
