@@ -120,7 +120,7 @@ def _rows(idx: list[int], P: np.ndarray, keep_out: KeepOut, margin: float, tr: f
         nodes.append(k)
         A.append(row)
         b.append(b3[j])
-        for i in range(3):
+        for i in range(3 if math.isfinite(tr) else 0):
             for s in (1.0, -1.0):
                 row = np.zeros(6)
                 row[i] = s
@@ -146,14 +146,14 @@ class _EngineSubproblem:
                 raise NotImplementedError("solver: 'admm' needs the ADMM state constraints (half_spaces; "
                                           "parcel GUID16A); use solver='cvxpy'") from None
             raise
-        self.first = True
+        self.A, self.b = A.copy(), b.copy()
 
     def solve(self, rows):
         nodes, A, b = rows
-        if not self.first:
-            for i, k in enumerate(nodes):
-                self.s.set_half_space(i, k, A[i], float(b[i]))
-        self.first = False
+        # only the rows that moved (each set_half_space refactors the Riccati gains)
+        for i in np.flatnonzero(np.any(A != self.A, axis=1) | (b != self.b)):
+            self.s.set_half_space(int(i), nodes[i], A[i], float(b[i]))
+        self.A[:], self.b[:] = A, b
         r = self.s.solve()
         return r.status, np.asarray(r.Y), np.asarray(r.X_flown), float(r.solve_time)
 
@@ -192,7 +192,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     """Fuel-optimal plan from ``problem.x0`` to the hold point ``xf`` (6,) m, m/s (default: zeros, which
     is inside a zone centred on the target: then pass ``nodes`` to exempt the final approach) that stays
     out of ``keep_out`` at ``nodes`` (default 1..N), by SCP (module docstring). ``trust_radius`` (m,
-    default: 2 x the largest semi-axis); ``truth``: ``TwoSatelliteParams`` of the check flight (default
+    default: 2 x the largest semi-axis; ``math.inf``: none, the fuel still never rises); ``truth``: ``TwoSatelliteParams`` of the check flight (default
     J2 + drag, the problem's mu and mass; ``False`` skips the flight)."""
     from .problem import satellite_params
 
@@ -214,7 +214,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     if float(keep_out.rho(np.asarray(problem.x0)[:3])) < 1.0:
         raise ValueError("problem.x0: the start lies inside the keep-out zone")
     tr = (2.0 * float(keep_out.semi_axes.max()) if trust_radius is None
-          else as_real(trust_radius, "trust_radius", positive=True))
+          else as_real(trust_radius, "trust_radius", positive=True, finite=False))
     max_iterations = as_int(max_iterations, "max_iterations", low=1, high=10**4)
     tol = as_real(tol, "tol", positive=True)
     Ad, B, lo, hi = _controls(problem, layout)
