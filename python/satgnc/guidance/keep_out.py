@@ -192,7 +192,8 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     """Fuel-optimal plan from ``problem.x0`` to the hold point ``xf`` (6,) m, m/s (default: zeros, which
     is inside a zone centred on the target: then pass ``nodes`` to exempt the final approach) that stays
     out of ``keep_out`` at ``nodes`` (default 1..N), by SCP (module docstring). ``trust_radius`` (m,
-    default: 2 x the largest semi-axis; ``math.inf``: none, the fuel still never rises); ``truth``: ``TwoSatelliteParams`` of the check flight (default
+    default: 2 x the largest semi-axis; ``math.inf``: none, the fuel still never rises); ``truth``:
+    ``TwoSatelliteParams`` of the check flight (default
     J2 + drag, the problem's mu and mass; ``False`` skips the flight)."""
     from .problem import satellite_params
 
