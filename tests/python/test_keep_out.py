@@ -77,3 +77,14 @@ def test_bad_input():
     with pytest.raises(TypeError) as e:
         keep_out_plan(pb, 40.0, xf=XF)
     assert str(e.value) == "keep_out: must be a KeepOut, got float"
+
+
+def test_without_trust_region_the_same_plan():
+    # trust_radius = inf: no trust rows; the iterates are still feasible and the fuel still never rises,
+    # and on this case they reach the same optimum as with the trust region (1e-6 relative)
+    pb = problem()
+    ko = KeepOut.sphere(40.0)
+    a = keep_out_plan(pb, ko, xf=XF, solver="cvxpy", truth=False)
+    b = keep_out_plan(pb, ko, xf=XF, solver="cvxpy", truth=False, trust_radius=float("inf"))
+    assert b.converged and b.satisfied_nodes
+    assert abs(a.fuel - b.fuel) <= 1e-6 * a.fuel
