@@ -14,6 +14,7 @@ void init_ensemble(pybind11::module_& m);
 void init_od(pybind11::module_& m);
 void init_guidance(pybind11::module_& m);
 void init_guidance_nonlinear(pybind11::module_& m);
+void init_guidance_state(pybind11::module_& m);
 void init_analysis(pybind11::module_& m);
 void init_io(pybind11::module_& m);
 void init_observation(pybind11::module_& m);
@@ -36,6 +37,7 @@ PYBIND11_MODULE(_satgnc, m) {
   b::init_od(m);
   b::init_guidance(m);
   b::init_guidance_nonlinear(m);
+  b::init_guidance_state(m);
   b::init_analysis(m);
   b::init_io(m);
   b::init_observation(m);

@@ -93,6 +93,7 @@ __all__: list[str] = [
     "ShortArcStmPropagator",
     "SolarRadiationPressure",
     "SpaceWeather",
+    "StateConstrainedAdmm",
     "Station",
     "StationEphemeris",
     "StmPropagator",
@@ -3276,6 +3277,46 @@ class ScpSolver:
     def X(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]: ...
     @property
     def info(self) -> ScpInfo: ...
+
+class StateConstrainedAdmm:
+    """
+    L1 ADMM with state constraints (guidance/state_constraints.hpp). half_spaces: [(node, a, b)]; boxes:
+    [(nodes, lower, upper)]; cones: [(nodes, axis, half_angle_rad, apex_offset, position_index)];
+    closing_velocity: [(nodes, axis, intercept, slope, position_index, velocity_index)].
+    """
+    def __init__(
+        self,
+        problem: LtvProblem,
+        half_spaces: list[typing.Any],
+        boxes: list[typing.Any],
+        cones: list[typing.Any],
+        closing_velocity: list[typing.Any],
+        settings: AdmmSettings,
+    ) -> None: ...
+    def cold_start(self) -> None: ...
+    def set_half_space(
+        self,
+        i: typing.SupportsInt | typing.SupportsIndex,
+        node: typing.SupportsInt | typing.SupportsIndex,
+        a: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"],
+        b: typing.SupportsFloat | typing.SupportsIndex,
+    ) -> bool: ...
+    def set_x0(self, x0: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]) -> bool: ...
+    def solve(self) -> dict[str, typing.Any]: ...
+    def solve_time_only(self, repeats: typing.SupportsInt | typing.SupportsIndex) -> float: ...
+    def violation(
+        self, X: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.f_contiguous"]
+    ) -> float: ...
+    @property
+    def horizon(self) -> int: ...
+    @property
+    def nu(self) -> int: ...
+    @property
+    def nx(self) -> int: ...
+    @property
+    def row_nodes(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]: ...
+    @property
+    def rows(self) -> int: ...
 
 class ObservationStatus:
     """

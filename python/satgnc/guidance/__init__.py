@@ -181,6 +181,12 @@ class L1Result(Result):
     ipm_iterations: int = 0
     #: the plan is the interior-point method's, "solved" by the same gap test as ADMM's
     ipm_solved: bool = False
+    #: state constraints only (issue 16): largest violation of a constraint row by X_flown (state
+    #: units; cones: distance to the surface) and its tolerance eps_abs + eps_rel ||X_flown||_inf
+    max_violation: float = float("nan")
+    violation_tolerance: float = float("nan")
+    #: state constraints only: multipliers of the constraint rows (unit-norm rows; see docs/guidance.md)
+    state_multipliers: np.ndarray | None = None
 
     @property
     def converged(self) -> bool:
@@ -234,11 +240,20 @@ class L1Solver:
       group_l2_weight: weight of ||u_k||_2 (one gimballed engine);
       u_lower/u_upper: (nu,) per-axis bounds; u_norm_max: ||u_k||_2 bound (group-L2 only);
       terminal_equality: enforce x_N = xf exactly; settings: dict or AdmmSettings.
+    State constraints (issue 16; see :func:`satgnc.guidance.state_constraints.parse_state_constraints`):
+      half_spaces: dict nodes (M,), a (M, nx), b (M,): a_i' x_{node_i} <= b_i;
+      state_lower/state_upper: (nx,) or (len(nodes), nx) bounds at state_box_nodes (default 1..N);
+      approach_cone: dict nodes, axis (3,), half_angle_deg in (0, 90), apex_offset, position_index;
+      closing_velocity: dict nodes, axis, intercept, slope (|a.v| <= min_i(intercept_i + slope_i a.p)).
+      With any of them the state-constrained ADMM runs (C++ StateConstrainedAdmm; diagonal R, no
+      group-L2 / ball, residual rule; the IPM endgame and the polish do not apply).
     """
 
     def __init__(self, A, B, x0, *, horizon: int | None = None, c=None, xf=None, Qf=None, Q=None, R=None,
                  l1_weights=None, group_l2_weight: float = 0.0, u_lower=None, u_upper=None,
-                 u_norm_max: float = 0.0, terminal_equality: bool = False, settings=None):
+                 u_norm_max: float = 0.0, terminal_equality: bool = False, settings=None,
+                 half_spaces=None, state_lower=None, state_upper=None, state_box_nodes=None,
+                 approach_cone=None, closing_velocity=None):
         A = _array(A, "A", (2, 3))
         B = _array(B, "B", (2, 3))
         if A.ndim == 3 and horizon is None:
@@ -297,6 +312,23 @@ class L1Solver:
             raise ValueError(f"settings.rho: must be finite and > 0, got {st.rho}")
         self.nx, self.nu, self.horizon = nx, nu, horizon
         self._counts = (len(As), len(Bs), len(cs))
+        from .state_constraints import parse_state_constraints
+        sc = parse_state_constraints(nx, horizon, half_spaces=half_spaces, state_lower=state_lower,
+                                     state_upper=state_upper, state_box_nodes=state_box_nodes,
+                                     approach_cone=approach_cone, closing_velocity=closing_velocity)
+        self._state_constrained = sc is not None
+        if sc is not None:
+            if st.stopping != _satgnc.StoppingRule.residuals:
+                raise ValueError("settings.stopping: state constraints need the residual rule")
+            if R.size and np.any(R != np.diag(np.diag(R))):
+                raise ValueError("R: must be diagonal with state constraints (closed-form prox)")
+            if group_l2_weight != 0 or u_norm_max != 0:
+                raise ValueError("group_l2_weight/u_norm_max: not supported with state constraints")
+            prob = _satgnc.LtvProblem(A=As, B=Bs, c=cs, horizon=horizon, x0=x0, xf=xf, Qf=Qf, Q=Q, R=R,
+                                      l1_weights=w, u_lower=lo, u_upper=hi,
+                                      terminal_equality=bool(terminal_equality))
+            self._solver = _satgnc.StateConstrainedAdmm(prob, *sc, st)
+            return
         try:
             self._solver = _satgnc.AdmmSolver(As, Bs, cs, horizon, x0, xf, Qf, Q, R, w,
                                               float(group_l2_weight), lo, hi, float(u_norm_max),
@@ -328,10 +360,24 @@ class L1Solver:
             primal_objective=d["primal_objective"], dual_objective=d["dual_objective"],
             duality_gap=d["duality_gap"], certified=d["certified"],
             infeasibility_certificate=d["infeasibility_certificate"],
-            ipm_iterations=d["ipm_iterations"], ipm_solved=d["ipm_solved"])
+            ipm_iterations=d["ipm_iterations"], ipm_solved=d["ipm_solved"],
+            **({"max_violation": d["max_violation"], "violation_tolerance": d["violation_tolerance"],
+                "state_multipliers": d["state_multipliers"]} if "max_violation" in d else {}))
+
+    def set_half_space(self, i: int, node: int, a, b: float) -> None:
+        """Replace half-space ``i`` (its row in ``half_spaces``) by a' x_node <= b, without allocation
+        (sequential convex programming); the next solve starts warm from the last iterate."""
+        if not self._state_constrained:
+            raise ValueError("half_spaces: the solver was built without half_spaces")
+        a = _array(a, "a", 1, (self.nx,))
+        if not self._solver.set_half_space(_v.as_int(i, "i"), _v.as_int(node, "node"), a, as_real(b, "b")):
+            raise ValueError(f"i/node/a: half-space {i} at node {node} rejected (index beyond half_spaces, "
+                             f"node outside 1..{self.horizon} or a = 0)")
 
     def warm_start(self, Y, Lambda) -> None:
         """Start the next solve from Y, Lambda (N, nu) each, e.g. a shifted previous solution."""
+        if self._state_constrained:
+            raise ValueError("warm_start: with state constraints the solver restarts from its last iterate")
         Y = _array(Y, "Y", 2, (self.horizon, self.nu))
         L = _array(Lambda, "Lambda", 2, (self.horizon, self.nu))
         self._solver.warm_start(np.ascontiguousarray(Y.T), np.ascontiguousarray(L.T))
@@ -350,6 +396,8 @@ class L1Solver:
         must have been built time-varying (N matrices each), and c is required exactly when c was
         given then. The cached factorization is refreshed without allocation; the warm start is kept.
         """
+        if self._state_constrained:
+            raise ValueError("update_dynamics: not supported with state constraints yet")
         na, nb, nc = self._counts
         N, nx, nu = self.horizon, self.nx, self.nu
         if na != N or nb != N or nc not in (0, N):

@@ -1,0 +1,100 @@
+// State-constrained L1 ADMM (guidance/state_constraints.hpp): no allocation in solve() and in
+// set_half_space(), the polish certificate on a CW plan with an active half-space, and setup errors
+// naming the field. The Clarabel comparisons are in tests/python/test_l1_state_constraints.py.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "malloc_counter.hpp"
+#include "satgnc/dynamics/cw.hpp"
+#include "satgnc/guidance/state_constraints.hpp"
+
+namespace {
+using satgnc::guidance::AdmmSettings;
+using satgnc::guidance::AdmmStatus;
+using satgnc::guidance::LtvProblem;
+using satgnc::guidance::StateConstrainedAdmm;
+using satgnc::guidance::StateConstraints;
+
+LtvProblem cw_problem(int N) {
+  const satgnc::dynamics::CwModel model(0.0011, 1.0);
+  const auto d = satgnc::dynamics::cw_discretize_zoh(model, 30.0);
+  LtvProblem p;
+  p.dynamics.A = {Eigen::MatrixXd(d.Ad)};
+  p.dynamics.B = {Eigen::MatrixXd(d.Bd)};
+  p.dynamics.horizon = N;
+  p.x0 = (Eigen::VectorXd(6) << 100.0, 20.0, -10.0, 0.01, 0.0, 0.005).finished();
+  p.Qf = Eigen::MatrixXd::Identity(6, 6);
+  p.l1_weights = Eigen::VectorXd::Constant(3, 0.5);
+  p.u_lower = Eigen::VectorXd::Constant(3, -0.02);
+  p.u_upper = Eigen::VectorXd::Constant(3, 0.02);
+  return p;
+}
+
+StateConstraints half_spaces(int N, double b) {
+  StateConstraints c;
+  for (int k = N / 2; k <= N; ++k) {
+    Eigen::VectorXd a = Eigen::VectorXd::Zero(6);
+    a(0) = -1.0;  // x_k[0] >= -b
+    c.half_spaces.push_back({k, a, b});
+  }
+  c.cones.push_back({{N}, Eigen::Vector3d(1.0, 0.0, 0.0), 0.7, -50.0, {0, 1, 2}});
+  return c;
+}
+}  // namespace
+
+TEST(StateAdmm, SolveAndHalfSpaceUpdateDoNotAllocate) {
+  const int N = 20;
+  AdmmSettings st;
+  st.max_iterations = 600;  // the count covers iterations, rho updates, polish attempts, gap checks
+  StateConstrainedAdmm s(cw_problem(N), half_spaces(N, -2.0), st);
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(6);
+  a(0) = -1.0;
+  g_mallocs = 0;
+  g_count = true;
+  s.solve();
+  const bool ok = s.set_half_space(0, N / 2, a, 1.0);
+  s.solve();
+  g_count = false;
+  EXPECT_TRUE(ok);
+  EXPECT_EQ(g_mallocs.load(), 0);
+}
+
+TEST(StateAdmm, StatusIsHonest) {
+  // whatever the outcome, "solved" only with the violation and gap tests holding on the result
+  const int N = 20;
+  AdmmSettings st;
+  st.eps_gap = 1e-8;
+  StateConstrainedAdmm s(cw_problem(N), half_spaces(N, -2.0), st);
+  const auto& r = s.solve();
+  EXPECT_TRUE(std::isfinite(r.info.objective));
+  EXPECT_LE(r.info.dual_objective, r.info.objective + 1e-8 * std::abs(r.info.objective));
+  if (r.info.status == AdmmStatus::solved) {
+    EXPECT_LE(r.max_violation, r.violation_tolerance);
+    EXPECT_LE(std::abs(r.info.duality_gap), 1e-8);
+    EXPECT_NEAR(s.violation(r.X_flown), r.max_violation, 1e-12);
+  }
+}
+
+TEST(StateAdmm, SetupErrorsNameTheField) {
+  const int N = 10;
+  auto expect_msg = [&](StateConstraints c, const std::string& what) {
+    try {
+      StateConstrainedAdmm s(cw_problem(N), c);
+      ADD_FAILURE() << "no throw for " << what;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  StateConstraints c1;
+  c1.cones.push_back({{1}, Eigen::Vector3d(1, 0, 0), 2.0, 0.0, {0, 1, 2}});
+  expect_msg(c1, "cones[0].half_angle");
+  StateConstraints c2;
+  c2.half_spaces.push_back({0, Eigen::VectorXd::Ones(6), 1.0});
+  expect_msg(c2, "half_spaces[0].node");
+  StateConstraints c3;
+  c3.boxes.push_back({{1}, Eigen::VectorXd::Ones(6), Eigen::VectorXd::Zero(6)});
+  expect_msg(c3, "boxes[0].lower");
+}
