@@ -35,7 +35,27 @@ def failure_table_row() -> dict:
             "replan_solve_ms": solve_ms}
 
 
+def keep_out_row() -> dict:
+    """The keep-out SCP plan of tests/python/test_keep_out.py (V-bar 150 m -> hold 60 m behind in 600 s
+    past a 40 m sphere, N = 20) on the engine subproblem; best of 3 wall time without the truth flight."""
+    from satgnc.guidance.keep_out import keep_out_plan
+    from satgnc.guidance.safety import KeepOut
+
+    pb = RendezvousProblem(mu=MU, radius=R, mass=100.0, x0=np.array([150.0, 0, 0, 0, 0, 0]), tf=600.0,
+                           horizon=20, alpha=1.0, Qf=0.0, u_max=0.5, terminal_equality=True)
+    best, r = float("inf"), None
+    for _ in range(3):
+        try:
+            r = keep_out_plan(pb, KeepOut.sphere(40.0), xf=[-60.0, 0, 0, 0, 0, 0], truth=False)
+        except NotImplementedError as e:  # the ADMM half-spaces (parcel GUID16A) not in this build
+            return {"missing": str(e)}
+        best = min(best, r.wall_time)
+    assert r is not None
+    return {"wall_s": best, "iterations": r.iterations, "status": r.status, "solve_s": r.solve_time}
+
+
 def main() -> None:
+    k = keep_out_row()
     r = failure_table_row()
     print("\n| issue 16 bench | value | target |")
     print("|---|---|---|")
@@ -43,6 +63,11 @@ def main() -> None:
           f"| {r['wall_s']:.3f} s | < 1 s |")
     print(f"| same, without the truth flights | {r['wall_no_truth_s']:.3f} s | |")
     print(f"| of which the {r['rows']} L1 replans' solve time | {r['replan_solve_ms']:.1f} ms | |")
+    if "missing" in k:
+        print(f"| keep-out SCP plan (engine subproblem) | not run: {k['missing']} | < 20 ms |")
+    else:
+        print(f"| keep-out SCP plan, {k['iterations']} SCP iterations ({k['status']}) | "
+              f"{k['wall_s'] * 1e3:.1f} ms wall ({k['solve_s'] * 1e3:.1f} ms in the subproblems) | < 20 ms |")
 
 
 if __name__ == "__main__":

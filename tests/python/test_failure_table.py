@@ -149,3 +149,16 @@ def test_bad_arguments():
     with pytest.raises(TypeError) as e:
         failure_table(problem(), lay, failures="01")
     assert str(e.value) == "failures: must be a list of lists of thruster indices, got str"
+
+
+def test_rows_agree_with_the_analysis_loss_table():
+    # the analysis room's own loss table on the same (A, B D): every single and pair loss of six axis
+    # thrusters has the same rank and verdict as the failure table's row (the same staircase test)
+    lay = axis_layout(1.0)
+    A1, B1 = cw_matrices(1.0, 1.0)
+    ref = {tuple(r.channels): r for r in analysis.loss_table(A1, B1 @ lay.allocation())}
+    t = failure_table(problem(), lay, pairs=True, fly_truth=False)
+    assert len(t.rows) == 22
+    for r in t.rows:
+        kept = tuple(i for i, n in enumerate(lay.names) if n not in r.failed)
+        assert (r.rank, r.verdict) == (ref[kept].rank, ref[kept].verdict)

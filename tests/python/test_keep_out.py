@@ -77,3 +77,29 @@ def test_bad_input():
     with pytest.raises(TypeError) as e:
         keep_out_plan(pb, 40.0, xf=XF)
     assert str(e.value) == "keep_out: must be a KeepOut, got float"
+
+
+def test_without_trust_region_the_same_plan():
+    # trust_radius = inf: no trust rows; the iterates are still feasible and the fuel still never rises,
+    # and on this case they reach the same optimum as with the trust region (1e-6 relative)
+    pb = problem()
+    ko = KeepOut.sphere(40.0)
+    a = keep_out_plan(pb, ko, xf=XF, solver="cvxpy", truth=False)
+    b = keep_out_plan(pb, ko, xf=XF, solver="cvxpy", truth=False, trust_radius=float("inf"))
+    assert b.converged and b.satisfied_nodes
+    assert abs(a.fuel - b.fuel) <= 1e-6 * a.fuel
+
+
+def test_keep_out_scp_on_the_engine_matches_clarabel():
+    # the same SCP with satgnc's state-constrained ADMM (GUID16A's half-spaces and boxes) as subproblem
+    pb = problem()
+    ko = KeepOut.sphere(40.0)
+    ref = keep_out_plan(pb, ko, xf=XF, solver="cvxpy", truth=False)
+    r = keep_out_plan(pb, ko, xf=XF, solver="admm")
+    assert r.converged and r.status == "solved"
+    assert r.node_rho[1:].min() >= 1.05 - 1e-6  # the engine's violation tolerance is 1e-7 relative
+    assert r.satisfied_nodes and r.satisfied_flown
+    # each subproblem is a certified optimum of the same convex problem as Clarabel's: the SCP iterates,
+    # and so the final fuel, agree to the subproblems' tolerance compounded over the iterations (1e-5)
+    assert r.iterations == ref.iterations
+    assert abs(r.fuel - ref.fuel) <= 1e-5 * ref.fuel

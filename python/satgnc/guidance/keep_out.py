@@ -108,6 +108,56 @@ def _solve_admm(Ad, B, x0, xf, N, w, lo, hi, hs, box, settings):
     return r.status, np.asarray(r.Y), np.asarray(r.X_flown), float(r.solve_time)
 
 
+def _rows(idx: list[int], P: np.ndarray, keep_out: KeepOut, margin: float, tr: float
+          ) -> tuple[list[int], np.ndarray, np.ndarray]:
+    """Half-space rows of one SCP subproblem: per node the supporting plane, then the trust region
+    |p_i - P_i| <= tr as six half-spaces (+-e_i); (nodes, a (rows, 6), b (rows,))."""
+    a3, b3 = supporting_half_spaces(P, keep_out, margin)
+    nodes, A, b = [], [], []
+    for j, k in enumerate(idx):
+        row = np.zeros(6)
+        row[:3] = a3[j]
+        nodes.append(k)
+        A.append(row)
+        b.append(b3[j])
+        for i in range(3 if math.isfinite(tr) else 0):
+            for s in (1.0, -1.0):
+                row = np.zeros(6)
+                row[i] = s
+                nodes.append(k)
+                A.append(row)
+                b.append(s * P[j, i] + tr)
+    return nodes, np.array(A), np.array(b)
+
+
+class _EngineSubproblem:
+    """The state-constrained ADMM built once (GUID16A: ``L1Solver(..., half_spaces=...)``); each SCP
+    iteration replaces its half-space rows in place (``set_half_space``, no allocation) and solves warm
+    from the previous iterate."""
+
+    def __init__(self, Ad, B, x0, xf, N, w, lo, hi, rows, settings):
+        nodes, A, b = rows
+        try:
+            self.s = L1Solver(Ad, B, x0, horizon=N, xf=xf, l1_weights=w, u_lower=lo, u_upper=hi,
+                              terminal_equality=True, settings=settings,
+                              half_spaces={"nodes": nodes, "a": A, "b": b})
+        except TypeError as e:
+            if "half_spaces" in str(e):
+                raise NotImplementedError("solver: 'admm' needs the ADMM state constraints (half_spaces; "
+                                          "parcel GUID16A); use solver='cvxpy'") from None
+            raise
+        self.A, self.b = A.copy(), b.copy()
+
+    def solve(self, rows):
+        nodes, A, b = rows
+        # only the rows that moved (each set_half_space refactors the Riccati gains)
+        for i in np.flatnonzero(np.any(A != self.A, axis=1) | (b != self.b)):
+            self.s.set_half_space(int(i), nodes[i], A[i], float(b[i]))
+        self.A[:], self.b[:] = A, b
+        r = self.s.solve()
+        return r.status, np.asarray(r.Y), np.asarray(r.X_flown), float(r.solve_time)
+
+
 def _solve_cvxpy(Ad, B, x0, xf, N, w, lo, hi, hs, box, settings):
     import cvxpy as cp
 
@@ -142,7 +192,8 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     """Fuel-optimal plan from ``problem.x0`` to the hold point ``xf`` (6,) m, m/s (default: zeros, which
     is inside a zone centred on the target: then pass ``nodes`` to exempt the final approach) that stays
     out of ``keep_out`` at ``nodes`` (default 1..N), by SCP (module docstring). ``trust_radius`` (m,
-    default: 2 x the largest semi-axis); ``truth``: ``TwoSatelliteParams`` of the check flight (default
+    default: 2 x the largest semi-axis; ``math.inf``: none, the fuel still never rises); ``truth``:
+    ``TwoSatelliteParams`` of the check flight (default
     J2 + drag, the problem's mu and mass; ``False`` skips the flight)."""
     from .problem import satellite_params
 
@@ -164,7 +215,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     if float(keep_out.rho(np.asarray(problem.x0)[:3])) < 1.0:
         raise ValueError("problem.x0: the start lies inside the keep-out zone")
     tr = (2.0 * float(keep_out.semi_axes.max()) if trust_radius is None
-          else as_real(trust_radius, "trust_radius", positive=True))
+          else as_real(trust_radius, "trust_radius", positive=True, finite=False))
     max_iterations = as_int(max_iterations, "max_iterations", low=1, high=10**4)
     tol = as_real(tol, "tol", positive=True)
     Ad, B, lo, hi = _controls(problem, layout)
@@ -174,6 +225,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     sub = _solve_admm if solver == "admm" else _solve_cvxpy
     t_wall = time.perf_counter()
     status, U, X, t_solve = sub(Ad, B, x0, xf, N, w, lo, hi, None, None, st)
+    engine = None
     if U is None or status not in ("solved", "solved_inaccurate"):
         raise ValueError(f"problem: the plan without the keep-out zone ended {status!r} (hint: a longer "
                            "horizon or larger thrust bounds)")
@@ -189,7 +241,13 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
         H = np.full((len(idx), 6), np.inf)
         L[:, :3] = P - tr
         H[:, :3] = P + tr
-        status, Un, Xn, ts = sub(Ad, B, x0, xf, N, w, lo, hi, (idx, a, b), (idx, L, H), st)
+        if solver == "admm" and X is not None:  # the same rows as half-spaces, one solver kept warm
+            rows = _rows(idx, P, keep_out, margin, tr)
+            if engine is None:
+                engine = _EngineSubproblem(Ad, B, x0, xf, N, w, lo, hi, rows, st)
+            status, Un, Xn, ts = engine.solve(rows)
+        else:
+            status, Un, Xn, ts = sub(Ad, B, x0, xf, N, w, lo, hi, (idx, a, b), (idx, L, H), st)
         t_solve += ts
         if Un is None or status not in ("solved", "solved_inaccurate"):
             break

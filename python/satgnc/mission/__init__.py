@@ -7,11 +7,15 @@ on the J2 + drag truth -> controllability and observability checks of the models
 (:mod:`satgnc.scenarios.mission`); each stage is also a function of its own taking the previous
 stages' read-only results (:func:`track`, :func:`estimate`, :func:`relative_state`, :func:`plan`,
 :func:`fly`, :func:`check`). ``satgnc mission --scenario X.toml --out DIR`` is the command line.
+
+:func:`failure_table` (issue 16): the thruster-loss table of a rendezvous (controllability verdict and
+margin of the survivors, certified L1 replan, fuel, miss on the truth); ``satgnc rendezvous --failures``.
 """
 
 from __future__ import annotations
 
 from ..scenarios.mission import MissionScenario, load
+from .failures import FailureRow, FailureTable, failure_table
 from .pipeline import (
     Checks,
     ClosedLoop,
@@ -41,6 +45,8 @@ from .pipeline import (
 __all__ = [
     "Checks",
     "ClosedLoop",
+    "FailureRow",
+    "FailureTable",
     "Flight",
     "HandOff",
     "MissionError",
@@ -52,6 +58,7 @@ __all__ = [
     "Tracking",
     "check",
     "estimate",
+    "failure_table",
     "fly",
     "fly_closed_loop",
     "flight_truth",
