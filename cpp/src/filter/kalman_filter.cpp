@@ -2,6 +2,7 @@
 // conventional, iterated) and the batch run. UD kernels: ud.cpp; UKF: ukf.cpp.
 #include "satgnc/filter/kalman_filter.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -35,8 +36,14 @@ void FilterSettings::validate() const {
           "settings.gate_probability", "must be in (0, 1), got " + std::to_string(gate_probability),
           "e.g. 0.999; set gating = false to turn the gate off");
   core::require_nonnegative(warm_up, "settings.warm_up");
-  if (consider_count > 0) {
-    require(algorithm == FilterAlgorithm::ekf && form == CovarianceForm::joseph, "settings.consider_count",
+  require(warm_up_records >= 0, "settings.warm_up_records",
+          "must be >= 0, got " + std::to_string(warm_up_records));
+  for (std::size_t i = 0; i < consider_states.size(); ++i) {
+    require(consider_states[i] >= 0, "settings.consider_states[" + std::to_string(i) + "]",
+            "must be a state index >= 0, got " + std::to_string(consider_states[i]));
+  }
+  if (consider_count > 0 || !consider_states.empty()) {
+    require(algorithm == FilterAlgorithm::ukf || form == CovarianceForm::joseph, "settings.consider_count",
             "consider parameters need the EKF with the Joseph form (any gain is valid there)");
   }
   if (iterated) {
@@ -50,6 +57,7 @@ namespace detail {
 void FilterWorkspace::allocate() {
   const int n2 = 2 * n + 1;
   x.setZero(n);
+  cmask.setOnes(n);
   P.setZero(n, n);
   U.setIdentity(n, n);
   d.setZero(n);
@@ -152,7 +160,9 @@ FilterStatus FilterWorkspace::innovation(const MeasurementRecord& rec, int m, St
 }
 
 EditFlag FilterWorkspace::gate_decision(const MeasurementRecord& rec, int m, StepRecord& out) noexcept {
-  if (!settings.gating || rec.t < t_first + settings.warm_up) return EditFlag::warm_up;
+  if (!settings.gating || rec.t < t_first + settings.warm_up || seen <= settings.warm_up_records) {
+    return EditFlag::warm_up;
+  }
   out.gate = gate[static_cast<std::size_t>(m - 1)];
   return out.nis <= out.gate ? EditFlag::accepted : EditFlag::rejected;
 }
@@ -197,7 +207,7 @@ FilterStatus scalar_update(detail::FilterWorkspace& w, int j, double rv, double 
   const double s = w.f.dot(w.ph) + rv;
   if (!(s > 0.0) || !std::isfinite(s)) return FilterStatus::innovation_not_pd;
   w.kv = w.ph / s;
-  if (w.nc > 0) w.kv.tail(w.nc).setZero();
+  if (w.has_consider) w.kv.array() *= w.cmask.array();
   w.x.noalias() += w.kv * res;
   if (w.settings.form == CovarianceForm::conventional) {
     w.P.noalias() -= w.kv * w.ph.transpose();
@@ -250,7 +260,7 @@ void vector_gain(detail::FilterWorkspace& w, int m) noexcept {
   w.Sinv.setIdentity(m, m);
   w.sllt.solveInPlace(w.Sinv);
   w.K.leftCols(m).noalias() = w.PHt.leftCols(m) * w.Sinv;
-  if (w.nc > 0) w.K.bottomRows(w.nc).setZero();
+  if (w.has_consider) w.K.leftCols(m).array().colwise() *= w.cmask.array();
 }
 
 // Iterated EKF (Gauss-Newton on the MAP cost); on entry xbar = x, H, PHt, S factored at xbar.
@@ -328,6 +338,17 @@ KalmanFilter::KalmanFilter(ProcessModel& process, MeasurementFunction& measureme
   double prev = problem.t0;
   for (std::size_t i = 0; i < problem.records.size(); ++i) {
     const MeasurementRecord& rec = problem.records[i];
+    const int m = measurement.dimension(rec.type);
+    bool ok =
+        std::isfinite(rec.t) && rec.t >= problem.t0 && rec.t >= prev && m >= 1 && m <= kMaxMeasurementDim;
+    for (int j = 0; ok && j < m; ++j) {
+      const auto ju = static_cast<std::size_t>(j);
+      ok = std::isfinite(rec.value[ju]) && std::isfinite(rec.sigma[ju]) && rec.sigma[ju] > 0.0;
+    }
+    if (ok) {  // messages are built only on failure: no allocation per good record
+      prev = rec.t;
+      continue;
+    }
     const std::string name = "problem.records[" + std::to_string(i) + "]";
     require(std::isfinite(rec.t), name + ".t", "must be finite");
     require(rec.t >= problem.t0, name + ".t", "must be >= t0 (records start at or after the initial time)");
@@ -335,8 +356,6 @@ KalmanFilter::KalmanFilter(ProcessModel& process, MeasurementFunction& measureme
             "records must be sorted by time (non-decreasing): " + std::to_string(rec.t) + " after " +
                 std::to_string(prev),
             "sort the records by t first (a stable sort keeps the order of simultaneous records)");
-    prev = rec.t;
-    const int m = measurement.dimension(rec.type);
     require(m >= 1 && m <= kMaxMeasurementDim, name + ".type",
             "type " + std::to_string(rec.type) + " is not set up by the measurement function (dimension " +
                 std::to_string(m) + ")");
@@ -347,6 +366,19 @@ KalmanFilter::KalmanFilter(ProcessModel& process, MeasurementFunction& measureme
               "must be finite and > 0, got " + std::to_string(rec.sigma[ju]));
     }
   }
+  std::vector<int> consider;
+  for (int i = n - settings.consider_count; i < n; ++i) consider.push_back(i);
+  for (std::size_t i = 0; i < settings.consider_states.size(); ++i) {
+    const int c = settings.consider_states[i];
+    const std::string name = "settings.consider_states[" + std::to_string(i) + "]";
+    require(c < n, name, "must be a state index < " + std::to_string(n) + ", got " + std::to_string(c));
+    require(std::find(consider.begin(), consider.end(), c) == consider.end(), name,
+            "state " + std::to_string(c) + " is already a consider parameter");
+    consider.push_back(c);
+  }
+  std::sort(consider.begin(), consider.end());
+  require(static_cast<int>(consider.size()) < n, "settings.consider_states",
+          "at least one state must be estimated");
 
   w.process = &process;
   w.measurement = &measurement;
@@ -358,6 +390,8 @@ KalmanFilter::KalmanFilter(ProcessModel& process, MeasurementFunction& measureme
     w.gate[static_cast<std::size_t>(m - 1)] = chi_square_quantile(m, settings.gate_probability);
   }
   w.allocate();
+  w.has_consider = !consider.empty();
+  for (int c : consider) w.cmask(c) = 0.0;
   if (settings.algorithm == FilterAlgorithm::ukf) {
     const double lambda = settings.ukf_alpha * settings.ukf_alpha * (n + settings.ukf_kappa) - n;
     w.ukf_c = std::sqrt(n + lambda);
@@ -383,6 +417,7 @@ KalmanFilter::KalmanFilter(ProcessModel& process, MeasurementFunction& measureme
     r.transitions.setZero(n, n * N);
   }
   r.records.assign(problem.records.size(), StepRecord{});
+  r.consider = consider;
   initialize();
 }
 
@@ -396,6 +431,7 @@ void KalmanFilter::initialize() noexcept {
   w.P = w.problem.p0;
   w.t = w.problem.t0;
   w.have_first = false;
+  w.seen = 0;
   w.last_phi.setIdentity();
   if (w.settings.algorithm == FilterAlgorithm::ekf && w.settings.form == CovarianceForm::ud) {
     w.ud_factor(w.P, w.U, w.d, w.qc);
@@ -438,6 +474,7 @@ FilterStatus KalmanFilter::update(const MeasurementRecord& rec) noexcept {
   out.type = rec.type;
   out.station = rec.station;
   out.flag = EditFlag::failed;
+  ++w.seen;
   auto finish = [&out](FilterStatus st) {
     out.status = st;
     return st;
@@ -534,6 +571,7 @@ const FilterResult& KalmanFilter::solve() noexcept {
       w.last.dim = w.measurement->dimension(rec.type);
       w.last.flag = EditFlag::failed;
       w.last.status = ps;
+      ++w.seen;  // a record, for the count warm-up
     }
     r.records[static_cast<std::size_t>(k)] = w.last;
     r.states.col(k) = w.x;

@@ -1,16 +1,16 @@
-// Orbit EKF (Joseph update, chi-square gate, consider states) and RTS smoother
-// (see satgnc/filter/orbit_filter.hpp).
+// Orbit front end of filter::KalmanFilter and filter::RtsSmoother: settings and measurements in,
+// the engine's result out as OrbitFilterResult (see satgnc/filter/orbit_filter.hpp).
 #include "satgnc/filter/orbit_filter.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
 
-#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
+#include "satgnc/filter/gating.hpp"
+#include "satgnc/filter/kalman_filter.hpp"
+#include "satgnc/filter/rts.hpp"
 
 namespace satgnc::filter {
 
@@ -35,19 +35,40 @@ const char* status_name(OrbitStepStatus s) noexcept {
   return "unknown";
 }
 
+namespace {
+template <class M>
+void put(std::vector<double>& dst, std::size_t k, const M& m) {
+  // Row-major copy of m into slot k of a time-major array.
+  const std::size_t sz = static_cast<std::size_t>(m.size());
+  double* d = dst.data() + k * sz;
+  for (Eigen::Index i = 0; i < m.rows(); ++i)
+    for (Eigen::Index j = 0; j < m.cols(); ++j) *d++ = m(i, j);
+}
+
+// The engine's settings of an orbit filter: EKF Joseph (vector update of each record) or UKF, the
+// gate, the count warm-up and the consider states by index.
+FilterSettings engine_settings(const OrbitFilterSettings& o) {
+  FilterSettings s;
+  s.algorithm = o.method == OrbitFilterMethod::ukf ? FilterAlgorithm::ukf : FilterAlgorithm::ekf;
+  s.form = CovarianceForm::joseph;
+  s.sequential = false;
+  s.ukf_alpha = o.ukf_alpha;
+  s.ukf_beta = o.ukf_beta;
+  s.ukf_kappa = o.ukf_kappa;
+  s.gating = o.gating;
+  s.gate_probability = o.gate_probability;
+  s.warm_up_records = o.warmup;
+  s.consider_states = o.consider;
+  s.store_smoother_data = true;
+  return s;
+}
+}  // namespace
+
 double chi2_quantile(int dof, double p) {
   core::require(dof == 1 || dof == 2, "dof", "must be 1 or 2, got " + std::to_string(dof));
   core::require(std::isfinite(p) && p > 0.0 && p < 1.0, "gate_probability",
                 "must be in (0, 1), got " + std::to_string(p));
-  if (dof == 2) return -2.0 * std::log1p(-p);
-  // dof 1: P(chi2 <= x) = erf(sqrt(x / 2)); bisection on sqrt(x) in [0, 40].
-  double lo = 0.0, hi = 40.0;
-  for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (std::erf(mid / std::sqrt(2.0)) < p ? lo : hi) = mid;
-  }
-  const double z = 0.5 * (lo + hi);
-  return z * z;
+  return chi_square_quantile(dof, p);
 }
 
 void OrbitFilterSettings::validate(int n) const {
@@ -71,43 +92,6 @@ void OrbitFilterSettings::validate(int n) const {
   }
 }
 
-namespace detail {
-struct OrbitFilterWorkspace {
-  VectorXd x, xp;
-  MatrixXd p, phi, q, tmp, ikh;
-  Eigen::Matrix<double, Eigen::Dynamic, 2> pht, k, kr;
-  MatrixXd h;  // 2 x n
-  Eigen::LLT<MatrixXd> llt;
-  VectorXd consider_mask;  // 1 for estimated, 0 for consider
-  // UKF
-  MatrixXd sig, dx, phi2, q2;                      // n x (2n+1), n x (2n+1), n x n, n x n
-  Eigen::Matrix<double, 2, Eigen::Dynamic> z, dz;  // 2 x (2n+1)
-  VectorXd wm, wc;
-  explicit OrbitFilterWorkspace(int n)
-      : x(n),
-        xp(n),
-        p(n, n),
-        phi(n, n),
-        q(n, n),
-        tmp(n, n),
-        ikh(n, n),
-        pht(n, 2),
-        k(n, 2),
-        kr(n, 2),
-        h(2, n),
-        llt(n),
-        consider_mask(VectorXd::Ones(n)),
-        sig(n, 2 * n + 1),
-        dx(n, 2 * n + 1),
-        phi2(n, n),
-        q2(n, n),
-        z(2, 2 * n + 1),
-        dz(2, 2 * n + 1),
-        wm(2 * n + 1),
-        wc(2 * n + 1) {}
-};
-}  // namespace detail
-
 OrbitFilter::OrbitFilter(OrbitProcessModel process, OrbitMeasurementFunction measurement,
                          const OrbitFilterSettings& settings)
     : process_(std::move(process)), measurement_(std::move(measurement)), settings_(settings) {
@@ -116,52 +100,14 @@ OrbitFilter::OrbitFilter(OrbitProcessModel process, OrbitMeasurementFunction mea
                 "state dimension " + std::to_string(measurement_.dimension()) +
                     " differs from the process model's " + std::to_string(n_));
   settings_.validate(n_);
+  engine_settings(settings_).validate();
   gate1_ = chi2_quantile(1, settings_.gate_probability);
   gate2_ = chi2_quantile(2, settings_.gate_probability);
-  ws_ = std::make_unique<detail::OrbitFilterWorkspace>(n_);
-  for (int c : settings_.consider) ws_->consider_mask[c] = 0.0;
-  const double a = settings_.ukf_alpha, nd = n_;
-  lambda_ = a * a * (nd + settings_.ukf_kappa) - nd;
-  ws_->wm.setConstant(0.5 / (nd + lambda_));
-  ws_->wc = ws_->wm;
-  ws_->wm[0] = lambda_ / (nd + lambda_);
-  ws_->wc[0] = ws_->wm[0] + 1.0 - a * a + settings_.ukf_beta;
-}
-
-// Sigma points of (w.x, w.p) into w.sig; false when sqrt((n + lambda) P) fails (not positive definite).
-bool OrbitFilter::draw_sigma_points() noexcept {
-  auto& w = *ws_;
-  const int n = n_;
-  w.tmp = (n + lambda_) * w.p;
-  w.llt.compute(w.tmp);
-  if (w.llt.info() != Eigen::Success) return false;
-  w.sig.col(0) = w.x;
-  for (int i = 0; i < n; ++i) {
-    w.sig.col(1 + i) = w.x;
-    w.sig.col(1 + n + i) = w.x;
-    for (int r = i; r < n; ++r) {
-      const double l = w.llt.matrixLLT()(r, i);
-      w.sig(r, 1 + i) += l;
-      w.sig(r, 1 + n + i) -= l;
-    }
-  }
-  return true;
 }
 
 OrbitFilter::~OrbitFilter() = default;
 OrbitFilter::OrbitFilter(OrbitFilter&&) noexcept = default;
 OrbitFilter& OrbitFilter::operator=(OrbitFilter&&) noexcept = default;
-
-namespace {
-template <class M>
-void put(std::vector<double>& dst, std::size_t k, const M& m) {
-  // Row-major copy of m into slot k of a time-major array.
-  const std::size_t sz = static_cast<std::size_t>(m.size());
-  double* d = dst.data() + k * sz;
-  for (Eigen::Index i = 0; i < m.rows(); ++i)
-    for (Eigen::Index j = 0; j < m.cols(); ++j) *d++ = m(i, j);
-}
-}  // namespace
 
 OrbitFilterResult OrbitFilter::run(double t0, const VectorXd& x0, const MatrixXd& p0,
                                    const std::vector<OrbitMeasurement>& meas) {
@@ -201,8 +147,20 @@ OrbitFilterResult OrbitFilter::run(double t0, const VectorXd& x0, const MatrixXd
     core::require_finite(m.value.head(sz), name + ".value");
   }
   const std::size_t K = meas.size();
-  const std::size_t nn = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  const std::size_t nu = static_cast<std::size_t>(n);
+  const std::size_t nn = nu * nu;
   const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto start = std::chrono::steady_clock::now();
+  FilterProblem prob;
+  prob.x0 = x0;
+  prob.p0 = p0;
+  prob.t0 = t0;
+  prob.records.resize(K);
+  for (std::size_t k = 0; k < K; ++k) prob.records[k] = measurement_.record(meas[k]);
+  const long steps_before = process_.total_steps();
+  KalmanFilter kf(process_, measurement_, prob, engine_settings(settings_));
+  const FilterResult& e = kf.solve();
+
   OrbitFilterResult r;
   r.n = n;
   r.t.resize(K);
@@ -210,7 +168,7 @@ OrbitFilterResult OrbitFilter::run(double t0, const VectorXd& x0, const MatrixXd
   r.observable.resize(K);
   r.size.resize(K);
   r.status.assign(K, OrbitStepStatus::not_run);
-  r.state.assign(K * static_cast<std::size_t>(n), nan);
+  r.state.assign(K * nu, nan);
   r.covariance.assign(K * nn, nan);
   r.prefit.assign(2 * K, nan);
   r.postfit.assign(2 * K, nan);
@@ -218,189 +176,70 @@ OrbitFilterResult OrbitFilter::run(double t0, const VectorXd& x0, const MatrixXd
   r.nis.assign(K, nan);
   r.normalized_residual.assign(K, nan);
   r.gate.assign(K, 0.0);
-  r.predicted_state.assign(K * static_cast<std::size_t>(n), nan);
+  r.predicted_state.assign(K * nu, nan);
   r.predicted_covariance.assign(K * nn, nan);
   r.transition.assign(K * nn, nan);
   r.t0 = t0;
   r.consider = settings_.consider;
   r.initial_state = x0;
   r.initial_covariance = p0;
+  bool stopped = false;
   for (std::size_t k = 0; k < K; ++k) {
+    const StepRecord& s = e.records[k];
+    const auto ki = static_cast<Eigen::Index>(k);
     r.t[k] = meas[k].t;
     r.station[k] = meas[k].station;
     r.observable[k] = meas[k].observable;
-    r.size[k] = measurement_.size(meas[k]);
-  }
-  const auto start = std::chrono::steady_clock::now();
-  {
-    SATGNC_NO_MALLOC_SCOPE;
-    auto& w = *ws_;
-    w.x = x0;
-    w.p = p0;
-    const bool ukf = settings_.method == OrbitFilterMethod::ukf;
-    const int ns = 2 * n + 1;
-    double t = t0;
-    for (std::size_t k = 0; k < K; ++k) {
-      const OrbitMeasurement& m = meas[k];
-      // --- predict
-      if (!ukf) {
-        const OrbitProcessInfo pi = process_.propagate(t, m.t, w.x, w.phi, w.q);
-        r.propagation_steps += pi.steps;
-        if (pi.status != propagation::Dop853Status::success) {
-          r.status[k] = OrbitStepStatus::propagation_failed;
-          break;
-        }
-        w.tmp.noalias() = w.phi * w.p;
-        w.p.noalias() = w.tmp * w.phi.transpose();
-        w.p += w.q;
-      } else {
-        if (!draw_sigma_points()) {
-          r.status[k] = OrbitStepStatus::not_positive_definite;
-          break;
-        }
-        bool ok = true;
-        for (int j = 0; j < ns && ok; ++j) {
-          auto col = w.sig.col(j);
-          const OrbitProcessInfo pi = j == 0 ? process_.propagate(t, m.t, col, w.phi, w.q)
-                                             : process_.propagate(t, m.t, col, w.phi2, w.q2);
-          r.propagation_steps += pi.steps;
-          ok = pi.status == propagation::Dop853Status::success;
-        }
-        if (!ok) {
-          r.status[k] = OrbitStepStatus::propagation_failed;
-          break;
-        }
-        w.x.noalias() = w.sig * w.wm;
-        w.dx = w.sig.colwise() - w.x;
-        w.p.noalias() = w.dx * w.wc.asDiagonal() * w.dx.transpose();
-        w.p += w.q;
-      }
-      t = m.t;
-      w.tmp = w.p.transpose();
-      w.p = 0.5 * (w.p + w.tmp);
-      put(r.predicted_state, k, w.x.transpose());
-      put(r.predicted_covariance, k, w.p);
-      put(r.transition, k, w.phi);
-      r.steps_run = static_cast<int>(k) + 1;
-      // --- measurement: predicted value zhat, innovation covariance s, gain pieces (pht = P H^T or Pxz)
-      const int sz = r.size[k];
-      Eigen::Vector2d zhat, sig;
-      Eigen::Matrix2d s = Eigen::Matrix2d::Zero();
-      OrbitStepStatus st = OrbitStepStatus::updated;
-      core::ObservationStatus os = core::ObservationStatus::success;
-      if (!ukf) {
-        w.h.setZero();
-        os = measurement_.evaluate(m, w.x, zhat, w.h, sig);
-        if (os == core::ObservationStatus::success) {
-          w.pht.noalias() = w.p * w.h.transpose();
-          s.noalias() = w.h * w.pht;
-        }
-      } else {
-        if (!draw_sigma_points()) {
-          r.status[k] = OrbitStepStatus::not_positive_definite;
-          break;
-        }
-        for (int j = 0; j < ns && os == core::ObservationStatus::success; ++j) {
-          Eigen::Vector2d zj, sj;
-          os = measurement_.evaluate(m, w.sig.col(j), zj, w.h, sj);
-          w.z.col(j) = zj;
-          if (j == 0) sig = sj;
-        }
-        if (os == core::ObservationStatus::success) {
-          // Differences from the central point (azimuth / right ascension wrapped), then the mean.
-          for (int j = 0; j < ns; ++j) {
-            OrbitMeasurement mj = m;
-            mj.value = w.z.col(j);
-            w.dz.col(j) = measurement_.residual(mj, w.z.col(0));
-          }
-          const Eigen::Vector2d mean_dz = w.dz * w.wm;
-          zhat = w.z.col(0) + mean_dz;
-          w.dz.colwise() -= mean_dz;
-          w.dx = w.sig.colwise() - w.x;
-          w.pht.noalias() = w.dx * w.wc.asDiagonal() * w.dz.transpose();
-          s.noalias() = w.dz * w.wc.asDiagonal() * w.dz.transpose();
-          if (sz == 1) {
-            w.pht.col(1).setZero();
-            s(0, 1) = s(1, 0) = s(1, 1) = 0.0;
-          }
-        }
-      }
-      if (os != core::ObservationStatus::success) {
-        st = OrbitStepStatus::measurement_failed;
-      } else {
-        const Eigen::Vector2d y = measurement_.residual(m, zhat);
-        const Eigen::Vector2d r2 = sig.cwiseProduct(sig);
-        r.prefit[2 * k] = y[0];
-        r.sigma[2 * k] = sig[0];
-        if (sz == 2) {
-          r.prefit[2 * k + 1] = y[1];
-          r.sigma[2 * k + 1] = sig[1];
-        }
-        s(0, 0) += r2[0];
-        s(1, 1) += r2[1];
-        Eigen::Matrix2d si = Eigen::Matrix2d::Zero();
-        double nis;
-        if (sz == 1) {
-          si(0, 0) = 1.0 / s(0, 0);
-          nis = y[0] * y[0] * si(0, 0);
-        } else {
-          si = s.inverse();
-          nis = y.dot(si * y);
-        }
-        r.nis[k] = nis;
-        r.normalized_residual[k] = std::sqrt(nis);
-        const bool warm = static_cast<int>(k) < settings_.warmup;
-        const double gate = (settings_.gating && !warm) ? (sz == 2 ? gate2_ : gate1_) : 0.0;
-        r.gate[k] = gate;
-        if (!(s(0, 0) > 0.0) || !std::isfinite(nis)) {
-          st = OrbitStepStatus::measurement_failed;
-        } else if (gate > 0.0 && nis > gate) {
-          st = OrbitStepStatus::rejected;
-          ++r.rejected;
-          r.postfit[2 * k] = y[0];
-          if (sz == 2) r.postfit[2 * k + 1] = y[1];
-        } else {
-          // Gain; consider rows zeroed (Schmidt-Kalman).
-          w.k.noalias() = w.pht * si;
-          if (sz == 1) w.k.col(1).setZero();
-          w.k.array().colwise() *= w.consider_mask.array();
-          const Eigen::Vector2d yy = sz == 1 ? Eigen::Vector2d(y[0], 0.0) : y;
-          w.x.noalias() += w.k * yy;
-          if (!ukf) {
-            // Joseph form: (I - K H) P (I - K H)^T + K R K^T.
-            w.ikh.setIdentity();
-            w.ikh.noalias() -= w.k * w.h;
-            w.tmp.noalias() = w.ikh * w.p;
-            w.p.noalias() = w.tmp * w.ikh.transpose();
-            w.kr = w.k * r2.asDiagonal();
-            w.p.noalias() += w.kr * w.k.transpose();
-          } else {
-            // General form for any gain: P - K Pxz^T - Pxz K^T + K S K^T.
-            w.kr.noalias() = w.k * s;
-            w.tmp.noalias() = w.k * w.pht.transpose();
-            w.p -= w.tmp;
-            w.p -= w.tmp.transpose();
-            w.p.noalias() += w.kr * w.k.transpose();
-          }
-          w.tmp = w.p.transpose();
-          w.p = 0.5 * (w.p + w.tmp);
-          w.llt.compute(w.p);
-          if (w.llt.info() != Eigen::Success) st = OrbitStepStatus::not_positive_definite;
-          // Post-fit residual at the updated state.
-          Eigen::Vector2d post, sig2;
-          if (measurement_.evaluate(m, w.x, post, w.h, sig2) == core::ObservationStatus::success) {
-            const Eigen::Vector2d yp = measurement_.residual(m, post);
-            r.postfit[2 * k] = yp[0];
-            if (sz == 2) r.postfit[2 * k + 1] = yp[1];
-          }
-        }
-      }
-      r.status[k] = st;
-      put(r.state, k, w.x.transpose());
-      put(r.covariance, k, w.p);
-      if (st == OrbitStepStatus::not_positive_definite) break;
+    const int sz = measurement_.size(meas[k]);
+    r.size[k] = sz;
+    if (stopped || s.status == FilterStatus::unsolved) {
+      stopped = true;
+      continue;
     }
+    OrbitStepStatus st = OrbitStepStatus::measurement_failed;
+    switch (s.status) {
+      case FilterStatus::success:
+        st = OrbitStepStatus::updated;
+        break;
+      case FilterStatus::rejected:
+        st = OrbitStepStatus::rejected;
+        ++r.rejected;
+        break;
+      case FilterStatus::process_failed:
+        st = OrbitStepStatus::propagation_failed;
+        break;
+      case FilterStatus::covariance_not_pd:
+        st = OrbitStepStatus::not_positive_definite;
+        break;
+      default:
+        break;
+    }
+    r.status[k] = st;
+    r.steps_run = static_cast<int>(k) + 1;
+    if (st == OrbitStepStatus::propagation_failed) {
+      stopped = true;
+      continue;
+    }
+    put(r.predicted_state, k, e.predicted_states.col(ki).transpose());
+    put(r.predicted_covariance, k, e.predicted_covariances.middleCols(ki * n, n));
+    put(r.transition, k, e.transitions.middleCols(ki * n, n));
+    put(r.state, k, e.states.col(ki).transpose());
+    put(r.covariance, k, e.covariances.middleCols(ki * n, n));
+    if (std::isfinite(s.nis)) {
+      const MeasurementRecord& rec = prob.records[k];
+      for (int i = 0; i < sz; ++i) {
+        const auto iu = static_cast<std::size_t>(i);
+        r.prefit[2 * k + iu] = s.prefit[iu];
+        r.postfit[2 * k + iu] = s.postfit[iu];
+        r.sigma[2 * k + iu] = rec.sigma[iu];
+      }
+      r.nis[k] = s.nis;
+      r.normalized_residual[k] = std::sqrt(s.nis);
+      r.gate[k] = s.gate;
+    }
+    if (st == OrbitStepStatus::not_positive_definite) stopped = true;
   }
+  r.propagation_steps = process_.total_steps() - steps_before;
   r.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
@@ -410,43 +249,49 @@ OrbitSmootherResult OrbitFilter::smooth(const OrbitFilterResult& f) {
   core::require(n >= 6 && f.initial_state.size() == n, "result", "is not a filter result (state dimension)");
   const int K = f.steps_run;
   core::require(K >= 1, "result", "has no step to smooth (steps_run = 0)");
-  const std::size_t nn = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  // The orbit result (row-major, time-major) as the engine's FilterResult, then RtsSmoother.
   using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  auto mat = [&](const std::vector<double>& v, int k) {
-    return RowMat(Eigen::Map<const RowMat>(v.data() + static_cast<std::size_t>(k) * nn, n, n));
-  };
-  auto vec = [&](const std::vector<double>& v, int k) {
-    return VectorXd(
-        Eigen::Map<const VectorXd>(v.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(n), n));
-  };
+  const std::size_t nu = static_cast<std::size_t>(n);
+  const std::size_t nn = nu * nu;
+  FilterResult run;
+  run.n = n;
+  run.steps = K;
+  run.t0 = f.t0;
+  run.initial_state = f.initial_state;
+  run.initial_covariance = f.initial_covariance;
+  run.states.resize(n, K);
+  run.predicted_states.resize(n, K);
+  run.covariances.resize(n, static_cast<Eigen::Index>(n) * K);
+  run.predicted_covariances.resize(n, static_cast<Eigen::Index>(n) * K);
+  run.transitions.resize(n, static_cast<Eigen::Index>(n) * K);
+  run.consider = f.consider;
+  for (int k = 0; k < K; ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    const Eigen::Index c = static_cast<Eigen::Index>(k) * n;
+    run.states.col(k) = Eigen::Map<const VectorXd>(f.state.data() + ku * nu, n);
+    run.predicted_states.col(k) = Eigen::Map<const VectorXd>(f.predicted_state.data() + ku * nu, n);
+    run.covariances.middleCols(c, n) = Eigen::Map<const RowMat>(f.covariance.data() + ku * nn, n, n);
+    run.predicted_covariances.middleCols(c, n) =
+        Eigen::Map<const RowMat>(f.predicted_covariance.data() + ku * nn, n, n);
+    run.transitions.middleCols(c, n) = Eigen::Map<const RowMat>(f.transition.data() + ku * nn, n, n);
+  }
+  RtsSmoother rts(n, K);
+  const SmootherResult& sm = rts.smooth(run);
+  core::require(sm.status == FilterStatus::success, "result",
+                "the RTS smoother failed at step " + std::to_string(sm.failed_step) +
+                    " (predicted covariance not positive definite)");
   OrbitSmootherResult s;
   s.n = n;
   s.t.assign(f.t.begin(), f.t.begin() + K);
-  s.state.resize(static_cast<std::size_t>(K) * static_cast<std::size_t>(n));
+  s.state.resize(static_cast<std::size_t>(K) * nu);
   s.covariance.resize(static_cast<std::size_t>(K) * nn);
-  VectorXd xs = vec(f.state, K - 1);
-  MatrixXd ps = mat(f.covariance, K - 1);
-  put(s.state, static_cast<std::size_t>(K - 1), xs.transpose());
-  put(s.covariance, static_cast<std::size_t>(K - 1), ps);
-  // Backward pass: C_k = P_k Phi_{k+1}^T Ppred_{k+1}^-1; index -1 is the initial epoch.
-  for (int k = K - 2; k >= -1; --k) {
-    const VectorXd xk = k >= 0 ? vec(f.state, k) : f.initial_state;
-    const MatrixXd pk = k >= 0 ? MatrixXd(mat(f.covariance, k)) : f.initial_covariance;
-    const MatrixXd phi = mat(f.transition, k + 1);
-    const MatrixXd ppred = mat(f.predicted_covariance, k + 1);
-    const VectorXd xpred = vec(f.predicted_state, k + 1);
-    MatrixXd c = ppred.ldlt().solve(phi * pk).transpose();
-    for (int ci : f.consider) c.row(ci).setZero();  // consider parameters keep their values
-    xs = xk + c * (xs - xpred);
-    ps = pk + c * (ps - ppred) * c.transpose();
-    ps = 0.5 * (ps + ps.transpose()).eval();
-    if (k >= 0) {
-      put(s.state, static_cast<std::size_t>(k), xs.transpose());
-      put(s.covariance, static_cast<std::size_t>(k), ps);
-    }
+  for (int k = 0; k < K; ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    put(s.state, ku, sm.states.col(k).transpose());
+    put(s.covariance, ku, sm.covariances.middleCols(static_cast<Eigen::Index>(k) * n, n));
   }
-  s.initial_state = xs;
-  s.initial_covariance = ps;
+  s.initial_state = sm.initial_state;
+  s.initial_covariance = sm.initial_covariance;
   return s;
 }
 

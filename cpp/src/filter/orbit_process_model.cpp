@@ -201,7 +201,11 @@ OrbitProcessModel::~OrbitProcessModel() = default;
 
 // The workspace points at force_model_: re-point it after a move.
 OrbitProcessModel::OrbitProcessModel(OrbitProcessModel&& o) noexcept
-    : force_model_(std::move(o.force_model_)), settings_(o.settings_), n_(o.n_), ws_(std::move(o.ws_)) {
+    : force_model_(std::move(o.force_model_)),
+      settings_(o.settings_),
+      n_(o.n_),
+      total_steps_(o.total_steps_),
+      ws_(std::move(o.ws_)) {
   if (ws_) ws_->point_at(force_model_);
 }
 
@@ -209,6 +213,7 @@ OrbitProcessModel& OrbitProcessModel::operator=(OrbitProcessModel&& o) noexcept 
   force_model_ = std::move(o.force_model_);
   settings_ = o.settings_;
   n_ = o.n_;
+  total_steps_ = o.total_steps_;
   ws_ = std::move(o.ws_);
   if (ws_) ws_->point_at(force_model_);
   return *this;
@@ -372,6 +377,7 @@ ModelStatus OrbitProcessModel::propagate(const Eigen::Ref<const Eigen::VectorXd>
   if (x0.size() != n_ || x1.size() != n_) return ModelStatus::failed;
   x1 = x0;
   const OrbitProcessInfo info = propagate(t0, t1, x1, phi, qd);
+  total_steps_ += info.steps;
   return info.status == propagation::Dop853Status::success ? ModelStatus::success : ModelStatus::failed;
 }
 

@@ -62,6 +62,9 @@ const SmootherResult& RtsSmoother::smooth(const FilterResult& run) noexcept {
     tmp_.noalias() = block(run.transitions, k + 1) * pk;
     llt_.solveInPlace(tmp_);
     gain_ = tmp_.transpose();
+    for (int c : run.consider) {
+      if (c >= 0 && c < n) gain_.row(c).setZero();
+    }  // consider parameters keep their values
     dx_ = s.states.col(k + 1) - run.predicted_states.col(k + 1);
     dp_ = block(s.covariances, k + 1) - block(run.predicted_covariances, k + 1);
     tmp2_.noalias() = gain_ * dp_;

@@ -114,8 +114,19 @@ FilterStatus FilterWorkspace::ukf_update(const MeasurementRecord& rec, int m, St
   Sinv.setIdentity(m, m);
   sllt.solveInPlace(Sinv);
   K.leftCols(m).noalias() = PHt.leftCols(m) * Sinv;
-  x.noalias() += K.leftCols(m) * y;
-  P.noalias() -= K.leftCols(m) * PHt.leftCols(m).transpose();
+  if (has_consider) {
+    // Consider rows of K zeroed: the general form P - K Pxz' - Pxz K' + K S K', valid for any gain.
+    K.leftCols(m).array().colwise() *= cmask.array();
+    x.noalias() += K.leftCols(m) * y;
+    T.noalias() = K.leftCols(m) * PHt.leftCols(m).transpose();
+    P -= T;
+    P -= T.transpose();
+    TH.leftCols(m).noalias() = K.leftCols(m) * S;
+    P.noalias() += TH.leftCols(m) * K.leftCols(m).transpose();
+  } else {
+    x.noalias() += K.leftCols(m) * y;
+    P.noalias() -= K.leftCols(m) * PHt.leftCols(m).transpose();
+  }
   symmetrize();
   postfit(rec, m, out);
   return covariance_pd() ? FilterStatus::success : FilterStatus::covariance_not_pd;

@@ -69,11 +69,18 @@ struct FilterSettings {
   /// gain rows are zero, so they are never estimated, but their covariance and cross-covariance are
   /// propagated and updated: the estimated block of P is the consider covariance. Joseph form only.
   int consider_count = 0;
+  /// Further consider parameters by state index (any position, each in [0, n), none repeated), in
+  /// addition to the last `consider_count`; same rules (EKF Joseph, or the UKF, whose update then
+  /// uses the general form P - K Pxz' - Pxz K' + K S K', valid for any gain).
+  std::vector<int> consider_states;
   bool gating = true;               ///< apply the chi-square gate per record (after the warm-up)
   double gate_probability = 0.999;  ///< gate: accept when y' S^-1 y <= chi2_m^-1(p), p in (0, 1)
   /// Warm-up, s: records with t < t_first + warm_up (t_first: the first record's time after
   /// initialize()) are used without gating (flag `warm_up`).
   double warm_up = 0.0;
+  /// Warm-up by count: the first `warm_up_records` update() calls after initialize() (failed ones
+  /// included) are used without gating (flag `warm_up`); >= 0. Both warm-ups apply.
+  int warm_up_records = 0;
   /// Check positive definiteness after every step (Cholesky of P, or D > 0 for UD); status
   /// covariance_not_pd on failure. Costs one n x n Cholesky per step.
   bool check_covariance = true;
@@ -133,6 +140,7 @@ struct FilterResult {
   Eigen::MatrixXd predicted_states;       ///< n x N: state predicted to step k's time (smoother data)
   Eigen::MatrixXd predicted_covariances;  ///< n x (n N): predicted P (smoother data)
   Eigen::MatrixXd transitions;      ///< n x (n N): Phi from the previous step's time (t0 for k = 0) to step k
+  std::vector<int> consider;        ///< consider state indices, ascending (the RTS smoother keeps them)
   std::vector<StepRecord> records;  ///< N step records
   FilterInfo info;                  ///< run info
 };

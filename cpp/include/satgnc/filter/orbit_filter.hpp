@@ -1,32 +1,32 @@
 #pragma once
 /// @file orbit_filter.hpp
-/// Sequential orbit determination (issue 15): an extended Kalman filter over ground-station
-/// measurements, with OrbitProcessModel between measurement epochs (DOP853, STM, SNC / DMC noise) and
-/// OrbitMeasurementFunction at each (light time, biases), a chi-square gate per measurement, a warm-up
-/// period, Schmidt-Kalman consider states, and the fixed-interval Rauch-Tung-Striebel smoother.
+/// Sequential orbit determination (issue 15): the orbit front end of the generic filter engine.
+/// OrbitFilter takes orbit measurements (station / observable indices, Vector2d values), turns them
+/// into the engine's records (OrbitMeasurementFunction::record) and runs filter::KalmanFilter
+/// (kalman_filter.hpp) on OrbitProcessModel (DOP853, STM, SNC / DMC noise) and
+/// OrbitMeasurementFunction (light time, biases); the smoother is filter::RtsSmoother (rts.hpp). It
+/// has no update, sigma-point, gate or smoother code of its own: it maps settings in and the
+/// engine's time-major result out (OrbitFilterResult: K x 2 residual rows, statuses, editing).
 ///
-/// UKF (method = ukf): 2n + 1 sigma points of (x, P) each propagated by the process model (the
-/// central point's STM and Q serve the smoother and the additive noise), redrawn from the predicted
-/// (x, P) and passed through the measurement model; update with the general form
-/// P+ = P - K Pxz^T - Pxz K^T + K S K^T, valid for any gain (consider rows zeroed).
+/// - method = ekf: the engine's EKF, Joseph form, vector update of each record (2 components for
+///   angle pairs). Joseph keeps P symmetric PSD for ANY gain (Bucy & Joseph 1968), hence valid with
+///   the consider rows of K zeroed (Schmidt-Kalman: P carries the consider covariance).
+/// - method = ukf: the engine's UKF (2n + 1 scaled sigma points; the central point's STM and Q serve
+///   the smoother and the additive noise); with consider states its update uses the general form
+///   P - K Pxz' - Pxz K' + K S K'.
 ///
-/// Update: Joseph form P+ = (I - K H) P (I - K H)^T + K R K^T, with K = P H^T S^-1, S = H P H^T + R.
-/// It keeps P symmetric and positive semi-definite for ANY gain K (Bucy & Joseph 1968), so it stays
-/// valid when the consider rows of K are zeroed (Schmidt-Kalman: P then carries the consider
-/// covariance, i.e. the cross-covariance of the estimated states with the consider parameters).
+/// Editing: NIS = y' S^-1 y of each measurement against the chi-square quantile of probability
+/// `gate_probability` for its dimension; above it the measurement is rejected (state and covariance
+/// unchanged) and reported with sqrt(NIS); the first `warmup` measurements are never rejected (the
+/// engine's warm_up_records).
 ///
-/// Editing: the normalized innovation squared NIS = y^T S^-1 y of each measurement is compared with
-/// the chi-square quantile of probability `gate_probability` for its dimension (1 or 2); above it the
-/// measurement is rejected (state and covariance unchanged) and reported with its normalized residual
-/// sqrt(NIS); the first `warmup` measurements are never rejected.
-///
-/// Solver contract: settings validated and the workspace sized at construction (throws
-/// std::invalid_argument naming the field); run() validates the measurement list (sorted times, known
-/// stations / observables) and sizes the result, then steps noexcept and allocation-free: a step that
-/// fails is a status in the result (OrbitStepStatus), never an exception.
+/// Solver contract: settings validated at construction (throws std::invalid_argument naming the
+/// field); run() validates the measurement list (sorted times, known stations / observables), sets up
+/// the engine (sized once per run) and steps noexcept and allocation-free: a step that fails is a
+/// status in the result (OrbitStepStatus), never an exception. After a propagation failure or a
+/// covariance that lost positive definiteness the filter stops (later steps: not_run).
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <memory>
 #include <vector>
 
 #include "satgnc/filter/orbit_measurement.hpp"
@@ -60,6 +60,7 @@ struct OrbitFilterSettings {
   /// UKF scaling (Wan & van der Merwe 2000): lambda = alpha^2 (n + kappa) - n; weights W0m = lambda /
   /// (n + lambda), W0c = W0m + 1 - alpha^2 + beta, Wi = 1 / (2 (n + lambda)). Defaults alpha = 1,
   /// beta = 2, kappa = 0: lambda = 0, every weight >= 0 (the covariance stays positive semi-definite).
+  /// alpha in (0, 1] (the engine's rule, checked at construction).
   double ukf_alpha = 1.0;
   double ukf_beta = 2.0;   ///< UKF: prior-distribution parameter (2: Gaussian)
   double ukf_kappa = 0.0;  ///< UKF: secondary scaling, n + kappa > 0
@@ -114,10 +115,6 @@ struct OrbitSmootherResult {
   Eigen::MatrixXd initial_covariance;  ///< n x n, smoothed at t0
 };
 
-namespace detail {
-struct OrbitFilterWorkspace;
-}
-
 /// Extended Kalman filter for orbits (see the file doc).
 class OrbitFilter {
  public:
@@ -150,9 +147,6 @@ class OrbitFilter {
   OrbitFilterSettings settings_;
   int n_ = 6;
   double gate1_ = 0.0, gate2_ = 0.0;
-  double lambda_ = 0.0;  // UKF scaling
-  std::unique_ptr<detail::OrbitFilterWorkspace> ws_;
-  bool draw_sigma_points() noexcept;
 };
 
 /// Chi-square quantile: x with P(chi2_dof <= x) = p, dof 1 or 2, p in (0, 1) (dof 2: -2 ln(1 - p);

@@ -98,6 +98,9 @@ class OrbitProcessModel final : public ProcessModel {
   ModelStatus propagate(const Eigen::Ref<const Eigen::VectorXd>& x0, double t0, double t1,
                         Eigen::Ref<Eigen::VectorXd> x1, Eigen::Ref<Eigen::MatrixXd> phi,
                         Eigen::Ref<Eigen::MatrixXd> qd, bool with_jacobian) noexcept override;
+  /// DOP853 steps taken by the ProcessModel overload since construction (a running count; the
+  /// orbit filter reports the difference over a run).
+  long total_steps() const noexcept { return total_steps_; }
   /// Index of the first parameter state (6 or 9).
   int parameter_offset() const noexcept { return settings_.dmc ? 9 : 6; }
   /// The validated settings.
@@ -119,6 +122,7 @@ class OrbitProcessModel final : public ProcessModel {
   dynamics::ForceModel force_model_;
   OrbitProcessSettings settings_;
   int n_ = 6;
+  long total_steps_ = 0;
   std::unique_ptr<detail::OrbitProcessWorkspace> ws_;
 };
 

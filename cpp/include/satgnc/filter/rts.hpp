@@ -6,6 +6,8 @@
 ///   C_k = P_k|k Phi_k+1' P_k+1|k^-1,  x_k|N = x_k|k + C_k (x_k+1|N - x_k+1|k),
 ///   P_k|N = P_k|k + C_k (P_k+1|N - P_k+1|k) C_k',
 /// run from the last step back to the initial epoch t0 (the smoothed initial state is reported too).
+/// The consider parameters of the run (FilterResult::consider) keep their filtered values: their
+/// rows of C_k are zero (as in the Schmidt-Kalman update).
 /// Rejected and failed steps carry their predicted values as "updated" ones, so they smooth through.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>

@@ -23,6 +23,9 @@ struct FilterWorkspace {
   FilterProblem problem;
   int n = 0;
   int nc = 0;
+  bool has_consider = false;  // any consider state (consider_count or consider_states)
+  Eigen::VectorXd cmask;      // n: 1 estimated, 0 consider (gain rows multiplied by it)
+  int seen = 0;               // update() calls since initialize() (warm_up_records)
   std::array<double, kM> gate{};
 
   // on-board state
