@@ -339,7 +339,10 @@ bool AdmmWorkspace::polish_optimality_violated() noexcept {
       const double u = Up_(i, k), gk = grad_(i, k), w = w_(i);
       double v;
       if (u == 0.0) {
-        v = std::abs(gk) - w;
+        // a bound at 0 blocks one side of the kink: only the other side's condition applies
+        const bool at_lo = lo_(i) == 0.0, at_hi = hi_(i) == 0.0;
+        v = at_lo && at_hi ? -std::numeric_limits<double>::infinity()
+                           : (at_lo ? -gk - w : (at_hi ? gk - w : std::abs(gk) - w));
       } else if (u == hi_(i)) {
         v = gk + w;
       } else if (u == lo_(i)) {

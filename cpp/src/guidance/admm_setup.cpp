@@ -175,9 +175,10 @@ void AdmmWorkspace::setup_dual_split() {
 }
 
 void AdmmWorkspace::setup_flat_pass() {
-  // polish needs Q = 0, plain L1 (+ box straddling zero); see AdmmSettings::polish
-  polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ && (lo_.array() < 0.0).all() &&
-               (hi_.array() > 0.0).all();
+  // polish needs Q = 0, plain L1 (+ box containing zero, a bound at 0 included: one-sided thrusters);
+  // see AdmmSettings::polish
+  polish_ok_ = prob_.Q.size() == 0 && !has_group_ && !has_ball_ && has_l1_ && (lo_.array() <= 0.0).all() &&
+               (hi_.array() >= 0.0).all();
   flat_ok_ = !has_group_ && !has_ball_;
   if (flat_ok_) {
     const Eigen::Index n = static_cast<Eigen::Index>(N_) * nu_;
