@@ -1,6 +1,5 @@
 """One-sided controls (thrusters: u in [0, u_max]) in the L1 ADMM (issue 11; found by issue 16).
 
-
 With a lower bound exactly 0 the active-set polish used to be switched off (its optimality check was two-sided
 at u = 0), so thruster problems stalled at max_iterations with gaps ~1e-3 while the same problems with
 lower = -1e-12 u_max solved in 50 iterations. The polish now checks the one-sided condition at a bound at 0.
