@@ -498,7 +498,9 @@ TEST(OdBatch, SolveDoesNotAllocate) {
   const int evaluations = before.solve().info.evaluations;
   g_count = false;
   std::printf("Trajectory path: %ld mallocs in one solve (%d evaluations)\n", g_mallocs.load(), evaluations);
+#if !defined(__SANITIZE_ADDRESS__)  // ASan owns malloc: the counter of malloc_counter.hpp is off there
   EXPECT_GE(g_mallocs.load(), evaluations);  // at least its output vectors per propagation
+#endif
   EXPECT_EQ(spy->calls_guarded, satgnc::core::kNoMallocGuard ? spy->calls : 0);
   EXPECT_TRUE(satgnc::core::malloc_allowed());  // the scope ended with solve()
 }

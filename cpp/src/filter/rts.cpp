@@ -22,7 +22,7 @@ RtsSmoother::RtsSmoother(int n, int steps) {
   tmp2_.setZero(n, n);
   dp_.setZero(n, n);
   dx_.setZero(n);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(n);
+  llt_ = Eigen::LLT<Eigen::MatrixXd>(Eigen::MatrixXd::Identity(n, n));  // computed: info() set (UBSan)
   llt_.compute(Eigen::MatrixXd::Identity(n, n));
 }
 

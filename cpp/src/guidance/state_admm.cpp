@@ -926,7 +926,7 @@ StateConstrainedAdmm::StateConstrainedAdmm(const LtvProblem& problem, const Stat
   w.tmp_nu_nx.resize(nu, nx);
   w.Quu.resize(nu, nu);
   w.Inu = Eigen::MatrixXd::Identity(nu, nu);
-  w.llt = Eigen::LLT<Eigen::MatrixXd>(nu);
+  w.llt = Eigen::LLT<Eigen::MatrixXd>(Eigen::MatrixXd::Identity(nu, nu));  // computed: info() set (UBSan)
   w.p.resize(nx);
   w.wv.resize(nx);
   w.tmp_nx.resize(nx);
