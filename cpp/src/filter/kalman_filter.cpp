@@ -78,7 +78,8 @@ void FilterWorkspace::allocate() {
   PHt.setZero(n, kM);
   K.setZero(n, kM);
   TH.setZero(n, kM);
-  llt = Eigen::LLT<Eigen::MatrixXd>(Eigen::MatrixXd::Identity(n, n));  // computed: a sized-only LLT leaves info() unset (UBSan)
+  llt = Eigen::LLT<Eigen::MatrixXd>(
+      Eigen::MatrixXd::Identity(n, n));  // computed: a sized-only LLT leaves info() unset (UBSan)
   llt.compute(Eigen::MatrixXd::Identity(n, n));
   X.setZero(n, n2);
   Xp.setZero(n, n2);
