@@ -46,20 +46,53 @@ StateConstraints half_spaces(int N, double b) {
 }  // namespace
 
 TEST(StateAdmm, SolveAndHalfSpaceUpdateDoNotAllocate) {
-  const int N = 20;
+  // both paths: the interior-point method first (default), and ADMM alone
+  for (const auto method : {satgnc::guidance::AdmmMethod::kAdmmIpm, satgnc::guidance::AdmmMethod::kAdmm}) {
+    const int N = 20;
+    AdmmSettings st;
+    st.method = method;
+    st.max_iterations = 600;  // the count covers iterations, rho updates, polish attempts, gap checks
+    StateConstrainedAdmm s(cw_problem(N), half_spaces(N, -2.0), st);
+    Eigen::VectorXd a = Eigen::VectorXd::Zero(6);
+    a(0) = -1.0;
+    g_mallocs = 0;
+    g_count = true;
+    const int ipm1 = s.solve().info.ipm_iterations;
+    const bool ok = s.set_half_space(0, N / 2, a, 1.0);
+    const int ipm2 = s.solve().info.ipm_iterations;
+    g_count = false;
+    EXPECT_TRUE(ok);
+    EXPECT_EQ(g_mallocs.load(), 0);
+    if (method == satgnc::guidance::AdmmMethod::kAdmm) {
+      EXPECT_EQ(ipm1 + ipm2, 0);
+    } else {
+      EXPECT_GT(ipm1, 0);
+      EXPECT_GT(ipm2, 0);
+    }
+  }
+}
+
+TEST(StateAdmm, InteriorPointCertifiesWithTerminalState) {
+  // hard terminal state (equality rows at node N through their multipliers), a cone and
+  // half-spaces: the IPM alone ends `solved` by the independent violation and gap tests
+  const int N = 30;
+  auto p = cw_problem(N);
+  p.terminal_equality = true;
+  p.xf = Eigen::VectorXd::Zero(6);
+  p.u_lower = Eigen::VectorXd::Constant(3, -0.05);
+  p.u_upper = Eigen::VectorXd::Constant(3, 0.05);
   AdmmSettings st;
-  st.max_iterations = 600;  // the count covers iterations, rho updates, polish attempts, gap checks
-  StateConstrainedAdmm s(cw_problem(N), half_spaces(N, -2.0), st);
-  Eigen::VectorXd a = Eigen::VectorXd::Zero(6);
-  a(0) = -1.0;
-  g_mallocs = 0;
-  g_count = true;
-  s.solve();
-  const bool ok = s.set_half_space(0, N / 2, a, 1.0);
-  s.solve();
-  g_count = false;
-  EXPECT_TRUE(ok);
-  EXPECT_EQ(g_mallocs.load(), 0);
+  st.method = satgnc::guidance::AdmmMethod::kIpm;
+  st.eps_gap = 1e-8;
+  StateConstrainedAdmm s(p, half_spaces(N, 2.0), st);  // x_k[0] >= -2 m: x_N = 0 is allowed
+  const auto& r = s.solve();
+  EXPECT_EQ(r.info.status, AdmmStatus::solved);
+  EXPECT_TRUE(r.info.ipm_solved);
+  EXPECT_EQ(r.info.iterations, 0);
+  EXPECT_LE(r.info.ipm_iterations, 60);
+  EXPECT_LE(std::abs(r.info.duality_gap), 1e-8);
+  EXPECT_LE(r.max_violation, r.violation_tolerance);
+  EXPECT_LE(r.info.terminal_miss, 1e-6);
 }
 
 TEST(StateAdmm, StatusIsHonest) {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "detail/state_ipm.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 #include "satgnc/guidance/state_constraints.hpp"
@@ -69,6 +70,10 @@ struct StateAdmmWorkspace {
   Eigen::VectorXd kkt_rhs, kkt_sol, kkt_res, mu_pol, nrm, unit_nx, sgn;
   Eigen::VectorXi piv, free_idx, act_idx, act_kind;
   int polish_attempts = 0;
+  // ---- interior-point method (tried first; its plan is accepted only by the same tests)
+  StateIpm ipm;
+  StateIpmProblem ipd;
+  bool ipm_ok = false;  // applicable (every L1 weight > 0, equality rows only at node N)
 
   // row vector c' dx_node/dU (length N nu, zero beyond node) into Srow.row(i)
   void sensitivity_row(int i, const Eigen::Ref<const Eigen::VectorXd>& cvec, int nd) noexcept {
@@ -375,20 +380,21 @@ struct StateAdmmWorkspace {
   }
 
   // ---- row scaling kappa_j = 1 / ||c_j' dx_node/dU||^2 (cone blocks: one value, their largest)
-  void compute_kappa() noexcept {
-    for (int j = 0; j < m; ++j) {
-      // backward: v' = c_j'; sum over k < node of ||v' B_k||^2 with v' <- v' A_k
-      tmp_nx = Crow.col(j);
-      double acc = 0.0;
-      for (int k = node(j) - 1; k >= 0; --k) {
-        g_nu.noalias() = B(k).transpose() * tmp_nx;
-        acc += g_nu.squaredNorm();
-        tmp_nx2.noalias() = A(k).transpose() * tmp_nx;
-        tmp_nx = tmp_nx2;
-      }
-      kappa(j) = acc > 0.0 && std::isfinite(acc) ? 1.0 / acc : 1.0;
-      if (lo(j) == hi(j)) kappa(j) *= kEqualityRhoFactor;
+  void compute_kappa_row(int j) noexcept {
+    // backward: v' = c_j'; sum over k < node of ||v' B_k||^2 with v' <- v' A_k
+    tmp_nx = Crow.col(j);
+    double acc = 0.0;
+    for (int k = node(j) - 1; k >= 0; --k) {
+      g_nu.noalias() = B(k).transpose() * tmp_nx;
+      acc += g_nu.squaredNorm();
+      tmp_nx2.noalias() = A(k).transpose() * tmp_nx;
+      tmp_nx = tmp_nx2;
     }
+    kappa(j) = acc > 0.0 && std::isfinite(acc) ? 1.0 / acc : 1.0;
+    if (lo(j) == hi(j)) kappa(j) *= kEqualityRhoFactor;
+  }
+  void compute_kappa() noexcept {
+    for (int j = 0; j < m; ++j) compute_kappa_row(j);
     for (int j = 0; j < m; ++j) {
       if (cone_start(j) != 1) continue;
       const double kmin = std::min({kappa(j), kappa(j + 1), kappa(j + 2)});
@@ -973,6 +979,22 @@ StateConstrainedAdmm::StateConstrainedAdmm(const LtvProblem& problem, const Stat
   w.unit_nx.setZero(nx);
   w.sgn.setZero(nv);
   w.compute_kappa();
+  w.set_rho_rows();
+  w.ipm.setup(nx, nu, N, m);
+  w.ipd.prob = &w.prob;
+  w.ipd.has_Q = w.has_Q;
+  w.ipd.w = &w.w;
+  w.ipd.rdiag = &w.rdiag;
+  w.ipd.ulo = &w.ulo;
+  w.ipd.uhi = &w.uhi;
+  w.ipd.Crow = &w.Crow;
+  w.ipd.node = &w.node;
+  w.ipd.cone_start = &w.cone_start;
+  w.ipd.lo = &w.lo;
+  w.ipd.hi = &w.hi;
+  w.ipd.off = &w.off;
+  w.ipd.escale = &w.escale;
+  w.ipm_ok = w.ipm.applicable(w.ipd);
   w.rho = settings.rho;
   w.rho_x = settings.rho;
   core::require(w.factor(), "rho", "Riccati factorization failed (hint: check Q, Qf PSD)");
@@ -1014,8 +1036,10 @@ bool StateConstrainedAdmm::set_half_space(int i, int node, const Eigen::Ref<cons
   w.Crow.col(i) = a / nrm;
   w.node(i) = node;
   w.hi(i) = b / nrm;
-  w.compute_kappa();
-  w.rho_factored = -1.0;  // refactor at the next solve
+  w.compute_kappa_row(i);  // half-spaces are interval rows: only their own scale changes
+  w.escale(i) = std::sqrt(w.kappa(i));
+  w.rho_row(i) = w.rho_x * w.kappa(i);
+  w.rho_factored = -1.0;  // the ADMM refactors at its next solve; the IPM factors per step anyway
   return true;
 }
 
@@ -1040,18 +1064,52 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
   w.mu_check = w.mu;
   const int fact0 = w.factorizations;
   const int polish0 = w.polish_attempts;
-  if ((w.rho != w.rho_factored || w.rho_x != w.rho_x_factored) && !w.factor()) {
+  const double alpha = st.relaxation;
+  AdmmStatus status = AdmmStatus::max_iterations;
+  double prim = detail::kInf, dual = detail::kInf, eps_p = 0.0, eps_d = 0.0;
+  // interior-point method first: O(N) per step (Riccati), ~20-40 steps; accepted only by the
+  // violation and Fenchel-gap tests below (the same as ADMM's); otherwise ADMM runs as before
+  bool ipm_solved = false;
+  if (w.ipm_ok && st.method != AdmmMethod::kAdmm) {
+    w.ipm.init(w.ipd);
+    for (int t = 0; t < st.ipm_max_iterations; ++t) {
+      if (!w.ipm.step(w.ipd)) break;
+      w.ipm.export_solution(w.ipd, w.Ypol, w.mu_pol);
+      w.rollout(w.Ypol, w.Xf, false);
+      const double P = w.objective(w.Xf, w.Ypol);
+      if (w.ipm.complementarity() > 1e-3 * std::max(std::abs(P), st.gap_floor)) continue;
+      w.rows_of(w.Xf, w.shat);
+      const double viol = w.violation_of(w.shat);
+      const double vtol = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
+      if (viol > vtol) continue;
+      const double D = w.dual_bound(w.mu_pol);
+      const double gap = (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
+      if (std::abs(gap) <= (st.eps_gap > 0.0 ? st.eps_gap : 1e-9)) {
+        w.Y = w.Ypol;
+        w.mu = w.mu_pol;
+        w.z = w.shat;
+        w.project(w.z);
+        w.Lam.setZero();
+        ipm_solved = true;
+        status = AdmmStatus::solved;
+        prim = w.ipm.primal_residual();
+        dual = w.ipm.complementarity();
+        break;
+      }
+    }
+    info.ipm_iterations = w.ipm.iterations;
+    info.ipm_solved = ipm_solved;
+  }
+  const bool run_admm = !ipm_solved && st.method != AdmmMethod::kIpm;
+  if (run_admm && (w.rho != w.rho_factored || w.rho_x != w.rho_x_factored) && !w.factor()) {
     info.status = AdmmStatus::numerical_error;
     info.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return R;
   }
-  const double alpha = st.relaxation;
-  AdmmStatus status = AdmmStatus::max_iterations;
-  double prim = detail::kInf, dual = detail::kInf, eps_p = 0.0, eps_d = 0.0;
   int it = 0;
   int last_gap_it = -1000000;
   bool ok_residuals = false;
-  for (it = 1; it <= st.max_iterations; ++it) {
+  for (it = 1; run_admm && it <= st.max_iterations; ++it) {
     // linear terms of the x/u step
     w.q = w.qbase;
     for (int j = 0; j < m; ++j)
@@ -1175,6 +1233,7 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
     }
   }
   if (it > st.max_iterations) it = st.max_iterations;
+  if (!run_admm) it = 0;
   // final evaluation on the problem as given
   w.rollout(w.Y, w.Xf, false);
   w.rows_of(w.Xf, w.shat);
