@@ -64,8 +64,8 @@ def cone_problem(N: int = 100, hard_terminal: bool = False) -> dict:
     dt = 30.0 if hard_terminal else 12.0
     A, B = g.cw_discretize(0.0011, 1.0, dt, "zoh")
     kw = dict(A=A, B=B, x0=np.array([150.0, 25.0, -10.0, -0.08, 0.0, 0.01]), horizon=N,
-              Qf=(0.0 if hard_terminal else 1.0) * np.eye(6), l1_weights=np.ones(3), u_lower=-0.01 * np.ones(3),
-              u_upper=0.01 * np.ones(3),
+              Qf=(0.0 if hard_terminal else 1.0) * np.eye(6), l1_weights=np.ones(3),
+              u_lower=-0.01 * np.ones(3), u_upper=0.01 * np.ones(3),
               approach_cone=dict(nodes=np.arange(1, N + 1), axis=[1.0, 0.0, 0.0], half_angle_deg=20.0,
                                  apex_offset=-20.0))
     if hard_terminal:
@@ -107,8 +107,9 @@ def cone_row(N: int = 100, hard_terminal: bool = False) -> dict:
             prob.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
             best_cl = min(best_cl, prob.solver_stats.solve_time)
     rel = abs(r.objective - prob.value) / abs(prob.value)
-    return {"N": N, "hard": hard_terminal, "status": r.status, "ipm_iterations": r.ipm_iterations, "solve_ms": best_solve * 1e3,
-            "wall_ms": best_wall * 1e3, "clarabel_ms": best_cl * 1e3, "ratio": best_cl / best_solve, "rel": rel}
+    return {"N": N, "hard": hard_terminal, "status": r.status, "ipm_iterations": r.ipm_iterations,
+            "solve_ms": best_solve * 1e3, "wall_ms": best_wall * 1e3, "clarabel_ms": best_cl * 1e3,
+            "ratio": best_cl / best_solve, "rel": rel}
 
 
 def main() -> None:
@@ -123,9 +124,10 @@ def main() -> None:
     print(f"| of which the {r['rows']} L1 replans' solve time | {r['replan_solve_ms']:.1f} ms | |")
     for c in cones:
         term = "x_N = 0" if c["hard"] else "soft terminal"
-        print(f"| cone plan N = {c['N']}, {term} ({c['status']}, {c['ipm_iterations']} IPM iterations, objective "
-              f"= Clarabel to {c['rel']:.1e}) | {c['solve_ms']:.2f} ms solve ({c['wall_ms']:.2f} ms wall) vs "
-              f"Clarabel {c['clarabel_ms']:.2f} ms: ratio {c['ratio']:.2f} | >= 10 |")
+        print(f"| cone plan N = {c['N']}, {term} ({c['status']}, {c['ipm_iterations']} IPM iterations, "
+              f"objective = Clarabel to {c['rel']:.1e}) | {c['solve_ms']:.2f} ms solve "
+              f"({c['wall_ms']:.2f} ms wall) vs Clarabel {c['clarabel_ms']:.2f} ms: "
+              f"ratio {c['ratio']:.2f} | >= 10 |")
     if "missing" in k:
         print(f"| keep-out SCP plan (engine subproblem) | not run: {k['missing']} | < 20 ms |")
     else:
