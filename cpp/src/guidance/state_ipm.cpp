@@ -7,7 +7,6 @@
 // Newton step is an LQR with dx_0 = 0 and the costates implicit.
 #include "detail/state_ipm.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -264,17 +263,25 @@ void StateIpm::scaling(const StateIpmProblem& p) noexcept {
     const double gam = std::sqrt(0.5 * (1.0 + zb.dot(sb)));
     Eigen::Vector3d v(zb(0) + sb(0), zb(1) - sb(1), zb(2) - sb(2));
     v /= 2.0 * gam;
-    Eigen::Matrix3d W2 = 2.0 * v * v.transpose();
-    W2(0, 0) -= 1.0;
-    W2(1, 1) += 1.0;
-    W2(2, 2) += 1.0;
-    W2 *= std::sqrt(zJz / sJs);
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-    es.computeDirect(W2);
-    const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(1e-300);
-    const Eigen::Matrix3d W = es.eigenvectors() * ev.cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
-    const Eigen::Matrix3d Wi =
-        es.eigenvectors() * ev.cwiseSqrt().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
+    // W^2 = beta^2 Q_v (Q_v = 2 v v' - J, v'Jv = 1, beta^2 = sqrt(z'Jz / s'Js)); W = beta Q_u with
+    // u the Jordan square root of v, u = (v + e) / sqrt(2 (v0 + 1)) (closed form: an eigen-based
+    // square root loses the small directions near the cone's boundary)
+    const double beta = std::sqrt(std::sqrt(zJz / sJs));
+    Eigen::Vector3d u = v;
+    u(0) += 1.0;
+    u /= std::sqrt(2.0 * (v(0) + 1.0));
+    Eigen::Matrix3d W = 2.0 * u * u.transpose();
+    W(0, 0) -= 1.0;
+    W(1, 1) += 1.0;
+    W(2, 2) += 1.0;
+    Eigen::Matrix3d Wi = W;  // Q_u^-1 = J Q_u J
+    Wi(0, 1) = -Wi(0, 1);
+    Wi(1, 0) = -Wi(1, 0);
+    Wi(0, 2) = -Wi(0, 2);
+    Wi(2, 0) = -Wi(2, 0);
+    W *= beta;
+    Wi /= beta;
+    const Eigen::Matrix3d W2 = W * W;
     Eigen::Map<Eigen::Matrix3d>(Wcn_.col(j).data()) = W;
     Eigen::Map<Eigen::Matrix3d>(Wicn_.col(j).data()) = Wi;
     Eigen::Map<Eigen::Matrix3d>(W2cn_.col(j).data()) = W2;
