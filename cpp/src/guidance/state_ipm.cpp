@@ -386,11 +386,19 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
   auto S = Se_.topLeftCorner(ne_, ne_);
   for (int a = 0; a < ne_; ++a)
     for (int b = 0; b < ne_; ++b) S(a, b) = -p.Crow->col(eqrow_(a)).dot(Z.col(b));
-  S = (0.5 * (S + S.transpose())).eval();
-  llt_e_.compute(S);
+  // Symmetrize in place: an .eval() here would allocate inside solve().
+  for (int a = 0; a < ne_; ++a)
+    for (int b = a + 1; b < ne_; ++b) S(a, b) = S(b, a) = 0.5 * (S(a, b) + S(b, a));
+  // llt_e_ is sized m at setup; factor the whole m x m block with an identity tail so that it
+  // never resizes (a resize allocates) when this problem has fewer equality rows.
+  const int m = static_cast<int>(Se_.rows());
+  Se_.topRightCorner(ne_, m - ne_).setZero();
+  Se_.bottomLeftCorner(m - ne_, ne_).setZero();
+  Se_.bottomRightCorner(m - ne_, m - ne_).setIdentity();
+  llt_e_.compute(Se_);
   for (double shift = 1e-12; llt_e_.info() != Eigen::Success && shift < 1e-5; shift *= 100.0) {
     S.diagonal().array() += shift * (S.diagonal().cwiseAbs().maxCoeff() + 1e-300);
-    llt_e_.compute(S);
+    llt_e_.compute(Se_);
   }
   return llt_e_.info() == Eigen::Success;
 }
@@ -486,7 +494,8 @@ void StateIpm::solve_newton(const StateIpmProblem& p, bool affine, double sigma_
     // E (dx_N0 + Z dnu) = -r_eq, Z = dx_N / dnu = -S^-1... S = -E Z
     auto rhs = rhs_e_.head(ne_);
     for (int a = 0; a < ne_; ++a) rhs(a) = req_(a) + p.Crow->col(eqrow_(a)).dot(dX_.col(N_));
-    llt_e_.solveInPlace(rhs);  // -E Z dnu = r_eq + E dx_N0  ->  dnu = S^-1 (r_eq + E dx_N0)
+    rhs_e_.tail(rhs_e_.size() - ne_).setZero();  // identity tail of the padded factor
+    llt_e_.solveInPlace(rhs_e_);                 // -E Z dnu = r_eq + E dx_N0  ->  dnu = S^-1 (r_eq + E dx_N0)
     dnu_.head(ne_) = rhs;
     for (int k = 0; k < N_; ++k) {
       du_.col(k).noalias() -= Dall_.middleCols(k * ne_, ne_) * dnu_.head(ne_);
