@@ -148,6 +148,9 @@ def random_suite(settings=None):
               f"{q(ts, 95) * 1e3:.3f} ms |")
         print(f"| satgnc Python call L1Solver.solve() | {q(tps, 50) * 1e3:.3f} ms | "
               f"{q(tps, 95) * 1e3:.3f} ms |")
+        over = [a - b for a, b in zip(tps, ts)]  # per problem: the call path (binding, result) alone
+        print(f"| L1 call: Python call - C++ solve (per problem) | {q(over, 50) * 1e6:.1f} us | "
+              f"{q(over, 95) * 1e6:.1f} us |")
         print(f"| Clarabel solve time | {q(tcs, 50) * 1e3:.3f} ms | {q(tcs, 95) * 1e3:.3f} ms |")
         print(f"| Clarabel solve time / satgnc C++ solve time (per problem) | {q(ratios, 50):.2f}x | "
               f"{q(ratios, 5):.2f}x (5th percentile) |")

@@ -7,19 +7,15 @@
 #include <string>
 
 #include "checks.hpp"
+#include "guidance_result.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "status.hpp"
 
 namespace py = pybind11;
 
 namespace satgnc::bindings {
-namespace {
-using guidance::AdmmSettings;
-using guidance::AdmmSolver;
-using guidance::AdmmStatus;
-using guidance::LtvProblem;
 
-py::dict result_to_dict(const guidance::AdmmResult& r) {
+py::dict admm_result_to_dict(const guidance::AdmmResult& r) {
   py::dict d;
   d["X"] = r.X;
   d["U"] = r.U;
@@ -56,6 +52,12 @@ py::dict result_to_dict(const guidance::AdmmResult& r) {
   d["infeasibility_certificate"] = r.infeasibility_certificate;
   return d;
 }
+
+namespace {
+using guidance::AdmmSettings;
+using guidance::AdmmSolver;
+using guidance::AdmmStatus;
+using guidance::LtvProblem;
 
 /// Keyword API: `AdmmSettings(eps_abs=...)`, `LtvProblem(A=..., B=..., x0=..., ...)` and
 /// `AdmmSolver(problem, settings)` beside the 16-positional constructor.
@@ -207,7 +209,7 @@ void init_guidance(py::module_& m) {
                py::gil_scoped_release release;
                r = &s.solve();
              }
-             return result_to_dict(*r);
+             return admm_result_to_dict(*r);
            })
       .def("solve_time_only",
            [](AdmmSolver& s, int repeats) {

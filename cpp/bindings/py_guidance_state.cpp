@@ -8,6 +8,7 @@
 #include <tuple>
 #include <vector>
 
+#include "guidance_result.hpp"
 #include "satgnc/guidance/state_constraints.hpp"
 
 namespace py = pybind11;
@@ -20,40 +21,7 @@ using Vec = Eigen::VectorXd;
 using Idx = std::array<int, 3>;
 
 py::dict state_result_to_dict(const StateAdmmResult& r) {
-  py::dict d;
-  d["X"] = r.X;
-  d["U"] = r.U;
-  d["Y"] = r.Y;
-  d["Lambda"] = r.Lambda;
-  d["X_flown"] = r.X_flown;
-  d["terminal_multiplier"] = r.terminal_multiplier;
-  const auto& i = r.info;
-  d["status"] = static_cast<int>(i.status);
-  d["status_name"] = std::string(guidance::status_message(i.status));
-  d["iterations"] = i.iterations;
-  d["primal_residual"] = i.primal_residual;
-  d["dual_residual"] = i.dual_residual;
-  d["eps_primal"] = i.eps_primal;
-  d["eps_dual"] = i.eps_dual;
-  d["paper_criterion"] = i.paper_criterion;
-  d["objective"] = i.objective;
-  d["objective_u"] = i.objective_u;
-  d["terminal_miss"] = i.terminal_miss;
-  d["rho"] = i.rho;
-  d["factorizations"] = i.factorizations;
-  d["rho_updates"] = i.rho_updates;
-  d["polished"] = i.polished;
-  d["polish_attempts"] = i.polish_attempts;
-  d["condensed"] = i.condensed;
-  d["solve_time"] = i.solve_time;
-  d["primal_objective"] = i.primal_objective;
-  d["dual_objective"] = i.dual_objective;
-  d["duality_gap"] = i.duality_gap;
-  d["certified"] = i.certified;
-  d["workspace_bytes"] = i.workspace_bytes;
-  d["ipm_iterations"] = i.ipm_iterations;
-  d["ipm_solved"] = i.ipm_solved;
-  d["infeasibility_certificate"] = r.infeasibility_certificate;
+  py::dict d = admm_result_to_dict(r);
   d["state_multipliers"] = r.state_multipliers;
   d["state_consensus"] = r.state_consensus;
   d["max_violation"] = r.max_violation;

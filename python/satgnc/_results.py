@@ -77,12 +77,50 @@ def adopt(cls: type[_R], /, **fields: Any) -> _R:
 
     For arrays the extension has just returned (and views of them) that nothing else references:
     they are marked read-only in place. Saves the copy (~10 us for a 50 x 50 staircase report, a
-    tenth of a small ADMM solve). Never pass an array a caller may still hold."""
+    tenth of a small ADMM solve). Never pass an array a caller may still hold.
+
+    The hot path of every solve(): for a result class whose ``__init__`` is the one dataclasses
+    generates and whose ``__post_init__`` is :class:`Result`'s, the object is filled directly (the
+    defaults, then ``fields``), which is what that ``__init__`` and ``__post_init__`` do, without
+    their per-field calls (L1Solver.solve(): 12 -> 5 us for 35 fields). Anything else, and any call
+    with an unknown or a missing field, goes through ``cls(**fields)`` (its errors unchanged)."""
+    layout = _LAYOUT.get(cls, False)
+    if layout is False:
+        layout = _LAYOUT[cls] = _direct_layout(cls)
+    if layout is not None:
+        names, required, defaults = layout
+        if required <= fields.keys() <= names:
+            obj = object.__new__(cls)
+            d = obj.__dict__
+            d.update(defaults)
+            for name, value in fields.items():
+                d[name] = _freeze_in_place(value) if isinstance(value, _CONTAINERS) else value
+            return obj
     _ADOPT.on = True
     try:
         return cls(**fields)
     finally:
         _ADOPT.on = False
+
+
+def _direct_layout(cls: type) -> tuple[frozenset[str], frozenset[str], dict[str, Any]] | None:
+    """(field names, required names, defaults) when adopt() may fill ``cls`` directly, else None:
+    a dataclass with the generated ``__init__`` (every field an init field, plain scalar defaults, no
+    default_factory) and Result's ``__post_init__``."""
+    init = cls.__dict__.get("__init__")
+    code = getattr(init, "__code__", None)
+    if code is None or code.co_filename != "<string>" or cls.__post_init__ is not Result.__post_init__:
+        return None
+    fs = dataclasses.fields(cls)
+    if any(not f.init or f.default_factory is not dataclasses.MISSING
+           or isinstance(f.default, _CONTAINERS) for f in fs):
+        return None
+    names = frozenset(f.name for f in fs)
+    required = frozenset(f.name for f in fs if f.default is dataclasses.MISSING)
+    return names, required, {f.name: f.default for f in fs if f.default is not dataclasses.MISSING}
+
+
+_LAYOUT: dict[type, tuple[frozenset[str], frozenset[str], dict[str, Any]] | None] = {}
 
 
 def deprecated(old: str, new: str, *, stacklevel: int = 2) -> None:

@@ -87,6 +87,7 @@ std::vector<Vec6> run6(const Vec6& x0, const std::vector<double>& times, const D
   EXPECT_EQ(info.status, Dop853Status::success);
   EXPECT_EQ(info.iterations, info.steps);  // core::InfoBase mirror
   EXPECT_GE(info.solve_time, 0.0);
+  EXPECT_EQ(integ.workspace().nfev, info.rhs_evals);  // the named workspace holds the run's count
   if (info_out) *info_out = info;
   return out;
 }

@@ -181,3 +181,25 @@ TEST(Riccati, DeprecatedTwoStepSetupStillWorks) {
 #if defined(__GNUC__)
 #pragma GCC diagnostic pop
 #endif
+
+// The named workspace (issue 12): sized once by the constructor for (nx, nu, N), then only written.
+TEST(Riccati, WorkspaceIsSizedAtSetupAndHoldsTheFactorization) {
+  LtvDynamics d;
+  d.A = {MatrixXd::Identity(3, 3)};
+  d.B = {MatrixXd::Identity(3, 2)};
+  d.horizon = 5;
+  const MatrixXd Qf = 2.0 * MatrixXd::Identity(3, 3);
+  RiccatiSolver ric({d, MatrixXd(), MatrixXd(), Qf, true});
+  const auto& ws = ric.workspace();
+  EXPECT_EQ(ws.P.rows(), 3);
+  EXPECT_EQ(ws.P.cols(), 3 * 6);  // P_0..P_N side by side
+  EXPECT_EQ(ws.K.rows(), 2);
+  EXPECT_EQ(ws.K.cols(), 3 * 5);
+  EXPECT_EQ(ws.Z.cols(), 3 * 6);  // terminal responses exist with the terminal constraint
+  const double* p_before = ws.P.data();
+  ASSERT_TRUE(ric.factor(1.0));
+  EXPECT_EQ(ws.P.data(), p_before);               // no reallocation by factor()
+  EXPECT_TRUE(ws.P.rightCols(3).isZero(0.0));     // P_N: x_N = x_f makes the terminal cost constant
+  EXPECT_EQ(&ric.terminal_sensitivity(), &ws.S);  // the accessors read the workspace
+  EXPECT_EQ(&ric.terminal_multiplier(), &ws.nu_term);
+}

@@ -138,3 +138,39 @@ def test_list_of_scalars_is_kept_and_list_of_arrays_frozen():
     assert r.parts == [1, 2, 3]
     r2 = _Demo(status="solved", iterations=1, X=np.ones(1), parts=[np.ones(2), np.ones(2)])
     assert all(p.flags.writeable is False for p in r2.parts)
+
+
+@dataclasses.dataclass(frozen=True)
+class _Plain(Result):
+    status: str
+    iterations: int
+    X: np.ndarray
+    objective: float = float("nan")
+    certificate: np.ndarray | None = None
+
+
+def test_adopt_direct_path_equals_the_constructor():
+    """adopt() fills a dataclass with plain defaults directly (the L1Solver.solve() hot path): the
+    result equals cls(**fields) field by field, its arrays are the given ones made read-only, it stays
+    frozen, and an unknown or a missing field raises the constructor's own TypeError."""
+    from satgnc.guidance import L1Result
+
+    assert _results._direct_layout(_Plain) is not None
+    assert _results._direct_layout(L1Result) is not None  # the path L1Solver.solve() takes
+    assert _results._direct_layout(_Demo) is None  # default_factory: through the constructor
+    X, c = np.arange(6.0).reshape(3, 2), np.ones(2)
+    r = _results.adopt(_Plain, status="solved", iterations=3, X=X, certificate=c)
+    ref = _Plain(status="solved", iterations=3, X=X.copy(), certificate=c.copy())
+    assert r.X is X and r.certificate is c
+    assert X.flags.writeable is False and c.flags.writeable is False
+    assert repr(r) == repr(ref) and np.isnan(r.objective)
+    assert [f.name for f in dataclasses.fields(r)] == list(vars(ref))
+    for k in ("X", "certificate"):
+        assert np.array_equal(getattr(r, k), getattr(ref, k))
+    assert (r.status, r.iterations) == (ref.status, ref.iterations)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.iterations = 4  # type: ignore[misc]
+    with pytest.raises(TypeError, match="unexpected keyword argument 'bogus'"):
+        _results.adopt(_Plain, status="solved", iterations=3, X=X, bogus=1)
+    with pytest.raises(TypeError, match="missing 1 required positional argument: 'iterations'"):
+        _results.adopt(_Plain, status="solved", X=X)

@@ -120,80 +120,81 @@ void RiccatiSolver::init(const LtvDynamics& dyn, const MatrixXd& Q, const Matrix
   factored_ = false;
   factorizations_ = 0;
   const Index n = nx_, m = nu_, N = N_;
-  P_.setZero(n, n * (N + 1));
-  K_.setZero(m, n * N);
-  AclT_.setZero(n, n * N);
-  Acl_.setZero(n, n * N);
-  QuuInv_.setZero(m, m * N);
-  QuuInvBt_.setZero(m, n * N);
-  e_.setZero(n, N);
-  D_.setZero(m, N);
-  Hbuf_.setZero(n, N);
-  Wbuf_.setZero(n, N);
-  K2_.setZero(m, n * N);
-  D2_.setZero(m, N);
-  Inu_ = MatrixXd::Identity(m, m);
+  ws_.P.setZero(n, n * (N + 1));
+  ws_.K.setZero(m, n * N);
+  ws_.AclT.setZero(n, n * N);
+  ws_.Acl.setZero(n, n * N);
+  ws_.QuuInv.setZero(m, m * N);
+  ws_.QuuInvBt.setZero(m, n * N);
+  ws_.e.setZero(n, N);
+  ws_.D.setZero(m, N);
+  ws_.Hbuf.setZero(n, N);
+  ws_.Wbuf.setZero(n, N);
+  ws_.K2.setZero(m, n * N);
+  ws_.D2.setZero(m, N);
+  ws_.Inu = MatrixXd::Identity(m, m);
   if (terminal_) {
-    T_.setZero(m, n * N);
-    Z_.setZero(n, n * (N + 1));
-    S_.setZero(n, n);
-    Spinv_.setZero(n, n);
-    eigvec_.setZero(n, n);
-    eigval_.setZero(n);
+    ws_.T.setZero(m, n * N);
+    ws_.Z.setZero(n, n * (N + 1));
+    ws_.S.setZero(n, n);
+    ws_.Spinv.setZero(n, n);
+    ws_.eigvec.setZero(n, n);
+    ws_.eigval.setZero(n);
   }
-  BtP_.setZero(m, n);
-  Quu_.setZero(m, m);
-  Qux_.setZero(m, n);
-  AtP_.setZero(n, n);
-  tmp_nx_nx_.setZero(n, n);
-  tmp_nu_nu_.setZero(m, m);
-  Pn_.setZero(n, n);
-  W_.setZero(n, n);
-  Wn_.setZero(n, n);
+  ws_.BtP.setZero(m, n);
+  ws_.Quu.setZero(m, m);
+  ws_.Qux.setZero(m, n);
+  ws_.AtP.setZero(n, n);
+  ws_.tmp_nx_nx.setZero(n, n);
+  ws_.tmp_nu_nu.setZero(m, m);
+  ws_.Pn.setZero(n, n);
+  ws_.W.setZero(n, n);
+  ws_.Wn.setZero(n, n);
   // Factor the identity so that every member of the LLT (its info flag too) is initialised before the
   // move: Eigen 3.4 leaves m_info uninitialised in LLT(Index), which UBSan reports when moved.
-  llt_ = Eigen::LLT<MatrixXd>(MatrixXd::Identity(m, m));
-  p_.setZero(n);
-  w_.setZero(n);
-  tmp_nx_.setZero(n);
-  tmp_nu_.setZero(m);
-  nu_term_.setZero(n);
-  miss_.setZero(n);
+  ws_.llt = Eigen::LLT<MatrixXd>(MatrixXd::Identity(m, m));
+  ws_.p.setZero(n);
+  ws_.w.setZero(n);
+  ws_.tmp_nx.setZero(n);
+  ws_.tmp_nu.setZero(m);
+  ws_.nu_term.setZero(n);
+  ws_.miss.setZero(n);
 }
 
 bool RiccatiSolver::factor_stage(int k, double rho) noexcept {
   const Index n = nx_, m = nu_;
   const MatrixXd& A = dyn_.A_at(k);
   const MatrixXd& B = dyn_.B_at(k);
-  Pn_ = P_.middleCols((k + 1) * n, n);
-  BtP_.noalias() = B.transpose() * Pn_;
+  ws_.Pn = ws_.P.middleCols((k + 1) * n, n);
+  ws_.BtP.noalias() = B.transpose() * ws_.Pn;
   if (R_.size() != 0) {
-    Quu_ = R_;
+    ws_.Quu = R_;
   } else {
-    Quu_.setZero();
+    ws_.Quu.setZero();
   }
-  Quu_.diagonal().array() += rho;
-  Quu_.noalias() += BtP_ * B;
-  Qux_.noalias() = BtP_ * A;
-  llt_.compute(Quu_);
-  if (llt_.info() != Eigen::Success) return false;
-  tmp_nu_nu_ = Inu_;
-  llt_.solveInPlace(tmp_nu_nu_);
-  QuuInv_.middleCols(k * m, m) = tmp_nu_nu_;
-  K_.middleCols(k * n, n).noalias() = tmp_nu_nu_ * Qux_;
-  QuuInvBt_.middleCols(k * n, n).noalias() = tmp_nu_nu_ * B.transpose();
-  tmp_nx_nx_ = A;
-  tmp_nx_nx_.noalias() -= B * K_.middleCols(k * n, n);
-  Acl_.middleCols(k * n, n) = tmp_nx_nx_;
-  AclT_.middleCols(k * n, n) = tmp_nx_nx_.transpose();
+  ws_.Quu.diagonal().array() += rho;
+  ws_.Quu.noalias() += ws_.BtP * B;
+  ws_.Qux.noalias() = ws_.BtP * A;
+  ws_.llt.compute(ws_.Quu);
+  if (ws_.llt.info() != Eigen::Success) return false;
+  ws_.tmp_nu_nu = ws_.Inu;
+  ws_.llt.solveInPlace(ws_.tmp_nu_nu);
+  ws_.QuuInv.middleCols(k * m, m) = ws_.tmp_nu_nu;
+  ws_.K.middleCols(k * n, n).noalias() = ws_.tmp_nu_nu * ws_.Qux;
+  ws_.QuuInvBt.middleCols(k * n, n).noalias() = ws_.tmp_nu_nu * B.transpose();
+  ws_.tmp_nx_nx = A;
+  ws_.tmp_nx_nx.noalias() -= B * ws_.K.middleCols(k * n, n);
+  ws_.Acl.middleCols(k * n, n) = ws_.tmp_nx_nx;
+  ws_.AclT.middleCols(k * n, n) = ws_.tmp_nx_nx.transpose();
   // P_k = Q + A'P A - Qux' K (Q acts on x_1..x_{N-1})
-  riccati_stage(Q_.size() != 0 && k >= 1, Q_, A, Pn_, Qux_, K_.middleCols(k * n, n), AtP_, tmp_nx_nx_);
-  AtP_ = tmp_nx_nx_.transpose();
-  tmp_nx_nx_ += AtP_;
-  P_.middleCols(k * n, n) = 0.5 * tmp_nx_nx_;
+  riccati_stage(Q_.size() != 0 && k >= 1, Q_, A, ws_.Pn, ws_.Qux, ws_.K.middleCols(k * n, n), ws_.AtP,
+                ws_.tmp_nx_nx);
+  ws_.AtP = ws_.tmp_nx_nx.transpose();
+  ws_.tmp_nx_nx += ws_.AtP;
+  ws_.P.middleCols(k * n, n) = 0.5 * ws_.tmp_nx_nx;
   if (!dyn_.c.empty()) {
     const VectorXd& c = dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k];
-    e_.col(k).noalias() = Pn_ * c;
+    ws_.e.col(k).noalias() = ws_.Pn * c;
   }
   return true;
 }
@@ -206,9 +207,9 @@ bool RiccatiSolver::factor(double rho) noexcept {
   // Under x_N = x_f the terminal cost is constant on the feasible set: dropping it is exact and
   // avoids the cancellation between a large Qf and the terminal multiplier.
   if (terminal_) {
-    P_.middleCols(N * n, n).setZero();
+    ws_.P.middleCols(N * n, n).setZero();
   } else {
-    P_.middleCols(N * n, n) = Qf_;
+    ws_.P.middleCols(N * n, n) = Qf_;
   }
   for (int k = N_ - 1; k >= 0; --k) {
     if (!factor_stage(k, rho)) return false;
@@ -217,37 +218,37 @@ bool RiccatiSolver::factor(double rho) noexcept {
   ++factorizations_;
   if (terminal_) {
     // Responses to a unit terminal multiplier (p_N = e_j), all nx columns at once.
-    W_.setIdentity();  // p_{k+1} for each unit multiplier
+    ws_.W.setIdentity();  // p_{k+1} for each unit multiplier
     for (Index k = N - 1; k >= 0; --k) {
-      T_.middleCols(k * n, n).noalias() = QuuInvBt_.middleCols(k * n, n) * W_;  // d_k
-      Wn_.noalias() = AclT_.middleCols(k * n, n) * W_;
-      W_ = Wn_;
+      ws_.T.middleCols(k * n, n).noalias() = ws_.QuuInvBt.middleCols(k * n, n) * ws_.W;  // d_k
+      ws_.Wn.noalias() = ws_.AclT.middleCols(k * n, n) * ws_.W;
+      ws_.W = ws_.Wn;
     }
-    Z_.middleCols(0, n).setZero();
+    ws_.Z.middleCols(0, n).setZero();
     for (Index k = 0; k < N; ++k) {
       const MatrixXd& A = dyn_.A_at(static_cast<int>(k));
       const MatrixXd& B = dyn_.B_at(static_cast<int>(k));
       // u = -K z - d  (stored over d), z+ = A z + B u
-      tmp_nx_nx_ = Z_.middleCols(k * n, n);
-      T_.middleCols(k * n, n) *= -1.0;
-      T_.middleCols(k * n, n).noalias() -= K_.middleCols(k * n, n) * tmp_nx_nx_;
-      Z_.middleCols((k + 1) * n, n).noalias() = A * tmp_nx_nx_;
-      Z_.middleCols((k + 1) * n, n).noalias() += B * T_.middleCols(k * n, n);
+      ws_.tmp_nx_nx = ws_.Z.middleCols(k * n, n);
+      ws_.T.middleCols(k * n, n) *= -1.0;
+      ws_.T.middleCols(k * n, n).noalias() -= ws_.K.middleCols(k * n, n) * ws_.tmp_nx_nx;
+      ws_.Z.middleCols((k + 1) * n, n).noalias() = A * ws_.tmp_nx_nx;
+      ws_.Z.middleCols((k + 1) * n, n).noalias() += B * ws_.T.middleCols(k * n, n);
     }
-    S_ = Z_.middleCols(N * n, n);
-    tmp_nx_nx_ = S_.transpose();
-    tmp_nx_nx_ += S_;
-    tmp_nx_nx_ *= 0.5;
-    jacobi_eigen(tmp_nx_nx_, eigvec_, eigval_);
-    const double lmax = eigval_.cwiseAbs().maxCoeff();
+    ws_.S = ws_.Z.middleCols(N * n, n);
+    ws_.tmp_nx_nx = ws_.S.transpose();
+    ws_.tmp_nx_nx += ws_.S;
+    ws_.tmp_nx_nx *= 0.5;
+    jacobi_eigen(ws_.tmp_nx_nx, ws_.eigvec, ws_.eigval);
+    const double lmax = ws_.eigval.cwiseAbs().maxCoeff();
     rank_ = 0;
-    Spinv_.setZero();
+    ws_.Spinv.setZero();
     for (Index i = 0; i < n; ++i) {
       // 1e-14: an ill-conditioned but full-rank sensitivity (long CW horizons, scaled controls) is
       // still inverted; an exactly rank-deficient one has eigenvalues at rounding level (~1e-16)
-      if (std::abs(eigval_(i)) > 1e-14 * lmax && lmax > 0.0) {
+      if (std::abs(ws_.eigval(i)) > 1e-14 * lmax && lmax > 0.0) {
         ++rank_;
-        Spinv_.noalias() += (1.0 / eigval_(i)) * eigvec_.col(i) * eigvec_.col(i).transpose();
+        ws_.Spinv.noalias() += (1.0 / ws_.eigval(i)) * ws_.eigvec.col(i) * ws_.eigvec.col(i).transpose();
       }
     }
   }
@@ -276,15 +277,15 @@ void RiccatiSolver::affine_sweep(const Eigen::Ref<const VectorXd>& x0, const Eig
   const double* rd = r.data();
   double* Xd = X.data();
   double* Ud = U.data();
-  const double* Ginv0 = QuuInv_.data();
-  const double* GB0 = QuuInvBt_.data();
-  const double* AclT0 = AclT_.data();
-  const double* K0 = K_.data();
-  const double* e0 = e_.data();
-  double* D0 = D_.data();
+  const double* Ginv0 = ws_.QuuInv.data();
+  const double* GB0 = ws_.QuuInvBt.data();
+  const double* AclT0 = ws_.AclT.data();
+  const double* K0 = ws_.K.data();
+  const double* e0 = ws_.e.data();
+  double* D0 = ws_.D.data();
   // fixed-size locals live on the stack; the dynamic instantiation uses the preallocated members
-  Map<VX> p(p_.data(), n), w(w_.data(), n), x(tmp_nx_.data(), n), xn(miss_.data(), n);
-  Map<VU> u(tmp_nu_.data(), m);
+  Map<VX> p(ws_.p.data(), n), w(ws_.w.data(), n), x(ws_.tmp_nx.data(), n), xn(ws_.miss.data(), n);
+  Map<VU> u(ws_.tmp_nu.data(), m);
   if (terminal_) {
     p.setZero();
   } else {
@@ -311,7 +312,7 @@ void RiccatiSolver::affine_sweep(const Eigen::Ref<const VectorXd>& x0, const Eig
   }
   // forward: u_k = -K_k x_k - d_k and x_{k+1} = (A - B K)_k x_k - B_k d_k + c_k: the chain is one
   // tree-summed n x n product; the control and the affine part are off it
-  const double* Acl0 = Acl_.data();
+  const double* Acl0 = ws_.Acl.data();
   x = x0;
   Map<VX>(Xd, n) = x;
   for (Index k = 0; k < N; ++k) {
@@ -356,15 +357,15 @@ void RiccatiSolver::affine_sweep_63(const Eigen::Ref<const VectorXd>& x0, const 
   const double* rd = r.data();
   double* Xd = X.data();
   double* Ud = U.data();
-  const double* K0 = K_.data();
-  const double* AclT0 = AclT_.data();
-  const double* Acl0 = Acl_.data();
-  const double* Ginv0 = QuuInv_.data();
-  const double* GB0 = QuuInvBt_.data();
-  const double* e0 = e_.data();
-  double* H0 = Hbuf_.data();  // h_k, then f_k
-  double* W0 = Wbuf_.data();  // w_k
-  double* D0 = D_.data();
+  const double* K0 = ws_.K.data();
+  const double* AclT0 = ws_.AclT.data();
+  const double* Acl0 = ws_.Acl.data();
+  const double* Ginv0 = ws_.QuuInv.data();
+  const double* GB0 = ws_.QuuInvBt.data();
+  const double* e0 = ws_.e.data();
+  double* H0 = ws_.Hbuf.data();  // h_k, then f_k
+  double* W0 = ws_.Wbuf.data();  // w_k
+  double* D0 = ws_.D.data();
   const double* c0 = has_c ? dyn_.c[0].data() : nullptr;
   V6 p = terminal_ ? V6::Zero() : V6(Map<const V6>(qd + N * qs));
   for (Index k = N - 1; k >= 0; --k) {
@@ -404,12 +405,12 @@ RiccatiStatus RiccatiSolver::apply_terminal(const Eigen::Ref<const VectorXd>& xf
   using MUX = Matrix<double, NU, NX>;
   const Index n = nx_, m = nu_, N = N_;
   const Index xs = X.outerStride(), us = U.outerStride();
-  Map<VX> miss(miss_.data(), n), nt(nu_term_.data(), n);
+  Map<VX> miss(ws_.miss.data(), n), nt(ws_.nu_term.data(), n);
   miss = Map<const VX>(xf.data(), n) - Map<const VX>(X.data() + N * xs, n);
   const double miss0 = miss.norm();
-  nt.noalias() = Map<const MXX>(Spinv_.data(), n, n) * miss;
-  const double* T0 = T_.data();
-  const double* Z0 = Z_.data();
+  nt.noalias() = Map<const MXX>(ws_.Spinv.data(), n, n) * miss;
+  const double* T0 = ws_.T.data();
+  const double* Z0 = ws_.Z.data();
   double* Xd = X.data();
   double* Ud = U.data();
   for (Index k = 0; k < N; ++k) {
@@ -446,57 +447,58 @@ RiccatiStatus RiccatiSolver::solve_full(double rho, const Eigen::Ref<const Vecto
   const Index n = nx_, m = nu_, N = N_;
   // value function V_k(x) = 1/2 x' P x + p' x, recomputed from scratch (eqs. (12)-(21) of the paper)
   if (terminal_) {  // see factor()
-    W_.setZero();
-    p_.setZero();
+    ws_.W.setZero();
+    ws_.p.setZero();
   } else {
-    W_ = Qf_;  // P_{k+1}
-    p_ = q.col(N);
+    ws_.W = Qf_;  // P_{k+1}
+    ws_.p = q.col(N);
   }
   for (Index k = N - 1; k >= 0; --k) {
     const MatrixXd& A = dyn_.A_at(static_cast<int>(k));
     const MatrixXd& B = dyn_.B_at(static_cast<int>(k));
-    w_ = p_;
-    if (!dyn_.c.empty()) w_.noalias() += W_ * (dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k]);
-    BtP_.noalias() = B.transpose() * W_;
+    ws_.w = ws_.p;
+    if (!dyn_.c.empty()) ws_.w.noalias() += ws_.W * (dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k]);
+    ws_.BtP.noalias() = B.transpose() * ws_.W;
     if (R_.size() != 0) {
-      Quu_ = R_;
+      ws_.Quu = R_;
     } else {
-      Quu_.setZero();
+      ws_.Quu.setZero();
     }
-    Quu_.diagonal().array() += rho;
-    Quu_.noalias() += BtP_ * B;
-    Qux_.noalias() = BtP_ * A;
-    tmp_nu_ = r.col(k);
-    tmp_nu_.noalias() += B.transpose() * w_;  // qu
-    llt_.compute(Quu_);
-    if (llt_.info() != Eigen::Success) return RiccatiStatus::unsolved;
-    K2_.middleCols(k * n, n) = Qux_;
-    auto Kk = K2_.middleCols(k * n, n);
-    llt_.solveInPlace(Kk);
-    D2_.col(k) = tmp_nu_;
-    auto dk = D2_.col(k);
-    llt_.solveInPlace(dk);
+    ws_.Quu.diagonal().array() += rho;
+    ws_.Quu.noalias() += ws_.BtP * B;
+    ws_.Qux.noalias() = ws_.BtP * A;
+    ws_.tmp_nu = r.col(k);
+    ws_.tmp_nu.noalias() += B.transpose() * ws_.w;  // qu
+    ws_.llt.compute(ws_.Quu);
+    if (ws_.llt.info() != Eigen::Success) return RiccatiStatus::unsolved;
+    ws_.K2.middleCols(k * n, n) = ws_.Qux;
+    auto Kk = ws_.K2.middleCols(k * n, n);
+    ws_.llt.solveInPlace(Kk);
+    ws_.D2.col(k) = ws_.tmp_nu;
+    auto dk = ws_.D2.col(k);
+    ws_.llt.solveInPlace(dk);
     // p_k = q_k + A' w - Qux' d_k ;  P_k = Q + A' P A - Qux' K
-    p_ = q.col(k);
-    p_.noalias() += A.transpose() * w_;
-    p_.noalias() -= Qux_.transpose() * D2_.col(k);
-    riccati_stage(Q_.size() != 0 && k >= 1, Q_, A, W_, Qux_, K2_.middleCols(k * n, n), AtP_, Wn_);
-    W_ = Wn_.transpose();
-    W_ += Wn_;
-    W_ *= 0.5;
+    ws_.p = q.col(k);
+    ws_.p.noalias() += A.transpose() * ws_.w;
+    ws_.p.noalias() -= ws_.Qux.transpose() * ws_.D2.col(k);
+    riccati_stage(Q_.size() != 0 && k >= 1, Q_, A, ws_.W, ws_.Qux, ws_.K2.middleCols(k * n, n), ws_.AtP,
+                  ws_.Wn);
+    ws_.W = ws_.Wn.transpose();
+    ws_.W += ws_.Wn;
+    ws_.W *= 0.5;
   }
-  tmp_nx_ = x0;
-  X.col(0) = tmp_nx_;
+  ws_.tmp_nx = x0;
+  X.col(0) = ws_.tmp_nx;
   for (Index k = 0; k < N; ++k) {
     const MatrixXd& A = dyn_.A_at(static_cast<int>(k));
     const MatrixXd& B = dyn_.B_at(static_cast<int>(k));
-    tmp_nu_.noalias() = K2_.middleCols(k * n, n) * tmp_nx_;
-    tmp_nu_ = -tmp_nu_ - D2_.col(k);
-    U.col(k) = tmp_nu_;
-    X.col(k + 1).noalias() = A * tmp_nx_;
-    X.col(k + 1).noalias() += B * tmp_nu_;
+    ws_.tmp_nu.noalias() = ws_.K2.middleCols(k * n, n) * ws_.tmp_nx;
+    ws_.tmp_nu = -ws_.tmp_nu - ws_.D2.col(k);
+    U.col(k) = ws_.tmp_nu;
+    X.col(k + 1).noalias() = A * ws_.tmp_nx;
+    X.col(k + 1).noalias() += B * ws_.tmp_nu;
     if (!dyn_.c.empty()) X.col(k + 1) += dyn_.c.size() == 1 ? dyn_.c[0] : dyn_.c[k];
-    tmp_nx_ = X.col(k + 1);
+    ws_.tmp_nx = X.col(k + 1);
   }
   (void)m;
   if (terminal_) {

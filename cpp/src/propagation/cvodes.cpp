@@ -13,6 +13,7 @@
 #include <string>
 
 #include "detail/cvodes.hpp"
+#include "detail/cvodes_orbit_newton.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 
@@ -63,10 +64,7 @@ struct CvodesPropagator::Impl {
   dynamics::ForceModel model;
   CvodesSettings settings;
   int n = kStateDim;
-  // Block-diagonal Newton matrix M = I - gamma A(x_pred), shared by the state and every STM column.
-  Eigen::PartialPivLU<Mat6> lu;
-  long lin_setups = 0;
-  double lu_t = 0.0, lu_gamma = 0.0;
+  detail::OrbitNewtonLu newton;  // M = I - gamma A(x_pred), shared by every 6-block
   // Failure bookkeeping (written only on failure).
   detail::RhsFailure rhs_failure;
   realtype tret_ = 0.0;  // time CVode returned (the root's time on CV_ROOT_RETURN)
@@ -109,41 +107,10 @@ struct CvodesPropagator::Impl {
     return 0;
   }
 
-  // ---- matrix-embedded linear solver: x = M^-1 b block by block (7 blocks with the STM) ----------
-
-  // CVODES 6.4 never calls setup() on a matrix-embedded solver (it disables lsetup for that type), so
-  // solve() refreshes M = I - gamma A(x_pred) itself whenever the step (t, gamma) changed: modified
-  // Newton with the Jacobian at the predicted state, refreshed every step. The coupling block
-  // d(A Phi)/dx (second derivatives of the force) is neglected; Newton then converges linearly on the
-  // STM part, which costs iterations but not accuracy (the residual is exact).
+  // Matrix-embedded linear solver: x = M^-1 b block by block (detail/cvodes_orbit_newton.hpp).
   static int ls_solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, realtype) {
     auto* p = static_cast<Impl*>(s->content);
-    realtype tcur, gamma;
-    N_Vector ypred;
-    if (!detail::cvodes_newton_point(p->cv.mem, tcur, gamma, ypred)) return SUNLS_PACKAGE_FAIL_UNREC;
-    if (p->lin_setups == 0 || tcur != p->lu_t || gamma != p->lu_gamma) {
-      const double* yd = N_VGetArrayPointer(ypred);
-      const Eigen::Map<const Vec3> r(yd), v(yd + 3);
-      Vec3 a;
-      Mat3 g, d;
-      p->model.acceleration_jacobians(tcur, r, v, a, g, d);
-      Mat6 m = Mat6::Identity();
-      m.topRightCorner<3, 3>().diagonal().array() -= gamma;
-      m.bottomLeftCorner<3, 3>() = -gamma * g;
-      m.bottomRightCorner<3, 3>() -= gamma * d;
-      if (!m.allFinite()) return SUNLS_PACKAGE_FAIL_REC;
-      p->lu.compute(m);
-      p->lu_t = tcur;
-      p->lu_gamma = gamma;
-      ++p->lin_setups;
-    }
-    const double* bd = N_VGetArrayPointer(b);
-    double* xd = N_VGetArrayPointer(x);
-    for (int k = 0; k < p->n; k += kStateDim) {
-      Eigen::Map<Vec6> xk(xd + k);
-      xk = p->lu.solve(Eigen::Map<const Vec6>(bd + k));
-    }
-    return SUNLS_SUCCESS;
+    return p->newton.solve(p->cv.mem, p->model, p->n, x, b);
   }
 
   void setup() {
@@ -191,7 +158,7 @@ struct CvodesPropagator::Impl {
 
   void fill_stats(Trajectory& out) const {
     detail::cvodes_read_stats(cv.mem, out.stats);
-    out.stats.lin_setups = lin_setups;
+    out.stats.lin_setups = newton.lin_setups;
   }
 
   void run(const Vec6& x0, double t0, const std::vector<double>& times, Trajectory& out) {
@@ -213,7 +180,7 @@ struct CvodesPropagator::Impl {
     out.message.clear();
     out.t_reached = t0;
     rhs_failure.failed = false;
-    lin_setups = 0;
+    newton.lin_setups = 0;
 
     double* yd = N_VGetArrayPointer(cv.y);
     Eigen::Map<Vec6> ystate(yd);

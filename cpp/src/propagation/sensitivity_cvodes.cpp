@@ -10,6 +10,7 @@
 #include <string>
 
 #include "detail/cvodes.hpp"
+#include "detail/cvodes_orbit_newton.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
 #include "satgnc/propagation/sensitivity.hpp"
@@ -25,9 +26,7 @@ struct CvodesSensitivityPropagator::Impl {
   int k = 0;
   int n = 42;
   bool velocity_dependent = false;
-  Eigen::PartialPivLU<Mat6> lu;
-  long lin_setups = 0;
-  double lu_t = 0.0, lu_gamma = 0.0;
+  detail::OrbitNewtonLu newton;  // M = I - gamma A(x_pred), shared by every 6-block
   detail::RhsFailure rhs_failure;
   realtype tret = 0.0;
   std::string cv_message;
@@ -67,36 +66,10 @@ struct CvodesSensitivityPropagator::Impl {
     return 0;
   }
 
-  // Matrix-embedded linear solver, as CvodesPropagator's: one LU of I - gamma A(x_pred) per step,
-  // applied to every 6-block (state, STM columns, S columns; the S source term does not enter M).
+  // Matrix-embedded linear solver: x = M^-1 b block by block (detail/cvodes_orbit_newton.hpp).
   static int ls_solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, realtype) {
     auto* p = static_cast<Impl*>(s->content);
-    realtype tcur, gamma;
-    N_Vector ypred;
-    if (!detail::cvodes_newton_point(p->cv.mem, tcur, gamma, ypred)) return SUNLS_PACKAGE_FAIL_UNREC;
-    if (p->lin_setups == 0 || tcur != p->lu_t || gamma != p->lu_gamma) {
-      const double* yd = N_VGetArrayPointer(ypred);
-      const Eigen::Map<const Vec3> r(yd), v(yd + 3);
-      Vec3 a;
-      Mat3 g, d;
-      p->model.acceleration_jacobians(tcur, r, v, a, g, d);
-      Mat6 m = Mat6::Identity();
-      m.topRightCorner<3, 3>().diagonal().array() -= gamma;
-      m.bottomLeftCorner<3, 3>() = -gamma * g;
-      m.bottomRightCorner<3, 3>() -= gamma * d;
-      if (!m.allFinite()) return SUNLS_PACKAGE_FAIL_REC;
-      p->lu.compute(m);
-      p->lu_t = tcur;
-      p->lu_gamma = gamma;
-      ++p->lin_setups;
-    }
-    const double* bd = N_VGetArrayPointer(b);
-    double* xd = N_VGetArrayPointer(x);
-    for (int i = 0; i < p->n; i += 6) {
-      Eigen::Map<Vec6> xk(xd + i);
-      xk = p->lu.solve(Eigen::Map<const Vec6>(bd + i));
-    }
-    return SUNLS_SUCCESS;
+    return p->newton.solve(p->cv.mem, p->model, p->n, x, b);
   }
 
   static int surface_root(realtype, N_Vector yv, realtype* g, void* user) {
@@ -148,7 +121,7 @@ struct CvodesSensitivityPropagator::Impl {
 
   void fill_stats(Trajectory& tr) const {
     detail::cvodes_read_stats(cv.mem, tr.stats);
-    tr.stats.lin_setups = lin_setups;
+    tr.stats.lin_setups = newton.lin_setups;
   }
 
   void run(const Vec6& x0, double t0, const std::vector<double>& times, SensitivityTrajectory& out) {
@@ -173,7 +146,7 @@ struct CvodesSensitivityPropagator::Impl {
     tr.message.clear();
     tr.t_reached = t0;
     rhs_failure.failed = false;
-    lin_setups = 0;
+    newton.lin_setups = 0;
     SATGNC_NO_MALLOC_SCOPE;
     double* yd = N_VGetArrayPointer(cv.y);
     for (int i = 0; i < n; ++i) yd[i] = 0.0;

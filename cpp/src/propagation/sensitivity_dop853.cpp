@@ -62,7 +62,7 @@ void validate_sensitivity_parameters(const ForceModel& model, const std::vector<
 namespace {
 
 // Right-hand side of [x; Phi; S] (6 + 36 + 6K): every column c of [Phi S] obeys dc/dt = A c, and
-// column 6 + j of S adds [0; da/dp_j]. Scalar loops as in detail::OrbitRhs (dop853.hpp).
+// column 6 + j of S adds [0; da/dp_j] (detail::variational_column, dop853.hpp).
 template <int K, bool VelocityDependent>
 struct SensitivityRhs {
   static constexpr int N = 42 + 6 * K;
@@ -78,32 +78,15 @@ struct SensitivityRhs {
     fm.acceleration_jacobians(t, r, v, a, da_dr, da_dv);
     dy.template head<3>() = v;
     dy.template segment<3>(3) = a;
-    const double* G = da_dr.data();  // column-major
-    const double* H = da_dv.data();
     for (int j = 0; j < 6 + K; ++j) {
       const double* pc = y.data() + 6 + 6 * j;
       double* dc = dy.data() + 6 + 6 * j;
-      const double p0 = pc[0], p1 = pc[1], p2 = pc[2], q0 = pc[3], q1 = pc[4], q2 = pc[5];
-      double a0 = G[0] * p0 + G[3] * p1 + G[6] * p2;
-      double a1 = G[1] * p0 + G[4] * p1 + G[7] * p2;
-      double a2 = G[2] * p0 + G[5] * p1 + G[8] * p2;
-      if constexpr (VelocityDependent) {
-        a0 += H[0] * q0 + H[3] * q1 + H[6] * q2;
-        a1 += H[1] * q0 + H[4] * q1 + H[7] * q2;
-        a2 += H[2] * q0 + H[5] * q1 + H[8] * q2;
-      }
       if (j >= 6) {
         const Vec3 b = fm.acceleration_partial(params[static_cast<std::size_t>(j - 6)], t, r, v);
-        a0 += b[0];
-        a1 += b[1];
-        a2 += b[2];
+        detail::variational_column<VelocityDependent>(da_dr.data(), da_dv.data(), pc, dc, b.data());
+      } else {
+        detail::variational_column<VelocityDependent>(da_dr.data(), da_dv.data(), pc, dc);
       }
-      dc[0] = q0;
-      dc[1] = q1;
-      dc[2] = q2;
-      dc[3] = a0;
-      dc[4] = a1;
-      dc[5] = a2;
     }
   }
 };
@@ -169,75 +152,39 @@ SensitivityTrajectory propagate_dop853_sensitivity(const ForceModel& model, cons
   const ForceModel fm = model;
   const bool vd = fm.drag.has_value() || fm.atmosphere_drag.has_value();
   const std::size_t n = times.size();
-  std::vector<std::size_t> fwd, bwd;  // two arcs from t0, as propagate_dop853_with
-  for (std::size_t i = 0; i < n; ++i) (times[i] >= t0 ? fwd : bwd).push_back(i);
-  const bool ascending = n < 2 || times.front() <= times.back();
-  if (!ascending) std::reverse(fwd.begin(), fwd.end());
-  if (ascending) std::reverse(bwd.begin(), bwd.end());
   std::vector<Vec6> states(n);
   std::vector<Mat6> stms(n);
   std::vector<SensitivityMatrix> sens(n, SensitivityMatrix::Zero(6, k));
-  std::vector<char> done(n, 0);
   Trajectory& tr = st.trajectory;
-  tr.status = PropagationStatus::success;
-  tr.t_reached = t0;
-  bool failed = false;
-  auto arc = [&](const std::vector<std::size_t>& idx, const char* name) {
-    if (idx.empty() || failed) return;
-    const std::size_t m = idx.size();
-    std::vector<double> ts(m);
-    std::vector<Vec6> xs(m);
-    std::vector<Mat6> ps(m);
-    std::vector<SensitivityMatrix> ss(m, SensitivityMatrix::Zero(6, k));
-    for (std::size_t j = 0; j < m; ++j) ts[j] = times[idx[j]];
-    Dop853Info info;
-    switch (k) {
-      case 1:
-        dispatch_arc<1>(vd, fm, parameters, x0, t0, ts.data(), m, settings, xs.data(), ps.data(), ss.data(),
-                        info, surface_radius);
-        break;
-      case 2:
-        dispatch_arc<2>(vd, fm, parameters, x0, t0, ts.data(), m, settings, xs.data(), ps.data(), ss.data(),
-                        info, surface_radius);
-        break;
-      default:
-        dispatch_arc<3>(vd, fm, parameters, x0, t0, ts.data(), m, settings, xs.data(), ps.data(), ss.data(),
-                        info, surface_radius);
-        break;
-    }
-    for (std::size_t j = 0; j < info.outputs; ++j) {
-      states[idx[j]] = xs[j];
-      stms[idx[j]] = ps[j];
-      sens[idx[j]] = ss[j];
-      done[idx[j]] = 1;
-    }
-    tr.stats.steps += info.steps;
-    tr.stats.rhs_evals += info.rhs_evals;
-    tr.stats.error_test_fails += info.rejected;
-    if (info.steps > 0) tr.stats.last_step = info.h_last;
-    tr.t_reached = info.t_reached;
-    if (info.status == Dop853Status::event) {
-      failed = true;
-      tr.status = PropagationStatus::impact;
-      tr.message = std::string("propagate_dop853_sensitivity (") + name +
-                   " arc): impact at t = " + std::to_string(info.t_reached) +
-                   " s: |r| reached surface_radius = " + std::to_string(surface_radius) + " km";
-    } else if (info.status != Dop853Status::success) {
-      failed = true;
-      tr.status = dop853_to_propagation_status(info.status);
-      tr.message = std::string("propagate_dop853_sensitivity (") + name +
-                   " arc): " + status_message(info.status) +
-                   "; reached t = " + std::to_string(info.t_reached) + " s after " +
-                   std::to_string(info.steps) + " steps";
-    }
-  };
-  if (!bwd.empty() && times.front() < t0) {
-    arc(bwd, "backward");
-    arc(fwd, "forward");
-  } else {
-    arc(fwd, "forward");
-    arc(bwd, "backward");
-  }
+  const std::vector<char> done =
+      detail::dop853_two_arcs("propagate_dop853_sensitivity", t0, times, surface_radius, tr,
+                              [&](const std::vector<std::size_t>& idx, const std::vector<double>& ts) {
+                                const std::size_t m = idx.size();
+                                std::vector<Vec6> xs(m);
+                                std::vector<Mat6> ps(m);
+                                std::vector<SensitivityMatrix> ss(m, SensitivityMatrix::Zero(6, k));
+                                Dop853Info info;
+                                switch (k) {
+                                  case 1:
+                                    dispatch_arc<1>(vd, fm, parameters, x0, t0, ts.data(), m, settings,
+                                                    xs.data(), ps.data(), ss.data(), info, surface_radius);
+                                    break;
+                                  case 2:
+                                    dispatch_arc<2>(vd, fm, parameters, x0, t0, ts.data(), m, settings,
+                                                    xs.data(), ps.data(), ss.data(), info, surface_radius);
+                                    break;
+                                  default:
+                                    dispatch_arc<3>(vd, fm, parameters, x0, t0, ts.data(), m, settings,
+                                                    xs.data(), ps.data(), ss.data(), info, surface_radius);
+                                    break;
+                                }
+                                for (std::size_t j = 0; j < info.outputs; ++j) {
+                                  states[idx[j]] = xs[j];
+                                  stms[idx[j]] = ps[j];
+                                  sens[idx[j]] = ss[j];
+                                }
+                                return info;
+                              });
   for (std::size_t i = 0; i < n; ++i) {
     if (!done[i]) continue;
     tr.times.push_back(times[i]);

@@ -67,6 +67,7 @@ __all__ = [
 TIME_SYSTEMS = ("UTC", "TAI", "TT", "GPS", "TDB")  #: TIME_SYSTEM values read and written
 
 _M = TypeVar("_M")
+_F = TypeVar("_F", bound=Callable[..., Any])
 
 
 def _strings(value: Any, name: str) -> tuple[str, ...]:
@@ -121,6 +122,117 @@ def _opt_float(value: Any, name: str) -> float | None:
     if value is None:
         return None
     return float(as_real_array(value, name, shape=()))
+
+
+# The four entry points of each message type share their docstrings (numpy style), filled in per type.
+_PARSE_DOC = """A :class:`{cls}` from {kind} ({enc}) text.
+
+    Parameters
+    ----------
+    text : str
+        The whole file's text.
+    source : str, optional
+        Name used in error messages (default ``"<string>"``).
+
+    Returns
+    -------
+    {cls}
+        {returns}
+
+    Raises
+    ------
+    satgnc.FileFormatError
+        A malformed message, naming ``source``, the line and the keyword.
+    TypeError
+        ``text`` is not a str.
+    """
+
+_READ_DOC = """Read a {kind} ({enc}) file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to read (UTF-8).
+
+    Returns
+    -------
+    {cls}
+        {returns}
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    satgnc.FileFormatError
+        A malformed file, naming the file, the line and the keyword.
+    """
+
+_FORMAT_DOC = """The {kind} text of ``{arg}`` ({enc}).
+
+    Parameters
+    ----------
+    {arg} : {cls}
+        The message to write (numbers in the shortest form that reads back to the same double; units in
+        brackets after each dimensioned value).{format_param}
+
+    Returns
+    -------
+    str
+        The message text.
+
+    Raises
+    ------
+    TypeError
+        ``{arg}`` is not a :class:`{cls}`.
+    ValueError
+        A model that would not read back (e.g. a PATH naming an undefined participant){format_error}.
+    """
+
+_WRITE_DOC = """Write ``{arg}`` to ``path`` (:func:`format_{arg}`'s text).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced if it exists).
+    {arg} : {cls}
+        The message.{format_param}
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`format_{arg}`.
+    """
+
+_FORMAT_PARAM = """
+    format : {"kvn", "xml"}, optional
+        The CCSDS encoding (keyword only; default ``"kvn"``)."""
+
+_TDM_READER = {"kind": "TDM", "cls": "Tdm", "enc": "KVN or XML, told by a leading ``<``",
+               "returns": "The parsed message: values in the units of their keywords "
+                          "(km, km/s, deg, Hz, ...)."}
+_OEM_READER = {"kind": "OEM", "cls": "Oem", "enc": "KVN",
+               "returns": "The parsed message: states (n, 6) in km and km/s, accelerations km/s**2, "
+                          "covariances km**2...."}
+_OPM_READER = {"kind": "OPM", "cls": "Opm", "enc": "KVN",
+               "returns": "The parsed message: state (6,) in km and km/s in ``ref_frame``, "
+                          "covariance km**2...."}
+
+
+def _doc(template: str, **fields: str) -> Callable[[_F], _F]:
+    """Decorator: the function's docstring is ``template`` filled with ``fields``."""
+    fields.setdefault("format_param", "")
+    fields.setdefault("format_error", "")
+
+    def deco(f: _F) -> _F:
+        f.__doc__ = template.format(**fields)
+        return f
+
+    return deco
 
 
 @dataclasses.dataclass(frozen=True)
@@ -348,103 +460,25 @@ def _tdm_dict(t: Tdm) -> dict[str, Any]:
     return {"header": _header_dict(t.header), "segments": segs}
 
 
+@_doc(_PARSE_DOC, **_TDM_READER)
 def parse_tdm(text: str, source: str = "<string>") -> Tdm:
-    """A :class:`Tdm` from TDM (KVN or XML, told by a leading ``<``) text.
-
-    Parameters
-    ----------
-    text : str
-        The whole file's text.
-    source : str, optional
-        Name used in error messages (default ``"<string>"``).
-
-    Returns
-    -------
-    Tdm
-        The parsed message: values in the units of their keywords (km, km/s, deg, Hz, ...).
-
-    Raises
-    ------
-    satgnc.FileFormatError
-        A malformed message, naming ``source``, the line and the keyword.
-    TypeError
-        ``text`` is not a str.
-    """
     return _tdm_from(_c.io_parse_tdm(_checked_text(text), str(source)))
 
 
+@_doc(_READ_DOC, **_TDM_READER)
 def read_tdm(path: str | os.PathLike[str]) -> Tdm:
-    """Read a TDM (KVN or XML, told by a leading ``<``) file.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to read (UTF-8).
-
-    Returns
-    -------
-    Tdm
-        The parsed message: values in the units of their keywords (km, km/s, deg, Hz, ...).
-
-    Raises
-    ------
-    FileNotFoundError
-        ``path`` does not exist.
-    satgnc.FileFormatError
-        A malformed file, naming the file, the line and the keyword.
-    """
     return _read_with(path, parse_tdm)
 
 
+@_doc(_FORMAT_DOC, kind="TDM", cls="Tdm", arg="tdm", enc="KVN or XML", format_param=_FORMAT_PARAM,
+      format_error=", or an unknown format")
 def format_tdm(tdm: Tdm, *, format: str = "kvn") -> str:  # noqa: A002 (the CCSDS word)
-    """The TDM text of ``tdm`` (KVN or XML).
-
-    Parameters
-    ----------
-    tdm : Tdm
-        The message to write (numbers in the shortest form that reads back to the same double; units in
-        brackets after each dimensioned value).
-    format : {"kvn", "xml"}, optional
-        The CCSDS encoding (keyword only; default ``"kvn"``).
-
-    Returns
-    -------
-    str
-        The message text.
-
-    Raises
-    ------
-    TypeError
-        ``tdm`` is not a :class:`Tdm`.
-    ValueError
-        A model that would not read back (e.g. a PATH naming an undefined participant), or an unknown format.
-    """
     one_of(format, "format", ("kvn", "xml"))
     return str(_c.io_format_tdm(_tdm_dict(tdm), format == "xml"))
 
 
+@_doc(_WRITE_DOC, cls="Tdm", arg="tdm", format_param=_FORMAT_PARAM)
 def write_tdm(path: str | os.PathLike[str], tdm: Tdm, *, format: str = "kvn") -> pathlib.Path:  # noqa: A002
-    """Write ``tdm`` to ``path`` (:func:`format_tdm`'s text).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to write (replaced if it exists).
-    tdm : Tdm
-        The message.
-    format : {"kvn", "xml"}, optional
-        The CCSDS encoding (keyword only; default ``"kvn"``).
-
-    Returns
-    -------
-    pathlib.Path
-        The path written.
-
-    Raises
-    ------
-    TypeError, ValueError
-        As :func:`format_tdm`.
-    """
     return _write_text(path, format_tdm(tdm, format=format))
 
 
@@ -580,98 +614,23 @@ def _oem_dict(o: Oem) -> dict[str, Any]:
     return {"header": _header_dict(o.header), "segments": segs}
 
 
+@_doc(_PARSE_DOC, **_OEM_READER)
 def parse_oem(text: str, source: str = "<string>") -> Oem:
-    """A :class:`Oem` from OEM (KVN) text.
-
-    Parameters
-    ----------
-    text : str
-        The whole file's text.
-    source : str, optional
-        Name used in error messages (default ``"<string>"``).
-
-    Returns
-    -------
-    Oem
-        The parsed message: states (n, 6) in km and km/s, accelerations km/s**2, covariances km**2....
-
-    Raises
-    ------
-    satgnc.FileFormatError
-        A malformed message, naming ``source``, the line and the keyword.
-    TypeError
-        ``text`` is not a str.
-    """
     return _oem_from(_c.io_parse_oem(_checked_text(text), str(source)))
 
 
+@_doc(_READ_DOC, **_OEM_READER)
 def read_oem(path: str | os.PathLike[str]) -> Oem:
-    """Read a OEM (KVN) file.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to read (UTF-8).
-
-    Returns
-    -------
-    Oem
-        The parsed message: states (n, 6) in km and km/s, accelerations km/s**2, covariances km**2....
-
-    Raises
-    ------
-    FileNotFoundError
-        ``path`` does not exist.
-    satgnc.FileFormatError
-        A malformed file, naming the file, the line and the keyword.
-    """
     return _read_with(path, parse_oem)
 
 
+@_doc(_FORMAT_DOC, kind="OEM", cls="Oem", arg="oem", enc="KVN")
 def format_oem(oem: Oem) -> str:
-    """The OEM text of ``oem`` (KVN).
-
-    Parameters
-    ----------
-    oem : Oem
-        The message to write (numbers in the shortest form that reads back to the same double; units in
-        brackets after each dimensioned value).
-
-    Returns
-    -------
-    str
-        The message text.
-
-    Raises
-    ------
-    TypeError
-        ``oem`` is not a :class:`Oem`.
-    ValueError
-        A model that would not read back (e.g. a PATH naming an undefined participant).
-    """
     return str(_c.io_format_oem(_oem_dict(oem)))
 
 
+@_doc(_WRITE_DOC, cls="Oem", arg="oem")
 def write_oem(path: str | os.PathLike[str], oem: Oem) -> pathlib.Path:
-    """Write ``oem`` to ``path`` (:func:`format_oem`'s text).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to write (replaced if it exists).
-    oem : Oem
-        The message.
-
-    Returns
-    -------
-    pathlib.Path
-        The path written.
-
-    Raises
-    ------
-    TypeError, ValueError
-        As :func:`format_oem`.
-    """
     return _write_text(path, format_oem(oem))
 
 
@@ -781,98 +740,23 @@ def _opm_dict(o: Opm) -> dict[str, Any]:
     return d
 
 
+@_doc(_PARSE_DOC, **_OPM_READER)
 def parse_opm(text: str, source: str = "<string>") -> Opm:
-    """A :class:`Opm` from OPM (KVN) text.
-
-    Parameters
-    ----------
-    text : str
-        The whole file's text.
-    source : str, optional
-        Name used in error messages (default ``"<string>"``).
-
-    Returns
-    -------
-    Opm
-        The parsed message: state (6,) in km and km/s in ``ref_frame``, covariance km**2....
-
-    Raises
-    ------
-    satgnc.FileFormatError
-        A malformed message, naming ``source``, the line and the keyword.
-    TypeError
-        ``text`` is not a str.
-    """
     return _opm_from(_c.io_parse_opm(_checked_text(text), str(source)))
 
 
+@_doc(_READ_DOC, **_OPM_READER)
 def read_opm(path: str | os.PathLike[str]) -> Opm:
-    """Read a OPM (KVN) file.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to read (UTF-8).
-
-    Returns
-    -------
-    Opm
-        The parsed message: state (6,) in km and km/s in ``ref_frame``, covariance km**2....
-
-    Raises
-    ------
-    FileNotFoundError
-        ``path`` does not exist.
-    satgnc.FileFormatError
-        A malformed file, naming the file, the line and the keyword.
-    """
     return _read_with(path, parse_opm)
 
 
+@_doc(_FORMAT_DOC, kind="OPM", cls="Opm", arg="opm", enc="KVN")
 def format_opm(opm: Opm) -> str:
-    """The OPM text of ``opm`` (KVN).
-
-    Parameters
-    ----------
-    opm : Opm
-        The message to write (numbers in the shortest form that reads back to the same double; units in
-        brackets after each dimensioned value).
-
-    Returns
-    -------
-    str
-        The message text.
-
-    Raises
-    ------
-    TypeError
-        ``opm`` is not a :class:`Opm`.
-    ValueError
-        A model that would not read back (e.g. a PATH naming an undefined participant).
-    """
     return str(_c.io_format_opm(_opm_dict(opm)))
 
 
+@_doc(_WRITE_DOC, cls="Opm", arg="opm")
 def write_opm(path: str | os.PathLike[str], opm: Opm) -> pathlib.Path:
-    """Write ``opm`` to ``path`` (:func:`format_opm`'s text).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to write (replaced if it exists).
-    opm : Opm
-        The message.
-
-    Returns
-    -------
-    pathlib.Path
-        The path written.
-
-    Raises
-    ------
-    TypeError, ValueError
-        As :func:`format_opm`.
-    """
     return _write_text(path, format_opm(opm))
 
 

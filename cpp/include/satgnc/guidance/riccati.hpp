@@ -48,6 +48,24 @@ struct RiccatiProblem {
   bool terminal_equality = false;  ///< enforce x_N = x_f exactly in solve()
 };
 
+/// The buffers of RiccatiSolver: the cached factorization (per-stage blocks side by side) and the
+/// scratch of its recursions. Sized once by the solver's constructor for (nx, nu, N); factor() and
+/// solve() only write into it (no allocation). Held by value in the solver: the kernel runs inside
+/// every ADMM iteration, and its loops read these buffers without a pointer indirection.
+struct RiccatiWorkspace {
+  // cached per stage (blocks side by side): P_k, K_k, (A-BK)', A-BK, Quu^-1, Quu^-1 B', P_{k+1} c_k
+  Eigen::MatrixXd P, K, AclT, Acl, QuuInv, QuuInvBt, e;
+  // terminal-constraint responses to a unit multiplier: controls T_k, states Z_k; sensitivity S
+  Eigen::MatrixXd T, Z, S, Spinv, eigvec;
+  Eigen::VectorXd eigval;
+  // scratch
+  Eigen::MatrixXd BtP, Quu, Qux, AtP, tmp_nx_nx, tmp_nu_nu, Pn, W, Wn;
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  Eigen::MatrixXd D, K2, D2, Inu;
+  Eigen::MatrixXd Hbuf, Wbuf;  ///< per-stage off-chain terms of the (6, 3) kernel, nx x N each
+  Eigen::VectorXd p, w, tmp_nx, tmp_nu, nu_term, miss;
+};
+
 /// Riccati recursion with cached gains: a kernel inside ADMM (as OSQP's linear-system solver), not a
 /// user solver. The constructor allocates; factor() and solve() do not.
 class RiccatiSolver {
@@ -105,9 +123,11 @@ class RiccatiSolver {
   /// Number of factor() calls since setup.
   int factorizations() const { return factorizations_; }
   /// Terminal multiplier nu of the last solve with the terminal constraint (nx).
-  const Eigen::VectorXd& terminal_multiplier() const { return nu_term_; }
+  const Eigen::VectorXd& terminal_multiplier() const { return ws_.nu_term; }
   /// Sensitivity dx_N/dnu (nx x nx, negative semidefinite) of the current factorization.
-  const Eigen::MatrixXd& terminal_sensitivity() const { return S_; }
+  const Eigen::MatrixXd& terminal_sensitivity() const { return ws_.S; }
+  /// The workspace (read-only): cached gains and scratch of the last factor() / solve().
+  const RiccatiWorkspace& workspace() const noexcept { return ws_; }
   /// Rank of the terminal sensitivity (= dimension of the reachable subspace of x_N).
   int terminal_rank() const { return rank_; }
 
@@ -143,17 +163,7 @@ class RiccatiSolver {
   int factorizations_ = 0;
   int rank_ = 0;
 
-  // cached per stage (blocks side by side): P_k, K_k, (A-BK)', A-BK, Quu^-1, Quu^-1 B', P_{k+1} c_k
-  Eigen::MatrixXd P_, K_, AclT_, Acl_, QuuInv_, QuuInvBt_, e_;
-  // terminal-constraint responses to a unit multiplier: controls T_k, states Z_k; sensitivity S
-  Eigen::MatrixXd T_, Z_, S_, Spinv_, eigvec_;
-  Eigen::VectorXd eigval_;
-  // scratch
-  Eigen::MatrixXd BtP_, Quu_, Qux_, AtP_, tmp_nx_nx_, tmp_nu_nu_, Pn_, W_, Wn_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
-  Eigen::MatrixXd D_, K2_, D2_, Inu_;
-  Eigen::MatrixXd Hbuf_, Wbuf_;  ///< per-stage off-chain terms of the (6, 3) kernel, nx x N each
-  Eigen::VectorXd p_, w_, tmp_nx_, tmp_nu_, nu_term_, miss_;
+  RiccatiWorkspace ws_;  // by value: the hot loops read its buffers without an indirection
 };
 
 /// Symmetric eigen-decomposition by cyclic Jacobi rotations, in place and allocation-free:

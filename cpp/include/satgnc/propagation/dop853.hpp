@@ -265,10 +265,25 @@ bool all_finite(const V& v) {
 }
 }  // namespace detail
 
+/// The workspace of Dop853<N, Rhs>: every work vector (16 stages, trial states, the 7th-order
+/// dense-output coefficients) and the evaluation count, held by value in the integrator (sized by N at
+/// compile time: no allocation, no indirection in the stepping loop). Set up with the integrator,
+/// reused by every solve().
+template <int N>
+struct Dop853Workspace {
+  using Vec = Eigen::Matrix<double, N, 1>;
+  Vec k[16];        ///< stage derivatives k1..k16 (state units per s)
+  Vec y, yt, ynew;  ///< state at the step start, stage argument, state at the step end
+  Vec bsum;         ///< the 8th-order increment sum (error estimate)
+  Vec cont[8];      ///< dense-output coefficients of the last accepted step
+  long nfev = 0;    ///< right-hand-side evaluations of the current solve()
+};
+
 /// Dormand-Prince 8(5,3) integrator on a fixed-size state of dimension N.
 /// Rhs is a callable `void(double t, const Eigen::Matrix<double, N, 1>& y, Eigen::Matrix<double, N, 1>& dy)`.
-/// The object owns every work vector (16 stages, dense-output coefficients): construct it once (on the
-/// stack or statically) and call solve() as often as needed; solve() never allocates.
+/// Settings -> workspace -> solve: the object validates its Dop853Settings and owns its
+/// Dop853Workspace<N> (16 stages, dense-output coefficients): construct it once (on the stack or
+/// statically) and call solve() as often as needed; solve() never allocates and returns a Dop853Info.
 template <int N, class Rhs>
 class Dop853 {
  public:
@@ -298,6 +313,9 @@ class Dop853 {
     return info;
   }
 
+  /// The integrator's workspace (read-only; after a solve() it holds that run's last step).
+  const Dop853Workspace<N>& workspace() const noexcept { return w_; }
+
  private:
   template <class Output, class Event>
   Dop853Info run(double t0, const Vec& y0, const double* t_out, std::size_t n_out, Output&& out,
@@ -309,23 +327,20 @@ class Dop853 {
 
   Rhs& rhs_;
   Dop853Settings s_;
-  Vec k_[16];
-  Vec y_, yt_, ynew_, bsum_;
-  Vec cont_[8];
-  long nfev_ = 0;
+  Dop853Workspace<N> w_;
 };
 
 template <int N, class Rhs>
 double Dop853<N, Rhs>::error_norm(double h) const {
   namespace tb = dop853_tableau;
-  const Vec* k = k_;
+  const Vec* k = w_.k;
   // One division per component; the 3rd- and 5th-order estimates are formed component by component.
-  const auto inv_sk = (s_.atol + s_.rtol * y_.cwiseAbs().cwiseMax(ynew_.cwiseAbs()).array())
+  const auto inv_sk = (s_.atol + s_.rtol * w_.y.cwiseAbs().cwiseMax(w_.ynew.cwiseAbs()).array())
                           .max(std::numeric_limits<double>::min())
                           .inverse()
                           .eval();
   const double err3 =
-      ((bsum_ - tb::bhh1 * k[0] - tb::bhh9 * k[8] - tb::bhh12 * k[11]).array() * inv_sk).square().sum();
+      ((w_.bsum - tb::bhh1 * k[0] - tb::bhh9 * k[8] - tb::bhh12 * k[11]).array() * inv_sk).square().sum();
   const double err5 = ((tb::e1 * k[0] + tb::e6 * k[5] + tb::e7 * k[6] + tb::e8 * k[7] + tb::e9 * k[8] +
                         tb::e10 * k[9] + tb::e11 * k[10] + tb::e12 * k[11])
                            .array() *
@@ -340,15 +355,15 @@ double Dop853<N, Rhs>::error_norm(double h) const {
 template <int N, class Rhs>
 double Dop853<N, Rhs>::initial_step(double t, double dir, double h_max) {
   // Hairer's HINIT: an explicit Euler step probes the second derivative.
-  Vec* k = k_;
-  const auto sk = s_.atol + s_.rtol * y_.array().abs();
+  Vec* k = w_.k;
+  const auto sk = s_.atol + s_.rtol * w_.y.array().abs();
   const double dnf = (k[0].array() / sk).square().sum();
-  const double dny = (y_.array() / sk).square().sum();
+  const double dny = (w_.y.array() / sk).square().sum();
   double h = (dnf <= 1e-10 || dny <= 1e-10) ? 1e-6 : std::sqrt(dny / dnf) * 0.01;
   h = std::min(h, h_max) * dir;
-  yt_.noalias() = y_ + h * k[0];
-  rhs_(t + h, yt_, k[1]);
-  ++nfev_;
+  w_.yt.noalias() = w_.y + h * k[0];
+  rhs_(t + h, w_.yt, k[1]);
+  ++w_.nfev;
   const double der2 = std::sqrt(((k[1] - k[0]).array() / sk).square().sum()) / std::abs(h);
   const double der12 = std::max(der2, std::sqrt(dnf));
   const double h1 = der12 <= 1e-15 ? std::max(1e-6, std::abs(h) * 1e-3) : std::pow(0.01 / der12, 1.0 / 8.0);
@@ -358,45 +373,47 @@ double Dop853<N, Rhs>::initial_step(double t, double dir, double h_max) {
 template <int N, class Rhs>
 void Dop853<N, Rhs>::prepare_dense(double t, double h) {
   namespace tb = dop853_tableau;
-  Vec* k = k_;
-  yt_.noalias() = y_ + h * (tb::a14_1 * k[0] + tb::a14_7 * k[6] + tb::a14_8 * k[7] + tb::a14_9 * k[8] +
-                            tb::a14_10 * k[9] + tb::a14_11 * k[10] + tb::a14_12 * k[11] + tb::a14_13 * k[12]);
-  rhs_(t + tb::c14 * h, yt_, k[13]);
-  yt_.noalias() =
-      y_ + h * (tb::a15_1 * k[0] + tb::a15_6 * k[5] + tb::a15_7 * k[6] + tb::a15_8 * k[7] +
-                tb::a15_11 * k[10] + tb::a15_12 * k[11] + tb::a15_13 * k[12] + tb::a15_14 * k[13]);
-  rhs_(t + tb::c15 * h, yt_, k[14]);
-  yt_.noalias() = y_ + h * (tb::a16_1 * k[0] + tb::a16_6 * k[5] + tb::a16_7 * k[6] + tb::a16_8 * k[7] +
-                            tb::a16_9 * k[8] + tb::a16_13 * k[12] + tb::a16_14 * k[13] + tb::a16_15 * k[14]);
-  rhs_(t + tb::c16 * h, yt_, k[15]);
-  cont_[4].noalias() = h * (tb::d4_1 * k[0] + tb::d4_6 * k[5] + tb::d4_7 * k[6] + tb::d4_8 * k[7] +
-                            tb::d4_9 * k[8] + tb::d4_10 * k[9] + tb::d4_11 * k[10] + tb::d4_12 * k[11] +
-                            tb::d4_13 * k[12] + tb::d4_14 * k[13] + tb::d4_15 * k[14] + tb::d4_16 * k[15]);
-  cont_[5].noalias() = h * (tb::d5_1 * k[0] + tb::d5_6 * k[5] + tb::d5_7 * k[6] + tb::d5_8 * k[7] +
-                            tb::d5_9 * k[8] + tb::d5_10 * k[9] + tb::d5_11 * k[10] + tb::d5_12 * k[11] +
-                            tb::d5_13 * k[12] + tb::d5_14 * k[13] + tb::d5_15 * k[14] + tb::d5_16 * k[15]);
-  cont_[6].noalias() = h * (tb::d6_1 * k[0] + tb::d6_6 * k[5] + tb::d6_7 * k[6] + tb::d6_8 * k[7] +
-                            tb::d6_9 * k[8] + tb::d6_10 * k[9] + tb::d6_11 * k[10] + tb::d6_12 * k[11] +
-                            tb::d6_13 * k[12] + tb::d6_14 * k[13] + tb::d6_15 * k[14] + tb::d6_16 * k[15]);
-  cont_[7].noalias() = h * (tb::d7_1 * k[0] + tb::d7_6 * k[5] + tb::d7_7 * k[6] + tb::d7_8 * k[7] +
-                            tb::d7_9 * k[8] + tb::d7_10 * k[9] + tb::d7_11 * k[10] + tb::d7_12 * k[11] +
-                            tb::d7_13 * k[12] + tb::d7_14 * k[13] + tb::d7_15 * k[14] + tb::d7_16 * k[15]);
+  Vec* k = w_.k;
+  w_.yt.noalias() =
+      w_.y + h * (tb::a14_1 * k[0] + tb::a14_7 * k[6] + tb::a14_8 * k[7] + tb::a14_9 * k[8] +
+                  tb::a14_10 * k[9] + tb::a14_11 * k[10] + tb::a14_12 * k[11] + tb::a14_13 * k[12]);
+  rhs_(t + tb::c14 * h, w_.yt, k[13]);
+  w_.yt.noalias() =
+      w_.y + h * (tb::a15_1 * k[0] + tb::a15_6 * k[5] + tb::a15_7 * k[6] + tb::a15_8 * k[7] +
+                  tb::a15_11 * k[10] + tb::a15_12 * k[11] + tb::a15_13 * k[12] + tb::a15_14 * k[13]);
+  rhs_(t + tb::c15 * h, w_.yt, k[14]);
+  w_.yt.noalias() =
+      w_.y + h * (tb::a16_1 * k[0] + tb::a16_6 * k[5] + tb::a16_7 * k[6] + tb::a16_8 * k[7] +
+                  tb::a16_9 * k[8] + tb::a16_13 * k[12] + tb::a16_14 * k[13] + tb::a16_15 * k[14]);
+  rhs_(t + tb::c16 * h, w_.yt, k[15]);
+  w_.cont[4].noalias() = h * (tb::d4_1 * k[0] + tb::d4_6 * k[5] + tb::d4_7 * k[6] + tb::d4_8 * k[7] +
+                              tb::d4_9 * k[8] + tb::d4_10 * k[9] + tb::d4_11 * k[10] + tb::d4_12 * k[11] +
+                              tb::d4_13 * k[12] + tb::d4_14 * k[13] + tb::d4_15 * k[14] + tb::d4_16 * k[15]);
+  w_.cont[5].noalias() = h * (tb::d5_1 * k[0] + tb::d5_6 * k[5] + tb::d5_7 * k[6] + tb::d5_8 * k[7] +
+                              tb::d5_9 * k[8] + tb::d5_10 * k[9] + tb::d5_11 * k[10] + tb::d5_12 * k[11] +
+                              tb::d5_13 * k[12] + tb::d5_14 * k[13] + tb::d5_15 * k[14] + tb::d5_16 * k[15]);
+  w_.cont[6].noalias() = h * (tb::d6_1 * k[0] + tb::d6_6 * k[5] + tb::d6_7 * k[6] + tb::d6_8 * k[7] +
+                              tb::d6_9 * k[8] + tb::d6_10 * k[9] + tb::d6_11 * k[10] + tb::d6_12 * k[11] +
+                              tb::d6_13 * k[12] + tb::d6_14 * k[13] + tb::d6_15 * k[14] + tb::d6_16 * k[15]);
+  w_.cont[7].noalias() = h * (tb::d7_1 * k[0] + tb::d7_6 * k[5] + tb::d7_7 * k[6] + tb::d7_8 * k[7] +
+                              tb::d7_9 * k[8] + tb::d7_10 * k[9] + tb::d7_11 * k[10] + tb::d7_12 * k[11] +
+                              tb::d7_13 * k[12] + tb::d7_14 * k[13] + tb::d7_15 * k[14] + tb::d7_16 * k[15]);
 
-  nfev_ += 3;
-  cont_[0] = y_;
-  cont_[1] = ynew_ - y_;
-  cont_[2] = h * k[0] - cont_[1];
-  cont_[3] = cont_[1] - h * k[12] - cont_[2];
+  w_.nfev += 3;
+  w_.cont[0] = w_.y;
+  w_.cont[1] = w_.ynew - w_.y;
+  w_.cont[2] = h * k[0] - w_.cont[1];
+  w_.cont[3] = w_.cont[1] - h * k[12] - w_.cont[2];
 }
 
 template <int N, class Rhs>
 void Dop853<N, Rhs>::interpolate(double s, Vec& y) const {
   const double s1 = 1.0 - s;
-  y.noalias() =
-      cont_[0] +
-      s * (cont_[1] +
-           s1 * (cont_[2] +
-                 s * (cont_[3] + s1 * (cont_[4] + s * (cont_[5] + s1 * (cont_[6] + s * cont_[7]))))));
+  y.noalias() = w_.cont[0] +
+                s * (w_.cont[1] +
+                     s1 * (w_.cont[2] +
+                           s * (w_.cont[3] +
+                                s1 * (w_.cont[4] + s * (w_.cont[5] + s1 * (w_.cont[6] + s * w_.cont[7]))))));
 }
 
 template <int N, class Rhs>
@@ -407,7 +424,7 @@ Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, st
   Dop853Info info;
   info.status = Dop853Status::success;
   info.t_reached = t0;
-  nfev_ = 0;
+  w_.nfev = 0;
   if (dop853_check_settings(s_) != Dop853Status::success) {
     info.status = Dop853Status::invalid_settings;
     return info;
@@ -428,18 +445,18 @@ Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, st
     prev = t_out[i];
   }
   std::size_t io = 0;
-  y_ = y0;
-  while (io < n_out && t_out[io] == t0) out(io++, t0, static_cast<const Vec&>(y_));
+  w_.y = y0;
+  while (io < n_out && t_out[io] == t0) out(io++, t0, static_cast<const Vec&>(w_.y));
   info.outputs = io;
   if (io == n_out) return info;
 
-  Vec* k = k_;
+  Vec* k = w_.k;
   double t = t0;
-  rhs_(t, y_, k[0]);
-  ++nfev_;
+  rhs_(t, w_.y, k[0]);
+  ++w_.nfev;
   if (!detail::all_finite(k[0])) {
     info.status = Dop853Status::rhs_failure;
-    info.rhs_evals = nfev_;
+    info.rhs_evals = w_.nfev;
     return info;
   }
   const double h_max = s_.h_max > 0.0 ? std::min(s_.h_max, std::abs(t_end - t0)) : std::abs(t_end - t0);
@@ -466,39 +483,39 @@ Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, st
     }
     ++nstep;
     info.h_last = h;
-    yt_.noalias() = y_ + h * (tb::a2_1 * k[0]);
-    rhs_(t + tb::c2 * h, yt_, k[1]);
-    yt_.noalias() = y_ + h * (tb::a3_1 * k[0] + tb::a3_2 * k[1]);
-    rhs_(t + tb::c3 * h, yt_, k[2]);
-    yt_.noalias() = y_ + h * (tb::a4_1 * k[0] + tb::a4_3 * k[2]);
-    rhs_(t + tb::c4 * h, yt_, k[3]);
-    yt_.noalias() = y_ + h * (tb::a5_1 * k[0] + tb::a5_3 * k[2] + tb::a5_4 * k[3]);
-    rhs_(t + tb::c5 * h, yt_, k[4]);
-    yt_.noalias() = y_ + h * (tb::a6_1 * k[0] + tb::a6_4 * k[3] + tb::a6_5 * k[4]);
-    rhs_(t + tb::c6 * h, yt_, k[5]);
-    yt_.noalias() = y_ + h * (tb::a7_1 * k[0] + tb::a7_4 * k[3] + tb::a7_5 * k[4] + tb::a7_6 * k[5]);
-    rhs_(t + tb::c7 * h, yt_, k[6]);
-    yt_.noalias() =
-        y_ + h * (tb::a8_1 * k[0] + tb::a8_4 * k[3] + tb::a8_5 * k[4] + tb::a8_6 * k[5] + tb::a8_7 * k[6]);
-    rhs_(t + tb::c8 * h, yt_, k[7]);
-    yt_.noalias() = y_ + h * (tb::a9_1 * k[0] + tb::a9_4 * k[3] + tb::a9_5 * k[4] + tb::a9_6 * k[5] +
-                              tb::a9_7 * k[6] + tb::a9_8 * k[7]);
-    rhs_(t + tb::c9 * h, yt_, k[8]);
-    yt_.noalias() = y_ + h * (tb::a10_1 * k[0] + tb::a10_4 * k[3] + tb::a10_5 * k[4] + tb::a10_6 * k[5] +
-                              tb::a10_7 * k[6] + tb::a10_8 * k[7] + tb::a10_9 * k[8]);
-    rhs_(t + tb::c10 * h, yt_, k[9]);
-    yt_.noalias() = y_ + h * (tb::a11_1 * k[0] + tb::a11_4 * k[3] + tb::a11_5 * k[4] + tb::a11_6 * k[5] +
-                              tb::a11_7 * k[6] + tb::a11_8 * k[7] + tb::a11_9 * k[8] + tb::a11_10 * k[9]);
-    rhs_(t + tb::c11 * h, yt_, k[10]);
-    yt_.noalias() = y_ + h * (tb::a12_1 * k[0] + tb::a12_4 * k[3] + tb::a12_5 * k[4] + tb::a12_6 * k[5] +
-                              tb::a12_7 * k[6] + tb::a12_8 * k[7] + tb::a12_9 * k[8] + tb::a12_10 * k[9] +
-                              tb::a12_11 * k[10]);
-    rhs_(t + tb::c12 * h, yt_, k[11]);
-    bsum_.noalias() = tb::a13_1 * k[0] + tb::a13_6 * k[5] + tb::a13_7 * k[6] + tb::a13_8 * k[7] +
-                      tb::a13_9 * k[8] + tb::a13_10 * k[9] + tb::a13_11 * k[10] + tb::a13_12 * k[11];
+    w_.yt.noalias() = w_.y + h * (tb::a2_1 * k[0]);
+    rhs_(t + tb::c2 * h, w_.yt, k[1]);
+    w_.yt.noalias() = w_.y + h * (tb::a3_1 * k[0] + tb::a3_2 * k[1]);
+    rhs_(t + tb::c3 * h, w_.yt, k[2]);
+    w_.yt.noalias() = w_.y + h * (tb::a4_1 * k[0] + tb::a4_3 * k[2]);
+    rhs_(t + tb::c4 * h, w_.yt, k[3]);
+    w_.yt.noalias() = w_.y + h * (tb::a5_1 * k[0] + tb::a5_3 * k[2] + tb::a5_4 * k[3]);
+    rhs_(t + tb::c5 * h, w_.yt, k[4]);
+    w_.yt.noalias() = w_.y + h * (tb::a6_1 * k[0] + tb::a6_4 * k[3] + tb::a6_5 * k[4]);
+    rhs_(t + tb::c6 * h, w_.yt, k[5]);
+    w_.yt.noalias() = w_.y + h * (tb::a7_1 * k[0] + tb::a7_4 * k[3] + tb::a7_5 * k[4] + tb::a7_6 * k[5]);
+    rhs_(t + tb::c7 * h, w_.yt, k[6]);
+    w_.yt.noalias() =
+        w_.y + h * (tb::a8_1 * k[0] + tb::a8_4 * k[3] + tb::a8_5 * k[4] + tb::a8_6 * k[5] + tb::a8_7 * k[6]);
+    rhs_(t + tb::c8 * h, w_.yt, k[7]);
+    w_.yt.noalias() = w_.y + h * (tb::a9_1 * k[0] + tb::a9_4 * k[3] + tb::a9_5 * k[4] + tb::a9_6 * k[5] +
+                                  tb::a9_7 * k[6] + tb::a9_8 * k[7]);
+    rhs_(t + tb::c9 * h, w_.yt, k[8]);
+    w_.yt.noalias() = w_.y + h * (tb::a10_1 * k[0] + tb::a10_4 * k[3] + tb::a10_5 * k[4] + tb::a10_6 * k[5] +
+                                  tb::a10_7 * k[6] + tb::a10_8 * k[7] + tb::a10_9 * k[8]);
+    rhs_(t + tb::c10 * h, w_.yt, k[9]);
+    w_.yt.noalias() = w_.y + h * (tb::a11_1 * k[0] + tb::a11_4 * k[3] + tb::a11_5 * k[4] + tb::a11_6 * k[5] +
+                                  tb::a11_7 * k[6] + tb::a11_8 * k[7] + tb::a11_9 * k[8] + tb::a11_10 * k[9]);
+    rhs_(t + tb::c11 * h, w_.yt, k[10]);
+    w_.yt.noalias() = w_.y + h * (tb::a12_1 * k[0] + tb::a12_4 * k[3] + tb::a12_5 * k[4] + tb::a12_6 * k[5] +
+                                  tb::a12_7 * k[6] + tb::a12_8 * k[7] + tb::a12_9 * k[8] + tb::a12_10 * k[9] +
+                                  tb::a12_11 * k[10]);
+    rhs_(t + tb::c12 * h, w_.yt, k[11]);
+    w_.bsum.noalias() = tb::a13_1 * k[0] + tb::a13_6 * k[5] + tb::a13_7 * k[6] + tb::a13_8 * k[7] +
+                        tb::a13_9 * k[8] + tb::a13_10 * k[9] + tb::a13_11 * k[10] + tb::a13_12 * k[11];
 
-    ynew_.noalias() = y_ + h * bsum_;
-    nfev_ += 11;
+    w_.ynew.noalias() = w_.y + h * w_.bsum;
+    w_.nfev += 11;
     const double err = error_norm(h);
     const double fac11 = std::pow(err, expo1);
     double hnew;
@@ -508,8 +525,8 @@ Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, st
       fac = std::max(facc2, std::min(facc1, fac / s_.safety));
       hnew = h / fac;
       facold = std::max(err, 1e-4);
-      rhs_(t + h, ynew_, k[12]);
-      ++nfev_;
+      rhs_(t + h, w_.ynew, k[12]);
+      ++w_.nfev;
       if (!detail::all_finite(k[12])) {
         info.status = Dop853Status::rhs_failure;
         break;
@@ -519,15 +536,15 @@ Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, st
       bool dense_ready = false;
       bool hit = false;
       if constexpr (!std::is_same_v<Event, Dop853NoEvent>) {
-        if (!(event(tnew, static_cast<const Vec&>(ynew_)) > 0.0)) {
+        if (!(event(tnew, static_cast<const Vec&>(w_.ynew)) > 0.0)) {
           // Bracket [0, 1] of s = (t' - t) / h: event > 0 at s = 0 (the previous step end), <= 0 at 1.
           prepare_dense(t, h);
           dense_ready = true;
           double lo = 0.0, hi = 1.0;
           for (int it = 0; it < 60 && hi - lo > 4.0 * uround; ++it) {
             const double mid = 0.5 * (lo + hi);
-            interpolate(mid, yt_);
-            (event(t + mid * h, static_cast<const Vec&>(yt_)) > 0.0 ? lo : hi) = mid;
+            interpolate(mid, w_.yt);
+            (event(t + mid * h, static_cast<const Vec&>(w_.yt)) > 0.0 ? lo : hi) = mid;
           }
           tnew = t + hi * h;
           hit = true;
@@ -535,14 +552,14 @@ Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, st
       }
       while (io < n_out && (t_out[io] - tnew) * dir <= 0.0 && !(hit && t_out[io] == tnew)) {
         if (t_out[io] == tnew) {
-          out(io, tnew, static_cast<const Vec&>(ynew_));
+          out(io, tnew, static_cast<const Vec&>(w_.ynew));
         } else {
           if (!dense_ready) {
             prepare_dense(t, h);
             dense_ready = true;
           }
-          interpolate((t_out[io] - t) / h, yt_);
-          out(io, t_out[io], static_cast<const Vec&>(yt_));
+          interpolate((t_out[io] - t) / h, w_.yt);
+          out(io, t_out[io], static_cast<const Vec&>(w_.yt));
         }
         ++io;
       }
@@ -553,7 +570,7 @@ Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, st
         break;
       }
       k[0] = k[12];
-      y_ = ynew_;
+      w_.y = w_.ynew;
       t = tnew;
       info.t_reached = t;
       if (last || io == n_out) break;
@@ -568,7 +585,7 @@ Dop853Info Dop853<N, Rhs>::run(double t0, const Vec& y0, const double* t_out, st
     }
     h = hnew;
   }
-  info.rhs_evals = nfev_;
+  info.rhs_evals = w_.nfev;
   return info;
 }
 
@@ -607,6 +624,35 @@ PropagationStatus dop853_to_propagation_status(Dop853Status s);
 
 namespace detail {
 
+/// One 6-column c = [p; q] of a variational system: dc/dt = [q; G p (+ H q) (+ source)], with
+/// G = da/dr and H = da/dv column-major 3 x 3 (H used when VelocityDependent), source (3) null or
+/// the parameter term da/dp. Scalar code on purpose: Eigen's small-product dispatch costs more than
+/// the 9 FMAs per column. Shared by the STM (OrbitRhs) and the sensitivity right-hand sides.
+template <bool VelocityDependent>
+inline void variational_column(const double* G, const double* H, const double* pc, double* dc,
+                               const double* source = nullptr) noexcept {
+  const double p0 = pc[0], p1 = pc[1], p2 = pc[2], q0 = pc[3], q1 = pc[4], q2 = pc[5];
+  double a0 = G[0] * p0 + G[3] * p1 + G[6] * p2;
+  double a1 = G[1] * p0 + G[4] * p1 + G[7] * p2;
+  double a2 = G[2] * p0 + G[5] * p1 + G[8] * p2;
+  if constexpr (VelocityDependent) {
+    a0 += H[0] * q0 + H[3] * q1 + H[6] * q2;
+    a1 += H[1] * q0 + H[4] * q1 + H[7] * q2;
+    a2 += H[2] * q0 + H[5] * q1 + H[8] * q2;
+  }
+  if (source != nullptr) {
+    a0 += source[0];
+    a1 += source[1];
+    a2 += source[2];
+  }
+  dc[0] = q0;
+  dc[1] = q1;
+  dc[2] = q2;
+  dc[3] = a0;
+  dc[4] = a1;
+  dc[5] = a2;
+}
+
 template <bool WithStm, bool VelocityDependent, class Accel>
 struct OrbitRhs {
   static constexpr int N = WithStm ? 42 : 6;
@@ -626,28 +672,9 @@ struct OrbitRhs {
       dy.template segment<3>(3) = a;
       // Phi is stored column-major after the state: per column j, rows 0-2 are d r / d x0_j and rows
       // 3-5 d v / d x0_j, so column j of dPhi/dt is [Phi_v,j; da_dr Phi_r,j (+ da_dv Phi_v,j)].
-      // Scalar code on purpose: Eigen's small-product dispatch costs more than the 9 FMAs per column.
-      const double* G = da_dr.data();  // column-major
-      const double* H = da_dv.data();
-      for (int j = 0; j < 6; ++j) {
-        const double* pc = y.data() + 6 + 6 * j;
-        double* dc = dy.data() + 6 + 6 * j;
-        const double p0 = pc[0], p1 = pc[1], p2 = pc[2], q0 = pc[3], q1 = pc[4], q2 = pc[5];
-        double a0 = G[0] * p0 + G[3] * p1 + G[6] * p2;
-        double a1 = G[1] * p0 + G[4] * p1 + G[7] * p2;
-        double a2 = G[2] * p0 + G[5] * p1 + G[8] * p2;
-        if constexpr (VelocityDependent) {
-          a0 += H[0] * q0 + H[3] * q1 + H[6] * q2;
-          a1 += H[1] * q0 + H[4] * q1 + H[7] * q2;
-          a2 += H[2] * q0 + H[5] * q1 + H[8] * q2;
-        }
-        dc[0] = q0;
-        dc[1] = q1;
-        dc[2] = q2;
-        dc[3] = a0;
-        dc[4] = a1;
-        dc[5] = a2;
-      }
+      for (int j = 0; j < 6; ++j)
+        variational_column<VelocityDependent>(da_dr.data(), da_dv.data(), y.data() + 6 + 6 * j,
+                                              dy.data() + 6 + 6 * j);
     }
   }
 };
@@ -680,25 +707,26 @@ void run_arc(const Accel& accel, const Vec6& x0, double t0, const double* ts, st
 
 }  // namespace detail
 
-template <bool VelocityDependent, class Accel>
-Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
-                                 const std::vector<double>& times, const Dop853Settings& settings,
-                                 bool with_stm, double surface_radius) {
-  validate_orbit_arc_input(x0, t0, times, kTwoSidedArc, kGravitySingular);
-  dop853_validate_settings(settings);
-  dop853_validate_surface(x0, surface_radius);
+namespace detail {
+
+/// The arcs of an orbit propagation from t0 to the requested `times` (any order, either side of t0),
+/// shared by propagate_dop853 and propagate_dop853_sensitivity: times >= t0 forward in increasing
+/// order, times < t0 backward in decreasing order, the arc holding the first requested time first (so
+/// a failure keeps a prefix where possible), the second skipped after a failure.
+/// `run_arc(idx, ts) -> Dop853Info` integrates one arc from t0 through ts (ts[j] = times[idx[j]]) and
+/// stores its outputs j < info.outputs at idx[j]. Fills tr's status, message ("<who> (<arc> arc):
+/// ..."), t_reached and statistics; returns done[i] = 1 for the times reached. Setup-time
+/// allocations only (index lists, per-arc times); the stepping loop allocates nothing.
+template <class RunArc>
+std::vector<char> dop853_two_arcs(const char* who, double t0, const std::vector<double>& times,
+                                  double surface_radius, Trajectory& tr, RunArc&& run_arc) {
   const std::size_t n = times.size();
-  // Two arcs from t0: times >= t0 forward in increasing order, times < t0 backward in decreasing order.
-  // (Setup-time allocations only; the stepping loop allocates nothing.)
   std::vector<std::size_t> fwd, bwd;
   for (std::size_t i = 0; i < n; ++i) (times[i] >= t0 ? fwd : bwd).push_back(i);
   const bool ascending = n < 2 || times.front() <= times.back();
   if (!ascending) std::reverse(fwd.begin(), fwd.end());
   if (ascending) std::reverse(bwd.begin(), bwd.end());
-  std::vector<Vec6> states(n);
-  std::vector<Mat6> stms(with_stm ? n : 0);
   std::vector<char> done(n, 0);
-  Trajectory tr;
   tr.status = PropagationStatus::success;
   tr.t_reached = t0;
   bool failed = false;
@@ -706,21 +734,9 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
     if (idx.empty() || failed) return;
     const std::size_t m = idx.size();
     std::vector<double> ts(m);
-    std::vector<Vec6> xs(m);
-    std::vector<Mat6> ps(with_stm ? m : 0);
     for (std::size_t j = 0; j < m; ++j) ts[j] = times[idx[j]];
-    Dop853Info info;
-    if (with_stm)
-      detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), ps.data(),
-                                               info, surface_radius);
-    else
-      detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), nullptr,
-                                                info, surface_radius);
-    for (std::size_t j = 0; j < info.outputs; ++j) {
-      states[idx[j]] = xs[j];
-      if (with_stm) stms[idx[j]] = ps[j];
-      done[idx[j]] = 1;
-    }
+    const Dop853Info info = run_arc(idx, ts);
+    for (std::size_t j = 0; j < info.outputs; ++j) done[idx[j]] = 1;
     tr.stats.steps += info.steps;
     tr.stats.rhs_evals += info.rhs_evals;
     tr.stats.error_test_fails += info.rejected;
@@ -729,19 +745,17 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
     if (info.status == Dop853Status::event) {
       failed = true;
       tr.status = PropagationStatus::impact;
-      tr.message = std::string("propagate_dop853 (") + name +
-                   " arc): impact at t = " + std::to_string(info.t_reached) +
+      tr.message = std::string(who) + " (" + name + " arc): impact at t = " + std::to_string(info.t_reached) +
                    " s: |r| reached surface_radius = " + std::to_string(surface_radius) +
                    " km before t = " + std::to_string(ts.back()) + " s";
     } else if (info.status != Dop853Status::success) {
       failed = true;
       tr.status = dop853_to_propagation_status(info.status);
-      tr.message = std::string("propagate_dop853 (") + name + " arc): " + status_message(info.status) +
+      tr.message = std::string(who) + " (" + name + " arc): " + status_message(info.status) +
                    "; reached t = " + std::to_string(info.t_reached) + " s of " + std::to_string(ts.back()) +
                    " s after " + std::to_string(info.steps) + " steps";
     }
   };
-  // Run the arc holding the first requested time first, so a failure keeps a prefix where possible.
   if (!bwd.empty() && times.front() < t0) {
     arc(bwd, "backward");
     arc(fwd, "forward");
@@ -749,6 +763,41 @@ Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
     arc(fwd, "forward");
     arc(bwd, "backward");
   }
+  return done;
+}
+
+}  // namespace detail
+
+template <bool VelocityDependent, class Accel>
+Trajectory propagate_dop853_with(const Accel& accel, const Vec6& x0, double t0,
+                                 const std::vector<double>& times, const Dop853Settings& settings,
+                                 bool with_stm, double surface_radius) {
+  validate_orbit_arc_input(x0, t0, times, kTwoSidedArc, kGravitySingular);
+  dop853_validate_settings(settings);
+  dop853_validate_surface(x0, surface_radius);
+  const std::size_t n = times.size();
+  std::vector<Vec6> states(n);
+  std::vector<Mat6> stms(with_stm ? n : 0);
+  Trajectory tr;
+  const std::vector<char> done = detail::dop853_two_arcs(
+      "propagate_dop853", t0, times, surface_radius, tr,
+      [&](const std::vector<std::size_t>& idx, const std::vector<double>& ts) {
+        const std::size_t m = idx.size();
+        std::vector<Vec6> xs(m);
+        std::vector<Mat6> ps(with_stm ? m : 0);
+        Dop853Info info;
+        if (with_stm)
+          detail::run_arc<true, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(),
+                                                   ps.data(), info, surface_radius);
+        else
+          detail::run_arc<false, VelocityDependent>(accel, x0, t0, ts.data(), m, settings, xs.data(), nullptr,
+                                                    info, surface_radius);
+        for (std::size_t j = 0; j < info.outputs; ++j) {
+          states[idx[j]] = xs[j];
+          if (with_stm) stms[idx[j]] = ps[j];
+        }
+        return info;
+      });
   for (std::size_t i = 0; i < n; ++i) {
     if (!done[i]) continue;
     tr.times.push_back(times[i]);
