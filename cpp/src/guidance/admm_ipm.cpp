@@ -559,7 +559,7 @@ double AdmmWorkspace::ipm_max_step() const noexcept {
   return a;
 }
 
-// The independent acceptance test (the same as ADMM's): relative duality gap of the plan <= eps_gap
+// The independent acceptance test (the same as ADMM's): |relative duality gap| of the plan <= eps_gap
 // and the terminal miss, on the rolled-out plan.
 bool AdmmWorkspace::ipm_certify() noexcept {
   const bool term = prob_.terminal_equality;
@@ -584,7 +584,7 @@ bool AdmmWorkspace::ipm_certify() noexcept {
   dual_at_u_ = false;
   const double P = trajectory_objective(res_.X_flown, iU_);
   const VectorXd& pm = term ? ie2_ : pz_;
-  return evaluate_gap(res_.X_flown, iU_, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
+  return gap_within(evaluate_gap(res_.X_flown, iU_, pm, P), set_.eps_gap) && terminal_miss_ratio() <= 1.0;
 }
 
 bool AdmmWorkspace::ipm_solve(bool warm) noexcept {

@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <type_traits>
@@ -237,6 +238,10 @@ struct AdmmWorkspace : AdmmProblemData,
   /// A polished plan accepted (status solved) when polish_gap_ok(); else r_valid_ = false.
   bool accept_polish() noexcept;
   bool check_stop() noexcept;
+  /// The relative gap test of every `solved` / `solved_inaccurate`: -tol <= gap <= tol. A gap below
+  /// -tol (the dual bound above the plan's cost beyond the tolerance) means the plan is not feasible
+  /// enough (hard terminal miss) or the bound is wrong; NaN / inf fail.
+  static bool gap_within(double gap, double tol) noexcept { return std::abs(gap) <= tol; }
   bool ipm_endgame() noexcept;
   bool check_limits() noexcept;
   bool adapt_rho() noexcept;
