@@ -152,6 +152,10 @@ struct AdmmIpmData {
   Eigen::VectorXd ip_, ipn_, iqu_, idx_, idxn_;
   Eigen::LLT<Eigen::MatrixXd> illt_;
   Eigen::MatrixXd iInu_;
+  /// Checkpoint of the IPM: the iterate with the smallest stopping measure so far (plan, terminal
+  /// multiplier and error), certified when the run ends without a certificate (admm_ipm.cpp).
+  Eigen::MatrixXd icU_;
+  Eigen::VectorXd icnu_, ice_;
 };
 
 /// Per-iteration statistics of the fused relaxation / prox / multiplier pass.
