@@ -39,7 +39,7 @@ def _controls(problem: RendezvousProblem, layout: ThrusterLayout | None) -> tupl
     if layout is not None:
         if not isinstance(layout, ThrusterLayout):
             raise TypeError(f"layout: must be a ThrusterLayout or None, got {type(layout).__name__}")
-        lo, hi = thrust_bounds(layout)  # lower bound -1e-12 max_thrust (thrusters.LOWER_RELAXATION)
+        lo, hi = thrust_bounds(layout)  # [0, max_thrust]
         return Ad, layout.input_matrix(Bd), lo, hi
     if problem.u_max is None:
         raise ValueError("problem.u_max: required without a thruster layout (the minimum time of an "
