@@ -651,10 +651,16 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
   // the last steps wreck the terminal error (measured: e 3e-6 -> 2-13 m, then the factorization
   // fails, 17-26 iterations in); the checkpoint of ~10^4 x tolerance or better is tried.
   if (!ok && !best_tried && best_meas <= 1e4) {
-    iU_ = icU_;
-    inu_ = icnu_;
-    ie_ = ice_;
+    // swapped (no allocation), and back if it fails: method = "ipm" returns its last plan then
+    iU_.swap(icU_);
+    inu_.swap(icnu_);
+    ie_.swap(ice_);
     ok = ipm_certify();
+    if (!ok) {
+      iU_.swap(icU_);
+      inu_.swap(icnu_);
+      ie_.swap(ice_);
+    }
   }
   if (!ok) return false;
   ipm_accept();
