@@ -92,8 +92,8 @@ def test_replan_matches_cvxpy_clarabel(fmax, lost):
     fuel = float(np.sum(np.maximum(r.Y, 0)) * pb.dt)
     # objective within 1e-6 relative (the check; Clarabel's own tolerance is 1e-8)
     assert abs(fuel - prob.value) <= 1e-6 * abs(prob.value)
-    # nonnegative thrust up to the solver's 1e-12 F_max relaxation (thrusters.LOWER_RELAXATION)
-    assert np.min(r.Y) >= -1e-12 * fmax * (1 + 1e-12)
+    # nonnegative thrust: the lower bound handed to the solver is exactly 0 (the plan is clipped to the box)
+    assert np.min(r.Y) >= 0.0
 
 
 def test_twelve_thruster_table_with_truth_miss():

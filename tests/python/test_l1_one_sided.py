@@ -58,3 +58,21 @@ def test_one_sided_thrusters_solve_to_the_clarabel_optimum(seed, terminal_equali
     assert float(np.min(r.Y)) >= -1e-12
     # before the fix these ran to max_iterations (10000); now the polish finishes them
     assert r.info.iterations <= 2000
+
+
+@pytest.mark.parametrize("seed", [2, 5, 10, 11])
+def test_solved_never_carries_a_gap_below_minus_eps_gap(seed):
+    """A gap below -eps_gap (dual bound above the plan's cost beyond the tolerance) means the plan is not
+    feasible enough (hard terminal, loosened terminal_tolerance): it must not be `solved`. Found on these
+    seeds: the interior-point endgame's plan with terminal miss ~1e-5 m was `solved` at gaps
+    -1.3e-7 / -2.8e-7 / -5.5e-7 / -2.3e-7 against eps_gap 1e-7."""
+    Ad, Bd, x0 = _case(seed)
+    kw = dict(horizon=N, l1_weights=np.ones(6), u_lower=np.zeros(6), u_upper=np.full(6, UMAX),
+              terminal_equality=True)
+    r = L1Solver(Ad, Bd, x0, **kw, settings={"eps_gap": 1e-7, "terminal_tolerance": 1e-3}).solve()
+    ref = _clarabel(Ad, Bd, x0, True)
+    assert r.info.status == "solved", (r.info.status, r.info.iterations, r.info.duality_gap)
+    # the relative gap test is two-sided: |gap| <= eps_gap = 1e-7
+    assert abs(r.info.duality_gap) <= 1e-7, r.info.duality_gap
+    # Clarabel at 1e-10; the plan's terminal miss (<= 1e-3 x the free miss) moves the cost by ~1e-7
+    assert abs(r.info.objective - ref) <= 1e-6 * abs(ref), (r.info.objective, ref)

@@ -97,3 +97,15 @@ def test_bad_failures_and_table_rows():
     t = ThrusterLayout.from_table([{"direction": [0, 0, -1], "max_thrust": 0.5, "name": "down",
                                     "min_impulse_bit": 1e-3, "position": [0, 0, 0.4]}])
     assert t.names == ("down",) and t.min_impulse_bit[0] == 1e-3 and t.positions[0, 2] == 0.4
+
+
+def test_thrust_bounds_are_exact_and_lower_relaxation_is_deprecated():
+    from satgnc.guidance import thrusters
+
+    lay = thrusters.axis_layout(0.2)
+    lo, hi = thrusters.thrust_bounds(lay)
+    # the solver handles a bound at the L1 kink: the lower bound is exactly 0 (no -1e-12 relaxation)
+    assert lo.shape == hi.shape == (lay.size,) and np.all(lo == 0.0) and np.array_equal(hi, lay.max_thrust)
+    with pytest.warns(DeprecationWarning, match="LOWER_RELAXATION is deprecated; use thrust_bounds"):
+        assert thrusters.LOWER_RELAXATION == 1e-12  # the old value, still importable
+    assert "LOWER_RELAXATION" not in thrusters.__all__

@@ -94,6 +94,9 @@ void AdmmWorkspace::ipm_setup() {
   illt_.compute(MatrixXd::Identity(
       nu_, nu_));  // sized and with its info set (a moved-from LLT(n) reads an unset info: UBSan)
   ip_.setZero(nx_);
+  icU_.setZero(nu_, N_);
+  icnu_.setZero(nx_);
+  ice_.setZero(nx_);
   ipn_.setZero(nx_);
   iqu_.setZero(nu_);
   idx_.setZero(nx_);
@@ -559,7 +562,7 @@ double AdmmWorkspace::ipm_max_step() const noexcept {
   return a;
 }
 
-// The independent acceptance test (the same as ADMM's): relative duality gap of the plan <= eps_gap
+// The independent acceptance test (the same as ADMM's): |relative duality gap| of the plan <= eps_gap
 // and the terminal miss, on the rolled-out plan.
 bool AdmmWorkspace::ipm_certify() noexcept {
   const bool term = prob_.terminal_equality;
@@ -584,7 +587,7 @@ bool AdmmWorkspace::ipm_certify() noexcept {
   dual_at_u_ = false;
   const double P = trajectory_objective(res_.X_flown, iU_);
   const VectorXd& pm = term ? ie2_ : pz_;
-  return evaluate_gap(res_.X_flown, iU_, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
+  return gap_within(evaluate_gap(res_.X_flown, iU_, pm, P), set_.eps_gap) && terminal_miss_ratio() <= 1.0;
 }
 
 bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
@@ -602,6 +605,10 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
   int it = 0, cert_failures = 0;
   double ru_prev = kInf;
   bool ok = false;
+  // checkpoint: the iterate with the smallest stopping measure (each test's value over its threshold)
+  double best_meas = kInf;
+  int best_it = -1;
+  bool best_tried = false;
   for (; it <= set_.ipm_max_iterations; ++it) {
     if (out_of_time()) break;
     const IpmResiduals r = ipm_residuals(wmax);
@@ -612,18 +619,49 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
     const bool ru_ok =
         r.ru <= 1e3 * tol * r.gscale || (r.ru >= 0.5 * ru_prev && r.sz <= tol * tol * std::abs(r.P));
     ru_prev = r.ru;
+    {
+      const double meas = std::max(
+          {r.sz / (tol * std::abs(r.P)), r.rp / (1e3 * tol * r.uscale), r.ru / (1e3 * tol * r.gscale),
+           r.rt / (1e3 * tol * std::max(wmax, 1e-300)), term ? ie_.norm() / std::max(e_ref, 1e-300) : 0.0});
+      if (meas < best_meas) {
+        best_meas = meas;
+        best_it = it;
+        best_tried = false;
+        icU_ = iU_;
+        icnu_ = inu_;
+        ice_ = ie_;
+      }
+    }
     if (r.sz <= tol * std::abs(r.P) && r.rp <= 1e3 * tol * r.uscale && ru_ok &&
         r.rt <= 1e3 * tol * std::max(wmax, 1e-300) && (!term || ie_.norm() <= e_ref)) {
       if (ipm_certify()) {
         ok = true;
         break;
       }
+      if (best_it == it) best_tried = true;  // the checkpoint itself failed the test
       if (++cert_failures >= 3) break;
     }
     if (it == set_.ipm_max_iterations) break;
     if (!ipm_predictor_corrector(r.sz, m)) break;
   }
   info.ipm_iterations += it;
+  // Without a certificate (a failed factorization or step, the iteration limit): the checkpoint
+  // through the same independent test. Degenerate LPs with a hard terminal state (an optimum with
+  // fewer free entries than nx) drive mu to ~1e-13 while the terminal sensitivity loses rank, and
+  // the last steps wreck the terminal error (measured: e 3e-6 -> 2-13 m, then the factorization
+  // fails, 17-26 iterations in); the checkpoint of ~10^4 x tolerance or better is tried.
+  if (!ok && !best_tried && best_meas <= 1e4) {
+    // swapped (no allocation), and back if it fails: method = "ipm" returns its last plan then
+    iU_.swap(icU_);
+    inu_.swap(icnu_);
+    ie_.swap(ice_);
+    ok = ipm_certify();
+    if (!ok) {
+      iU_.swap(icU_);
+      inu_.swap(icnu_);
+      ie_.swap(ice_);
+    }
+  }
   if (!ok) return false;
   ipm_accept();
   return true;

@@ -414,7 +414,7 @@ bool AdmmWorkspace::polish_gap_ok() noexcept {
   polished_terminal();
   const double P = trajectory_objective(res_.X_flown, Y);
   const VectorXd& pm = prob_.terminal_equality ? res_.terminal_multiplier : pz_;
-  return evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0;
+  return gap_within(evaluate_gap(res_.X_flown, Y, pm, P), set_.eps_gap) && terminal_miss_ratio() <= 1.0;
 }
 
 // The active-set guess from the dual estimate.
@@ -523,7 +523,7 @@ bool AdmmWorkspace::check_stop() noexcept {
       rollout(Y, res_.X_flown);
       const double P = trajectory_objective(res_.X_flown, Y);
       const VectorXd& pm = prob_.terminal_equality ? (cond_ ? cg_ : ric_->terminal_multiplier()) : pz_;
-      if (evaluate_gap(res_.X_flown, Y, pm, P) <= set_.eps_gap && terminal_miss_ratio() <= 1.0) {
+      if (gap_within(evaluate_gap(res_.X_flown, Y, pm, P), set_.eps_gap) && terminal_miss_ratio() <= 1.0) {
         status_ = AdmmStatus::solved;
         return true;
       }
@@ -690,7 +690,7 @@ void AdmmWorkspace::restore_best_or_zero() noexcept {
 
 // Loose pass on the returned iterate at a limit (residual rule): residuals within
 // inaccurate_factor x their tolerances (best is that ratio when tracked) and the gap within
-// inaccurate_factor x eps_gap -> solved_inaccurate.
+// inaccurate_factor x eps_gap (in absolute value) -> solved_inaccurate.
 void AdmmWorkspace::check_inaccurate() noexcept {
   const AdmmInfo& info = res_.info;
   const bool at_limit = status_ == AdmmStatus::max_iterations || status_ == AdmmStatus::time_limit;
@@ -700,7 +700,7 @@ void AdmmWorkspace::check_inaccurate() noexcept {
                             : std::max(info.primal_residual / std::max(info.eps_primal, 1e-300),
                                        info.dual_residual / std::max(info.eps_dual, 1e-300));
     if (meas <= set_.inaccurate_factor &&
-        (!gap_on_ || info.duality_gap <= set_.inaccurate_factor * set_.eps_gap) &&
+        (!gap_on_ || gap_within(info.duality_gap, set_.inaccurate_factor * set_.eps_gap)) &&
         terminal_miss_ratio() <= set_.inaccurate_factor)
       status_ = AdmmStatus::solved_inaccurate;
   }

@@ -211,7 +211,7 @@ class L1Result(Result):
     #: objective of Y (= objective) and the Fenchel dual bound D <= optimum (objective units)
     primal_objective: float = float("nan")
     dual_objective: float = float("nan")
-    #: relative duality gap (P - D) / max(|P|, |D|); "solved" requires it <= settings.eps_gap
+    #: relative duality gap (P - D) / max(|P|, |D|); "solved" requires |gap| <= settings.eps_gap
     duality_gap: float = float("nan")
     #: the active-set polish certificate holds (the result is the exact optimum up to rounding)
     certified: bool = False

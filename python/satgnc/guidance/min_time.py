@@ -39,7 +39,7 @@ def _controls(problem: RendezvousProblem, layout: ThrusterLayout | None) -> tupl
     if layout is not None:
         if not isinstance(layout, ThrusterLayout):
             raise TypeError(f"layout: must be a ThrusterLayout or None, got {type(layout).__name__}")
-        lo, hi = thrust_bounds(layout)  # lower bound -1e-12 max_thrust (thrusters.LOWER_RELAXATION)
+        lo, hi = thrust_bounds(layout)  # [0, max_thrust]
         return Ad, layout.input_matrix(Bd), lo, hi
     if problem.u_max is None:
         raise ValueError("problem.u_max: required without a thruster layout (the minimum time of an "
@@ -66,8 +66,7 @@ def check_certificate(problem: RendezvousProblem, horizon: int, y: Any, layout: 
                       ) -> float:
     """Independent check of a Farkas certificate ``y`` (6,): returns the margin
     ``y' (0 - A^N x0) - max over the box of y' M U`` (> 0: no admissible plan reaches the target).
-    The box is the solver's (thrusts from -1e-12 max_thrust): a certificate for it also holds for
-    the physical box [0, max_thrust], which it contains."""
+    The box is the solver's, the physical one: thrusts in [0, max_thrust] (``thrust_bounds``)."""
     Ad, B, lo, hi = _controls(problem, layout)
     y = np.asarray(y, dtype=float)
     x = np.asarray(problem.x0, dtype=float)

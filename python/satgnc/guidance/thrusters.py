@@ -20,24 +20,24 @@ from typing import Any
 import numpy as np
 
 from .. import _satgnc as _c
-from .._results import Result
+from .._results import Result, module_getattr
 from .._validate import as_real_array
 
-__all__ = ["ThrusterLayout", "impulse_bit_violations", "cube_layout", "axis_layout", "LOWER_RELAXATION",
-           "thrust_bounds"]
-
-#: The thrust lower bound handed to the L1 solver is -LOWER_RELAXATION * max_thrust, not 0: with a lower
-#: bound exactly at the L1 kink (lo = 0) the ADMM of satgnc/guidance/admm.hpp stalls (max_iterations
-#: with a duality gap ~1e-3 on the 5/6/12-thruster cases of tests/python/test_failure_table.py) and its
-#: interior-point endgame returns negative gaps; at -1e-12 F_max every one of them is `solved` in 50
-#: iterations with gap ~5e-12 (measured 2026-12-02). The plans are clipped at 0 afterwards; the
-#: relaxation changes the optimum by at most N m 1e-12 F_max dt (a 1e-12 relative perturbation).
-LOWER_RELAXATION = 1e-12
+__all__ = ["ThrusterLayout", "impulse_bit_violations", "cube_layout", "axis_layout", "thrust_bounds"]
 
 
 def thrust_bounds(layout: ThrusterLayout) -> tuple[np.ndarray, np.ndarray]:
-    """(lower, upper) thrust bounds (N) handed to the L1 solver (see :data:`LOWER_RELAXATION`)."""
-    return -LOWER_RELAXATION * layout.max_thrust, np.array(layout.max_thrust)
+    """(lower, upper) thrust bounds (N) handed to the L1 solver: (0, max_thrust) per thruster.
+
+    The ADMM handles a bound at the L1 kink (its polish checks the one-sided condition there), so the
+    lower bound is exactly 0 (the former -1e-12 max_thrust relaxation, ``LOWER_RELAXATION``, is gone)."""
+    return np.zeros_like(np.asarray(layout.max_thrust, dtype=float)), np.array(layout.max_thrust)
+
+
+# Deprecated: the relaxation the thrust lower bound once carried (-1e-12 max_thrust, a workaround for the
+# ADMM's stall at a bound at 0, fixed in a8a4064). Reading it warns; thrust_bounds no longer applies it.
+__getattr__ = module_getattr(
+    __name__, {"LOWER_RELAXATION": ("thrust_bounds (its lower bound is now exactly 0)", lambda: 1e-12)})
 
 
 @dataclasses.dataclass(frozen=True)

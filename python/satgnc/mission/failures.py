@@ -187,9 +187,8 @@ REPLAN_SETTINGS = {"method": "admm", "eps_gap": 1e-7, "max_iterations": 2000}
 
 def replan(problem: RendezvousProblem, layout: ThrusterLayout, settings: Any = None, tie_break: float = 0.0):
     """L1 replan on ``layout``: linear CW (zero-order hold, ``problem.dt``), controls the thrusts
-    (N) in [0, max_thrust] (the solver's lower bound is relaxed by 1e-12 max_thrust, see
-    :data:`satgnc.guidance.thrusters.LOWER_RELAXATION`), L1 weights dt (the objective is the total
-    impulse, N s), hard terminal
+    (N) in [0, max_thrust] (:func:`satgnc.guidance.thrusters.thrust_bounds`), L1 weights dt (the
+    objective is the total impulse, N s), hard terminal
     state x_N = 0. Returns the :class:`satgnc.guidance.L1Result` (Y (N, m) the thrusts)."""
     Ad, Bd = cw_discretize(problem.n, problem.mass, problem.dt, "zoh")
     Bt = layout.input_matrix(Bd)
@@ -269,7 +268,7 @@ def failure_table(problem: RendezvousProblem, layout: ThrusterLayout, *, pairs: 
                     r, bound = r2, TIE_BREAK * (surv.size - 1)
             status, certified, ts = r.status, r.status == "solved", float(r.solve_time)
             if r.status in ("solved", "solved_inaccurate"):
-                T = np.maximum(np.asarray(r.Y), 0.0)  # the 1e-12 relaxation clipped
+                T = np.maximum(np.asarray(r.Y), 0.0)  # lower bound 0: clips rounding only
                 fuel = float(T.sum() * problem.dt)
                 dv = fuel / problem.mass
                 nviol = impulse_bit_violations(surv, T, problem.dt)

@@ -102,15 +102,16 @@ struct AdmmSettings {
   bool polish_dual = true;
   int polish_swaps = 3;  ///< local repairs of a rejected dual guess (>= 0; one KKT solve each)
   /// Optimality test of kSolved (residual rule): besides the residuals, the relative duality gap
-  /// (P - D) / max(|P|, |D|, gap_floor) of the flown plan Y must be <= eps_gap (P the objective of
-  /// Y, D a Fenchel dual bound, see AdmmInfo::duality_gap). 0 disables the gap test (not advised).
+  /// (P - D) / max(|P|, |D|, gap_floor) of the flown plan Y must be in [-eps_gap, eps_gap] (P the
+  /// objective of Y, D a Fenchel dual bound, see AdmmInfo::duality_gap; below -eps_gap the plan's
+  /// terminal miss lowers its cost beyond the tolerance). 0 disables the gap test (not advised).
   double eps_gap = 1e-5;
   double gap_floor = 1e-300;  ///< denominator floor of the relative gap (objective units, >= 0)
   /// With a hard terminal state, kSolved also needs the flown plan's terminal miss
   /// ||x_N(Y) - x_f||_2 <= terminal_tolerance x ||x_N(0) - x_f||_2 (the miss of doing nothing).
   double terminal_tolerance = 1e-6;
   int gap_check_interval = 5;  ///< once the residuals pass, iterations between gap evaluations (>= 1)
-  /// kSolvedInaccurate at a limit: residuals <= inaccurate_factor x their tolerances and the gap
+  /// kSolvedInaccurate at a limit: residuals <= inaccurate_factor x their tolerances and |gap|
   /// <= inaccurate_factor x eps_gap on the returned (best) iterate.
   double inaccurate_factor = 10.0;
   double time_limit = 0.0;  ///< seconds of solve() wall time, 0 = none -> kTimeLimit

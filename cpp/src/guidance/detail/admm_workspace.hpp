@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <type_traits>
@@ -151,6 +152,10 @@ struct AdmmIpmData {
   Eigen::VectorXd ip_, ipn_, iqu_, idx_, idxn_;
   Eigen::LLT<Eigen::MatrixXd> illt_;
   Eigen::MatrixXd iInu_;
+  /// Checkpoint of the IPM: the iterate with the smallest stopping measure so far (plan, terminal
+  /// multiplier and error), certified when the run ends without a certificate (admm_ipm.cpp).
+  Eigen::MatrixXd icU_;
+  Eigen::VectorXd icnu_, ice_;
 };
 
 /// Per-iteration statistics of the fused relaxation / prox / multiplier pass.
@@ -237,6 +242,10 @@ struct AdmmWorkspace : AdmmProblemData,
   /// A polished plan accepted (status solved) when polish_gap_ok(); else r_valid_ = false.
   bool accept_polish() noexcept;
   bool check_stop() noexcept;
+  /// The relative gap test of every `solved` / `solved_inaccurate`: -tol <= gap <= tol. A gap below
+  /// -tol (the dual bound above the plan's cost beyond the tolerance) means the plan is not feasible
+  /// enough (hard terminal miss) or the bound is wrong; NaN / inf fail.
+  static bool gap_within(double gap, double tol) noexcept { return std::abs(gap) <= tol; }
   bool ipm_endgame() noexcept;
   bool check_limits() noexcept;
   bool adapt_rho() noexcept;
