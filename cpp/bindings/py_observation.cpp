@@ -213,7 +213,9 @@ void init_observation(py::module_& m) {
           "troposphere_model",
           [](const MeasurementModel& mm) {
             return std::string(observation::troposphere_model_name(mm.settings().troposphere_model));
-          })
+          },
+          "'saastamoinen' (radio) or 'mendes_pavlis' (laser ranging at wavelength_um); applies when "
+          "troposphere is True")
       .def("predict_many", &predict_many, py::arg("station"), py::arg("t"), py::arg("states"),
            py::arg("range_bias") = 0.0, py::arg("time_bias") = 0.0,
            "Arrays of one predict() per tag: value (n, 2), dx (n, 2, 6), dbias (n, 2, 2), tau_down, tau_up, "

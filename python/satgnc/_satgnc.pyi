@@ -3553,7 +3553,11 @@ class MeasurementModel:
     @property
     def troposphere(self) -> bool: ...
     @property
-    def troposphere_model(self) -> str: ...
+    def troposphere_model(self) -> str:
+        """
+        'saastamoinen' (radio) or 'mendes_pavlis' (laser ranging at wavelength_um); applies when troposphere
+        is True
+        """
     @property
     def type(self) -> str: ...
 
