@@ -17,10 +17,18 @@ import numpy as np
 from satgnc import io
 from satgnc.cli import main
 
-try:
-    DATA = pathlib.Path(__file__).resolve().parents[1] / "data"
-except NameError:  # run without a file (interactive): from the repository root
-    DATA = pathlib.Path("examples") / "data"
+
+def _data_dir() -> pathlib.Path:
+    """examples/data, found from this file or the working directory (the gallery runs in docs/)."""
+    start = pathlib.Path(str(globals().get("__file__", pathlib.Path.cwd() / "_"))).resolve().parent
+    for d in (start, *start.parents, pathlib.Path.cwd(), *pathlib.Path.cwd().parents):
+        for cand in (d / "data", d / "examples" / "data"):
+            if (cand / "leo_tracking.tdm").is_file():
+                return cand
+    raise FileNotFoundError("examples/data/leo_tracking.tdm not found: run from the satgnc repository")
+
+
+DATA = _data_dir()
 truth = np.array([-2543.62720, -5010.46660, 4137.58155, -3.13535812, -3.36212493, -5.99891423])  # km, km/s
 
 with tempfile.TemporaryDirectory() as d:
@@ -42,6 +50,8 @@ with tempfile.TemporaryDirectory() as d:
             str(out),
         ]
     )
+    if rc != 0:
+        raise SystemExit(f"satgnc od batch exited with {rc}")
     oem = io.read_oem(out)
 
 state = oem.segments[0].states[0]
