@@ -259,3 +259,19 @@ def test_batch_cli_bad_input_one_line_exit_2(
     broken.write_text(tdm.read_text().replace("PATH = 1,2,1", "PATH = 1,3,1", 1))
     msg = _error([*base[:3], str(broken), *base[4:]], capsys)
     assert f"{broken}:" in msg and "PATH" in msg
+
+
+def test_batch_cli_unconverged_run_exits_1_with_its_status(
+    tracking: tuple[pathlib.Path, pathlib.Path, np.ndarray],
+    tmp_path: pathlib.Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    # One iteration from 3.9 km off cannot meet the test: exit 1, the status said, the best iterate
+    # written with its true (finite) cost, strict JSON.
+    out = tmp_path / "one.json"
+    rc = main([*_base(tracking), "--max-iterations", "1", "--method", "gn", "--out", str(out)])
+    printed = capsys.readouterr().out
+    assert rc == 1
+    r = json.loads(out.read_text())
+    assert r["status"] == "max_iterations" and f"status      : {r['status']}" in printed
+    assert r["cost"] is not None and r["cost"] > 0.0 and r["iterations"] == 1

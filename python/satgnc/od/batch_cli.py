@@ -166,6 +166,11 @@ def _receivers(tdm_path: str) -> list[str]:
     return names
 
 
+def _finite(a: Any) -> Any:
+    """Nested lists of an array with non-finite entries (a singular covariance) as None: strict JSON."""
+    return [_finite(v) for v in a] if isinstance(a, list) else (a if math.isfinite(a) else None)
+
+
 def _result_json(r: Any, epoch: Any, names: list[str], args: Any) -> dict[str, Any]:
     return {
         "tdm": str(args.tdm),
@@ -177,18 +182,18 @@ def _result_json(r: Any, epoch: Any, names: list[str], args: Any) -> dict[str, A
         "evaluations": r.evaluations,
         "state_km_kms": r.state.tolist(),
         "parameter_names": list(r.parameter_names),
-        "parameters": r.parameters.tolist(),
-        "sigma": r.sigma.tolist(),
-        "covariance": r.covariance.tolist(),
+        "parameters": _finite(r.parameters.tolist()),
+        "sigma": _finite(r.sigma.tolist()),
+        "covariance": _finite(r.covariance.tolist()),
         "stations": names,
         "range_bias_km": r.range_bias.tolist(),
         "time_bias_s": r.time_bias.tolist(),
-        "rms_normalized": r.rms,
-        "cost": r.cost,
+        "rms_normalized": _finite(r.rms),
+        "cost": _finite(r.cost),
         "rank": r.rank,
-        "condition_number": r.condition_number,
+        "condition_number": _finite(r.condition_number),
         "step_sigma": r.step_sigma,
-        "residuals": [[None if not math.isfinite(v) else v for v in row] for row in r.residuals.tolist()],
+        "residuals": _finite(r.residuals.tolist()),
         "troposphere": args.troposphere,
         "light_time": not args.no_light_time,
         "shapiro": args.shapiro,
@@ -366,7 +371,8 @@ def _run(args: Any) -> int:
     print(_summary(r, td, epoch, names))
     if out is not None:
         if out.suffix.lower() == ".json":
-            out.write_text(json.dumps(_result_json(r, epoch, names, args), indent=1) + "\n")
+            text = json.dumps(_result_json(r, epoch, names, args), indent=1, allow_nan=False)
+            out.write_text(text + "\n")
         else:
             _write_oem(out, r, epoch, args, xml=out.suffix.lower() == ".xml")
         print(f"wrote       : {out}")
