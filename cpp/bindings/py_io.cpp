@@ -445,6 +445,12 @@ void init_io(py::module_& m) {
   m.def(
       "io_format_opm", [](const py::dict& model) { return io::format_opm(opm_of(model)); }, py::arg("model"),
       "OPM KVN text of the dict form of satgnc.io.Opm.");
+  m.def(
+      "io_format_oem_xml", [](const py::dict& model) { return io::format_oem_xml(oem_of(model)); },
+      py::arg("model"), "OEM XML text (NDM/XML 2.0) of the dict form of satgnc.io.Oem.");
+  m.def(
+      "io_format_opm_xml", [](const py::dict& model) { return io::format_opm_xml(opm_of(model)); },
+      py::arg("model"), "OPM XML text (NDM/XML 2.0) of the dict form of satgnc.io.Opm.");
 }
 
 }  // namespace satgnc::bindings

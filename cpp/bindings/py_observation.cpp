@@ -168,10 +168,24 @@ void init_observation(py::module_& m) {
                                "Light-time measurement model (observation/measurement_model.hpp).")
       .def(py::init([](const std::string& type, py::handle troposphere, py::handle shapiro,
                        py::handle relative_humidity, py::handle tolerance, py::handle max_iterations,
-                       py::handle mu, py::handle min_range, py::handle time_bias_partials) {
+                       py::handle mu, py::handle min_range, py::handle time_bias_partials,
+                       py::handle wavelength_um) {
              MeasurementSettings s;
              s.type = observation::parse_observable(type);
-             s.troposphere = checks::bool_arg(troposphere, "troposphere");
+             if (py::isinstance<py::str>(troposphere)) {  // the model's name turns it on
+               const std::string name = troposphere.cast<std::string>();
+               if (name == "saastamoinen")
+                 s.troposphere_model = observation::TroposphereModel::saastamoinen;
+               else if (name == "mendes_pavlis")
+                 s.troposphere_model = observation::TroposphereModel::mendes_pavlis;
+               else
+                 throw py::value_error(
+                     "troposphere: must be a bool, 'saastamoinen' or 'mendes_pavlis', got '" + name + "'");
+               s.troposphere = true;
+             } else {
+               s.troposphere = checks::bool_arg(troposphere, "troposphere");
+             }
+             s.wavelength_um = checks::real_arg(wavelength_um, "wavelength_um");
              s.shapiro = checks::bool_arg(shapiro, "shapiro");
              s.relative_humidity = checks::real_arg(relative_humidity, "relative_humidity");
              s.light_time.tolerance = checks::real_arg(tolerance, "tolerance");
@@ -184,7 +198,8 @@ void init_observation(py::module_& m) {
            }),
            py::arg("type"), py::arg("troposphere") = false, py::arg("shapiro") = false,
            py::arg("relative_humidity") = 0.5, py::arg("tolerance") = 1e-14, py::arg("max_iterations") = 10,
-           py::arg("mu") = core::earth::mu, py::arg("min_range") = 1e-3, py::arg("time_bias_partials") = true)
+           py::arg("mu") = core::earth::mu, py::arg("min_range") = 1e-3, py::arg("time_bias_partials") = true,
+           py::arg("wavelength_um") = 0.532)
       .def_property_readonly("type",
                              [](const MeasurementModel& mm) {
                                return std::string(observation::observable_name(mm.settings().type));
@@ -194,6 +209,13 @@ void init_observation(py::module_& m) {
       .def_property_readonly("troposphere",
                              [](const MeasurementModel& mm) { return mm.settings().troposphere; })
       .def_property_readonly("shapiro", [](const MeasurementModel& mm) { return mm.settings().shapiro; })
+      .def_property_readonly(
+          "troposphere_model",
+          [](const MeasurementModel& mm) {
+            return std::string(observation::troposphere_model_name(mm.settings().troposphere_model));
+          },
+          "'saastamoinen' (radio) or 'mendes_pavlis' (laser ranging at wavelength_um); applies when "
+          "troposphere is True")
       .def("predict_many", &predict_many, py::arg("station"), py::arg("t"), py::arg("states"),
            py::arg("range_bias") = 0.0, py::arg("time_bias") = 0.0,
            "Arrays of one predict() per tag: value (n, 2), dx (n, 2, 6), dbias (n, 2, 2), tau_down, tau_up, "

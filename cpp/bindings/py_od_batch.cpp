@@ -131,15 +131,21 @@ void init_od_batch(py::module_& m) {
           py::arg("epoch"),
           "Dict of arrays: t (s after epoch), types, stations, values (n, 2), sigmas, corrections.");
 
+  const auto tropo_model = [](const std::string& name) {
+    if (name == "saastamoinen") return observation::TroposphereModel::saastamoinen;
+    if (name == "mendes_pavlis") return observation::TroposphereModel::mendes_pavlis;
+    throw py::value_error("troposphere: must be 'saastamoinen' or 'mendes_pavlis', got '" + name + "'");
+  };
   m.def(
       "od_batch_estimate",
-      [](const TrackingData& data, const core::Epoch& epoch, const py::list& stations,
-         const Eigen::VectorXd& guess, const dynamics::ForceModel& force_model,
-         const std::vector<bool>& est_range, const std::vector<bool>& est_time,
-         const std::vector<double>& range_bias, const std::vector<double>& time_bias,
-         const std::vector<std::string>& names, int max_iterations, double sigma_tol, bool light_time,
-         bool troposphere, bool shapiro, double relative_humidity, double rtol, double atol,
-         const std::string& method) {
+      [tropo_model](const TrackingData& data, const core::Epoch& epoch, const py::list& stations,
+                    const Eigen::VectorXd& guess, const dynamics::ForceModel& force_model,
+                    const std::vector<bool>& est_range, const std::vector<bool>& est_time,
+                    const std::vector<double>& range_bias, const std::vector<double>& time_bias,
+                    const std::vector<std::string>& names, int max_iterations, double sigma_tol,
+                    bool light_time, bool troposphere, bool shapiro, double relative_humidity, double rtol,
+                    double atol, const std::string& method, const std::string& troposphere_model,
+                    double wavelength_um) {
         od::BatchProblem p;
         p.epoch = epoch;
         p.data = data;
@@ -162,6 +168,8 @@ void init_od_batch(py::module_& m) {
         s.troposphere = troposphere;
         s.shapiro = shapiro;
         s.relative_humidity = relative_humidity;
+        s.troposphere_model = tropo_model(troposphere_model);
+        s.wavelength_um = wavelength_um;
         if (method == "levenberg_marquardt")
           s.method = od::BatchMethod::levenberg_marquardt;
         else if (method != "gauss_newton")
@@ -183,15 +191,17 @@ void init_od_batch(py::module_& m) {
       py::arg("time_bias"), py::arg("names"), py::arg("max_iterations"), py::arg("sigma_tol"),
       py::arg("light_time"), py::arg("troposphere"), py::arg("shapiro"), py::arg("relative_humidity"),
       py::arg("rtol"), py::arg("atol"), py::arg("method") = "gauss_newton",
+      py::arg("troposphere_model") = "saastamoinen", py::arg("wavelength_um") = 0.532,
       "Batch least squares (od/batch.hpp) on DOP853 with the force model; returns a dict (see "
       "satgnc.od.batch_estimate).");
 
   m.def(
       "od_batch_evaluate",
-      [](const TrackingData& data, const core::Epoch& epoch, const py::list& stations,
-         const Eigen::VectorXd& p_, const dynamics::ForceModel& force_model,
-         const std::vector<bool>& est_range, const std::vector<bool>& est_time, bool light_time,
-         bool troposphere, bool shapiro, double rtol, double atol) {
+      [tropo_model](const TrackingData& data, const core::Epoch& epoch, const py::list& stations,
+                    const Eigen::VectorXd& p_, const dynamics::ForceModel& force_model,
+                    const std::vector<bool>& est_range, const std::vector<bool>& est_time, bool light_time,
+                    bool troposphere, bool shapiro, double rtol, double atol,
+                    const std::string& troposphere_model, double wavelength_um) {
         od::BatchProblem p;
         p.epoch = epoch;
         p.data = data;
@@ -207,6 +217,8 @@ void init_od_batch(py::module_& m) {
         s.light_time = light_time;
         s.troposphere = troposphere;
         s.shapiro = shapiro;
+        s.troposphere_model = tropo_model(troposphere_model);
+        s.wavelength_um = wavelength_um;
         propagation::Dop853Settings ds;
         ds.rtol = rtol;
         ds.atol = atol;
@@ -219,6 +231,7 @@ void init_od_batch(py::module_& m) {
       py::arg("data"), py::arg("epoch"), py::arg("stations"), py::arg("parameters"), py::arg("force_model"),
       py::arg("estimate_range_bias"), py::arg("estimate_time_bias"), py::arg("light_time"),
       py::arg("troposphere"), py::arg("shapiro"), py::arg("rtol"), py::arg("atol"),
+      py::arg("troposphere_model") = "saastamoinen", py::arg("wavelength_um") = 0.532,
       "(ok, whitened residuals (O - C)/sigma, whitened Jacobian d predicted/sigma / dp) at parameters.");
 }
 

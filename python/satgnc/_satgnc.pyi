@@ -136,7 +136,9 @@ __all__: list[str] = [
     "io_epoch_seconds",
     "io_epochs_at",
     "io_format_oem",
+    "io_format_oem_xml",
     "io_format_opm",
+    "io_format_opm_xml",
     "io_format_tdm",
     "io_parse_oem",
     "io_parse_opm",
@@ -3530,6 +3532,7 @@ class MeasurementModel:
         mu: typing.SupportsFloat = 398600.4418,
         min_range: typing.Any = 0.001,
         time_bias_partials: typing.Any = True,
+        wavelength_um: typing.Any = 0.532,
     ) -> None: ...
     def predict_many(
         self,
@@ -3549,6 +3552,12 @@ class MeasurementModel:
     def size(self) -> int: ...
     @property
     def troposphere(self) -> bool: ...
+    @property
+    def troposphere_model(self) -> str:
+        """
+        'saastamoinen' (radio) or 'mendes_pavlis' (laser ranging at wavelength_um); applies when troposphere
+        is True
+        """
     @property
     def type(self) -> str: ...
 
@@ -4100,9 +4109,19 @@ def io_format_oem(model: dict[str, typing.Any]) -> str:
     OEM KVN text of the dict form of satgnc.io.Oem.
     """
 
+def io_format_oem_xml(model: dict[str, typing.Any]) -> str:
+    """
+    OEM XML text (NDM/XML 2.0) of the dict form of satgnc.io.Oem.
+    """
+
 def io_format_opm(model: dict[str, typing.Any]) -> str:
     """
     OPM KVN text of the dict form of satgnc.io.Opm.
+    """
+
+def io_format_opm_xml(model: dict[str, typing.Any]) -> str:
+    """
+    OPM XML text (NDM/XML 2.0) of the dict form of satgnc.io.Opm.
     """
 
 def io_format_tdm(model: dict[str, typing.Any], xml: bool) -> str:
@@ -4181,6 +4200,8 @@ def od_batch_estimate(
     rtol: typing.SupportsFloat | typing.SupportsIndex,
     atol: typing.SupportsFloat | typing.SupportsIndex,
     method: str = "gauss_newton",
+    troposphere_model: str = "saastamoinen",
+    wavelength_um: typing.SupportsFloat | typing.SupportsIndex = 0.532,
 ) -> dict[str, typing.Any]:
     """
     Batch least squares (od/batch.hpp) on DOP853 with the force model; returns a dict (see
@@ -4200,6 +4221,8 @@ def od_batch_evaluate(
     shapiro: bool,
     rtol: typing.SupportsFloat | typing.SupportsIndex,
     atol: typing.SupportsFloat | typing.SupportsIndex,
+    troposphere_model: str = "saastamoinen",
+    wavelength_um: typing.SupportsFloat | typing.SupportsIndex = 0.532,
 ) -> tuple[
     bool,
     typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"],

@@ -44,6 +44,29 @@ inline bool angle_pair(const Vec3& e, double& lon, double& lat, Eigen::Matrix<do
   g.row(1) = Row3(-e(0) * e(2), -e(1) * e(2), h2) / (n2 * h);
   return true;
 }
+// Tropospheric delay of the run's model at a station: zenith delay (km) times the mapping at an
+// elevation, with d delay / d elevation.
+struct Troposphere {
+  TroposphereModel model = TroposphereModel::saastamoinen;
+  double zenith = 0.0;  // km
+  double latitude = 0.0, height = 0.0, temperature = 288.15;
+  Troposphere(const MeasurementSettings& s, const StationEphemeris& station) noexcept
+      : model(s.troposphere_model), latitude(station.latitude()), height(station.height()) {
+    const Weather w = standard_atmosphere(height, s.relative_humidity);
+    temperature = w.temperature;
+    zenith = model == TroposphereModel::mendes_pavlis
+                 ? mendes_pavlis_zenith_delay(w, latitude, height, s.wavelength_um).total()
+                 : saastamoinen_zenith_delay(w, latitude, height);
+  }
+  double delay(double el, double* d_del) const noexcept {
+    double dm = 0.0;
+    const double m = model == TroposphereModel::mendes_pavlis
+                         ? fcul_mapping(el, latitude, height, temperature, &dm)
+                         : tropo_mapping(el, &dm);
+    if (d_del) *d_del = zenith * dm;
+    return zenith * m;
+  }
+};
 }  // namespace
 
 const char* observable_name(ObservableType type) noexcept {
@@ -100,6 +123,11 @@ void MeasurementSettings::validate() const {
                     std::string(observable_name(type)));
   core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
                 "relative_humidity", "must be in [0, 1]");
+  const int tm = static_cast<int>(troposphere_model);
+  core::require(tm >= 0 && tm <= 1, "troposphere_model",
+                "unknown model (hint: saastamoinen or mendes_pavlis)");
+  core::require(std::isfinite(wavelength_um) && wavelength_um >= 0.3 && wavelength_um <= 1.7, "wavelength_um",
+                "must be in [0.3, 1.7] micrometres (the range of Ciddor's dispersion formula)");
   core::require_positive(mu, "mu");
   core::require_positive(min_range, "min_range");
 }
@@ -263,22 +291,17 @@ void MeasurementModel::evaluate(const StationEphemeris& station, double t, const
       const Vec3 e(sr.enu.row(1).dot(dd), sr.enu.row(0).dot(dd), sr.enu.row(2).dot(dd));
       Eigen::Matrix<double, 2, 3> g;
       double az = 0.0, el = 0.0;
+      const Troposphere tropo(s, station);
       if (angle_pair(e, az, el, g)) {
         Mat3 M;
         M.row(0) = sr.enu.row(1);
         M.row(1) = sr.enu.row(0);
         M.row(2) = sr.enu.row(2);
-        const double zenith = saastamoinen_zenith_delay(
-            standard_atmosphere(station.height(), s.relative_humidity), station.latitude(), station.height());
-        double dm = 0.0;
-        const double m = tropo_mapping(el, &dm);
-        out.troposphere = zenith * m;
-        H.row(0) += zenith * dm * (g.row(1) * M * Dr);
+        double dd_del = 0.0;
+        out.troposphere = tropo.delay(el, &dd_del);
+        H.row(0) += dd_del * (g.row(1) * M * Dr);
       } else {
-        out.troposphere =
-            saastamoinen_zenith_delay(standard_atmosphere(station.height(), s.relative_humidity),
-                                      station.latitude(), station.height()) *
-            tropo_mapping(0.25 * kTwoPi);
+        out.troposphere = tropo.delay(0.25 * kTwoPi, nullptr);
       }
     }
     if (s.shapiro) {
@@ -298,11 +321,8 @@ void MeasurementModel::evaluate(const StationEphemeris& station, double t, const
     // carry the same delay, so the mean of the legs carries its rate once. h = 0.1 s: truncation
     // (h / T)^2 / 6 < 2e-6 relative for the fastest change of a LEO pass (T ~ 30 s at 5 deg elevation).
     constexpr double h = 0.1;
-    const double zenith =
-        s.troposphere ? saastamoinen_zenith_delay(standard_atmosphere(station.height(), s.relative_humidity),
-                                                  station.latitude(), station.height())
-                      : 0.0;
-    double tropo[2] = {0.0, 0.0}, shap[2] = {0.0, 0.0};
+    const Troposphere tropo(s, station);
+    double delay[2] = {0.0, 0.0}, shap[2] = {0.0, 0.0};
     Row6 g_tropo[2] = {Row6::Zero(), Row6::Zero()}, g_shap[2] = {Row6::Zero(), Row6::Zero()};
     for (int k = 0; k < 2; ++k) {
       const double dt = k == 0 ? h : -h;
@@ -321,11 +341,11 @@ void MeasurementModel::evaluate(const StationEphemeris& station, double t, const
         Eigen::Matrix<double, 2, 3> g;
         double az = 0.0, el = 0.0;
         if (angle_pair(M * dh, az, el, g)) {
-          double dm = 0.0;
-          tropo[k] = zenith * tropo_mapping(el, &dm);
-          if (want) g_tropo[k] = zenith * dm * (g.row(1) * M * Jh.topRows<3>());
+          double dd_del = 0.0;
+          delay[k] = tropo.delay(el, &dd_del);
+          if (want) g_tropo[k] = dd_del * (g.row(1) * M * Jh.topRows<3>());
         } else {
-          tropo[k] = zenith * tropo_mapping(0.25 * kTwoPi);
+          delay[k] = tropo.delay(0.25 * kTwoPi, nullptr);
         }
       }
       if (s.shapiro) {
@@ -336,7 +356,7 @@ void MeasurementModel::evaluate(const StationEphemeris& station, double t, const
           g_shap[k] = (dsum * (rh / r2).transpose() + drho * (dh / rho).transpose()) * Jh.topRows<3>();
       }
     }
-    out.troposphere = (tropo[0] - tropo[1]) / (2.0 * h);  // km/s for a range-rate
+    out.troposphere = (delay[0] - delay[1]) / (2.0 * h);  // km/s for a range-rate
     out.shapiro = (shap[0] - shap[1]) / (2.0 * h);
     out.value(0) += out.troposphere + out.shapiro;
     if (want) H.row(0) += ((g_tropo[0] - g_tropo[1] + g_shap[0] - g_shap[1]) / (2.0 * h)) * Dxb;

@@ -33,6 +33,56 @@ double tropo_mapping(double el, double* dm_del) noexcept {
   return m;
 }
 
+const char* troposphere_model_name(TroposphereModel model) noexcept {
+  switch (model) {
+    case TroposphereModel::saastamoinen:
+      return "saastamoinen";
+    case TroposphereModel::mendes_pavlis:
+      return "mendes_pavlis";
+  }
+  return "unknown";
+}
+
+ZenithDelay mendes_pavlis_zenith_delay(const Weather& w, double latitude_rad, double height_km,
+                                       double wavelength_um) noexcept {
+  // Ciddor's dispersion constants (um^-2) and the CO2 content (ppm) of the IERS model.
+  constexpr double k0 = 238.0185, k1 = 19990.975, k2 = 57.362, k3 = 579.55174;
+  constexpr double w0 = 295.235, w1 = 2.6422, w2 = -0.032380, w3 = 0.004028;
+  constexpr double co2_ppm = 375.0;
+  const double s2 = 1.0 / (wavelength_um * wavelength_um);  // sigma^2, um^-2
+  const double fs = 1.0 - 0.00266 * std::cos(2.0 * latitude_rad) - 0.28e-6 * (1000.0 * height_km);
+  const double co2 = 1.0 + 0.534e-6 * (co2_ppm - 450.0);
+  const double fh =
+      0.01 * co2 * (k1 * (k0 + s2) / ((k0 - s2) * (k0 - s2)) + k3 * (k2 + s2) / ((k2 - s2) * (k2 - s2)));
+  const double fnh = 0.003101 * (w0 + 3.0 * w1 * s2 + 5.0 * w2 * s2 * s2 + 7.0 * w3 * s2 * s2 * s2);
+  ZenithDelay z;
+  z.hydrostatic = 1e-3 * (2.416579e-3 * fh * w.pressure / fs);               // km
+  z.wet = 1e-3 * (1e-4 * (5.316 * fnh - 3.759 * fh) * w.water_vapour / fs);  // km
+  return z;
+}
+
+double fcul_mapping(double el, double latitude_rad, double height_km, double temperature_k,
+                    double* dm_del) noexcept {
+  const double t = temperature_k - 273.15;  // deg C
+  const double c = std::cos(latitude_rad);
+  const double H = 1000.0 * height_km;  // m
+  const double a1 = 0.121008e-2 + 0.17295e-5 * t + 0.3191e-4 * c - 0.18478e-7 * H;
+  const double a2 = 0.304965e-2 + 0.2346e-5 * t - 0.1035e-3 * c - 0.1856e-7 * H;
+  const double a3 = 0.68777e-1 + 0.1972e-4 * t - 0.3458e-2 * c + 0.1060e-6 * H;
+  const double num = 1.0 + a1 / (1.0 + a2 / (1.0 + a3));
+  const double s = std::sin(el);
+  const double q3 = s + a3;
+  const double q2 = s + a2 / q3;
+  const double den = s + a1 / q2;
+  const double m = num / den;
+  if (dm_del) {
+    // d den / d s = 1 - a1 / q2^2 (1 - a2 / q3^2)
+    const double dden = 1.0 - a1 / (q2 * q2) * (1.0 - a2 / (q3 * q3));
+    *dm_del = -m / den * dden * std::cos(el);
+  }
+  return m;
+}
+
 double shapiro_delay(double r1, double r2, double rho, double mu, double* d_dsum, double* d_drho) noexcept {
   const double sum = r1 + r2;
   const double k = 2.0 * mu / (speed_of_light * speed_of_light);  // km

@@ -94,6 +94,11 @@ void BatchSettings::validate() const {
   core::require_nonnegative(min_radius, "min_radius");
   core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
                 "relative_humidity", "must be in [0, 1]");
+  const int tm = static_cast<int>(troposphere_model);
+  core::require(tm >= 0 && tm <= 1, "troposphere_model",
+                "unknown model (hint: saastamoinen or mendes_pavlis)");
+  core::require(std::isfinite(wavelength_um) && wavelength_um >= 0.3 && wavelength_um <= 1.7, "wavelength_um",
+                "must be in [0.3, 1.7] micrometres");
   core::require_positive(mu, "mu");
 }
 
@@ -420,6 +425,8 @@ BatchEstimator::BatchEstimator(BatchProblem problem, std::shared_ptr<StmPropagat
       ms.type = m.type;
       ms.troposphere = tropo;
       ms.shapiro = shap;
+      ms.troposphere_model = settings.troposphere_model;
+      ms.wavelength_um = settings.wavelength_um;
       ms.relative_humidity = settings.relative_humidity;
       ms.mu = settings.mu;
       ms.time_bias_partials = w.time_partials;

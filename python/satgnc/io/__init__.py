@@ -60,6 +60,10 @@ __all__ = [
     "parse_opm",
     "format_opm",
     "write_opm",
+    "format_oem_xml",
+    "write_oem_xml",
+    "format_opm_xml",
+    "write_opm_xml",
     "epoch_seconds",
     "epochs_at",
 ]
@@ -758,6 +762,106 @@ def format_opm(opm: Opm) -> str:
 @_doc(_WRITE_DOC, cls="Opm", arg="opm")
 def write_opm(path: str | os.PathLike[str], opm: Opm) -> pathlib.Path:
     return _write_text(path, format_opm(opm))
+
+
+def format_oem_xml(oem: Oem) -> str:
+    """The OEM text of ``oem`` in XML (CCSDS NDM/XML 2.0: ``<stateVector>``, ``<covarianceMatrix>``).
+
+    :func:`parse_oem` and :func:`read_oem` read it back (they tell XML by its first character), to the
+    same model bit for bit.
+
+    Parameters
+    ----------
+    oem : Oem
+        The message to write (numbers in the shortest form that reads back to the same double; km, km/s,
+        km/s**2, km**2....).
+
+    Returns
+    -------
+    str
+        The XML text.
+
+    Raises
+    ------
+    TypeError
+        ``oem`` is not a :class:`Oem`.
+    ValueError
+        A model that would not read back.
+    """
+    return str(_c.io_format_oem_xml(_oem_dict(oem)))
+
+
+def write_oem_xml(path: str | os.PathLike[str], oem: Oem) -> pathlib.Path:
+    """Write ``oem`` to ``path`` in XML (:func:`format_oem_xml`'s text).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced if it exists).
+    oem : Oem
+        The message.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`format_oem_xml`.
+    """
+    return _write_text(path, format_oem_xml(oem))
+
+
+def format_opm_xml(opm: Opm) -> str:
+    """The OPM text of ``opm`` in XML (CCSDS NDM/XML 2.0, ``<opm>``).
+
+    :func:`parse_opm` and :func:`read_opm` read it back (they tell XML by its first character), to the
+    same model bit for bit.
+
+    Parameters
+    ----------
+    opm : Opm
+        The message to write (numbers in the shortest form that reads back to the same double; km, km/s,
+        kg, m**2, km**2....).
+
+    Returns
+    -------
+    str
+        The XML text.
+
+    Raises
+    ------
+    TypeError
+        ``opm`` is not a :class:`Opm`.
+    ValueError
+        A model that would not read back.
+    """
+    return str(_c.io_format_opm_xml(_opm_dict(opm)))
+
+
+def write_opm_xml(path: str | os.PathLike[str], opm: Opm) -> pathlib.Path:
+    """Write ``opm`` to ``path`` in XML (:func:`format_opm_xml`'s text).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced if it exists).
+    opm : Opm
+        The message.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`format_opm_xml`.
+    """
+    return _write_text(path, format_opm_xml(opm))
 
 
 from .._namespace import public_dir as _public_dir  # noqa: E402

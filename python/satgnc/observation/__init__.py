@@ -127,7 +127,7 @@ def rotating_station(station: Any, ellipsoid: str = "WGS-84") -> Any:
 def measurement_model(
     observable: str,
     *,
-    troposphere: bool = False,
+    troposphere: bool | str = False,
     shapiro: bool = False,
     relative_humidity: float = 0.5,
     tolerance: float = 1e-14,
@@ -135,6 +135,7 @@ def measurement_model(
     mu: float = float(_satgnc.EARTH_MU),
     min_range: float = 1e-3,
     time_bias_partials: bool = True,
+    wavelength_um: float = 0.532,
 ) -> Any:
     """A :class:`MeasurementModel` for ``observable``, its settings checked once here.
 
@@ -144,8 +145,11 @@ def measurement_model(
         One of :data:`OBSERVABLES`: ``"one_way_range"``, ``"two_way_range"`` (km),
         ``"one_way_range_rate"``, ``"two_way_range_rate"`` (km/s), ``"azimuth_elevation"``,
         ``"right_ascension_declination"`` (rad).
-    troposphere : bool, optional
-        Add the Saastamoinen delay with the Black-Eisner mapping (range observables only; default False).
+    troposphere : bool or str, optional
+        Add the tropospheric delay (range observables) or its rate (range-rate observables); default
+        False. True or ``"saastamoinen"``: Saastamoinen with the Black-Eisner mapping (radio);
+        ``"mendes_pavlis"``: Mendes-Pavlis with the FCULa mapping at ``wavelength_um`` (laser ranging,
+        the IERS Conventions 2010 model).
     shapiro : bool, optional
         Add the Earth's Shapiro delay (range observables only; default False).
     relative_humidity : float, optional
@@ -161,6 +165,8 @@ def measurement_model(
         A smaller range is degenerate geometry (km; default 1e-3).
     time_bias_partials : bool, optional
         Compute d value / d time bias (default True).
+    wavelength_um : float, optional
+        Laser wavelength of Mendes-Pavlis, micrometres, in [0.3, 1.7] (default 0.532).
 
     Returns
     -------
@@ -185,6 +191,7 @@ def measurement_model(
             mu=mu,
             min_range=min_range,
             time_bias_partials=time_bias_partials,
+            wavelength_um=wavelength_um,
         )
     except ValueError as e:  # C++ std::invalid_argument "field: rule": name the Python argument
         msg = str(e)

@@ -256,6 +256,16 @@ def _per_station(value: Any, name: str, n: int) -> list[float]:
     return [float(v) for v in arr]
 
 
+TROPOSPHERE_MODELS: tuple[str, ...] = ("saastamoinen", "mendes_pavlis")
+
+
+def _troposphere(value: Any) -> tuple[bool, str]:
+    """``troposphere`` argument -> (on, model name): a bool (True: Saastamoinen) or a model's name."""
+    if isinstance(value, str):
+        return True, one_of(value, "troposphere", TROPOSPHERE_MODELS)
+    return as_bool(value, "troposphere"), "saastamoinen"
+
+
 def _setup(
     data: Any, stations: Any, epoch: Any, force_model: Any, station_names: Any, tdm_sigmas: dict[str, float]
 ):
@@ -301,7 +311,7 @@ def batch_estimate(
     range_bias: Any = None,
     time_bias: Any = None,
     light_time: bool = True,
-    troposphere: bool = False,
+    troposphere: bool | str = False,
     shapiro: bool = False,
     relative_humidity: float = 0.5,
     max_iterations: int = 25,
@@ -312,6 +322,7 @@ def batch_estimate(
     sigma_range: float = 1e-3,
     sigma_range_rate: float = 1e-6,
     sigma_angle: float = 1e-4,
+    wavelength_um: float = 0.532,
 ) -> BatchResult:
     """Batch least squares: the GCRF state at ``epoch`` and per-station biases from ``data``.
 
@@ -323,7 +334,8 @@ def batch_estimate(
     and Moon); ``estimate_range_bias`` / ``estimate_time_bias``: station indices or names (or
     ``True`` for all) whose bias is estimated; ``range_bias`` (km) / ``time_bias`` (s): fixed values
     or initial guesses (a number or one per station); ``light_time`` (False: the instantaneous
-    geometry), ``troposphere``, ``shapiro``: model options of this run; ``max_iterations``,
+    geometry), ``troposphere`` (True or ``"saastamoinen"``: radio; ``"mendes_pavlis"``: laser ranging
+    at ``wavelength_um`` micrometres), ``shapiro``: model options of this run; ``max_iterations``,
     ``sigma_tol`` (convergence: remaining step <= sigma_tol formal sigmas); ``method``:
     ``"gauss_newton"`` (backtracking) or ``"levenberg_marquardt"`` (Moré scaling; robust from a far
     guess, e.g. hundreds of km off in a LEO); ``rtol`` / ``atol``:
@@ -342,6 +354,7 @@ def batch_estimate(
     et = _indices(estimate_time_bias, "estimate_time_bias", n, names)
     rb = _per_station(range_bias, "range_bias", n)
     tb = _per_station(time_bias, "time_bias", n)
+    tropo_on, tropo_model = _troposphere(troposphere)
     out = _satgnc.od_batch_estimate(
         td,
         ep,
@@ -356,12 +369,14 @@ def batch_estimate(
         as_int(max_iterations, "max_iterations", low=1),
         as_real(sigma_tol, "sigma_tol", positive=True),
         as_bool(light_time, "light_time"),
-        as_bool(troposphere, "troposphere"),
+        tropo_on,
         as_bool(shapiro, "shapiro"),
         as_real(relative_humidity, "relative_humidity", low=0.0, high=1.0),
         as_real(rtol, "rtol", positive=True),
         as_real(atol, "atol", nonnegative=True),
         one_of(method, "method", ("gauss_newton", "levenberg_marquardt")),
+        tropo_model,
+        as_real(wavelength_um, "wavelength_um", low=0.3, high=1.7),
     )
     return adopt(
         BatchResult,
@@ -400,10 +415,11 @@ def batch_residuals(
     estimate_range_bias: Any = (),
     estimate_time_bias: Any = (),
     light_time: bool = True,
-    troposphere: bool = False,
+    troposphere: bool | str = False,
     shapiro: bool = False,
     rtol: float = 3e-12,
     atol: float = 3e-14,
+    wavelength_um: float = 0.532,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Whitened residuals (O - C) / sigma and the whitened Jacobian d(predicted / sigma) / d parameters
     of the batch problem at ``parameters`` ([state, estimated biases], as
@@ -418,6 +434,7 @@ def batch_residuals(
         raise ValueError(
             f"parameters: must have {6 + sum(er) + sum(et)} entries (state + estimated biases), got {p.size}"
         )
+    tropo_on, tropo_model = _troposphere(troposphere)
     ok, r, jac = _satgnc.od_batch_evaluate(
         td,
         ep,
@@ -427,10 +444,12 @@ def batch_residuals(
         er,
         et,
         as_bool(light_time, "light_time"),
-        as_bool(troposphere, "troposphere"),
+        tropo_on,
         as_bool(shapiro, "shapiro"),
         as_real(rtol, "rtol", positive=True),
         as_real(atol, "atol", nonnegative=True),
+        tropo_model,
+        as_real(wavelength_um, "wavelength_um", low=0.3, high=1.7),
     )
     if not ok:
         raise ValueError(

@@ -277,7 +277,8 @@ def _need_subcommand(parser):
         from ..cli import CliError
 
         raise CliError(
-            f"{parser.prog}: choose a subcommand: solve, simulate or filter (see '{parser.prog} --help')"
+            f"{parser.prog}: choose a subcommand: solve, simulate, filter or batch "
+            f"(see '{parser.prog} --help')"
         )
 
     return run
@@ -329,6 +330,9 @@ def register(subparsers) -> None:
     from .filter_cli import register as _register_filter  # issue 15: satgnc od filter
 
     _register_filter(sub)
+    from .batch_cli import register as _register_batch  # issue 13: satgnc od batch (tracking data)
+
+    _register_batch(sub)
 
 
 if __name__ == "__main__":  # pragma: no cover

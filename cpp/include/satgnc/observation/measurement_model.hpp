@@ -19,7 +19,8 @@
 /// - biases: a per-station range bias b (km, added to range types) and time bias dt (s): the true
 ///   reception is t + dt, the state there is shift_state(x, dt);
 /// - modifiers (range and range-rate types): troposphere (Saastamoinen zenith delay in the standard
-///   atmosphere at the station's height, Black-Eisner mapping at the down-leg elevation) and the Shapiro
+///   atmosphere at the station's height, Black-Eisner mapping at the down-leg elevation; or, for laser
+///   ranging, Mendes-Pavlis at the laser wavelength with the FCULa mapping) and the Shapiro
 ///   delay of the down leg; in a two-way range both legs carry the same delay and the half round trip
 ///   carries it once. A range-rate carries the delays' rate along the down-leg geometry (central
 ///   difference over +-0.1 s of the reception time, the bounce state two-body-shifted; analytic partials
@@ -32,6 +33,7 @@
 #include "satgnc/core/status.hpp"
 #include "satgnc/core/types.hpp"
 #include "satgnc/observation/light_time.hpp"
+#include "satgnc/observation/modifiers.hpp"
 #include "satgnc/observation/station_ephemeris.hpp"
 
 namespace satgnc::observation {
@@ -61,6 +63,9 @@ struct MeasurementSettings {
   ObservableType type = ObservableType::two_way_range;  ///< the observable
   LightTimeSettings light_time{};                       ///< iteration tolerance and limit
   bool troposphere = false;  ///< add the tropospheric delay (range types) or its rate (range-rate types)
+  /// Which troposphere: Saastamoinen (radio) or Mendes-Pavlis (optical, at wavelength_um).
+  TroposphereModel troposphere_model = TroposphereModel::saastamoinen;
+  double wavelength_um = 0.532;    ///< laser wavelength of Mendes-Pavlis, micrometres, [0.3, 1.7]
   double relative_humidity = 0.5;  ///< of the standard atmosphere, [0, 1]
   bool shapiro = false;            ///< add the Shapiro delay (range types) or its rate (range-rate types)
   double mu = core::earth::mu;     ///< km^3/s^2, for the bounce-time shift and the Shapiro delay
@@ -69,7 +74,8 @@ struct MeasurementSettings {
                                    ///< others: central difference of predict() over +-1 ms, 3 calls)
 
   /// Throws std::invalid_argument naming the field: a modifier on an angle observable, humidity
-  /// outside [0, 1], mu or min_range not finite and > 0, light_time.validate().
+  /// outside [0, 1], an unknown troposphere_model, wavelength_um outside [0.3, 1.7], mu or min_range not
+  /// finite and > 0, light_time.validate().
   void validate() const;
 };
 

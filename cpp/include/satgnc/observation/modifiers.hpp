@@ -31,6 +31,43 @@ double saastamoinen_zenith_delay(const Weather& weather, double latitude_rad, do
 /// m(el) = 1.001 / sqrt(0.002001 + sin^2 el), el in rad; and its derivative dm/del in *dm_del.
 double tropo_mapping(double elevation_rad, double* dm_del = nullptr) noexcept;
 
+/// Tropospheric delay model of a run.
+enum class TroposphereModel {
+  /// Radio: Saastamoinen zenith delay (hydrostatic + wet) with the Black-Eisner mapping function.
+  saastamoinen = 0,
+  /// Optical (satellite laser ranging, the IERS Conventions 2010 model, section 9.2): Mendes-Pavlis
+  /// zenith delay at the laser wavelength with the FCULa mapping function (Mendes et al. 2002).
+  mendes_pavlis = 1,
+};
+
+/// "saastamoinen" or "mendes_pavlis".
+const char* troposphere_model_name(TroposphereModel model) noexcept;
+
+/// Zenith delays of one model, km.
+struct ZenithDelay {
+  double hydrostatic = 0.0;  ///< km
+  double wet = 0.0;          ///< km (non-hydrostatic)
+  /// Total zenith delay, km.
+  double total() const noexcept { return hydrostatic + wet; }
+};
+
+/// Zenith delay at optical wavelengths of Mendes and Pavlis (2004, GRL 31 L14602; IERS Conventions
+/// 2010 section 9.2 and its routine FCULZD_HPA): hydrostatic 2.416579e-3 f_h(lambda) P / f_s and
+/// non-hydrostatic 1e-4 (5.316 f_nh(lambda) - 3.759 f_h(lambda)) e / f_s m, with
+/// f_s = 1 - 0.00266 cos 2 phi - 0.28e-6 H (H in m), the dispersions f_h, f_nh of Ciddor's refractivity
+/// at wave number 1 / lambda and 375 ppm CO2. Pressure and water vapour from `weather` (hPa),
+/// phi geodetic latitude (rad), height km above the ellipsoid, wavelength_um in micrometres
+/// (0.532 for a frequency-doubled Nd:YAG laser).
+ZenithDelay mendes_pavlis_zenith_delay(const Weather& weather, double latitude_rad, double height_km,
+                                       double wavelength_um) noexcept;
+
+/// FCULa mapping function (Mendes et al. 2002, GRL 29(10) 1414; IERS Conventions 2010 section 9.2,
+/// its routine FCUL_A): a continued fraction in sin(el) with a_i = a_i0 + a_i1 t + a_i2 cos phi + a_i3 H
+/// (t surface temperature in deg C, H height in m). el elevation (rad), phi latitude (rad), height km,
+/// temperature K; dm/del in *dm_del.
+double fcul_mapping(double elevation_rad, double latitude_rad, double height_km, double temperature_k,
+                    double* dm_del = nullptr) noexcept;
+
 /// One-way Shapiro delay (km) of the Earth's gravity on a signal between points at geocentric
 /// distances r1, r2 (km) separated by rho (km): (2 mu / c^2) ln((r1 + r2 + rho) / (r1 + r2 - rho))
 /// (Moyer 2000, eq. 8-38 with the Earth as the only body; 1.7 cm from a station to GEO). Optional

@@ -39,19 +39,28 @@ class KeplerStmPropagator final : public StmPropagator {
   double mu_;
 };
 
-/// Numerical propagation with the CVODES propagator of satgnc::propagation (J2, drag, ...). All
-/// observation times must lie on one side of the epoch (t >= 0 or t <= 0). Allocates only on the
-/// first call with a larger number of times.
+/// Numerical propagation with the CVODES propagator of satgnc::propagation (J2, drag, ...). The
+/// ascending times may lie on both sides of the epoch: times < 0 run as a backward arc from t = 0,
+/// the others as a forward arc (each arc re-initialises the same CVODES memory). After
+/// reserve(max_times), propagate() allocates nothing for calls with up to max_times times (CVODES
+/// itself allocates only in the constructor; test_od_batch.cpp counts 0 mallocs in a BatchEstimator's
+/// first solve()); a call with more times grows the buffers once.
 class CvodesStmPropagator final : public StmPropagator {
  public:
+  /// The model and settings are validated and copied (std::invalid_argument naming the field);
+  /// settings.with_stm is forced to true.
   explicit CvodesStmPropagator(const dynamics::ForceModel& model,
                                const propagation::CvodesSettings& settings = {});
   bool propagate(const Vec6& x0, const double* times, int n, Vec6* states, Mat6* stms) override;
+  /// Size the time lists and both arcs' output trajectories for up to max_times (>= 0) times.
+  void reserve(int max_times) override;
 
  private:
   propagation::CvodesPropagator prop_;
-  std::vector<double> t_;
-  propagation::Trajectory out_;
+  std::vector<double> t_;        // forward arc: times >= 0, ascending
+  std::vector<double> t_back_;   // backward arc: times < 0, descending
+  propagation::Trajectory out_;  // forward arc
+  propagation::Trajectory out_back_;
 };
 
 /// The paper's short-arc approximation, eq. (19): states from the wrapped propagator, but the STM
