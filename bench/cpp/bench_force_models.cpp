@@ -66,8 +66,9 @@ void BM_Nrlmsise00Density(benchmark::State& state) {
     dx += 1e-9;
     const dy::AtmospherePoint p = msis_point(dx);
     const dy::Nrlmsise00Input in = model.input(p);
-    const double rho = tables ? dy::nrlmsise00(in, model.settings().switches, true).mass_density
-                              : dy::detail::msis::nrlmsise00_direct(in, model.settings().switches, true).mass_density;
+    const double rho =
+        tables ? dy::nrlmsise00(in, model.settings().switches, true).mass_density
+               : dy::detail::msis::nrlmsise00_direct(in, model.settings().switches, true).mass_density;
     benchmark::DoNotOptimize(rho);
   }
 }
@@ -92,8 +93,9 @@ void BM_Nrlmsise00Gradient(benchmark::State& state) {
       Vec3 rp = p.r_itrf, rm = p.r_itrf;
       rp[i] += h;
       rm[i] -= h;
-      g[i] = (rho(dy::atmosphere_point(p.t, rp, p.sun_itrf)) - rho(dy::atmosphere_point(p.t, rm, p.sun_itrf))) /
-             (2.0 * h);
+      g[i] =
+          (rho(dy::atmosphere_point(p.t, rp, p.sun_itrf)) - rho(dy::atmosphere_point(p.t, rm, p.sun_itrf))) /
+          (2.0 * h);
     }
     const double r0 = rho(p);
     benchmark::DoNotOptimize(g.data());

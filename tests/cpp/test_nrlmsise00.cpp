@@ -121,7 +121,8 @@ std::array<double, 11> rel_diffs(const dyn::Nrlmsise00Output& a, const dyn::Nrlm
   const std::array<double, 11> x = cgs(a);
   const std::array<double, 11> y = cgs(b);
   std::array<double, 11> d{};
-  for (int k = 0; k < 11; ++k) d[k] = y[k] == 0.0 ? (x[k] == 0.0 ? 0.0 : 1.0) : satgnc::testing::rel_err(x[k], y[k]);
+  for (int k = 0; k < 11; ++k)
+    d[k] = y[k] == 0.0 ? (x[k] == 0.0 ? 0.0 : 1.0) : satgnc::testing::rel_err(x[k], y[k]);
   return d;
 }
 

@@ -292,20 +292,20 @@ double expansion(const double* p, const RowPhases& ph, Basis& b) noexcept {
       for (int i = 0; i < 150; ++i) q[i] = p[i];
       if (q[24] < 1.0e-4) q[24] = 1.0e-4;
       b.apt = ap_history_term(ex, q, in.ap_history);
-      t[8] = b.apt * (p[50] + p[96] * P[0][2] + p[54] * P[0][4] +
-                      (p[125] * P[0][1] + p[126] * P[0][3] + p[127] * P[0][5]) * cd14 * swc[5] +
-                      (p[128] * P[1][1] + p[129] * P[1][3] + p[130] * P[1][5]) * swc[7] *
-                          cos_h(131, ph.h131));
+      t[8] =
+          b.apt * (p[50] + p[96] * P[0][2] + p[54] * P[0][4] +
+                   (p[125] * P[0][1] + p[126] * P[0][3] + p[127] * P[0][5]) * cd14 * swc[5] +
+                   (p[128] * P[1][1] + p[129] * P[1][3] + p[130] * P[1][5]) * swc[7] * cos_h(131, ph.h131));
     }
   } else {
     const double apd = in.ap - 4.0;
     const double p44 = p[43] < 0.0 ? 1.0e-5 : p[43];
     b.apdf = apd + (p[44] - 1.0) * (apd + (std::exp(-p44 * apd) - 1.0) / p44);
     if (sw[9] != 0.0) {
-      t[8] = b.apdf * (p[32] + p[45] * P[0][2] + p[34] * P[0][4] +
-                       (p[100] * P[0][1] + p[101] * P[0][3] + p[102] * P[0][5]) * cd14 * swc[5] +
-                       (p[121] * P[1][1] + p[122] * P[1][3] + p[123] * P[1][5]) * swc[7] *
-                           cos_h(124, ph.h124));
+      t[8] =
+          b.apdf * (p[32] + p[45] * P[0][2] + p[34] * P[0][4] +
+                    (p[100] * P[0][1] + p[101] * P[0][3] + p[102] * P[0][5]) * cd14 * swc[5] +
+                    (p[121] * P[1][1] + p[122] * P[1][3] + p[123] * P[1][5]) * swc[7] * cos_h(124, ph.h124));
     }
   }
   if (sw[10] != 0.0 && in.longitude > -1000.0) {
@@ -324,8 +324,7 @@ double expansion(const double* p, const RowPhases& ph, Basis& b) noexcept {
     if (sw[12] != 0.0) {  // universal time, and UT x longitude
       t[11] = (1.0 + p[95] * P[0][1]) * (1.0 + p[81] * dfa * swc[1]) *
               (1.0 + p[119] * P[0][1] * swc[5] * cd14) *
-              ((p[68] * P[0][1] + p[69] * P[0][3] + p[70] * P[0][5]) *
-               cos_s(71, ph.s71));
+              ((p[68] * P[0][1] + p[69] * P[0][3] + p[70] * P[0][5]) * cos_s(71, ph.s71));
       t[11] += swc[11] * (p[76] * P[2][3] + p[77] * P[2][5] + p[78] * P[2][7]) *
                (b.direct ? std::cos(kSecToRad * (in.ut_seconds - p[79]) + 2.0 * lon)
                          : Basis::cos_diff(b.ut_lon, ph.s79)) *
@@ -335,21 +334,17 @@ double expansion(const double* p, const RowPhases& ph, Basis& b) noexcept {
       if (history) {
         if (p[51] != 0.0) {
           t[12] = b.apt * swc[11] * (1.0 + p[132] * P[0][1]) *
-                      ((p[52] * P[1][2] + p[98] * P[1][4] + p[67] * P[1][6]) *
-                       cos_g(97, ph.g97)) +
+                      ((p[52] * P[1][2] + p[98] * P[1][4] + p[67] * P[1][6]) * cos_g(97, ph.g97)) +
                   b.apt * swc[11] * swc[5] * (p[133] * P[1][1] + p[134] * P[1][3] + p[135] * P[1][5]) * cd14 *
                       cos_g(136, ph.g136) +
-                  b.apt * swc[12] * (p[55] * P[0][1] + p[56] * P[0][3] + p[57] * P[0][5]) *
-                      cos_s(58, ph.s58);
+                  b.apt * swc[12] * (p[55] * P[0][1] + p[56] * P[0][3] + p[57] * P[0][5]) * cos_s(58, ph.s58);
         }
       } else {
         t[12] = b.apdf * swc[11] * (1.0 + p[120] * P[0][1]) *
-                    ((p[60] * P[1][2] + p[61] * P[1][4] + p[62] * P[1][6]) *
-                     cos_g(63, ph.g63)) +
+                    ((p[60] * P[1][2] + p[61] * P[1][4] + p[62] * P[1][6]) * cos_g(63, ph.g63)) +
                 b.apdf * swc[11] * swc[5] * (p[115] * P[1][1] + p[116] * P[1][3] + p[117] * P[1][5]) * cd14 *
                     cos_g(118, ph.g118) +
-                b.apdf * swc[12] * (p[83] * P[0][1] + p[84] * P[0][3] + p[85] * P[0][5]) *
-                    cos_s(75, ph.s75);
+                b.apdf * swc[12] * (p[83] * P[0][1] + p[84] * P[0][3] + p[85] * P[0][5]) * cos_s(75, ph.s75);
       }
     }
   }
@@ -395,15 +390,16 @@ double expansion_lower(const double* p, const RowPhases& ph, const Basis& b) noe
     const double lon = kDegToRad * in.longitude;
     const double clon = b.direct ? std::cos(lon) : b.lon.c;
     const double slon = b.direct ? std::sin(lon) : b.lon.s;
-    t[10] = (1.0 +
-             P[0][1] * (p[80] * swc[5] * b.cos_day(ph.d81, p[81]) + p[85] * swc[6] * b.cos_day2(ph.d86, p[86])) +
-             p[83] * swc[3] * b.cos_day(ph.d84, p[84]) + p[87] * swc[4] * b.cos_day2(ph.d88, p[88])) *
-            ((p[64] * P[1][2] + p[65] * P[1][4] + p[66] * P[1][6] + p[74] * P[1][1] + p[75] * P[1][3] +
-              p[76] * P[1][5]) *
-                 clon +
-             (p[90] * P[1][2] + p[91] * P[1][4] + p[92] * P[1][6] + p[77] * P[1][1] + p[78] * P[1][3] +
-              p[79] * P[1][5]) *
-                 slon);
+    t[10] =
+        (1.0 +
+         P[0][1] * (p[80] * swc[5] * b.cos_day(ph.d81, p[81]) + p[85] * swc[6] * b.cos_day2(ph.d86, p[86])) +
+         p[83] * swc[3] * b.cos_day(ph.d84, p[84]) + p[87] * swc[4] * b.cos_day2(ph.d88, p[88])) *
+        ((p[64] * P[1][2] + p[65] * P[1][4] + p[66] * P[1][6] + p[74] * P[1][1] + p[75] * P[1][3] +
+          p[76] * P[1][5]) *
+             clon +
+         (p[90] * P[1][2] + p[91] * P[1][4] + p[92] * P[1][6] + p[77] * P[1][1] + p[78] * P[1][3] +
+          p[79] * P[1][5]) *
+             slon);
   }
   double g = 0.0;
   for (int i = 0; i < 14; ++i) g += std::fabs(sw[i + 1]) * t[i];
@@ -459,8 +455,8 @@ Thermo thermosphere(double z, Basis& b) noexcept {
     P.lower.t[2] = ptl_base[1] / (1.0 - sw[18] * expansion_lower(PTL(1), b.ph->ptl[1], b));
     P.lower.t[3] = ptl_base[2] / (1.0 - sw[18] * expansion_lower(PTL(2), b.ph->ptl[2], b));
     P.lower.t[4] = ptl_base[3] / (1.0 - sw[18] * sw[20] * expansion_lower(PTL(3), b.ph->ptl[3], b));
-    P.lower.grad_last = grad_base * (1.0 + sw[18] * sw[20] * expansion_lower(PMA(8), b.ph->pma[8], b)) * P.lower.t[4] *
-                        P.lower.t[4] / (ptl_base[3] * ptl_base[3]);
+    P.lower.grad_last = grad_base * (1.0 + sw[18] * sw[20] * expansion_lower(PMA(8), b.ph->pma[8], b)) *
+                        P.lower.t[4] * P.lower.t[4] / (ptl_base[3] * ptl_base[3]);
   } else {
     for (int k = 0; k < 4; ++k) P.lower.t[k + 1] = ptl_base[k];
     P.lower.grad_last = grad_base * P.lower.t[4] * P.lower.t[4] / (ptl_base[3] * ptl_base[3]);
@@ -596,7 +592,8 @@ Nrlmsise00Output evaluate_model(const Nrlmsise00Input& in, const Nrlmsise00Switc
     meso.t[2] = PMA(1)[0] * PAVGM(1) / (1.0 - sw[20] * expansion_lower(PMA(1), b.ph->pma[1], b));
     meso.t[3] = PMA(2)[0] * PAVGM(2) / (1.0 - sw[20] * sw[22] * expansion_lower(PMA(2), b.ph->pma[2], b));
     const double b3 = PMA(2)[0] * PAVGM(2);
-    meso.grad_last = PAVGM(8) * PMA(9)[0] * (1.0 + sw[20] * sw[22] * expansion_lower(PMA(9), b.ph->pma[9], b)) * meso.t[3] *
+    meso.grad_last = PAVGM(8) * PMA(9)[0] *
+                     (1.0 + sw[20] * sw[22] * expansion_lower(PMA(9), b.ph->pma[9], b)) * meso.t[3] *
                      meso.t[3] / (b3 * b3);
     Layer<5> strat{};
     for (int k = 0; k < 5; ++k) strat.z[k] = kZn3[k];
@@ -604,10 +601,11 @@ Nrlmsise00Output evaluate_model(const Nrlmsise00Input& in, const Nrlmsise00Switc
     strat.grad_first = meso.grad_last;
     if (alt <= kZn3[0]) {
       for (int k = 1; k <= 4; ++k)
-        strat.t[k] = PMA(k + 2)[0] * PAVGM(k + 2) / (1.0 - sw[22] * expansion_lower(PMA(k + 2), b.ph->pma[k + 2], b));
+        strat.t[k] =
+            PMA(k + 2)[0] * PAVGM(k + 2) / (1.0 - sw[22] * expansion_lower(PMA(k + 2), b.ph->pma[k + 2], b));
       const double b6 = PMA(6)[0] * PAVGM(6);
-      strat.grad_last = PMA(7)[0] * PAVGM(7) * (1.0 + sw[22] * expansion_lower(PMA(7), b.ph->pma[7], b)) * strat.t[4] *
-                        strat.t[4] / (b6 * b6);
+      strat.grad_last = PMA(7)[0] * PAVGM(7) * (1.0 + sw[22] * expansion_lower(PMA(7), b.ph->pma[7], b)) *
+                        strat.t[4] * strat.t[4] / (b6 * b6);
     }
     const double xmm = PDM(2, 4);
     // Mixed profile: down through the mesospheric layer, then the stratospheric one.

@@ -287,10 +287,10 @@ def read_truth_force_model(raw, secs: dict, p: pathlib.Path, text: str) -> pathl
         raise FileFormatError(p, line, f"key 'force_model' in section [truth]: no file at {fm} "
                               "(a path relative to the scenario file)", key="force_model")
     tp = _truth_from_file(fm, secs)
-    checks = (("mu", tp.mu, secs["orbit"]["mu"], "[central_body] mu", "[orbit] mu", "m^3/s^2"),)
+    checks = ((tp.mu, secs["orbit"]["mu"], "[central_body] mu", "[orbit] mu", "m^3/s^2"),)
     if tp.drag_on:
-        checks += (("mass", tp.mass_target, secs["chaser"]["mass"], "[drag] mass", "[chaser] mass", "kg"),)
-    for key, got, want, where, ours, unit in checks:
+        checks += ((tp.mass_target, secs["chaser"]["mass"], "[drag] mass", "[chaser] mass", "kg"),)
+    for got, want, where, ours, unit in checks:
         if abs(got - want) > 1e-12 * abs(want):
             raise FileFormatError(
                 p, line,
