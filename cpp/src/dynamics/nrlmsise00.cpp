@@ -11,6 +11,7 @@
 #include <string>
 
 #include "detail/nrlmsise00_profiles.hpp"
+#include "detail/nrlmsise00_reference.hpp"
 #include "satgnc/core/validate.hpp"
 
 namespace satgnc::dynamics {
@@ -53,22 +54,105 @@ Switches decode(const Nrlmsise00Switches& s) noexcept {
   return out;
 }
 
+// cos and sin of one phase angle.
+struct Phase {
+  double c = 1.0;
+  double s = 0.0;
+  bool wide = false;  // |angle| > 2 pi: evaluated directly (see cos_g)
+};
+Phase phase(double angle) noexcept { return {std::cos(angle), std::sin(angle), std::fabs(angle) > 6.3}; }
+
+// The phase constants of one parameter row, as cos / sin pairs: every periodic term of G(L) is
+// cos(w (x - p[k])) = cos(w x) cos(w p[k]) + sin(w x) sin(w p[k]), with cos / sin(w x) once per
+// evaluation (Basis) and these once per process. Upper rows (150 numbers) use the d, h, g, s pairs;
+// lower rows (100 numbers) the d pairs.
+struct RowPhases {
+  Phase d13, d17, d31, d38, d81, d84, d86, d88;  // day of year (d17, d38, d86, d88 at twice the rate)
+  Phase h124, h131;                              // local solar time
+  Phase g63, g97, g118, g136;                    // longitude
+  Phase s58, s71, s75, s79;                      // universal time
+};
+RowPhases upper_row(const double* p) noexcept {
+  RowPhases r = {};
+  r.d13 = phase(kDayToRad * p[13]);
+  r.d17 = phase(2.0 * kDayToRad * p[17]);
+  r.d31 = phase(kDayToRad * p[31]);
+  r.d38 = phase(2.0 * kDayToRad * p[38]);
+  r.h124 = phase(kHourToRad * p[124]);
+  r.h131 = phase(kHourToRad * p[131]);
+  r.g63 = phase(kDegToRad * p[63]);
+  r.g97 = phase(kDegToRad * p[97]);
+  r.g118 = phase(kDegToRad * p[118]);
+  r.g136 = phase(kDegToRad * p[136]);
+  r.s58 = phase(kSecToRad * p[58]);
+  r.s71 = phase(kSecToRad * p[71]);
+  r.s75 = phase(kSecToRad * p[75]);
+  r.s79 = phase(kSecToRad * p[79]);
+  return r;
+}
+RowPhases lower_row(const double* p) noexcept {
+  RowPhases r = {};
+  r.d13 = phase(kDayToRad * p[13]);
+  r.d17 = phase(2.0 * kDayToRad * p[17]);
+  r.d31 = phase(kDayToRad * p[31]);
+  r.d38 = phase(2.0 * kDayToRad * p[38]);
+  r.d81 = phase(kDayToRad * p[81]);
+  r.d84 = phase(kDayToRad * p[84]);
+  r.d86 = phase(2.0 * kDayToRad * p[86]);
+  r.d88 = phase(2.0 * kDayToRad * p[88]);
+  return r;
+}
+struct PhaseTables {
+  RowPhases pt, ps, pd[9], ptl[4], pma[10];
+};
+// Computed on first use and immutable afterwards (thread-safe initialization of a local static).
+const PhaseTables& phase_tables() noexcept {
+  static const PhaseTables t = [] {
+    PhaseTables r;
+    r.pt = upper_row(tables::kPT);
+    r.ps = upper_row(tables::kPS);
+    for (int k = 0; k < 9; ++k) r.pd[k] = upper_row(PD(k));
+    for (int k = 0; k < 4; ++k) r.ptl[k] = lower_row(PTL(k));
+    for (int k = 0; k < 10; ++k) r.pma[k] = lower_row(PMA(k));
+    return r;
+  }();
+  return t;
+}
+
 // The basis of the expansion at one point and time, shared by every G(L) of one evaluation, and the
 // magnetic-activity terms that G(L) leaves for the lower-atmosphere expansion (as in the Fortran, the
-// Ap-history term is the one of the last expansion that had one).
+// Ap-history term is the one of the last expansion that had one). direct: every periodic term as
+// cos(w (x - p[k])), the Fortran's form (the reference the phase-table form is tested against).
 struct Basis {
   const Nrlmsise00Input* in;
   const Switches* s;
+  const PhaseTables* ph;
+  bool direct;
   double plg[4][9];
   double ctloc, stloc, c2tloc, s2tloc, c3tloc, s3tloc;
+  Phase day, day2;  // w doy, 2 w doy
+  Phase lon;        // longitude
+  Phase ut;         // w ut
+  Phase ut_lon;     // w ut + 2 longitude
   double dfa = 0.0;
   double apdf = 0.0;
   double apt = 0.0;
+
+  // cos(w (x - p)) from the evaluation's (x) and the row's (p) phases, or directly.
+  static double cos_diff(const Phase& x, const Phase& p) noexcept { return x.c * p.c + x.s * p.s; }
+  double cos_day(const Phase& p, double pk) const noexcept {
+    return direct ? std::cos(kDayToRad * (in->day_of_year - pk)) : cos_diff(day, p);
+  }
+  double cos_day2(const Phase& p, double pk) const noexcept {
+    return direct ? std::cos(2.0 * kDayToRad * (in->day_of_year - pk)) : cos_diff(day2, p);
+  }
 };
 
-void init_basis(Basis& b, const Nrlmsise00Input& in, const Switches& s) noexcept {
+void init_basis(Basis& b, const Nrlmsise00Input& in, const Switches& s, bool direct) noexcept {
   b.in = &in;
   b.s = &s;
+  b.ph = &phase_tables();
+  b.direct = direct;
   for (auto& row : b.plg)
     for (double& v : row) v = 0.0;
   const double c = std::sin(in.latitude * kDegToRad);
@@ -102,10 +186,26 @@ void init_basis(Basis& b, const Nrlmsise00Input& in, const Switches& s) noexcept
   const double tl = in.local_solar_time * kHourToRad;
   b.stloc = std::sin(tl);
   b.ctloc = std::cos(tl);
-  b.s2tloc = std::sin(2.0 * tl);
-  b.c2tloc = std::cos(2.0 * tl);
-  b.s3tloc = std::sin(3.0 * tl);
-  b.c3tloc = std::cos(3.0 * tl);
+  if (direct) {
+    b.s2tloc = std::sin(2.0 * tl);
+    b.c2tloc = std::cos(2.0 * tl);
+    b.s3tloc = std::sin(3.0 * tl);
+    b.c3tloc = std::cos(3.0 * tl);
+    return;
+  }
+  // double- and triple-angle formulas (the harmonics from one sin / cos pair)
+  b.s2tloc = 2.0 * b.stloc * b.ctloc;
+  b.c2tloc = (b.ctloc - b.stloc) * (b.ctloc + b.stloc);
+  b.s3tloc = b.s2tloc * b.ctloc + b.c2tloc * b.stloc;
+  b.c3tloc = b.c2tloc * b.ctloc - b.s2tloc * b.stloc;
+  b.day = phase(kDayToRad * in.day_of_year);
+  b.day2 = phase(2.0 * kDayToRad * in.day_of_year);
+  if (in.longitude > -1000.0) {  // -1000 or below: the model's "no longitude" (its terms are off)
+    const double lon = kDegToRad * in.longitude;
+    b.lon = phase(lon);
+    b.ut = phase(kSecToRad * in.ut_seconds);
+    b.ut_lon = phase(kSecToRad * in.ut_seconds + 2.0 * lon);
+  }
 }
 
 // Geomagnetic activity function of one 3-h ap value (Picone 2002, eq. A24d).
@@ -126,18 +226,31 @@ double ap_history_term(double ex, const double* p, const std::array<double, 7>& 
 }
 
 // G(L) for the upper atmosphere (GLOBE7): the relative variation of a parameter set p (150 numbers).
-double expansion(const double* p, Basis& b) noexcept {
+double expansion(const double* p, const RowPhases& ph, Basis& b) noexcept {
   const Nrlmsise00Input& in = *b.in;
   const double* sw = b.s->sw;
   const double* swc = b.s->swc;
   const double (&P)[4][9] = b.plg;
   double t[14] = {};
-  const double doy = in.day_of_year;
-  const double cd32 = std::cos(kDayToRad * (doy - p[31]));
-  const double cd18 = std::cos(2.0 * kDayToRad * (doy - p[17]));
-  const double cd14 = std::cos(kDayToRad * (doy - p[13]));
-  const double cd39 = std::cos(2.0 * kDayToRad * (doy - p[38]));
+  const double cd32 = b.cos_day(ph.d31, p[31]);
+  const double cd18 = b.cos_day2(ph.d17, p[17]);
+  const double cd14 = b.cos_day(ph.d13, p[13]);
+  const double cd39 = b.cos_day2(ph.d38, p[38]);
   const double tloc = in.local_solar_time;
+  const Phase tl{b.ctloc, b.stloc};
+  // cos(w (x - p[k])) for local time, longitude and UT, directly or from the phases
+  auto cos_h = [&](int k, const Phase& q) {
+    return b.direct ? std::cos(kHourToRad * (tloc - p[k])) : Basis::cos_diff(tl, q);
+  };
+  // A phase far outside a turn (kPT[136] = -92535 deg, 1615 rad) stays direct: either form carries
+  // ~2e-13 rad of argument rounding there, so the phase-table cosine would differ from the Fortran's
+  // by that much (measured: 2.7e-15 relative in Tinf, 7e-14 in Ar with it tabled).
+  auto cos_g = [&](int k, const Phase& q) {
+    return b.direct || q.wide ? std::cos(kDegToRad * (in.longitude - p[k])) : Basis::cos_diff(b.lon, q);
+  };
+  auto cos_s = [&](int k, const Phase& q) {
+    return b.direct ? std::cos(kSecToRad * (in.ut_seconds - p[k])) : Basis::cos_diff(b.ut, q);
+  };
 
   // solar activity
   const double df = in.f107 - in.f107a;
@@ -179,60 +292,59 @@ double expansion(const double* p, Basis& b) noexcept {
       for (int i = 0; i < 150; ++i) q[i] = p[i];
       if (q[24] < 1.0e-4) q[24] = 1.0e-4;
       b.apt = ap_history_term(ex, q, in.ap_history);
-      t[8] = b.apt * (p[50] + p[96] * P[0][2] + p[54] * P[0][4] +
-                      (p[125] * P[0][1] + p[126] * P[0][3] + p[127] * P[0][5]) * cd14 * swc[5] +
-                      (p[128] * P[1][1] + p[129] * P[1][3] + p[130] * P[1][5]) * swc[7] *
-                          std::cos(kHourToRad * (tloc - p[131])));
+      t[8] =
+          b.apt * (p[50] + p[96] * P[0][2] + p[54] * P[0][4] +
+                   (p[125] * P[0][1] + p[126] * P[0][3] + p[127] * P[0][5]) * cd14 * swc[5] +
+                   (p[128] * P[1][1] + p[129] * P[1][3] + p[130] * P[1][5]) * swc[7] * cos_h(131, ph.h131));
     }
   } else {
     const double apd = in.ap - 4.0;
     const double p44 = p[43] < 0.0 ? 1.0e-5 : p[43];
     b.apdf = apd + (p[44] - 1.0) * (apd + (std::exp(-p44 * apd) - 1.0) / p44);
     if (sw[9] != 0.0) {
-      t[8] = b.apdf * (p[32] + p[45] * P[0][2] + p[34] * P[0][4] +
-                       (p[100] * P[0][1] + p[101] * P[0][3] + p[102] * P[0][5]) * cd14 * swc[5] +
-                       (p[121] * P[1][1] + p[122] * P[1][3] + p[123] * P[1][5]) * swc[7] *
-                           std::cos(kHourToRad * (tloc - p[124])));
+      t[8] =
+          b.apdf * (p[32] + p[45] * P[0][2] + p[34] * P[0][4] +
+                    (p[100] * P[0][1] + p[101] * P[0][3] + p[102] * P[0][5]) * cd14 * swc[5] +
+                    (p[121] * P[1][1] + p[122] * P[1][3] + p[123] * P[1][5]) * swc[7] * cos_h(124, ph.h124));
     }
   }
   if (sw[10] != 0.0 && in.longitude > -1000.0) {
     const double lon = kDegToRad * in.longitude;
+    const double clon = b.direct ? std::cos(lon) : b.lon.c;
+    const double slon = b.direct ? std::sin(lon) : b.lon.s;
     if (sw[11] != 0.0) {  // longitudinal
       t[10] = (1.0 + p[80] * dfa * swc[1]) *
               ((p[64] * P[1][2] + p[65] * P[1][4] + p[66] * P[1][6] + p[103] * P[1][1] + p[104] * P[1][3] +
                 p[105] * P[1][5] + swc[5] * (p[109] * P[1][1] + p[110] * P[1][3] + p[111] * P[1][5]) * cd14) *
-                   std::cos(lon) +
+                   clon +
                (p[90] * P[1][2] + p[91] * P[1][4] + p[92] * P[1][6] + p[106] * P[1][1] + p[107] * P[1][3] +
                 p[108] * P[1][5] + swc[5] * (p[112] * P[1][1] + p[113] * P[1][3] + p[114] * P[1][5]) * cd14) *
-                   std::sin(lon));
+                   slon);
     }
     if (sw[12] != 0.0) {  // universal time, and UT x longitude
       t[11] = (1.0 + p[95] * P[0][1]) * (1.0 + p[81] * dfa * swc[1]) *
               (1.0 + p[119] * P[0][1] * swc[5] * cd14) *
-              ((p[68] * P[0][1] + p[69] * P[0][3] + p[70] * P[0][5]) *
-               std::cos(kSecToRad * (in.ut_seconds - p[71])));
+              ((p[68] * P[0][1] + p[69] * P[0][3] + p[70] * P[0][5]) * cos_s(71, ph.s71));
       t[11] += swc[11] * (p[76] * P[2][3] + p[77] * P[2][5] + p[78] * P[2][7]) *
-               std::cos(kSecToRad * (in.ut_seconds - p[79]) + 2.0 * lon) * (1.0 + p[137] * dfa * swc[1]);
+               (b.direct ? std::cos(kSecToRad * (in.ut_seconds - p[79]) + 2.0 * lon)
+                         : Basis::cos_diff(b.ut_lon, ph.s79)) *
+               (1.0 + p[137] * dfa * swc[1]);
     }
     if (sw[13] != 0.0) {  // UT / longitude x magnetic activity
       if (history) {
         if (p[51] != 0.0) {
           t[12] = b.apt * swc[11] * (1.0 + p[132] * P[0][1]) *
-                      ((p[52] * P[1][2] + p[98] * P[1][4] + p[67] * P[1][6]) *
-                       std::cos(kDegToRad * (in.longitude - p[97]))) +
+                      ((p[52] * P[1][2] + p[98] * P[1][4] + p[67] * P[1][6]) * cos_g(97, ph.g97)) +
                   b.apt * swc[11] * swc[5] * (p[133] * P[1][1] + p[134] * P[1][3] + p[135] * P[1][5]) * cd14 *
-                      std::cos(kDegToRad * (in.longitude - p[136])) +
-                  b.apt * swc[12] * (p[55] * P[0][1] + p[56] * P[0][3] + p[57] * P[0][5]) *
-                      std::cos(kSecToRad * (in.ut_seconds - p[58]));
+                      cos_g(136, ph.g136) +
+                  b.apt * swc[12] * (p[55] * P[0][1] + p[56] * P[0][3] + p[57] * P[0][5]) * cos_s(58, ph.s58);
         }
       } else {
         t[12] = b.apdf * swc[11] * (1.0 + p[120] * P[0][1]) *
-                    ((p[60] * P[1][2] + p[61] * P[1][4] + p[62] * P[1][6]) *
-                     std::cos(kDegToRad * (in.longitude - p[63]))) +
+                    ((p[60] * P[1][2] + p[61] * P[1][4] + p[62] * P[1][6]) * cos_g(63, ph.g63)) +
                 b.apdf * swc[11] * swc[5] * (p[115] * P[1][1] + p[116] * P[1][3] + p[117] * P[1][5]) * cd14 *
-                    std::cos(kDegToRad * (in.longitude - p[118])) +
-                b.apdf * swc[12] * (p[83] * P[0][1] + p[84] * P[0][3] + p[85] * P[0][5]) *
-                    std::cos(kSecToRad * (in.ut_seconds - p[75]));
+                    cos_g(118, ph.g118) +
+                b.apdf * swc[12] * (p[83] * P[0][1] + p[84] * P[0][3] + p[85] * P[0][5]) * cos_s(75, ph.s75);
       }
     }
   }
@@ -242,17 +354,16 @@ double expansion(const double* p, Basis& b) noexcept {
 }
 
 // G(L) for the lower atmosphere (GLOB7S): parameter sets of 100 numbers (PTL, PMA rows).
-double expansion_lower(const double* p, const Basis& b) noexcept {
+double expansion_lower(const double* p, const RowPhases& ph, const Basis& b) noexcept {
   const Nrlmsise00Input& in = *b.in;
   const double* sw = b.s->sw;
   const double* swc = b.s->swc;
   const double (&P)[4][9] = b.plg;
   double t[14] = {};
-  const double doy = in.day_of_year;
-  const double cd32 = std::cos(kDayToRad * (doy - p[31]));
-  const double cd18 = std::cos(2.0 * kDayToRad * (doy - p[17]));
-  const double cd14 = std::cos(kDayToRad * (doy - p[13]));
-  const double cd39 = std::cos(2.0 * kDayToRad * (doy - p[38]));
+  const double cd32 = b.cos_day(ph.d31, p[31]);
+  const double cd18 = b.cos_day2(ph.d17, p[17]);
+  const double cd14 = b.cos_day(ph.d13, p[13]);
+  const double cd39 = b.cos_day2(ph.d38, p[38]);
   t[0] = p[21] * b.dfa;
   t[1] =
       p[1] * P[0][2] + p[2] * P[0][4] + p[22] * P[0][6] + p[26] * P[0][1] + p[14] * P[0][3] + p[59] * P[0][5];
@@ -277,17 +388,18 @@ double expansion_lower(const double* p, const Basis& b) noexcept {
   if (sw[9] == -1.0) t[8] = p[50] * b.apt + p[96] * P[0][2] * b.apt * swc[2];
   if (!(sw[10] == 0.0 || sw[11] == 0.0 || in.longitude <= -1000.0)) {
     const double lon = kDegToRad * in.longitude;
-    t[10] = (1.0 +
-             P[0][1] * (p[80] * swc[5] * std::cos(kDayToRad * (doy - p[81])) +
-                        p[85] * swc[6] * std::cos(2.0 * kDayToRad * (doy - p[86]))) +
-             p[83] * swc[3] * std::cos(kDayToRad * (doy - p[84])) +
-             p[87] * swc[4] * std::cos(2.0 * kDayToRad * (doy - p[88]))) *
-            ((p[64] * P[1][2] + p[65] * P[1][4] + p[66] * P[1][6] + p[74] * P[1][1] + p[75] * P[1][3] +
-              p[76] * P[1][5]) *
-                 std::cos(lon) +
-             (p[90] * P[1][2] + p[91] * P[1][4] + p[92] * P[1][6] + p[77] * P[1][1] + p[78] * P[1][3] +
-              p[79] * P[1][5]) *
-                 std::sin(lon));
+    const double clon = b.direct ? std::cos(lon) : b.lon.c;
+    const double slon = b.direct ? std::sin(lon) : b.lon.s;
+    t[10] =
+        (1.0 +
+         P[0][1] * (p[80] * swc[5] * b.cos_day(ph.d81, p[81]) + p[85] * swc[6] * b.cos_day2(ph.d86, p[86])) +
+         p[83] * swc[3] * b.cos_day(ph.d84, p[84]) + p[87] * swc[4] * b.cos_day2(ph.d88, p[88])) *
+        ((p[64] * P[1][2] + p[65] * P[1][4] + p[66] * P[1][6] + p[74] * P[1][1] + p[75] * P[1][3] +
+          p[76] * P[1][5]) *
+             clon +
+         (p[90] * P[1][2] + p[91] * P[1][4] + p[92] * P[1][6] + p[77] * P[1][1] + p[78] * P[1][3] +
+          p[79] * P[1][5]) *
+             slon);
   }
   double g = 0.0;
   for (int i = 0; i < 14; ++i) g += std::fabs(sw[i + 1]) * t[i];
@@ -323,10 +435,10 @@ Thermo thermosphere(double z, Basis& b) noexcept {
   ThermoProfile& P = th.prof;
   P.g = detail::msis::gravity_at(b.s->sw[2] == 0.0 ? 45.0 : in.latitude);
   const double tinf0 = PTM(0) * tables::kPT[0];
-  th.tinf = z > za ? tinf0 * (1.0 + sw[16] * expansion(tables::kPT, b)) : tinf0;
-  const double g0 = z > 72.5 ? PTM(3) * tables::kPS[0] * (1.0 + sw[19] * expansion(tables::kPS, b))
+  th.tinf = z > za ? tinf0 * (1.0 + sw[16] * expansion(tables::kPT, b.ph->pt, b)) : tinf0;
+  const double g0 = z > 72.5 ? PTM(3) * tables::kPS[0] * (1.0 + sw[19] * expansion(tables::kPS, b.ph->ps, b))
                              : PTM(3) * tables::kPS[0];
-  const double tlb = PTM(1) * (1.0 + sw[17] * expansion(PD(3), b)) * PD(3)[0];
+  const double tlb = PTM(1) * (1.0 + sw[17] * expansion(PD(3), b.ph->pd[3], b)) * PD(3)[0];
   P.tinf = th.tinf;
   P.tlb = tlb;
   P.s = g0 / (th.tinf - tlb);
@@ -339,12 +451,12 @@ Thermo thermosphere(double z, Basis& b) noexcept {
   const double ptl_base[4] = {PTM(6) * PTL(0)[0], PTM(2) * PTL(1)[0], PTM(7) * PTL(2)[0], PTM(4) * PTL(3)[0]};
   const double grad_base = PTM(8) * PMA(8)[0];
   if (z < 300.0) {
-    P.lower.t[1] = ptl_base[0] / (1.0 - sw[18] * expansion_lower(PTL(0), b));
-    P.lower.t[2] = ptl_base[1] / (1.0 - sw[18] * expansion_lower(PTL(1), b));
-    P.lower.t[3] = ptl_base[2] / (1.0 - sw[18] * expansion_lower(PTL(2), b));
-    P.lower.t[4] = ptl_base[3] / (1.0 - sw[18] * sw[20] * expansion_lower(PTL(3), b));
-    P.lower.grad_last = grad_base * (1.0 + sw[18] * sw[20] * expansion_lower(PMA(8), b)) * P.lower.t[4] *
-                        P.lower.t[4] / (ptl_base[3] * ptl_base[3]);
+    P.lower.t[1] = ptl_base[0] / (1.0 - sw[18] * expansion_lower(PTL(0), b.ph->ptl[0], b));
+    P.lower.t[2] = ptl_base[1] / (1.0 - sw[18] * expansion_lower(PTL(1), b.ph->ptl[1], b));
+    P.lower.t[3] = ptl_base[2] / (1.0 - sw[18] * expansion_lower(PTL(2), b.ph->ptl[2], b));
+    P.lower.t[4] = ptl_base[3] / (1.0 - sw[18] * sw[20] * expansion_lower(PTL(3), b.ph->ptl[3], b));
+    P.lower.grad_last = grad_base * (1.0 + sw[18] * sw[20] * expansion_lower(PMA(8), b.ph->pma[8], b)) *
+                        P.lower.t[4] * P.lower.t[4] / (ptl_base[3] * ptl_base[3]);
   } else {
     for (int k = 0; k < 4; ++k) P.lower.t[k + 1] = ptl_base[k];
     P.lower.grad_last = grad_base * P.lower.t[4] * P.lower.t[4] / (ptl_base[3] * ptl_base[3]);
@@ -354,9 +466,10 @@ Thermo thermosphere(double z, Basis& b) noexcept {
   double tz = 0.0;
 
   // N2: diffusive density; mixed below 160 km (the mixed N2 also feeds the lower atmosphere)
-  const double g28 = sw[21] * expansion(PD(2), b);
-  const double zhf = PDL(1, 24) * (1.0 + sw[5] * PDL(0, 24) * std::sin(kDegToRad * in.latitude) *
-                                             std::cos(kDayToRad * (in.day_of_year - tables::kPT[13])));
+  const double g28 = sw[21] * expansion(PD(2), b.ph->pd[2], b);
+  // plg[0][1] = sin(latitude), the same product as the Fortran's sin(DGTR * lat)
+  const double zhf =
+      PDL(1, 24) * (1.0 + sw[5] * PDL(0, 24) * b.plg[0][1] * b.cos_day(b.ph->pt.d13, tables::kPT[13]));
   const double db28 = PDM(2, 0) * std::exp(g28) * PD(2)[0];
   th.d[2] = thermo_density(P, z, db28, 28.0, 0.0, tz);
   const double zh28 = PDM(2, 2) * zhf;
@@ -369,7 +482,7 @@ Thermo thermosphere(double z, Basis& b) noexcept {
 
   // One species: diffusive at z, and below its limit blended with the fully mixed profile.
   auto species = [&](int pd_row, int pdm_row, double mass, double alpha, bool below) -> SpeciesDensity {
-    const double gl = sw[21] * expansion(PD(pd_row), b);
+    const double gl = sw[21] * expansion(PD(pd_row), b.ph->pd[pd_row], b);
     const double db = PDM(pdm_row, 0) * std::exp(gl) * PD(pd_row)[0];
     SpeciesDensity r{thermo_density(P, z, db, mass, alpha, tz), 0.0, false};
     if (mixing && below) {
@@ -428,7 +541,7 @@ Thermo thermosphere(double z, Basis& b) noexcept {
   th.d[7] = n.d;
   // anomalous (hot) oxygen: isothermal at tho with a Chapman-like lower cut-off
   {
-    const double gl = sw[21] * expansion(PD(8), b);
+    const double gl = sw[21] * expansion(PD(8), b.ph->pd[8], b);
     const double db = PDM(7, 0) * std::exp(gl) * PD(8)[0];
     const double tho = PDM(7, 9) * PDL(0, 6);
     ThermoProfile hot = P;
@@ -454,11 +567,12 @@ Nrlmsise00Switches nrlmsise00_default_switches() noexcept {
   return s;
 }
 
-Nrlmsise00Output nrlmsise00(const Nrlmsise00Input& in, const Nrlmsise00Switches& switches,
-                            bool anomalous_oxygen) noexcept {
+namespace {
+Nrlmsise00Output evaluate_model(const Nrlmsise00Input& in, const Nrlmsise00Switches& switches,
+                                bool anomalous_oxygen, bool direct) noexcept {
   const Switches s = decode(switches);
   Basis b{};
-  init_basis(b, in, s);
+  init_basis(b, in, s, direct);
   const double alt = in.altitude;
   const Thermo th = thermosphere(alt > kZn2[0] ? alt : kZn2[0], b);
   double d[9];
@@ -474,11 +588,12 @@ Nrlmsise00Output nrlmsise00(const Nrlmsise00Input& in, const Nrlmsise00Switches&
     for (int k = 0; k < 4; ++k) meso.z[k] = kZn2[k];
     meso.grad_first = th.prof.lower.grad_last;
     meso.t[0] = th.prof.lower.t[4];
-    meso.t[1] = PMA(0)[0] * PAVGM(0) / (1.0 - sw[20] * expansion_lower(PMA(0), b));
-    meso.t[2] = PMA(1)[0] * PAVGM(1) / (1.0 - sw[20] * expansion_lower(PMA(1), b));
-    meso.t[3] = PMA(2)[0] * PAVGM(2) / (1.0 - sw[20] * sw[22] * expansion_lower(PMA(2), b));
+    meso.t[1] = PMA(0)[0] * PAVGM(0) / (1.0 - sw[20] * expansion_lower(PMA(0), b.ph->pma[0], b));
+    meso.t[2] = PMA(1)[0] * PAVGM(1) / (1.0 - sw[20] * expansion_lower(PMA(1), b.ph->pma[1], b));
+    meso.t[3] = PMA(2)[0] * PAVGM(2) / (1.0 - sw[20] * sw[22] * expansion_lower(PMA(2), b.ph->pma[2], b));
     const double b3 = PMA(2)[0] * PAVGM(2);
-    meso.grad_last = PAVGM(8) * PMA(9)[0] * (1.0 + sw[20] * sw[22] * expansion_lower(PMA(9), b)) * meso.t[3] *
+    meso.grad_last = PAVGM(8) * PMA(9)[0] *
+                     (1.0 + sw[20] * sw[22] * expansion_lower(PMA(9), b.ph->pma[9], b)) * meso.t[3] *
                      meso.t[3] / (b3 * b3);
     Layer<5> strat{};
     for (int k = 0; k < 5; ++k) strat.z[k] = kZn3[k];
@@ -486,10 +601,11 @@ Nrlmsise00Output nrlmsise00(const Nrlmsise00Input& in, const Nrlmsise00Switches&
     strat.grad_first = meso.grad_last;
     if (alt <= kZn3[0]) {
       for (int k = 1; k <= 4; ++k)
-        strat.t[k] = PMA(k + 2)[0] * PAVGM(k + 2) / (1.0 - sw[22] * expansion_lower(PMA(k + 2), b));
+        strat.t[k] =
+            PMA(k + 2)[0] * PAVGM(k + 2) / (1.0 - sw[22] * expansion_lower(PMA(k + 2), b.ph->pma[k + 2], b));
       const double b6 = PMA(6)[0] * PAVGM(6);
-      strat.grad_last = PMA(7)[0] * PAVGM(7) * (1.0 + sw[22] * expansion_lower(PMA(7), b)) * strat.t[4] *
-                        strat.t[4] / (b6 * b6);
+      strat.grad_last = PMA(7)[0] * PAVGM(7) * (1.0 + sw[22] * expansion_lower(PMA(7), b.ph->pma[7], b)) *
+                        strat.t[4] * strat.t[4] / (b6 * b6);
     }
     const double xmm = PDM(2, 4);
     // Mixed profile: down through the mesospheric layer, then the stratospheric one.
@@ -533,6 +649,19 @@ Nrlmsise00Output nrlmsise00(const Nrlmsise00Input& in, const Nrlmsise00Switches&
   out.temperature = tz;
   return out;
 }
+}  // namespace
+
+Nrlmsise00Output nrlmsise00(const Nrlmsise00Input& in, const Nrlmsise00Switches& switches,
+                            bool anomalous_oxygen) noexcept {
+  return evaluate_model(in, switches, anomalous_oxygen, false);
+}
+
+namespace detail::msis {
+Nrlmsise00Output nrlmsise00_direct(const Nrlmsise00Input& in, const Nrlmsise00Switches& switches,
+                                   bool anomalous_oxygen) noexcept {
+  return evaluate_model(in, switches, anomalous_oxygen, true);
+}
+}  // namespace detail::msis
 
 namespace {
 void require_in(double v, double lo, double hi, const std::string& name, const char* unit) {

@@ -116,8 +116,14 @@ def _run(args: argparse.Namespace) -> int:
 def _truth_title(sc) -> str:
     """The flight figure's title naming the scenario's [truth] model (point mass, J2, drag)."""
     t = sc.sections.get("truth") or {}
-    terms = [name for name, on in (("J2", t.get("j2", True)), ("drag", t.get("drag", True))) if on]
-    return f"Flying the plans on the truth model ({' + '.join(terms) or 'point mass'}, CVODES)"
+    j2, drag, src = t.get("j2", True), t.get("drag", True), ""
+    if t.get("force_model") is not None:  # the file's terms, not the [truth] defaults
+        from ..scenarios import rendezvous
+
+        tp = rendezvous.truth_params(sc)
+        j2, drag, src = tp.j2_on, tp.drag_on, f" from {t['force_model'].name}"
+    terms = [name for name, on in (("J2", j2), ("drag", drag)) if on]
+    return f"Flying the plans on the truth model ({' + '.join(terms) or 'point mass'}{src}, CVODES)"
 
 
 #: ADMM statuses that mean the target cannot be met with the case's bounds (or was not met).

@@ -20,6 +20,9 @@ file, the line, the key and its section). SI units (m, m/s, N, kg, s) except whe
   co-rotating); both take ``mu`` from ``[orbit]`` and the chaser's mass from ``[chaser]``, the rest from
   the engine's ``TwoSatelliteParams`` defaults (drag: the l1 scenario's exponential density with its
   6731 km reference radius, target 4.6 kg, 0.01 m^2);
+* optional ``[truth]`` ``force_model``: a force-model TOML (docs/force_models.md; path relative to the
+  scenario file) that sets the truth's mu, J2 and exponential drag instead of ``j2`` / ``drag`` (which
+  it excludes): see :func:`truth_force_model`;
 * ``[cases.<name>]`` ``rho``, ``eps``, ``box``, ``terminal_equality``, ``paper_lqr_passes`` (the linear
   model's ADMM settings), and optional ``[cases.<name>.nonlinear]`` ``rho``, ``eps``,
   ``terminal_equality``: the nonlinear model's iLQR-ADMM settings (paper stopping rule) and its
@@ -59,7 +62,10 @@ from .._validate import (
     toml_line,
 )
 
-__all__ = ["RendezvousScenario", "load", "problem", "truth_params", "thruster_layout", "keep_out", "DEFAULT"]
+__all__ = [
+    "RendezvousScenario", "load", "problem", "truth_params", "truth_force_model", "thruster_layout",
+    "keep_out", "DEFAULT",
+]
 
 DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
 
@@ -104,6 +110,7 @@ SECTIONS = {
         "j2": Key("bool", required=False, default=True),
         "drag": Key("bool", required=False, default=True),
         "atmosphere": Key("string", required=False, default="co_rotating", choices=_ATMOSPHERES),
+        "force_model": Key("string", required=False, unit="path of a force-model TOML"),
     },
     "keep_out": {
         "semi_axes": Key("vector", length=3, positive=True, unit="m"),
@@ -177,6 +184,7 @@ def read(path, name: str = "path"):
             continue
         secs[sec] = check_toml_table(d[sec], schema, sec, p, text)
     secs["thrusters"] = read_thrusters(d.get("thrusters"), p, text)
+    secs["truth"]["force_model"] = read_truth_force_model(d.get("truth"), secs, p, text)
     cases_raw = d.get("cases")
     if cases_raw is None:
         raise FileFormatError(
@@ -252,6 +260,68 @@ def read_thrusters(raw, p, text: str) -> list[dict] | None:
     return out
 
 
+#: keys of [truth] that a force-model file replaces (the file names the truth's gravity and drag).
+_TRUTH_FROM_FILE = ("j2", "drag")
+
+
+def read_truth_force_model(raw, secs: dict, p: pathlib.Path, text: str) -> pathlib.Path | None:
+    """The checked ``[truth] force_model`` path (absolute), or None when the key is absent.
+
+    The path is taken from the scenario file's folder. Errors (:class:`FileFormatError`): ``j2`` or
+    ``drag`` beside it (scenario file and line), no such file (scenario line), anything the force-model
+    reader or the two-satellite model refuses (the force-model file, its line and ``[section] key``),
+    and a file whose mu (km^3/s^2 x 1e9) or ``[drag] mass`` differs from the scenario's ``[orbit] mu``
+    or ``[chaser] mass`` by more than 1e-12 relative: one truth, one mu and one chaser mass."""
+    name = secs["truth"]["force_model"]
+    if name is None:
+        return None
+    line = toml_line(text, "truth", "force_model")
+    for key in _TRUTH_FROM_FILE:
+        if key in raw:
+            raise FileFormatError(
+                p, toml_line(text, "truth", key),
+                f"key '{key}' in section [truth]: not with 'force_model' (the force-model file "
+                f"{name!r} sets the truth's gravity and drag; remove '{key}')", key=key)
+    fm = (p.parent / name).resolve()
+    if not fm.is_file():
+        raise FileFormatError(p, line, f"key 'force_model' in section [truth]: no file at {fm} "
+                              "(a path relative to the scenario file)", key="force_model")
+    tp = _truth_from_file(fm, secs)
+    checks = ((tp.mu, secs["orbit"]["mu"], "[central_body] mu", "[orbit] mu", "m^3/s^2"),)
+    if tp.drag_on:
+        checks += ((tp.mass_target, secs["chaser"]["mass"], "[drag] mass", "[chaser] mass", "kg"),)
+    for got, want, where, ours, unit in checks:
+        if abs(got - want) > 1e-12 * abs(want):
+            raise FileFormatError(
+                p, line,
+                f"key 'force_model' in section [truth]: {fm.name} gives {where} = {got!r} {unit} (SI), the "
+                f"scenario's {ours} is {want!r} {unit}: the truth and the scenario must agree (relative "
+                "1e-12); set it in one of the files", key="force_model")
+    return fm
+
+
+def _truth_from_file(fm: pathlib.Path, secs: dict):
+    """TwoSatelliteParams of a force-model file (mu, J2, drag; the chaser's mass from [chaser], the
+    atmosphere rotation from [truth]); errors name the force-model file, its line and key."""
+    from .. import _satgnc as _c
+    from ..forcemodel import load_force_model_config
+    from ..guidance.problem import satellite_params
+
+    base = satellite_params(secs["orbit"]["mu"], j2=False, drag=False,
+                            atmosphere=secs["truth"]["atmosphere"], mass=secs["chaser"]["mass"])
+    cfg = load_force_model_config(fm)
+    try:
+        tp = _c.two_satellite_params_from_config(cfg, base)
+    except FileFormatError as e:  # the model's refusal names a section, not a line: find it
+        if e.line is not None or e.key is None:
+            raise
+        sec, _, key = e.key.strip().partition(" ")
+        line = toml_line(read_text_file(fm)[1], sec.strip("[]"), key or None)
+        raise FileFormatError(fm, line, e.reason, key=e.key) from None
+    tp.mass_chaser = secs["chaser"]["mass"]  # the control's mass (= the file's [drag] mass, checked)
+    return tp
+
+
 @dataclasses.dataclass(frozen=True)
 class RendezvousScenario:
     """A checked scenario file: ``path``, ``name``, ``sections`` (section -> {key: value}; ``release``
@@ -284,8 +354,23 @@ def _params(sc: RendezvousScenario, section: str):
 
 
 def truth_params(sc: RendezvousScenario):
-    """``TwoSatelliteParams`` of the scenario's ``[truth]`` model (mu from ``[orbit]``)."""
+    """``TwoSatelliteParams`` (SI) of the scenario's ``[truth]`` model: from its ``force_model`` file
+    when named (:func:`truth_force_model`), else ``j2`` / ``drag`` / ``atmosphere`` with mu from
+    ``[orbit]`` and the chaser's mass from ``[chaser]``."""
+    fm = truth_force_model(sc)
+    if fm is not None:
+        return _truth_from_file(fm, sc.sections)
     return _params(sc, "truth")
+
+
+def truth_force_model(sc: RendezvousScenario) -> pathlib.Path | None:
+    """The ``[truth] force_model`` file (absolute path) or None. With it the truth is
+    ``satgnc.forcemodel.two_satellite_params(file)``: the file's mu (must equal ``[orbit] mu``), J2
+    (``[gravity] model = "j2"``) and radius, its exponential ``[drag]`` (cd, area, mass for both bodies;
+    the mass must equal ``[chaser] mass``); ``[truth] atmosphere`` and the control frame as without it.
+    The two-satellite model has no gravity field, Sun, Moon, SRP or density table: a file with one is
+    an error naming its section."""
+    return sc.sections["truth"].get("force_model")
 
 
 def release_state(sc: RendezvousScenario) -> np.ndarray | None:

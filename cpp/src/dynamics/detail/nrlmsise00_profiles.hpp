@@ -9,6 +9,9 @@ namespace satgnc::dynamics::detail::msis {
 
 inline constexpr double kRgas = 831.4;  // gas constant in the model's units (cgs, 1e-7 scaled)
 
+// x^2 as a product (the Fortran's x**2; std::pow(x, 2.0) costs a libm call).
+inline double sq(double x) noexcept { return x * x; }
+
 // Gravity at the surface (cm/s^2) and the effective Earth radius (km) of the model at latitude lat (deg).
 struct Gravity {
   double gsurf;
@@ -147,13 +150,13 @@ inline double thermo_density(const ThermoProfile& P, double alt, double dlb, dou
     tz = below.tz;
   }
   if (xm == 0.0) return tz;
-  const double glb = P.g.gsurf / std::pow(1.0 + P.zlb / re, 2.0);
+  const double glb = P.g.gsurf / sq(1.0 + P.zlb / re);
   const double gamma = xm * glb / (P.s * kRgas * P.tinf);
   double e = std::exp(-P.s * gamma * zg2);
   if (e > 50.0 || tt <= 0.0) e = 50.0;
   double d = dlb * std::pow(P.tlb / tt, 1.0 + alpha + gamma) * e;
   if (alt >= za) return d;
-  const double glb1 = P.g.gsurf / std::pow(1.0 + za / re, 2.0);
+  const double glb1 = P.g.gsurf / sq(1.0 + za / re);
   double expl = xm * glb1 * below.zgdif / kRgas * below.integral;
   if (expl > 50.0 || tz <= 0.0) expl = 50.0;
   return d * std::pow(tt / tz, 1.0 + alpha) * std::exp(-expl);
@@ -166,7 +169,7 @@ double layer_density(const Layer<N>& L, double alt, double d0, double xm, const 
   const LayerEval<N> e = eval_layer<N>(L, alt, g.re);
   tz = e.tz;
   if (xm == 0.0) return d0;
-  const double glb = g.gsurf / std::pow(1.0 + L.z[0] / g.re, 2.0);
+  const double glb = g.gsurf / sq(1.0 + L.z[0] / g.re);
   double expl = xm * glb * e.zgdif / kRgas * e.integral;
   if (expl > 50.0) expl = 50.0;
   return d0 * (L.t[0] / tz) * std::exp(-expl);
@@ -205,7 +208,7 @@ inline double chem_factor2(double z, double r, double h1, double zh, double h2) 
 
 // Scale height (km) at z for mass xm and temperature t (SCALH).
 inline double scale_height(double z, double xm, double t, const Gravity& g) noexcept {
-  const double gz = g.gsurf / std::pow(1.0 + z / g.re, 2.0);
+  const double gz = g.gsurf / sq(1.0 + z / g.re);
   return kRgas * t / (gz * xm);
 }
 
