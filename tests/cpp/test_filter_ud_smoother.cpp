@@ -170,3 +170,51 @@ TEST(FilterUdSmoother, SmoothAllocatesNothing) {
   EXPECT_TRUE(out.factored);
   EXPECT_EQ(out.status, f::FilterStatus::success);
 }
+
+TEST(FilterUdSmoother, IllConditionedCaseSmoothsOnFactors) {
+  // The classic ill-conditioned pair (P0 = I3, h = [1 1 1] and [1 1 1+d], sigma = d = 1e-9, both at
+  // t = 1; docs/filter.md) then a record [1 0 0] at t = 2, Phi = I, Qd = 0: P after the pair has an
+  // eigenvalue ~d^2 = 1e-18 against 1, below what a Cholesky of the formed P can resolve. With Phi = I
+  // and no noise the smoother gain is I, so the smoothed state at record 1 equals the filtered state at
+  // record 2. The factored smoother gets it exactly (measured 0 relative; D > 0 everywhere). The
+  // covariance form's Cholesky of the formed P_k+1|k fails on the same run (measured: status
+  // covariance_not_pd, GCC 12 -O3); printed, not asserted, as it depends on rounding.
+  const double d = 1e-9;
+  std::vector<Eigen::MatrixXd> h(3, Eigen::MatrixXd(1, 3));
+  h[0] << 1.0, 1.0, 1.0;
+  h[1] << 1.0, 1.0, 1.0 + d;
+  h[2] << 1.0, 0.0, 0.0;
+  f::LinearProcessModel proc(Eigen::MatrixXd::Identity(3, 3), Eigen::MatrixXd::Zero(3, 3));
+  f::LinearMeasurementFunction meas(h);
+  f::FilterProblem pb;
+  pb.x0 = Eigen::VectorXd::Zero(3);
+  pb.p0 = Eigen::MatrixXd::Identity(3, 3);
+  pb.t0 = 0.0;
+  const double value[3] = {3.0, 3.0, 1.0};
+  const double sigma[3] = {d, d, 1.0};
+  const double time[3] = {1.0, 1.0, 2.0};
+  for (int k = 0; k < 3; ++k) {
+    f::MeasurementRecord r;
+    r.t = time[k];
+    r.type = k;
+    r.value[0] = value[k];
+    r.sigma[0] = sigma[k];
+    pb.records.push_back(r);
+  }
+  f::KalmanFilter ku(proc, meas, pb, settings(f::CovarianceForm::ud));
+  const auto& ru = ku.solve();
+  ASSERT_EQ(ru.info.status, f::FilterStatus::success);
+  f::RtsSmoother a(3, ru.steps);
+  const auto& oa = a.smooth(ru);
+  ASSERT_EQ(oa.status, f::FilterStatus::success);
+  ASSERT_TRUE(oa.factored);
+  for (int k = 0; k < ru.steps; ++k) {
+    EXPECT_GT(oa.ud_factors.middleCols(3 * k, 3).diagonal().minCoeff(), 0.0) << "step " << k;
+  }
+  EXPECT_LE(rel_err(oa.states.col(1), ru.states.col(2)), 1e-6);
+  f::RtsSmoother b(3, ru.steps);
+  const auto& ob = b.smooth(ru, false);
+  std::printf("covariance-form RTS on the same run: %s, |x_s(1) - x_f(2)| rel %.2e; factored %.2e\n",
+              f::status_name(ob.status), rel_err(ob.states.col(1), ru.states.col(2)),
+              rel_err(oa.states.col(1), ru.states.col(2)));
+}
