@@ -115,6 +115,8 @@ def test_force_model_toml_is_the_filters_model(tmp_path, capsys):
         ('[drag]\naera = 1.0\n', [], "fm.toml:8: [drag] aera: unknown key"),
         ('[epoch]\ntime = "2023-02-25T00:00:00"\n', ["--epoch", "2023-02-25T00:01:00"],
          "[epoch] 2023-02-25T00:00:00.000 UTC is not the filter's t = 0 (2023-02-25T00:01:00)"),
+        ('[epoch]\ntime = "2023-02-26T00:00:00"\n', [],
+         "fm.toml: [epoch]: 2023-02-26T00:00:00 is after the first observation"),
     ],
 )
 def test_force_model_errors_are_one_line(tmp_path, capsys, toml, extra, text):

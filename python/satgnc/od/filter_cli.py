@@ -47,9 +47,11 @@ def _utc(text: str, name: str) -> _dt.datetime:
         raise ValueError(f"{name}: not an ISO-8601 UTC date-time: {text!r}") from None
 
 
-def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _dt.datetime]:
+def load_tdm(
+    path: str, epoch: str | None, epoch_name: str = "--epoch"
+) -> tuple[dict[str, Any], list[str], _dt.datetime]:
     """Measurements of a TDM as arrays (t s from the epoch, station index, observable name, value) and
-    the station names in order of first appearance."""
+    the station names in order of first appearance; ``epoch_name`` names the epoch's source in errors."""
     from .. import io as _io
 
     tdm = _io.read_tdm(path)
@@ -78,7 +80,7 @@ def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _
     if not rows:
         raise ValueError(f"{path}: no RANGE or DOPPLER_INSTANTANEOUS observation")
     rows.sort(key=lambda r: r[0])
-    t_epoch = rows[0][0] if epoch is None else _utc(epoch, "--epoch")
+    t_epoch = rows[0][0] if epoch is None else _utc(epoch, epoch_name)
     names: list[str] = []
     for r in rows:
         if r[1] not in names:
@@ -86,7 +88,7 @@ def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _
     t = np.array([(r[0] - t_epoch).total_seconds() for r in rows])
     if t[0] < 0:
         raise ValueError(
-            f"--epoch: {t_epoch.isoformat()} is after the first observation ({rows[0][0].isoformat()})"
+            f"{epoch_name}: {t_epoch.isoformat()} is after the first observation ({rows[0][0].isoformat()})"
         )
     return (
         {
@@ -119,7 +121,10 @@ def _run(args: Any) -> int:
     from . import filtering, station_geodetic
 
     fm, toml_epoch = _force_model(args.force_model)
-    meas, names, epoch = load_tdm(args.tdm, args.epoch if args.epoch is not None else toml_epoch)
+    if args.epoch is None and toml_epoch is not None:
+        meas, names, epoch = load_tdm(args.tdm, toml_epoch, f"--force-model: {args.force_model}: [epoch]")
+    else:
+        meas, names, epoch = load_tdm(args.tdm, args.epoch)
     if toml_epoch is not None and abs((epoch - _utc(toml_epoch, "--force-model")).total_seconds()) > 1e-3:
         raise ValueError(
             f"--force-model: {args.force_model}: [epoch] {toml_epoch} UTC is not the filter's t = 0 "
