@@ -119,9 +119,9 @@ bool FilterWorkspace::covariance_pd() noexcept {
     const double lc = std::sqrt(dgl);
     l[c * n + c] = lc;
     for (int i = c + 1; i < n; ++i) {
-      double v = p[c * n + i];
-      for (int k = 0; k < c; ++k) v -= l[k * n + i] * l[k * n + c];
-      l[c * n + i] = v / lc;
+      double lic = p[c * n + i];
+      for (int k = 0; k < c; ++k) lic -= l[k * n + i] * l[k * n + c];
+      l[c * n + i] = lic / lc;
     }
   }
   return true;
