@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import datetime as dt
+import os
 import pathlib
 import sys
 import time
@@ -195,7 +196,8 @@ def main() -> int:
     xf = ekf.x.ravel()
     sig = r.sigma_state[-1, :6]
     k = sim["t"].size
-    print(f"two-station arc: {k} records over 6 h, J2, light time; EKF from a 1.5 km error")
+    print(f"two-station arc: {k} records over 6 h, J2, light time; EKF from a 1.5 km error; "
+          f"{os.cpu_count()} cores shared, load average {os.getloadavg()[0]:.1f}")
     print(
         f"satgnc.od.filter    : {min(ts) * 1e3:9.2f} ms (best of {len(ts)}), "
         f"{r.propagation_steps} DOP853 steps, "

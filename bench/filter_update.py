@@ -11,6 +11,8 @@ Usage: python bench/filter_update.py (needs filterpy: requirements-bench.txt).
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 from _timing import timeit
 from filterpy.kalman import KalmanFilter
@@ -45,7 +47,8 @@ def filterpy_update() -> None:
 t_fp = timeit(filterpy_update)
 t_j = _satgnc._filter_bench_update(p0, h[0], sigma, z, 20000, 25, "joseph") * 1e-9
 t_ud = _satgnc._filter_bench_update(p0, h[0], sigma, z, 20000, 25, "ud") * 1e-9
-print("EKF update, n = 9, one scalar measurement (best block)")
+print(f"EKF update, n = 9, one scalar measurement (best block); {os.cpu_count()} cores shared, "
+      f"load average {os.getloadavg()[0]:.1f}")
 print(f"  filterpy KalmanFilter.update : {t_fp * 1e9:10.0f} ns")
 print(f"  satgnc Joseph (C++)          : {t_j * 1e9:10.1f} ns   ({t_fp / t_j:6.0f}x)")
 print(f"  satgnc UD (C++)              : {t_ud * 1e9:10.1f} ns   ({t_fp / t_ud:6.0f}x)")

@@ -183,6 +183,7 @@ py::dict run(const Eigen::MatrixXd& phi, const Eigen::MatrixXd& qd, const std::s
     filter::RtsSmoother sm(n, steps);
     const filter::SmootherResult& sr = sm.smooth(r);
     out["smoother_status"] = static_cast<int>(sr.status);
+    out["smoother_factored"] = sr.factored;
     out["smoothed_initial_state"] = sr.initial_state;
     out["smoothed_initial_covariance"] = sr.initial_covariance;
     out["smoothed_states"] = RowMat(sr.states.transpose());

@@ -119,9 +119,9 @@ bool FilterWorkspace::covariance_pd() noexcept {
     const double lc = std::sqrt(dgl);
     l[c * n + c] = lc;
     for (int i = c + 1; i < n; ++i) {
-      double v = p[c * n + i];
-      for (int k = 0; k < c; ++k) v -= l[k * n + i] * l[k * n + c];
-      l[c * n + i] = v / lc;
+      double lic = p[c * n + i];
+      for (int k = 0; k < c; ++k) lic -= l[k * n + i] * l[k * n + c];
+      l[c * n + i] = lic / lc;
     }
   }
   return true;
@@ -416,6 +416,12 @@ KalmanFilter::KalmanFilter(ProcessModel& process, MeasurementFunction& measureme
     r.predicted_states.setZero(n, N);
     r.predicted_covariances.setZero(n, n * N);
     r.transitions.setZero(n, n * N);
+    if (settings.algorithm == FilterAlgorithm::ekf && settings.form == CovarianceForm::ud) {
+      r.ud_factors.setZero(n, n * N);
+      r.predicted_ud_factors.setZero(n, n * N);
+      r.process_noise_ud_factors.setZero(n, n * N);
+      r.initial_ud_factors.setZero(n, n);
+    }
   }
   r.records.assign(problem.records.size(), StepRecord{});
   r.consider = consider;
@@ -445,6 +451,7 @@ FilterStatus KalmanFilter::predict(double t1) noexcept {
   if (!std::isfinite(t1)) return FilterStatus::invalid_time;
   if (t1 == w.t) {
     w.last_phi.setIdentity();
+    w.dq.setZero();  // no process noise over a zero step (stored for the UD smoother)
     return FilterStatus::success;
   }
   if (w.settings.algorithm == FilterAlgorithm::ukf) return w.ukf_predict(t1);
@@ -539,6 +546,15 @@ FilterStatus KalmanFilter::update(const MeasurementRecord& rec) noexcept {
   return finish(st);
 }
 
+namespace {
+// Packed UD block: strict upper triangle = U, diagonal = D (U's unit diagonal implied).
+template <class Out>
+void pack_ud(const Eigen::MatrixXd& u, const Eigen::VectorXd& d, Out&& out) noexcept {
+  out = u.triangularView<Eigen::StrictlyUpper>();
+  out.diagonal() = d;
+}
+}  // namespace
+
 const FilterResult& KalmanFilter::solve() noexcept {
   const auto start = std::chrono::steady_clock::now();
   SATGNC_NO_MALLOC_SCOPE;
@@ -548,6 +564,12 @@ const FilterResult& KalmanFilter::solve() noexcept {
   const int n = w.n;
   r.info = FilterInfo{};
   initialize();
+  const bool store_ud = store && r.initial_ud_factors.cols() == n;
+  if (store_ud) {
+    w.dq.setZero();
+    w.G.setIdentity();
+    pack_ud(w.U, w.d, r.initial_ud_factors.middleCols(0, n));
+  }
   double sum2 = 0.0;
   long count = 0;
   for (StepRecord& s : r.records) s = StepRecord{};
@@ -559,6 +581,10 @@ const FilterResult& KalmanFilter::solve() noexcept {
       r.predicted_states.col(k) = w.x;
       r.predicted_covariances.middleCols(static_cast<Eigen::Index>(k) * n, n) = covariance();
       r.transitions.middleCols(static_cast<Eigen::Index>(k) * n, n) = w.last_phi;
+      if (store_ud) {
+        pack_ud(w.U, w.d, r.predicted_ud_factors.middleCols(static_cast<Eigen::Index>(k) * n, n));
+        pack_ud(w.G, w.dq, r.process_noise_ud_factors.middleCols(static_cast<Eigen::Index>(k) * n, n));
+      }
     }
     FilterStatus st = ps;
     if (ps == FilterStatus::success) {
@@ -577,6 +603,7 @@ const FilterResult& KalmanFilter::solve() noexcept {
     r.records[static_cast<std::size_t>(k)] = w.last;
     r.states.col(k) = w.x;
     r.covariances.middleCols(static_cast<Eigen::Index>(k) * n, n) = covariance();
+    if (store_ud) pack_ud(w.U, w.d, r.ud_factors.middleCols(static_cast<Eigen::Index>(k) * n, n));
     ++r.info.iterations;
     const EditFlag fl = w.last.flag;
     if (fl == EditFlag::accepted || fl == EditFlag::warm_up) {

@@ -48,7 +48,8 @@ class FilterRun(Result):
     residuals (observed - predicted); ``normalized`` (N, 3) prefit / sqrt(S_ii); ``nis`` (N)
     y' S^-1 y; ``gate`` (N) the threshold used (0: not gated); ``flag`` (N) FilterEditFlag values;
     ``step_status`` (N) FilterStatus values; ``status`` the run's FilterStatus name; ``smoothed_*``
-    from the RTS smoother when asked (else None)."""
+    from the RTS smoother when asked (else None); ``smoother_factored`` True when the run was smoothed
+    on its UD factors (form "ud")."""
 
     times: np.ndarray
     states: np.ndarray
@@ -73,6 +74,7 @@ class FilterRun(Result):
     smoothed_states: np.ndarray | None = None
     smoothed_covariances: np.ndarray | None = None
     smoother_status: str | None = None
+    smoother_factored: bool | None = None
 
     @property
     def rejected_records(self) -> np.ndarray:
@@ -164,6 +166,7 @@ def run_filter(
             "smoothed_states": np.asarray(d["smoothed_states"]),
             "smoothed_covariances": np.asarray(d["smoothed_covariances"]),
             "smoother_status": _NAMES[int(d["smoother_status"])],
+            "smoother_factored": bool(d["smoother_factored"]),
         }
     return FilterRun(
         times=np.asarray(d["times"]), states=np.asarray(d["states"]),

@@ -10,8 +10,11 @@ The TDM (KVN or XML, read by :func:`satgnc.io.read_tdm`) holds RANGE (km) and DO
 (km/s) of stations named by PARTICIPANT_1; PATH 1,2,1 (or none) makes them two-way (range, range-rate
 with light time), PATH 2,1 one-way. Stations are given by ``--station NAME:lat,lon,h`` (deg, deg, km,
 WGS-84, rotating with GMST from the epoch, the paper's station model). t = 0 is ``--epoch`` (UTC,
-default: the first observation). The OEM holds, per measurement epoch (one line per distinct tag), the
-filtered (or with ``--smooth`` the smoothed) GCRF state and its 6 x 6 covariance.
+default: the first observation, or the ``[epoch]`` of ``--force-model``). ``--force-model FILE`` reads
+the force-model TOML (docs/force_models.md: gravity field, drag, SRP, third bodies) the filter
+propagates with between measurements (default: point mass + J2). The OEM holds, per measurement epoch
+(one line per distinct tag), the filtered (or with ``--smooth`` the smoothed) GCRF state and its 6 x 6
+covariance.
 
 Errors print one line ``satgnc: error: ...`` and exit with code 2.
 """
@@ -44,9 +47,11 @@ def _utc(text: str, name: str) -> _dt.datetime:
         raise ValueError(f"{name}: not an ISO-8601 UTC date-time: {text!r}") from None
 
 
-def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _dt.datetime]:
+def load_tdm(
+    path: str, epoch: str | None, epoch_name: str = "--epoch"
+) -> tuple[dict[str, Any], list[str], _dt.datetime]:
     """Measurements of a TDM as arrays (t s from the epoch, station index, observable name, value) and
-    the station names in order of first appearance."""
+    the station names in order of first appearance; ``epoch_name`` names the epoch's source in errors."""
     from .. import io as _io
 
     tdm = _io.read_tdm(path)
@@ -75,7 +80,7 @@ def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _
     if not rows:
         raise ValueError(f"{path}: no RANGE or DOPPLER_INSTANTANEOUS observation")
     rows.sort(key=lambda r: r[0])
-    t_epoch = rows[0][0] if epoch is None else _utc(epoch, "--epoch")
+    t_epoch = rows[0][0] if epoch is None else _utc(epoch, epoch_name)
     names: list[str] = []
     for r in rows:
         if r[1] not in names:
@@ -83,7 +88,7 @@ def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _
     t = np.array([(r[0] - t_epoch).total_seconds() for r in rows])
     if t[0] < 0:
         raise ValueError(
-            f"--epoch: {t_epoch.isoformat()} is after the first observation ({rows[0][0].isoformat()})"
+            f"{epoch_name}: {t_epoch.isoformat()} is after the first observation ({rows[0][0].isoformat()})"
         )
     return (
         {
@@ -97,12 +102,34 @@ def load_tdm(path: str, epoch: str | None) -> tuple[dict[str, Any], list[str], _
     )
 
 
+def _force_model(path: str | None) -> tuple[Any, str | None]:
+    """--force-model: the TOML's ForceModel (None: point mass + J2) and its [epoch] as UTC ISO text
+    (None when the file has no [epoch]). The model's time origin is that epoch, so it must be the
+    filter's t = 0: it is the default of --epoch, and a different --epoch is an error."""
+    if path is None:
+        return None, None
+    from ..forcemodel import load_force_model_config
+
+    cfg = load_force_model_config(path)
+    ep = None if cfg.epoch is None else cfg.epoch.to_iso("UTC", 3)
+    return cfg.model, ep
+
+
 def _run(args: Any) -> int:
     from .. import _satgnc as _c
     from .. import io as _io
     from . import filtering, station_geodetic
 
-    meas, names, epoch = load_tdm(args.tdm, args.epoch)
+    fm, toml_epoch = _force_model(args.force_model)
+    if args.epoch is None and toml_epoch is not None:
+        meas, names, epoch = load_tdm(args.tdm, toml_epoch, f"--force-model: {args.force_model}: [epoch]")
+    else:
+        meas, names, epoch = load_tdm(args.tdm, args.epoch)
+    if toml_epoch is not None and abs((epoch - _utc(toml_epoch, "--force-model")).total_seconds()) > 1e-3:
+        raise ValueError(
+            f"--force-model: {args.force_model}: [epoch] {toml_epoch} UTC is not the filter's t = 0 "
+            f"({epoch.isoformat()}) (hint: the same instant in --epoch and the TOML, or drop one)"
+        )
     given: dict[str, Any] = {}
     for spec in args.station or []:
         label, _, coords = spec.rpartition(":")
@@ -142,6 +169,7 @@ def _run(args: Any) -> int:
         sigma=[sig[o] for o in obs_names],
         snc_psd_ric=args.snc_psd,
         method=args.method,
+        force_model=fm,
     )
     states = r.smoothed_state if args.smooth else r.state
     covs = r.smoothed_covariance if args.smooth else r.covariance
@@ -197,6 +225,11 @@ def register(sub: Any) -> None:
     f.add_argument("--sigma-position", type=positive_float, default=1.0, help="a priori, km (default 1)")
     f.add_argument(
         "--sigma-velocity", type=positive_float, default=1e-3, help="a priori, km/s (default 1e-3)"
+    )
+    f.add_argument(
+        "--force-model",
+        metavar="FILE",
+        help="force-model TOML (docs/force_models.md) between measurements; default point mass + J2",
     )
     f.add_argument("--snc-psd", type=finite_float, default=1e-15, help="SNC PSD, km^2/s^3 (default 1e-15)")
     f.set_defaults(func=_run)

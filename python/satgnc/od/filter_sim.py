@@ -168,7 +168,8 @@ def _mc_chunk(job: tuple[dict[str, Any], list[int]]) -> list[tuple[np.ndarray, n
         p0 = np.asarray(cfg["P0"])
         x0 = sc.x0 + np.linalg.cholesky(p0) @ rng.standard_normal(6)
         r = _f.filter(sim["t"], sim["station"], sim["observable"], sim["value"], stations=list(sc.stations),
-                      x0=x0, P0=p0, force_model=sc.force_model, gating=False, rtol=1e-12, atol=1e-14)
+                      x0=x0, P0=p0, force_model=sc.force_model, gating=False, rtol=1e-12, atol=1e-14,
+                      method=cfg.get("method", "ekf"), snc_psd_ric=cfg.get("snc_psd_ric", 0.0))
         e = r.state[:, :6] - sim["truth"]
         nees = np.einsum("ki,ki->k", e, np.linalg.solve(r.covariance[:, :6, :6], e[..., None])[..., 0])
         out.append((nees, np.asarray(r.nis)))
@@ -186,12 +187,15 @@ def monte_carlo_nees(
     executor: str = "serial",
     workers: int | None = None,
     client: Any = None,
+    method: str = "ekf",
+    snc_psd_ric: Any = 0.0,
 ) -> MonteCarloNees:
     """``runs`` seeded filter runs over the two-station scenario between ``start`` and ``start +
     duration`` s (tags every ``step`` s, the stations' visibility deciding which exist), initial error
     ~ N(0, P0) (default 100 m, 0.1 m/s per axis), no process noise (the filter's model is the truth);
     NEES of the orbit states and NIS per run and step. ``executor``: "serial", "process" or "dask"
-    (:func:`satgnc.od.sweep.run_chunks`)."""
+    (:func:`satgnc.od.sweep.run_chunks`). ``method`` ("ekf" or "ukf") and ``snc_psd_ric``
+    (km^2/s^3, default 0: the filter's model is the truth) are passed to :func:`satgnc.od.filter`."""
     runs = as_int(runs, "runs", low=1)
     seed = as_int(seed, "seed", low=0)
     if P0 is None:
@@ -200,7 +204,10 @@ def monte_carlo_nees(
     times = np.arange(start + step, start + duration + 1e-9, as_real(step, "step", positive=True))
     seeds = [int(s) for s in np.random.SeedSequence(seed).generate_state(runs)]
     nchunks = 1 if executor == "serial" else min(runs, 2 * (workers or 2))
-    jobs = [({"times": times, "P0": p0}, list(c)) for c in _sweep.split(seeds, nchunks)]
+    if method not in ("ekf", "ukf"):
+        raise ValueError(f"method: must be 'ekf' or 'ukf', got {method!r}")
+    cfg = {"times": times, "P0": p0, "method": method, "snc_psd_ric": snc_psd_ric}
+    jobs = [(cfg, list(c)) for c in _sweep.split(seeds, nchunks)]
     res = _sweep.run_chunks(_mc_chunk, jobs, executor=executor, workers=workers, progress=False,
                             label="filter MC", client=client)
     flat = [x for chunk in res for x in chunk]

@@ -139,10 +139,18 @@ struct FilterResult {
   Eigen::MatrixXd covariances;            ///< n x (n N): block k (columns k n .. k n + n - 1) = updated P
   Eigen::MatrixXd predicted_states;       ///< n x N: state predicted to step k's time (smoother data)
   Eigen::MatrixXd predicted_covariances;  ///< n x (n N): predicted P (smoother data)
-  Eigen::MatrixXd transitions;      ///< n x (n N): Phi from the previous step's time (t0 for k = 0) to step k
-  std::vector<int> consider;        ///< consider state indices, ascending (the RTS smoother keeps them)
-  std::vector<StepRecord> records;  ///< N step records
-  FilterInfo info;                  ///< run info
+  Eigen::MatrixXd transitions;  ///< n x (n N): Phi from the previous step's time (t0 for k = 0) to step k
+  std::vector<int> consider;    ///< consider state indices, ascending (the RTS smoother keeps them)
+  /// UD runs with smoother data only (else empty): the factors P = U D U' the RTS smoother works on,
+  /// packed per n x n block (strict upper triangle = U, diagonal = D; U's unit diagonal implied):
+  /// filtered (block k), predicted (block k), of the process noise Qd of the step to k (zero when the
+  /// step did not move), and of P0 (n x n).
+  Eigen::MatrixXd ud_factors;
+  Eigen::MatrixXd predicted_ud_factors;      ///< n x (n N), see ud_factors
+  Eigen::MatrixXd process_noise_ud_factors;  ///< n x (n N), see ud_factors
+  Eigen::MatrixXd initial_ud_factors;        ///< n x n, see ud_factors
+  std::vector<StepRecord> records;           ///< N step records
+  FilterInfo info;                           ///< run info
 };
 
 namespace detail {
