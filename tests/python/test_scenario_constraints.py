@@ -282,3 +282,20 @@ def test_cli_bad_constraint_key_is_one_line_exit_2(tmp_path, capsys):
     assert cli.main(["rendezvous", "--scenario", str(p), "--constrained", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "half_angle_deg" in err[0] and str(p) in err[0]
+
+
+def test_plan_with_a_thruster_layout_equals_the_box_plan():
+    # six one-sided thrusters of 0.5 N on +-x, +-y, +-z carry the same L1 optimum as the 0.5 N per-axis
+    # box (|u| = T+ + T- at the optimum): the cone + closing-velocity example, fuel within 1e-6
+    from satgnc.guidance.thrusters import axis_layout
+
+    sc = rendezvous.load(EXAMPLE)
+    kw = rendezvous.state_constraints(sc)
+    pb = rendezvous.problem(sc, "dock", "linear")
+    a = constrained_plan(pb, **kw)
+    b = constrained_plan(pb, layout=axis_layout(0.5), **kw)
+    assert a.status == b.status == "solved"
+    assert b.U.shape == (N, 6) and np.all(b.U >= 0.0)
+    assert abs(a.fuel - b.fuel) <= 1e-6 * a.fuel
+    assert np.abs(b.forces).max() <= 0.5 + 1e-9
+    assert max(b.violation.values()) <= b.violation_tolerance
