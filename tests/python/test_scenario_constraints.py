@@ -299,3 +299,11 @@ def test_plan_with_a_thruster_layout_equals_the_box_plan():
     assert abs(a.fuel - b.fuel) <= 1e-6 * a.fuel
     assert np.abs(b.forces).max() <= 0.5 + 1e-9
     assert max(b.violation.values()) <= b.violation_tolerance
+
+
+def test_cli_without_constrained_says_the_constraints_are_not_applied(tmp_path, capsys):
+    assert cli.main(["rendezvous", "--scenario", str(EXAMPLE), "--out", str(tmp_path / "o")]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == ("note: the scenario's [approach_cone], [closing_velocity] apply with --constrained; "
+                        "the cases below are planned without them")
+    assert lines[1].startswith("dock: solved")

@@ -53,6 +53,7 @@ def _run(args: argparse.Namespace) -> int:
         closed_loop = getattr(args, "closed_loop", False)
         return run_nonlinear(sc, cases, pathlib.Path(args.out), closed_loop=closed_loop)
     sc = scen._load(args.scenario, "scenario")
+    _note_state_constraints(args.scenario)
     closed_loop = getattr(args, "closed_loop", False)
     if closed_loop:  # the same file's nonlinear start and [truth] model
         from .. import _plot
@@ -113,6 +114,21 @@ def _run(args: argparse.Namespace) -> int:
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str))
     print(f"plots and summary.json written to {out}")
     return 0
+
+
+def _note_state_constraints(path) -> None:
+    """One line when the file has state-constraint sections, which only ``--constrained`` plans with:
+    the cases below are planned without them (never silently)."""
+    if path is None:
+        return
+    from ..scenarios import rendezvous
+
+    secs = rendezvous.load(path, "scenario").sections
+    named = [f"[[{k}]]" if k == "half_spaces" else f"[{k}]"
+             for k in rendezvous.CONSTRAINT_SECTIONS if secs.get(k)]
+    if named:
+        print(f"note: the scenario's {', '.join(named)} apply with --constrained; the cases below are "
+              "planned without them")
 
 
 def _truth_title(sc) -> str:
