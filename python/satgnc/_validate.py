@@ -406,6 +406,8 @@ class Key:
     choices: tuple[str, ...] | None = None
     nonzero: bool = False
     unit: str = ""
+    #: vectors only: False lets entries be +-inf (a missing bound); NaN is always refused
+    finite: bool = True
 
 
 _KIND_TEXT = {
@@ -524,8 +526,8 @@ def check_toml_table(
             if spec.length is not None and len(v) != spec.length:
                 fail(wrong)
             for e in v:
-                if not math.isfinite(e):
-                    fail(f"must be finite, got {v!r}")
+                if not math.isfinite(e) and (spec.finite or math.isnan(e)):
+                    fail(f"must be finite, got {v!r}" if spec.finite else f"must not hold nan, got {v!r}")
                 _check_number(e, spec, fail)
             if spec.nonzero and not any(e != 0 for e in v):
                 fail("must not be all zero")

@@ -103,3 +103,55 @@ def test_keep_out_scp_on_the_engine_matches_clarabel():
     # and so the final fuel, agree to the subproblems' tolerance compounded over the iterations (1e-5)
     assert r.iterations == ref.iterations
     assert abs(r.fuel - ref.fuel) <= 1e-5 * ref.fuel
+
+
+def test_lazy_trust_region_subproblem_equals_the_trust_region_one():
+    # one SCP subproblem linearized at positions P pushed 15 sin(pi k / N) m out of plane: without the
+    # trust rows its minimizer returns to the plane (a step > 8 m), so the lazy engine solves it again
+    # with them; the plan must equal Clarabel's on the trust-region subproblem (fuel 1e-6 relative)
+    from satgnc.guidance.keep_out import _LazyTrustRegion, _solve_cvxpy
+    from satgnc.guidance.min_time import _controls
+
+    pb = problem()
+    ko = KeepOut.sphere(40.0)
+    base = keep_out_plan(pb, ko, xf=XF, solver="cvxpy", truth=False)
+    N, tr = pb.horizon, 8.0
+    idx = list(range(1, N + 1))
+    P = base.X[idx, :3].copy()
+    P[:, 2] += 15.0 * np.sin(np.pi * np.arange(1, N + 1) / N)
+    Ad, B, lo, hi = _controls(pb, None)
+    w = np.full(3, pb.dt)
+    st = {"method": "admm", "eps_gap": 1e-7}
+    lazy = _LazyTrustRegion(Ad, B, np.asarray(pb.x0), np.array(XF), N, w, lo, hi, st, idx, ko, 0.05, tr)
+    status, U, X, _ = lazy.solve(P)
+    assert lazy.with_trust == 1 and status == "solved"
+    a3, b = supporting_half_spaces(P, ko, 0.05)
+    a = np.zeros((N, 6))
+    a[:, :3] = a3
+    L, H = np.full((N, 6), -np.inf), np.full((N, 6), np.inf)
+    L[:, :3], H[:, :3] = P - tr, P + tr
+    st_ref, U_ref, X_ref, _ = _solve_cvxpy(Ad, B, np.asarray(pb.x0), np.array(XF), N, w, lo, hi, (idx, a, b),
+                                           (idx, L, H), st)
+    assert st_ref == "solved"
+    assert abs(np.abs(U).sum() - np.abs(U_ref).sum()) <= 1e-6 * np.abs(U_ref).sum()
+    assert np.max(np.abs(X[idx, :3] - P)) <= tr * (1 + 1e-6)  # inside the trust region
+    assert np.max(np.abs(X_ref[idx, :3] - P)) >= tr * (1 - 1e-6)  # and it binds
+
+
+def test_engine_scp_on_seeded_problems_matches_clarabel():
+    # seeded keep-out problems (start 120-200 m ahead within +-23 deg, hold point 60-100 m behind, sphere
+    # 30-45 m, 600-1000 s): the engine SCP and the Clarabel SCP agree on status, iterations and fuel
+    rng = np.random.default_rng(16)
+    for _ in range(4):
+        ang, r0 = rng.uniform(-0.4, 0.4), rng.uniform(120, 200)
+        x0 = np.array([r0 * np.cos(ang), r0 * np.sin(ang), rng.uniform(-10, 10), 0, 0, 0])
+        xf = np.array([-rng.uniform(60, 100), rng.uniform(-10, 10), 0, 0, 0, 0])
+        rad, tf = rng.uniform(30, 45), float(rng.choice([600.0, 800.0, 1000.0]))
+        pb = RendezvousProblem(mu=MU, radius=R, mass=100.0, x0=x0, tf=tf, horizon=20, alpha=1.0, Qf=0.0,
+                               u_max=0.5, terminal_equality=True)
+        ref = keep_out_plan(pb, KeepOut.sphere(rad), xf=xf, solver="cvxpy", truth=False)
+        r = keep_out_plan(pb, KeepOut.sphere(rad), xf=xf, truth=False)
+        assert r.status == ref.status == "solved" and r.converged
+        assert r.iterations == ref.iterations
+        assert abs(r.fuel - ref.fuel) <= 1e-5 * ref.fuel
+        assert r.satisfied_nodes and r.node_rho[1:].min() >= 1.05 - 1e-6

@@ -16,7 +16,7 @@ def _run(args: argparse.Namespace) -> int:
     from ..papers import l1_admm_rendezvous_linear as rv
     from ..scenarios import l1_rendezvous as scen
 
-    extra = ("failures", "passive_safety", "min_time", "keep_out")
+    extra = ("failures", "passive_safety", "min_time", "keep_out", "constrained")
     if any(getattr(args, k, False) for k in extra):
         from ..scenarios import rendezvous
 
@@ -36,6 +36,8 @@ def _run(args: argparse.Namespace) -> int:
                 run_min_time(sc, case, out)
             if getattr(args, "keep_out", False):
                 run_keep_out(sc, case, out, getattr(args, "subproblem", "admm"))
+            if getattr(args, "constrained", False):
+                run_constrained(sc, case, out)
         return 0
 
     if getattr(args, "model", "linear") == "nonlinear":
@@ -51,6 +53,7 @@ def _run(args: argparse.Namespace) -> int:
         closed_loop = getattr(args, "closed_loop", False)
         return run_nonlinear(sc, cases, pathlib.Path(args.out), closed_loop=closed_loop)
     sc = scen._load(args.scenario, "scenario")
+    _note_state_constraints(args.scenario)
     closed_loop = getattr(args, "closed_loop", False)
     if closed_loop:  # the same file's nonlinear start and [truth] model
         from .. import _plot
@@ -111,6 +114,21 @@ def _run(args: argparse.Namespace) -> int:
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=str))
     print(f"plots and summary.json written to {out}")
     return 0
+
+
+def _note_state_constraints(path) -> None:
+    """One line when the file has state-constraint sections, which only ``--constrained`` plans with:
+    the cases below are planned without them (never silently)."""
+    if path is None:
+        return
+    from ..scenarios import rendezvous
+
+    secs = rendezvous.load(path, "scenario").sections
+    named = [f"[[{k}]]" if k == "half_spaces" else f"[{k}]"
+             for k in rendezvous.CONSTRAINT_SECTIONS if secs.get(k)]
+    if named:
+        print(f"note: the scenario's {', '.join(named)} apply with --constrained; the cases below are "
+              "planned without them")
 
 
 def _truth_title(sc) -> str:
@@ -321,6 +339,33 @@ def run_keep_out(sc, case: str, out: pathlib.Path, subproblem: str = "admm") -> 
     return 0
 
 
+def run_constrained(sc, case: str, out: pathlib.Path) -> int:
+    """The fuel-optimal plan of ``case`` under the scenario's state constraints (``[approach_cone]``,
+    ``[state_box]``, ``[closing_velocity]``, ``[[half_spaces]]``; :func:`satgnc.guidance.constrained.
+    constrained_plan`) with the ``[[thrusters]]`` layout or the case's box, to the target exactly; the
+    violation re-checked at the nodes, the plan flown open loop on the ``[truth]``; writes
+    ``constrained_<case>.json``."""
+    from ..scenarios import rendezvous
+    from .constrained import constrained_plan
+
+    kw = rendezvous.state_constraints(sc)
+    if not kw:
+        raise ValueError(f"--constrained: the scenario {sc.path} has no [approach_cone], [state_box], "
+                         "[closing_velocity] or [[half_spaces]]")
+    pb = rendezvous.problem(sc, case, "linear")
+    r = constrained_plan(pb, layout=rendezvous.thruster_layout(sc), truth=rendezvous.truth_params(sc), **kw)
+    d = {"status": r.status, "iterations": r.iterations, "fuel_Ns": r.fuel, "dv_mps": r.fuel / pb.mass,
+         "violation": r.violation, "max_violation": r.max_violation,
+         "violation_tolerance": r.violation_tolerance, "duality_gap": r.duality_gap,
+         "truth_miss_m": r.truth_miss, "solve_time_s": r.solve_time}
+    (out / f"constrained_{case}.json").write_text(json.dumps(d, indent=2, default=float))
+    worst = max(r.violation.values())
+    print(f"{case}: constrained plan ({', '.join(r.violation)}) {r.status} in {r.iterations} iterations, "
+          f"fuel {r.fuel:.4g} N s (dv {r.fuel / pb.mass:.4g} m/s); largest violation at the nodes "
+          f"{worst:.3g} (tolerance {r.violation_tolerance:.3g}); miss on the truth {r.truth_miss:.3g} m")
+    return 0
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser("rendezvous",
                               help="fuel-optimal L1 rendezvous guidance (ADMM) for a scenario file")
@@ -347,6 +392,10 @@ def register(subparsers) -> None:
     p.add_argument("--keep-out", action="store_true",
                    help="fuel-optimal plan to [keep_out] hold_point outside the keep-out zone (SCP with "
                         "supporting half-spaces), checked at the nodes and between them on the [truth]")
+    p.add_argument("--constrained", action="store_true",
+                   help="fuel-optimal plan under the scenario's [approach_cone], [state_box], "
+                        "[closing_velocity] and [[half_spaces]] (state-constrained ADMM), re-checked at the "
+                        "nodes and flown on the [truth]")
     p.add_argument("--subproblem", choices=["admm", "cvxpy"], default="admm",
                    help="--keep-out's convex subproblem solver (cvxpy: cvxpy + Clarabel, the reference)")
     p.set_defaults(func=_run)

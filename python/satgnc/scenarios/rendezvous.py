@@ -42,7 +42,13 @@ Issue 16 (all optional; a file without them reads as before):
 * ``[passive_safety]`` ``drift_time`` (s, > 0), ``samples`` (default 100): the free drift checked from
   each node (:func:`satgnc.guidance.safety.passive_safety`);
 * ``[failures]`` ``pairs`` (default false): the thruster-loss table also loses every pair
-  (``satgnc rendezvous --failures``; needs ``[[thrusters]]``).
+  (``satgnc rendezvous --failures``; needs ``[[thrusters]]``);
+* state constraints (:func:`state_constraints`, ``satgnc rendezvous --constrained``), each with
+  ``nodes`` (integers in 1..knots-1) or ``from_node`` (from_node..knots-1), default every node:
+  ``[approach_cone]`` ``axis`` (CW frame), ``half_angle_deg`` (deg, in (0, 90)), ``apex_offset`` (m,
+  default 0); ``[state_box]`` ``lower`` / ``upper`` (6 numbers, m and m/s, ``-inf`` / ``inf`` for
+  none); ``[closing_velocity]`` ``axis``, ``intercept`` (m/s), ``slope`` (1/s), one entry per segment:
+  |a.v| <= min_i(intercept_i + slope_i a.p); ``[[half_spaces]]`` ``a`` (6 numbers), ``b``: a'x <= b.
 """
 
 from __future__ import annotations
@@ -64,7 +70,7 @@ from .._validate import (
 
 __all__ = [
     "RendezvousScenario", "load", "problem", "truth_params", "truth_force_model", "thruster_layout",
-    "keep_out", "DEFAULT",
+    "keep_out", "state_constraints", "DEFAULT",
 ]
 
 DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
@@ -139,6 +145,29 @@ THRUSTER = {
     "position": Key("vector", length=3, required=False, default=[0.0, 0.0, 0.0], unit="m"),
     "name": Key("string", required=False),
 }
+#: issue 16 item 1: the state-constraint sections (:func:`read_state_constraints`), CW frame, SI.
+#: Each also takes ``nodes`` (integers in 1..knots-1) or ``from_node`` (nodes from_node..knots-1);
+#: neither: every node 1..knots-1 (x_0 is given).
+APPROACH_CONE = {
+    "axis": Key("vector", length=3, nonzero=True, unit="docking axis, CW frame"),
+    "half_angle_deg": Key("number", positive=True, high=89.999999, unit="deg"),
+    "apex_offset": Key("number", required=False, default=0.0, unit="m"),
+}
+STATE_BOX = {
+    "lower": Key("vector", length=6, required=False, finite=False, unit="m, m/s; -inf: no bound"),
+    "upper": Key("vector", length=6, required=False, finite=False, unit="m, m/s; inf: no bound"),
+}
+CLOSING_VELOCITY = {
+    "axis": Key("vector", length=3, nonzero=True, unit="range axis, CW frame"),
+    "intercept": Key("vector", unit="m/s, one per segment"),
+    "slope": Key("vector", unit="1/s, one per segment"),
+}
+HALF_SPACE = {
+    "a": Key("vector", length=6, nonzero=True, unit="row on [position m, velocity m/s]"),
+    "b": Key("number", unit="units of a'x"),
+}
+CONSTRAINT_SECTIONS = {"approach_cone": APPROACH_CONE, "state_box": STATE_BOX,
+                       "closing_velocity": CLOSING_VELOCITY, "half_spaces": HALF_SPACE}
 CASE = {
     "rho": Key("number", positive=True),
     "eps": Key("number", positive=True),
@@ -158,7 +187,7 @@ def read(path, name: str = "path"):
     ``"nonlinear"`` entry is its checked ``[cases.<name>.nonlinear]`` table or None; an absent
     ``[release]`` is None. ``name`` is the caller's argument in errors about the path itself."""
     p, text, d = load_toml(path, name)
-    known = [*_TOP, *SECTIONS, "cases", "thrusters"]
+    known = [*_TOP, *SECTIONS, "cases", "thrusters", *CONSTRAINT_SECTIONS]
     for key, value in d.items():
         if key not in known:
             what = "section" if isinstance(value, dict) else "key"
@@ -185,6 +214,7 @@ def read(path, name: str = "path"):
         secs[sec] = check_toml_table(d[sec], schema, sec, p, text)
     secs["thrusters"] = read_thrusters(d.get("thrusters"), p, text)
     secs["truth"]["force_model"] = read_truth_force_model(d.get("truth"), secs, p, text)
+    secs.update(read_state_constraints(d, p, text, secs["horizon"]["knots"] - 1))
     cases_raw = d.get("cases")
     if cases_raw is None:
         raise FileFormatError(
@@ -456,3 +486,115 @@ def keep_out(sc: RendezvousScenario):
 
     k = sc.sections.get("keep_out")
     return None if k is None else KeepOut(np.array(k["center"]), np.array(k["semi_axes"]))
+
+
+def _constraint_nodes(t: dict, section: str, p, text: str, horizon: int, line) -> tuple[dict, list[int]]:
+    """Pop ``nodes`` / ``from_node`` from one state-constraint table: (the rest, the node list)."""
+    t = dict(t)
+    nodes, start = t.pop("nodes", None), t.pop("from_node", None)
+
+    def fail(key: str, rule: str) -> None:
+        raise FileFormatError(p, line(key), f"key '{key}' in section [{section}]: {rule}", key=key)
+
+    if nodes is not None and start is not None:
+        fail("from_node", "give nodes or from_node, not both")
+    if start is not None:
+        if isinstance(start, bool) or not isinstance(start, int):
+            fail("from_node", f"expected an integer, got {start!r}")
+        if not 1 <= start <= horizon:
+            fail("from_node", f"must be in 1..{horizon} (knots - 1; x_0 is given), got {start}")
+        return t, list(range(start, horizon + 1))
+    if nodes is None:
+        return t, list(range(1, horizon + 1))
+    if not isinstance(nodes, list) or not nodes or any(isinstance(k, bool) or not isinstance(k, int)
+                                                        for k in nodes):
+        fail("nodes", f"expected a non-empty array of integers, got {nodes!r}")
+    bad = [k for k in nodes if not 1 <= k <= horizon]
+    if bad:
+        fail("nodes", f"nodes must be in 1..{horizon} (knots - 1; x_0 is given), got {bad[0]}")
+    if len(set(nodes)) != len(nodes):
+        fail("nodes", "a node repeats")
+    return t, sorted(nodes)
+
+
+def read_state_constraints(d: dict, p, text: str, horizon: int) -> dict:
+    """The checked state-constraint sections (issue 16 item 1) of a parsed scenario: ``approach_cone``,
+    ``state_box``, ``closing_velocity`` (tables) and ``half_spaces`` (array of tables), each None when
+    absent, else its keys plus ``nodes`` (list). Strict as the rest of the file: an unknown key, a
+    wrong type or a value out of range is a :class:`FileFormatError` naming file, line and key."""
+    out: dict = {}
+    for sec, schema in CONSTRAINT_SECTIONS.items():
+        raw = d.get(sec)
+        if raw is None:
+            out[sec] = None
+            continue
+        many = sec == "half_spaces"
+        if many != isinstance(raw, list):
+            shape = f"an array of tables [[{sec}]]" if many else f"a table [{sec}]"
+            raise FileFormatError(p, toml_line(text, sec) or toml_line(text, "", sec),
+                                  f"{sec}: must be {shape}", key=sec)
+        tables = raw if many else [raw]
+        rows = []
+        for i, t in enumerate(tables):
+            if not isinstance(t, dict):
+                shape = "an array of tables" if many else "a table"
+                raise FileFormatError(p, toml_line(text, "", sec), f"{sec}: must be {shape}", key=sec)
+
+            def line(key: str, i=i, sec=sec, many=many) -> int | None:
+                return _nth_table_line(text, sec, i, key) if many else toml_line(text, sec, key)
+
+            rest, nodes = _constraint_nodes(t, sec, p, text, horizon, line)
+            row = check_toml_table(rest, schema, sec, p, text)
+            where = f"[[{sec}]] number {i + 1}" if many else f"[{sec}]"
+
+            def fail(key: str, rule: str, where=where, line=line) -> None:
+                raise FileFormatError(p, line(key), f"key '{key}' in {where}: {rule}", key=key)
+
+            if sec == "state_box":
+                if row["lower"] is None and row["upper"] is None:
+                    raise FileFormatError(p, toml_line(text, sec), "[state_box]: give lower, upper or both",
+                                          key="state_box")
+                lo = np.full(6, -np.inf) if row["lower"] is None else np.array(row["lower"])
+                hi = np.full(6, np.inf) if row["upper"] is None else np.array(row["upper"])
+                if np.any(lo > hi):
+                    j = int(np.argmax(lo > hi))
+                    fail("lower", f"must be <= upper, entry {j}: {lo[j]} > {hi[j]}")
+                if np.any(lo == np.inf) or np.any(hi == -np.inf):
+                    fail("lower" if np.any(lo == np.inf) else "upper", "a bound of +inf below or -inf above "
+                         "admits no state")
+                row["lower"], row["upper"] = lo.tolist(), hi.tolist()
+            if sec == "closing_velocity":
+                if not row["intercept"]:
+                    fail("intercept", "must hold at least one segment")
+                if len(row["intercept"]) != len(row["slope"]):
+                    fail("slope", f"must have one entry per segment, as intercept ({len(row['slope'])} vs "
+                         f"{len(row['intercept'])})")
+            row["nodes"] = nodes
+            rows.append(row)
+        out[sec] = rows if many else rows[0]
+    return out
+
+
+def state_constraints(sc: RendezvousScenario) -> dict:
+    """The scenario's state constraints as keyword arguments of :class:`satgnc.guidance.L1Solver`
+    (``half_spaces``, ``state_lower`` / ``state_upper`` / ``state_box_nodes``, ``approach_cone``,
+    ``closing_velocity``; units m, m/s on the CW state [position, velocity]); empty without any."""
+    s, kw = sc.sections, {}
+    hs = s.get("half_spaces")
+    if hs:
+        nodes = [k for h in hs for k in h["nodes"]]
+        kw["half_spaces"] = {"nodes": nodes, "a": np.array([h["a"] for h in hs for _ in h["nodes"]]),
+                             "b": np.array([h["b"] for h in hs for _ in h["nodes"]])}
+    box = s.get("state_box")
+    if box:
+        kw.update(state_lower=np.array(box["lower"]), state_upper=np.array(box["upper"]),
+                  state_box_nodes=box["nodes"])
+    cone = s.get("approach_cone")
+    if cone:
+        kw["approach_cone"] = {"nodes": cone["nodes"], "axis": np.array(cone["axis"]),
+                               "half_angle_deg": cone["half_angle_deg"], "apex_offset": cone["apex_offset"]}
+    cv = s.get("closing_velocity")
+    if cv:
+        kw["closing_velocity"] = {"nodes": cv["nodes"], "axis": np.array(cv["axis"]),
+                                  "intercept": np.array(cv["intercept"]), "slope": np.array(cv["slope"])}
+    return kw
