@@ -159,6 +159,18 @@ def propagate_ensemble(
     ValueError, TypeError
         Naming the argument: ``states`` not of shape (K, 6), K = 0, non-finite rows; bad ``times``;
         ``threads`` not an int in 1..256; non-positive tolerances; an invalid force model.
+
+    Examples
+    --------
+    Three LEO states, 10 min ahead, two threads:
+
+    >>> import numpy as np
+    >>> import satgnc
+    >>> X = np.array([satgnc.elements_to_state(a, 0.001, 51.6, 0.0, 0.0, 0.0)
+    ...               for a in (6800.0, 7000.0, 7200.0)])
+    >>> r = satgnc.propagation.propagate_ensemble(X, [0.0, 600.0], threads=2)
+    >>> r.states.shape, bool(r.success.all())
+    ((3, 2, 6), True)
     """
     from .propagation import DEFAULT_ATOL, DEFAULT_RTOL, _force_model  # circular at import time
 

@@ -70,7 +70,20 @@ class PropagationError(RuntimeError):
 
 
 def available_methods() -> list[str]:
-    """Methods this build provides (``kepler`` and ``dop853`` come with the analytic bindings)."""
+    """The integration methods this build provides.
+
+    Returns
+    -------
+    list of str
+        ``"adams"`` and ``"bdf"`` (CVODES), and ``"dop853"`` and ``"kepler"`` when the analytic
+        bindings are built; any of them is a ``method`` of :func:`propagate` (orbits in km, km/s, s).
+
+    Examples
+    --------
+    >>> import satgnc
+    >>> "dop853" in satgnc.propagation.available_methods()
+    True
+    """
     out = list(_CVODES)
     if hasattr(_satgnc, "propagate_dop853"):
         out.append("dop853")
@@ -116,6 +129,13 @@ def elements_to_state(a: float, e: float, i: float, raan: float, argp: float, nu
         An argument is not a real number.
     ValueError
         ``a`` or ``mu`` not finite and > 0, ``e`` outside ``[0, 1)``, an angle not finite.
+
+    Examples
+    --------
+    >>> import satgnc
+    >>> x = satgnc.elements_to_state(7000.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    >>> x.round(6).tolist()
+    [7000.0, 0.0, 0.0, 0.0, 7.546053, 0.0]
     """
     a = as_real(a, "a", positive=True)
     e = as_real(e, "e", nonnegative=True)
@@ -198,7 +218,8 @@ def propagate(
     Parameters
     ----------
     x0 : array_like, shape (6,)
-        Initial state ``[r km, v km/s]`` at ``t0``; finite, ``|r| > 0``.
+        Initial state ``[r km, v km/s]`` at ``t0`` in an inertial frame (e.g. GCRF; the outputs are
+        in the same frame); finite, ``|r| > 0``.
     times : array_like, shape (n,)
         Output times (s), strictly monotone in one direction (forward or backward) and on one side of
         ``t0``. A time equal to ``t0`` returns ``x0`` and the identity STM.
@@ -250,6 +271,19 @@ def propagate(
     PropagationError
         The integrator stopped early (or the orbit hit the surface: ``status == "impact"``); the
         message says the time reached and why, and ``err.trajectory`` holds the outputs reached.
+
+    Examples
+    --------
+    One revolution of a circular orbit with J2 and the STM:
+
+    >>> import math
+    >>> import numpy as np
+    >>> import satgnc
+    >>> x0 = satgnc.elements_to_state(7000.0, 0.001, 51.6, 0.0, 0.0, 0.0)
+    >>> period = 2 * math.pi * math.sqrt(7000.0**3 / satgnc.EARTH_MU)
+    >>> tr = satgnc.propagate(x0, [0.0, period], forces=satgnc.J2Gravity())
+    >>> tr.states.shape, tr.stms.shape, tr.status
+    ((2, 6), (2, 6, 6), 'success')
     """
     x = as_float_array(x0, "x0")
     if x.shape != (6,):

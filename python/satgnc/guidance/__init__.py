@@ -50,25 +50,113 @@ def _array(value: Any, name: str, ndim: int | tuple[int, ...], shape: tuple[int,
 
 
 def cw_matrices(n: float, mass: float) -> tuple[np.ndarray, np.ndarray]:
-    """Continuous Clohessy-Wiltshire A (6x6), B (6x3) in guidance's CW frame (:data:`CW_FRAME`: y radial,
-    z orbit normal, x = y cross z = minus along-track), state [x y z vx vy vz] (m, m/s).
-    ``n`` mean motion (rad/s, > 0), ``mass`` chaser mass (kg, > 0); the input u is a force (N).
+    """Continuous Clohessy-Wiltshire matrices in guidance's CW frame.
+
+    The frame is :data:`CW_FRAME` (y radial, z orbit normal, x = y cross z = minus along-track);
     :func:`cw_to_hill` / :func:`hill_to_cw` convert to and from the Hill frame of
-    :func:`satgnc.analysis.cw_model` (x radial, y along-track)."""
+    :func:`satgnc.analysis.cw_model` (x radial, y along-track).
+
+    Parameters
+    ----------
+    n : float
+        Mean motion of the target's circular orbit (rad/s, > 0).
+    mass : float
+        Chaser mass (kg, > 0); the input u is a force (N).
+
+    Returns
+    -------
+    A : numpy.ndarray
+        (6, 6), state [x y z vx vy vz] (m, m/s).
+    B : numpy.ndarray
+        (6, 3), (m/s^2) per N.
+
+    Raises
+    ------
+    ValueError
+        ``n`` or ``mass`` not finite and > 0.
+
+    Examples
+    --------
+    >>> from satgnc import guidance
+    >>> A, B = guidance.cw_matrices(0.0011, 12.0)
+    >>> A.shape, B.shape, round(float(B[3, 0]), 6)
+    ((6, 6), (6, 3), 0.083333)
+    """
     return _satgnc.cw_matrices(as_real(n, "n", positive=True), as_real(mass, "mass", positive=True))
 
 
 def cw_stm(n: float, t: float) -> np.ndarray:
-    """Analytic CW state transition matrix over ``t`` seconds (finite, any sign) (6x6) in guidance's CW
-    frame (:data:`CW_FRAME`; state m, m/s), ``n`` mean motion rad/s > 0."""
+    """Analytic CW state transition matrix in guidance's CW frame (:data:`CW_FRAME`).
+
+    Parameters
+    ----------
+    n : float
+        Mean motion (rad/s, > 0).
+    t : float
+        Elapsed time (s; finite, any sign).
+
+    Returns
+    -------
+    numpy.ndarray
+        (6, 6) map of the state [x y z vx vy vz] (m, m/s) over ``t``.
+
+    Raises
+    ------
+    ValueError
+        ``n`` not finite and > 0, or ``t`` not finite.
+
+    Examples
+    --------
+    A whole orbit brings a radial offset back (x is minus along-track, y radial):
+
+    >>> import math
+    >>> import numpy as np
+    >>> from satgnc import guidance
+    >>> n = 0.0011
+    >>> Phi = guidance.cw_stm(n, 2 * math.pi / n)
+    >>> bool(np.allclose(Phi @ [0, 0, 0, 0, 0, 1.0], [0, 0, 0, 0, 0, 1.0], atol=1e-9))
+    True
+    """
     return _satgnc.cw_stm(as_real(n, "n", positive=True), as_real(t, "t"))
 
 
 def cw_discretize(n: float, mass: float, dt: float, method: str = "zoh") -> tuple[np.ndarray, np.ndarray]:
-    """Discrete CW (Ad 6x6, Bd 6x3) over ``dt`` s (> 0): ``"zoh"`` (analytic STM and input integral),
-    ``"expm"`` (Van Loan matrix exponential) or ``"midpoint"`` (the published implementation's), in
-    guidance's CW frame (:data:`CW_FRAME`: y radial, z normal, x = minus along-track; state m, m/s).
-    ``n`` mean motion rad/s > 0, ``mass`` kg > 0; the input is a force (N) held over each interval."""
+    """Discrete CW pair in guidance's CW frame (:data:`CW_FRAME`: y radial, z normal, x = minus
+    along-track).
+
+    Parameters
+    ----------
+    n : float
+        Mean motion (rad/s, > 0).
+    mass : float
+        Chaser mass (kg, > 0).
+    dt : float
+        Interval (s, > 0); the input is a force (N) held over each interval.
+    method : {"zoh", "expm", "midpoint"}, optional
+        "zoh" (analytic STM and input integral, default), "expm" (Van Loan matrix exponential) or
+        "midpoint" (the published implementation's).
+
+    Returns
+    -------
+    Ad : numpy.ndarray
+        (6, 6), state [x y z vx vy vz] (m, m/s).
+    Bd : numpy.ndarray
+        (6, 3), per N.
+
+    Raises
+    ------
+    ValueError
+        Non-positive or non-finite ``n``, ``mass``, ``dt``; an unknown method.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from satgnc import guidance
+    >>> Ad, Bd = guidance.cw_discretize(0.0011, 12.0, 50.0)
+    >>> Ad2, Bd2 = guidance.cw_discretize(0.0011, 12.0, 50.0, "expm")
+    >>> bool(np.allclose(Bd, Bd2, rtol=1e-10, atol=1e-14))
+    True
+    """
     method = one_of(method, "method", ("zoh", "expm", "midpoint"))
     return _satgnc.cw_discretize(as_real(n, "n", positive=True), as_real(mass, "mass", positive=True),
                                  as_real(dt, "dt", positive=True), method)
@@ -81,9 +169,30 @@ _TO_HILL = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # Hil
 
 
 def cw_to_hill(x: Any) -> np.ndarray:
-    """A state [x y z vx vy vz] (m, m/s; or several, shape (..., 6)) from guidance's CW frame
-    (:data:`CW_FRAME`) to the Hill frame of :func:`satgnc.analysis.cw_model` (x radial, y along-track,
-    z normal): radial = y, along-track = -x, normal = z."""
+    """A state from guidance's CW frame (:data:`CW_FRAME`) to the Hill frame of
+    :func:`satgnc.analysis.cw_model` (x radial, y along-track, z normal).
+
+    Parameters
+    ----------
+    x : array_like
+        State(s) [x y z vx vy vz] (m, m/s), shape (6,) or (..., 6), CW frame.
+
+    Returns
+    -------
+    numpy.ndarray
+        The same shape, Hill frame: radial = y, along-track = -x, normal = z.
+
+    Raises
+    ------
+    ValueError
+        A last axis that is not 6, non-finite values.
+
+    Examples
+    --------
+    >>> from satgnc import guidance
+    >>> guidance.cw_to_hill([-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05]).tolist()
+    [200.0, 1500.0, 50.0, 0.0, -0.3, -0.05]
+    """
     a = as_real_array(x, "x")
     if a.shape[-1:] != (6,):
         raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
@@ -94,8 +203,29 @@ def cw_to_hill(x: Any) -> np.ndarray:
 
 
 def hill_to_cw(x: Any) -> np.ndarray:
-    """The inverse of :func:`cw_to_hill`: a Hill-frame state (x radial, y along-track, z normal; m, m/s)
-    to guidance's CW frame (:data:`CW_FRAME`)."""
+    """The inverse of :func:`cw_to_hill`: Hill frame to guidance's CW frame (:data:`CW_FRAME`).
+
+    Parameters
+    ----------
+    x : array_like
+        Hill-frame state(s) (x radial, y along-track, z normal; m, m/s), shape (6,) or (..., 6).
+
+    Returns
+    -------
+    numpy.ndarray
+        The same shape, CW frame (y radial, x = minus along-track).
+
+    Raises
+    ------
+    ValueError
+        A last axis that is not 6, non-finite values.
+
+    Examples
+    --------
+    >>> from satgnc import guidance
+    >>> guidance.hill_to_cw([200.0, 1500.0, 50.0, 0.0, -0.3, -0.05]).tolist()
+    [-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05]
+    """
     a = as_real_array(x, "x")
     if a.shape[-1:] != (6,):
         raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
@@ -462,7 +592,49 @@ class L1Solver:
 
 
 def solve_l1(A, B, x0, **kwargs) -> L1Result:
-    """One-shot :class:`L1Solver` set-up and solve (same arguments)."""
+    """One-shot :class:`L1Solver` set-up and solve: min alpha sum |u_k|_1 (+ terminal cost) subject to
+    x_{k+1} = A x_k + B u_k (+ c_k).
+
+    Parameters
+    ----------
+    A : array_like
+        (nx, nx) or (N, nx, nx) per step (units of the user's state, e.g. m, m/s).
+    B : array_like
+        (nx, nu) or (N, nx, nu) (state units per input unit, e.g. per N).
+    x0 : array_like
+        (nx,) initial state, in the frame of A and B (for rendezvous, guidance's CW frame
+        :data:`CW_FRAME`, m and m/s).
+    **kwargs
+        The keywords of :class:`L1Solver`: ``horizon`` N, ``xf``, ``Qf``, ``Q``, ``R``,
+        ``l1_weights``, ``u_lower`` / ``u_upper`` (input units, e.g. N), ``terminal_equality``,
+        ``settings`` (:class:`AdmmSettings`), state constraints, ...
+
+    Returns
+    -------
+    L1Result
+        ``status`` (``"solved"`` only when the residual tests and the duality gap hold), ``U`` (N, nu),
+        ``X`` (N+1, nx) time-major, objective, residuals and certificates.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: wrong shapes, non-finite entries, a negative weight, lower > upper.
+    TypeError
+        Unknown keywords or non-numeric arrays.
+
+    Examples
+    --------
+    A double integrator (m, m/s; u in m/s^2) brought to rest at the origin in 20 steps:
+
+    >>> import numpy as np
+    >>> from satgnc import guidance
+    >>> A = np.array([[1.0, 1.0], [0.0, 1.0]])
+    >>> B = np.array([[0.5], [1.0]])
+    >>> r = guidance.solve_l1(A, B, [10.0, 0.0], horizon=20, terminal_equality=True,
+    ...                       u_lower=[-1.0], u_upper=[1.0])
+    >>> r.status, r.U.shape, bool(np.linalg.norm(r.X[-1]) < 1e-4)
+    ('solved', (20, 1), True)
+    """
     return L1Solver(A, B, x0, **kwargs).solve()
 
 

@@ -137,13 +137,51 @@ def fly_core(
 
 
 def fly(params, x0, U, dt: float, substeps: int = 60, integrator: str = "cvodes") -> Flight:
-    """Propagate the 12-state ``x0`` (m, m/s, ECI) under the piecewise-constant forces ``U`` (N, 3;
-    newtons, target's CW frame), each held ``dt`` s, on the truth model ``params``
-    (``TwoSatelliteParams``, see :func:`satellite_params`). ``integrator``: ``"cvodes"`` (re-initialised
-    at each interval, rtol 1e-11) or ``"rk4"`` (``substeps`` fixed steps per interval). Returns a
-    :class:`Flight`. A start at or below the Earth's surface (radius ``params.j2_radius``) is a
-    ValueError naming ``x0``; reaching it is a :class:`satgnc.PropagationError` with
-    ``status == "impact"``, ``t_reached`` (s) and ``states`` (k, 12)."""
+    """Fly piecewise-constant forces open loop on the two-satellite truth model.
+
+    Parameters
+    ----------
+    params : TwoSatelliteParams
+        The truth model (see :func:`satellite_params`; SI).
+    x0 : array_like
+        The 12-state ``[r_t - r_c, r_t, v_t - v_c, v_t]`` (m, m/s, ECI).
+    U : array_like
+        (N, 3) forces (N, target's CW frame), each held ``dt``.
+    dt : float
+        Interval (s, > 0).
+    substeps : int, optional
+        RK4 steps per interval (default 60; ``integrator="rk4"`` only).
+    integrator : {"cvodes", "rk4"}, optional
+        "cvodes" (re-initialised at each interval, rtol 1e-11; default) or "rk4".
+
+    Returns
+    -------
+    Flight
+        ``t`` (N+1,) s, ``X`` (N+1, 12) m, m/s ECI, ``U``, ``miss`` (position m, velocity m/s).
+
+    Raises
+    ------
+    ValueError
+        Wrong shapes, a start at or below the Earth's surface (radius ``params.j2_radius``) naming
+        ``x0``.
+    TypeError
+        ``params`` of another type.
+    satgnc.PropagationError
+        Reaching the surface: ``status == "impact"``, ``t_reached`` (s) and ``states`` (k, 12).
+
+    Examples
+    --------
+    >>> from satgnc import guidance
+    >>> pb = guidance.RendezvousProblem(mu=3.986004418e14, radius=6878.137e3, mass=12.0,
+    ...                                 x0=[-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05], tf=3000.0,
+    ...                                 horizon=30, alpha=1.0, Qf=1000.0, u_max=0.02,
+    ...                                 terminal_equality=True)
+    >>> p = guidance.plan(pb)  # on the CW model
+    >>> two_body = guidance.satellite_params(pb.mu, j2=False, drag=False, mass=pb.mass)
+    >>> f = guidance.fly(two_body, pb.state_eci(), p.U, p.dt)  # the CW plan on the nonlinear truth
+    >>> f.X.shape, bool(f.miss[0] < 10.0)
+    ((31, 12), True)
+    """
     if not isinstance(params, _c.TwoSatelliteParams):
         raise TypeError(
             f"params: must be TwoSatelliteParams (see satellite_params()), got {type(params).__name__}"
@@ -284,16 +322,70 @@ def mpc(
 
     The first plan is solved to convergence (iLQR-ADMM, residual rule, adaptive rho; not timed). Then
     every ``replan_every`` intervals -- every interval once at most ``endgame`` remain -- the remaining
-    horizon is re-planned from the measured truth state with at most ``max_iter`` warm-started
-    iLQR-ADMM iterations (``max_iter * N / remaining`` capped at ``max_iter_cap`` with
-    ``scale_iterations``), and the sparse plan is flown on the truth. The terminal weight is
-    ``qf_scale`` times the problem's. ``truth`` and ``planner`` are ``TwoSatelliteParams`` (truth default:
-    J2 and drag on, co-rotating atmosphere, the problem's ``mu`` and ``mass``; planner default: the
-    truth's); the planner's map is
-    ``discretization`` (default: the problem's nonlinear one); the truth is integrated by ``integrator``
-    (``"cvodes"`` or ``"rk4"`` at dt / ``substeps``). Returns an :class:`MpcRun` (time-major, SI). A
-    body reaching the Earth's surface raises :class:`satgnc.PropagationError` (``status == "impact"``,
-    ``t_reached``, ``states`` (k, 12))."""
+    horizon is re-planned from the measured truth state with warm-started iLQR-ADMM iterations, and the
+    sparse plan is flown on the truth.
+
+    Parameters
+    ----------
+    problem : RendezvousProblem
+        The rendezvous (SI: m, m/s, N, kg, s; CW frame :data:`satgnc.guidance.CW_FRAME`).
+    truth : TwoSatelliteParams, optional
+        Default: J2 and drag on, co-rotating atmosphere, the problem's ``mu`` and ``mass``.
+    planner : TwoSatelliteParams, optional
+        The planning model (default: the truth's).
+    replan_every : int, optional
+        Intervals between re-plans (default 3).
+    substeps : int, optional
+        RK4 steps per interval of the truth (``integrator="rk4"``; default 20).
+    max_iter : int, optional
+        iLQR-ADMM iterations per re-plan (default 10; scaled by N / remaining with
+        ``scale_iterations``, capped at ``max_iter_cap``).
+    min_horizon : int, optional
+        Shortest re-planned horizon (intervals; default 1).
+    qf_scale : float, optional
+        Terminal weight = ``qf_scale`` times the problem's (default 1e4).
+    rho : float, optional
+        ADMM penalty (scaled units; default 1).
+    first_max_iter : int, optional
+        Iterations of the first plan (default 2000).
+    integrator : {"cvodes", "rk4"}, optional
+        The truth's integrator (default "cvodes").
+    discretization : str, optional
+        The planner's map (default: the problem's nonlinear one).
+    endgame : int, optional
+        Re-plan every interval once at most this many remain (default 0).
+    scale_iterations : bool, optional
+        Scale ``max_iter`` by N / remaining (default True).
+    max_iter_cap : int, optional
+        Cap of the scaled iterations (default 120).
+
+    Returns
+    -------
+    MpcRun
+        ``X`` (N+1, 12) truth states (m, m/s, ECI), ``U`` (N, 3) forces (N), ``solve_times`` (s),
+        ``iterations`` per re-plan, ``miss`` (m, m/s).
+
+    Raises
+    ------
+    ValueError
+        Bad settings, naming the argument.
+    TypeError
+        ``truth`` or ``planner`` of another type.
+    satgnc.PropagationError
+        A body reaching the Earth's surface (``status == "impact"``, ``t_reached``, ``states``).
+
+    Examples
+    --------
+    >>> from satgnc import guidance
+    >>> pb = guidance.RendezvousProblem(mu=3.986004418e14, radius=6878.137e3, mass=12.0,
+    ...                                 x0=[-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05], tf=3000.0,
+    ...                                 horizon=30, alpha=1.0, Qf=1000.0, u_max=0.02,
+    ...                                 terminal_equality=True)
+    >>> run = guidance.mpc(pb, truth=guidance.satellite_params(pb.mu, j2=True, drag=False, mass=12.0),
+    ...                    replan_every=5)
+    >>> run.U.shape, bool(run.miss[0] < 5.0)
+    ((30, 3), True)
+    """
     tr = transcribe(problem)
     default = satellite_params(problem.mu, j2=True, drag=True, atmosphere="co_rotating", mass=problem.mass)
     for name, p in (("truth", truth), ("planner", planner)):

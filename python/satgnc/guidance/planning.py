@@ -335,19 +335,48 @@ def solve_linear_cw(tr, mu: float, mass: float, eps: float = 1e-9, discretizatio
 
 # ------------------------------------------------------------------------------------------- plan
 def plan(problem: RendezvousProblem, model: str = "linear", method: str | None = None, **options) -> Plan:
-    """Plan ``problem`` on ``model`` (``"linear"``: CW, ``"nonlinear"``: two-satellite) with ``method``
-    (see :data:`METHODS`; default the first):
+    """Plan a fuel-optimal rendezvous on the linear (CW) or the nonlinear (two-satellite) model.
 
-    * linear ``"admm"``: the CW optimum by satgnc's ADMM; options ``eps`` (1e-9) and ``discretization``
-      (default ``problem.linear_discretization``);
-    * nonlinear ``"scp"``: sequential convex programming to the optimum of the transcription; options
-      of :func:`solve_scp` (``tol``, ``eps``, ``max_outer``, ``inner``, ``max_inner``, ``globalization``,
-      ``time_limit``, ``U0`` (N, 3) newtons);
-    * nonlinear ``"ilqr_admm"``: iLQR-ADMM; options ``rho`` (1.0), ``eps`` (1e-6), ``stop``
-      (``"residual"`` or ``"paper"``), ``max_iter`` (300), ``ilqr_iters`` (1).
+    Parameters
+    ----------
+    problem : RendezvousProblem
+        The rendezvous (SI: m, m/s, N, kg, s; target's CW frame, :data:`satgnc.guidance.CW_FRAME`).
+    model : {"linear", "nonlinear"}, optional
+        "linear": CW (default); "nonlinear": the two-satellite model (``problem.planner``).
+    method : str, optional
+        See :data:`METHODS` (default the first of the model): linear "admm"; nonlinear "scp"
+        (sequential convex programming to the optimum of the transcription) or "ilqr_admm".
+    **options
+        "admm": ``eps`` (1e-9) and ``discretization`` (default ``problem.linear_discretization``);
+        "scp": the options of :func:`solve_scp` (``tol``, ``eps``, ``max_outer``, ``inner``,
+        ``max_inner``, ``globalization``, ``time_limit`` s, ``U0`` (N, 3) N); "ilqr_admm": ``rho``
+        (1.0), ``eps`` (1e-6), ``stop`` ("residual" or "paper"), ``max_iter`` (300), ``ilqr_iters`` (1).
 
-    Returns a :class:`Plan` (U (N, 3) N, X (N+1, 6 or 12) SI). The linear plan starts from the CW state
-    of the nonlinear start (``problem.x0`` unless ``problem.x0_eci`` is given)."""
+    Returns
+    -------
+    Plan
+        ``U`` (N, 3) forces (N, CW frame), ``X`` (N+1, 6 or 12; m, m/s), ``status``, ``iterations``,
+        ``objective``. The linear plan starts from the CW state of the nonlinear start
+        (``problem.x0`` unless ``problem.x0_eci`` is given).
+
+    Raises
+    ------
+    ValueError
+        An unknown model, method or discretization.
+    TypeError
+        ``problem`` of another type, an option the method does not take.
+
+    Examples
+    --------
+    >>> from satgnc import guidance
+    >>> pb = guidance.RendezvousProblem(mu=3.986004418e14, radius=6878.137e3, mass=12.0,
+    ...                                 x0=[-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05], tf=3000.0,
+    ...                                 horizon=30, alpha=1.0, Qf=1000.0, u_max=0.02,
+    ...                                 terminal_equality=True)
+    >>> p = guidance.plan(pb)
+    >>> p.status, p.U.shape, bool(abs(p.U).max() <= 0.02 + 1e-9)
+    ('solved', (30, 3), True)
+    """
     if not isinstance(problem, RendezvousProblem):
         raise TypeError(f"problem: must be a RendezvousProblem, got {type(problem).__name__}")
     model = one_of(model, "model", MODELS)

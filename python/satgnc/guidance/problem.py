@@ -44,11 +44,45 @@ def satellite_params(
     rho0: float | None = None,
     mass: float | None = None,
 ):
-    """``TwoSatelliteParams`` of the nonlinear model: gravitational parameter ``mu`` (m^3/s^2), J2 and
-    drag switches, the drag's ``atmosphere`` (one of :data:`ATMOSPHERES`), the optional density
-    scale ``rho0`` (kg/m^3) and the chaser's ``mass`` (kg; it turns the control force into an
-    acceleration); every other field keeps the engine's default (the l1 scenario's: target 4.6 kg,
-    0.01 m^2, Cd 1, the density model's 6731 km reference radius)."""
+    """``TwoSatelliteParams`` of the nonlinear (two-satellite) model.
+
+    Every field not given keeps the engine's default (the l1 scenario's: target 4.6 kg, 0.01 m^2,
+    Cd 1, the density model's 6731 km reference radius).
+
+    Parameters
+    ----------
+    mu : float
+        Gravitational parameter (m^3/s^2, > 0).
+    j2 : bool, optional
+        The Earth's J2 (default False).
+    drag : bool, optional
+        Differential drag (default True).
+    atmosphere : str, optional
+        The drag's atmosphere, one of :data:`ATMOSPHERES` (default "co_rotating").
+    rho0 : float, optional
+        Density scale (kg/m^3, >= 0).
+    mass : float, optional
+        The chaser's mass (kg, > 0); it turns the control force (N) into an acceleration.
+
+    Returns
+    -------
+    TwoSatelliteParams
+        The model (SI), for :func:`fly`, :func:`mpc` and ``RendezvousProblem(planner=...)``.
+
+    Raises
+    ------
+    ValueError
+        A non-positive ``mu`` or ``mass``, a negative ``rho0``, an unknown atmosphere.
+    TypeError
+        A switch that is not a bool.
+
+    Examples
+    --------
+    >>> from satgnc import guidance
+    >>> p = guidance.satellite_params(3.986004418e14, j2=True, drag=False, mass=12.0)
+    >>> p.j2_on, p.drag_on, p.mass_chaser
+    (True, False, 12.0)
+    """
     p = _c.TwoSatelliteParams()
     p.mu = as_real(mu, "mu", positive=True)
     if mass is not None:

@@ -221,11 +221,52 @@ def _failure_sets(m: int, pairs: bool, failures: Sequence[Sequence[int]] | None)
 def failure_table(problem: RendezvousProblem, layout: ThrusterLayout, *, pairs: bool = False,
                   failures: Sequence[Sequence[int]] | None = None, truth: Any = None,
                   fly_truth: bool = True, settings: Any = None) -> FailureTable:
-    """The thruster-loss table of ``problem`` flown with ``layout`` (module docstring): the nominal
-    layout, then the loss of each thruster, then (``pairs=True``) of each pair; or the nominal layout
-    and the index sets in ``failures``. ``truth``: ``TwoSatelliteParams`` of the flight (default:
-    J2 + drag with the problem's mu and mass, co-rotating atmosphere); ``fly_truth=False`` skips the
-    flights (miss NaN). ``settings``: the replans' AdmmSettings (dict)."""
+    """The thruster-loss table of ``problem`` flown with ``layout`` (module docstring).
+
+    Rows: the nominal layout, then the loss of each thruster, then (``pairs=True``) of each pair; or
+    the nominal layout and the index sets in ``failures``.
+
+    Parameters
+    ----------
+    problem : satgnc.guidance.RendezvousProblem
+        The rendezvous (SI: m, m/s, N, kg, s; CW frame).
+    layout : satgnc.guidance.thrusters.ThrusterLayout
+        Thruster directions (CW frame, unit-free) and max thrust (N).
+    pairs : bool, optional
+        Also every pair of losses (default False).
+    failures : sequence of sequence of int, optional
+        Index sets to lose instead of the single (and pair) losses.
+    truth : TwoSatelliteParams, optional
+        The flight's truth (default: J2 + drag with the problem's mu and mass, co-rotating atmosphere).
+    fly_truth : bool, optional
+        Fly each replan on the truth (default True; False: miss NaN).
+    settings : dict, optional
+        The replans' AdmmSettings.
+
+    Returns
+    -------
+    FailureTable
+        One row per layout: rank, verdict, distance to uncontrollability (unit-free, CW natural
+        units), sign check, replan status, fuel (N s), delta-v (m/s), truth miss (m).
+
+    Raises
+    ------
+    ValueError
+        An index set naming a thruster that does not exist.
+    TypeError
+        ``problem``, ``layout`` or ``truth`` of another type.
+
+    Examples
+    --------
+    >>> from satgnc import guidance, mission
+    >>> from satgnc.guidance.thrusters import axis_layout
+    >>> pb = guidance.RendezvousProblem(mu=3.986004418e14, radius=6878.137e3, mass=12.0,
+    ...                                 x0=[-500.0, 50.0, 10.0, 0.0, 0.0, 0.0], tf=3000.0, horizon=30,
+    ...                                 alpha=1.0, Qf=0.0, terminal_equality=True)
+    >>> t = mission.failure_table(pb, axis_layout(0.05, skip=["-z"]), fly_truth=False)
+    >>> [(r.failed, r.rank) for r in t.rows][:2]
+    [((), 6), (('+x',), 6)]
+    """
     from ..guidance.problem import satellite_params
 
     if not isinstance(problem, RendezvousProblem):

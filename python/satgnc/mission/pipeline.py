@@ -293,19 +293,96 @@ def _force_model(j2: bool, drag: bool, sc: _scen.MissionScenario) -> tuple[Force
 
 
 def truth_force_model(sc: _scen.MissionScenario) -> tuple[ForceModel, str]:
-    """The orbit-level truth (km, km/s, s): J2 and drag as ``[truth]`` says, and its description."""
+    """The orbit-level truth force model: J2 and drag as the scenario's ``[truth]`` says.
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+
+    Returns
+    -------
+    model : satgnc.ForceModel
+        Point mass (+ J2, + exponential drag); km, km/s, s.
+    description : str
+        E.g. "point mass + J2 + exponential drag".
+
+    Raises
+    ------
+    ValueError
+        A scenario whose stage cannot run (the message names the key or the argument).
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> fm, text = mission.truth_force_model(sc)
+    >>> text
+    'point mass + J2 + exponential drag'
+    """
     return _force_model(sc.truth_j2, sc.drag is not None, sc)
 
 
 def od_force_model(sc: _scen.MissionScenario) -> tuple[ForceModel, str]:
-    """The OD model: J2 and drag (the truth's atmosphere, known exactly) as ``[od]`` says."""
+    """The OD force model: J2 and drag (the truth's atmosphere, known exactly) as ``[od]`` says.
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+
+    Returns
+    -------
+    model : satgnc.ForceModel
+        km, km/s, s (point mass only with the Kepler propagator).
+    description : str
+        E.g. "point mass + J2".
+
+    Raises
+    ------
+    ValueError
+        A scenario whose stage cannot run (the message names the key or the argument).
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> fm, text = mission.od_force_model(sc)
+    >>> text.startswith('point mass')
+    True
+    """
     cvodes = sc.od_propagator == "cvodes"
     return _force_model(sc.od_j2 and cvodes, sc.od_drag and cvodes, sc)
 
 
 def truth_params(sc: _scen.MissionScenario) -> _c.TwoSatelliteParams:
-    """The two-satellite truth (SI) with the same mu, J2 and exponential atmosphere as the orbit truth:
-    rho0 exp(-(h - h0)/H) = rho0 e^(h0/H) exp(-h/H), h = |r| - Earth radius."""
+    """The two-satellite truth (SI) with the same mu, J2 and exponential atmosphere as the orbit truth.
+
+    rho0 exp(-(h - h0)/H) = rho0 e^(h0/H) exp(-h/H), h = |r| - Earth radius.
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+
+    Returns
+    -------
+    TwoSatelliteParams
+        mu (m^3/s^2), J2, density (kg/m^3) and decay (1/m), masses (kg), areas (m^2), Cd.
+
+    Raises
+    ------
+    ValueError
+        h0 / scale_height > 700 (the density scale overflows).
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> p = mission.truth_params(sc)
+    >>> p.j2_on, p.drag_on
+    (True, True)
+    """
     j2 = J2Gravity(mu=_MU_KM)
     p = _c.TwoSatelliteParams()
     p.mu = _MU_M
@@ -340,8 +417,36 @@ def _od_propagator(sc: _scen.MissionScenario):
 
 # ----------------------------------------------------------------------------- stages
 def track(sc: _scen.MissionScenario, quick: bool = False) -> Tracking:
-    """Stage 1: :func:`satgnc.od.simulate` of every station on the truth force model (point mass, J2
-    and drag as ``[truth]`` says; CVODES, rtol 1e-11), ordered by time then station."""
+    """Stage 1: simulated tracking of the target by every station on the truth force model.
+
+    :func:`satgnc.od.simulate` (point mass, J2 and drag as ``[truth]`` says; CVODES, rtol 1e-11),
+    ordered by time then station.
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+    quick : bool, optional
+        Keep every ``quick_thin``-th tracking time (default False).
+
+    Returns
+    -------
+    Tracking
+        t (s), type, value (km, km/s), sigma, station; the stations, the truth states (km, km/s, ECI).
+
+    Raises
+    ------
+    ValueError
+        Fewer than 6 observations above the mask, an orbit below the surface.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> tr = mission.track(sc, quick=True)
+    >>> tr.t.size >= 6, tr.forces
+    (True, 'point mass + J2 + exponential drag')
+    """
     times = sc.times[:: sc.quick_thin] if quick else sc.times
     grid = np.union1d(np.r_[0.0, times], [] if sc.start is None else [sc.start])  # + the plan epoch
     fm, forces = truth_force_model(sc)
@@ -371,7 +476,34 @@ def track(sc: _scen.MissionScenario, quick: bool = False) -> Tracking:
 
 
 def estimate(sc: _scen.MissionScenario, tracking: Tracking) -> OrbitEstimate:
-    """Stage 2: :func:`satgnc.od.solve` from the truth plus the file's guess offset."""
+    """Stage 2: the orbit estimate, :func:`satgnc.od.solve` from the truth plus the file's guess offset.
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+    tracking : Tracking
+        Stage 1's result.
+
+    Returns
+    -------
+    OrbitEstimate
+        status, x0 (km, km/s, ECI at the epoch), covariance, sigma, error vs the truth, residuals.
+
+    Raises
+    ------
+    ValueError
+        Bad tracking or settings (naming the argument).
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> tr = mission.track(sc, quick=True)
+    >>> est = mission.estimate(sc, tr)
+    >>> est.status
+    'converged'
+    """
     guess = tracking.x0_true + sc.guess_offset
     r = od.solve(tracking.observations, list(tracking.stations), guess, method=sc.od_method,
                  propagator=_od_propagator(sc), mu=_MU_KM)
@@ -394,8 +526,41 @@ def _x12(target_km: np.ndarray, chaser_km: np.ndarray) -> np.ndarray:
 
 
 def relative_state(sc: _scen.MissionScenario, tracking: Tracking, est: OrbitEstimate) -> RelativeState:
-    """Stage 3: the chaser (known in ECI: the file's relative state about the TRUE target) relative to
-    the ESTIMATED target at the plan epoch; covariance J Phi P0 Phi^T J^T (m^2, ...)."""
+    """Stage 3: the chaser relative to the ESTIMATED target at the plan epoch.
+
+    The chaser is known in ECI (the file's relative state about the TRUE target); the covariance is
+    J Phi P0 Phi^T J^T (m^2, ...).
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+    tracking : Tracking
+        Stage 1's result.
+    est : OrbitEstimate
+        Stage 2's result.
+
+    Returns
+    -------
+    RelativeState
+        x (6,) m, m/s in the target's CW frame (y radial, z normal), its covariance and error,
+        the CW orbit radius (m) and mean motion (rad/s).
+
+    Raises
+    ------
+    ValueError
+        A propagation that fails.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> tr = mission.track(sc, quick=True)
+    >>> est = mission.estimate(sc, tr)
+    >>> rel = mission.relative_state(sc, tr, est)
+    >>> rel.x.shape, rel.covariance.shape
+    ((6,), (6, 6))
+    """
     t = sc.start
     target_true = tracking.truth_at(t)
     x12_true = np.asarray(_c.two_satellite_state(target_true[:3] * 1e3, target_true[3:] * 1e3,
@@ -424,7 +589,30 @@ def relative_state(sc: _scen.MissionScenario, tracking: Tracking, est: OrbitEsti
 
 def flight_truth(sc: _scen.MissionScenario) -> _c.TwoSatelliteParams:
     """The flight's truth (SI): :func:`truth_params` of the mission file, or the ``[truth]`` of its
-    rendezvous scenario file (``[rendezvous] scenario``)."""
+    rendezvous scenario file (``[rendezvous] scenario``).
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+
+    Returns
+    -------
+    TwoSatelliteParams
+        SI (m, m/s, kg, m^2).
+
+    Raises
+    ------
+    ValueError
+        As :func:`truth_params`.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> mission.flight_truth(sc).j2_on
+    True
+    """
     return truth_params(sc) if sc.rendezvous is None else _rv.truth_params(sc.rendezvous)
 
 
@@ -435,7 +623,36 @@ def problem(sc: _scen.MissionScenario, rel: RelativeState | None) -> RendezvousP
     estimated relative state ``rel.x`` and its 12-state ``rel.x12`` (the nonlinear model's start), the
     flight truth as the nonlinear planner. From ``[rendezvous] scenario``:
     :func:`satgnc.scenarios.rendezvous.problem` of the file's case and the mission's ``model``, with the
-    mission's ``method`` (linear discretization) when it gives one."""
+    mission's ``method`` (linear discretization) when it gives one.
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+    rel : RelativeState or None
+        Stage 3's result (None with ``[rendezvous] scenario``).
+
+    Returns
+    -------
+    RendezvousProblem
+        SI: m, m/s, N, kg, s.
+
+    Raises
+    ------
+    ValueError
+        ``rel`` None without ``[rendezvous] scenario``.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> tr = mission.track(sc, quick=True)
+    >>> est = mission.estimate(sc, tr)
+    >>> rel = mission.relative_state(sc, tr, est)
+    >>> pb = mission.problem(sc, rel)
+    >>> pb.mass > 0
+    True
+    """
     if sc.rendezvous is not None:
         pb = _rv.problem(sc.rendezvous, sc.case, sc.model)
         if pb.linear_discretization != sc.method:
@@ -450,9 +667,40 @@ def problem(sc: _scen.MissionScenario, rel: RelativeState | None) -> RendezvousP
 
 
 def plan(sc: _scen.MissionScenario, rel: RelativeState | None) -> Plan:
-    """Stage 4: :func:`satgnc.guidance.plan` of :func:`problem` on the file's ``model`` ("linear": the
-    CW optimum by ADMM; "nonlinear": SCP on the two-satellite model), in the library's transcription
-    (its scaling of states and controls, the weights ``alpha`` and ``Qf`` in those units)."""
+    """Stage 4: :func:`satgnc.guidance.plan` of :func:`problem` on the file's ``model``.
+
+    "linear": the CW optimum by ADMM; "nonlinear": SCP on the two-satellite model; in the library's
+    transcription (its scaling of states and controls, the weights ``alpha`` and ``Qf`` in those units).
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+    rel : RelativeState or None
+        Stage 3's result (None with ``[rendezvous] scenario``).
+
+    Returns
+    -------
+    Plan
+        status, U (N, 3) forces (N), X (N+1, 6) CW states (m, m/s), dt (s), delta_v (m/s), the
+        scaled discrete (A, B).
+
+    Raises
+    ------
+    ValueError
+        As :func:`problem`.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> tr = mission.track(sc, quick=True)
+    >>> est = mission.estimate(sc, tr)
+    >>> rel = mission.relative_state(sc, tr, est)
+    >>> pl = mission.plan(sc, rel)
+    >>> pl.status
+    'solved'
+    """
     pb = problem(sc, rel)
     t0 = time.perf_counter()
     r = guidance.plan(pb, sc.model)
@@ -501,7 +749,40 @@ def _start_true(rel: RelativeState | None, pl: Plan) -> np.ndarray:
 
 
 def fly(sc: _scen.MissionScenario, rel: RelativeState | None, pl: Plan) -> Flight:
-    """Stage 5: :func:`satgnc.guidance.fly` (CVODES) of the plan, open loop, from the TRUE 12-state."""
+    """Stage 5: :func:`satgnc.guidance.fly` (CVODES) of the plan, open loop, from the TRUE 12-state.
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+    rel : RelativeState or None
+        Stage 3's result (None: the rendezvous file's start is the truth).
+    pl : Plan
+        Stage 4's result.
+
+    Returns
+    -------
+    Flight
+        status ("success" when the miss is within the tolerance), X (N+1, 12) m, m/s ECI, the
+        miss (m, m/s) and the OD's predicted 3-sigma miss (m).
+
+    Raises
+    ------
+    satgnc.PropagationError
+        A body reaching the Earth's surface.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> tr = mission.track(sc, quick=True)
+    >>> est = mission.estimate(sc, tr)
+    >>> rel = mission.relative_state(sc, tr, est)
+    >>> pl = mission.plan(sc, rel)
+    >>> fl = mission.fly(sc, rel, pl)
+    >>> fl.X.shape[1], fl.miss_position >= 0.0
+    (12, True)
+    """
     p = flight_truth(sc)
     f = guidance.fly(p, _start_true(rel, pl), pl.U, pl.dt)
     X = np.asarray(f.X)
@@ -519,9 +800,46 @@ def fly(sc: _scen.MissionScenario, rel: RelativeState | None, pl: Plan) -> Fligh
 
 def fly_closed_loop(sc: _scen.MissionScenario, rel: RelativeState | None, pl: Plan,
                     replan_every: int = 3) -> ClosedLoop:
-    """Stage 5, closed loop: :func:`satgnc.guidance.mpc` of the plan's problem from the TRUE 12-state on
-    the flight truth, re-planning every ``replan_every`` intervals from the true state (what the MPC
-    sees, see :class:`ClosedLoop`) on the nonlinear model with the truth's terms (J2 and drag)."""
+    """Stage 5, closed loop: :func:`satgnc.guidance.mpc` of the plan's problem from the TRUE 12-state.
+
+    Re-plans every ``replan_every`` intervals from the true state (what the MPC sees, see
+    :class:`ClosedLoop`) on the nonlinear model with the truth's terms (J2 and drag).
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+    rel : RelativeState or None
+        Stage 3's result.
+    pl : Plan
+        Stage 4's result.
+    replan_every : int, optional
+        Intervals between re-plans (default 3).
+
+    Returns
+    -------
+    ClosedLoop
+        X (N+1, 12) m, m/s ECI, U (N, 3) N, the miss (m, m/s), delta_v (m/s), replans, solve_time (s).
+
+    Raises
+    ------
+    ValueError
+        A bad ``replan_every``.
+    satgnc.PropagationError
+        A body reaching the Earth's surface.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> tr = mission.track(sc, quick=True)
+    >>> est = mission.estimate(sc, tr)
+    >>> rel = mission.relative_state(sc, tr, est)
+    >>> pl = mission.plan(sc, rel)
+    >>> cl = mission.fly_closed_loop(sc, rel, pl, replan_every=10)
+    >>> cl.U.shape == pl.U.shape
+    True
+    """
     p = flight_truth(sc)
     pb = dataclasses.replace(pl.problem, x0_eci=_start_true(rel, pl), planner=p)
     m = guidance.mpc(pb, truth=p, replan_every=replan_every)
@@ -542,9 +860,45 @@ def _singular(M: np.ndarray) -> np.ndarray:
 
 def check(sc: _scen.MissionScenario, tracking: Tracking | None, est: OrbitEstimate | None,
           pl: Plan) -> Checks:
-    """Stage 6: the staircase controllability test of the plan's (A, B), and the observability of the
-    tracking geometry: the whitened, scaled sensitivity O = [H_j Phi_j D / sigma_j] of the OD model at
-    the estimate, tested as the static pair (I, O) (rank O = 6 <=> observable) and as the LTV Gramian."""
+    """Stage 6: controllability of the plan's (A, B) and observability of the tracking geometry.
+
+    The staircase test of the plan's scaled (A, B); the whitened, scaled sensitivity
+    O = [H_j Phi_j D / sigma_j] of the OD model at the estimate, tested as the static pair (I, O)
+    (rank O = 6 <=> observable) and as the LTV Gramian.
+
+    Parameters
+    ----------
+    sc : MissionScenario
+        The mission scenario (:func:`load`).
+    tracking : Tracking or None
+        Stage 1's result (None: observability not run).
+    est : OrbitEstimate or None
+        Stage 2's result.
+    pl : Plan
+        Stage 4's result.
+
+    Returns
+    -------
+    Checks
+        Verdicts, ranks and normalized singular values (unit-free), the Gramian condition number.
+
+    Raises
+    ------
+    ValueError
+        A propagation that fails.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()  # the packaged mission_leo.toml
+    >>> tr = mission.track(sc, quick=True)
+    >>> est = mission.estimate(sc, tr)
+    >>> rel = mission.relative_state(sc, tr, est)
+    >>> pl = mission.plan(sc, rel)
+    >>> ck = mission.check(sc, tr, est, pl)
+    >>> ck.controllability_rank, ck.observability_rank
+    (6, 6)
+    """
     ctrl = analysis.controllability(pl.A, pl.B)
     K = analysis.kalman_matrix(pl.A, B=pl.B)
     if tracking is None or est is None:  # a chain that starts at the plan has no tracking to check
@@ -645,10 +999,40 @@ def _handoff(sc, tr: Tracking | None, est: OrbitEstimate | None, rel: RelativeSt
 
 
 def run(scenario=None, quick: bool = False, closed_loop: bool | None = None) -> MissionRun:
-    """Run the scenario's stages (``first_stage`` .. ``last_stage``, all six by default) on a scenario
-    (a path, a loaded :class:`MissionScenario`, or None for the packaged ``mission_leo.toml``).
-    ``quick`` keeps every ``quick_thin``-th tracking time; ``closed_loop`` (default: the file's
-    ``[rendezvous] closed_loop``) also flies :func:`fly_closed_loop` after the open-loop flight."""
+    """Run the scenario's stages (``first_stage`` .. ``last_stage``, all six by default).
+
+    Parameters
+    ----------
+    scenario : str, pathlib.Path, MissionScenario or None, optional
+        A path, a loaded :class:`MissionScenario`, or None for the packaged ``mission_leo.toml``.
+    quick : bool, optional
+        Keep every ``quick_thin``-th tracking time (default False).
+    closed_loop : bool or None, optional
+        Also fly :func:`fly_closed_loop` after the open-loop flight (default: the file's
+        ``[rendezvous] closed_loop``).
+
+    Returns
+    -------
+    MissionRun
+        Every stage's result (None for stages not run), the hand-off table (units and frames per
+        row) and the wall time per stage (s).
+
+    Raises
+    ------
+    MissionError
+        (a ValueError) the OD does not converge or the plan is not solved: the mission stops.
+    satgnc.FileFormatError
+        A bad scenario file (file, line and key named).
+    TypeError
+        ``scenario``, ``quick`` or ``closed_loop`` of another type.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> r = mission.run(quick=True, closed_loop=False)
+    >>> r.estimate.status, r.plan.status
+    ('converged', 'solved')
+    """
     if isinstance(scenario, _scen.MissionScenario):
         sc = scenario
     elif scenario is None or isinstance(scenario, (str, pathlib.Path)):

@@ -131,8 +131,32 @@ _MAX_DUT1 = 0.9  # s, IERS bound on |UT1 - UTC|
 
 
 def julian_date(epoch) -> float:
-    """Julian date of ``epoch``: a :class:`datetime.datetime` (naive = UTC), an ISO-8601 string
-    ('1981-03-21T06:00:00'), or a float Julian date (returned as is)."""
+    """Julian date of a UTC epoch.
+
+    Parameters
+    ----------
+    epoch : datetime.datetime, str or float
+        A :class:`datetime.datetime` (naive = UTC; an aware one is converted to UTC), an ISO-8601
+        string ('1981-03-21T06:00:00'), or a Julian date (days, returned as is).
+
+    Returns
+    -------
+    float
+        The Julian date (days), 1900-03-01 .. 2100-02-28.
+
+    Raises
+    ------
+    ValueError
+        A string that is not ISO-8601, or a date outside 1900-03-01 .. 2100-02-28.
+    TypeError
+        Any other type.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> od.julian_date("2000-01-01T12:00:00")
+    2451545.0
+    """
     if isinstance(epoch, (float, int, np.floating, np.integer)) and not isinstance(epoch, (bool, np.bool_)):
         v = float(epoch)
         if not math.isfinite(v) or v < _JD_MIN or v >= _JD_MAX:
@@ -164,13 +188,64 @@ def _ut1_minus_utc(value) -> float:
 
 
 def gmst(epoch, ut1_minus_utc: float = 0.0) -> float:
-    """Greenwich mean sidereal time (IAU-1982), rad in [0, 2 pi), at a UTC epoch (see :func:`julian_date`);
-    ``ut1_minus_utc`` in s, ``|UT1 - UTC| < 0.9`` (IERS)."""
+    """Greenwich mean sidereal time (IAU-1982) at a UTC epoch.
+
+    Parameters
+    ----------
+    epoch : datetime.datetime, str or float
+        UTC epoch (see :func:`julian_date`).
+    ut1_minus_utc : float, optional
+        UT1 - UTC (s), ``|UT1 - UTC| < 0.9`` (IERS); default 0.
+
+    Returns
+    -------
+    float
+        GMST (rad) in [0, 2 pi).
+
+    Raises
+    ------
+    ValueError
+        A bad epoch (see :func:`julian_date`) or ``|ut1_minus_utc| >= 0.9`` s.
+
+    Examples
+    --------
+    Vallado's Example 3-5 (152.578787886 deg):
+
+    >>> import math
+    >>> from satgnc import od
+    >>> round(math.degrees(od.gmst("1992-08-20T12:14:00")), 6)
+    152.578788
+    """
     return _c.od_gmst_from_utc(julian_date(epoch), _ut1_minus_utc(ut1_minus_utc))
 
 
 def ellipsoid(name: str = "WGS-84") -> Ellipsoid:
-    """Named ellipsoid: WGS-84 (default), GRS-80, IAU-1976, Krassovsky or sphere."""
+    """A named reference ellipsoid.
+
+    Parameters
+    ----------
+    name : str, optional
+        "WGS-84" (default), "GRS-80", "IAU-1976", "Krassovsky" or "sphere".
+
+    Returns
+    -------
+    Ellipsoid
+        Equatorial radius (km) and flattening.
+
+    Raises
+    ------
+    ValueError
+        An unknown name.
+    TypeError
+        A name that is not a str.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> e = od.ellipsoid("WGS-84")
+    >>> e
+    Ellipsoid(...)
+    """
     if not isinstance(name, str):
         raise TypeError(f"ellipsoid: must be a name (str), got {type(name).__name__}")
     return _c.od_ellipsoid_by_name(name)
@@ -181,7 +256,35 @@ def _as_ellipsoid(e) -> Ellipsoid:
 
 
 def geodetic_to_ecef(lat_deg: float, lon_deg: float, height_km: float, ellipsoid="WGS-84") -> np.ndarray:
-    """Earth-fixed position (km) of geodetic latitude/longitude (deg) and height (km)."""
+    """Earth-fixed (ITRF-like, body-fixed) position of a geodetic point.
+
+    Parameters
+    ----------
+    lat_deg : float
+        Geodetic latitude (deg, in [-90, 90]).
+    lon_deg : float
+        Longitude (deg, east positive).
+    height_km : float
+        Height above the ellipsoid (km).
+    ellipsoid : str or Ellipsoid, optional
+        The ellipsoid (default "WGS-84", see :func:`ellipsoid`).
+
+    Returns
+    -------
+    numpy.ndarray
+        Position (3,), km, Earth-fixed.
+
+    Raises
+    ------
+    ValueError
+        A latitude outside [-90, 90] deg, a non-finite value, an unknown ellipsoid.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> od.geodetic_to_ecef(0.0, 0.0, 0.0)
+    array([6378.137,    0.   ,    0.   ])
+    """
     lat = as_real(lat_deg, "lat_deg")
     lon = as_real(lon_deg, "lon_deg")
     if abs(lat) > 90:
@@ -205,8 +308,43 @@ def station_geodetic(
     ellipsoid="WGS-84",
     omega: float = EARTH_OMEGA,
 ) -> Station:
-    """Station at geodetic (deg, deg, km) on the named ellipsoid; inertial position at the UTC
-    ``epoch`` through GMST (IAU-1982), rotating about +z at ``omega`` (rad/s)."""
+    """A ground station from geodetic coordinates, rotating with the Earth.
+
+    Its inertial position at the UTC ``epoch`` (t = 0) comes from GMST (IAU-1982); it then rotates
+    about +z at ``omega``.
+
+    Parameters
+    ----------
+    lat_deg, lon_deg : float
+        Geodetic latitude (deg, in [-90, 90]) and east longitude (deg).
+    height_km : float
+        Height above the ellipsoid (km).
+    epoch : datetime.datetime, str or float
+        UTC epoch of t = 0 (see :func:`julian_date`).
+    ut1_minus_utc : float, optional
+        UT1 - UTC (s, ``|.| < 0.9``; default 0).
+    ellipsoid : str or Ellipsoid, optional
+        Default "WGS-84" (see :func:`ellipsoid`).
+    omega : float, optional
+        Rotation rate (rad/s; default :data:`EARTH_OMEGA`).
+
+    Returns
+    -------
+    Station
+        ``station.state(t)`` gives its inertial state [R km, V km/s] at t (s from the epoch).
+
+    Raises
+    ------
+    ValueError
+        A latitude outside [-90, 90] deg, a bad epoch or UT1 - UTC, an unknown ellipsoid.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> st = od.station_geodetic(40.0, -105.25, 1.6, "2024-03-01T00:00:00")
+    >>> st.state(0.0).shape
+    (6,)
+    """
     lat = as_real(lat_deg, "lat_deg")
     if abs(lat) > 90:
         raise ValueError(f"lat_deg: must be within [-90, 90], got {lat}")
@@ -222,12 +360,61 @@ def station_geodetic(
 
 
 def station_inertial(r0, omega: float = EARTH_OMEGA) -> Station:
-    """The paper's station: inertial position ``r0`` (km) at t = 0 rotating about +z at ``omega``."""
+    """A station given by its inertial position at t = 0, rotating about +z (the paper's station).
+
+    Parameters
+    ----------
+    r0 : array_like
+        Inertial position (3,) at t = 0, km.
+    omega : float, optional
+        Rotation rate (rad/s; default :data:`EARTH_OMEGA`).
+
+    Returns
+    -------
+    Station
+        ``station.state(t)``: inertial [R km, V km/s] at t (s).
+
+    Raises
+    ------
+    ValueError
+        ``r0`` not 3 finite numbers, a non-finite ``omega``.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> st = od.station_inertial([5463.14996, 2139.12637, 2493.7785])
+    >>> st.state(0.0)[3:].round(5).tolist()
+    [-0.15599, 0.39838, 0.0]
+    """
     return Station.from_inertial(as_vector(r0, 3, "r0"), as_real(omega, "omega"))
 
 
 def implied_rotation_rate(station_state) -> float:
-    """Rotation rate (rad/s) that makes a printed station state [R, V] satisfy V = omega z x R."""
+    """The rotation rate that makes a printed station state satisfy V = omega z x R.
+
+    Parameters
+    ----------
+    station_state : array_like
+        Station state [R km, V km/s] (6,), inertial.
+
+    Returns
+    -------
+    float
+        omega (rad/s), least squares over the x and y components.
+
+    Raises
+    ------
+    ValueError
+        Not 6 finite numbers, or R on the z axis.
+
+    Examples
+    --------
+    The paper's Table 3 implies 7.27e-5 rad/s, not the Earth's 7.292e-5:
+
+    >>> from satgnc import od
+    >>> round(od.implied_rotation_rate([5463.14996, 2139.12637, 2493.7785, -0.15551, 0.39717, 0.0]), 7)
+    7.27e-05
+    """
     return _c.od_implied_rotation_rate(as_vector(station_state, 6, "station_state"))
 
 
@@ -243,8 +430,38 @@ def _mtype(kind, name: str = "type") -> MeasurementType:
 
 
 def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
-    """Predicted observable (km or km/s) of satellite state ``x`` from ``station_state`` and its
-    partials d h / d x (6,). Raises ValueError when the satellite is at the station."""
+    """Predicted instantaneous range or range-rate and its partials.
+
+    Parameters
+    ----------
+    kind : {"range", "range_rate"} or MeasurementType
+        The observable.
+    x : array_like
+        Satellite state (6,): km, km/s, inertial.
+    station_state : array_like
+        Station state (6,): km, km/s, same inertial frame.
+
+    Returns
+    -------
+    value : float
+        Range (km) or range-rate (km/s).
+    partials : numpy.ndarray
+        d value / d x (6,).
+
+    Raises
+    ------
+    ValueError
+        An unknown ``kind``, wrong shapes, or the satellite at the station.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> x = [5836.8907, 1265.616, 3411.496, 0.3146, 6.9401, -3.1125]
+    >>> R = [5463.14996, 2139.12637, 2493.7785, -0.15551, 0.39717, 0.0]
+    >>> rho, d = od.predict("range", x, R)
+    >>> round(rho, 2), d.shape
+    (1320.95, (6,))
+    """
     v, g = _c.od_predict_measurement(
         _mtype(kind, "kind"), as_vector(x, 6, "x"), as_vector(station_state, 6, "station_state")
     )
@@ -252,16 +469,45 @@ def predict(kind, x, station_state) -> tuple[float, np.ndarray]:
 
 
 def make_propagator(kind: str = "kepler", mu: float = EARTH_MU, j2: bool = False, force_model=None):
-    """STM propagator: 'kepler' (analytic two-body, default) or 'cvodes' (numerical; ``j2`` optional).
-    A propagator object (KeplerStmPropagator, CvodesStmPropagator, ShortArcStmPropagator) is returned
-    as is.
+    """A state + STM propagator for the OD solvers.
 
-    ``force_model``: a :class:`satgnc.ForceModel` (point mass + optional ``J2Gravity`` + optional
-    ``ExponentialDrag``; km, km/s, s, drag's density kg/m^3, area m^2, mass kg) for ``"cvodes"``: the
-    states and the STM (with the drag's analytic Jacobians) are integrated on that model. It replaces
-    ``mu`` and ``j2``: give J2 in the model, and leave ``mu`` at :data:`EARTH_MU` or equal to
-    ``force_model.mu`` (km^3/s^2). TypeError for another type; ValueError for ``"kepler"``, for
-    ``j2=True`` beside it, for a different ``mu``, or for a model that fails ``ForceModel.validate``."""
+    Parameters
+    ----------
+    kind : {"kepler", "cvodes"} or propagator object, optional
+        "kepler" (analytic two-body, default) or "cvodes" (numerical; ``j2`` optional). A propagator
+        object (KeplerStmPropagator, CvodesStmPropagator, ShortArcStmPropagator) is returned as is.
+    mu : float, optional
+        Gravitational parameter (km^3/s^2; default :data:`EARTH_MU`).
+    j2 : bool, optional
+        Add the Earth's J2 ("cvodes" only).
+    force_model : satgnc.ForceModel, optional
+        For "cvodes": point mass + optional ``J2Gravity`` + optional ``ExponentialDrag`` (km, km/s,
+        s; the drag's density kg/m^3, area m^2, mass kg); states and STM (with the drag's analytic
+        Jacobians) are integrated on it. It replaces ``mu`` and ``j2``: give J2 in the model, and
+        leave ``mu`` at :data:`EARTH_MU` or equal to ``force_model.mu``.
+
+    Returns
+    -------
+    KeplerStmPropagator or CvodesStmPropagator or ShortArcStmPropagator
+        ``propagate(x0, times) -> (states, stms)``: states (km, km/s) and 6x6 STMs at ``times`` (s),
+        inertial.
+
+    Raises
+    ------
+    ValueError
+        An unknown ``kind``, ``j2`` with "kepler", a ``force_model`` with "kepler" or beside ``j2``,
+        a ``mu`` different from ``force_model.mu``, a model that fails ``ForceModel.validate``.
+    TypeError
+        ``kind`` or ``force_model`` of another type.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> prop = od.make_propagator("kepler")
+    >>> states, stms = prop.propagate([7000.0, 0, 0, 0, 7.546, 0], [0.0, 60.0])
+    >>> len(states), stms[1].shape
+    (2, (6, 6))
+    """
     return _make_propagator(kind, mu, j2, "kind", force_model)
 
 
@@ -305,7 +551,34 @@ def _force_model_propagator(kind, mu: float, j2: bool, name: str, fm):
 
 
 def settings(method: str = "levenberg_marquardt", **kw) -> OdSettings:
-    """OdSettings from keyword arguments (unknown names raise TypeError naming them)."""
+    """:class:`OdSettings` from keyword arguments.
+
+    Parameters
+    ----------
+    method : str or OdMethod, optional
+        "levenberg_marquardt" (default, alias "lm"), "gauss_newton" ("gn") or "newton".
+    **kw
+        :class:`OdSettings` fields, e.g. ``max_iterations`` (count), ``cost_tol`` (relative),
+        ``mu`` (km^3/s^2).
+
+    Returns
+    -------
+    OdSettings
+        The validated settings.
+
+    Raises
+    ------
+    ValueError
+        An unknown method, or a field value that fails ``OdSettings.validate``.
+    TypeError
+        An unknown field name.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> od.settings("gauss_newton", max_iterations=50).max_iterations
+    50
+    """
     s = OdSettings()
     if isinstance(method, OdMethod):
         s.method = method
@@ -436,24 +709,80 @@ def _csv_float(cell: str, column: str, p, lineno: int) -> float:
 
 
 def read_csv(path) -> Observations:
-    """Observations from a CSV file with a header holding ``t,type,value,sigma[,station]`` in any
-    order (t in s from the epoch; type range/range_rate; value and sigma in km or km/s; station a
-    0-based index, default 0, or a station name: names are numbered 0, 1, ... in order of first
-    appearance, see :func:`read_csv_names`; a file uses indices or names, not both). Blank lines and
-    lines starting with ``#`` are skipped; UTF-8 with or
-    without a byte-order mark, LF or CRLF line ends.
+    """Observations from a CSV file.
 
-    Every error in the content is a :class:`satgnc.FileFormatError` (a ``ValueError``) naming the
-    file, the line and the column: unknown, duplicated or missing header columns, a wrong number of
-    cells, a non-numeric or non-finite cell, a range <= 0, a sigma <= 0, a negative station index, and
-    two rows with the same time, type and station (both lines named). Rows need not be time-ordered."""
+    The header holds ``t,type,value,sigma[,station]`` in any order: t in s from the epoch; type
+    range / range_rate; value and sigma in km or km/s; station a 0-based index (default 0) or a
+    station name (names are numbered 0, 1, ... in order of first appearance, see
+    :func:`read_csv_names`; a file uses indices or names, not both). Blank lines and lines starting
+    with ``#`` are skipped; UTF-8 with or without a byte-order mark, LF or CRLF line ends. Rows need
+    not be time-ordered.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file.
+
+    Returns
+    -------
+    Observations
+        The table (t s, value and sigma km or km/s, station indices).
+
+    Raises
+    ------
+    satgnc.FileFormatError
+        (a ``ValueError``) naming the file, the line and the column: unknown, duplicated or missing
+        header columns, a wrong number of cells, a non-numeric or non-finite cell, a range <= 0, a
+        sigma <= 0, a negative station index, and two rows with the same time, type and station
+        (both lines named).
+    OSError
+        The file cannot be read.
+
+    Examples
+    --------
+    >>> import pathlib
+    >>> from satgnc import od
+    >>> _ = pathlib.Path("obs.csv").write_text("t,type,value,sigma\\n0,range,1321.104,0.001\\n")
+    >>> obs = od.read_csv("obs.csv")
+    >>> len(obs), obs.type_names()
+    (1, ['range'])
+    """
     return read_csv_names(path)[0]
 
 
 def read_csv_names(path) -> tuple[Observations, list[str] | None]:
-    """:func:`read_csv` and the station names of a file whose station column holds names (e.g.
-    ``BOULDER``): ``(observations, names)`` with ``observations.station[i]`` indexing ``names``;
-    ``names`` is None when the column holds indices (or is absent)."""
+    """:func:`read_csv` and the station names of a file whose station column holds names.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file (format of :func:`read_csv`; station names such as ``BOULDER``).
+
+    Returns
+    -------
+    observations : Observations
+        The table (t s, value and sigma km or km/s); ``observations.station[i]`` indexes ``names``.
+    names : list of str or None
+        Station names in order of first appearance; None when the column holds indices (or is
+        absent).
+
+    Raises
+    ------
+    satgnc.FileFormatError
+        As :func:`read_csv`, and a file that mixes names and indices (both lines named).
+    OSError
+        The file cannot be read.
+
+    Examples
+    --------
+    >>> import pathlib
+    >>> from satgnc import od
+    >>> text = "t,type,value,sigma,station\\n0,range,1321.1,0.001,BOULDER\\n0,range,900.0,0.001,HAWAII\\n"
+    >>> _ = pathlib.Path("named.csv").write_text(text)
+    >>> obs, names = od.read_csv_names("named.csv")
+    >>> names, obs.station.tolist()
+    (['BOULDER', 'HAWAII'], [0, 1])
+    """
     import csv
 
     p, text = read_text_file(path)
@@ -594,15 +923,59 @@ def solve(
     mu: float = EARTH_MU,
     **kw,
 ) -> OdResult:
-    """Weighted batch least squares for the state at t = 0 from any number (>= 6) of observations of
-    one or several stations. ``method``: 'levenberg_marquardt' (default), 'gauss_newton' (line
-    search) or 'newton' (the paper's undamped method, exactly 6 observations). Extra keywords set
-    :class:`OdSettings` fields (e.g. ``max_iterations`` = 100, ``cost_tol`` = 1e-6,
-    ``geodesic`` = True, ``valley_corrections`` = 3, ``extrapolate`` = True). Returns the OdResult:
-    status (``converged`` only when the convergence test holds at x0 with rank 6; ``singular``,
-    ``stalled``, ``max_iterations``, ... otherwise, see
-    docs/od.md), x0 = the best iterate with its cost, residuals and covariance, and a history of
-    ``iterations + 1`` rows."""
+    """Weighted batch least squares for the state at t = 0 from >= 6 observations of one or several
+    stations.
+
+    Parameters
+    ----------
+    observations : Observations
+        The table (t s from the epoch, values km or km/s, station indices into ``stations``).
+    stations : Station or list of Station
+        The stations (inertial, see :func:`station_geodetic`).
+    x0_guess : array_like
+        First guess of the state at t = 0 (6,): km, km/s, inertial.
+    method : str, optional
+        "levenberg_marquardt" (default), "gauss_newton" (line search) or "newton" (the paper's
+        undamped method, exactly 6 observations).
+    propagator : str or propagator object, optional
+        See :func:`make_propagator` (default "kepler").
+    mu : float, optional
+        Gravitational parameter (km^3/s^2; default :data:`EARTH_MU`).
+    **kw
+        :class:`OdSettings` fields, e.g. ``max_iterations`` = 100, ``cost_tol`` = 1e-6,
+        ``geodesic`` = True, ``valley_corrections`` = 3, ``extrapolate`` = True.
+
+    Returns
+    -------
+    OdResult
+        ``status`` (``converged`` only when the convergence test holds at x0 with rank 6;
+        ``singular``, ``stalled``, ``max_iterations``, ... otherwise, see docs/od.md), ``x0`` the best
+        iterate (km, km/s) with its cost, residuals and covariance (km^2, ...), and a history of
+        ``iterations + 1`` rows. Solver outcomes never raise: check ``status``.
+
+    Raises
+    ------
+    ValueError
+        Fewer than 6 observations, a station index without a station, a bad guess or setting.
+    TypeError
+        ``observations`` not an :class:`Observations`, a station of another type, an unknown
+        setting.
+
+    Examples
+    --------
+    Two stations, 5 min of range and range-rate every 10 s (1 m, 1 mm/s noise):
+
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> x = np.array([5836.8907, 1265.616, 3411.496, 0.3146, 6.9401, -3.1125])
+    >>> st = [od.station_inertial([5463.14996, 2139.12637, 2493.7785]),
+    ...       od.station_inertial([5200.0, 3000.0, 1900.0])]
+    >>> obs = od.simulate(x, st, np.arange(0.0, 301.0, 10.0), seed=3)
+    >>> r = od.solve(obs, st, x + [10.0, -5.0, 3.0, 0.01, 0.0, -0.01])
+    >>> sigma = np.sqrt(np.diag(np.asarray(r.covariance)))
+    >>> r.status.name, len(obs), bool(np.all(np.abs(np.asarray(r.x0) - x) < 5 * sigma))
+    ('converged', 124, True)
+    """
     x0 = as_vector(x0_guess, 6, "x0_guess")
     return solver(observations, stations, method, propagator, mu, **kw).solve(x0)
 
@@ -616,8 +989,46 @@ def six_point_conditions(
     sigma_range_rate: float = 1e-6,
     station: int = 0,
 ) -> list:
-    """The paper's six implicit conditions: ``mode`` 'doppler' (eq. 11 with the observed range),
-    'range' (eq. 9) or a list of six of them (mixed)."""
+    """The paper's six implicit boundary conditions (Gao & Luo, eqs. 9 and 11).
+
+    Parameters
+    ----------
+    t : array_like
+        Six observation times (s from the epoch).
+    rho : array_like
+        Six observed ranges (km, > 0).
+    rhodot : array_like, optional
+        Six observed range-rates (km/s); required by Doppler conditions.
+    mode : {"doppler", "range"} or list of 6, optional
+        "doppler" (eq. 11 with the observed range, default), "range" (eq. 9) or one per time.
+    sigma_range : float, optional
+        Range sigma (km; default 1e-3).
+    sigma_range_rate : float, optional
+        Range-rate sigma (km/s; default 1e-6).
+    station : int, optional
+        Station index (default 0).
+
+    Returns
+    -------
+    list of BoundaryCondition
+        Six conditions for ``OdSolver.from_conditions``.
+
+    Raises
+    ------
+    ValueError
+        Not six times or ranges, non-finite values, a range <= 0, an unknown mode, missing
+        ``rhodot`` for Doppler conditions, duplicate times.
+    TypeError
+        A ``mode`` that is not a string or a list.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> t = [0, 60, 120, 180, 240, 300]
+    >>> rho = [1321.104, 953.7183, 647.715, 526.5433, 695.2631, 1018.447]
+    >>> len(od.six_point_conditions(t, rho, mode="range"))
+    6
+    """
     t = as_series(t, "t")
     rho = as_series(rho, "rho")
     if not np.all(np.isfinite(t)):
@@ -692,13 +1103,91 @@ def solve_six_point(
     **kw,
 ) -> OdResult:
     """The paper's Newton-Raphson on six implicit boundary conditions (eqs. 9-18) with the exact STM.
-    ``t`` six times (s), ``rho`` observed ranges (km), ``rhodot`` observed range-rates (km/s)."""
+
+    Parameters
+    ----------
+    t : array_like
+        Six observation times (s from the epoch).
+    rho : array_like
+        Six observed ranges (km).
+    rhodot : array_like or None
+        Six observed range-rates (km/s); None with ``mode="range"``.
+    station : Station
+        The observing station (inertial, rotating).
+    x0_guess : array_like
+        First guess of the state at t = 0 (6,): km, km/s, inertial.
+    mode : {"doppler", "range"} or list of 6, optional
+        Condition types (see :func:`six_point_conditions`).
+    method : str, optional
+        "newton" (default, the paper's), "gauss_newton" or "levenberg_marquardt".
+    propagator : str or propagator object, optional
+        See :func:`make_propagator` (default "kepler").
+    mu : float, optional
+        Gravitational parameter (km^3/s^2; default :data:`EARTH_MU`).
+    **kw
+        ``sigma_range`` (km), ``sigma_range_rate`` (km/s) and :class:`OdSettings` fields.
+
+    Returns
+    -------
+    OdResult
+        Status, the best iterate ``x0`` (km, km/s), residuals, covariance and history.
+
+    Raises
+    ------
+    ValueError
+        Bad conditions (see :func:`six_point_conditions`), guess or settings.
+    TypeError
+        A station of another type, an unknown setting.
+
+    Examples
+    --------
+    Six noise-free range / range-rate pairs of one pass, from a guess 10 km off in x:
+
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> x = np.array([5836.8907, 1265.616, 3411.496, 0.3146, 6.9401, -3.1125])
+    >>> st = od.station_inertial([5463.14996, 2139.12637, 2493.7785])
+    >>> t = np.arange(0.0, 301.0, 60.0)
+    >>> obs = od.simulate(x, st, t, seed=None)  # rows: range, range_rate per time
+    >>> r = od.solve_six_point(t, obs.value[0::2], obs.value[1::2], st, x + [10.0, 0, 0, 0, 0, 0])
+    >>> r.status.name, bool(np.max(np.abs(np.asarray(r.x0) - x)) < 1e-5)
+    ('converged', True)
+    """
     x0 = as_vector(x0_guess, 6, "x0_guess")
     return six_point_solver(t, rho, rhodot, station, mode, method, propagator, mu, **kw).solve(x0)
 
 
 def box_guesses(center, half_width, n: int, seed: int = 0) -> np.ndarray:
-    """(n, 6) guesses uniform in ``center +- half_width`` (km, km/s), reproducible from ``seed``."""
+    """Guesses drawn uniformly in a box about a state.
+
+    Parameters
+    ----------
+    center : array_like
+        Centre state (6,): km, km/s, inertial (the frame of the guesses).
+    half_width : array_like
+        Half widths (6,), >= 0: km, km/s.
+    n : int
+        Number of guesses (1 .. 1e7).
+    seed : int, optional
+        Random seed (>= 0; default 0): the same seed gives the same guesses.
+
+    Returns
+    -------
+    numpy.ndarray
+        Guesses (n, 6): km, km/s.
+
+    Raises
+    ------
+    ValueError
+        ``n`` < 1 or > 1e7, a negative half width or seed, wrong shapes.
+
+    Examples
+    --------
+    >>> from satgnc import od
+    >>> g = od.box_guesses([7000.0, 0, 0, 0, 7.5, 0], [10, 10, 10, 0.01, 0.01, 0.01], 4, seed=1)
+    >>> g.shape
+    (4, 6)
+    """
     if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"n: must be an integer >= 1, got {n!r}")
     hw = as_vector(half_width, 6, "half_width")
@@ -717,8 +1206,47 @@ def root_search(
     distinct_position_km: float = 1e-3,
     distinct_velocity_kms: float = 1e-6,
 ):
-    """Solve from every guess ((n, 6) array) and list the distinct converged solutions (fitting ones
-    first) with residuals and covariance; ``result.ambiguous`` when two or more fit the data."""
+    """Solve from every guess and list the distinct converged solutions.
+
+    Parameters
+    ----------
+    solver_ : OdSolver
+        A reusable solver (``od.solver(...)`` or ``od.six_point_solver(...)``).
+    guesses : array_like
+        Guesses (n, 6): km, km/s (e.g. :func:`box_guesses`).
+    distinct_sigma : float, optional
+        Solutions closer than this many formal sigmas are the same (default 1).
+    distinct_position_km : float, optional
+        ... or closer than this in position (km, > 0; default 1e-3).
+    distinct_velocity_kms : float, optional
+        ... and in velocity (km/s, > 0; default 1e-6).
+
+    Returns
+    -------
+    RootSearchResult
+        The distinct solutions (fitting ones first) with residuals and covariance, the outcome of
+        every guess, and ``ambiguous`` when two or more fit the data.
+
+    Raises
+    ------
+    ValueError
+        Guesses not (n, 6) or not finite, non-positive distinctness thresholds.
+    TypeError
+        ``solver_`` not an :class:`OdSolver`, guesses of a non-numeric type.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> x = np.array([5836.8907, 1265.616, 3411.496, 0.3146, 6.9401, -3.1125])
+    >>> st = od.station_inertial([5463.14996, 2139.12637, 2493.7785])
+    >>> t = np.arange(0.0, 301.0, 60.0)
+    >>> obs = od.simulate(x, st, t, seed=None)  # rows: range, range_rate per time
+    >>> sv = od.six_point_solver(t, obs.value[0::2], obs.value[1::2], st)
+    >>> res = od.root_search(sv, od.box_guesses(x, [20, 20, 20, 0.02, 0.02, 0.02], 8))
+    >>> len(res.roots) >= 1, len(res.guess_status)
+    (True, 8)
+    """
     if not isinstance(solver_, OdSolver):
         raise TypeError(f"solver: must be an OdSolver, got {type(solver_).__name__}")
     if isinstance(guesses, (str, bytes)):
@@ -758,18 +1286,60 @@ def simulate(
     mu: float = EARTH_MU,
     force_model=None,
 ) -> Observations:
-    """Synthetic observations of the orbit from ``x0`` (at t = 0) by every station at ``times`` (s):
-    each type in ``types`` per visible time, Gaussian noise (sigmas in km, km/s; seed=None for none),
-    constant biases (km, km/s), and an elevation mask (deg in [-90, 90], geocentric horizontal; default
-    0 deg: no observation through the Earth; ``None``: no mask, every time observed) that drops low
-    passes. ``force_model``: the truth the observed orbit follows, a :class:`satgnc.ForceModel`
-    (J2 and ``ExponentialDrag`` optional; km, km/s, s) integrated by ``propagator="cvodes"`` (see
-    :func:`make_propagator`); its ``mu`` is the orbit's.
+    """Synthetic observations of the orbit from ``x0`` (at t = 0) by every station at ``times``.
 
-    Raises ``ValueError`` naming the argument for: an orbit that is below the Earth's surface
-    (:data:`EARTH_RADIUS`) at any of ``times`` when ``mu`` is the Earth's (r = 0 for any ``mu``), an
-    empty or repeated ``types``, a NaN or out-of-range ``elevation_mask_deg``, non-finite biases, a
-    negative ``seed``, and a mask that leaves no observation."""
+    Parameters
+    ----------
+    x0 : array_like
+        State at t = 0 (6,): km, km/s, inertial.
+    stations : Station or list of Station
+        The observing stations.
+    times : array_like
+        Strictly increasing times (s from the epoch).
+    types : sequence of str, optional
+        Observables per visible time: "range" and/or "range_rate" (default both).
+    sigma_range, sigma_range_rate : float, optional
+        Gaussian noise sigmas (km, km/s; defaults 1e-3, 1e-6); also the table's sigmas.
+    bias_range, bias_range_rate : float, optional
+        Constant biases added (km, km/s; default 0).
+    elevation_mask_deg : float or None, optional
+        Elevation mask (deg in [-90, 90], geocentric horizontal; default 0 deg: no observation
+        through the Earth; None: no mask, every time observed).
+    seed : int or None, optional
+        Noise seed (>= 0; None: no noise).
+    propagator : str or propagator object, optional
+        See :func:`make_propagator` (default "kepler").
+    mu : float, optional
+        Gravitational parameter (km^3/s^2; default :data:`EARTH_MU`).
+    force_model : satgnc.ForceModel, optional
+        The truth the observed orbit follows (J2 and ``ExponentialDrag`` optional; km, km/s, s),
+        integrated by ``propagator="cvodes"``; its ``mu`` is the orbit's.
+
+    Returns
+    -------
+    Observations
+        Rows ordered by station, then time, then type (value and sigma km or km/s).
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: an orbit below the Earth's surface (:data:`EARTH_RADIUS`) at any of
+        ``times`` when ``mu`` is the Earth's (r = 0 for any ``mu``), an empty or repeated ``types``,
+        a NaN or out-of-range ``elevation_mask_deg``, non-finite biases, a negative ``seed``, a mask
+        that leaves no observation.
+    TypeError
+        A station of another type.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> x = [5836.8907, 1265.616, 3411.496, 0.3146, 6.9401, -3.1125]
+    >>> st = od.station_inertial([5463.14996, 2139.12637, 2493.7785])
+    >>> obs = od.simulate(x, st, np.arange(0.0, 301.0, 60.0), seed=None)
+    >>> len(obs), round(float(obs.value[0]), 2), obs.type_names()[:2]
+    (12, 1320.95, ['range', 'range_rate'])
+    """
     x0 = as_vector(x0, 6, "x0")  # also bounds |x0_i| < 1e100 (a 1e300 state blamed the propagator)
     st = _stations(stations)
     times = as_real_array(times, "times", ndim=(0, 1))

@@ -86,13 +86,60 @@ def tracking_data(
     corrections: Any = None,
     order: str = "sort",
 ) -> Any:
-    """A :class:`TrackingData` from arrays. ``t``: (n,) reception tags, s after ``epoch`` (a
-    :class:`satgnc.time.Epoch`); ``types``: one observable name (or code) per measurement, or one name
-    for all; ``stations``: (n,) station indices; ``values``: (n,) or (n, 2) (km, km/s, rad; angle
-    pairs need 2 columns); ``sigmas``: a number, (n,) or (n, 2), > 0; ``corrections``: (n,) flags of
-    corrections already applied (1 troposphere, 2 Shapiro; range and range-rate observables); ``order``:
-    ``"sort"`` (stable sort by time) or ``"require_sorted"`` (an error names the first index out of
-    order). Raises ``ValueError`` / ``TypeError`` naming the argument (and the index)."""
+    """A :class:`TrackingData` from arrays.
+
+    Parameters
+    ----------
+    t : array_like
+        (n,) reception tags, s after ``epoch``.
+    types : str, int or sequence
+        One observable name of :data:`OBSERVABLES` (or its code) per measurement, or one for all.
+    stations : array_like of int
+        (n,) station indices.
+    values : array_like
+        (n,) or (n, 2): km, km/s, rad (angle pairs need 2 columns).
+    sigmas : float or array_like
+        A number, (n,) or (n, 2), > 0, in the units of the values.
+    epoch : satgnc.time.Epoch
+        The epoch of t = 0 (keyword only).
+    n_stations : int, optional
+        Number of stations (default: the largest index + 1).
+    corrections : array_like of int, optional
+        (n,) flags of corrections already applied (1 troposphere, 2 Shapiro; range and range-rate
+        observables).
+    order : {"sort", "require_sorted"}, optional
+        "sort" (stable sort by time, default) or "require_sorted" (an error names the first index out
+        of order).
+
+    Returns
+    -------
+    TrackingData
+        The validated, time-sorted measurements.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument (and the index): wrong shapes, an unknown observable, a sigma <= 0, a
+        non-finite value, an unsorted tag with ``order="require_sorted"``.
+    TypeError
+        ``epoch`` not an Epoch, non-numeric arrays.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> from satgnc.od.filter_sim import simulate_tracking, two_station_scenario
+    >>> from satgnc.time import Epoch
+    >>> sc = two_station_scenario()  # 500 km LEO (J2), two stations, 6 h: 76 measurements
+    >>> m = simulate_tracking(sc.x0, sc.stations, np.arange(60.0, 21601.0, 60.0), sigma=(1e-3, 1e-6),
+    ...                       force_model=sc.force_model, seed=1)
+    >>> names = [("two_way_range", "two_way_range_rate")[k] for k in m["observable"]]
+    >>> epoch = Epoch.parse("2023-02-25T00:00:00", "UTC")
+    >>> data = od.tracking_data(m["t"], names, m["station"], m["value"][:, 0],
+    ...                         np.where(m["observable"] == 0, 1e-3, 1e-6), epoch=epoch, n_stations=2)
+    >>> len(data) == m["t"].size
+    True
+    """
     ep = _epoch(epoch)
     tt = as_real_array(t, "t", ndim=1)
     n = tt.size
@@ -146,10 +193,46 @@ def read_tracking_tdm(
     sigma_range_rate: float = 1e-6,
     sigma_angle: float = 1e-4,
 ) -> Any:
-    """The measurements of a CCSDS TDM file (KVN or XML) as :class:`TrackingData`. ``stations`` maps
-    each receiving participant's name to its station index (or lists the names in index order).
-    A TDM carries no sigmas: ``sigma_range`` (km), ``sigma_range_rate`` (km/s), ``sigma_angle`` (rad).
-    A participant missing from ``stations`` is a ``ValueError`` naming it."""
+    """The measurements of a CCSDS TDM file (KVN or XML) as :class:`TrackingData`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The TDM file.
+    stations : mapping of str to int, or sequence of str
+        Each receiving participant's name and its station index (or the names in index order).
+    n_stations : int, optional
+        Number of stations (default: the largest index + 1).
+    sigma_range : float, optional
+        A TDM carries no sigmas: the range sigma (km; default 1e-3).
+    sigma_range_rate : float, optional
+        Range-rate sigma (km/s; default 1e-6).
+    sigma_angle : float, optional
+        Angle sigma (rad; default 1e-4).
+
+    Returns
+    -------
+    TrackingData
+        Tags in s after the file's first epoch (``data.epoch``).
+
+    Raises
+    ------
+    ValueError
+        A participant missing from ``stations`` (named); file errors name the file and the line.
+    OSError
+        The file cannot be read.
+
+    Examples
+    --------
+    >>> import datetime
+    >>> from satgnc import od
+    >>> from satgnc.od.tdm import write_tdm
+    >>> obs = od.Observations([0.0, 60.0], "range", [1321.104, 953.7183], 1e-3, 0)
+    >>> _ = write_tdm("pass.tdm", obs, datetime.datetime(2023, 2, 25), ["BOULDER"])
+    >>> data = od.read_tracking_tdm("pass.tdm", ["BOULDER"])
+    >>> len(data)
+    2
+    """
     names = _station_map(stations)
     ns = max(names.values()) + 1 if n_stations is None else as_int(n_stations, "n_stations", low=1)
     return TrackingData.from_tdm(
@@ -326,20 +409,82 @@ def batch_estimate(
 ) -> BatchResult:
     """Batch least squares: the GCRF state at ``epoch`` and per-station biases from ``data``.
 
-    ``data``: a :class:`TrackingData` or a CCSDS TDM path (then ``station_names`` gives each station's
-    participant name and ``sigma_range`` km, ``sigma_range_rate`` km/s, ``sigma_angle`` rad weight it);
-    ``stations``: one :class:`satgnc.observation.StationEphemeris` per station index, whose t = 0 is
-    ``epoch``; ``x0_guess``: (6,) km, km/s at ``epoch``; ``force_model``: a
-    :class:`satgnc.dynamics.ForceModel` (default: point mass; set its epoch to ``epoch`` for the Sun
-    and Moon); ``estimate_range_bias`` / ``estimate_time_bias``: station indices or names (or
-    ``True`` for all) whose bias is estimated; ``range_bias`` (km) / ``time_bias`` (s): fixed values
-    or initial guesses (a number or one per station); ``light_time`` (False: the instantaneous
-    geometry), ``troposphere`` (True or ``"saastamoinen"``: radio; ``"mendes_pavlis"``: laser ranging
-    at ``wavelength_um`` micrometres), ``shapiro``: model options of this run; ``max_iterations``,
-    ``sigma_tol`` (convergence: remaining step <= sigma_tol formal sigmas); ``method``:
-    ``"gauss_newton"`` (backtracking) or ``"levenberg_marquardt"`` (Moré scaling; robust from a far
-    guess, e.g. hundreds of km off in a LEO); ``rtol`` / ``atol``:
-    DOP853 tolerances. Raises ``ValueError`` / ``TypeError`` naming the argument."""
+    Parameters
+    ----------
+    data : TrackingData or str or os.PathLike
+        The measurements, or a CCSDS TDM path (then ``station_names`` gives each station's
+        participant name and ``sigma_range``, ``sigma_range_rate``, ``sigma_angle`` weight it).
+    stations : sequence of satgnc.observation.StationEphemeris
+        One per station index, whose t = 0 is ``epoch`` (GCRF, km, km/s).
+    x0_guess : array_like
+        (6,) GCRF km, km/s at ``epoch``.
+    epoch : satgnc.time.Epoch
+        The epoch of the estimated state (keyword only).
+    force_model : satgnc.dynamics.ForceModel, optional
+        Default: point mass; set its epoch to ``epoch`` for the Sun and Moon.
+    station_names : sequence of str, optional
+        Participant names per station (with a TDM path; also accepted by the bias arguments).
+    estimate_range_bias, estimate_time_bias : sequence of int or str, or bool, optional
+        Station indices or names (or True for all) whose range (km) / time (s) bias is estimated.
+    range_bias : float or sequence of float, optional
+        Fixed values or initial guesses (km), one number or one per station.
+    time_bias : float or sequence of float, optional
+        Fixed values or initial guesses (s), one number or one per station.
+    light_time : bool, optional
+        Light-time models (default True; False: the instantaneous geometry).
+    troposphere : bool or {"saastamoinen", "mendes_pavlis"}, optional
+        Model the troposphere in this run (default False; True or ``"saastamoinen"``: radio;
+        ``"mendes_pavlis"``: laser ranging at ``wavelength_um``).
+    wavelength_um : float, optional
+        Laser wavelength in micrometres for ``"mendes_pavlis"`` (default 0.532).
+    shapiro : bool, optional
+        Model the Shapiro delay in this run (default False).
+    relative_humidity : float, optional
+        For the troposphere, in [0, 1] (default 0.5).
+    max_iterations : int, optional
+        Default 25.
+    sigma_tol : float, optional
+        Convergence: the remaining step is at most this many formal sigmas (default 1e-3).
+    method : {"gauss_newton", "levenberg_marquardt"}, optional
+        Gauss-Newton with backtracking (default) or Levenberg-Marquardt (Moré scaling; robust from a
+        far guess, e.g. hundreds of km off in a LEO).
+    rtol, atol : float, optional
+        DOP853 tolerances (relative; km and km/s).
+    sigma_range, sigma_range_rate, sigma_angle : float, optional
+        Sigmas of a TDM's measurements (km, km/s, rad).
+
+    Returns
+    -------
+    BatchResult
+        ``status`` ("converged" only when the step test holds), ``state`` (GCRF km, km/s at
+        ``epoch``), ``parameters`` with ``covariance``, ``sigma``, biases (km, s), residuals, ``rms``,
+        ``rank`` and the cost history; always the best iterate.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: wrong shapes, unknown station names, non-positive tolerances.
+    TypeError
+        ``data``, ``stations`` or ``force_model`` of another type.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> from satgnc.od.filter_sim import simulate_tracking, two_station_scenario
+    >>> from satgnc.time import Epoch
+    >>> sc = two_station_scenario()  # 500 km LEO (J2), two stations, 6 h: 76 measurements
+    >>> m = simulate_tracking(sc.x0, sc.stations, np.arange(60.0, 21601.0, 60.0), sigma=(1e-3, 1e-6),
+    ...                       force_model=sc.force_model, seed=1)
+    >>> names = [("two_way_range", "two_way_range_rate")[k] for k in m["observable"]]
+    >>> epoch = Epoch.parse("2023-02-25T00:00:00", "UTC")
+    >>> data = od.tracking_data(m["t"], names, m["station"], m["value"][:, 0],
+    ...                         np.where(m["observable"] == 0, 1e-3, 1e-6), epoch=epoch, n_stations=2)
+    >>> r = od.batch_estimate(data, list(sc.stations), sc.x0 + [1.0, -1.0, 0.5, 1e-3, 0, 0], epoch=epoch,
+    ...                       force_model=sc.force_model)
+    >>> r.status, bool(np.all(np.abs(r.state - sc.x0) < 5 * r.sigma[:6]))
+    ('converged', True)
+    """
     ep, sts, names, td, fm = _setup(
         data,
         stations,
@@ -421,10 +566,61 @@ def batch_residuals(
     atol: float = 3e-14,
     wavelength_um: float = 0.532,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Whitened residuals (O - C) / sigma and the whitened Jacobian d(predicted / sigma) / d parameters
-    of the batch problem at ``parameters`` ([state, estimated biases], as
-    :attr:`BatchResult.parameters`; fixed biases are 0). For checks and tools. Raises ``ValueError``
-    when the evaluation fails (propagation, degenerate geometry)."""
+    """Whitened residuals and Jacobian of the batch problem at given parameters (for checks and tools).
+
+    Parameters
+    ----------
+    data : TrackingData or str or os.PathLike
+        As :func:`batch_estimate`.
+    stations : sequence of satgnc.observation.StationEphemeris
+        As :func:`batch_estimate`.
+    parameters : array_like
+        [state (GCRF km, km/s at ``epoch``), estimated biases (km, s)], as
+        :attr:`BatchResult.parameters`; fixed biases are 0.
+    epoch : satgnc.time.Epoch
+        The epoch of the state (keyword only).
+    force_model : satgnc.dynamics.ForceModel, optional
+        Default: point mass.
+    estimate_range_bias, estimate_time_bias : sequence of int or str, or bool, optional
+        As :func:`batch_estimate`.
+    light_time, troposphere, shapiro : bool, optional
+        Model options (defaults True, False, False).
+    rtol, atol : float, optional
+        DOP853 tolerances (relative; km and km/s).
+
+    Returns
+    -------
+    residuals : numpy.ndarray
+        (O - C) / sigma, one per scalar measurement (unit-free).
+    jacobian : numpy.ndarray
+        d(predicted / sigma) / d parameters (per km, km/s, s).
+
+    Raises
+    ------
+    ValueError
+        A parameter vector of the wrong length, or an evaluation that fails (propagation, degenerate
+        geometry).
+    TypeError
+        As :func:`batch_estimate`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> from satgnc.od.filter_sim import simulate_tracking, two_station_scenario
+    >>> from satgnc.time import Epoch
+    >>> sc = two_station_scenario()  # 500 km LEO (J2), two stations, 6 h: 76 measurements
+    >>> m = simulate_tracking(sc.x0, sc.stations, np.arange(60.0, 21601.0, 60.0), sigma=(1e-3, 1e-6),
+    ...                       force_model=sc.force_model, seed=1)
+    >>> names = [("two_way_range", "two_way_range_rate")[k] for k in m["observable"]]
+    >>> epoch = Epoch.parse("2023-02-25T00:00:00", "UTC")
+    >>> data = od.tracking_data(m["t"], names, m["station"], m["value"][:, 0],
+    ...                         np.where(m["observable"] == 0, 1e-3, 1e-6), epoch=epoch, n_stations=2)
+    >>> r, J = od.batch_residuals(data, list(sc.stations), sc.x0, epoch=epoch, force_model=sc.force_model,
+    ...                           light_time=False)
+    >>> J.shape == (r.size, 6)
+    True
+    """
     ep, sts, names, td, fm = _setup(data, stations, epoch, force_model, None, {})
     n = len(sts)
     er = _indices(estimate_range_bias, "estimate_range_bias", n, names)

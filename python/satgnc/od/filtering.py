@@ -219,34 +219,99 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
     atol: float = 1e-12,
     _smooth: bool = False,
 ) -> FilterResult:
-    """Run the orbit EKF over K measurements.
+    """Run the orbit EKF (or UKF) over K measurements.
 
-    ``method``: "ekf" (STM covariance propagation, Joseph-form update) or "ukf" (2n + 1 sigma
-    points through DOP853 and the measurement model; alpha = 1, beta = 2, kappa = 0).
+    Parameters
+    ----------
+    t : array_like
+        (K,) measurement tags, s after ``t0``'s epoch (non-decreasing, >= ``t0``).
+    station : array_like of int
+        (K,) indices into ``stations``.
+    observable : array_like of str or int
+        (K,) names from ``observables`` or indices into it.
+    value : array_like
+        (K,) or (K, 2) (angle pairs, rad): km, km/s, rad.
+    stations : sequence of StationEphemeris
+        :class:`satgnc.observation.RotatingStationEphemeris` or ``EarthFixedStationEphemeris`` (GCRF
+        km, km/s; keyword only, as all that follow).
+    x0 : array_like
+        (6,) GCRF km, km/s at ``t0`` (or the whole state, ``FilterResult.state_names`` order).
+    P0 : array_like
+        (6, 6) km^2, ... (the DMC and bias priors appended from ``dmc_sigma``, ``range_bias_sigma``
+        and ``time_bias_sigma``) or (n, n); symmetric positive definite.
+    t0 : float, optional
+        Time of ``x0`` (s; default 0).
+    method : {"ekf", "ukf"}, optional
+        "ekf" (STM covariance propagation, Joseph-form update; default) or "ukf" (2n + 1 sigma points
+        through DOP853 and the measurement model; alpha = 1, beta = 2, kappa = 0).
+    observables : sequence of str, optional
+        The observables set up (names of :data:`OBSERVABLES`; default two-way range and range-rate).
+    sigma : array_like, optional
+        One value per observable (all stations) or a (stations, observables) array, in the units of
+        the observable (default 5 m, 1 mm/s as km, km/s).
+    force_model : satgnc.dynamics.ForceModel, optional
+        The filter's dynamics (default point mass).
+    snc_psd_ric : float or array_like, optional
+        SNC white-acceleration PSD, scalar or 3 (km^2/s^3; radial / in-track / cross-track).
+    dmc_tau, dmc_sigma : float or array_like, optional
+        Dynamic-model compensation: time constant (s) and steady-state sigma (km/s^2).
+    estimate_range_bias, estimate_time_bias : bool, optional
+        Add one range (km) / time (s) bias state per station.
+    estimate_cd, estimate_cr : bool, optional
+        Append the drag / SRP coefficients (unit-free; initial values from ``force_model``); their
+        STM columns come from the force model's parameter partials.
+    cd_sigma, cr_sigma : float, optional
+        A priori sigmas of Cd / Cr (unit-free; default 0.2).
+    range_bias, time_bias : float or array_like, optional
+        Fixed values or initial estimates (km, s), scalar or per station.
+    range_bias_sigma, time_bias_sigma : float, optional
+        A priori sigmas (km, s; defaults 0.01 km, 1e-3 s).
+    consider : sequence of str, optional
+        Groups held as consider parameters ("range_bias", "time_bias", "cd", "cr"): not updated, the
+        covariance carries their effect.
+    gating : bool, optional
+        Chi-square editing of measurements (default True).
+    gate_probability : float, optional
+        The gate's probability in (0, 1) (default 0.9973).
+    warmup : int, optional
+        Measurements processed before gating starts (default 0).
+    noise_step : float, optional
+        Longest step of the process-noise discretization (s; default 300).
+    quadrature_nodes : int, optional
+        Gauss-Legendre nodes of the process-noise integral (default 5).
+    rtol, atol : float, optional
+        DOP853 tolerances (relative; km and km/s).
 
-    Measurements: ``t`` (K,) tags, s (non-decreasing, >= ``t0``); ``station`` (K,) indices into
-    ``stations`` (:class:`satgnc.observation.RotatingStationEphemeris` or
-    ``EarthFixedStationEphemeris``); ``observable`` (K,) names from ``observables`` or indices into
-    it; ``value`` (K,) or (K, 2) (angle pairs, rad). ``sigma``: one value per observable (all
-    stations) or a (stations, observables) array (units of the observable).
+    Returns
+    -------
+    FilterResult
+        Time-major: ``state`` (K, n), ``covariance`` (K, n, n) a posteriori, pre/post-fit residuals,
+        NIS, gate and editing flags per step; ``status`` "completed" or the status that stopped it.
 
-    ``x0`` (6,) GCRF km, km/s at ``t0`` (or the whole state, ``FilterResult.state_names`` order);
-    ``P0`` (6, 6) (the DMC and bias priors appended from ``dmc_sigma``, ``range_bias_sigma`` km and
-    ``time_bias_sigma`` s) or (n, n); symmetric positive definite.
+    Raises
+    ------
+    ValueError
+        Naming the argument: a P0 that is not positive definite, negative process noise, unsorted
+        times, an unknown measurement type or one not in ``observables``, a gate probability outside
+        (0, 1), an unknown station index.
+    TypeError
+        ``stations`` of another type.
 
-    Process noise: ``snc_psd_ric`` (scalar or 3, km^2/s^3, radial / in-track / cross-track);
-    ``dmc_tau`` (s) and ``dmc_sigma`` (km/s^2) switch on dynamic-model compensation. Biases:
-    ``estimate_range_bias`` / ``estimate_time_bias`` add one state per station; ``consider`` lists
-    the groups ("range_bias", "time_bias") held as consider parameters (not updated; the reported
-    covariance carries their effect). ``range_bias`` / ``time_bias`` (scalar or per station): the
-    fixed values or the initial estimates. ``estimate_cd`` / ``estimate_cr`` append the drag and SRP
-    coefficients (initial values from ``force_model``, a priori sigmas ``cd_sigma`` / ``cr_sigma``;
-    "cd" / "cr" in ``consider`` hold them as consider parameters); their STM columns come from the
-    force model's parameter partials integrated with the STM.
-
-    Raises ``ValueError`` / ``TypeError`` naming the argument: a P0 that is not positive definite,
-    negative process noise, unsorted times, an unknown measurement type or one not in
-    ``observables``, a gate probability outside (0, 1), an unknown station index."""
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> from satgnc.od.filter_sim import simulate_tracking, two_station_scenario
+    >>> sc = two_station_scenario()  # 500 km LEO (J2) over two stations
+    >>> m = simulate_tracking(sc.x0, sc.stations, np.arange(60.0, 1201.0, 60.0),
+    ...                       force_model=sc.force_model, seed=1)
+    >>> P0 = np.diag([1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3]) ** 2  # km^2, (km/s)^2
+    >>> r = od.filter(m["t"], m["station"], m["observable"], m["value"], stations=list(sc.stations),
+    ...               x0=sc.x0 + [0.5, -0.5, 0.2, 0, 0, 0], P0=P0, force_model=sc.force_model)
+    >>> err = r.state[-1, :6] - m["truth"][-1]
+    >>> r.status, bool(np.all(np.abs(err) < 5 * r.sigma_state[-1, :6]))
+    ('completed', True)
+    """
     obs_names = _observable_names(observables)
     if not isinstance(stations, Sequence) or isinstance(stations, str) or len(stations) == 0:
         raise TypeError("stations: must be a non-empty list of station ephemerides")
@@ -450,9 +515,43 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
 
 
 def smooth(t: Any, station: Any, observable: Any, value: Any, **kwargs: Any) -> FilterResult:
-    """:func:`filter` followed by the fixed-interval Rauch-Tung-Striebel smoother: the result's
-    ``smoothed_state`` / ``smoothed_covariance`` (K rows) and ``smoothed_initial_state`` /
-    ``smoothed_initial_covariance`` (at ``t0``) are set. Same arguments and errors as :func:`filter`."""
+    """:func:`filter` followed by the fixed-interval Rauch-Tung-Striebel smoother.
+
+    Parameters
+    ----------
+    t, station, observable, value : array_like
+        The measurements, as :func:`filter`.
+    **kwargs
+        The keywords of :func:`filter` (``stations``, ``x0`` GCRF km, km/s, ``P0``, ...).
+
+    Returns
+    -------
+    FilterResult
+        With ``smoothed_state`` / ``smoothed_covariance`` (K rows; km, km/s) and
+        ``smoothed_initial_state`` / ``smoothed_initial_covariance`` (at ``t0``) set.
+
+    Raises
+    ------
+    ValueError
+        As :func:`filter`.
+    TypeError
+        As :func:`filter`, and the private keyword ``_smooth``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from satgnc import od
+    >>> from satgnc.od.filter_sim import simulate_tracking, two_station_scenario
+    >>> sc = two_station_scenario()  # 500 km LEO (J2) over two stations
+    >>> m = simulate_tracking(sc.x0, sc.stations, np.arange(60.0, 1201.0, 60.0),
+    ...                       force_model=sc.force_model, seed=1)
+    >>> P0 = np.diag([1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3]) ** 2  # km^2, (km/s)^2
+    >>> r = od.smooth(m["t"], m["station"], m["observable"], m["value"], stations=list(sc.stations),
+    ...               x0=sc.x0 + [0.5, -0.5, 0.2, 0, 0, 0], P0=P0, force_model=sc.force_model)
+    >>> sig0 = np.sqrt(np.diag(r.smoothed_initial_covariance))[:6]
+    >>> bool(np.all(np.abs(r.smoothed_initial_state[:6] - sc.x0) < 5 * sig0))
+    True
+    """
     if "_smooth" in kwargs:
         raise TypeError("smooth: unexpected keyword '_smooth'")
     return filter(t, station, observable, value, _smooth=True, **kwargs)

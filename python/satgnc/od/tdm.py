@@ -31,7 +31,31 @@ _KV = re.compile(r"^\s*([A-Z0-9_]+)\s*=\s*(.*?)\s*$")
 
 
 def parse_epoch(text: str) -> _dt.datetime:
-    """A TDM epoch (calendar or day-of-year form), as a naive UTC datetime."""
+    """A TDM epoch (calendar or day-of-year form), as a naive UTC datetime.
+
+    Parameters
+    ----------
+    text : str
+        ``YYYY-MM-DDThh:mm:ss[.f]`` or ``YYYY-DDDThh:mm:ss[.f]`` (UTC; a trailing Z allowed).
+
+    Returns
+    -------
+    datetime.datetime
+        Naive, UTC (seconds, s, to a resolution of 1 us).
+
+    Raises
+    ------
+    ValueError
+        Another form, a day beyond the year, or a leap second (:60).
+    TypeError
+        ``text`` not a str.
+
+    Examples
+    --------
+    >>> from satgnc.od.tdm import parse_epoch
+    >>> parse_epoch("2023-056T00:00:30.5")
+    datetime.datetime(2023, 2, 25, 0, 0, 30, 500000)
+    """
     if not isinstance(text, str):  # was AttributeError: 'int' object has no attribute 'strip'
         raise TypeError(f"text: must be an epoch string (YYYY-MM-DDThh:mm:ss), got {type(text).__name__}")
     try:
@@ -98,16 +122,50 @@ def _as_epoch(epoch) -> _dt.datetime:
 
 
 def read_tdm(path, sigma_range: float = 1e-3, sigma_range_rate: float = 1e-6, epoch=None):
-    """Read a KVN TDM. Returns ``(observations, station_names, epoch)``: times are seconds after
-    ``epoch`` (default: the first observation), station indices follow ``station_names`` (order of
-    first appearance of PARTICIPANT_1). ``sigma_range`` (km) and ``sigma_range_rate`` (km/s) are
-    the sigmas given to every observation of that type.
+    """Read a KVN TDM (RANGE and DOPPLER_INSTANTANEOUS) as :class:`satgnc.od.Observations`.
 
-    Every error in the content is a :class:`satgnc.FileFormatError` (a ``ValueError``) reading
-    ``"<file>:<line>: ..."`` and naming the keyword: a keyword outside its section or unknown to TDM
-    (with a suggestion), a segment without TIME_SYSTEM or PARTICIPANT_1, a repeated metadata keyword,
-    a non-zero correction or delay (not applied by this reader), a bad epoch, a non-finite value, a
-    range <= 0, and two observations with the same epoch, type and station (both lines named)."""
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The TDM file.
+    sigma_range : float, optional
+        Sigma given to every range (km; default 1e-3).
+    sigma_range_rate : float, optional
+        Sigma given to every range-rate (km/s; default 1e-6).
+    epoch : datetime.datetime or str, optional
+        UTC epoch of t = 0 (default: the first observation).
+
+    Returns
+    -------
+    observations : Observations
+        Times in s after ``epoch``, values km and km/s; station indices follow ``station_names``.
+    station_names : list of str
+        PARTICIPANT_1 names in order of first appearance.
+    epoch : datetime.datetime
+        The epoch of t = 0 (naive UTC).
+
+    Raises
+    ------
+    satgnc.FileFormatError
+        (a ``ValueError``) reading ``"<file>:<line>: ..."`` and naming the keyword: a keyword outside
+        its section or unknown to TDM (with a suggestion), a segment without TIME_SYSTEM or
+        PARTICIPANT_1, a repeated metadata keyword, a non-zero correction or delay (not applied by
+        this reader), a bad epoch, a non-finite value, a range <= 0, and two observations with the
+        same epoch, type and station (both lines named).
+    TypeError
+        An ``epoch`` of another type.
+
+    Examples
+    --------
+    >>> import datetime
+    >>> from satgnc import od
+    >>> from satgnc.od.tdm import read_tdm, write_tdm
+    >>> obs = od.Observations([0.0, 60.0], "range", [1321.104, 953.7183], 1e-3, 0)
+    >>> _ = write_tdm("pass.tdm", obs, datetime.datetime(1981, 3, 21, 6), ["STATION"])
+    >>> back, names, epoch = read_tdm("pass.tdm")
+    >>> back.t.tolist(), names, epoch.isoformat()
+    ([0.0, 60.0], ['STATION'], '1981-03-21T06:00:00')
+    """
     from .._validate import FileFormatError, as_real, did_you_mean, read_text_file
 
     sigma_range = as_real(sigma_range, "sigma_range", positive=True)
@@ -254,10 +312,43 @@ def write_tdm(
     station_names: list[str],
     originator: str = "satgnc",
 ) -> pathlib.Path:
-    """Write observations (times relative to ``epoch``) as a KVN TDM, one segment per station.
+    """Write observations as a KVN TDM, one segment per station.
 
-    ``station_names[i]`` names station index i; every index used must have a name (no observation is
-    dropped), names are unique, non-empty and fit on a KVN line."""
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+    observations : Observations
+        Times in s after ``epoch``; values km and km/s.
+    epoch : datetime.datetime
+        UTC epoch of t = 0 (naive = UTC).
+    station_names : list of str
+        ``station_names[i]`` names station index i (PARTICIPANT_1): every index used has a name (no
+        observation is dropped), names are unique, non-empty and fit on a KVN line.
+    originator : str, optional
+        The ORIGINATOR line (default "satgnc").
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    ValueError
+        A missing, repeated or invalid station name, or a bad originator.
+    TypeError
+        ``observations``, ``epoch`` or ``station_names`` of another type.
+
+    Examples
+    --------
+    >>> import datetime
+    >>> from satgnc import od
+    >>> from satgnc.od.tdm import write_tdm
+    >>> obs = od.Observations([0.0, 60.0], "range_rate", [-6.35643, -5.79697], 1e-6, 0)
+    >>> write_tdm("doppler.tdm", obs, datetime.datetime(1981, 3, 21, 6), ["STATION"]).name
+    'doppler.tdm'
+    """
     if not isinstance(observations, Observations):
         raise TypeError(f"observations: must be an Observations table, got {type(observations).__name__}")
     if not isinstance(epoch, _dt.datetime):

@@ -216,12 +216,39 @@ def _fail(p, text, section, key, reason):
 def load(path: str | pathlib.Path | None = None, name: str = "path") -> MissionScenario:
     """Read a mission scenario TOML (default: the packaged ``mission_leo.toml``).
 
-    Sections: ``[target]`` (``position``/``velocity`` km, km/s ECI, or elements ``a e i raan argp ta``),
-    ``[tracking]`` with one or more ``[[tracking.stations]]``, ``[od]``, ``[rendezvous]``, ``[truth]``
-    with an optional ``[truth.drag]``; the top-level ``first_stage`` / ``last_stage`` (see
-    :data:`STAGES`) choose a partial chain, and only the sections its stages read are required. Every
-    error is a :class:`satgnc.FileFormatError` naming the file, the line and the key; a missing file
-    is ``FileNotFoundError``. ``name`` is the caller's argument in errors about the path itself."""
+    Sections: ``[target]`` (``position``/``velocity`` km, km/s ECI, or elements ``a e i raan argp ta``
+    in km and deg), ``[tracking]`` with one or more ``[[tracking.stations]]`` (deg, deg, km), ``[od]``,
+    ``[rendezvous]`` (m, m/s, N, kg, s), ``[truth]`` with an optional ``[truth.drag]``; the top-level
+    ``first_stage`` / ``last_stage`` (see :data:`STAGES`) choose a partial chain, and only the
+    sections its stages read are required (docs/scenarios.md).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path, optional
+        The TOML file (default: the packaged ``mission_leo.toml``).
+    name : str, optional
+        The caller's argument name in errors about the path itself (default "path").
+
+    Returns
+    -------
+    MissionScenario
+        The validated scenario.
+
+    Raises
+    ------
+    satgnc.FileFormatError
+        (a ValueError) naming the file, the line and the key: unknown keys and sections, wrong types
+        or ranges, missing keys.
+    FileNotFoundError
+        A missing file.
+
+    Examples
+    --------
+    >>> from satgnc import mission
+    >>> sc = mission.load()
+    >>> sc.name, len(sc.stations)
+    ('mission_leo', 3)
+    """
     from ..od import EARTH_MU, EARTH_RADIUS, julian_date
 
     p, text, d = load_toml(DEFAULT if path is None else path, name)
