@@ -583,10 +583,14 @@ def batch_residuals(
         Default: point mass.
     estimate_range_bias, estimate_time_bias : sequence of int or str, or bool, optional
         As :func:`batch_estimate`.
-    light_time, troposphere, shapiro : bool, optional
-        Model options (defaults True, False, False).
+    light_time, shapiro : bool, optional
+        Model options (defaults True, False).
+    troposphere : bool or {"saastamoinen", "mendes_pavlis"}, optional
+        As :func:`batch_estimate` (default False).
     rtol, atol : float, optional
         DOP853 tolerances (relative; km and km/s).
+    wavelength_um : float, optional
+        Laser wavelength in micrometres for ``"mendes_pavlis"`` (default 0.532).
 
     Returns
     -------
