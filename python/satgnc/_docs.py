@@ -299,6 +299,26 @@ def _od_solver_repr(self: Any) -> str:
     return f"OdSolver(rows={self.rows}, method={self.settings.method.name})"
 
 
+#: Compiled result and info classes that get the one-line summary repr of :class:`satgnc._results.Result`
+#: (scalars as values, arrays as dtype and shape), instead of pybind11's ``<... object at 0x...>``.
+_SUMMARY_REPR = ("IlqrAdmmInfo", "LookAngles", "Measurement", "OdInfo", "PropagatedMapInfo",
+                 "PropagationStats", "Root", "RootSearchResult", "ScpInfo", "SensitivityTrajectory",
+                 "TrackingData")
+
+
+def _summary_repr(self: Any) -> str:
+    from ._results import _summary
+
+    names = [k for k, v in vars(type(self)).items() if isinstance(v, property)]
+    parts = []
+    for n in names:
+        try:
+            parts.append(f"{n}={_summary(getattr(self, n))}")
+        except Exception:  # a property that cannot be read in this state (e.g. not solved yet)
+            continue
+    return f"{type(self).__name__}({', '.join(parts)})"
+
+
 def _set_doc(cls: Any, name: str, doc: str) -> None:
     """Give ``cls.name`` (a property) the docstring ``doc`` when it has none."""
     p = cls.__dict__.get(name)
@@ -323,6 +343,7 @@ def attach() -> None:
         if isinstance(obj, type) and hasattr(obj, "__members__"):  # a pybind11 enum
             for name, doc in _ENUM_PROPS.items():
                 _set_doc(obj, name, doc)
-    for cls, rep in ((_c.OdResult, _od_result_repr), (_c.OdSolver, _od_solver_repr)):
+    summary = [(getattr(_c, n), _summary_repr) for n in _SUMMARY_REPR if hasattr(_c, n)]
+    for cls, rep in ((_c.OdResult, _od_result_repr), (_c.OdSolver, _od_solver_repr), *summary):
         if "__repr__" not in vars(cls):  # a repr the binding defines wins
             cls.__repr__ = rep

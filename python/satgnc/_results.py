@@ -165,6 +165,36 @@ def module_getattr(
 _FIELD_NAMES: dict[type, tuple[str, ...]] = {}
 
 
+def _summary(value: Any, depth: int = 0) -> str:
+    """The short text of one field in a result's repr (see :meth:`Result.__repr__`)."""
+    if value is None or isinstance(value, (bool, int, np.integer, np.bool_)):
+        return repr(value.item() if isinstance(value, (np.integer, np.bool_)) else value)
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.6g}"
+    if isinstance(value, str):
+        return repr(value if len(value) <= 60 else value[:57] + "...")
+    if isinstance(value, np.ndarray):
+        if value.size == 1 and value.ndim <= 1:
+            return f"array([{_summary(value.reshape(-1)[0])}])"
+        return f"<{value.dtype} array {'x'.join(map(str, value.shape)) or 'scalar'}>"
+    if isinstance(value, Result) or dataclasses.is_dataclass(value):
+        return f"<{type(value).__name__}>"
+    if isinstance(value, Mapping):
+        return f"<dict of {len(value)}>"
+    if isinstance(value, (list, tuple)):
+        if len(value) <= 4 and depth == 0 and all(
+                isinstance(v, (bool, int, float, str, np.number)) and not isinstance(v, np.ndarray)
+                for v in value):
+            inner = ", ".join(_summary(v, depth + 1) for v in value)
+            return f"[{inner}]" if isinstance(value, list) else f"({inner})"
+        return f"<{type(value).__name__} of {len(value)}>"
+    if hasattr(value, "name") and hasattr(value, "value") and type(value).__module__ != "builtins":
+        return str(value.name)  # an enum (Python or pybind11)
+    text = repr(value)
+    plain = len(text) <= 60 and "\n" not in text and " at 0x" not in text
+    return text if plain else f"<{type(value).__name__}>"
+
+
 @dataclasses.dataclass(frozen=True)
 class Result:
     """Base of every satgnc result: a frozen dataclass with read-only numpy arrays.
@@ -172,6 +202,20 @@ class Result:
     Subclasses are declared with ``@dataclasses.dataclass(frozen=True)``; a subclass that defines
     ``__post_init__`` calls ``super().__post_init__()`` first. Dict-style access (``r["X"]``) is
     deprecated: it warns and returns ``r.X``."""
+
+    def __init_subclass__(cls, **kw: Any) -> None:
+        # The dataclass decorator writes a field-by-field repr (every array in full) unless the class
+        # body defines one: give each subclass the summary repr first, so the decorator keeps it.
+        super().__init_subclass__(**kw)
+        if "__repr__" not in cls.__dict__:
+            cls.__repr__ = Result.__repr__  # type: ignore[method-assign]
+
+    def __repr__(self) -> str:
+        """A one-line summary: scalars and strings as values, arrays as dtype and shape, sequences,
+        mappings and nested results as their size or class (never an array's entries)."""
+        names = _FIELD_NAMES.get(type(self)) or tuple(f.name for f in dataclasses.fields(self))
+        parts = [f"{n}={_summary(getattr(self, n, None))}" for n in names]
+        return f"{type(self).__name__}({', '.join(parts)})"
 
     def __post_init__(self) -> None:
         # the hot path of every solve() that returns a Result: field names cached per class, and the

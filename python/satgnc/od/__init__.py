@@ -646,6 +646,18 @@ class Observations:
     def __len__(self) -> int:
         return int(self.t.size)
 
+    def __repr__(self) -> str:
+        """A one-line summary: count, count per type, stations and time span (never the arrays)."""
+        n = len(self)
+        if n == 0:
+            return "Observations(n=0)"
+        names = self.type_names()
+        kinds = ", ".join(f"{k}: {names.count(k)}" for k in ("range", "range_rate") if k in names)
+        st = np.unique(self.station)
+        sts = ", ".join(str(int(i)) for i in st[:6]) + (", ..." if st.size > 6 else "")
+        return (f"Observations(n={n}, types={{{kinds}}}, stations=[{sts}], "
+                f"t={float(self.t.min()):.6g} .. {float(self.t.max()):.6g} s)")
+
     def measurements(self) -> list:
         return [
             _c.Measurement(float(t), k, float(v), float(s), int(st))
