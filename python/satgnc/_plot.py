@@ -25,6 +25,20 @@ SERIES_COLORS = (PALETTE["blue"], PALETTE["orange"], PALETTE["green"], PALETTE["
                  PALETTE["vermillion"], PALETTE["black"])
 
 
+#: The one line a command prints when it wrote its numbers but no figures (no matplotlib).
+NO_FIGURES = 'figures not drawn: they need matplotlib (pip install "satgnc[plot]")'
+
+
+def available() -> bool:
+    """Whether matplotlib can be imported (the ``plot`` extra); commands write their numbers either way."""
+    import importlib.util
+
+    try:
+        return importlib.util.find_spec("matplotlib") is not None
+    except (ValueError, ImportError):  # sys.modules["matplotlib"] = None: blocked, as if absent
+        return False
+
+
 def _pyplot():
     import matplotlib
 

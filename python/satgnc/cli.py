@@ -5,6 +5,12 @@ KeyError, ImportError of an optional dependency, MemoryError, a failed propagati
 ``satgnc: error: <message>`` to stderr and exits with code 2. Anything else is an internal bug: one
 line ``satgnc: internal error: ...`` and exit code 1. ``--debug`` (anywhere on the command line)
 shows the full traceback instead. Option values may be negative numbers (``--guess -3026.7,...``).
+
+Exit codes: 0 done; 1 internal error; 2 usage or input error; 3 (:data:`EXIT_PARTIAL`) ``reproduce``
+wrote its report without the cross-checks that need the ``test`` extra; 4 (:data:`EXIT_UNREACHABLE`)
+``rendezvous`` wrote its summary but a case's target cannot be reached (the best achievable miss is in
+``summary.json``); 5 (:data:`EXIT_NO_FIGURES`) the numbers were written but no figures, since
+matplotlib (the ``plot`` extra) is missing. When several apply: 4, then 5, then 3. 130: interrupted.
 """
 
 from __future__ import annotations
@@ -100,36 +106,51 @@ def int_at_least(low: int):
 #: Exit code of ``satgnc reproduce`` when the report is written but cross-checks that need the ``test``
 #: extra (cvxpy, Clarabel) were skipped; 0 means everything ran.
 EXIT_PARTIAL = 3
+#: Exit code of ``satgnc rendezvous`` when a case's target cannot be reached with its bounds and
+#: horizon: ``summary.json`` is written with ``unreachable`` and the best achievable miss (m).
+EXIT_UNREACHABLE = 4
+#: Exit code of a command that wrote its numbers (JSON, Markdown tables) but no figures because
+#: matplotlib (the ``plot`` extra) is not installed; EXIT_UNREACHABLE takes precedence over it, and it
+#: over EXIT_PARTIAL.
+EXIT_NO_FIGURES = 5
 
 
 def _reproduce(args: argparse.Namespace) -> int:
+    from ._plot import NO_FIGURES
     from .report import write_report
 
     sections = args.section or None
     skipped: list[str] = []
+    no_figures: list[str] = []
     path = write_report(args.out, sections=sections, quick=args.quick, progress=not args.no_progress,
-                        skipped=skipped)
+                        skipped=skipped, figures_skipped=no_figures)
     print(f"report written to {path}")
+    code = 0
     if skipped:
+        code = EXIT_PARTIAL
         print(f"satgnc reproduce: skipped {len(skipped)} cross-check(s) that need the test extra "
-              f"(pip install \"satgnc[test]\"): {'; '.join(skipped)}; exit code {EXIT_PARTIAL}")
-        return EXIT_PARTIAL
-    return 0
+              f"(pip install \"satgnc[test]\"): {'; '.join(skipped)}; exit code {code}")
+    if no_figures:
+        code = EXIT_NO_FIGURES
+        print(f"satgnc reproduce: {len(no_figures)} {NO_FIGURES}; exit code {code}")
+    return code
 
 
 def build_parser() -> argparse.ArgumentParser:
     p = ArgumentParser(prog="satgnc", description="satgnc: spacecraft GNC toolkit",
                        epilog="Errors print one line and exit with code 2; --debug (anywhere) shows the "
-                       "traceback.")
+                       f"traceback. Other exit codes: {EXIT_PARTIAL} cross-checks skipped (reproduce), "
+                       f"{EXIT_UNREACHABLE} a target unreachable (rendezvous), {EXIT_NO_FIGURES} numbers "
+                       "written without figures (no matplotlib).")
     p.add_argument("--version", action="store_true", help="print the version and exit")
     p.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
     sub = p.add_subparsers(dest="command")
     r = sub.add_parser("reproduce", help="reproduce the papers' tables and write a Markdown report",
-                       epilog=f"Exit code 0: every section and cross-check ran; {EXIT_PARTIAL}: the report "
-                       "is "
-                       "written but the cross-checks that need the test extra (cvxpy, Clarabel; "
+                       epilog=f"Exit code 0: every section, cross-check and figure ran; {EXIT_PARTIAL}: the "
+                       "report is written but the cross-checks that need the test extra (cvxpy, Clarabel; "
                        "pip install \"satgnc[test]\") were skipped (listed on one line and in the report); "
-                       "2: a usage or input error.")
+                       f"{EXIT_NO_FIGURES}: the report's numbers are written but no figures (no matplotlib: "
+                       "pip install \"satgnc[plot]\"; takes precedence over 3); 2: a usage or input error.")
     r.add_argument("--out", default="satgnc-report", help="output directory (default ./satgnc-report)")
     r.add_argument("--section", action="append", help="only this section (repeatable)")
     r.add_argument("--quick", action="store_true", help="smaller sweeps, for smoke tests")

@@ -309,7 +309,7 @@ def test_cli_nonlinear_writes_summary(tmp_path):
     )()
     assert cli._run(args) == 0
     summary = json.loads((tmp_path / "nonlinear_summary.json").read_text())
-    assert summary["nonlinear_unconstrained"]["paper_iterations"] == 60
+    assert summary["nonlinear_unconstrained"]["paper_comparison"]["iterations"] == 60
     assert (tmp_path / "nonlinear_unconstrained.png").exists()
 
 

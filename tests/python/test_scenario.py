@@ -136,7 +136,7 @@ def test_cli_other_scenario_nonlinear_and_linear(other, tmp_path, capsys):
     )
     s = json.loads((out / "nonlinear_summary.json").read_text())["nonlinear_hop"]
     assert s["horizon"] == 12 and s["opt_u_max"] <= 0.02 * (1 + 1e-9)
-    assert s["paper_iterations"] >= 1 and s["truth_miss_MPC"] < 1.0
+    assert s["ilqr_admm_iterations"] >= 1 and s["truth_miss_MPC"] < 1.0  # a user's case: no paper_* key
     assert s["truth_miss_CW plan, open loop"] < 5.0 and s["truth_miss_nonlinear plan, open loop"] < 5.0
     assert (out / "nonlinear_hop.png").exists() and (out / "nonlinear_hop_flight.png").exists()
     out2 = tmp_path / "lin"
@@ -146,7 +146,8 @@ def test_cli_other_scenario_nonlinear_and_linear(other, tmp_path, capsys):
     assert lin["max_abs_u_N"] <= 0.02 * (1 + 1e-9)
     assert lin["conv_miss_m"] < 5.0 and lin["truth_miss_open_loop_m"] < 5.0  # the truth: J2 only, 20 min
     assert (out2 / "hop_flight.png").exists()
-    assert "nonlinear hop: paper settings stop after" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "nonlinear hop: iLQR-ADMM (rho = 1, eps = 1e-05) stops after" in text and "paper" not in text
 
 
 def test_paper_file_is_the_paper_transcription():

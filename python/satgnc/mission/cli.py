@@ -27,7 +27,18 @@ def _run(args: argparse.Namespace) -> int:
           + f"controllability: {result.checks.controllability}; "
           f"observability: {result.checks.observability}; {sum(result.timings.values()):.1f} s")
     print(f"report written to {path}")
-    return 0
+    return _figures_line()
+
+
+def _figures_line() -> int:
+    """0, or (one line printed) the exit code of a run written without figures (no matplotlib)."""
+    from .. import _plot
+    from ..cli import EXIT_NO_FIGURES
+
+    if _plot.available():
+        return 0
+    print(f"satgnc mission: {_plot.NO_FIGURES}; exit code {EXIT_NO_FIGURES}")
+    return EXIT_NO_FIGURES
 
 
 def register(subparsers) -> None:

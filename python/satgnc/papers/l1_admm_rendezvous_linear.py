@@ -16,7 +16,7 @@ class CaseRun:
     """Both runs of one case, with SI metrics."""
 
     case: str
-    paper: L1Result          # published settings and stopping rule
+    paper: L1Result | None   # published settings and stopping rule (None: not run, a user's case)
     converged: L1Result      # satgnc defaults (residual stopping, adaptive rho, relaxation)
     reference_objective: float | None
     reference_time: float | None
@@ -33,9 +33,11 @@ def miss_m(sc: scen.Scenario, X_scaled: np.ndarray) -> float:
     return float(np.linalg.norm(X_scaled[-1, :3]) * sc.l_ref)
 
 
-def run_case(sc: scen.Scenario, case: str, reference: bool = True) -> CaseRun:
+def run_case(sc: scen.Scenario, case: str, reference: bool = True, paper_run: bool = True) -> CaseRun:
+    """Solve ``case`` to convergence and (``paper_run``) with the published settings and stopping rule;
+    ``metrics`` holds the ``conv_*`` numbers and, with ``paper_run``, the ``paper_*`` ones."""
     kw = scen.linear_problem(sc, case)
-    paper = L1Solver(**kw, settings=scen.paper_settings(sc, case)).solve()
+    paper = L1Solver(**kw, settings=scen.paper_settings(sc, case)).solve() if paper_run else None
     conv = L1Solver(**kw, settings=dict(max_iterations=20000)).solve()
     ref_obj = ref_t = None
     if reference:
@@ -43,7 +45,7 @@ def run_case(sc: scen.Scenario, case: str, reference: bool = True) -> CaseRun:
 
         ref_obj, _, _, ref_t = solve_cvxpy(**kw)
     nz = lambda Y: int(np.count_nonzero(np.abs(Y) > 1e-9 * max(1.0, np.abs(Y).max())))  # noqa: E731
-    m = {
+    m = {} if paper is None else {
         "paper_iterations": paper.iterations,
         "paper_passes_if_unconstrained": 2 * paper.iterations,
         "paper_miss_flown_Y_m": miss_m(sc, paper.X_flown),
@@ -51,6 +53,8 @@ def run_case(sc: scen.Scenario, case: str, reference: bool = True) -> CaseRun:
         "paper_dv_Y": fuel_dv(sc, paper.Y),
         "paper_dv_U": fuel_dv(sc, paper.U),
         "paper_objective_flown_Y": paper.objective,
+    }
+    m |= {
         "conv_status": conv.status,
         "conv_iterations": conv.iterations,
         "conv_objective": conv.objective,
@@ -64,7 +68,8 @@ def run_case(sc: scen.Scenario, case: str, reference: bool = True) -> CaseRun:
     if ref_obj is not None:
         m["reference_objective"] = ref_obj
         m["conv_rel_gap"] = (conv.objective - ref_obj) / abs(ref_obj)
-        m["paper_rel_gap"] = (paper.objective - ref_obj) / abs(ref_obj)
+        if paper is not None:
+            m["paper_rel_gap"] = (paper.objective - ref_obj) / abs(ref_obj)
     return CaseRun(case, paper, conv, ref_obj, ref_t, m)
 
 
@@ -90,7 +95,8 @@ def plot_case(sc: scen.Scenario, run: CaseRun, path, title: str, paper_stop: boo
     t = np.arange(N + 1) * sc.dt
     X = sc.to_si(X=run.converged.X_flown)
     U = run.converged.Y * sc.u_ref
-    Up = run.paper.U * sc.u_ref
+    paper_stop = paper_stop and run.paper is not None
+    Up = run.paper.U * sc.u_ref if run.paper is not None else None
     fig, ax = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
     lab = ["x (minus along-track)", "y (radial)", "z (normal)"]
     for i in range(3):
@@ -113,6 +119,16 @@ def plot_case(sc: scen.Scenario, run: CaseRun, path, title: str, paper_stop: boo
     plt.close(fig)
 
 
+def fig1_dv(sc: scen.Scenario) -> tuple[float, float]:
+    """Fig. 1's numbers without the figure: the delta-v (m/s) of the quadratic and the L1 controls."""
+    Uq, Ul = quadratic_vs_l1(sc)
+    return _dv(sc, Uq), _dv(sc, Ul)
+
+
+def _dv(sc: scen.Scenario, U) -> float:
+    return float(np.abs(U).sum() * sc.dt / sc.mass)
+
+
 def plot_fig1(sc: scen.Scenario, path) -> tuple[float, float]:
     """Fig. 1; returns the delta-v (m/s) of the quadratic and the L1 controls."""
     from .. import _plot
@@ -133,5 +149,4 @@ def plot_fig1(sc: scen.Scenario, path) -> tuple[float, float]:
     fig.tight_layout()
     fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
-    dv = lambda U: float(np.abs(U).sum() * sc.dt / sc.mass)  # noqa: E731
-    return dv(Uq), dv(Ul)
+    return _dv(sc, Uq), _dv(sc, Ul)

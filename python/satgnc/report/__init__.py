@@ -25,6 +25,10 @@ class Context:
     quick: bool = False
     #: Cross-checks left out because an optional package (the ``test`` extra) is missing: one line each.
     skipped: list[str] = dataclasses.field(default_factory=list)
+    #: Whether figures are drawn (matplotlib, the ``plot`` extra, is installed); without it every
+    #: section still writes its numbers, and the figures left out are listed in ``figures_skipped``.
+    figures: bool = dataclasses.field(default_factory=lambda: _find("matplotlib") is not None)
+    figures_skipped: list[str] = dataclasses.field(default_factory=list)
 
     def have(self, *modules: str, check: str = "") -> bool:
         """True when every module in ``modules`` imports; otherwise record ``check`` as skipped (it needs
@@ -33,6 +37,16 @@ class Context:
         if missing and check:
             self.skipped.append(f"{check} (needs {', '.join(missing)})")
         return not missing
+
+    def image(self, name: str, alt: str, draw) -> list[str]:
+        """Draw figure ``name`` with ``draw(path)`` and return its Markdown lines (image, blank line);
+        without matplotlib draw nothing, record it in ``figures_skipped`` and return []."""
+        if not self.figures:
+            self.figures_skipped.append(name)
+            return []
+        path = self.figure_path(name)
+        draw(path)
+        return [f"![{alt}]({path.parent.name}/{path.name})", ""]
 
     def figure_path(self, name: str) -> pathlib.Path:
         """Path for a PNG figure ``name`` (without extension) under ``outdir/figures``."""
@@ -65,12 +79,14 @@ def available_sections() -> list[str]:
 
 def write_report(outdir: str | pathlib.Path = "satgnc-report", sections: list[str] | None = None,
                  quick: bool = False, progress: bool = True,
-                 skipped: list[str] | None = None) -> pathlib.Path:
+                 skipped: list[str] | None = None,
+                 figures_skipped: list[str] | None = None) -> pathlib.Path:
     """Run the selected sections (default: all) and write ``outdir/README.md``; return its path.
 
     Cross-checks that need an optional package that is not installed (cvxpy + Clarabel, from the
     ``test`` extra) are left out of the report and listed in ``skipped`` (when a list is given) and in
-    the report itself."""
+    the report itself. Without matplotlib (the ``plot`` extra) every section's numbers are written and
+    the figures left out are listed in ``figures_skipped`` (when a list is given) and in the report."""
     outdir = pathlib.Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     names = available_sections() if sections is None else list(sections)
@@ -93,8 +109,14 @@ def write_report(outdir: str | pathlib.Path = "satgnc-report", sections: list[st
         parts += ["## Cross-checks not run", "",
                   "These need the test extra (`pip install \"satgnc[test]\"`):",
                   ""] + [f"- {c}" for c in ctx.skipped] + [""]
+    if ctx.figures_skipped:
+        parts += ["## Figures not drawn", "",
+                  f"matplotlib is not installed (`pip install \"satgnc[plot]\"`): "
+                  f"{', '.join(ctx.figures_skipped)}.", ""]
     if skipped is not None:
         skipped.extend(ctx.skipped)
+    if figures_skipped is not None:
+        figures_skipped.extend(ctx.figures_skipped)
     path = outdir / "README.md"
     path.write_text("\n".join(parts))
     return path

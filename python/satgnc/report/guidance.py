@@ -82,15 +82,19 @@ def build(ctx) -> str:
             f"{m['conv_time_s'] * 1e3:.1f} ms | "
             f"{'n/a' if r.reference_time is None else f'{r.reference_time * 1e3:.1f} ms'} |")
     lines += ["", "(box: per-axis |u| <= 5 mN with the terminal cost only; not a paper column.)", ""]
-    p1 = ctx.figure_path("guidance_fig1_quadratic_vs_l1")
-    dvq, dvl = rv.plot_fig1(sc, p1)
-    lines += [f"![Fig. 1]({p1.parent.name}/{p1.name})", "",
-              f"Fig. 1: same initial state and x_N = 0; quadratic cost dv = {dvq:.3f} m/s (smooth, "
+    if ctx.figures:
+        p1 = ctx.figure_path("guidance_fig1_quadratic_vs_l1")
+        dvq, dvl = rv.plot_fig1(sc, p1)
+        lines += [f"![Fig. 1]({p1.parent.name}/{p1.name})", ""]
+    else:
+        ctx.figures_skipped.append("guidance_fig1_quadratic_vs_l1")
+        dvq, dvl = rv.fig1_dv(sc)
+    lines += [f"Fig. 1: same initial state and x_N = 0; quadratic cost dv = {dvq:.3f} m/s (smooth, "
               f"non-zero throughout), L1 cost dv = {dvl:.3f} m/s (impulsive).", ""]
     for case, fig in (("unconstrained", 2), ("constrained", 3)):
-        p = ctx.figure_path(f"guidance_fig{fig}_{case}")
-        rv.plot_case(sc, runs[case], p, f"Fig. {fig}: linear {case} (converged; dashed: paper-stop U)")
-        lines += [f"![Fig. {fig}]({p.parent.name}/{p.name})", ""]
+        title = f"Fig. {fig}: linear {case} (converged; dashed: paper-stop U)"
+        lines += ctx.image(f"guidance_fig{fig}_{case}", f"Fig. {fig}",
+                           lambda p, c=case, t=title: rv.plot_case(sc, runs[c], p, t))
     return "\n".join(lines)
 
 

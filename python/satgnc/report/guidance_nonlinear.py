@@ -74,14 +74,10 @@ def build(ctx) -> str:
         s_opt = nl.summarize(case, scp.U)
         s_lin = nl.summarize(case, case.from_si(lin["U"]))
         rows.append((case.name, paper.info, t_paper, scp.info, t_scp, s_u, s_y, s_opt, s_lin))
-        fig = ctx.figure_path("fig5_nonlinear_constrained" if constrained else "fig4_nonlinear_unconstrained")
-        _figure(
-            case,
-            [("optimum (SCP)", case.to_si(scp.U), "-"), ("paper stop, dense U", case.to_si(paper.U), ":")],
-            fig,
-            f"Fig. {5 if constrained else 4}: {case.name}",
-        )
-        figs.append(fig)
+        sols = [("optimum (SCP)", case.to_si(scp.U), "-"), ("paper stop, dense U", case.to_si(paper.U), ":")]
+        title = f"Fig. {5 if constrained else 4}: {case.name}"
+        figs += ctx.image("fig5_nonlinear_constrained" if constrained else "fig4_nonlinear_unconstrained",
+                          title.split(":")[0], lambda p, c=case, s=sols, t=title: _figure(c, s, p, t))
         truth = {}
         for label, U in (("CW plan, open loop", lin["U"]), ("nonlinear plan, open loop", case.to_si(scp.U))):
             X = nl.fly(case, U)
@@ -157,8 +153,7 @@ def build(ctx) -> str:
         "count at the paper's rho = 10, eps = 5e-6 is not comparable and is reported as measured.",
         "",
     ]
-    for f in figs:
-        out += [f"![{f.stem}](figures/{f.name})", ""]
+    out += figs
 
     out += [
         "### RK3 transcription against the propagated map",
@@ -198,9 +193,8 @@ def build(ctx) -> str:
             f"max {v['solve_ms_max']:.2f} ms (warm-started iLQR-ADMM, 10 N / remaining iterations capped at "
             "120, Qf x 1e4, planner with J2)."
         )
-    fpath = ctx.figure_path("nonlinear_flight")
     name0 = next(iter(flights))
-    _flight_figure(nl.paper_case(False), [(k, v[0]) for k, v in flights[name0].items()], fpath)
-    out += ["", f"![flight](figures/{fpath.name})", ""]
+    out += ["", *ctx.image("nonlinear_flight", "flight", lambda p: _flight_figure(
+        nl.paper_case(False), [(k, v[0]) for k, v in flights[name0].items()], p))]
     (ctx.outdir / "guidance_nonlinear.json").write_text(json.dumps(summary, indent=1))
     return "\n".join(out)

@@ -153,14 +153,20 @@ def summary(run) -> dict:
     return out
 
 
-def write(run, outdir) -> pathlib.Path:
+def write(run, outdir, figures: bool | None = None) -> pathlib.Path:
     """Write ``outdir/mission.md``, ``outdir/figures/mission.png`` and ``outdir/mission_summary.json``;
-    return the Markdown's path."""
+    return the Markdown's path. ``figures`` (default: whether matplotlib, the ``plot`` extra, is
+    installed) False writes the Markdown and the JSON without the figure."""
+    from .. import _plot
+
     out = pathlib.Path(outdir)
     out.mkdir(parents=True, exist_ok=True)
-    figure(run, out / "figures" / "mission.png")
+    if figures is None:
+        figures = _plot.available()
+    if figures:
+        figure(run, out / "figures" / "mission.png")
     path = out / "mission.md"
-    path.write_text(f"# {TITLE}\n\n" + markdown(run, "figures/mission.png") + "\n")
+    path.write_text(f"# {TITLE}\n\n" + markdown(run, "figures/mission.png" if figures else None) + "\n")
     (out / "mission_summary.json").write_text(json.dumps(summary(run), indent=2))
     return path
 
@@ -169,6 +175,9 @@ def build(ctx) -> str:
     from ..mission import run as run_mission
 
     run = run_mission(None, quick=ctx.quick, closed_loop=True)
+    if not ctx.figures:
+        ctx.figures_skipped.append("mission")
+        return markdown(run, None)
     path = ctx.figure_path("mission")
     figure(run, path)
     return markdown(run, f"figures/{path.name}")

@@ -154,12 +154,12 @@ def _tables_5_11(p, ctx) -> str:
         "",
     ]
     # Residual plots (Figs. 3-5 kind).
-    try:
-        import matplotlib
+    if not ctx.figures:
+        ctx.figures_skipped.append("od_residuals_per_iteration")
+    else:
+        from .. import _plot
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
+        plt = _plot._pyplot()
         fig, ax = plt.subplots(1, 2, figsize=(10, 4))
         r = runs[0]
         for k in range(min(4, r.range_residuals_m.shape[0])):
@@ -175,8 +175,6 @@ def _tables_5_11(p, ctx) -> str:
         fig.savefig(path, dpi=100)
         plt.close(fig)
         lines += [f"![residuals per iteration](figures/{path.name})", ""]
-    except ImportError:
-        pass
     sa = p.short_arc_run()
     lines += [
         f"With the short-arc STM of eq. (19) instead of the exact one, Newton from dx1 = 10 km ends with "
@@ -275,7 +273,9 @@ def _fig2(p, ctx, quick) -> str:
         "",
     ]
     # Figure: final position error vs initial, by class.
-    try:
+    if not ctx.figures:
+        ctx.figures_skipped.append("od_convergence_map")
+    else:
         from .. import _plot
 
         plt = _plot._pyplot()
@@ -306,8 +306,6 @@ def _fig2(p, ctx, quick) -> str:
         fig.savefig(path, dpi=100, bbox_inches="tight")
         plt.close(fig)
         lines += [f"![convergence map](figures/{path.name})", ""]
-    except ImportError:
-        pass
     return "\n".join(lines)
 
 
