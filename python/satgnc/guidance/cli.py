@@ -92,10 +92,13 @@ def _run(args: argparse.Namespace) -> int:
         # paper_lqr_passes); a user's scenario is about its own problem and never mentions the paper.
         paper_case = sc.cases[case].get("paper_lqr_passes") is not None
         run = rv.run_case(sc, case, reference=args.reference, paper_run=paper_case)
-        if figures:
+        if figures:  # the title and legend say what the plan is: never "converged" for a stopped iterate
+            st = run.metrics["conv_status"]
+            what = "converged" if st == "solved" else (
+                f"target unreachable: {st}, stopped iterate" if st in _UNREACHABLE else st)
             rv.plot_case(sc, run, out / f"{case}.png",
-                         f"{case} (converged; dashed: paper-stop U)" if paper_case else f"{case} (converged)",
-                         paper_stop=paper_case)
+                         f"{case} ({what}; dashed: paper-stop U)" if paper_case else f"{case} ({what})",
+                         paper_stop=paper_case, plan_label="converged" if st == "solved" else "plan")
         m = run.metrics
         line = (f"{case}: {m['conv_status']} in {m['conv_iterations']} iterations, "
                 f"dv = {m['conv_dv']:.4f} m/s, ")

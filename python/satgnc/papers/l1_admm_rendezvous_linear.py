@@ -84,7 +84,8 @@ def quadratic_vs_l1(sc: scen.Scenario):
     return quad.U * sc.u_ref, l1.Y * sc.u_ref
 
 
-def plot_case(sc: scen.Scenario, run: CaseRun, path, title: str, paper_stop: bool = True) -> None:
+def plot_case(sc: scen.Scenario, run: CaseRun, path, title: str, paper_stop: bool = True,
+              plan_label: str = "converged") -> None:
     """Figs. 2-3 style: positions (m), velocities (m/s), controls (N) of the converged plan, with the
     paper-stop LQR iterate U dashed (``paper_stop``; off for a user's case). satgnc's plotting style:
     one colour per axis, legends outside the data."""
@@ -103,7 +104,7 @@ def plot_case(sc: scen.Scenario, run: CaseRun, path, title: str, paper_stop: boo
         col = _plot.AXIS_COLORS[i]
         ax[0].plot(t, X[:, i], color=col, label=lab[i])
         ax[1].plot(t, X[:, 3 + i], color=col, label=f"v{'xyz'[i]}")
-        ax[2].step(t[:-1], U[:, i], where="post", color=col, label=f"u{i + 1} converged")
+        ax[2].step(t[:-1], U[:, i], where="post", color=col, label=f"u{i + 1} {plan_label}")
         if paper_stop:
             ax[2].step(t[:-1], Up[:, i], where="post", ls="--", lw=0.8, color=col,
                        label=f"u{i + 1} paper stop (U)")

@@ -196,13 +196,10 @@ def build(ctx) -> str:
                "determine the six-element state only in exact arithmetic: a Gauss-Newton step loses about "
                "7.5 digits of the measurements (range rate alone: about 7); one whole pass gains one to "
                "two digits. Range rate is the better-conditioned single measurement here.")
-    try:
-        import control  # noqa: F401
-
+    # listed under "Cross-checks not run" when python-control (the test extra) is absent, never dropped
+    if ctx.have("control", check="python-control ctrb / obsv against the Kalman matrices"):
         out.append("")
         out.append("python-control cross-check: `control.ctrb` / `control.obsv` equal satgnc's "
                    "Kalman matrices "
                    "to rounding for every case above (checked in tests/python/test_analysis.py).")
-    except ImportError:  # pragma: no cover
-        pass
     return "\n".join(out)

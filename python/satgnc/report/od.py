@@ -163,16 +163,16 @@ def _tables_5_11(p, ctx) -> str:
         fig, ax = plt.subplots(1, 2, figsize=(10, 4))
         r = runs[0]
         for k in range(min(4, r.range_residuals_m.shape[0])):
-            ax[0].semilogy(p.times(), np.abs(r.range_residuals_m[k]) + 1e-12, "o-", label=f"iteration {k}")
-            ax[1].semilogy(
-                p.times(), np.abs(r.range_rate_residuals_ms[k]) + 1e-12, "o-", label=f"iteration {k}"
-            )
-        ax[0].set(xlabel="t (s)", ylabel="|range residual| (m)", title="dx1 = 10 km")
-        ax[1].set(xlabel="t (s)", ylabel="|range-rate residual| (m/s)")
-        ax[0].legend()
+            ax[0].semilogy(p.times(), np.abs(r.range_residuals_m[k]) + 1e-12, "o-", label=f"{k}")
+            ax[1].semilogy(p.times(), np.abs(r.range_rate_residuals_ms[k]) + 1e-12, "o-", label=f"{k}")
+        ax[0].set(xlabel="time from epoch (s)", ylabel="|range residual| (m)", title="range")
+        ax[1].set(xlabel="time from epoch (s)", ylabel="|range-rate residual| (m/s)", title="range rate")
+        _plot.legend_outside(ax[1], title="Newton iteration")
+        fig.suptitle("Residuals per Newton-Raphson iteration (exact STM; initial guess: truth + 10 km "
+                     "in x1, the inertial x position)")
         fig.tight_layout()
         path = ctx.figure_path("od_residuals_per_iteration")
-        fig.savefig(path, dpi=100)
+        fig.savefig(path, dpi=100, bbox_inches="tight")
         plt.close(fig)
         lines += [f"![residuals per iteration](figures/{path.name})", ""]
     sa = p.short_arc_run()
