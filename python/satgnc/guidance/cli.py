@@ -264,6 +264,7 @@ def run_nonlinear(sc, cases, out, closed_loop: bool = False) -> int:
     figures = _plot_available()
     truth = rendezvous.truth_params(sc)
     summary = {}
+    unreachable: list[str] = []
     for case in cases or sc.nonlinear_cases():
         pb = rendezvous.problem(sc, case, "nonlinear")
         nl = sc.cases[case]["nonlinear"]
@@ -272,7 +273,8 @@ def run_nonlinear(sc, cases, out, closed_loop: bool = False) -> int:
         scp = plan(pb, "nonlinear", "scp", eps=1e-7, tol=1e-8)
         s_opt = scp.summary()
         entry = {"horizon": pb.horizon, "scp_status": scp.status, "scp_outer": scp.iterations}
-        sols = [("optimum (SCP)", scp.X, scp.U, "-")]
+        scp_label = "optimum (SCP)" if scp.status == "solved" else f"SCP stopped ({scp.status})"
+        sols = [(scp_label, scp.X, scp.U, "-")]
         line = f"{name}: "
         if nl is not None:
             # iLQR-ADMM with the file's rho and eps and the published stopping rule: named the paper's
@@ -293,8 +295,18 @@ def run_nonlinear(sc, cases, out, closed_loop: bool = False) -> int:
         summary[key] = entry
         if figures:
             _plot.plan_figure(pb.dt, sols, out / f"{key}.png", name)
-        print(line + f"optimum in {scp.iterations} SCP iterations ({scp.status}), "
-              f"dv = {s_opt['delta_v']:.4f} m/s, miss = {s_opt['miss_position']:.2f} m")
+        if scp.status == "inner_infeasible":  # the convex subproblem cannot meet the target
+            best = _linear_best_miss(sc, case)
+            entry.update(unreachable=True, best_miss_m_linear_cw=best)
+            unreachable.append(case)
+            print(line + f"target unreachable ({scp.status} after {scp.iterations} SCP iterations): the "
+                  f"stopped plan misses by {s_opt['miss_position']:.2f} m (dv = {s_opt['delta_v']:.4f} m/s); "
+                  f"the best achievable miss on the linear CW model is "
+                  + ("n/a" if best is None else f"{best:.3f} m"))
+        else:
+            print(line + f"{'optimum' if scp.status == 'solved' else 'stopped'} in {scp.iterations} SCP "
+                  f"iterations ({scp.status}), dv = {s_opt['delta_v']:.4f} m/s, "
+                  f"miss = {s_opt['miss_position']:.2f} m")
         if closed_loop:
             lin = plan(pb, "linear", discretization="zoh")
             x0 = pb.state_eci()
@@ -313,7 +325,18 @@ def run_nonlinear(sc, cases, out, closed_loop: bool = False) -> int:
                 _plot.flight_figure(pb.dt, [(label, f.X) for label, f in flights], out / f"{key}_flight.png",
                                     _truth_title(sc))
     (out / "nonlinear_summary.json").write_text(json.dumps(summary, indent=2, default=float))
-    return _finish(out, "nonlinear_summary.json", figures, [])
+    return _finish(out, "nonlinear_summary.json", figures, unreachable)
+
+
+def _linear_best_miss(sc, case: str) -> float | None:
+    """:func:`best_achievable_miss` of the same file's case on the linear CW model (m), or None when the
+    file has no linear reading (a scenario given as an object, not a path)."""
+    from ..scenarios import l1_rendezvous as scen
+
+    path = getattr(sc, "path", None)
+    if path is None:
+        return None
+    return float(best_achievable_miss(scen._load(path, "scenario"), case)["miss_m"])
 
 
 def _layout(sc, flag: str):
