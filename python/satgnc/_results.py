@@ -10,6 +10,9 @@ Every result a public function returns is a frozen dataclass derived from :class
 * results that used to be dicts still answer ``r["X"]`` (and ``"X" in r``, ``r.keys()``,
   ``r.get("X")``), with a ``DeprecationWarning`` that names the attribute to use instead; the value is
   the attribute itself (``r["X"] is r.X``);
+* ``repr(r)`` is one line: scalars and strings as values, arrays as ``<float64 array 61x6>``,
+  sequences and mappings as their length, nested results as their class (never an array's entries or
+  an address; checked for every subclass by tests/python/test_reprs.py);
 * solver results carry ``status: str`` (a snake_case name such as ``"solved"``), ``message: str``
   and ``iterations: int``.
 

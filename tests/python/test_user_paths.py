@@ -241,6 +241,19 @@ def test_rendezvous_without_matplotlib_writes_the_numbers(tmp_path, capsys, monk
     assert rc == cli.EXIT_UNREACHABLE
 
 
+def test_mission_without_matplotlib_writes_the_numbers(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    rc = cli.main(["mission", "--quick", "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert rc == cli.EXIT_NO_FIGURES
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mission.md", "mission_summary.json"]
+    assert "![" not in (tmp_path / "mission.md").read_text()
+    js = json.loads((tmp_path / "mission_summary.json").read_text())  # the numbers, without the figure
+    assert js["statuses"]["od"] == "converged" and js["statuses"]["plan"] == "solved"
+    assert js["observations"] > 0
+    assert out.strip().splitlines()[-1].endswith("exit code 5") and "satgnc[plot]" in out
+
+
 def test_reproduce_without_matplotlib_writes_the_report(tmp_path, capsys, monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     rc = cli.main(["reproduce", "--section", "propagation", "--section", "guidance", "--quick", "--out",
