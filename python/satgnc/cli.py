@@ -6,7 +6,8 @@ KeyError, ImportError of an optional dependency, MemoryError, a failed propagati
 line ``satgnc: internal error: ...`` and exit code 1. ``--debug`` (anywhere on the command line)
 shows the full traceback instead. Option values may be negative numbers (``--guess -3026.7,...``).
 
-Exit codes: 0 done; 1 internal error; 2 usage or input error; 3 (:data:`EXIT_PARTIAL`) ``reproduce``
+Exit codes: 0 done; 1 internal error (or ``od solve`` did not converge: its status is printed);
+2 usage or input error; 3 (:data:`EXIT_PARTIAL`) ``reproduce``
 wrote its report without the cross-checks that need the ``test`` extra; 4 (:data:`EXIT_UNREACHABLE`)
 ``rendezvous`` wrote its summary but a case's target cannot be reached (the best achievable miss is in
 ``summary.json``); 5 (:data:`EXIT_NO_FIGURES`) the numbers were written but no figures, since
