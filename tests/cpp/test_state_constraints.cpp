@@ -95,6 +95,35 @@ TEST(StateAdmm, InteriorPointCertifiesWithTerminalState) {
   EXPECT_LE(r.info.terminal_miss, 1e-6);
 }
 
+TEST(StateAdmm, HardTerminalInteriorPointDoesNotAllocate) {
+  // the equality rows' Schur complement (ne = 6 <= nx) in a factor sized min(m, nx) at setup: two
+  // solves (the second after a half-space update) allocate nothing and both are IPM-certified
+  const int N = 30;
+  auto p = cw_problem(N);
+  p.terminal_equality = true;
+  p.xf = Eigen::VectorXd::Zero(6);
+  p.u_lower = Eigen::VectorXd::Constant(3, -0.05);
+  p.u_upper = Eigen::VectorXd::Constant(3, 0.05);
+  AdmmSettings st;
+  st.eps_gap = 1e-8;
+  StateConstrainedAdmm s(p, half_spaces(N, 2.0), st);
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(6);
+  a(0) = -1.0;
+  g_mallocs = 0;
+  g_count = true;
+  const bool solved1 = s.solve().info.ipm_solved;
+  const bool ok = s.set_half_space(0, N / 2, a, 3.0);
+  const auto& r = s.solve();
+  g_count = false;
+  EXPECT_TRUE(ok);
+  EXPECT_EQ(g_mallocs.load(), 0);
+  EXPECT_TRUE(solved1);
+  EXPECT_EQ(r.info.status, AdmmStatus::solved);
+  EXPECT_TRUE(r.info.ipm_solved);
+  EXPECT_LE(std::abs(r.info.duality_gap), 1e-8);
+  EXPECT_LE(r.info.terminal_miss, 1e-6);
+}
+
 TEST(StateAdmm, StatusIsHonest) {
   // whatever the outcome, "solved" only with the violation and gap tests holding on the result
   const int N = 20;

@@ -67,7 +67,7 @@ struct StateAdmmWorkspace {
   StateAdmmResult res;
   // ---- active-set polish (dense KKT on the free controls; allocation-free: sized at setup)
   Eigen::MatrixXd Srow, Kkt, Kkt0, Ufix, Ypol;
-  Eigen::VectorXd kkt_rhs, kkt_sol, kkt_res, mu_pol, nrm, unit_nx, sgn;
+  Eigen::VectorXd kkt_rhs, kkt_sol, kkt_res, mu_pol, mu_best, nrm, unit_nx, sgn;
   Eigen::VectorXi piv, free_idx, act_idx, act_kind;
   int polish_attempts = 0;
   // ---- interior-point method (tried first; its plan is accepted only by the same tests)
@@ -975,6 +975,7 @@ StateConstrainedAdmm::StateConstrainedAdmm(const LtvProblem& problem, const Stat
   w.Ufix.setZero(nu, N);
   w.Ypol.setZero(nu, N);
   w.mu_pol.setZero(m);
+  w.mu_best.setZero(m);
   w.nrm.setZero(m);
   w.unit_nx.setZero(nx);
   w.sgn.setZero(nv);
@@ -1071,6 +1072,7 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
   // violation and Fenchel-gap tests below (the same as ADMM's); otherwise ADMM runs as before
   bool ipm_solved = false;
   if (w.ipm_ok && st.method != AdmmMethod::kAdmm) {
+    double D_best = -detail::kInf;
     w.ipm.init(w.ipd);
     for (int t = 0; t < st.ipm_max_iterations; ++t) {
       if (!w.ipm.step(w.ipd)) break;
@@ -1078,15 +1080,23 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
       w.rollout(w.Ypol, w.Xf, false);
       const double P = w.objective(w.Xf, w.Ypol);
       if (w.ipm.complementarity() > 1e-3 * std::max(std::abs(P), st.gap_floor)) continue;
+      // every iterate's multipliers give a valid lower bound (weak duality): keep the largest. Near
+      // the end the IPM's duals jitter by ~1e-8 relative (Schur complement of a hard terminal state
+      // with barrier weights ~1e12) while its plan still converges, so the best bound certifies.
+      const double Dk = w.dual_bound(w.mu_pol);
+      if (Dk > D_best) {
+        D_best = Dk;
+        w.mu_best = w.mu_pol;
+      }
       w.rows_of(w.Xf, w.shat);
       const double viol = w.violation_of(w.shat);
       const double vtol = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
       if (viol > vtol) continue;
-      const double D = w.dual_bound(w.mu_pol);
+      const double D = D_best;
       const double gap = (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
       if (std::abs(gap) <= (st.eps_gap > 0.0 ? st.eps_gap : 1e-9)) {
         w.Y = w.Ypol;
-        w.mu = w.mu_pol;
+        w.mu = w.mu_best;
         w.z = w.shat;
         w.project(w.z);
         w.Lam.setZero();
