@@ -166,13 +166,16 @@ def violation(kw, X):
 
 # Solved share measured on these seeds (2026-12-03): the Riccati-structured interior-point method runs
 # first (state_ipm.cpp) and its plan is accepted only by the same violation and Fenchel-gap tests;
-# otherwise ADMM + polish go on (5000 iterations). Measured: half-spaces 26/30 (20 by the IPM), cones
-# 30/30 (29 by the IPM), boxes + closing velocity 6/30 (5), mixed 2/30 (2); before the IPM 21+/21+/2/0.
-# Boxes and mixed stay low: the closing-velocity wedges (|a.v| <= c + s a.p, c < 0, tight at the drift)
-# stall the IPM (steps ~1e-3) and ADMM. The floors are the measured shares minus a margin; the hard
-# requirement is that no "solved" is false.
-MIN_SOLVED = {"half_space": 0.8, "box": 0.15, "cone": 0.95, "mixed": 0.05}
-MIN_IPM = {"half_space": 0.55, "box": 0.1, "cone": 0.85, "mixed": 0.0}  # share certified by the IPM
+# otherwise ADMM + polish go on (5000 iterations). Measured (second session, epigraph start on the box
+# scale + best bound over the IPM iterates): half-spaces 27/30 (21 by the IPM), cones 30/30 (30), boxes
+# + closing velocity 7/30 (6), mixed 5/30 (5); first session 26 (20) / 30 (29) / 6 (5) / 2 (2); before
+# the IPM 21+/21+/2/0. Boxes and mixed stay low: with the closing-velocity wedges (|a.v| <= c + s a.p,
+# c < 0, tight at the drift) the IPM's plan converges (s'z ~1e-17 relative) while its row multipliers
+# diverge along the unbounded dual face of the degenerate rows, so the Fenchel gap grows again
+# (1e-5 -> 0.2 over the last 6 steps of box case 0). The floors are the measured shares minus a
+# margin; the hard requirement is that no "solved" is false.
+MIN_SOLVED = {"half_space": 0.8, "box": 0.15, "cone": 0.95, "mixed": 0.1}
+MIN_IPM = {"half_space": 0.6, "box": 0.15, "cone": 0.9, "mixed": 0.1}  # share certified by the IPM
 MAX_ITER = 5000
 FAMILY_ITER = {"mixed": 1500}  # bounds the test's run time (mixed problems carry the most rows)
 
