@@ -137,7 +137,9 @@ def test_lazy_trust_region_subproblem_equals_the_trust_region_one(st):
     Ad, B, lo, hi = _controls(pb, None)
     w = np.full(3, pb.dt)
     lazy = _LazyTrustRegion(Ad, B, np.asarray(pb.x0), np.array(XF), N, w, lo, hi, st, idx, ko, 0.05, tr)
-    status, U, X, _ = lazy.solve(P)
+    Xp = base.X.copy()
+    Xp[idx, :3] = P
+    status, U, X, _ = lazy.solve(Xp)
     assert lazy.with_trust == 1 and status == "solved"
     a3, b = supporting_half_spaces(P, ko, 0.05)
     a = np.zeros((N, 6))
