@@ -234,7 +234,8 @@ class _LazyTrustRegion:
         supporting planes at the positions of ``X`` (N+1, nx) moved out by ``_RELAX`` times the
         problem's length scale, never active): the interior-point method solves and certifies it in ~10
         steps, where the L1 ADMM without rows needed ~600 iterations and a failed IPM attempt (5.4 ms of
-        the 15-19 ms plan, 2026-12-03). Falls back to the L1 solver without rows if that does not end ``solved``."""
+        the 15-19 ms plan, 2026-12-03). Falls back to the L1 solver without rows if that does not end
+        ``solved``."""
         Ad, B, x0, xf, N, w, lo, hi = self.args
         nodes, A, b = self._all_rows(X, math.inf)
         scale = max(float(np.max(np.abs(x0[:3]))), float(np.max(np.abs(xf[:3]))),
