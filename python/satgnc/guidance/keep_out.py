@@ -42,7 +42,7 @@ from .problem import RendezvousProblem
 from .safety import KeepOut, cw_positions, sample_flight
 from .thrusters import ThrusterLayout
 
-__all__ = ["KeepOutPlan", "keep_out_plan", "supporting_half_spaces"]
+__all__ = ["KeepOutPlan", "keep_out_plan", "plume_inhibited", "supporting_half_spaces"]
 
 
 def supporting_half_spaces(P: Any, keep_out: KeepOut, inflate: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -60,6 +60,20 @@ def supporting_half_spaces(P: Any, keep_out: KeepOut, inflate: float = 0.0) -> t
     Q = c + d / rho[:, None]
     n = (Q - c) / ax**2
     return -n, -np.sum(n * Q, axis=1)  # -n'p <= -n'q
+
+
+def plume_inhibited(P: Any, directions: Any, half_angle_deg: float, plume_range: float) -> np.ndarray:
+    """Which thrusters would fire their plume at the target (the CW origin) over each interval: (N, m)
+    bool for positions ``P`` (N+1, 3) m and unit thrust ``directions`` (m, 3). Thruster i's exhaust
+    leaves along -d_i; it impinges when the chaser is within ``plume_range`` m of the target and the
+    exhaust points within ``half_angle_deg`` of the target direction -p, i.e. d_i . p / |p| >=
+    cos(half_angle), at either end of the interval."""
+    P = np.asarray(P, dtype=float)
+    D = np.asarray(directions, dtype=float)
+    r = np.linalg.norm(P, axis=1)
+    c = (P @ D.T) / np.maximum(r, 1e-12)[:, None]
+    hit = (r[:, None] <= plume_range) & (c >= math.cos(math.radians(half_angle_deg)))
+    return hit[:-1] | hit[1:]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -102,6 +116,13 @@ class KeepOutPlan(Result):
     #: the violation of their own supporting planes (at convergence the elastic slack; 0: outside);
     #: NaN without ``drift_time``
     drift_slack: float = math.nan
+    #: plume cone (``plume`` given): (N, m) bool, the thrusters inhibited at each interval (the union over
+    #: the SCP iterations of those whose plume would hit the target); None without ``plume``
+    plume_inhibited: Any = dataclasses.field(default=None, repr=False)
+    #: firings (thrust > 1e-9 max_thrust) of a thruster whose plume hits the target by the returned
+    #: plan's geometry (the CW nodes; with a truth flight, also every flown sample inside the interval);
+    #: 0 when the cone holds; -1 without ``plume``
+    plume_violations: int = -1
     #: passive safety of the plan flown on the truth (``drift_time`` given and a truth flight): each
     #: drift node's free drift on the truth (:func:`satgnc.guidance.safety.passive_safety`)
     passive: Any = dataclasses.field(default=None, repr=False)
@@ -123,6 +144,11 @@ def _rows(idx: list[int], P: np.ndarray, keep_out: KeepOut, margin: float, tr: f
                 A[:, 1 + 2 * i + j, i] = s
                 b[:, 1 + 2 * i + j] = s * P[:, i] + tr
     return np.repeat(np.asarray(idx), per), A.reshape(-1, 6), b.reshape(-1)
+
+
+def _with_slack(B: np.ndarray) -> np.ndarray:
+    """B (6, nu) with the passive-safety slack's input appended: (7, nu + 1)."""
+    return np.block([[B, np.zeros((6, 1))], [np.zeros((1, B.shape[1])), np.ones((1, 1))]])
 
 
 def _terminal(xf: np.ndarray, N: int, nx: int) -> dict:
@@ -225,6 +251,11 @@ class _LazyTrustRegion:
             setattr(self, which, e)
         return e
 
+    def set_input(self, B: np.ndarray) -> None:
+        """New input matrices (the plume inhibitions changed): the engines are rebuilt on next need."""
+        self.args = self.args[:1] + (B,) + self.args[2:]
+        self.plain = self.trust = None
+
     def _all_rows(self, X: np.ndarray, tr: float):
         rows = _rows(self.idx, X[self.idx, :3], self.keep_out, self.margin, tr)
         return rows if self.passive is None else self.passive.augment(rows, X)
@@ -271,11 +302,11 @@ _RELAX = 100.0
 def _solve_cvxpy(Ad, B, x0, xf, N, w, lo, hi, hs, box, settings):
     import cvxpy as cp
 
-    nx, nu = B.shape
+    nx, nu = B.shape[-2:]
     X = cp.Variable((N + 1, nx))
     U = cp.Variable((N, nu))
     cons = [X[0] == x0, U >= lo[None, :], U <= hi[None, :], X[N, :xf.size] == xf]  # (a slack state free)
-    cons += [X[k + 1] == Ad @ X[k] + B @ U[k] for k in range(N)]
+    cons += [X[k + 1] == Ad @ X[k] + (B[k] if B.ndim == 3 else B) @ U[k] for k in range(N)]
     if hs is not None:
         nodes, a, b = hs
         cons += [a[i] @ X[k] <= b[i] for i, k in enumerate(nodes)]
@@ -300,7 +331,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
                   solver: str = "admm", truth: Any = None, per_interval: int = 20,
                   settings: Any = None, drift_time: float | None = None, drift_nodes: Any = None,
                   drift_samples: int = 20, drift_penalty: float = 100.0, impose_drift: bool = True,
-                  drift_check_samples: int = 100) -> KeepOutPlan:
+                  drift_check_samples: int = 100, plume: Any = None) -> KeepOutPlan:
     """Fuel-optimal plan from ``problem.x0`` to the hold point ``xf`` (6,) m, m/s (default: zeros, which
     is inside a zone centred on the target: then pass ``nodes`` to exempt the final approach) that stays
     out of ``keep_out`` at ``nodes`` (default 1..N), by SCP (module docstring). ``trust_radius`` (m,
@@ -314,7 +345,14 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     elastic supporting planes of :class:`_PassiveRows` (slack penalty ``drift_penalty`` N s per m;
     ``impose_drift=False``: only checked). The result's ``drift_slack`` (m) is the largest violation of
     those planes at the end (0 when imposed exactly) and ``passive`` the check on ``truth``: each drift
-    node's state on the flight, drifting on the truth, sampled ``drift_check_samples`` times."""
+    node's state on the flight, drifting on the truth, sampled ``drift_check_samples`` times.
+
+    Plume cone (``plume``: dict ``half_angle_deg`` in (0, 90], ``range`` m > 0; needs ``layout``): a
+    thruster whose exhaust would point within the half-angle of the target while the chaser is within
+    the range (:func:`plume_inhibited`, on the previous iterate's positions) is inhibited over that
+    interval (its column of B zeroed, so the L1 optimum does not fire it); the inhibitions accumulate over
+    the iterations (the set only grows, so it settles), and convergence needs an iteration that added
+    none. The result's ``plume_violations`` counts firings that still impinge on the returned plan."""
     from .problem import satellite_params
     from .safety import PassiveSafety, passive_safety
 
@@ -341,6 +379,18 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     tol = as_real(tol, "tol", positive=True)
     Ad, B, lo, hi = _controls(problem, layout)
     nu = B.shape[1]
+    inh = None
+    if plume is not None:
+        if layout is None:
+            raise ValueError("plume: needs a thruster layout (the per-axis box has no thruster to inhibit)")
+        if not isinstance(plume, dict) or set(plume) - {"half_angle_deg", "range"} or len(plume) != 2:
+            raise ValueError("plume: must be a dict with exactly the keys half_angle_deg and range")
+        p_ang = as_real(plume["half_angle_deg"], "plume.half_angle_deg", positive=True)
+        if p_ang > 90.0:
+            raise ValueError(f"plume.half_angle_deg: must be in (0, 90] degrees, got {p_ang}")
+        p_rng = as_real(plume["range"], "plume.range", positive=True)
+        inh = np.zeros((N, nu), dtype=bool)
+    B6 = B
     w = np.full(nu, problem.dt)
     x0 = np.asarray(problem.x0, dtype=float)
     passive = None
@@ -365,7 +415,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
             # the slack state sigma (m) and its control u_sigma in [0, bound] with weight drift_penalty
             scale = max(float(np.max(np.abs(x0[:3]))), float(np.max(np.abs(xf[:3]))), 1.0)
             Ad = np.block([[Ad, np.zeros((6, 1))], [np.zeros((1, 6)), np.ones((1, 1))]])
-            B = np.block([[B, np.zeros((6, 1))], [np.zeros((1, nu)), np.ones((1, 1))]])
+            B = _with_slack(B)
             x0 = np.r_[x0, 0.0]
             lo, hi, w = np.r_[lo, 0.0], np.r_[hi, 10.0 * scale], np.r_[w, drift_penalty]
     nx = Ad.shape[0]
@@ -396,6 +446,19 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     while it < max_iterations:
         it += 1
         P = X[idx, :3]
+        added = False
+        if inh is not None:
+            new = inh | plume_inhibited(X[:, :3], layout.directions, p_ang, p_rng)
+            added = bool(np.any(new != inh))
+            if added:
+                inh = new
+                Bk = np.repeat(B6[None], N, axis=0)
+                Bk[inh[:, None, :].repeat(6, axis=1)] = 0.0
+                if passive is not None:
+                    Bk = np.array([_with_slack(b) for b in Bk])
+                B = Bk
+                if engine is not None:
+                    engine.set_input(B)
         if engine is not None:  # the same rows as half-spaces, the solver kept warm
             status, Un, Xn, ts = engine.solve(X)
         else:
@@ -415,7 +478,7 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
         f, sl = merit(U, X)
         fuel_hist.append(f)
         cost, prev = f + (drift_penalty * sl if passive is not None else 0.0), cost
-        if step < tol or abs(cost - prev) <= 1e-9 * abs(prev):
+        if not added and (step < tol or abs(cost - prev) <= 1e-9 * abs(prev)):
             converged = True
             break
     wall = time.perf_counter() - t_wall
@@ -444,7 +507,17 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
         if drift_time is not None:
             ps = passive_safety(tp, Xf[[k * per_interval for k in dnodes]], keep_out, drift_time,
                                 drift_check_samples)
+    pviol = -1
+    if inh is not None:
+        fire = U > 1e-9 * layout.max_thrust[None, :]
+        hit = plume_inhibited(X[:, :3], layout.directions, p_ang, p_rng)
+        if Xf is not None:  # every flown sample of interval k (both ends included)
+            Pf = cw_positions(Xf)
+            for k in range(N):
+                seg = Pf[k * per_interval:(k + 1) * per_interval + 1]
+                hit[k] |= np.any(plume_inhibited(seg, layout.directions, p_ang, p_rng), axis=0)
+        pviol = int(np.sum(fire & hit))
     return KeepOutPlan(U, forces, X, status, converged, it, fuel_hist[-1], np.array(fuel_hist), node_rho,
                        flown_nodes, flown_min, sat_nodes, sat_flown, t_solve, wall, Xf,
                        engine.with_trust if engine is not None else 0,
-                       engine.ipm_certified if engine is not None else 0, slack, ps)
+                       engine.ipm_certified if engine is not None else 0, slack, inh, pviol, ps)
