@@ -81,3 +81,27 @@ def test_plume_cone_infeasible_on_the_axis_layout_is_reported():
 def test_bad_plume_input(kw, msg):
     with pytest.raises(ValueError, match=msg):
         keep_out_plan(braking_problem(), KeepOut.sphere(20.0), xf=[40.0, 0, 0, 0, 0, 0], truth=False, **kw)
+
+
+@pytest.mark.skipif(not HAS_CVXPY, reason="cvxpy not installed")
+def test_seeded_plume_problems_match_clarabel():
+    # seeded braking problems (start 120-180 m within +-20 deg closing at 0.1-0.25 m/s, hold point 30-50 m
+    # out, 15-25 m sphere, cone 30-60 deg within 100-200 m, cube layout): engine SCP = Clarabel SCP in
+    # status, iterations, inhibitions and fuel (1e-5); a solved plan has no impinging firing
+    rng = np.random.default_rng(163)
+    lay = cube_layout(0.5)
+    for _ in range(3):
+        ang, r0, v = rng.uniform(-0.35, 0.35), rng.uniform(120, 180), rng.uniform(0.1, 0.25)
+        x0 = np.array([r0 * np.cos(ang), r0 * np.sin(ang), 0.0, -v * np.cos(ang), -v * np.sin(ang), 0.0])
+        pb = RendezvousProblem(mu=MU, radius=R, mass=100.0, x0=x0, tf=1200.0, horizon=20, alpha=1.0, Qf=0.0,
+                               u_max=0.5, terminal_equality=True)
+        plume = {"half_angle_deg": float(rng.uniform(30, 60)), "range": float(rng.uniform(100, 200))}
+        kw = dict(xf=[float(rng.uniform(30, 50)), 0, 0, 0, 0, 0], layout=lay, plume=plume, truth=False)
+        ko = KeepOut.sphere(float(rng.uniform(15, 25)))
+        r = keep_out_plan(pb, ko, **kw)
+        ref = keep_out_plan(pb, ko, solver="cvxpy", **kw)
+        assert r.status == ref.status and r.iterations == ref.iterations
+        assert np.array_equal(r.plume_inhibited, ref.plume_inhibited)
+        assert abs(r.fuel - ref.fuel) <= 1e-5 * ref.fuel
+        if r.status == "solved":
+            assert r.converged and r.plume_violations == 0
