@@ -206,7 +206,8 @@ def main() -> None:
 
     print(f"| keep-out SCP with passive safety imposed (1200 s drifts, 76 of 380 rows; "
           f"{ps['iterations']} SCP iterations, {ps['status']}, {ps['ipm']} IPM-certified, "
-          f"fuel {ps['fuel']:.6f} N s, slack {ps['slack']:.1e} m) | {ps['wall_s'] * 1e3:.0f} ms wall best of 3 (load {ps['load']:.1f}) | |")
+          f"fuel {ps['fuel']:.6f} N s, slack {ps['slack']:.1e} m) | {ps['wall_s'] * 1e3:.0f} ms wall best "
+          f"of 3 (load {ps['load']:.1f}) | |")
     print(f"| same, all 380 drift rows (fuel {ps['all_rows_fuel']:.6f} N s) | "
           f"{ps['all_rows_wall_s'] * 1e3:.0f} ms wall, once | |")
     if "clarabel_wall_s" in ps:
