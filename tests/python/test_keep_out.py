@@ -171,3 +171,26 @@ def test_engine_scp_on_seeded_problems_matches_clarabel():
         assert r.iterations == ref.iterations
         assert abs(r.fuel - ref.fuel) <= 1e-5 * ref.fuel
         assert r.satisfied_nodes and r.node_rho[1:].min() >= 1.05 - 1e-6
+
+
+def test_plan_without_the_zone_falls_back_to_the_row_free_solver(monkeypatch):
+    # if the relaxed-row solve of the plan without the zone does not end solved, the row-free L1 solver
+    # gives it: the same SCP result (fuel 1e-6 relative to the normal path)
+    from satgnc.guidance import keep_out as ko_mod
+
+    pb, ko = problem(), KeepOut.sphere(40.0)
+    normal = keep_out_plan(pb, ko, xf=XF, truth=False)
+    orig = ko_mod._EngineSubproblem.solve
+    calls = []
+
+    def first_fails(self, rows):
+        calls.append(1)
+        status, U, X, t = orig(self, rows)
+        return ("max_iterations", U, X, t) if len(calls) == 1 else (status, U, X, t)
+
+    monkeypatch.setattr(ko_mod._EngineSubproblem, "solve", first_fails)
+    r = keep_out_plan(pb, ko, xf=XF, truth=False)
+    assert len(calls) == r.iterations + 1  # the failed relaxed solve, then one per SCP iteration
+    assert r.status == "solved" and r.converged
+    assert abs(r.fuel_history[0] - normal.fuel_history[0]) <= 1e-6 * normal.fuel_history[0]
+    assert abs(r.fuel - normal.fuel) <= 1e-6 * normal.fuel
