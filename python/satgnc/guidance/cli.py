@@ -466,7 +466,8 @@ def run_keep_out(sc, case: str, out: pathlib.Path, subproblem: str = "admm", pas
                  drift_slack_m=r.drift_slack)
         if _plot_available():
             safety_figure(r.passive, out / f"keep_out_passive_{case}.png", cw_positions(r.flown_X),
-                          title="Keep-out plan with passive safety imposed: free drift from each node (truth)",
+                          title="Keep-out plan with passive safety imposed: free drift from each node "
+                                "(truth)",
                           nodes=np.arange(1, r.passive.safe.size + 1))  # the default drift nodes 1..N-1
     (out / f"keep_out_{case}.json").write_text(json.dumps(d, indent=2, default=float))
     print(f"{case}: keep-out plan {r.status} after {r.iterations} SCP iterations (converged: {r.converged}), "
