@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import _satgnc
 from .. import _validate as _v
-from .._results import Result, adopt, deprecated
+from .._results import Result, adopt_dict, deprecated
 from .._validate import as_bool, as_real, as_real_array, check_magnitude, one_of
 
 __all__ = [
@@ -306,6 +306,12 @@ def _admm_info(d: Mapping[str, Any], *, keep_raw: bool = False) -> AdmmInfo:
                     raw=d if keep_raw else None)
 
 
+#: the extension's nu x N / nx x (N+1) arrays that L1Result holds time-major (transposed views)
+_TIME_MAJOR = ("X", "U", "Y", "Lambda", "X_flown")
+#: L1Result's fields that can hold an array (adopt_dict freezes them)
+_L1_ARRAYS = (*_TIME_MAJOR, "terminal_multiplier", "infeasibility_certificate", "state_multipliers")
+
+
 @dataclasses.dataclass(frozen=True)
 class L1Result(Result):
     """Solution of :func:`solve_l1`, read-only. Arrays are time-major: X (N+1, nx), U/Y/Lambda (N, nu).
@@ -516,24 +522,14 @@ class L1Solver:
 
     def solve(self) -> L1Result:
         """Run ADMM (never raises for solver outcomes: check ``result.status``)."""
-        d = self._solver.solve()
-        return adopt(
-            L1Result,  # the extension's fresh arrays, made read-only in place (no copy)
-            status=STATUS_NAMES[d["status"]], message=d["status_name"], iterations=d["iterations"],
-            X=d["X"].T, U=d["U"].T, Y=d["Y"].T, Lambda=d["Lambda"].T,
-            X_flown=d["X_flown"].T, terminal_multiplier=d["terminal_multiplier"],
-            objective=d["objective"], objective_u=d["objective_u"], terminal_miss=d["terminal_miss"],
-            primal_residual=d["primal_residual"], dual_residual=d["dual_residual"],
-            eps_primal=d["eps_primal"],
-            eps_dual=d["eps_dual"], paper_criterion=d["paper_criterion"], rho=d["rho"],
-            factorizations=d["factorizations"], rho_updates=d["rho_updates"], polished=d["polished"],
-            polish_attempts=d["polish_attempts"], solve_time=d["solve_time"], condensed=d["condensed"],
-            primal_objective=d["primal_objective"], dual_objective=d["dual_objective"],
-            duality_gap=d["duality_gap"], certified=d["certified"],
-            infeasibility_certificate=d["infeasibility_certificate"],
-            ipm_iterations=d["ipm_iterations"], ipm_solved=d["ipm_solved"],
-            **({"max_violation": d["max_violation"], "violation_tolerance": d["violation_tolerance"],
-                "state_multipliers": d["state_multipliers"]} if "max_violation" in d else {}))
+        d = self._solver.solve()  # a fresh dict of fresh arrays: adopted, not copied
+        d["status"] = STATUS_NAMES[d["status"]]
+        d["message"] = d.pop("status_name")
+        del d["workspace_bytes"]
+        d.pop("state_consensus", None)
+        for k in _TIME_MAJOR:
+            d[k] = d[k].T
+        return adopt_dict(L1Result, d, _L1_ARRAYS)
 
     def set_half_space(self, i: int, node: int, a, b: float) -> None:
         """Replace half-space ``i`` (its row in ``half_spaces``) by a' x_node <= b, without allocation
