@@ -168,6 +168,17 @@ CW_FRAME = "y radial, z orbit normal, x = y cross z (minus along-track)"
 _TO_HILL = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # Hill = _TO_HILL @ CW
 
 
+def _rotate_states(x: Any, rt: np.ndarray) -> np.ndarray:
+    """Position and velocity of the 6-state(s) x (last axis) each times rt (a rotation transposed)."""
+    a = as_real_array(x, "x")
+    if a.shape[-1:] != (6,):
+        raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
+    out = np.empty_like(a, dtype=float)
+    out[..., 0:3] = a[..., 0:3] @ rt
+    out[..., 3:6] = a[..., 3:6] @ rt
+    return out
+
+
 def cw_to_hill(x: Any) -> np.ndarray:
     """A state from guidance's CW frame (:data:`CW_FRAME`) to the Hill frame of
     :func:`satgnc.analysis.cw_model` (x radial, y along-track, z normal).
@@ -193,13 +204,7 @@ def cw_to_hill(x: Any) -> np.ndarray:
     >>> guidance.cw_to_hill([-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05]).tolist()
     [200.0, 1500.0, 50.0, 0.0, -0.3, -0.05]
     """
-    a = as_real_array(x, "x")
-    if a.shape[-1:] != (6,):
-        raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
-    out = np.empty_like(a, dtype=float)
-    out[..., 0:3] = a[..., 0:3] @ _TO_HILL.T
-    out[..., 3:6] = a[..., 3:6] @ _TO_HILL.T
-    return out
+    return _rotate_states(x, _TO_HILL.T)
 
 
 def hill_to_cw(x: Any) -> np.ndarray:
@@ -226,13 +231,7 @@ def hill_to_cw(x: Any) -> np.ndarray:
     >>> guidance.hill_to_cw([200.0, 1500.0, 50.0, 0.0, -0.3, -0.05]).tolist()
     [-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05]
     """
-    a = as_real_array(x, "x")
-    if a.shape[-1:] != (6,):
-        raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
-    out = np.empty_like(a, dtype=float)
-    out[..., 0:3] = a[..., 0:3] @ _TO_HILL
-    out[..., 3:6] = a[..., 3:6] @ _TO_HILL
-    return out
+    return _rotate_states(x, _TO_HILL)
 
 
 #: The fields of AdmmInfo, in order; each is also an L1Result attribute of the same name and value.
