@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "detail/admm_workspace.hpp"
+#include "detail/ipm_kernel.hpp"
 
 namespace satgnc::guidance::detail {
 
@@ -144,12 +145,7 @@ bool AdmmWorkspace::ipm_riccati_factor() noexcept {
       }
     } else {
       std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
-      llt.compute(Quu);
-      for (double shift = 1e-14; llt.info() != Eigen::Success; shift *= 100.0) {
-        if (shift > 1e-6) return false;
-        Quu.diagonal().array() += shift * Quu.diagonal().cwiseAbs().maxCoeff();
-        llt.compute(Quu);
-      }
+      if (!ipm::llt_with_shift(llt, Quu, 1e-14, 1e-6, 0.0)) return false;
       Qi.setIdentity();
       llt.solveInPlace(Qi);
     }
@@ -301,7 +297,7 @@ constexpr int kIn[4] = {0, 1, 3, 4}, kOut[2] = {2, 5};
 
 void AdmmWorkspace::ipm_setup_cw() {
   ipm_cw_ = false;
-  if (!(nx_ == 6 && nu_ == 3) || prob_.terminal_equality) return;
+  if (!(nx_ == 6 && nu_ == 3)) return;
   const LtvDynamics& d = prob_.dynamics;
   if (d.A.size() != 1 || d.B.size() != 1) return;
   const MatrixXd &A = d.A[0], &B = d.B[0];
@@ -342,10 +338,14 @@ void AdmmWorkspace::ipm_setup_cw() {
 
 // ipm_riccati_factor_63 on the blocks: every sum over the skipped indices adds exact zeros there, so
 // Quu, its inverse, K, Qux and P are the same numbers (the same ascending order of the nonzero terms;
-// ipm_setup zeroed the off-block entries of the stored K, Qux, Qi, which are never written).
+// ipm_setup zeroed the off-block entries of the stored K, Qux, Knu, which are never written).
 bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
+  const bool term = prob_.terminal_equality;
   const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
   double P4[16], P2[4];
+  // hard terminal state: L_k = (A + B K)' L_{k+1} from L_N = I and W from 0, block-diagonal as well
+  double L4[16] = {1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+  double L2[4] = {1.0, 0.0, 0.0, 1.0}, Z4[16] = {}, Z2[4] = {};
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 4; ++i) P4[i + 4 * j] = prob_.Qf(kIn[i], kIn[j]);
   for (int j = 0; j < 2; ++j)
@@ -392,6 +392,34 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
       Qux[2 + 3 * kOut[j]] = Qux2[j];
       K[2 + 3 * kOut[j]] = K2[j];
     }
+    if (term) {
+      // terminal_stage_63 on the blocks: Knu = -Qi B'L; W += (B'L)' Knu; L = A'L + K'(B'L)
+      double BtL4[8], Knu4[8], BtL4t[8], K4t[8], T4[16], Ln4[16], BtL2[2], Knu2[2], T2[4], Ln2[4];
+      mm<2, 4, 4>(cwB4t_, L4, BtL4);
+      mm<2, 2, 4>(Qi4, BtL4, Knu4);
+      for (int j = 0; j < 8; ++j) Knu4[j] = -Knu4[j];
+      mm<1, 2, 2>(cwB2t_, L2, BtL2);
+      for (int j = 0; j < 2; ++j) Knu2[j] = -(Qi2 * BtL2[j]);
+      for (int c = 0; c < 2; ++c)
+        for (int j = 0; j < 4; ++j) {
+          BtL4t[j + 4 * c] = BtL4[c + 2 * j];
+          K4t[j + 4 * c] = K4[c + 2 * j];
+        }
+      mm<4, 2, 4>(BtL4t, Knu4, T4);
+      for (int j = 0; j < 16; ++j) Z4[j] += T4[j];
+      mm<2, 1, 2>(BtL2, Knu2, T2);
+      for (int j = 0; j < 4; ++j) Z2[j] += T2[j];
+      mm<4, 4, 4>(cwA4t_, L4, Ln4);
+      mm<4, 2, 4>(K4t, BtL4, T4);
+      for (int j = 0; j < 16; ++j) L4[j] = Ln4[j] + T4[j];
+      mm<2, 2, 2>(cwA2t_, L2, Ln2);
+      mm<2, 1, 2>(K2, BtL2, T2);
+      for (int j = 0; j < 4; ++j) L2[j] = Ln2[j] + T2[j];
+      double* Knu = iKnu_.data() + k * 18;
+      for (int j = 0; j < 4; ++j)
+        for (int c = 0; c < 2; ++c) Knu[c + 3 * kIn[j]] = Knu4[c + 2 * j];
+      for (int j = 0; j < 2; ++j) Knu[2 + 3 * kOut[j]] = Knu2[j];
+    }
     if (k == 0) break;
     // P_k = A'PA + Qux'K (+ Q), symmetrized, per block
     double APA4[16], QK4[16], Qux4t[8], APA2[4], QK2[4];
@@ -418,6 +446,13 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
     if (!std::isfinite(v)) return false;
   for (double v : P2)
     if (!std::isfinite(v)) return false;
+  if (term) {  // S = dx_N / dnu = W_0 (ipm_riccati_factor_63), its off-block entries zero
+    iS_.setZero();
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) iS_(kIn[i], kIn[j]) = Z4[i + 4 * j];
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) iS_(kOut[i], kOut[j]) = Z2[i + 2 * j];
+  }
   return true;
 }
 
@@ -621,9 +656,9 @@ bool AdmmWorkspace::ipm_factor() noexcept {
     ihtt_(j) = htt;
   }
   id_ += im3_ * izs3_ + im4_ * izs4_;
-  if (!(ipm_cw_                    ? ipm_riccati_factor_cw()
-         : nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63()
-                                : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
+  if (!(ipm_cw_                ? ipm_riccati_factor_cw()
+        : nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63()
+                               : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
     return false;
   if (!term) return true;
   ilu_.compute(iS_);
@@ -967,20 +1002,12 @@ bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
          im3_ * (is3_ + aa * ia3_) * (iz3_ + aa * ib3_) + im4_ * (is4_ + aa * ia4_) * (iz4_ + aa * ib4_))
             .sum() /
         m;
-    const double sigma = mu > 0.0 ? std::clamp(std::pow(mu_aff / mu, 3.0), 0.0, 1.0) : 0.0;
+    const double sigma = ipm::mehrotra_sigma(mu_aff, mu);
     if (!ipm_newton(true, sigma * mu)) return false;
     const double a = std::min(1.0, 0.99 * ipm_max_step());
     if (!(a > 1e-12)) return false;
-    u += a * idu_;
-    itv_ += a * idt_;
-    is1_ += a * ids1_;
-    is2_ += a * ids2_;
-    is3_ += a * ids3_;
-    is4_ += a * ids4_;
-    iz1_ += a * idz1_;
-    iz2_ += a * idz2_;
-    iz3_ += a * idz3_;
-    iz4_ += a * idz4_;
+    ipm::take_step(a, u, idu_, itv_, idt_, is1_, ids1_, is2_, ids2_, is3_, ids3_, is4_, ids4_, iz1_, idz1_,
+                   iz2_, idz2_, iz3_, idz3_, iz4_, idz4_);
     // absent constraints keep s = 1, z = 0
     is1_ = im1_ * is1_ + (1.0 - im1_);
     is2_ = im1_ * is2_ + (1.0 - im1_);

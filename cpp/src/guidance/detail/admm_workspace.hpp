@@ -150,7 +150,7 @@ struct AdmmIpmData {
   Eigen::MatrixXd iK_, iQi_, iQux_, iKnu_, iP_, iPn_, iL_, iLn_, iBtP_, iQuu_, iAcl_, iZ_, iBtL_;
   Eigen::MatrixXd ikff_;
   /// (6, 3) LTI problems whose in-plane (x, y, vx, vy; ux, uy) and out-of-plane (z, vz; uz) parts
-  /// are exactly decoupled in A, B, Qf, Q and R (Clohessy-Wiltshire) without a hard terminal state:
+  /// are exactly decoupled in A, B, Qf, Q and R (Clohessy-Wiltshire), with or without a hard terminal state:
   /// the Riccati factor runs on the 4 x 4 and 2 x 2 blocks (ipm_riccati_factor_cw). The blocks,
   /// column-major, and their transposes: A4 (16), B4 (8), A2 (4), B2 (2).
   bool ipm_cw_ = false;
