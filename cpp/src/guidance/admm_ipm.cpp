@@ -52,6 +52,18 @@ bool ldl_inverse3(const M& a, Out& inv) noexcept {
   inv(0, 0) = i0 + m10 * m10 * i1 + m20 * m20 * i2;
   return true;
 }
+
+// ldl_inverse3 of the stage Hessian a, shifted on failure as ipm::llt_with_shift does (relative
+// shifts 1e-14, 1e-12, ..., 1e-6; a keeps the shift): near the end D spans many decades and P_{k+1}
+// may lose definiteness to rounding (the step stays a descent direction). False past 1e-6.
+template <typename M, typename Out>
+bool ldl_inverse3_shifted(M& a, Out& inv) noexcept {
+  for (double shift = 1e-14; !ldl_inverse3(a, inv); shift *= 100.0) {
+    if (shift > 1e-6) return false;
+    a.diagonal().array() += shift * a.diagonal().cwiseAbs().maxCoeff();
+  }
+  return true;
+}
 }  // namespace
 
 void AdmmWorkspace::ipm_setup() {
@@ -136,13 +148,9 @@ bool AdmmWorkspace::ipm_riccati_factor() noexcept {
     Quu.noalias() = BtP * B;
     if (has_r) Quu += prob_.R;
     for (int i = 0; i < nu_; ++i) Quu(i, i) += id_(static_cast<Index>(k) * nu_ + i);
-    // near the end D spans many decades and P_{k+1} may lose definiteness to rounding: a relative
-    // shift of the stage Hessian (the step stays a descent direction)
+    // a relative shift of the stage Hessian where it lost definiteness to rounding
     if constexpr (NU == 3) {
-      for (double shift = 1e-14; !ldl_inverse3(Quu, Qi); shift *= 100.0) {
-        if (shift > 1e-6) return false;
-        Quu.diagonal().array() += shift * Quu.diagonal().cwiseAbs().maxCoeff();
-      }
+      if (!ldl_inverse3_shifted(Quu, Qi)) return false;
     } else {
       std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
       if (!ipm::llt_with_shift(llt, Quu, 1e-14, 1e-6, 0.0)) return false;
@@ -195,25 +203,27 @@ inline void mm(const double* X, const double* Y, double* out) noexcept {
     for (int i = 0; i < R; ++i) out[i + R * j] = acc[i];
   }
 }
-// One stage of the terminal-constraint recursion of ipm_riccati_factor_63 (written out, same
-// operations): Knu = -Qi B'L; W_k = W_{k+1} + (B'L)' Knu; L_k = A'L + K'(B'L).
-void terminal_stage_63(const double* At, const double* Bt, const double* Qi, const double* K, double* L,
-                       double* Z, double* Ln, double* Knu) noexcept {
-  double BtL[18], QK[36];
-  mm<3, 6, 6>(Bt, L, BtL);  // B'L
-  mm<3, 3, 6>(Qi, BtL, Knu);
-  for (int j = 0; j < 18; ++j) Knu[j] = -Knu[j];
-  double Kt[18], BtLt[18];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 6; ++j) {
-      Kt[j + 6 * i] = K[i + 3 * j];
-      BtLt[j + 6 * i] = BtL[i + 3 * j];
+// One stage of the terminal-constraint recursion (written out, the operations of the Eigen form) on an
+// NX x NU block, column-major: Knu = -Qi B'L; W_k = W_{k+1} + (B'L)' Knu; L_k = A'L + K'(B'L). At, Bt:
+// A', B' of the block; Qi, K: its Quu^-1 and gain; L, Z (W) updated in place; Ln scratch.
+template <int NX, int NU>
+void terminal_stage(const double* At, const double* Bt, const double* Qi, const double* K, double* L,
+                    double* Z, double* Ln, double* Knu) noexcept {
+  double BtL[NU * NX], QK[NX * NX];
+  mm<NU, NX, NX>(Bt, L, BtL);  // B'L
+  mm<NU, NU, NX>(Qi, BtL, Knu);
+  for (int j = 0; j < NU * NX; ++j) Knu[j] = -Knu[j];
+  double Kt[NX * NU], BtLt[NX * NU];
+  for (int i = 0; i < NU; ++i)
+    for (int j = 0; j < NX; ++j) {
+      Kt[j + NX * i] = K[i + NU * j];
+      BtLt[j + NX * i] = BtL[i + NU * j];
     }
-  mm<6, 3, 6>(BtLt, Knu, QK);
-  for (int j = 0; j < 36; ++j) Z[j] += QK[j];
-  mm<6, 6, 6>(At, L, Ln);
-  mm<6, 3, 6>(Kt, BtL, QK);
-  for (int j = 0; j < 36; ++j) L[j] = Ln[j] + QK[j];
+  mm<NX, NU, NX>(BtLt, Knu, QK);
+  for (int j = 0; j < NX * NX; ++j) Z[j] += QK[j];
+  mm<NX, NX, NX>(At, L, Ln);
+  mm<NX, NU, NX>(Kt, BtL, QK);
+  for (int j = 0; j < NX * NX; ++j) L[j] = Ln[j] + QK[j];
 }
 }  // namespace
 
@@ -261,13 +271,10 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
     QuuM = (0.5 * (QuuM + QuuM.transpose())).eval();
     if (has_r) QuuM += prob_.R;
     for (int i = 0; i < 3; ++i) QuuM(i, i) += id_(static_cast<Index>(k) * 3 + i);
-    for (double shift = 1e-14; !ldl_inverse3(QuuM, QiM); shift *= 100.0) {
-      if (shift > 1e-6) return false;
-      QuuM.diagonal().array() += shift * QuuM.diagonal().cwiseAbs().maxCoeff();
-    }
+    if (!ldl_inverse3_shifted(QuuM, QiM)) return false;
     mm<3, 3, 6>(Qi, Qux, K);  // K = -Qi Qux
     for (int j = 0; j < 18; ++j) K[j] = -K[j];
-    if (term) terminal_stage_63(At, Bt, Qi, K, L, Z, Ln, iKnu_.data() + k * 18);
+    if (term) terminal_stage<6, 3>(At, Bt, Qi, K, L, Z, Ln, iKnu_.data() + k * 18);
     if (k == 0) break;
     // P_k = A'PA + Qux'K (+ Q), symmetrized
     double Quxt[18];
@@ -373,10 +380,7 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
     QuuM = (0.5 * (QuuM + QuuM.transpose())).eval();  // fixed-size: no allocation
     if (has_r) QuuM += prob_.R;
     for (int i = 0; i < 3; ++i) QuuM(i, i) += id_(static_cast<Index>(k) * 3 + i);
-    for (double shift = 1e-14; !ldl_inverse3(QuuM, QiM); shift *= 100.0) {
-      if (shift > 1e-6) return false;
-      QuuM.diagonal().array() += shift * QuuM.diagonal().cwiseAbs().maxCoeff();
-    }
+    if (!ldl_inverse3_shifted(QuuM, QiM)) return false;
     // K = -Qi Qux on the blocks; Qux and K scattered into the stage's 3 x 6 arrays
     const double Qi4[4] = {Qi[0], Qi[1], Qi[3], Qi[4]}, Qi2 = Qi[8];
     double K4[8], K2[2];
@@ -392,29 +396,10 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
       Qux[2 + 3 * kOut[j]] = Qux2[j];
       K[2 + 3 * kOut[j]] = K2[j];
     }
-    if (term) {
-      // terminal_stage_63 on the blocks: Knu = -Qi B'L; W += (B'L)' Knu; L = A'L + K'(B'L)
-      double BtL4[8], Knu4[8], BtL4t[8], K4t[8], T4[16], Ln4[16], BtL2[2], Knu2[2], T2[4], Ln2[4];
-      mm<2, 4, 4>(cwB4t_, L4, BtL4);
-      mm<2, 2, 4>(Qi4, BtL4, Knu4);
-      for (int j = 0; j < 8; ++j) Knu4[j] = -Knu4[j];
-      mm<1, 2, 2>(cwB2t_, L2, BtL2);
-      for (int j = 0; j < 2; ++j) Knu2[j] = -(Qi2 * BtL2[j]);
-      for (int c = 0; c < 2; ++c)
-        for (int j = 0; j < 4; ++j) {
-          BtL4t[j + 4 * c] = BtL4[c + 2 * j];
-          K4t[j + 4 * c] = K4[c + 2 * j];
-        }
-      mm<4, 2, 4>(BtL4t, Knu4, T4);
-      for (int j = 0; j < 16; ++j) Z4[j] += T4[j];
-      mm<2, 1, 2>(BtL2, Knu2, T2);
-      for (int j = 0; j < 4; ++j) Z2[j] += T2[j];
-      mm<4, 4, 4>(cwA4t_, L4, Ln4);
-      mm<4, 2, 4>(K4t, BtL4, T4);
-      for (int j = 0; j < 16; ++j) L4[j] = Ln4[j] + T4[j];
-      mm<2, 2, 2>(cwA2t_, L2, Ln2);
-      mm<2, 1, 2>(K2, BtL2, T2);
-      for (int j = 0; j < 4; ++j) L2[j] = Ln2[j] + T2[j];
+    if (term) {  // terminal_stage on each block
+      double Knu4[8], Knu2[2], Ln4[16], Ln2[4];
+      terminal_stage<4, 2>(cwA4t_, cwB4t_, Qi4, K4, L4, Z4, Ln4, Knu4);
+      terminal_stage<2, 1>(cwA2t_, cwB2t_, &Qi2, K2, L2, Z2, Ln2, Knu2);
       double* Knu = iKnu_.data() + k * 18;
       for (int j = 0; j < 4; ++j)
         for (int c = 0; c < 2; ++c) Knu[c + 3 * kIn[j]] = Knu4[c + 2 * j];
