@@ -1,8 +1,10 @@
 // pybind11 wrappers for the guidance room (CW model, Riccati step, ADMM solver). No algorithm here.
 #include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -14,15 +16,29 @@
 namespace py = pybind11;
 
 namespace satgnc::bindings {
+namespace {
+/// A fresh numpy copy of m in one array (Fortran order for matrices, as pybind11's Eigen copy),
+/// which makes a view and then copies it: two arrays. The L1 call path returns six of them.
+py::array fresh_array(const Eigen::MatrixXd& m) {
+  py::array_t<double, py::array::f_style> a({m.rows(), m.cols()});
+  if (m.size() > 0) std::memcpy(a.mutable_data(), m.data(), sizeof(double) * static_cast<size_t>(m.size()));
+  return std::move(a);
+}
+py::array fresh_array(const Eigen::VectorXd& v) {
+  py::array_t<double> a(v.size());
+  if (v.size() > 0) std::memcpy(a.mutable_data(), v.data(), sizeof(double) * static_cast<size_t>(v.size()));
+  return std::move(a);
+}
+}  // namespace
 
 py::dict admm_result_to_dict(const guidance::AdmmResult& r) {
   py::dict d;
-  d["X"] = r.X;
-  d["U"] = r.U;
-  d["Y"] = r.Y;
-  d["Lambda"] = r.Lambda;
-  d["X_flown"] = r.X_flown;
-  d["terminal_multiplier"] = r.terminal_multiplier;
+  d["X"] = fresh_array(r.X);
+  d["U"] = fresh_array(r.U);
+  d["Y"] = fresh_array(r.Y);
+  d["Lambda"] = fresh_array(r.Lambda);
+  d["X_flown"] = fresh_array(r.X_flown);
+  d["terminal_multiplier"] = fresh_array(r.terminal_multiplier);
   const auto& i = r.info;
   d["status"] = static_cast<int>(i.status);
   d["status_name"] = std::string(guidance::status_message(i.status));
@@ -49,7 +65,7 @@ py::dict admm_result_to_dict(const guidance::AdmmResult& r) {
   d["workspace_bytes"] = i.workspace_bytes;
   d["ipm_iterations"] = i.ipm_iterations;
   d["ipm_solved"] = i.ipm_solved;
-  d["infeasibility_certificate"] = r.infeasibility_certificate;
+  d["infeasibility_certificate"] = fresh_array(r.infeasibility_certificate);
   return d;
 }
 

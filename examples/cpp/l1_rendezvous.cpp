@@ -41,5 +41,5 @@ int main() {
   std::printf("status: %s\niterations: %d (polished: %s)\ndelta-v: %.4f m/s\nterminal miss: %.2f m\n",
               satgnc::guidance::status_message(r.info.status), r.info.iterations,
               r.info.polished ? "yes" : "no", dv, miss);
-  return r.info.status == AdmmStatus::kSolved ? 0 : 1;
+  return r.info.status == AdmmStatus::solved ? 0 : 1;
 }

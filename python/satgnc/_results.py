@@ -32,7 +32,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-__all__ = ["Result", "adopt", "deprecated", "deprecated_function", "module_getattr", "readonly"]
+__all__ = ["Result", "adopt", "adopt_dict", "deprecated", "deprecated_function", "module_getattr", "readonly"]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 _R = TypeVar("_R", bound="Result")
@@ -104,6 +104,30 @@ def adopt(cls: type[_R], /, **fields: Any) -> _R:
         return cls(**fields)
     finally:
         _ADOPT.on = False
+
+
+def adopt_dict(cls: type[_R], fields: dict[str, Any], arrays: tuple[str, ...]) -> _R:
+    """:func:`adopt` for a dict the extension has just returned, already holding ``cls``'s field names:
+    takes ownership of ``fields`` itself (no ``**`` repacking) and freezes only the ``arrays`` keys
+    (the fields that can hold an array; the caller names them all). The per-call path of
+    L1Solver.solve(): 9.3 -> 4.5 us for 35 fields (thread time, a 1-iteration N = 10 solve).
+    Anything :func:`adopt` would not fill directly goes through it unchanged."""
+    layout = _LAYOUT.get(cls, False)
+    if layout is False:
+        layout = _LAYOUT[cls] = _direct_layout(cls)
+    if layout is None or not (layout[1] <= fields.keys() <= layout[0]):
+        return adopt(cls, **fields)
+    obj = object.__new__(cls)
+    d = obj.__dict__
+    d.update(layout[2])
+    d.update(fields)
+    for name in arrays:
+        value = d[name]
+        if type(value) is np.ndarray:
+            value.setflags(write=False)
+        elif isinstance(value, _CONTAINERS):
+            d[name] = _freeze_in_place(value)
+    return obj
 
 
 def _direct_layout(cls: type) -> tuple[frozenset[str], frozenset[str], dict[str, Any]] | None:

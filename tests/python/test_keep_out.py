@@ -103,9 +103,24 @@ def test_keep_out_scp_on_the_engine_matches_clarabel():
     # and so the final fuel, agree to the subproblems' tolerance compounded over the iterations (1e-5)
     assert r.iterations == ref.iterations
     assert abs(r.fuel - ref.fuel) <= 1e-5 * ref.fuel
+    # every subproblem certified by the engine's interior-point method (its default, method admm_ipm)
+    assert r.ipm_subproblems == r.iterations
 
 
-def test_lazy_trust_region_subproblem_equals_the_trust_region_one():
+def test_engine_scp_with_admm_only_matches_clarabel():
+    # method "admm" (the interior-point method skipped): the ADMM fallback of each subproblem reaches
+    # the same SCP iterates (fuel 1e-5, as above) and no subproblem is counted as the IPM's
+    pb = problem()
+    ko = KeepOut.sphere(40.0)
+    ref = keep_out_plan(pb, ko, xf=XF, solver="cvxpy", truth=False)
+    r = keep_out_plan(pb, ko, xf=XF, truth=False, settings={"method": "admm", "eps_gap": 1e-7})
+    assert r.converged and r.status == "solved" and r.iterations == ref.iterations
+    assert abs(r.fuel - ref.fuel) <= 1e-5 * ref.fuel
+    assert r.ipm_subproblems == 0
+
+
+@pytest.mark.parametrize("st", [{"method": "admm", "eps_gap": 1e-7}, {"eps_gap": 1e-7}], ids=["admm", "ipm"])
+def test_lazy_trust_region_subproblem_equals_the_trust_region_one(st):
     # one SCP subproblem linearized at positions P pushed 15 sin(pi k / N) m out of plane: without the
     # trust rows its minimizer returns to the plane (a step > 8 m), so the lazy engine solves it again
     # with them; the plan must equal Clarabel's on the trust-region subproblem (fuel 1e-6 relative)
@@ -121,9 +136,10 @@ def test_lazy_trust_region_subproblem_equals_the_trust_region_one():
     P[:, 2] += 15.0 * np.sin(np.pi * np.arange(1, N + 1) / N)
     Ad, B, lo, hi = _controls(pb, None)
     w = np.full(3, pb.dt)
-    st = {"method": "admm", "eps_gap": 1e-7}
     lazy = _LazyTrustRegion(Ad, B, np.asarray(pb.x0), np.array(XF), N, w, lo, hi, st, idx, ko, 0.05, tr)
-    status, U, X, _ = lazy.solve(P)
+    Xp = base.X.copy()
+    Xp[idx, :3] = P
+    status, U, X, _ = lazy.solve(Xp)
     assert lazy.with_trust == 1 and status == "solved"
     a3, b = supporting_half_spaces(P, ko, 0.05)
     a = np.zeros((N, 6))
@@ -142,7 +158,7 @@ def test_engine_scp_on_seeded_problems_matches_clarabel():
     # seeded keep-out problems (start 120-200 m ahead within +-23 deg, hold point 60-100 m behind, sphere
     # 30-45 m, 600-1000 s): the engine SCP and the Clarabel SCP agree on status, iterations and fuel
     rng = np.random.default_rng(16)
-    for _ in range(4):
+    for _ in range(6):
         ang, r0 = rng.uniform(-0.4, 0.4), rng.uniform(120, 200)
         x0 = np.array([r0 * np.cos(ang), r0 * np.sin(ang), rng.uniform(-10, 10), 0, 0, 0])
         xf = np.array([-rng.uniform(60, 100), rng.uniform(-10, 10), 0, 0, 0, 0])
@@ -155,3 +171,26 @@ def test_engine_scp_on_seeded_problems_matches_clarabel():
         assert r.iterations == ref.iterations
         assert abs(r.fuel - ref.fuel) <= 1e-5 * ref.fuel
         assert r.satisfied_nodes and r.node_rho[1:].min() >= 1.05 - 1e-6
+
+
+def test_plan_without_the_zone_falls_back_to_the_row_free_solver(monkeypatch):
+    # if the relaxed-row solve of the plan without the zone does not end solved, the row-free L1 solver
+    # gives it: the same SCP result (fuel 1e-6 relative to the normal path)
+    from satgnc.guidance import keep_out as ko_mod
+
+    pb, ko = problem(), KeepOut.sphere(40.0)
+    normal = keep_out_plan(pb, ko, xf=XF, truth=False)
+    orig = ko_mod._EngineSubproblem.solve
+    calls = []
+
+    def first_fails(self, rows):
+        calls.append(1)
+        status, U, X, t = orig(self, rows)
+        return ("max_iterations", U, X, t) if len(calls) == 1 else (status, U, X, t)
+
+    monkeypatch.setattr(ko_mod._EngineSubproblem, "solve", first_fails)
+    r = keep_out_plan(pb, ko, xf=XF, truth=False)
+    assert len(calls) == r.iterations + 1  # the failed relaxed solve, then one per SCP iteration
+    assert r.status == "solved" and r.converged
+    assert abs(r.fuel_history[0] - normal.fuel_history[0]) <= 1e-6 * normal.fuel_history[0]
+    assert abs(r.fuel - normal.fuel) <= 1e-6 * normal.fuel

@@ -174,3 +174,34 @@ def test_adopt_direct_path_equals_the_constructor():
         _results.adopt(_Plain, status="solved", iterations=3, X=X, bogus=1)
     with pytest.raises(TypeError, match="missing 1 required positional argument: 'iterations'"):
         _results.adopt(_Plain, status="solved", X=X)
+
+
+def test_adopt_dict_equals_adopt_and_freezes_the_named_arrays():
+    """adopt_dict() (L1Solver.solve()'s path) takes the dict itself: same result as adopt() field by
+    field, the named arrays read-only without a copy, and adopt()'s errors for a bad field set."""
+    X, c = np.arange(6.0).reshape(3, 2), np.ones(2)
+    r = _results.adopt_dict(_Plain, {"status": "solved", "iterations": 3, "X": X.T, "certificate": c},
+                            ("X", "certificate"))
+    ref = _Plain(status="solved", iterations=3, X=X.T.copy(), certificate=c.copy())
+    assert repr(r) == repr(ref) and np.isnan(r.objective)
+    assert np.shares_memory(r.X, X) and r.certificate is c
+    assert r.X.flags.writeable is False and c.flags.writeable is False
+    with pytest.raises(TypeError, match="unexpected keyword argument 'bogus'"):
+        _results.adopt_dict(_Plain, {"status": "solved", "iterations": 3, "X": X, "bogus": 1}, ("X",))
+    with pytest.raises(TypeError, match="missing 1 required positional argument: 'iterations'"):
+        _results.adopt_dict(_Plain, {"status": "solved", "X": X}, ("X",))
+
+
+def test_l1_solve_result_is_read_only_time_major_and_drops_engine_only_keys():
+    from satgnc import guidance as g
+
+    A, B = g.cw_discretize(0.0011, 1.0, 10.0, "zoh")
+    s = g.L1Solver(A, B, np.array([100.0, 20.0, -5.0, -0.05, 0.0, 0.01]), horizon=10, Qf=np.eye(6),
+                   l1_weights=np.ones(3), u_lower=-0.01 * np.ones(3), u_upper=0.01 * np.ones(3))
+    r = s.solve()
+    assert r.X.shape == (11, 6) and r.U.shape == r.Y.shape == r.Lambda.shape == (10, 3)
+    assert all(not getattr(r, k).flags.writeable for k in ("X", "U", "Y", "Lambda", "X_flown",
+                                                           "terminal_multiplier",
+                                                           "infeasibility_certificate"))
+    assert r.status == "solved" and r.message and not r.infeasibility_certificate.any()
+    assert not hasattr(r, "workspace_bytes")

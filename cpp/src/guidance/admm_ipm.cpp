@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "detail/admm_workspace.hpp"
+#include "detail/ipm_kernel.hpp"
 
 namespace satgnc::guidance::detail {
 
@@ -49,6 +50,18 @@ bool ldl_inverse3(const M& a, Out& inv) noexcept {
   inv(1, 1) = i1 + m21 * m21 * i2;
   inv(0, 1) = inv(1, 0) = m10 * i1 + m20 * m21 * i2;
   inv(0, 0) = i0 + m10 * m10 * i1 + m20 * m20 * i2;
+  return true;
+}
+
+// ldl_inverse3 of the stage Hessian a, shifted on failure as ipm::llt_with_shift does (relative
+// shifts 1e-14, 1e-12, ..., 1e-6; a keeps the shift): near the end D spans many decades and P_{k+1}
+// may lose definiteness to rounding (the step stays a descent direction). False past 1e-6.
+template <typename M, typename Out>
+bool ldl_inverse3_shifted(M& a, Out& inv) noexcept {
+  for (double shift = 1e-14; !ldl_inverse3(a, inv); shift *= 100.0) {
+    if (shift > 1e-6) return false;
+    a.diagonal().array() += shift * a.diagonal().cwiseAbs().maxCoeff();
+  }
   return true;
 }
 }  // namespace
@@ -91,6 +104,7 @@ void AdmmWorkspace::ipm_setup() {
   iBtL_.setZero(nu_, nx_);
   iQuu_.setZero(nu_, nu_);
   iInu_ = MatrixXd::Identity(nu_, nu_);
+  ipm_setup_cw();
   illt_.compute(MatrixXd::Identity(
       nu_, nu_));  // sized and with its info set (a moved-from LLT(n) reads an unset info: UBSan)
   ip_.setZero(nx_);
@@ -134,21 +148,12 @@ bool AdmmWorkspace::ipm_riccati_factor() noexcept {
     Quu.noalias() = BtP * B;
     if (has_r) Quu += prob_.R;
     for (int i = 0; i < nu_; ++i) Quu(i, i) += id_(static_cast<Index>(k) * nu_ + i);
-    // near the end D spans many decades and P_{k+1} may lose definiteness to rounding: a relative
-    // shift of the stage Hessian (the step stays a descent direction)
+    // a relative shift of the stage Hessian where it lost definiteness to rounding
     if constexpr (NU == 3) {
-      for (double shift = 1e-14; !ldl_inverse3(Quu, Qi); shift *= 100.0) {
-        if (shift > 1e-6) return false;
-        Quu.diagonal().array() += shift * Quu.diagonal().cwiseAbs().maxCoeff();
-      }
+      if (!ldl_inverse3_shifted(Quu, Qi)) return false;
     } else {
       std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
-      llt.compute(Quu);
-      for (double shift = 1e-14; llt.info() != Eigen::Success; shift *= 100.0) {
-        if (shift > 1e-6) return false;
-        Quu.diagonal().array() += shift * Quu.diagonal().cwiseAbs().maxCoeff();
-        llt.compute(Quu);
-      }
+      if (!ipm::llt_with_shift(llt, Quu, 1e-14, 1e-6, 0.0)) return false;
       Qi.setIdentity();
       llt.solveInPlace(Qi);
     }
@@ -198,25 +203,27 @@ inline void mm(const double* X, const double* Y, double* out) noexcept {
     for (int i = 0; i < R; ++i) out[i + R * j] = acc[i];
   }
 }
-// One stage of the terminal-constraint recursion of ipm_riccati_factor_63 (written out, same
-// operations): Knu = -Qi B'L; W_k = W_{k+1} + (B'L)' Knu; L_k = A'L + K'(B'L).
-void terminal_stage_63(const double* At, const double* Bt, const double* Qi, const double* K, double* L,
-                       double* Z, double* Ln, double* Knu) noexcept {
-  double BtL[18], QK[36];
-  mm<3, 6, 6>(Bt, L, BtL);  // B'L
-  mm<3, 3, 6>(Qi, BtL, Knu);
-  for (int j = 0; j < 18; ++j) Knu[j] = -Knu[j];
-  double Kt[18], BtLt[18];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 6; ++j) {
-      Kt[j + 6 * i] = K[i + 3 * j];
-      BtLt[j + 6 * i] = BtL[i + 3 * j];
+// One stage of the terminal-constraint recursion (written out, the operations of the Eigen form) on an
+// NX x NU block, column-major: Knu = -Qi B'L; W_k = W_{k+1} + (B'L)' Knu; L_k = A'L + K'(B'L). At, Bt:
+// A', B' of the block; Qi, K: its Quu^-1 and gain; L, Z (W) updated in place; Ln scratch.
+template <int NX, int NU>
+void terminal_stage(const double* At, const double* Bt, const double* Qi, const double* K, double* L,
+                    double* Z, double* Ln, double* Knu) noexcept {
+  double BtL[NU * NX], QK[NX * NX];
+  mm<NU, NX, NX>(Bt, L, BtL);  // B'L
+  mm<NU, NU, NX>(Qi, BtL, Knu);
+  for (int j = 0; j < NU * NX; ++j) Knu[j] = -Knu[j];
+  double Kt[NX * NU], BtLt[NX * NU];
+  for (int i = 0; i < NU; ++i)
+    for (int j = 0; j < NX; ++j) {
+      Kt[j + NX * i] = K[i + NU * j];
+      BtLt[j + NX * i] = BtL[i + NU * j];
     }
-  mm<6, 3, 6>(BtLt, Knu, QK);
-  for (int j = 0; j < 36; ++j) Z[j] += QK[j];
-  mm<6, 6, 6>(At, L, Ln);
-  mm<6, 3, 6>(Kt, BtL, QK);
-  for (int j = 0; j < 36; ++j) L[j] = Ln[j] + QK[j];
+  mm<NX, NU, NX>(BtLt, Knu, QK);
+  for (int j = 0; j < NX * NX; ++j) Z[j] += QK[j];
+  mm<NX, NX, NX>(At, L, Ln);
+  mm<NX, NU, NX>(Kt, BtL, QK);
+  for (int j = 0; j < NX * NX; ++j) L[j] = Ln[j] + QK[j];
 }
 }  // namespace
 
@@ -264,13 +271,10 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
     QuuM = (0.5 * (QuuM + QuuM.transpose())).eval();
     if (has_r) QuuM += prob_.R;
     for (int i = 0; i < 3; ++i) QuuM(i, i) += id_(static_cast<Index>(k) * 3 + i);
-    for (double shift = 1e-14; !ldl_inverse3(QuuM, QiM); shift *= 100.0) {
-      if (shift > 1e-6) return false;
-      QuuM.diagonal().array() += shift * QuuM.diagonal().cwiseAbs().maxCoeff();
-    }
+    if (!ldl_inverse3_shifted(QuuM, QiM)) return false;
     mm<3, 3, 6>(Qi, Qux, K);  // K = -Qi Qux
     for (int j = 0; j < 18; ++j) K[j] = -K[j];
-    if (term) terminal_stage_63(At, Bt, Qi, K, L, Z, Ln, iKnu_.data() + k * 18);
+    if (term) terminal_stage<6, 3>(At, Bt, Qi, K, L, Z, Ln, iKnu_.data() + k * 18);
     if (k == 0) break;
     // P_k = A'PA + Qux'K (+ Q), symmetrized
     double Quxt[18];
@@ -287,6 +291,153 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
   for (int j = 0; j < 36; ++j)
     if (!std::isfinite(P[j])) return false;
   if (term) iS_ = iZ_;
+  return true;
+}
+
+// In-plane / out-of-plane split of the (6, 3) case: the state indices {0, 1, 3, 4} with controls
+// {0, 1}, and {2, 5} with control 2. Taken when every coupling entry of A, B, Qf, Q and R is exactly
+// zero (the Clohessy-Wiltshire maps are, and the diagonal equilibration keeps them so); then P_k, Quu_k
+// and K_k stay block-diagonal, and ipm_riccati_factor_cw does the products on the blocks only.
+namespace {
+constexpr int kIn[4] = {0, 1, 3, 4}, kOut[2] = {2, 5};
+}  // namespace
+
+void AdmmWorkspace::ipm_setup_cw() {
+  ipm_cw_ = false;
+  if (!(nx_ == 6 && nu_ == 3)) return;
+  const LtvDynamics& d = prob_.dynamics;
+  if (d.A.size() != 1 || d.B.size() != 1) return;
+  const MatrixXd &A = d.A[0], &B = d.B[0];
+  const auto in_plane = [](int i) { return i != 2 && i != 5; };
+  const auto split_ok = [&](const MatrixXd& M) {  // no entry couples the two parts (M is 6 x 6)
+    for (int j = 0; j < 6; ++j)
+      for (int i = 0; i < 6; ++i)
+        if (in_plane(i) != in_plane(j) && M(i, j) != 0.0) return false;
+    return true;
+  };
+  if (!split_ok(A) || !split_ok(prob_.Qf) || (prob_.Q.size() != 0 && !split_ok(prob_.Q))) return;
+  for (int i = 0; i < 6; ++i)
+    for (int c = 0; c < 3; ++c)
+      if (in_plane(i) != (c != 2) && B(i, c) != 0.0) return;
+  if (prob_.R.size() != 0)
+    for (int c = 0; c < 2; ++c)
+      if (prob_.R(c, 2) != 0.0 || prob_.R(2, c) != 0.0) return;
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      cwA4_[i + 4 * j] = A(kIn[i], kIn[j]);
+      cwA4t_[j + 4 * i] = A(kIn[i], kIn[j]);
+    }
+    for (int c = 0; c < 2; ++c) {
+      cwB4_[j + 4 * c] = B(kIn[j], c);
+      cwB4t_[c + 2 * j] = B(kIn[j], c);
+    }
+  }
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 2; ++i) {
+      cwA2_[i + 2 * j] = A(kOut[i], kOut[j]);
+      cwA2t_[j + 2 * i] = A(kOut[i], kOut[j]);
+    }
+    cwB2_[j] = B(kOut[j], 2);
+    cwB2t_[j] = B(kOut[j], 2);
+  }
+  ipm_cw_ = true;
+}
+
+// ipm_riccati_factor_63 on the blocks: every sum over the skipped indices adds exact zeros there, so
+// Quu, its inverse, K, Qux and P are the same numbers (the same ascending order of the nonzero terms;
+// ipm_setup zeroed the off-block entries of the stored K, Qux, Knu, which are never written).
+bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
+  const bool term = prob_.terminal_equality;
+  const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
+  double P4[16], P2[4];
+  // hard terminal state: L_k = (A + B K)' L_{k+1} from L_N = I and W from 0, block-diagonal as well
+  double L4[16] = {1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+  double L2[4] = {1.0, 0.0, 0.0, 1.0}, Z4[16] = {}, Z2[4] = {};
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) P4[i + 4 * j] = prob_.Qf(kIn[i], kIn[j]);
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) P2[i + 2 * j] = prob_.Qf(kOut[i], kOut[j]);
+  // A' for ipm_riccati_sweep_63 (LTI: read from iAcl_ there)
+  const double* A = prob_.dynamics.A[0].data();
+  double* At = iAcl_.data();
+  for (int i = 0; i < 6; ++i)
+    for (int l = 0; l < 6; ++l) At[i + 6 * l] = A[l + 6 * i];
+  for (int k = N_ - 1; k >= 0; --k) {
+    double PB4[8], Quu4[4], PA4[16], Qux4[8], PB2[2], Quu2[1], PA2[4], Qux2[2];
+    mm<4, 4, 2>(P4, cwB4_, PB4);
+    mm<2, 4, 2>(cwB4t_, PB4, Quu4);
+    mm<4, 4, 4>(P4, cwA4_, PA4);
+    mm<2, 4, 4>(cwB4t_, PA4, Qux4);
+    mm<2, 2, 1>(P2, cwB2_, PB2);
+    mm<1, 2, 1>(cwB2t_, PB2, Quu2);
+    mm<2, 2, 2>(P2, cwA2_, PA2);
+    mm<1, 2, 2>(cwB2t_, PA2, Qux2);
+    double Quu[9] = {Quu4[0], Quu4[1], 0.0, Quu4[2], Quu4[3], 0.0, 0.0, 0.0, Quu2[0]};
+    double* Qi = iQi_.data() + k * 9;
+    double* Qux = iQux_.data() + k * 18;
+    double* K = iK_.data() + k * 18;
+    Eigen::Map<Eigen::Matrix3d> QuuM(Quu), QiM(Qi);
+    QuuM = (0.5 * (QuuM + QuuM.transpose())).eval();  // fixed-size: no allocation
+    if (has_r) QuuM += prob_.R;
+    for (int i = 0; i < 3; ++i) QuuM(i, i) += id_(static_cast<Index>(k) * 3 + i);
+    if (!ldl_inverse3_shifted(QuuM, QiM)) return false;
+    // K = -Qi Qux on the blocks; Qux and K scattered into the stage's 3 x 6 arrays
+    const double Qi4[4] = {Qi[0], Qi[1], Qi[3], Qi[4]}, Qi2 = Qi[8];
+    double K4[8], K2[2];
+    mm<2, 2, 4>(Qi4, Qux4, K4);
+    for (int j = 0; j < 8; ++j) K4[j] = -K4[j];
+    for (int j = 0; j < 2; ++j) K2[j] = -(Qi2 * Qux2[j]);
+    for (int j = 0; j < 4; ++j)
+      for (int c = 0; c < 2; ++c) {
+        Qux[c + 3 * kIn[j]] = Qux4[c + 2 * j];
+        K[c + 3 * kIn[j]] = K4[c + 2 * j];
+      }
+    for (int j = 0; j < 2; ++j) {
+      Qux[2 + 3 * kOut[j]] = Qux2[j];
+      K[2 + 3 * kOut[j]] = K2[j];
+    }
+    if (term) {  // terminal_stage on each block
+      double Knu4[8], Knu2[2], Ln4[16], Ln2[4];
+      terminal_stage<4, 2>(cwA4t_, cwB4t_, Qi4, K4, L4, Z4, Ln4, Knu4);
+      terminal_stage<2, 1>(cwA2t_, cwB2t_, &Qi2, K2, L2, Z2, Ln2, Knu2);
+      double* Knu = iKnu_.data() + k * 18;
+      for (int j = 0; j < 4; ++j)
+        for (int c = 0; c < 2; ++c) Knu[c + 3 * kIn[j]] = Knu4[c + 2 * j];
+      for (int j = 0; j < 2; ++j) Knu[2 + 3 * kOut[j]] = Knu2[j];
+    }
+    if (k == 0) break;
+    // P_k = A'PA + Qux'K (+ Q), symmetrized, per block
+    double APA4[16], QK4[16], Qux4t[8], APA2[4], QK2[4];
+    for (int c = 0; c < 2; ++c)
+      for (int j = 0; j < 4; ++j) Qux4t[j + 4 * c] = Qux4[c + 2 * j];
+    mm<4, 4, 4>(cwA4t_, PA4, APA4);
+    mm<4, 2, 4>(Qux4t, K4, QK4);
+    for (int j = 0; j < 16; ++j) APA4[j] += QK4[j];
+    mm<2, 2, 2>(cwA2t_, PA2, APA2);
+    mm<2, 1, 2>(Qux2, K2, QK2);  // Qux2' (2 x 1) K2 (1 x 2): Qux2 read as a column
+    for (int j = 0; j < 4; ++j) APA2[j] += QK2[j];
+    if (has_q) {
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) APA4[i + 4 * j] += prob_.Q(kIn[i], kIn[j]);
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) APA2[i + 2 * j] += prob_.Q(kOut[i], kOut[j]);
+    }
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) P4[i + 4 * j] = 0.5 * (APA4[i + 4 * j] + APA4[j + 4 * i]);
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) P2[i + 2 * j] = 0.5 * (APA2[i + 2 * j] + APA2[j + 2 * i]);
+  }
+  for (double v : P4)
+    if (!std::isfinite(v)) return false;
+  for (double v : P2)
+    if (!std::isfinite(v)) return false;
+  if (term) {  // S = dx_N / dnu = W_0 (ipm_riccati_factor_63), its off-block entries zero
+    iS_.setZero();
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) iS_(kIn[i], kIn[j]) = Z4[i + 4 * j];
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) iS_(kOut[i], kOut[j]) = Z2[i + 2 * j];
+  }
   return true;
 }
 
@@ -490,8 +641,9 @@ bool AdmmWorkspace::ipm_factor() noexcept {
     ihtt_(j) = htt;
   }
   id_ += im3_ * izs3_ + im4_ * izs4_;
-  if (!(nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63()
-                             : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
+  if (!(ipm_cw_                ? ipm_riccati_factor_cw()
+        : nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63()
+                               : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
     return false;
   if (!term) return true;
   ilu_.compute(iS_);
@@ -835,20 +987,12 @@ bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
          im3_ * (is3_ + aa * ia3_) * (iz3_ + aa * ib3_) + im4_ * (is4_ + aa * ia4_) * (iz4_ + aa * ib4_))
             .sum() /
         m;
-    const double sigma = mu > 0.0 ? std::clamp(std::pow(mu_aff / mu, 3.0), 0.0, 1.0) : 0.0;
+    const double sigma = ipm::mehrotra_sigma(mu_aff, mu);
     if (!ipm_newton(true, sigma * mu)) return false;
     const double a = std::min(1.0, 0.99 * ipm_max_step());
     if (!(a > 1e-12)) return false;
-    u += a * idu_;
-    itv_ += a * idt_;
-    is1_ += a * ids1_;
-    is2_ += a * ids2_;
-    is3_ += a * ids3_;
-    is4_ += a * ids4_;
-    iz1_ += a * idz1_;
-    iz2_ += a * idz2_;
-    iz3_ += a * idz3_;
-    iz4_ += a * idz4_;
+    ipm::take_step(a, u, idu_, itv_, idt_, is1_, ids1_, is2_, ids2_, is3_, ids3_, is4_, ids4_, iz1_, idz1_,
+                   iz2_, idz2_, iz3_, idz3_, iz4_, idz4_);
     // absent constraints keep s = 1, z = 0
     is1_ = im1_ * is1_ + (1.0 - im1_);
     is2_ = im1_ * is2_ + (1.0 - im1_);

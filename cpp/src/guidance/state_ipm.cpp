@@ -11,6 +11,8 @@
 #include <cmath>
 #include <limits>
 
+#include "detail/ipm_kernel.hpp"
+
 namespace satgnc::guidance::detail {
 
 namespace {
@@ -346,14 +348,9 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
     PB_.middleCols(k * nu_, nu_).noalias() = Pn * B;
     Quu_.noalias() = B.transpose() * PB_.middleCols(k * nu_, nu_);
     Quu_.diagonal() += Rd_.col(k);
-    llt_.compute(Quu_);
     // near the end the barrier weights span ~1e12 and P loses definiteness to rounding: a tiny
     // diagonal shift (the direction is only proposed; the certificate is independent)
-    for (double shift = 1e-12; llt_.info() != Eigen::Success && shift < 1e-5; shift *= 100.0) {
-      Quu_.diagonal().array() += shift * (Quu_.diagonal().cwiseAbs().maxCoeff() + 1e-300);
-      llt_.compute(Quu_);
-    }
-    if (llt_.info() != Eigen::Success) return false;
+    if (!ipm::llt_with_shift(llt_, Quu_, 1e-12, 1e-5, 1e-300)) return false;
     auto Qi = Qi_.middleCols(k * nu_, nu_);
     Qi = Inu_;
     llt_.solveInPlace(Qi);
@@ -602,7 +599,7 @@ bool StateIpm::step(const StateIpmProblem& p) noexcept {
     for (int q = 0; q < 2; ++q) sz_a += (ss_(q, j) + aa * dss_(q, j)) * (zs_(q, j) + aa * dzs_(q, j));
     sz_a += (scn_(j) + aa * dscn_(j)) * (zcn_(j) + aa * dzcn_(j));
   }
-  const double sig = std::pow(std::clamp(sz_a / std::max(sz_, 1e-300), 0.0, 1.0), 3);
+  const double sig = ipm::mehrotra_sigma(sz_a, sz_);
   // corrector terms (W^-1 dz_a) o (W ds_a)
   corc_ = dsc_.cwiseProduct(dzc_);
   cors_ = dss_.cwiseProduct(dzs_);
@@ -617,14 +614,7 @@ bool StateIpm::step(const StateIpmProblem& p) noexcept {
   solve_newton(p, false, sig * mu);
   const double a = std::min(1.0, 0.99 * full_step());
   if (!(a > 0.0)) return false;
-  u_ += a * du_;
-  t_ += a * dt_;
-  sc_ += a * dsc_;
-  zc_ += a * dzc_;
-  ss_ += a * dss_;
-  zs_ += a * dzs_;
-  scn_ += a * dscn_;
-  zcn_ += a * dzcn_;
+  ipm::take_step(a, u_, du_, t_, dt_, sc_, dsc_, zc_, dzc_, ss_, dss_, zs_, dzs_, scn_, dscn_, zcn_, dzcn_);
   nu_eq_.head(ne_) += a * dnu_.head(ne_);
   rollout(p, u_, X_);
   residuals(p);

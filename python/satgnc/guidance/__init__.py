@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import _satgnc
 from .. import _validate as _v
-from .._results import Result, adopt, deprecated
+from .._results import Result, adopt_dict, deprecated
 from .._validate import as_bool, as_real, as_real_array, check_magnitude, one_of
 
 __all__ = [
@@ -168,6 +168,17 @@ CW_FRAME = "y radial, z orbit normal, x = y cross z (minus along-track)"
 _TO_HILL = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # Hill = _TO_HILL @ CW
 
 
+def _rotate_states(x: Any, rt: np.ndarray) -> np.ndarray:
+    """Position and velocity of the 6-state(s) x (last axis) each times rt (a rotation transposed)."""
+    a = as_real_array(x, "x")
+    if a.shape[-1:] != (6,):
+        raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
+    out = np.empty_like(a, dtype=float)
+    out[..., 0:3] = a[..., 0:3] @ rt
+    out[..., 3:6] = a[..., 3:6] @ rt
+    return out
+
+
 def cw_to_hill(x: Any) -> np.ndarray:
     """A state from guidance's CW frame (:data:`CW_FRAME`) to the Hill frame of
     :func:`satgnc.analysis.cw_model` (x radial, y along-track, z normal).
@@ -193,13 +204,7 @@ def cw_to_hill(x: Any) -> np.ndarray:
     >>> guidance.cw_to_hill([-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05]).tolist()
     [200.0, 1500.0, 50.0, 0.0, -0.3, -0.05]
     """
-    a = as_real_array(x, "x")
-    if a.shape[-1:] != (6,):
-        raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
-    out = np.empty_like(a, dtype=float)
-    out[..., 0:3] = a[..., 0:3] @ _TO_HILL.T
-    out[..., 3:6] = a[..., 3:6] @ _TO_HILL.T
-    return out
+    return _rotate_states(x, _TO_HILL.T)
 
 
 def hill_to_cw(x: Any) -> np.ndarray:
@@ -226,13 +231,7 @@ def hill_to_cw(x: Any) -> np.ndarray:
     >>> guidance.hill_to_cw([200.0, 1500.0, 50.0, 0.0, -0.3, -0.05]).tolist()
     [-1500.0, 200.0, 50.0, 0.3, 0.0, -0.05]
     """
-    a = as_real_array(x, "x")
-    if a.shape[-1:] != (6,):
-        raise ValueError(f"x: must have 6 components in its last axis, got shape {a.shape}")
-    out = np.empty_like(a, dtype=float)
-    out[..., 0:3] = a[..., 0:3] @ _TO_HILL
-    out[..., 3:6] = a[..., 3:6] @ _TO_HILL
-    return out
+    return _rotate_states(x, _TO_HILL)
 
 
 #: The fields of AdmmInfo, in order; each is also an L1Result attribute of the same name and value.
@@ -304,6 +303,12 @@ def _admm_info(d: Mapping[str, Any], *, keep_raw: bool = False) -> AdmmInfo:
     vals = {k: d[k] for k in _INFO_FIELDS[2:]}
     return AdmmInfo(status=STATUS_NAMES[d["status"]], message=d["status_name"], **vals,
                     raw=d if keep_raw else None)
+
+
+#: the extension's nu x N / nx x (N+1) arrays that L1Result holds time-major (transposed views)
+_TIME_MAJOR = ("X", "U", "Y", "Lambda", "X_flown")
+#: L1Result's fields that can hold an array (adopt_dict freezes them)
+_L1_ARRAYS = (*_TIME_MAJOR, "terminal_multiplier", "infeasibility_certificate", "state_multipliers")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -516,24 +521,14 @@ class L1Solver:
 
     def solve(self) -> L1Result:
         """Run ADMM (never raises for solver outcomes: check ``result.status``)."""
-        d = self._solver.solve()
-        return adopt(
-            L1Result,  # the extension's fresh arrays, made read-only in place (no copy)
-            status=STATUS_NAMES[d["status"]], message=d["status_name"], iterations=d["iterations"],
-            X=d["X"].T, U=d["U"].T, Y=d["Y"].T, Lambda=d["Lambda"].T,
-            X_flown=d["X_flown"].T, terminal_multiplier=d["terminal_multiplier"],
-            objective=d["objective"], objective_u=d["objective_u"], terminal_miss=d["terminal_miss"],
-            primal_residual=d["primal_residual"], dual_residual=d["dual_residual"],
-            eps_primal=d["eps_primal"],
-            eps_dual=d["eps_dual"], paper_criterion=d["paper_criterion"], rho=d["rho"],
-            factorizations=d["factorizations"], rho_updates=d["rho_updates"], polished=d["polished"],
-            polish_attempts=d["polish_attempts"], solve_time=d["solve_time"], condensed=d["condensed"],
-            primal_objective=d["primal_objective"], dual_objective=d["dual_objective"],
-            duality_gap=d["duality_gap"], certified=d["certified"],
-            infeasibility_certificate=d["infeasibility_certificate"],
-            ipm_iterations=d["ipm_iterations"], ipm_solved=d["ipm_solved"],
-            **({"max_violation": d["max_violation"], "violation_tolerance": d["violation_tolerance"],
-                "state_multipliers": d["state_multipliers"]} if "max_violation" in d else {}))
+        d = self._solver.solve()  # a fresh dict of fresh arrays: adopted, not copied
+        d["status"] = STATUS_NAMES[d["status"]]
+        d["message"] = d.pop("status_name")
+        del d["workspace_bytes"]
+        d.pop("state_consensus", None)
+        for k in _TIME_MAJOR:
+            d[k] = d[k].T
+        return adopt_dict(L1Result, d, _L1_ARRAYS)
 
     def set_half_space(self, i: int, node: int, a, b: float) -> None:
         """Replace half-space ``i`` (its row in ``half_spaces``) by a' x_node <= b, without allocation

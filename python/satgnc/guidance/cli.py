@@ -43,7 +43,8 @@ def _run(args: argparse.Namespace) -> int:
             if getattr(args, "min_time", False):
                 codes.append(run_min_time(sc, case, out))
             if getattr(args, "keep_out", False):
-                codes.append(run_keep_out(sc, case, out, getattr(args, "subproblem", "admm")))
+                codes.append(run_keep_out(sc, case, out, getattr(args, "subproblem", "admm"),
+                                          passive=getattr(args, "passive_safety", False)))
             if getattr(args, "constrained", False):
                 codes.append(run_constrained(sc, case, out))
         return _worst(codes)
@@ -430,10 +431,12 @@ def run_min_time(sc, case: str, out: pathlib.Path) -> int:
     return _no_figures_code(figures)
 
 
-def run_keep_out(sc, case: str, out: pathlib.Path, subproblem: str = "admm") -> int:
+def run_keep_out(sc, case: str, out: pathlib.Path, subproblem: str = "admm", passive: bool = False) -> int:
     """The keep-out plan of ``case`` (:func:`satgnc.guidance.keep_out.keep_out_plan`) to the
     ``[keep_out] hold_point`` with the ``[[thrusters]]`` layout (or the case's box), its check on the
-    ``[truth]`` at the nodes and between them; writes ``keep_out_<case>.json``."""
+    ``[truth]`` at the nodes and between them; writes ``keep_out_<case>.json``. ``passive`` (with
+    ``--passive-safety``): passive safety over ``[passive_safety] drift_time`` imposed in the SCP, its
+    check on the truth in the json and ``keep_out_passive_<case>.png``."""
     import numpy as np
 
     from ..scenarios import rendezvous
@@ -443,17 +446,38 @@ def run_keep_out(sc, case: str, out: pathlib.Path, subproblem: str = "admm") -> 
     if ko is None or k["hold_point"] is None:
         raise ValueError(f"--keep-out: the scenario {sc.path} needs [keep_out] with hold_point")
     pb = rendezvous.problem(sc, case, "linear")
+    ps_cfg = sc.sections["passive_safety"] if passive else None
+    if passive and ps_cfg is None:
+        raise ValueError(f"--passive-safety: the scenario {sc.path} needs [passive_safety]")
+    drift = {} if ps_cfg is None else {"drift_time": ps_cfg["drift_time"],
+                                       "drift_check_samples": ps_cfg["samples"]}
     r = keep_out_plan(pb, ko, xf=np.r_[k["hold_point"], 0.0, 0.0, 0.0], layout=rendezvous.thruster_layout(sc),
-                      margin=k["margin"], solver=subproblem, truth=rendezvous.truth_params(sc))
+                      margin=k["margin"], solver=subproblem, truth=rendezvous.truth_params(sc), **drift)
     d = {"status": r.status, "converged": r.converged, "iterations": r.iterations, "fuel_Ns": r.fuel,
          "fuel_history": r.fuel_history.tolist(), "min_node_rho": float(r.node_rho[1:].min()),
          "flown_rho_nodes": r.flown_rho_nodes, "flown_rho_min": r.flown_rho_min,
          "satisfied_nodes": r.satisfied_nodes, "satisfied_flown": r.satisfied_flown,
          "wall_time_s": r.wall_time}
+    if r.passive is not None:
+        from .safety import cw_positions, safety_figure
+
+        d.update(passive_drift_time_s=r.passive.drift_time, passive_nodes_safe=int(r.passive.safe.sum()),
+                 passive_nodes=int(r.passive.safe.size), passive_min_rho=float(r.passive.min_rho.min()),
+                 drift_slack_m=r.drift_slack)
+        if _plot_available():
+            safety_figure(r.passive, out / f"keep_out_passive_{case}.png", cw_positions(r.flown_X),
+                          title="Keep-out plan with passive safety imposed: free drift from each node "
+                                "(truth)",
+                          nodes=np.arange(1, r.passive.safe.size + 1))  # the default drift nodes 1..N-1
     (out / f"keep_out_{case}.json").write_text(json.dumps(d, indent=2, default=float))
     print(f"{case}: keep-out plan {r.status} after {r.iterations} SCP iterations (converged: {r.converged}), "
           f"fuel {r.fuel:.4g} N s; outside the zone at every node: {r.satisfied_nodes}; on the truth "
           f"between nodes: {r.satisfied_flown} (smallest radius {r.flown_rho_min:.3f})")
+    if r.passive is not None:
+        print(f"{case}: passive safety imposed over {r.passive.drift_time:.0f} s: "
+              f"{int(r.passive.safe.sum())}/{r.passive.safe.size} drift nodes safe on the truth, smallest "
+              f"radius {float(r.passive.min_rho.min()):.3f}; remaining violation on CW {r.drift_slack:.3g} m")
+        return _no_figures_code(_plot_available())
     return 0
 
 
@@ -508,7 +532,8 @@ def register(subparsers) -> None:
                    help="the thruster-loss table of the scenario's [[thrusters]] layout: controllability and "
                         "margin of the survivors, L1 replan, fuel and miss on the [truth] (issue 16)")
     p.add_argument("--passive-safety", action="store_true",
-                   help="free drift from each node of the flown plan against [keep_out] ([passive_safety])")
+                   help="free drift from each node of the flown plan against [keep_out] ([passive_safety]); "
+                        "with --keep-out also imposed in that plan's SCP")
     p.add_argument("--min-time", action="store_true",
                    help="minimum horizon by bisection on N and the fuel-versus-transfer-time curve")
     p.add_argument("--keep-out", action="store_true",

@@ -35,14 +35,14 @@ from typing import Any
 import numpy as np
 
 from .._results import Result
-from .._validate import as_int, as_real, as_real_array, one_of
+from .._validate import as_bool, as_int, as_real, as_real_array, one_of
 from . import L1Solver
 from .min_time import _controls
 from .problem import RendezvousProblem
 from .safety import KeepOut, cw_positions, sample_flight
 from .thrusters import ThrusterLayout
 
-__all__ = ["KeepOutPlan", "keep_out_plan", "supporting_half_spaces"]
+__all__ = ["KeepOutPlan", "keep_out_plan", "plume_inhibited", "supporting_half_spaces"]
 
 
 def supporting_half_spaces(P: Any, keep_out: KeepOut, inflate: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -60,6 +60,20 @@ def supporting_half_spaces(P: Any, keep_out: KeepOut, inflate: float = 0.0) -> t
     Q = c + d / rho[:, None]
     n = (Q - c) / ax**2
     return -n, -np.sum(n * Q, axis=1)  # -n'p <= -n'q
+
+
+def plume_inhibited(P: Any, directions: Any, half_angle_deg: float, plume_range: float) -> np.ndarray:
+    """Which thrusters would fire their plume at the target (the CW origin) over each interval: (N, m)
+    bool for positions ``P`` (N+1, 3) m and unit thrust ``directions`` (m, 3). Thruster i's exhaust
+    leaves along -d_i; it impinges when the chaser is within ``plume_range`` m of the target and the
+    exhaust points within ``half_angle_deg`` of the target direction -p, i.e. d_i . p / |p| >=
+    cos(half_angle), at either end of the interval."""
+    P = np.asarray(P, dtype=float)
+    D = np.asarray(directions, dtype=float)
+    r = np.linalg.norm(P, axis=1)
+    c = (P @ D.T) / np.maximum(r, 1e-12)[:, None]
+    hit = (r[:, None] <= plume_range) & (c >= math.cos(math.radians(half_angle_deg)))
+    return hit[:-1] | hit[1:]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -93,6 +107,25 @@ class KeepOutPlan(Result):
     #: engine subproblems whose minimizer without the trust rows left the trust region, so that they
     #: were solved again with them (``solver="admm"``; the others are exact without them)
     trust_region_binding: int = 0
+    #: engine SCP subproblems (the plan without the zone not counted) whose plan the engine's
+    #: interior-point method returned, certified by the same violation and Fenchel-gap tests as ADMM's
+    #: (the others ran ADMM)
+    ipm_subproblems: int = 0
+    #: passive safety (``drift_time`` given): the largest depth (m, along the surface normal at its
+    #: radial projection) of the returned plan's sampled CW drift points inside the inflated zone, i.e.
+    #: the violation of their own supporting planes (at convergence the elastic slack; 0: outside);
+    #: NaN without ``drift_time``
+    drift_slack: float = math.nan
+    #: plume cone (``plume`` given): (N, m) bool, the thrusters inhibited at each interval (the union over
+    #: the SCP iterations of those whose plume would hit the target); None without ``plume``
+    plume_inhibited: Any = dataclasses.field(default=None, repr=False)
+    #: firings (thrust > 1e-9 max_thrust) of a thruster whose plume hits the target by the returned
+    #: plan's geometry (the CW nodes; with a truth flight, also every flown sample inside the interval);
+    #: 0 when the cone holds; -1 without ``plume``
+    plume_violations: int = -1
+    #: passive safety of the plan flown on the truth (``drift_time`` given and a truth flight): each
+    #: drift node's free drift on the truth (:func:`satgnc.guidance.safety.passive_safety`)
+    passive: Any = dataclasses.field(default=None, repr=False)
 
 
 def _rows(idx: list[int], P: np.ndarray, keep_out: KeepOut, margin: float, tr: float
@@ -113,6 +146,65 @@ def _rows(idx: list[int], P: np.ndarray, keep_out: KeepOut, margin: float, tr: f
     return np.repeat(np.asarray(idx), per), A.reshape(-1, 6), b.reshape(-1)
 
 
+def _with_slack(B: np.ndarray) -> np.ndarray:
+    """B (6, nu) with the passive-safety slack's input appended: (7, nu + 1)."""
+    return np.block([[B, np.zeros((6, 1))], [np.zeros((1, B.shape[1])), np.ones((1, 1))]])
+
+
+def _terminal(xf: np.ndarray, N: int, nx: int) -> dict:
+    """L1Solver keywords of the hard terminal state x_N = xf (6,); with the passive-safety SCP's
+    augmented state (nx = 7, the slack last) the six entries are fixed by a state box at node N and the
+    slack left free."""
+    if nx == xf.size:
+        return {"xf": xf, "terminal_equality": True}
+    return {"state_lower": np.r_[xf, -np.inf], "state_upper": np.r_[xf, np.inf], "state_box_nodes": [N]}
+
+
+class _PassiveRows:
+    """Passive safety as SCP rows (module docstring): from node k the free drift's position at time t is
+    G(t) x_k, G = the first three rows of the CW state transition matrix (exact for the plan's linear
+    model); per node and sampled drift time, the supporting plane of the inflated zone at the radial
+    projection q of the previous iterate's drift point, in the elastic form
+        n^' (G(t) x_k - q) >= -sigma_k,   n^ the unit normal,
+    sigma the slack state (m) appended to the state: sigma_0 = 0, sigma_{k+1} = sigma_k + u_sigma_k,
+    u_sigma >= 0 with L1 weight ``penalty`` (N s / m). sigma is nondecreasing, so the cost is
+    ``penalty`` x the largest violation of these planes (an exact l-infinity penalty: for a penalty
+    above the multipliers' sum the subproblem's minimizer is the constrained one whenever that is
+    feasible, and the subproblem is always feasible). ``per_node``: only the rows of the samples nearest
+    the zone at the previous iterate, per node (the engine's interior-point step cost jumps between 100
+    and 200 rows: 0.1 -> 3.4 ms at N = 20, 2026-12-03); a relaxation, re-selected every iteration, the
+    returned plan checked on every sample (``drift_slack``) and on the truth."""
+
+    def __init__(self, problem: RendezvousProblem, keep_out: KeepOut, margin: float, nodes: list[int],
+                 drift_time: float, samples: int, penalty: float, per_node: int | None = None):
+        from . import cw_discretize
+
+        self.keep_out, self.margin, self.nodes, self.penalty = keep_out, margin, nodes, penalty
+        self.per_node = samples if per_node is None else min(per_node, samples)
+        self.times = drift_time * np.arange(1, samples + 1) / samples
+        self.G = np.array([cw_discretize(problem.n, problem.mass, t, "zoh")[0][:3] for t in self.times])
+
+    def drift(self, X: np.ndarray) -> np.ndarray:
+        """Drift positions (nodes, samples, 3) m of the plan X (N+1, >= 6) on the linear model."""
+        return np.einsum("sij,kj->ksi", self.G, X[self.nodes, :6])
+
+    def augment(self, rows, X: np.ndarray):
+        """The keep-out / trust rows (6 columns) padded with the slack column, then the drift rows."""
+        nodes, A, b = rows
+        Dn = self.drift(X)  # (nodes, samples, 3)
+        k = self.per_node
+        # per node the k samples nearest the zone (smallest radius), in time order
+        sel = np.sort(np.argsort(self.keep_out.rho(Dn), axis=1, kind="stable")[:, :k], axis=1)
+        D = np.take_along_axis(Dn, sel[:, :, None], axis=1).reshape(-1, 3)
+        G = self.G[sel.reshape(-1)]  # (nodes * k, 3, 6), node-major as D
+        a3, b3 = supporting_half_spaces(D, self.keep_out, self.margin)
+        nrm = np.linalg.norm(a3, axis=1)
+        a3, b3 = a3 / nrm[:, None], b3 / nrm
+        ad = np.hstack([np.einsum("ki,kij->kj", a3, G), -np.ones((a3.shape[0], 1))])
+        return (np.r_[nodes, np.repeat(self.nodes, k)],
+                np.vstack([np.hstack([A, np.zeros((len(b), 1))]), ad]), np.r_[b, b3])
+
+
 class _EngineSubproblem:
     """The state-constrained ADMM built once (``L1Solver(..., half_spaces=...)``); each SCP iteration
     replaces the rows that changed in place (``set_half_space``, no allocation) and solves warm from the
@@ -120,18 +212,21 @@ class _EngineSubproblem:
 
     def __init__(self, Ad, B, x0, xf, N, w, lo, hi, rows, settings):
         nodes, A, b = rows
-        self.s = L1Solver(Ad, B, x0, horizon=N, xf=xf, l1_weights=w, u_lower=lo, u_upper=hi,
-                          terminal_equality=True, settings=settings,
-                          half_spaces={"nodes": nodes, "a": A, "b": b})
+        self.s = L1Solver(Ad, B, x0, horizon=N, l1_weights=w, u_lower=lo, u_upper=hi, settings=settings,
+                          half_spaces={"nodes": nodes, "a": A, "b": b}, **_terminal(xf, N, Ad.shape[0]))
         self.A, self.b = A.copy(), b.copy()
+        self.ipm_solved = False  # the last solve's plan is the interior-point method's, certified
 
     def solve(self, rows):
         nodes, A, b = rows
         # only the rows that moved (the rows were validated when built: the same shapes and nodes)
+        # (the extension's call directly: the public wrapper's re-validation doubled its ~13 us)
         for i in np.flatnonzero(np.any(A != self.A, axis=1) | (b != self.b)):
-            self.s.set_half_space(int(i), int(nodes[i]), A[i], float(b[i]))
+            if not self.s._solver.set_half_space(int(i), int(nodes[i]), A[i], float(b[i])):
+                raise ValueError(f"half-space {i} at node {nodes[i]}: rejected (a zero or non-finite row)")
         self.A[:], self.b[:] = A, b
         r = self.s.solve()
+        self.ipm_solved = bool(r.ipm_solved)
         return r.status, np.asarray(r.Y), np.asarray(r.X_flown), float(r.solve_time)
 
 
@@ -142,12 +237,14 @@ class _LazyTrustRegion:
     subproblem: the same iterate at a seventh of the rows. Otherwise the subproblem is solved again
     with the trust rows (a second engine, built on first need and then kept warm)."""
 
-    def __init__(self, Ad, B, x0, xf, N, w, lo, hi, settings, idx, keep_out, margin, tr):
+    def __init__(self, Ad, B, x0, xf, N, w, lo, hi, settings, idx, keep_out, margin, tr, passive=None):
         self.args = (Ad, B, x0, xf, N, w, lo, hi)
         self.st, self.idx, self.keep_out, self.margin, self.tr = settings, idx, keep_out, margin, tr
+        self.passive: _PassiveRows | None = passive
         self.plain: _EngineSubproblem | None = None
         self.trust: _EngineSubproblem | None = None
         self.with_trust = 0  # subproblems that needed the trust rows
+        self.ipm_certified = 0  # SCP subproblems whose plan the interior-point method certified
 
     def _engine(self, which: str, rows):
         e = getattr(self, which)
@@ -162,36 +259,62 @@ class _LazyTrustRegion:
             setattr(self, which, e)
         return e
 
-    def initial(self):
-        """The plan without the zone (the L1 ADMM without state rows, ~2 us an iteration). Measured
-        against solving it on the SCP's engine with relaxed rows, so that the first constrained
-        subproblem starts warm from it: 5 % fewer ADMM iterations over 6 seeded problems but 30 %
-        more wall time (the engine's iterations cost more), so not done."""
-        Ad, B, x0, xf, N, w, lo, hi = self.args
-        r = L1Solver(Ad, B, x0, horizon=N, xf=xf, l1_weights=w, u_lower=lo, u_upper=hi,
-                     terminal_equality=True, settings=self.st).solve()
-        return r.status, np.asarray(r.Y), np.asarray(r.X_flown), float(r.solve_time)
+    def set_input(self, B: np.ndarray) -> None:
+        """New input matrices (the plume inhibitions changed): the engines are rebuilt on next need."""
+        self.args = self.args[:1] + (B,) + self.args[2:]
+        self.plain = self.trust = None
 
-    def solve(self, P: np.ndarray):
-        rows = _rows(self.idx, P, self.keep_out, self.margin, math.inf)
+    def _all_rows(self, X: np.ndarray, tr: float):
+        rows = _rows(self.idx, X[self.idx, :3], self.keep_out, self.margin, tr)
+        return rows if self.passive is None else self.passive.augment(rows, X)
+
+    def initial(self, X: np.ndarray):
+        """The plan without the zone, solved on the SCP's own engine with its rows relaxed (the
+        supporting planes at the positions of ``X`` (N+1, nx) moved out by ``_RELAX`` times the
+        problem's length scale, never active): the interior-point method solves and certifies it in ~10
+        steps, where the L1 ADMM without rows needed ~600 iterations and a failed IPM attempt (5.4 ms of
+        the 15-19 ms plan, 2026-12-03). Falls back to the L1 solver without rows if that does not end
+        ``solved``."""
+        Ad, B, x0, xf, N, w, lo, hi = self.args
+        nodes, A, b = self._all_rows(X, math.inf)
+        scale = max(float(np.max(np.abs(x0[:3]))), float(np.max(np.abs(xf[:3]))),
+                    float(np.max(self.keep_out.semi_axes)), 1.0)
+        relaxed = (nodes, A, b + _RELAX * scale * np.linalg.norm(A, axis=1))
+        status, U, X, t = self._engine("plain", relaxed).solve(relaxed)
+        if status == "solved":
+            return status, U, X, t
+        r = L1Solver(Ad, B, x0, horizon=N, l1_weights=w, u_lower=lo, u_upper=hi, settings=self.st,
+                     **_terminal(xf, N, Ad.shape[0])).solve()
+        return r.status, np.asarray(r.Y), np.asarray(r.X_flown), t + float(r.solve_time)
+
+    def solve(self, Xp: np.ndarray):
+        P = Xp[self.idx, :3]
+        rows = self._all_rows(Xp, math.inf)
         status, U, X, t = self._engine("plain", rows).solve(rows)
         if not math.isfinite(self.tr) or (
                 X is not None and float(np.max(np.abs(X[self.idx, :3] - P))) <= self.tr):
+            self.ipm_certified += self._engine("plain", rows).ipm_solved
             return status, U, X, t
         self.with_trust += 1
-        rows = _rows(self.idx, P, self.keep_out, self.margin, self.tr)
+        rows = self._all_rows(Xp, self.tr)
         status, U, X, t2 = self._engine("trust", rows).solve(rows)
+        self.ipm_certified += self._engine("trust", rows).ipm_solved
         return status, U, X, t + t2
+
+
+#: distance (in units of the problem's length scale) by which :meth:`_LazyTrustRegion.initial` moves
+#: the rows out, so that none is active on the plan without the zone
+_RELAX = 100.0
 
 
 def _solve_cvxpy(Ad, B, x0, xf, N, w, lo, hi, hs, box, settings):
     import cvxpy as cp
 
-    nx, nu = B.shape
+    nx, nu = B.shape[-2:]
     X = cp.Variable((N + 1, nx))
     U = cp.Variable((N, nu))
-    cons = [X[0] == x0, U >= lo[None, :], U <= hi[None, :], X[N] == xf]
-    cons += [X[k + 1] == Ad @ X[k] + B @ U[k] for k in range(N)]
+    cons = [X[0] == x0, U >= lo[None, :], U <= hi[None, :], X[N, :xf.size] == xf]  # (a slack state free)
+    cons += [X[k + 1] == Ad @ X[k] + (B[k] if B.ndim == 3 else B) @ U[k] for k in range(N)]
     if hs is not None:
         nodes, a, b = hs
         cons += [a[i] @ X[k] <= b[i] for i, k in enumerate(nodes)]
@@ -214,14 +337,35 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
                   layout: ThrusterLayout | None = None, nodes: Any = None, margin: float = 0.05,
                   trust_radius: float | None = None, max_iterations: int = 20, tol: float = 1e-3,
                   solver: str = "admm", truth: Any = None, per_interval: int = 20,
-                  settings: Any = None) -> KeepOutPlan:
+                  settings: Any = None, drift_time: float | None = None, drift_nodes: Any = None,
+                  drift_samples: int = 20, drift_penalty: float = 100.0, impose_drift: bool = True,
+                  drift_check_samples: int = 100, drift_rows: int | None = 4,
+                  plume: Any = None) -> KeepOutPlan:
     """Fuel-optimal plan from ``problem.x0`` to the hold point ``xf`` (6,) m, m/s (default: zeros, which
     is inside a zone centred on the target: then pass ``nodes`` to exempt the final approach) that stays
     out of ``keep_out`` at ``nodes`` (default 1..N), by SCP (module docstring). ``trust_radius`` (m,
     default: 2 x the largest semi-axis; ``math.inf``: none, the fuel still never rises); ``truth``:
     ``TwoSatelliteParams`` of the check flight (default
-    J2 + drag, the problem's mu and mass; ``False`` skips the flight)."""
+    J2 + drag, the problem's mu and mass; ``False`` skips the flight).
+
+    Passive safety (``drift_time`` s > 0; None: not considered): the free drift from each of
+    ``drift_nodes`` (default 1..N-1; x_0 and the hold point are given) over ``drift_time``, sampled at
+    ``drift_samples`` equal steps on the plan's CW model, is kept outside the inflated zone by the
+    elastic supporting planes of :class:`_PassiveRows` (slack penalty ``drift_penalty`` N s per m;
+    ``impose_drift=False``: only checked; ``drift_rows``: per node only the rows of that many samples
+    nearest the zone at the previous iterate, None: all). The result's ``drift_slack`` (m) is the
+    largest depth of a drift sample (all of them) inside the inflated zone, behind its own supporting
+    plane (0: outside), and ``passive`` the check on ``truth``: each drift node's state on the flight,
+    drifting on the truth, sampled ``drift_check_samples`` times.
+
+    Plume cone (``plume``: dict ``half_angle_deg`` in (0, 90], ``range`` m > 0; needs ``layout``): a
+    thruster whose exhaust would point within the half-angle of the target while the chaser is within
+    the range (:func:`plume_inhibited`, on the previous iterate's positions) is inhibited over that
+    interval (its column of B zeroed, so the L1 optimum does not fire it); the inhibitions accumulate over
+    the iterations (the set only grows, so it settles), and convergence needs an iteration that added
+    none. The result's ``plume_violations`` counts firings that still impinge on the returned plan."""
     from .problem import satellite_params
+    from .safety import PassiveSafety, passive_safety
 
     if not isinstance(problem, RendezvousProblem):
         raise TypeError(f"problem: must be a RendezvousProblem, got {type(problem).__name__}")
@@ -245,51 +389,125 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
     max_iterations = as_int(max_iterations, "max_iterations", low=1, high=10**4)
     tol = as_real(tol, "tol", positive=True)
     Ad, B, lo, hi = _controls(problem, layout)
-    w = np.full(B.shape[1], problem.dt)
+    nu = B.shape[1]
+    inh = None
+    if plume is not None:
+        if layout is None:
+            raise ValueError("plume: needs a thruster layout (the per-axis box has no thruster to inhibit)")
+        if not isinstance(plume, dict) or set(plume) - {"half_angle_deg", "range"} or len(plume) != 2:
+            raise ValueError("plume: must be a dict with exactly the keys half_angle_deg and range")
+        p_ang = as_real(plume["half_angle_deg"], "plume.half_angle_deg", positive=True)
+        if p_ang > 90.0:
+            raise ValueError(f"plume.half_angle_deg: must be in (0, 90] degrees, got {p_ang}")
+        p_rng = as_real(plume["range"], "plume.range", positive=True)
+        inh = np.zeros((N, nu), dtype=bool)
+    B6 = B
+    w = np.full(nu, problem.dt)
     x0 = np.asarray(problem.x0, dtype=float)
-    st = {"method": "admm", "eps_gap": 1e-7} if settings is None else settings
+    passive = None
+    dnodes: list[int] = []
+    if drift_time is not None:
+        drift_time = as_real(drift_time, "drift_time", positive=True)
+        dnodes = list(range(1, N)) if drift_nodes is None else sorted(
+            {as_int(k, "drift_nodes[]", low=1, high=N) for k in drift_nodes})
+        if not dnodes:
+            raise ValueError("drift_nodes: must hold at least one node in 1..N")
+        drift_samples = as_int(drift_samples, "drift_samples", low=1, high=10**4)
+        drift_check_samples = as_int(drift_check_samples, "drift_check_samples", low=1, high=10**6)
+        drift_penalty = as_real(drift_penalty, "drift_penalty", positive=True)
+        if as_bool(impose_drift, "impose_drift"):
+            # x_N = xf is given: the plan cannot move its drift (and the engine's IPM and ADMM both
+            # failed on elastic rows at the fixed terminal node, 2026-12-03)
+            if N in dnodes:
+                raise ValueError(f"drift_nodes: node N = {N} is the hold point xf, fixed; its drift cannot "
+                                 "be changed by the plan (check it with impose_drift=False)")
+            drift_rows = None if drift_rows is None else as_int(drift_rows, "drift_rows", low=1, high=10**4)
+            passive = _PassiveRows(problem, keep_out, margin, dnodes, drift_time, drift_samples,
+                                   drift_penalty, drift_rows)
+            # the slack state sigma (m) and its control u_sigma in [0, bound] with weight drift_penalty
+            scale = max(float(np.max(np.abs(x0[:3]))), float(np.max(np.abs(xf[:3]))), 1.0)
+            Ad = np.block([[Ad, np.zeros((6, 1))], [np.zeros((1, 6)), np.ones((1, 1))]])
+            B = _with_slack(B)
+            x0 = np.r_[x0, 0.0]
+            lo, hi, w = np.r_[lo, 0.0], np.r_[hi, 10.0 * scale], np.r_[w, drift_penalty]
+    nx = Ad.shape[0]
+    # method "admm_ipm" (the default): the engine's Riccati interior-point method first, its plan
+    # accepted only by the violation and Fenchel-gap tests (eps_gap); ADMM if it is not
+    st = {"eps_gap": 1e-7} if settings is None else settings
     t_wall = time.perf_counter()
     engine = None
     if solver == "admm":
-        engine = _LazyTrustRegion(Ad, B, x0, xf, N, w, lo, hi, st, idx, keep_out, margin, tr)
-        status, U, X, t_solve = engine.initial()
+        engine = _LazyTrustRegion(Ad, B, x0, xf, N, w, lo, hi, st, idx, keep_out, margin, tr, passive)
+        # rows at the straight line x0 -> xf at rest (any supporting planes will do: they are relaxed)
+        line = np.zeros((N + 1, nx))
+        line[:, :3] = np.linspace(x0[:3], xf[:3], N + 1)
+        status, U, X, t_solve = engine.initial(line)
     else:
         status, U, X, t_solve = _solve_cvxpy(Ad, B, x0, xf, N, w, lo, hi, None, None, st)
     if U is None or status not in ("solved", "solved_inaccurate"):
         raise ValueError(f"problem: the plan without the keep-out zone ended {status!r} (hint: a longer "
                            "horizon or larger thrust bounds)")
-    fuel_hist = [float(np.sum(np.abs(U)) * problem.dt)]
+
+    def merit(U: np.ndarray, X: np.ndarray) -> tuple[float, float]:  # (fuel N s, slack m)
+        sl = float(X[N, 6]) if nx == 7 else 0.0
+        return float(np.sum(np.abs(U[:, :nu])) * problem.dt), sl
+
+    fuel_hist = [merit(U, X)[0]]
+    cost = fuel_hist[0]
     converged, it = False, 0
     while it < max_iterations:
         it += 1
         P = X[idx, :3]
+        added = False
+        if inh is not None:
+            new = inh | plume_inhibited(X[:, :3], layout.directions, p_ang, p_rng)
+            added = bool(np.any(new != inh))
+            if added:
+                inh = new
+                Bk = np.repeat(B6[None], N, axis=0)
+                Bk[inh[:, None, :].repeat(6, axis=1)] = 0.0
+                if passive is not None:
+                    Bk = np.array([_with_slack(b) for b in Bk])
+                B = Bk
+                if engine is not None:
+                    engine.set_input(B)
         if engine is not None:  # the same rows as half-spaces, the solver kept warm
-            status, Un, Xn, ts = engine.solve(P)
+            status, Un, Xn, ts = engine.solve(X)
         else:
-            a3, b = supporting_half_spaces(P, keep_out, margin)
-            a = np.zeros((len(idx), 6))
-            a[:, :3] = a3
-            L = np.full((len(idx), 6), -np.inf)
-            H = np.full((len(idx), 6), np.inf)
+            nodes_r, a, b = _rows(idx, P, keep_out, margin, math.inf)
+            if passive is not None:
+                nodes_r, a, b = passive.augment((nodes_r, a, b), X)
+            L = np.full((len(idx), nx), -np.inf)
+            H = np.full((len(idx), nx), np.inf)
             L[:, :3] = P - tr
             H[:, :3] = P + tr
-            status, Un, Xn, ts = _solve_cvxpy(Ad, B, x0, xf, N, w, lo, hi, (idx, a, b), (idx, L, H), st)
+            status, Un, Xn, ts = _solve_cvxpy(Ad, B, x0, xf, N, w, lo, hi, (nodes_r, a, b), (idx, L, H), st)
         t_solve += ts
         if Un is None or status not in ("solved", "solved_inaccurate"):
             break
         step = float(np.max(np.abs(Xn[:, :3] - X[:, :3])))
         U, X = Un, Xn
-        fuel_hist.append(float(np.sum(np.abs(U)) * problem.dt))
-        if step < tol or abs(fuel_hist[-1] - fuel_hist[-2]) <= 1e-9 * abs(fuel_hist[-2]):
+        f, sl = merit(U, X)
+        fuel_hist.append(f)
+        cost, prev = f + (drift_penalty * sl if passive is not None else 0.0), cost
+        if not added and (step < tol or abs(cost - prev) <= 1e-9 * abs(prev)):
             converged = True
             break
     wall = time.perf_counter() - t_wall
+    U, X = U[:, :nu], X[:, :6]
+    slack = math.nan
+    if drift_time is not None:  # of the plan returned (also when the last subproblem failed), not sigma
+        D = _PassiveRows(problem, keep_out, margin, dnodes, drift_time, drift_samples, 1.0).drift(X)
+        a3, b3 = supporting_half_spaces(D.reshape(-1, 3), keep_out, margin)
+        depth = (np.sum(a3 * D.reshape(-1, 3), axis=1) - b3) / np.linalg.norm(a3, axis=1)
+        slack = float(max(0.0, np.max(depth)))
     forces = U @ layout.directions if layout is not None else U.copy()
     node_rho = keep_out.rho(X[:, :3])
     sat_nodes = bool(np.all(node_rho[idx] >= 1.0))
     flown_nodes = flown_min = math.nan
     sat_flown = False
     Xf = None
+    ps: PassiveSafety | None = None
     if truth is not False:
         tp = satellite_params(problem.mu, j2=True, drag=True, mass=problem.mass) if truth is None else truth
         Xf = sample_flight(tp, problem.state_eci(), forces, problem.dt, per_interval)
@@ -298,6 +516,20 @@ def keep_out_plan(problem: RendezvousProblem, keep_out: KeepOut, *, xf: Any = No
         flown_nodes = float(np.min(rho_f[[k * per_interval for k in idx]]))
         flown_min = float(np.min(rho_f[span]))
         sat_flown = flown_min >= 1.0
+        if drift_time is not None:
+            ps = passive_safety(tp, Xf[[k * per_interval for k in dnodes]], keep_out, drift_time,
+                                drift_check_samples)
+    pviol = -1
+    if inh is not None:
+        fire = U > 1e-9 * layout.max_thrust[None, :]
+        hit = plume_inhibited(X[:, :3], layout.directions, p_ang, p_rng)
+        if Xf is not None:  # every flown sample of interval k (both ends included)
+            Pf = cw_positions(Xf)
+            for k in range(N):
+                seg = Pf[k * per_interval:(k + 1) * per_interval + 1]
+                hit[k] |= np.any(plume_inhibited(seg, layout.directions, p_ang, p_rng), axis=0)
+        pviol = int(np.sum(fire & hit))
     return KeepOutPlan(U, forces, X, status, converged, it, fuel_hist[-1], np.array(fuel_hist), node_rho,
                        flown_nodes, flown_min, sat_nodes, sat_flown, t_solve, wall, Xf,
-                       engine.with_trust if engine is not None else 0)
+                       engine.with_trust if engine is not None else 0,
+                       engine.ipm_certified if engine is not None else 0, slack, inh, pviol, ps)

@@ -119,9 +119,11 @@ def passive_safety(truth: Any, X: Any, keep_out: KeepOut, drift_time: float, sam
 
 
 def safety_figure(ps: PassiveSafety, path: Any, flight_positions: Any = None,
-                  title: str = "Passive safety: free drift from each node (J2 + drag truth)") -> None:
+                  title: str = "Passive safety: free drift from each node (J2 + drag truth)",
+                  nodes: Any = None) -> None:
     """Two panels: the drift trajectories in the CW x-y plane (along-track-radial) with the keep-out
-    ellipse (red: a drift entering the zone), and each node's smallest ellipsoidal radius. PNG."""
+    ellipse (red: a drift entering the zone), and each node's smallest ellipsoidal radius. PNG.
+    ``nodes``: the node index of each drift (default 0, 1, ...)."""
     from .._plot import _pyplot
 
     plt = _pyplot()
@@ -141,7 +143,8 @@ def safety_figure(ps: PassiveSafety, path: Any, flight_positions: Any = None,
     ax[0].set_ylabel("y (CW, radial), m")
     ax[0].set_aspect("equal", adjustable="datalim")
     ax[0].set_title(f"free drift {ps.drift_time:.0f} s from each node (red: enters the zone)", fontsize=9)
-    ax[1].semilogy(np.arange(ps.min_rho.size), ps.min_rho, "o-", ms=3)
+    k = np.arange(ps.min_rho.size) if nodes is None else np.asarray(nodes)
+    ax[1].semilogy(k, ps.min_rho, "o-", ms=3)
     ax[1].axhline(1.0, color="C3", lw=1)
     ax[1].set_xlabel("node")
     ax[1].set_ylabel("min ellipsoidal radius on the drift (< 1: inside)")

@@ -17,15 +17,8 @@ def _run(args: argparse.Namespace) -> int:
     result = run(args.scenario, quick=args.quick, closed_loop=True if args.closed_loop else None)
     out = pathlib.Path(args.out)
     path = report.write(result, out)
-    fl, est, pl = result.flight, result.estimate, result.plan
-    print(f"{result.scenario.name}: OD {est.status} in {est.iterations} iterations "
-          f"(|dr| = {1e3 * float((est.error[:3] ** 2).sum() ** 0.5):.2f} m); plan {pl.status} in "
-          f"{pl.iterations} iterations, dv = {pl.delta_v:.4f} m/s; flown miss {fl.miss_position:.2f} m "
-          f"(open loop; tolerance {fl.tolerance:g} m: {fl.status}); "
-          + (f"closed-loop miss {result.closed_loop.miss_position:.2f} m ({result.closed_loop.status}); "
-             if result.closed_loop is not None else "")
-          + f"controllability: {result.checks.controllability}; "
-          f"observability: {result.checks.observability}; {sum(result.timings.values()):.1f} s")
+    total = sum(result.timings.values())
+    print(f"{result.scenario.name}: " + "; ".join(_summary(result)) + f"; {total:.1f} s")
     print(f"report written to {path}")
     return _figures_line()
 
@@ -39,6 +32,25 @@ def _figures_line() -> int:
         return 0
     print(f"satgnc mission: {_plot.NO_FIGURES}; exit code {EXIT_NO_FIGURES}")
     return EXIT_NO_FIGURES
+
+
+def _summary(result) -> list:
+    """One clause per stage that ran (a partial chain leaves the others None)."""
+    est, pl, fl, cl, ck = result.estimate, result.plan, result.flight, result.closed_loop, result.checks
+    out = []
+    if est is not None:
+        out.append(f"OD {est.status} in {est.iterations} iterations "
+                   f"(|dr| = {1e3 * float((est.error[:3] ** 2).sum() ** 0.5):.2f} m)")
+    if pl is not None:
+        out.append(f"plan {pl.status} in {pl.iterations} iterations, dv = {pl.delta_v:.4f} m/s")
+    if fl is not None:
+        out.append(f"flown miss {fl.miss_position:.2f} m (open loop; tolerance {fl.tolerance:g} m: "
+                   f"{fl.status})")
+    if cl is not None:
+        out.append(f"closed-loop miss {cl.miss_position:.2f} m ({cl.status})")
+    if ck is not None:
+        out.append(f"controllability: {ck.controllability}; observability: {ck.observability}")
+    return out
 
 
 def register(subparsers) -> None:

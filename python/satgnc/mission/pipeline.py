@@ -415,6 +415,43 @@ def _od_propagator(sc: _scen.MissionScenario):
     return od.make_propagator("cvodes", force_model=od_force_model(sc)[0])
 
 
+def _station(s: _scen.StationSpec, epoch: str | None) -> od.Station:
+    if s.frame == "inertial":
+        return od.station_inertial(s.position, od.EARTH_OMEGA if s.omega is None else s.omega)
+    return od.station_geodetic(s.lat, s.lon, s.height, epoch)
+
+
+def _six_point(sc: _scen.MissionScenario, tracking: Tracking) -> od.OdSolver:
+    """The OD stage's solver for ``[od] method = "newton_six_point"``: Gao & Luo's Newton-Raphson on
+    the six Doppler conditions (eqs. 11-18, the exact STM of the ``[od]`` propagator) of the tracking's
+    six times of range (km) and range-rate (km/s) from its one station, weighted by the ``[tracking]``
+    sigmas. It is :func:`satgnc.od.six_point_solver`, the solver of the paper's reproduction
+    (``satgnc.papers.od_newton_raphson``), built from the mission's tracking.
+
+    Raises ValueError when the tracking is not six times of range and range-rate from one station
+    (e.g. the mask hid one)."""
+    kinds = np.asarray(tracking.type)
+    t = tracking.t[kinds == "range"]
+    if len(tracking.stations) != 1 or t.size != 6 or not np.array_equal(t, tracking.t[kinds == "range_rate"]):
+        raise ValueError(f"od: method 'newton_six_point' needs six times of range and range-rate from one "
+                         f"station; the tracking has {t.size} ranges, "
+                         f"{int(np.sum(kinds == 'range_rate'))} range-rates from {len(tracking.stations)} "
+                         f"station(s) ({sc.path})")
+    return od.six_point_solver(t, tracking.value[kinds == "range"], tracking.value[kinds == "range_rate"],
+                               tracking.stations[0], "doppler", "newton", _od_propagator(sc), _MU_KM,
+                               sigma_range=sc.sigma_range, sigma_range_rate=sc.sigma_range_rate)
+
+
+
+def _residuals(sc: _scen.MissionScenario, tracking: Tracking, x0: np.ndarray) -> np.ndarray:
+    """Predicted - observed (km, km/s) per observation of ``tracking`` from x0 on the OD model."""
+    times = np.unique(tracking.t)
+    states, _ = _od_propagator(sc).propagate(x0, list(times))
+    k_of = {float(t): k for k, t in enumerate(times)}
+    return np.array([od.predict(kind, states[k_of[float(t)]], tracking.stations[i].state(float(t)))[0] - v
+                     for t, kind, v, i in zip(tracking.t, tracking.type, tracking.value, tracking.station)])
+
+
 # ----------------------------------------------------------------------------- stages
 def track(sc: _scen.MissionScenario, quick: bool = False) -> Tracking:
     """Stage 1: simulated tracking of the target by every station on the truth force model.
@@ -450,11 +487,14 @@ def track(sc: _scen.MissionScenario, quick: bool = False) -> Tracking:
     times = sc.times[:: sc.quick_thin] if quick else sc.times
     grid = np.union1d(np.r_[0.0, times], [] if sc.start is None else [sc.start])  # + the plan epoch
     fm, forces = truth_force_model(sc)
-    stations = tuple(od.station_geodetic(s.lat, s.lon, s.height, sc.epoch) for s in sc.stations)
+    stations = tuple(_station(s, sc.epoch) for s in sc.stations)
+    kepler = sc.truth_propagator == "kepler"  # the analytic two-body truth (a paper's)
+    truth_kw = dict(propagator="kepler", mu=_MU_KM) if kepler else dict(propagator="cvodes", force_model=fm)
+    forces = forces + " (Kepler, analytic)" if kepler else forces
     try:
         obs = od.simulate(sc.x0, list(stations), times, types=sc.types, sigma_range=sc.sigma_range,
-                          sigma_range_rate=sc.sigma_range_rate, elevation_mask_deg=sc.mask, seed=sc.seed,
-                          propagator="cvodes", force_model=fm)
+                          sigma_range_rate=sc.sigma_range_rate, elevation_mask_deg=sc.mask,
+                          seed=sc.seed if sc.noise is not False else None, **truth_kw)
     except ValueError as e:
         if not str(e).startswith("elevation_mask_deg"):
             raise
@@ -463,7 +503,8 @@ def track(sc: _scen.MissionScenario, quick: bool = False) -> Tracking:
     if n < 6:
         raise ValueError(f"tracking: {n} observations above the {sc.mask} deg mask "
                          f"({sc.path}); the OD needs at least 6 (hint: station positions or the arc)")
-    states, _ = od.make_propagator("cvodes", force_model=fm).propagate(sc.x0, list(grid))
+    prop = od.make_propagator("kepler", _MU_KM) if kepler else od.make_propagator("cvodes", force_model=fm)
+    states, _ = prop.propagate(sc.x0, list(grid))
     order = np.lexsort((obs.station, obs.t))
     kinds = [str(k).split(".")[-1] for k in obs.type]
     return Tracking(
@@ -505,17 +546,25 @@ def estimate(sc: _scen.MissionScenario, tracking: Tracking) -> OrbitEstimate:
     'converged'
     """
     guess = tracking.x0_true + sc.guess_offset
-    r = od.solve(tracking.observations, list(tracking.stations), guess, method=sc.od_method,
-                 propagator=_od_propagator(sc), mu=_MU_KM)
+    if sc.od_method == "newton_six_point":
+        r = _six_point(sc, tracking).solve(guess)
+    else:
+        r = od.solve(tracking.observations, list(tracking.stations), guess, method=sc.od_method,
+                     propagator=_od_propagator(sc), mu=_MU_KM)
     x0 = np.asarray(r.x0, dtype=float)
     P = np.asarray(r.covariance, dtype=float)
     model = od_force_model(sc)[1]
+    if sc.od_method == "newton_six_point":  # r's residuals are the six conditions': per observation here
+        residuals = _residuals(sc, tracking, x0)
+        normalized = residuals / tracking.sigma
+    else:
+        residuals = np.asarray(r.residuals, dtype=float).ravel()
+        normalized = np.asarray(r.normalized, dtype=float).ravel()
     status = r.status if isinstance(r.status, str) else r.status.name  # enum today, a string after B
     return OrbitEstimate(status=status, iterations=int(r.iterations), x0=x0, covariance=P,
                          rank=int(r.rank), condition_number=float(r.condition_number),
                          error=x0 - tracking.x0_true, sigma=np.sqrt(np.diag(P)), guess=guess,
-                         normalized=np.asarray(r.normalized, dtype=float).ravel(),
-                         residuals=np.asarray(r.residuals, dtype=float).ravel(), model=model)
+                         normalized=normalized, residuals=residuals, model=model)
 
 
 def _x12(target_km: np.ndarray, chaser_km: np.ndarray) -> np.ndarray:

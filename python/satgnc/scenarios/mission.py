@@ -38,6 +38,11 @@ DEFAULT = pathlib.Path(__file__).with_name("mission_leo.toml")
 STAGES = ("track", "estimate", "relative_state", "plan", "fly", "check")
 #: where a partial chain may start: the tracking, or a plan from a rendezvous scenario file.
 ENTRY_STAGES = ("track", "plan")
+#: how a [[tracking.stations]] table places its station
+STATION_FRAMES = ("geodetic", "inertial")
+#: [od] method: batch least squares, or the six-point Newton-Raphson of Gao & Luo (exactly six times
+#: of range and range-rate from one station, od.six_point_solver in Doppler mode)
+OD_METHODS = ("levenberg_marquardt", "gauss_newton", "newton_six_point")
 _TOP = {
     "name": Key("string", required=False),
     "source": Key("string", required=False),
@@ -59,25 +64,35 @@ _TARGET = {
 }
 _ELEMENTS = ("a", "e", "i", "raan", "argp", "ta")
 _TRACKING = {
-    "start": Key("number", nonnegative=True, unit="s from the epoch"),
-    "stop": Key("number", positive=True, unit="s from the epoch"),
-    "step": Key("number", positive=True, unit="s"),
+    # either a regular grid start..stop by step ...
+    "start": Key("number", required=False, nonnegative=True, unit="s from the epoch"),
+    "stop": Key("number", required=False, positive=True, unit="s from the epoch"),
+    "step": Key("number", required=False, positive=True, unit="s"),
+    # ... or the tracking times themselves (e.g. a paper's table)
+    "times": Key("vector", required=False, nonnegative=True, unit="s from the epoch, increasing"),
+    # false: noise-free observations (the sigmas still weight the OD)
+    "noise": Key("bool", required=False, default=True),
     "types": Key("string", required=False, default="both", choices=("range", "range_rate", "both")),
     "sigma_range": Key("number", positive=True, unit="km"),
     "sigma_range_rate": Key("number", positive=True, unit="km/s"),
-    "seed": Key("integer", low=0, unit="-"),
+    "seed": Key("integer", required=False, low=0, unit="- (needed unless noise = false)"),
     "mask": Key("number", required=False, default=0.0, low=-90.0, high=90.0, unit="deg elevation"),
     "quick_thin": Key("integer", required=False, default=3, low=1, unit="keep every n-th time with --quick"),
 }
 _STATION = {
     "name": Key("string", required=False),
-    "lat": Key("number", low=-90.0, high=90.0, unit="deg geodetic"),
-    "lon": Key("number", unit="deg"),
-    "height": Key("number", low=-1.0, high=100.0, unit="km"),
+    # "geodetic": lat, lon, height on WGS-84 with the GMST of the epoch; "inertial": the ECI position
+    # at the epoch turning about z at omega (od.station_inertial, e.g. a paper's printed station)
+    "frame": Key("string", required=False, default="geodetic", choices=STATION_FRAMES),
+    "lat": Key("number", required=False, low=-90.0, high=90.0, unit="deg geodetic"),
+    "lon": Key("number", required=False, unit="deg"),
+    "height": Key("number", required=False, low=-1.0, high=100.0, unit="km"),
+    "position": Key("vector", required=False, length=3, unit="km, ECI at the epoch (frame = 'inertial')"),
+    "omega": Key("number", required=False, unit="rad/s about z (frame = 'inertial'; default the Earth's)"),
 }
+_STATION_KEYS = {"geodetic": ("lat", "lon", "height"), "inertial": ("position",)}
 _OD = {
-    "method": Key("string", required=False, default="levenberg_marquardt",
-                  choices=("levenberg_marquardt", "gauss_newton")),
+    "method": Key("string", required=False, default="levenberg_marquardt", choices=OD_METHODS),
     "guess_offset": Key("vector", length=6, unit="km, km/s"),
     "propagator": Key("string", required=False, default="cvodes", choices=("kepler", "cvodes")),
     "j2": Key("bool", required=False, default=True),
@@ -118,6 +133,8 @@ _RENDEZVOUS = {
 }
 _TRUTH = {
     "j2": Key("bool", required=False, default=True),
+    # "kepler": the analytic two-body truth (j2 = false and no [truth.drag] only)
+    "propagator": Key("string", required=False, default="cvodes", choices=("cvodes", "kepler")),
 }
 # ExponentialDrag's parameters (satgnc.dynamics.ExponentialDrag), for the target; the chaser has the
 # same cd and atmosphere and its own area.
@@ -135,12 +152,16 @@ _SECTIONS = {"target": _TARGET, "tracking": _TRACKING, "od": _OD, "rendezvous": 
 
 @dataclasses.dataclass(frozen=True)
 class StationSpec:
-    """A ground station: geodetic latitude/longitude (deg) and height (km) on WGS-84."""
+    """A ground station: geodetic latitude/longitude (deg) and height (km) on WGS-84, or (``frame``
+    "inertial") an ECI ``position`` (km) at the epoch turning about z at ``omega`` (rad/s)."""
 
     name: str
-    lat: float
-    lon: float
-    height: float
+    lat: float | None
+    lon: float | None
+    height: float | None
+    frame: str = "geodetic"
+    position: tuple | None = None  #: km, ECI at the epoch (frame "inertial")
+    omega: float | None = None  #: rad/s (frame "inertial")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -201,6 +222,8 @@ class MissionScenario(Result):
     case: str | None = None  #: its case
     truth_j2: bool | None = None
     drag: DragSpec | None = None
+    noise: bool | None = None  #: false: noise-free tracking
+    truth_propagator: str | None = None  #: "cvodes" or "kepler" (two-body truth)
 
     @property
     def stages(self) -> tuple:
@@ -309,16 +332,37 @@ def load(path: str | pathlib.Path | None = None, name: str = "path") -> MissionS
         tru = check_toml_table(truth_raw, _TRUTH, "truth", p, text)
         drag = None if drag_raw is None else DragSpec(
             **check_toml_table(drag_raw, _DRAG, "truth.drag", p, text))
-        f.update(truth_j2=tru["j2"], drag=drag)
+        f.update(truth_j2=tru["j2"], drag=drag, truth_propagator=tru["propagator"])
+        if tru["propagator"] == "kepler" and (tru["j2"] or drag is not None):
+            _fail(p, text, "truth", "propagator", "key 'propagator' in section [truth]: 'kepler' is the "
+                  "two-body truth; it needs j2 = false and no [truth.drag]")
     if f.get("od_drag") and f.get("drag") is None:
         _fail(p, text, "od", "drag", "key 'drag' in section [od]: drag = true takes the atmosphere of "
               "[truth.drag], which the file does not have")
     if f.get("od_drag") and f["od_propagator"] != "cvodes":
         _fail(p, text, "od", "drag", "key 'drag' in section [od]: drag = true needs propagator = 'cvodes' "
               "(the Kepler propagator is two-body only)")
+    if f.get("od_method") == "newton_six_point":
+        _six_point_rules(p, text, f)
     if needed["rendezvous"] or "rendezvous" in d:
         f.update(_rendezvous(p, text, d["rendezvous"], f.get("times")))
     return MissionScenario(path=p, name=top["name"] or p.stem, **f)
+
+
+def _six_point_rules(p, text, f) -> None:
+    """[od] method = "newton_six_point" solves six conditions: six times, both types, one station."""
+    why = None
+    if f.get("times") is None:
+        why = "it needs a [tracking] section"
+    elif f["times"].size != 6:
+        why = f"it needs exactly 6 tracking times, [tracking] gives {f['times'].size}"
+    elif f["types"] != ("range", "range_rate"):
+        why = "it needs types = 'both' in [tracking] (a range and a range-rate per time)"
+    elif len(f["stations"]) != 1:
+        why = f"it needs one station, [tracking] gives {len(f['stations'])}"
+    if why:
+        _fail(p, text, "od", "method", f"key 'method' in section [od]: 'newton_six_point' (Gao & Luo's "
+              f"six conditions): {why}")
 
 
 def _target(p, text, d, mu, radius) -> dict:
@@ -352,10 +396,10 @@ def _tracking(p, text, d) -> dict:
     tr_raw = dict(d["tracking"]) if isinstance(d["tracking"], dict) else d["tracking"]
     stations_raw = tr_raw.pop("stations", None) if isinstance(tr_raw, dict) else None
     trk = check_toml_table(tr_raw, _TRACKING, "tracking", p, text)
-    if not trk["stop"] > trk["start"]:
-        _fail(p, text, "tracking", "stop", f"key 'stop' in section [tracking] (s): must be > start = "
-              f"{trk['start']}, got {trk['stop']}")
-    times = np.arange(trk["start"], trk["stop"] + 0.5 * trk["step"], trk["step"])
+    times = _tracking_times(p, text, trk)
+    if trk["noise"] and trk["seed"] is None:
+        _fail(p, text, "tracking", None, "missing key 'seed' in section [tracking] (the noise seed; or "
+              "noise = false for noise-free tracking)")
     if times.size > 100_000:
         _fail(p, text, "tracking", "step", f"key 'step' in section [tracking] (s): {times.size} tracking "
               "times; at most 100000")
@@ -365,11 +409,53 @@ def _tracking(p, text, d) -> dict:
     stations = []
     for k, s in enumerate(stations_raw):
         c = check_toml_table(s, _STATION, "tracking.stations", p, text)
-        stations.append(StationSpec(c["name"] or f"station {k}", c["lat"], c["lon"], c["height"]))
+        stations.append(_station(p, text, c, k))
     types = ("range", "range_rate") if trk["types"] == "both" else (trk["types"],)
     return dict(stations=tuple(stations), times=times, types=types, sigma_range=trk["sigma_range"],
                 sigma_range_rate=trk["sigma_range_rate"], seed=trk["seed"], mask=trk["mask"],
-                quick_thin=trk["quick_thin"])
+                quick_thin=trk["quick_thin"], noise=trk["noise"])
+
+
+def _tracking_times(p, text, trk) -> np.ndarray:
+    """[tracking]'s times: the ``times`` list, or start..stop by step (one of the two forms)."""
+    grid = [k for k in ("start", "stop", "step") if trk[k] is not None]
+    if trk["times"] is not None:
+        if grid:
+            _fail(p, text, "tracking", grid[0], f"key '{grid[0]}' in section [tracking]: give either "
+                  "times or start, stop and step, not both")
+        times = np.array(trk["times"])
+        if times.size == 0 or np.any(np.diff(times) <= 0):
+            _fail(p, text, "tracking", "times", "key 'times' in section [tracking] (s from the epoch): "
+                  f"must be a non-empty, strictly increasing list, got {trk['times']}")
+        return times
+    missing = [k for k in ("start", "stop", "step") if trk[k] is None]
+    if missing:
+        _fail(p, text, "tracking", None, f"missing key '{missing[0]}' in section [tracking] (s): give "
+              "start, stop and step, or times")
+    if not trk["stop"] > trk["start"]:
+        _fail(p, text, "tracking", "stop", f"key 'stop' in section [tracking] (s): must be > start = "
+              f"{trk['start']}, got {trk['stop']}")
+    return np.arange(trk["start"], trk["stop"] + 0.5 * trk["step"], trk["step"])
+
+
+def _station(p, text, c, k) -> StationSpec:
+    """One [[tracking.stations]] table: the keys of its frame and none of the other frame's."""
+    frame = c["frame"]
+    other = "inertial" if frame == "geodetic" else "geodetic"
+    extra = [key for key in (*_STATION_KEYS[other], "omega") if c[key] is not None
+             and not (key == "omega" and frame == "inertial")]
+    if extra:
+        _fail(p, text, "tracking.stations", extra[0], f"key '{extra[0]}' in [[tracking.stations]] "
+              f"number {k + 1}: not a key of frame = '{frame}' (keys: {', '.join(_STATION_KEYS[frame])}"
+              + (", omega" if frame == "inertial" else "") + ")")
+    missing = [key for key in _STATION_KEYS[frame] if c[key] is None]
+    if missing:
+        _fail(p, text, "tracking.stations", None, f"missing key '{missing[0]}' in [[tracking.stations]] "
+              f"number {k + 1} (frame = '{frame}' needs {', '.join(_STATION_KEYS[frame])})")
+    name = c["name"] or f"station {k}"
+    if frame == "inertial":
+        return StationSpec(name, None, None, None, frame, tuple(c["position"]), c["omega"])
+    return StationSpec(name, c["lat"], c["lon"], c["height"])
 
 
 def _rendezvous(p, text, raw, times) -> dict:

@@ -149,6 +149,13 @@ struct AdmmIpmData {
   // Riccati path: per stage K_k, Quu_k^-1, Qux_k, Knu_k (nu x nx N or nu x nu N), scratch
   Eigen::MatrixXd iK_, iQi_, iQux_, iKnu_, iP_, iPn_, iL_, iLn_, iBtP_, iQuu_, iAcl_, iZ_, iBtL_;
   Eigen::MatrixXd ikff_;
+  /// (6, 3) LTI problems whose in-plane (x, y, vx, vy; ux, uy) and out-of-plane (z, vz; uz) parts
+  /// are exactly decoupled in A, B, Qf, Q and R (Clohessy-Wiltshire), with or without a hard terminal state:
+  /// the Riccati factor runs on the 4 x 4 and 2 x 2 blocks (ipm_riccati_factor_cw). The blocks,
+  /// column-major, and their transposes: A4 (16), B4 (8), A2 (4), B2 (2).
+  bool ipm_cw_ = false;
+  double cwA4_[16] = {}, cwB4_[8] = {}, cwA2_[4] = {}, cwB2_[2] = {};
+  double cwA4t_[16] = {}, cwB4t_[8] = {}, cwA2t_[4] = {}, cwB2t_[2] = {};
   Eigen::VectorXd ip_, ipn_, iqu_, idx_, idxn_;
   Eigen::LLT<Eigen::MatrixXd> illt_;
   Eigen::MatrixXd iInu_;
@@ -341,6 +348,8 @@ struct AdmmWorkspace : AdmmProblemData,
   template <int NX, int NU>
   bool ipm_riccati_factor() noexcept;
   bool ipm_riccati_factor_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
+  bool ipm_riccati_factor_cw() noexcept;  ///< the same on the decoupled CW blocks (ipm_cw_)
+  void ipm_setup_cw();                    ///< decides ipm_cw_ and gathers the blocks
   template <int NX, int NU>
   void ipm_riccati_sweep() noexcept;
   void ipm_riccati_sweep_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out

@@ -1,0 +1,43 @@
+#pragma once
+// Private: the pieces shared by the two interior-point methods of the guidance room, the L1 / box
+// endgame of AdmmSolver (admm_ipm.cpp) and the state-constrained StateIpm (state_ipm.cpp). Their
+// Newton systems differ (StateIpm carries per-node state Hessians, NT-scaled cones and an equality
+// Schur complement), so the Riccati recursions stay apart; what is the same is shared here.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace satgnc::guidance::detail::ipm {
+
+/// Mehrotra's centering parameter sigma = (aff / cur)^3 clipped to [0, 1], where aff and cur are the
+/// complementarity after the full affine (predictor) step and at the current point, in the same
+/// normalization (sums, or means over the same count).
+inline double mehrotra_sigma(double aff, double cur) noexcept {
+  return std::pow(std::clamp(aff / std::max(cur, 1e-300), 0.0, 1.0), 3.0);
+}
+
+/// Cholesky factorization of a stage Hessian H (in place in `llt`). Near the end of an interior-point
+/// run the barrier terms span many decades and H may lose definiteness to rounding: on failure the
+/// diagonal is shifted by shift x (max |H_ii| + floor), shift = shift0, 100 shift0, ... while shift <=
+/// shift_max (H keeps the shift). False when no shift in that range gives a factorization.
+template <class Llt, class Matrix>
+bool llt_with_shift(Llt& llt, Matrix& H, double shift0, double shift_max, double floor) noexcept {
+  llt.compute(H);
+  for (double shift = shift0; llt.info() != Eigen::Success; shift *= 100.0) {
+    if (shift > shift_max) return false;
+    H.diagonal().array() += shift * (H.diagonal().cwiseAbs().maxCoeff() + floor);
+    llt.compute(H);
+  }
+  return true;
+}
+
+/// The step x += a dx for each (x, dx) pair of the primal-dual iterate.
+template <class X, class DX, class... Rest>
+void take_step(double a, X&& x, const DX& dx, Rest&&... rest) noexcept {
+  x += a * dx;
+  if constexpr (sizeof...(Rest) > 0) take_step(a, std::forward<Rest>(rest)...);
+}
+
+}  // namespace satgnc::guidance::detail::ipm
