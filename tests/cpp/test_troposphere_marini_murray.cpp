@@ -10,7 +10,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "malloc_counter.hpp"
 #include "obs_fixture.hpp"
+#include "satgnc/core/no_malloc.hpp"
 #include "satgnc/observation/light_time.hpp"
 #include "satgnc/observation/measurement_model.hpp"
 #include "satgnc/observation/modifiers.hpp"
@@ -175,6 +177,27 @@ TEST(MariniMurray, PartialsAndRangeRateCounterpart) {
     EXPECT_NEAR(rr.troposphere, rate, 1e-4 * std::abs(rate) + 1e-12) << offset;
     EXPECT_GT(std::abs(rr.troposphere), 1e-7);  // km/s
   }
+}
+
+// predict() with Marini-Murray on a range and a range-rate allocates nothing (the counter of
+// malloc_counter.hpp in the Release build; Eigen's switch under SATGNC_NO_MALLOC_SCOPE in Debug).
+TEST(MariniMurray, PredictAllocatesNothing) {
+  const obs::RotatingStationEphemeris st(obs_fixture::station());
+  const MeasurementModel range = model(ObservableType::two_way_range, TroposphereModel::marini_murray);
+  const MeasurementModel rate = model(ObservableType::two_way_range_rate, TroposphereModel::marini_murray);
+  const Vec6 x = obs_fixture::pass_state();
+  Prediction p, q;
+  g_mallocs = 0;
+  g_count = true;
+  {
+    SATGNC_NO_MALLOC_SCOPE;
+    range.predict(st, 10.0, x, Biases{0.01, 1e-3}, p);
+    rate.predict(st, 10.0, x, Biases{0.0, 1e-3}, q);
+  }
+  g_count = false;
+  EXPECT_EQ(g_mallocs.load(), 0) << "heap allocations inside predict()";
+  EXPECT_EQ(p.status, ObservationStatus::success);
+  EXPECT_EQ(q.status, ObservationStatus::success);
 }
 
 TEST(MariniMurray, NameAndBadInput) {
