@@ -166,40 +166,44 @@ void init_observation(py::module_& m) {
 
   py::class_<MeasurementModel>(m, "MeasurementModel",
                                "Light-time measurement model (observation/measurement_model.hpp).")
-      .def(py::init([](const std::string& type, py::handle troposphere, py::handle shapiro,
-                       py::handle relative_humidity, py::handle tolerance, py::handle max_iterations,
-                       py::handle mu, py::handle min_range, py::handle time_bias_partials,
-                       py::handle wavelength_um) {
-             MeasurementSettings s;
-             s.type = observation::parse_observable(type);
-             if (py::isinstance<py::str>(troposphere)) {  // the model's name turns it on
-               const std::string name = troposphere.cast<std::string>();
-               if (name == "saastamoinen")
-                 s.troposphere_model = observation::TroposphereModel::saastamoinen;
-               else if (name == "mendes_pavlis")
-                 s.troposphere_model = observation::TroposphereModel::mendes_pavlis;
-               else
-                 throw py::value_error(
-                     "troposphere: must be a bool, 'saastamoinen' or 'mendes_pavlis', got '" + name + "'");
-               s.troposphere = true;
-             } else {
-               s.troposphere = checks::bool_arg(troposphere, "troposphere");
-             }
-             s.wavelength_um = checks::real_arg(wavelength_um, "wavelength_um");
-             s.shapiro = checks::bool_arg(shapiro, "shapiro");
-             s.relative_humidity = checks::real_arg(relative_humidity, "relative_humidity");
-             s.light_time.tolerance = checks::real_arg(tolerance, "tolerance");
-             s.light_time.max_iterations =
-                 static_cast<int>(checks::int_arg(max_iterations, "max_iterations", 1, 100));
-             s.mu = checks::real_arg(mu, "mu");
-             s.min_range = checks::real_arg(min_range, "min_range");
-             s.time_bias_partials = checks::bool_arg(time_bias_partials, "time_bias_partials");
-             return MeasurementModel(s);
-           }),
-           py::arg("type"), py::arg("troposphere") = false, py::arg("shapiro") = false,
-           py::arg("relative_humidity") = 0.5, py::arg("tolerance") = 1e-14, py::arg("max_iterations") = 10,
-           py::arg("mu") = core::earth::mu, py::arg("min_range") = 1e-3, py::arg("time_bias_partials") = true,
-           py::arg("wavelength_um") = 0.532)
+      .def(
+          py::init([](const std::string& type, py::handle troposphere, py::handle shapiro,
+                      py::handle relative_humidity, py::handle tolerance, py::handle max_iterations,
+                      py::handle mu, py::handle min_range, py::handle time_bias_partials,
+                      py::handle wavelength_um) {
+            MeasurementSettings s;
+            s.type = observation::parse_observable(type);
+            if (py::isinstance<py::str>(troposphere)) {  // the model's name turns it on
+              const std::string name = troposphere.cast<std::string>();
+              if (name == "saastamoinen")
+                s.troposphere_model = observation::TroposphereModel::saastamoinen;
+              else if (name == "mendes_pavlis")
+                s.troposphere_model = observation::TroposphereModel::mendes_pavlis;
+              else if (name == "marini_murray")
+                s.troposphere_model = observation::TroposphereModel::marini_murray;
+              else
+                throw py::value_error(
+                    "troposphere: must be a bool, 'saastamoinen', 'mendes_pavlis' or 'marini_murray', got '" +
+                    name + "'");
+              s.troposphere = true;
+            } else {
+              s.troposphere = checks::bool_arg(troposphere, "troposphere");
+            }
+            s.wavelength_um = checks::real_arg(wavelength_um, "wavelength_um");
+            s.shapiro = checks::bool_arg(shapiro, "shapiro");
+            s.relative_humidity = checks::real_arg(relative_humidity, "relative_humidity");
+            s.light_time.tolerance = checks::real_arg(tolerance, "tolerance");
+            s.light_time.max_iterations =
+                static_cast<int>(checks::int_arg(max_iterations, "max_iterations", 1, 100));
+            s.mu = checks::real_arg(mu, "mu");
+            s.min_range = checks::real_arg(min_range, "min_range");
+            s.time_bias_partials = checks::bool_arg(time_bias_partials, "time_bias_partials");
+            return MeasurementModel(s);
+          }),
+          py::arg("type"), py::arg("troposphere") = false, py::arg("shapiro") = false,
+          py::arg("relative_humidity") = 0.5, py::arg("tolerance") = 1e-14, py::arg("max_iterations") = 10,
+          py::arg("mu") = core::earth::mu, py::arg("min_range") = 1e-3, py::arg("time_bias_partials") = true,
+          py::arg("wavelength_um") = 0.532)
       .def_property_readonly("type",
                              [](const MeasurementModel& mm) {
                                return std::string(observation::observable_name(mm.settings().type));
@@ -214,7 +218,8 @@ void init_observation(py::module_& m) {
           [](const MeasurementModel& mm) {
             return std::string(observation::troposphere_model_name(mm.settings().troposphere_model));
           },
-          "'saastamoinen' (radio) or 'mendes_pavlis' (laser ranging at wavelength_um); applies when "
+          "'saastamoinen' (radio), 'mendes_pavlis' or 'marini_murray' (laser ranging at wavelength_um); "
+          "applies when "
           "troposphere is True")
       .def("predict_many", &predict_many, py::arg("station"), py::arg("t"), py::arg("states"),
            py::arg("range_bias") = 0.0, py::arg("time_bias") = 0.0,
@@ -262,6 +267,30 @@ void init_observation(py::module_& m) {
       },
       py::arg("pressure"), py::arg("temperature"), py::arg("water_vapour"), py::arg("latitude"),
       py::arg("height"), "Saastamoinen zenith delay (km): hPa, K, hPa, latitude rad, height km.");
+  m.def(
+      "marini_murray_delay",
+      [](py::handle p_, py::handle t_, py::handle e_, py::handle lat_, py::handle h_, py::handle wl_,
+         py::handle el_) {
+        observation::Weather w;
+        w.pressure = checks::real_arg(p_, "pressure");
+        w.temperature = checks::real_arg(t_, "temperature");
+        w.water_vapour = checks::real_arg(e_, "water_vapour");
+        if (!(w.pressure >= 0.0)) throw py::value_error("pressure: must be >= 0 hPa");
+        if (!(w.temperature > 0.0)) throw py::value_error("temperature: must be > 0 K");
+        if (!(w.water_vapour >= 0.0)) throw py::value_error("water_vapour: must be >= 0 hPa");
+        const double wl = checks::real_arg(wl_, "wavelength_um");
+        if (!(wl >= 0.3 && wl <= 1.7))
+          throw py::value_error("wavelength_um: must be in [0.3, 1.7] micrometres");
+        double d = 0.0;
+        const double v = observation::marini_murray_delay(w, checks::real_arg(lat_, "latitude"),
+                                                          checks::real_arg(h_, "height"), wl,
+                                                          checks::real_arg(el_, "elevation"), &d);
+        return py::make_tuple(v, d);
+      },
+      py::arg("pressure"), py::arg("temperature"), py::arg("water_vapour"), py::arg("latitude"),
+      py::arg("height"), py::arg("wavelength_um"), py::arg("elevation"),
+      "Marini-Murray range delay (km) and its derivative (km/rad): hPa, K, hPa, latitude rad, height km, "
+      "wavelength um, elevation rad.");
   m.def(
       "tropo_mapping",
       [](py::handle el_) { return observation::tropo_mapping(checks::real_arg(el_, "elevation")); },

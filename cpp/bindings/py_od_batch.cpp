@@ -134,7 +134,9 @@ void init_od_batch(py::module_& m) {
   const auto tropo_model = [](const std::string& name) {
     if (name == "saastamoinen") return observation::TroposphereModel::saastamoinen;
     if (name == "mendes_pavlis") return observation::TroposphereModel::mendes_pavlis;
-    throw py::value_error("troposphere: must be 'saastamoinen' or 'mendes_pavlis', got '" + name + "'");
+    if (name == "marini_murray") return observation::TroposphereModel::marini_murray;
+    throw py::value_error("troposphere: must be 'saastamoinen', 'mendes_pavlis' or 'marini_murray', got '" +
+                          name + "'");
   };
   m.def(
       "od_batch_estimate",

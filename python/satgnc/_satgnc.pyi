@@ -147,6 +147,7 @@ __all__: list[str] = [
     "kepler_step",
     "load_force_model_config",
     "load_gfc",
+    "marini_murray_delay",
     "moon_position",
     "od_batch_estimate",
     "od_batch_evaluate",
@@ -3555,8 +3556,8 @@ class MeasurementModel:
     @property
     def troposphere_model(self) -> str:
         """
-        'saastamoinen' (radio) or 'mendes_pavlis' (laser ranging at wavelength_um); applies when troposphere
-        is True
+        'saastamoinen' (radio), 'mendes_pavlis' or 'marini_murray' (laser ranging at wavelength_um); applies
+        when troposphere is True
         """
     @property
     def type(self) -> str: ...
@@ -4171,6 +4172,20 @@ def load_gfc(path: str, max_degree: typing.SupportsInt | typing.SupportsIndex = 
     """
     Read an ICGEM .gfc file up to max_degree (-1: the file's). ValueError names the file, the line and the
     keyword.
+    """
+
+def marini_murray_delay(
+    pressure: typing.Any,
+    temperature: typing.Any,
+    water_vapour: typing.Any,
+    latitude: typing.Any,
+    height: typing.Any,
+    wavelength_um: typing.Any,
+    elevation: typing.Any,
+) -> tuple[float, float]:
+    """
+    Marini-Murray range delay (km) and its derivative (km/rad): hPa, K, hPa, latitude rad, height km,
+    wavelength um, elevation rad.
     """
 
 def moon_position(

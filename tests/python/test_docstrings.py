@@ -99,7 +99,7 @@ MAIN_FUNCTIONS = {
                       "gcrs_to_eme2000_matrix"),
     "satgnc.observation": ("measurement_model", "predict", "rotating_station", "shift_state",
                            "standard_atmosphere", "saastamoinen_zenith_delay", "tropo_mapping",
-                           "shapiro_delay"),
+                           "shapiro_delay", "marini_murray_delay"),
     "satgnc.io": tuple(f"{verb}_{kind}" for kind in ("tdm", "oem", "opm")
                        for verb in ("parse", "read", "format", "write")) + ("epoch_seconds", "epochs_at"),
     "satgnc.analysis": ("orbit", "polar_model", "polar_linear_model", "od_gramian", "od_linear_model",

@@ -12,7 +12,9 @@ from satgnc import cli
 from satgnc.od import filter_sim as fsim
 
 TDM = pathlib.Path(__file__).resolve().parents[1] / "data" / "filter" / "two_station.tdm"
-STATIONS = ["--station", "STN_A:40,-105,1.6", "--station", "STN_B:-35,149,0.7"]
+# The TDM was simulated with the paper's GMST-rotating stations: named explicitly (the default is ITRF + IAU).
+PAPER = ["--station-model", "paper"]
+STATIONS = ["--station", "STN_A:40,-105,1.6", "--station", "STN_B:-35,149,0.7", *PAPER]
 GUESS = "6878.8,-1.2,0.5,0.0004,4.7364,5.9872"  # truth + (0.8, -1.2, 0.5) km, (0.4, -0.6, 0.2) m/s
 
 
@@ -50,7 +52,7 @@ def test_filter_writes_an_oem_with_covariance(tmp_path, capsys, smooth):
     ("extra", "text"),
     [
         (["--station", "STN_A:40,-105,1.6"],
-         "--station: no coordinates for the TDM participant(s) ['STN_B']"),
+         "--stations/--station: no coordinates for the TDM's receiving participant(s) ['STN_B']"),
         (["--guess", "1,2,3,4,5,6", *STATIONS], "--guess: the position is inside the Earth"),
         (["--guess", "1,2,3", *STATIONS], "--guess: expected 6 finite comma-separated numbers"),
         (["--epoch", "2023-02-26T00:00:00", *STATIONS], "--epoch: 2023-02-26T00:00:00 is after the first"),

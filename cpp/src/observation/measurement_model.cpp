@@ -49,19 +49,32 @@ inline bool angle_pair(const Vec3& e, double& lon, double& lat, Eigen::Matrix<do
 struct Troposphere {
   TroposphereModel model = TroposphereModel::saastamoinen;
   double zenith = 0.0;  // km
-  double latitude = 0.0, height = 0.0, temperature = 288.15;
+  double latitude = 0.0, height = 0.0, wavelength = 0.532;
+  Weather weather;
   Troposphere(const MeasurementSettings& s, const StationEphemeris& station) noexcept
-      : model(s.troposphere_model), latitude(station.latitude()), height(station.height()) {
-    const Weather w = standard_atmosphere(height, s.relative_humidity);
-    temperature = w.temperature;
-    zenith = model == TroposphereModel::mendes_pavlis
-                 ? mendes_pavlis_zenith_delay(w, latitude, height, s.wavelength_um).total()
-                 : saastamoinen_zenith_delay(w, latitude, height);
+      : model(s.troposphere_model),
+        latitude(station.latitude()),
+        height(station.height()),
+        wavelength(s.wavelength_um),
+        weather(standard_atmosphere(height, s.relative_humidity)) {
+    switch (model) {
+      case TroposphereModel::mendes_pavlis:
+        zenith = mendes_pavlis_zenith_delay(weather, latitude, height, wavelength).total();
+        break;
+      case TroposphereModel::marini_murray:  // its own water-vapour formula (IERS TN 21)
+        weather.water_vapour = marini_murray_water_vapour(weather.temperature, s.relative_humidity);
+        break;
+      case TroposphereModel::saastamoinen:
+        zenith = saastamoinen_zenith_delay(weather, latitude, height);
+        break;
+    }
   }
   double delay(double el, double* d_del) const noexcept {
+    if (model == TroposphereModel::marini_murray)
+      return marini_murray_delay(weather, latitude, height, wavelength, el, d_del);
     double dm = 0.0;
     const double m = model == TroposphereModel::mendes_pavlis
-                         ? fcul_mapping(el, latitude, height, temperature, &dm)
+                         ? fcul_mapping(el, latitude, height, weather.temperature, &dm)
                          : tropo_mapping(el, &dm);
     if (d_del) *d_del = zenith * dm;
     return zenith * m;
@@ -124,8 +137,8 @@ void MeasurementSettings::validate() const {
   core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
                 "relative_humidity", "must be in [0, 1]");
   const int tm = static_cast<int>(troposphere_model);
-  core::require(tm >= 0 && tm <= 1, "troposphere_model",
-                "unknown model (hint: saastamoinen or mendes_pavlis)");
+  core::require(tm >= 0 && tm <= 2, "troposphere_model",
+                "unknown model (hint: saastamoinen, mendes_pavlis or marini_murray)");
   core::require(std::isfinite(wavelength_um) && wavelength_um >= 0.3 && wavelength_um <= 1.7, "wavelength_um",
                 "must be in [0.3, 1.7] micrometres (the range of Ciddor's dispersion formula)");
   core::require_positive(mu, "mu");

@@ -39,6 +39,8 @@ const char* troposphere_model_name(TroposphereModel model) noexcept {
       return "saastamoinen";
     case TroposphereModel::mendes_pavlis:
       return "mendes_pavlis";
+    case TroposphereModel::marini_murray:
+      return "marini_murray";
   }
   return "unknown";
 }
@@ -81,6 +83,27 @@ double fcul_mapping(double el, double latitude_rad, double height_km, double tem
     *dm_del = -m / den * dden * std::cos(el);
   }
   return m;
+}
+
+double marini_murray_water_vapour(double temperature_k, double relative_humidity) noexcept {
+  const double t = temperature_k - 273.15;  // deg C
+  return relative_humidity * 6.11 * std::pow(10.0, 7.5 * t / (237.3 + t));
+}
+
+double marini_murray_delay(const Weather& w, double latitude_rad, double height_km, double wavelength_um,
+                           double el, double* d_del) noexcept {
+  const double P = w.pressure, T = w.temperature, c2 = std::cos(2.0 * latitude_rad);
+  const double K = 1.163 - 0.00968 * c2 - 0.00104 * T + 0.00001435 * P;
+  const double A = 0.002357 * P + 0.000141 * w.water_vapour;
+  const double B = 1.084e-8 * P * T * K + 4.734e-8 * (P * P / T) * (2.0 / (3.0 - 1.0 / K));
+  const double l2 = 1.0 / (wavelength_um * wavelength_um);
+  const double f_lambda = 0.9650 + 0.0164 * l2 + 0.000228 * l2 * l2;
+  const double f_site = 1.0 - 0.0026 * c2 - 0.00031 * height_km;
+  const double s = std::sin(el), c = B / (A + B), q = s + 0.01;
+  const double den = s + c / q;
+  const double dR = 1e-3 * (f_lambda / f_site) * (A + B) / den;  // km
+  if (d_del) *d_del = -dR / den * (1.0 - c / (q * q)) * std::cos(el);
+  return dR;
 }
 
 double shapiro_delay(double r1, double r2, double rho, double mu, double* d_dsum, double* d_drho) noexcept {

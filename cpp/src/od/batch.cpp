@@ -95,8 +95,8 @@ void BatchSettings::validate() const {
   core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
                 "relative_humidity", "must be in [0, 1]");
   const int tm = static_cast<int>(troposphere_model);
-  core::require(tm >= 0 && tm <= 1, "troposphere_model",
-                "unknown model (hint: saastamoinen or mendes_pavlis)");
+  core::require(tm >= 0 && tm <= 2, "troposphere_model",
+                "unknown model (hint: saastamoinen, mendes_pavlis or marini_murray)");
   core::require(std::isfinite(wavelength_um) && wavelength_um >= 0.3 && wavelength_um <= 1.7, "wavelength_um",
                 "must be in [0.3, 1.7] micrometres");
   core::require_positive(mu, "mu");

@@ -61,6 +61,7 @@ __all__ = [
     "Predictions",
     "RotatingStationEphemeris",
     "StationEphemeris",
+    "marini_murray_delay",
     "measurement_model",
     "predict",
     "rotating_station",
@@ -149,7 +150,8 @@ def measurement_model(
         Add the tropospheric delay (range observables) or its rate (range-rate observables); default
         False. True or ``"saastamoinen"``: Saastamoinen with the Black-Eisner mapping (radio);
         ``"mendes_pavlis"``: Mendes-Pavlis with the FCULa mapping at ``wavelength_um`` (laser ranging,
-        the IERS Conventions 2010 model).
+        the IERS Conventions 2010 model); ``"marini_murray"``: Marini-Murray at ``wavelength_um`` (laser
+        ranging, the IERS Conventions 1996 model, elevations above 10 deg).
     shapiro : bool, optional
         Add the Earth's Shapiro delay (range observables only; default False).
     relative_humidity : float, optional
@@ -166,7 +168,7 @@ def measurement_model(
     time_bias_partials : bool, optional
         Compute d value / d time bias (default True).
     wavelength_um : float, optional
-        Laser wavelength of Mendes-Pavlis, micrometres, in [0.3, 1.7] (default 0.532).
+        Laser wavelength of Mendes-Pavlis / Marini-Murray, micrometres, in [0.3, 1.7] (default 0.532).
 
     Returns
     -------
@@ -372,6 +374,49 @@ def saastamoinen_zenith_delay(pressure: float, temperature: float, water_vapour:
         A negative pressure or a non-finite input, naming it.
     """
     return float(_satgnc.saastamoinen_zenith_delay(pressure, temperature, water_vapour, latitude, height))
+
+
+def marini_murray_delay(
+    pressure: float,
+    temperature: float,
+    water_vapour: float,
+    latitude: float,
+    height: float,
+    wavelength_um: float,
+    elevation: float,
+) -> tuple[float, float]:
+    """Marini-Murray tropospheric range delay for laser ranging (IERS Conventions 1996, TN 21 ch. 9).
+
+    Parameters
+    ----------
+    pressure : float
+        Surface pressure (hPa, >= 0).
+    temperature : float
+        Surface temperature (K).
+    water_vapour : float
+        Water-vapour partial pressure (hPa).
+    latitude : float
+        Geodetic latitude (rad).
+    height : float
+        Height above the ellipsoid (km).
+    wavelength_um : float
+        Laser wavelength (micrometres, in [0.3, 1.7]).
+    elevation : float
+        Elevation of the line of sight (rad; the model is stated above 10 deg).
+
+    Returns
+    -------
+    tuple of float
+        (delay km, d delay / d elevation km/rad); about 0.0133 km at 10 deg for a ruby laser at sea level.
+
+    Raises
+    ------
+    ValueError
+        A negative pressure, a wavelength outside [0.3, 1.7] or a non-finite input, naming it.
+    """
+    d, dd = _satgnc.marini_murray_delay(pressure, temperature, water_vapour, latitude, height, wavelength_um,
+                                        elevation)
+    return float(d), float(dd)
 
 
 def tropo_mapping(elevation: float) -> float:

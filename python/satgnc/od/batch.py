@@ -339,7 +339,7 @@ def _per_station(value: Any, name: str, n: int) -> list[float]:
     return [float(v) for v in arr]
 
 
-TROPOSPHERE_MODELS: tuple[str, ...] = ("saastamoinen", "mendes_pavlis")
+TROPOSPHERE_MODELS: tuple[str, ...] = ("saastamoinen", "mendes_pavlis", "marini_murray")
 
 
 def _troposphere(value: Any) -> tuple[bool, str]:
@@ -432,11 +432,11 @@ def batch_estimate(
         Fixed values or initial guesses (s), one number or one per station.
     light_time : bool, optional
         Light-time models (default True; False: the instantaneous geometry).
-    troposphere : bool or {"saastamoinen", "mendes_pavlis"}, optional
+    troposphere : bool or {"saastamoinen", "mendes_pavlis", "marini_murray"}, optional
         Model the troposphere in this run (default False; True or ``"saastamoinen"``: radio;
-        ``"mendes_pavlis"``: laser ranging at ``wavelength_um``).
+        ``"mendes_pavlis"`` or ``"marini_murray"``: laser ranging at ``wavelength_um``).
     wavelength_um : float, optional
-        Laser wavelength in micrometres for ``"mendes_pavlis"`` (default 0.532).
+        Laser wavelength in micrometres for ``"mendes_pavlis"`` / ``"marini_murray"`` (default 0.532).
     shapiro : bool, optional
         Model the Shapiro delay in this run (default False).
     relative_humidity : float, optional
@@ -585,12 +585,12 @@ def batch_residuals(
         As :func:`batch_estimate`.
     light_time, shapiro : bool, optional
         Model options (defaults True, False).
-    troposphere : bool or {"saastamoinen", "mendes_pavlis"}, optional
+    troposphere : bool or {"saastamoinen", "mendes_pavlis", "marini_murray"}, optional
         As :func:`batch_estimate` (default False).
     rtol, atol : float, optional
         DOP853 tolerances (relative; km and km/s).
     wavelength_um : float, optional
-        Laser wavelength in micrometres for ``"mendes_pavlis"`` (default 0.532).
+        Laser wavelength in micrometres for ``"mendes_pavlis"`` / ``"marini_murray"`` (default 0.532).
 
     Returns
     -------

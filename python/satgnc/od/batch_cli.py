@@ -10,8 +10,10 @@ Runs :func:`satgnc.od.batch_estimate` (``BatchEstimator`` in C++) on the TDM's R
 DOPPLER_INSTANTANEOUS / DOPPLER_INTEGRATED (km/s) and ANGLE_1 + ANGLE_2 (AZEL or RADEC, deg) with the
 light-time models of :mod:`satgnc.observation` (PATH 1,2,1: two-way; 2,1: one-way), stations fixed in
 ITRF (WGS-84 geodetic) carried to GCRF by IAU 2006/2000A with EOP (``--eop``: a finals2000A or EOP 20
-C04 file; default the astropy-iers-data table), DOP853 with the STM on the force model of
-``--force-model`` (TOML, docs/force_models.md; default point mass + J2), its epoch set to the run's.
+C04 file; default the astropy-iers-data table; ``--station-model paper``: the paper's GMST-rotating
+station instead, for reproductions; the same station code as ``od filter``, ``od/_cli_stations.py``),
+DOP853 with the STM on the force model of ``--force-model`` (TOML, docs/force_models.md; default point
+mass + J2), its epoch set to the run's.
 
 Stations: ``--stations FILE`` (TOML: one table per participant name with ``latitude`` deg,
 ``longitude`` deg east, ``height`` km; or CSV with the header ``name,latitude_deg,longitude_deg,
@@ -25,145 +27,16 @@ residuals per measurement), ``.oem`` (OEM KVN: the state at the epoch with its c
 
 from __future__ import annotations
 
-import csv
 import datetime as _dt
 import json
 import math
-import os
 import pathlib
-import re
 from typing import Any
 
 import numpy as np
 
-_STATION_KEYS = ("latitude", "longitude", "height")
-_CSV_HEADER = ("name", "latitude_deg", "longitude_deg", "height_km")
-
-
-def _floats(text: str, n: int, name: str) -> list[float]:
-    try:
-        vals = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise ValueError(f"{name}: expected {n} comma-separated numbers, got {text!r}") from None
-    if len(vals) != n or not all(math.isfinite(v) for v in vals):
-        raise ValueError(f"{name}: expected {n} finite comma-separated numbers, got {text!r}")
-    return vals
-
-
-def _check_site(lat: float, lon: float, h: float, where: str) -> None:
-    if not -90.0 <= lat <= 90.0:
-        raise ValueError(f"{where}: latitude {lat} deg outside [-90, 90]")
-    if not -360.0 <= lon <= 360.0:
-        raise ValueError(f"{where}: longitude {lon} deg outside [-360, 360]")
-    if not -0.5 <= h <= 9.0:  # km: below the Dead Sea shore or above Everest is not a ground station
-        raise ValueError(f"{where}: height {h} km outside [-0.5, 9] (hint: km above the WGS-84 ellipsoid)")
-
-
-def _key_line(text: str, section: str, key: str | None) -> int | None:
-    """1-based line of ``key`` inside ``[section]`` of a TOML text (of the header when key is None)."""
-    inside = False
-    for i, line in enumerate(text.splitlines(), 1):
-        s = line.split("#", 1)[0].strip()
-        m = re.fullmatch(r"\[\s*\"?([^\]\"]+)\"?\s*\]", s)
-        if m:
-            inside = m.group(1).strip() == section
-            if inside and key is None:
-                return i
-            continue
-        if inside and key is not None and re.match(rf"\"?{re.escape(key)}\"?\s*=", s):
-            return i
-    return None
-
-
-def read_stations(path: str | os.PathLike[str]) -> dict[str, tuple[float, float, float]]:
-    """Stations of a TOML or CSV file: {participant name: (latitude deg, longitude deg, height km)}.
-    Errors are :class:`satgnc.FileFormatError` naming the file, the line and the key."""
-    from .._validate import FileFormatError, load_toml, read_text_file
-
-    p = pathlib.Path(path)
-    out: dict[str, tuple[float, float, float]] = {}
-    if p.suffix.lower() == ".csv":
-        p, text = read_text_file(p, "--stations")
-        rows = list(csv.reader(text.splitlines()))
-        if not rows or tuple(c.strip() for c in rows[0]) != _CSV_HEADER:
-            raise FileFormatError(p, 1, f"header: must be {','.join(_CSV_HEADER)}", "header")
-        for i, row in enumerate(rows[1:], 2):
-            if not row or not "".join(row).strip():
-                continue
-            if len(row) != 4:
-                raise FileFormatError(p, i, f"expected 4 columns ({','.join(_CSV_HEADER)}), got {len(row)}")
-            name = row[0].strip()
-            vals = []
-            for col, v in zip(_CSV_HEADER[1:], row[1:]):
-                try:
-                    x = float(v)
-                except ValueError:
-                    raise FileFormatError(p, i, f"{col}: not a number: {v.strip()!r}", col) from None
-                if not math.isfinite(x):
-                    raise FileFormatError(p, i, f"{col}: must be finite, got {v.strip()!r}", col)
-                vals.append(x)
-            if not name or name in out:
-                raise FileFormatError(
-                    p, i, f"name: {'empty' if not name else f'{name!r} given twice'}", "name"
-                )
-            try:
-                _check_site(*vals, where=name)
-            except ValueError as e:
-                raise FileFormatError(p, i, str(e)) from None
-            out[name] = (vals[0], vals[1], vals[2])
-    else:
-        p, text, doc = load_toml(p, "--stations")
-        for name, table in doc.items():
-            line = _key_line(text, name, None)
-            if not isinstance(table, dict):
-                raise FileFormatError(
-                    p,
-                    _key_line(text, "", name),
-                    f"{name}: expected a table [{name}] with latitude, longitude, height",
-                    name,
-                )
-            for key in table:
-                if key not in _STATION_KEYS:
-                    raise FileFormatError(
-                        p,
-                        _key_line(text, name, key),
-                        f"[{name}] {key}: unknown key (hint: latitude deg, longitude deg, height km)",
-                        key,
-                    )
-            vals = []
-            for key in _STATION_KEYS:
-                if key not in table:
-                    raise FileFormatError(p, line, f"[{name}] {key}: missing", key)
-                v = table[key]
-                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                    raise FileFormatError(
-                        p,
-                        _key_line(text, name, key),
-                        f"[{name}] {key}: must be a finite number, got {v!r}",
-                        key,
-                    )
-                vals.append(float(v))
-            try:
-                _check_site(*vals, where=f"[{name}]")
-            except ValueError as e:
-                raise FileFormatError(p, line, str(e)) from None
-            out[name] = (vals[0], vals[1], vals[2])
-    if not out:
-        raise FileFormatError(p, None, "no station in the file")
-    return out
-
-
-def _receivers(tdm_path: str) -> list[str]:
-    """Receiving participant names of a TDM, in order of first appearance (where PATH ends)."""
-    from .. import io as _io
-
-    names: list[str] = []
-    for seg in _io.read_tdm(tdm_path).segments:
-        md = seg.metadata
-        k = md.path[-1] if md.path else 1
-        if 1 <= k <= len(md.participants) and md.participants[k - 1] not in names:
-            names.append(md.participants[k - 1])
-    return names
+from . import _cli_stations as _st
+from ._cli_stations import read_stations  # noqa: F401 (kept importable from here)
 
 
 def _finite(a: Any) -> Any:
@@ -271,32 +144,16 @@ def _summary(r: Any, td: Any, epoch: Any, names: list[str]) -> str:
 
 
 def _run(args: Any) -> int:
-    from .. import _satgnc, frames
+    from .. import _satgnc
     from ..forcemodel import load_force_model_config
-    from ..observation import EarthFixedStationEphemeris
     from ..time import Epoch
     from .batch import batch_estimate, read_tracking_tdm
 
     tdm_path = str(args.tdm)
     if not pathlib.Path(tdm_path).is_file():
         raise FileNotFoundError(f"--tdm: no such file: {tdm_path}")
-    sites: dict[str, tuple[float, float, float]] = {}
-    if args.stations:
-        sites.update(read_stations(args.stations))
-    for spec in args.station or []:
-        label, _, coords = spec.rpartition(":")
-        if not label:
-            raise ValueError(f"--station: expected NAME:lat,lon,height (deg, deg, km), got {spec!r}")
-        lat, lon, h = _floats(coords, 3, "--station")
-        _check_site(lat, lon, h, f"--station {label}")
-        sites[label] = (lat, lon, h)  # the command line overrides the file
-    receivers = _receivers(tdm_path)
-    missing = [n for n in receivers if n not in sites]
-    if missing:
-        raise ValueError(
-            f"--stations/--station: no coordinates for the TDM's receiving participant(s) {missing} "
-            f"(hint: --station {missing[0]}:lat,lon,height)"
-        )
+    receivers = _st.receivers(tdm_path)
+    sites = _st.site_coordinates(args.stations, args.station, receivers)
     names = receivers  # only the stations that measured: an unused station would make biases singular
     for opt, chosen in (
         ("--estimate-range-bias", args.estimate_range_bias),
@@ -323,24 +180,15 @@ def _run(args: Any) -> int:
         except ValueError as e:
             raise ValueError(f"--epoch: {e}") from None
     t = t_ref - (epoch - ref)
-    eop = frames.default_eop() if args.eop is None else frames.load_eop(args.eop)
-    margin = 3600.0
-    try:
-        rotation = frames.IauEarthRotation(
-            epoch, eop, float(min(t.min(), 0.0)) - margin, float(max(t.max(), 0.0)) + margin
-        )
-    except ValueError as e:
-        raise ValueError(f"--eop: {e}") from None
-    stations = [
-        EarthFixedStationEphemeris.from_ground_station(frames.GroundStation(*sites[n], 0.0, n), rotation)
-        for n in names
-    ]
+    stations = _st.station_ephemerides(
+        args.station_model, sites, names, epoch, float(t.min()), float(t.max()), args.eop
+    )
     if args.force_model is None:
         fm = _satgnc.ForceModel(j2=_satgnc.J2Gravity())
     else:
         fm = load_force_model_config(args.force_model).model
     fm.set_epoch(epoch)
-    guess = np.array(_floats(args.guess, 6, "--guess"))
+    guess = np.array(_st.floats(args.guess, 6, "--guess"))
     if np.linalg.norm(guess[:3]) <= 6378.0:
         raise ValueError(
             "--guess: the position is inside the Earth (hint: x,y,z km, vx,vy,vz km/s, GCRF at the epoch)"
@@ -396,6 +244,12 @@ def register(sub: Any) -> None:
     b.add_argument("--epoch", help="UTC epoch of the estimated state (ISO); default: the first measurement")
     b.add_argument("--force-model", metavar="FILE", help="force-model TOML (default: point mass + J2)")
     b.add_argument(
+        "--station-model",
+        default="itrf",
+        choices=list(_st.STATION_MODELS),
+        help="itrf: WGS-84 in ITRF on IAU 2006 + EOP (default); paper: the paper's GMST-rotating station",
+    )
+    b.add_argument(
         "--eop", metavar="FILE", help="EOP file, finals2000A or EOP 20 C04 (default: astropy-iers-data)"
     )
     b.add_argument(
@@ -407,11 +261,14 @@ def register(sub: Any) -> None:
     b.add_argument(
         "--troposphere",
         default="none",
-        choices=["none", "saastamoinen", "mendes_pavlis"],
+        choices=["none", "saastamoinen", "mendes_pavlis", "marini_murray"],
         help="troposphere model (default none: data already corrected)",
     )
     b.add_argument(
-        "--wavelength", type=positive_float, default=0.532, help="laser wavelength, um (mendes_pavlis)"
+        "--wavelength",
+        type=positive_float,
+        default=0.532,
+        help="laser wavelength, um (mendes_pavlis, marini_murray)",
     )
     b.add_argument("--shapiro", action="store_true", help="add the Shapiro delay")
     b.add_argument(

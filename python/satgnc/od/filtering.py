@@ -33,6 +33,7 @@ import numpy as np
 from .. import _satgnc as _c
 from .._results import Result
 from .._validate import as_bool, as_int, as_real, as_real_array, one_of
+from ..observation import measurement_model
 
 __all__ = ["FilterResult", "OBSERVABLES", "filter", "smooth", "process_noise"]
 
@@ -217,6 +218,9 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
     quadrature_nodes: int = 5,
     rtol: float = 1e-10,
     atol: float = 1e-12,
+    troposphere: bool | str = False,
+    wavelength_um: float = 0.532,
+    relative_humidity: float = 0.5,
     _smooth: bool = False,
 ) -> FilterResult:
     """Run the orbit EKF (or UKF) over K measurements.
@@ -281,6 +285,14 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
         Gauss-Legendre nodes of the process-noise integral (default 5).
     rtol, atol : float, optional
         DOP853 tolerances (relative; km and km/s).
+    troposphere : bool or {"saastamoinen", "mendes_pavlis", "marini_murray"}, optional
+        Model the tropospheric delay on the range observables and its rate on the range-rates
+        (default False; True: Saastamoinen, radio; the other two: laser ranging at ``wavelength_um``),
+        as :func:`satgnc.observation.measurement_model`.
+    wavelength_um : float, optional
+        Laser wavelength (micrometres, in [0.3, 1.7]; default 0.532).
+    relative_humidity : float, optional
+        Of the stations' standard atmosphere, in [0, 1] (default 0.5).
 
     Returns
     -------
@@ -465,7 +477,12 @@ def filter(  # noqa: A001 (satgnc.od.filter is the public name the issue asks fo
     }
     if not 0.0 < fs["gate_probability"] < 1.0:
         raise ValueError(f"gate_probability: must be in (0, 1), got {fs['gate_probability']}")
-    models = [_c.MeasurementModel(o) for o in obs_names]
+    angles = ("azimuth_elevation", "right_ascension_declination")
+    models = [
+        measurement_model(o, troposphere=False if o in angles else troposphere, wavelength_um=wavelength_um,
+                          relative_humidity=relative_humidity)
+        for o in obs_names
+    ]
     stn = {"sigma": np.ascontiguousarray(sig, dtype=float), "range_bias_state": rbs, "time_bias_state": tbs,
            "range_bias": rb.tolist(), "time_bias": tb.tolist()}
     d = _c.filter_orbit_run(

@@ -63,9 +63,10 @@ struct MeasurementSettings {
   ObservableType type = ObservableType::two_way_range;  ///< the observable
   LightTimeSettings light_time{};                       ///< iteration tolerance and limit
   bool troposphere = false;  ///< add the tropospheric delay (range types) or its rate (range-rate types)
-  /// Which troposphere: Saastamoinen (radio) or Mendes-Pavlis (optical, at wavelength_um).
+  /// Which troposphere: Saastamoinen (radio), Mendes-Pavlis or Marini-Murray (optical, at wavelength_um).
   TroposphereModel troposphere_model = TroposphereModel::saastamoinen;
-  double wavelength_um = 0.532;    ///< laser wavelength of Mendes-Pavlis, micrometres, [0.3, 1.7]
+  /// Laser wavelength of Mendes-Pavlis / Marini-Murray, micrometres, [0.3, 1.7].
+  double wavelength_um = 0.532;
   double relative_humidity = 0.5;  ///< of the standard atmosphere, [0, 1]
   bool shapiro = false;            ///< add the Shapiro delay (range types) or its rate (range-rate types)
   double mu = core::earth::mu;     ///< km^3/s^2, for the bounce-time shift and the Shapiro delay

@@ -38,9 +38,12 @@ enum class TroposphereModel {
   /// Optical (satellite laser ranging, the IERS Conventions 2010 model, section 9.2): Mendes-Pavlis
   /// zenith delay at the laser wavelength with the FCULa mapping function (Mendes et al. 2002).
   mendes_pavlis = 1,
+  /// Optical, the older laser model (Marini and Murray 1973; IERS Conventions 1996, IERS TN 21,
+  /// ch. 9): one closed form in sin(el) for elevations above 10 deg, at the laser wavelength.
+  marini_murray = 2,
 };
 
-/// "saastamoinen" or "mendes_pavlis".
+/// "saastamoinen", "mendes_pavlis" or "marini_murray".
 const char* troposphere_model_name(TroposphereModel model) noexcept;
 
 /// Zenith delays of one model, km.
@@ -67,6 +70,24 @@ ZenithDelay mendes_pavlis_zenith_delay(const Weather& weather, double latitude_r
 /// temperature K; dm/del in *dm_del.
 double fcul_mapping(double elevation_rad, double latitude_rad, double height_km, double temperature_k,
                     double* dm_del = nullptr) noexcept;
+
+/// Water-vapour pressure (hPa) from the temperature (K) and relative humidity rh in [0, 1] as the IERS
+/// Conventions 1996 (TN 21, ch. 9) give it for Marini-Murray (Rh in percent there):
+/// e0 = rh x 6.11 x 10^(7.5 t / (237.3 + t)) hPa with t = T - 273.15 deg C.
+double marini_murray_water_vapour(double temperature_k, double relative_humidity) noexcept;
+
+/// Tropospheric range delay (km) of Marini and Murray (1973) for laser ranging, in the form of the IERS
+/// Conventions 1996 (TN 21, ch. 9, eqs. 1-4; Orekit's MariniMurrayModel):
+/// dR = f(lambda) / f(phi, H) x (A + B) / (sin E + (B / (A + B)) / (sin E + 0.01)) m, with
+/// A = 0.002357 P0 + 0.000141 e0, K = 1.163 - 0.00968 cos 2 phi - 0.00104 T0 + 0.00001435 P0,
+/// B = 1.084e-8 P0 T0 K + 4.734e-8 (P0^2 / T0) (2 / (3 - 1 / K)),
+/// f(lambda) = 0.9650 + 0.0164 / lambda^2 + 0.000228 / lambda^4 (lambda in um; 1 for a ruby laser),
+/// f(phi, H) = 1 - 0.0026 cos 2 phi - 0.00031 H (H km). P0 pressure and e0 water vapour (hPa), T0 K
+/// from `weather`; phi geodetic latitude (rad), height km, wavelength_um in micrometres, elevation
+/// rad (the model is stated for E > 10 deg); d dR / d E (km/rad) in *d_del. There is no separate
+/// zenith delay and mapping: the elevation dependence is the closed form above.
+double marini_murray_delay(const Weather& weather, double latitude_rad, double height_km,
+                           double wavelength_um, double elevation_rad, double* d_del = nullptr) noexcept;
 
 /// One-way Shapiro delay (km) of the Earth's gravity on a signal between points at geocentric
 /// distances r1, r2 (km) separated by rho (km): (2 mu / c^2) ln((r1 + r2 + rho) / (r1 + r2 - rho))

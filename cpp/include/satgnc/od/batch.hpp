@@ -131,9 +131,10 @@ struct BatchSettings {
   bool light_time = true;
   bool troposphere = false;  ///< add the tropospheric delay to range observables (unless already applied)
   bool shapiro = false;      ///< add the Shapiro delay to range observables (unless already applied)
-  /// Troposphere of this run: Saastamoinen (radio, default) or Mendes-Pavlis (laser ranging).
+  /// Troposphere of this run: Saastamoinen (radio, default), Mendes-Pavlis or Marini-Murray (laser ranging).
   observation::TroposphereModel troposphere_model = observation::TroposphereModel::saastamoinen;
-  double wavelength_um = 0.532;     ///< laser wavelength of Mendes-Pavlis, micrometres, [0.3, 1.7]
+  /// Laser wavelength of Mendes-Pavlis / Marini-Murray, micrometres, [0.3, 1.7].
+  double wavelength_um = 0.532;
   double relative_humidity = 0.5;   ///< standard atmosphere of the troposphere model, [0, 1]
   double mu = dynamics::earth::mu;  ///< km^3/s^2: light-time bounce shift and Shapiro delay
   /// Throws std::invalid_argument("field: rule") on a bad value.
