@@ -306,7 +306,8 @@ void init_spk_ephemeris(py::module_& m) {
           },
           "Every segment descriptor: dicts with target, center, frame, type, start_et, end_et (TDB s), name.")
       .def(
-          "covers", [](const dy::SpkEphemeris& e, py::handle et) { return e.covers(checks::real_arg(et, "et")); },
+          "covers",
+          [](const dy::SpkEphemeris& e, py::handle et) { return e.covers(checks::real_arg(et, "et")); },
           py::arg("et"))
       .def(
           "position",
@@ -323,7 +324,8 @@ void init_spk_ephemeris(py::module_& m) {
           "positions",
           [](const dy::SpkEphemeris& e, int target, int center, py::handle ets) {
             const std::vector<double> t = checks::vector_arg(ets, "ets");
-            Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> out(static_cast<Eigen::Index>(t.size()), 3);
+            Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> out(static_cast<Eigen::Index>(t.size()),
+                                                                          3);
             std::string error;
             {
               py::gil_scoped_release release;
@@ -353,7 +355,8 @@ void init_spk_ephemeris(py::module_& m) {
           py::arg("target"), py::arg("center"), py::arg("et"),
           "(position km, velocity km/s) of target from center at et (TDB s past J2000).")
       .def_static("tdb_seconds_from_tt", &dy::SpkEphemeris::tdb_seconds_from_tt, py::arg("jd1"),
-                  py::arg("jd2") = 0.0, "TDB s past J2000 of the TT Julian date jd1 + jd2 (ERFA eraDtdb, geocentre).")
+                  py::arg("jd2") = 0.0,
+                  "TDB s past J2000 of the TT Julian date jd1 + jd2 (ERFA eraDtdb, geocentre).")
       .def("__repr__", [](const dy::SpkEphemeris& e) {
         return "SpkEphemeris('" + e.path() + "', " + std::to_string(e.segments().size()) + " segments)";
       });
@@ -374,7 +377,9 @@ void init_force_model_fields(py::module_& m) {
           "Node spacing (days) of the interpolated ERFA Sun and Moon; 0: ERFA at every evaluation.")
       .def_property(
           "spk_ephemeris",
-          [](const dy::ForceModel& f) { return std::const_pointer_cast<dy::SpkEphemeris>(f.ephemeris.spk()); },
+          [](const dy::ForceModel& f) {
+            return std::const_pointer_cast<dy::SpkEphemeris>(f.ephemeris.spk());
+          },
           [](dy::ForceModel& f, std::shared_ptr<dy::SpkEphemeris> e) {
             f.ephemeris = e ? dy::EphemerisInterpolator(std::shared_ptr<const dy::SpkEphemeris>(e))
                             : dy::EphemerisInterpolator();

@@ -18,6 +18,7 @@
 #include "malloc_counter.hpp"
 #include "satgnc/dynamics/ephemeris_spk.hpp"
 #include "satgnc/dynamics/force_model.hpp"
+#include "satgnc/dynamics/force_model_config.hpp"
 #include "satgnc/dynamics/third_body.hpp"
 
 namespace dy = satgnc::dynamics;
@@ -46,7 +47,8 @@ struct Cubic {
 // Chebyshev coefficients (degree 3, padded with zeros to ncoef) of one axis of a cubic on
 // [mid - radius, mid + radius]: x(mid + radius s) = p0 + p1 s + p2 s^2 + p3 s^3, with s^2 = (T0 + T2)/2,
 // s^3 = (3 T1 + T3)/4.
-std::vector<double> cheb_axis(const std::array<double, 4>& k, double mid, double radius, int ncoef, bool derivative) {
+std::vector<double> cheb_axis(const std::array<double, 4>& k, double mid, double radius, int ncoef,
+                              bool derivative) {
   const double m = mid * 1e-8, r = radius * 1e-8;
   std::array<double, 4> p{};  // power series in s
   if (!derivative) {
@@ -78,11 +80,13 @@ struct SegSpec {
 
 void put_i32(std::vector<char>& b, std::size_t at, std::int32_t v) { std::memcpy(b.data() + at, &v, 4); }
 void put_f64(std::vector<char>& b, std::size_t at, double v) { std::memcpy(b.data() + at, &v, 8); }
-void put_str(std::vector<char>& b, std::size_t at, const std::string& s) { std::memcpy(b.data() + at, s.data(), s.size()); }
+void put_str(std::vector<char>& b, std::size_t at, const std::string& s) {
+  std::memcpy(b.data() + at, s.data(), s.size());
+}
 
 // One summary record (2), its name record (3), data from record 4 on.
-std::string write_spk(const std::string& name, const std::vector<SegSpec>& segs, const std::string& fmt = "LTL-IEEE",
-                      const std::string& idword = "DAF/SPK ") {
+std::string write_spk(const std::string& name, const std::vector<SegSpec>& segs,
+                      const std::string& fmt = "LTL-IEEE", const std::string& idword = "DAF/SPK ") {
   std::vector<double> words;
   std::vector<std::pair<int, int>> addr;
   const int base = 3 * 128 + 1;
@@ -133,7 +137,8 @@ std::string write_spk(const std::string& name, const std::vector<SegSpec>& segs,
     put_str(b, 2048 + 40 * k, "SEG " + std::to_string(segs[k].target));
   }
   std::memcpy(b.data() + 3 * 1024, words.data(), words.size() * 8);
-  const std::string path = (std::filesystem::temp_directory_path() / ("satgnc_spk_" + name + ".bsp")).string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("satgnc_spk_" + name + ".bsp")).string();
   std::ofstream(path, std::ios::binary).write(b.data(), static_cast<std::streamsize>(b.size()));
   return path;
 }
@@ -224,7 +229,8 @@ TEST(SpkEphemeris, ChainsMatchAnalyticMotionSeeded) {
 TEST(SpkEphemeris, LaterSegmentTakesPrecedence) {
   std::mt19937_64 rng(7);
   const Cubic a = random_cubic(rng, 1e5), b = random_cubic(rng, 1e5);
-  const std::string path = write_spk("two", {{301, 399, 2, a, -1e7, 2e7, 10}, {301, 399, 2, b, 0.0, 3e7, 10}});
+  const std::string path =
+      write_spk("two", {{301, 399, 2, a, -1e7, 2e7, 10}, {301, 399, 2, b, 0.0, 3e7, 10}});
   const dy::SpkEphemeris e(path, {{301, 399}});
   EXPECT_EQ(e.start_et(), -1e7);
   EXPECT_EQ(e.end_et(), 3e7);
@@ -263,23 +269,28 @@ TEST(SpkEphemeris, BadFilesNameFileAndProblem) {
   std::mt19937_64 rng(3);
   const Cubic c = random_cubic(rng, 1e5);
   const std::vector<SegSpec> ok{{10, 399, 2, c, 0, 1e6, 4}, {301, 399, 2, c, 0, 1e6, 4}};
-  EXPECT_NE(expect_open_error(write_spk("big", ok, "BIG-IEEE")).find("wrong endianness: the file is BIG-IEEE"),
-            std::string::npos);
-  EXPECT_NE(expect_open_error(write_spk("ck", ok, "LTL-IEEE", "DAF/CK  ")).find("a DAF of type 'CK', not an SPK"),
-            std::string::npos);
+  EXPECT_NE(
+      expect_open_error(write_spk("big", ok, "BIG-IEEE")).find("wrong endianness: the file is BIG-IEEE"),
+      std::string::npos);
+  EXPECT_NE(
+      expect_open_error(write_spk("ck", ok, "LTL-IEEE", "DAF/CK  ")).find("a DAF of type 'CK', not an SPK"),
+      std::string::npos);
   EXPECT_NE(expect_open_error(write_spk("vax", ok, "VAX-GFLT")).find("unknown binary format 'VAX-GFLT'"),
             std::string::npos);
   const std::string t13 = write_spk("t13", {{10, 399, 13, c, 0, 1e6, 4}, {301, 399, 2, c, 0, 1e6, 4}});
-  EXPECT_NE(expect_open_error(t13).find("segment 'SEG 10' (target 10 (Sun), center 399 (Earth)): unsupported SPK type 13"),
+  EXPECT_NE(expect_open_error(t13).find(
+                "segment 'SEG 10' (target 10 (Sun), center 399 (Earth)): unsupported SPK type 13"),
             std::string::npos);
   // A type-13 segment off the requested chains is listed but not read.
   EXPECT_NO_THROW(dy::SpkEphemeris(t13, {{301, 399}}));
   SegSpec eclip{10, 399, 2, c, 0, 1e6, 4};
   eclip.frame = 17;
   EXPECT_NE(expect_open_error(write_spk("frame", {eclip, ok[1]})).find("frame code 17"), std::string::npos);
-  EXPECT_NE(expect_open_error(write_spk("nomoon", {ok[0]})).find("no chain of segments links target 301 (Moon) to center 399 (Earth)"),
+  EXPECT_NE(expect_open_error(write_spk("nomoon", {ok[0]}))
+                .find("no chain of segments links target 301 (Moon) to center 399 (Earth)"),
             std::string::npos);
-  const std::string disjoint = write_spk("disjoint", {{10, 399, 2, c, 0, 1e6, 4}, {301, 399, 2, c, 2e6, 3e6, 4}});
+  const std::string disjoint =
+      write_spk("disjoint", {{10, 399, 2, c, 0, 1e6, 4}, {301, 399, 2, c, 2e6, 3e6, 4}});
   EXPECT_NE(expect_open_error(disjoint).find("do not overlap in time"), std::string::npos);
 
   // Truncated data: an end address beyond the file.
@@ -303,7 +314,8 @@ TEST(SpkEphemeris, BadFilesNameFileAndProblem) {
     f.seekp(size - 16);  // RSIZE of the last segment
     f.write(reinterpret_cast<const char*>(&rsize), 8);
   }
-  EXPECT_NE(expect_open_error(dir_bad, {{301, 399}}).find("inconsistent type 2 directory"), std::string::npos);
+  EXPECT_NE(expect_open_error(dir_bad, {{301, 399}}).find("inconsistent type 2 directory"),
+            std::string::npos);
 }
 
 TEST(SpkEphemeris, EvaluationAllocatesNothing) {
@@ -367,10 +379,44 @@ TEST(SpkEphemeris, ForceModelUsesTheFileSunAndMoon) {
     fm.validate();
     FAIL() << "no error";
   } catch (const std::invalid_argument& ex) {
-    EXPECT_NE(std::string(ex.what()).find("outside " + d.path + "'s coverage"), std::string::npos) << ex.what();
+    EXPECT_NE(std::string(ex.what()).find("outside " + d.path + "'s coverage"), std::string::npos)
+        << ex.what();
   }
   EXPECT_THROW(dy::EphemerisInterpolator(std::shared_ptr<const dy::SpkEphemeris>()), std::invalid_argument);
   EXPECT_THROW(dy::EphemerisInterpolator(std::make_shared<const dy::SpkEphemeris>(
                    d.path, std::vector<std::pair<int, int>>{{301, 399}})),
                std::invalid_argument);
+}
+
+// The force-model TOML names the file (relative to the TOML's folder); errors carry file and line.
+TEST(SpkEphemeris, TomlEphemerisKey) {
+  const DeLike d = de_like("toml", 8);  // covers J2000 -+ 1157 days
+  const std::filesystem::path p(d.path);
+  const std::string dir = p.parent_path().string(), name = p.filename().string();
+  const dy::ForceModelConfig cfg = dy::parse_force_model_config(
+      "[epoch]\ntime = \"2001-01-01T00:00:00\"\nscale = \"tt\"\n[third_body]\nephemeris = \"" + name + "\"\n",
+      "fm.toml", dir);
+  EXPECT_EQ(cfg.ephemeris_file, dir + "/" + name);
+  ASSERT_NE(cfg.model.ephemeris.spk(), nullptr);
+  EXPECT_EQ(cfg.model.ephemeris.spk()->path(), dir + "/" + name);
+  auto error = [&](const std::string& text) {
+    try {
+      (void)dy::parse_force_model_config(text, "fm.toml", dir);
+    } catch (const dy::ForceModelConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("[third_body]\nephemeris = \"nope.bsp\"\n")
+                .find("fm.toml:2: [third_body] ephemeris: " + dir + "/nope.bsp: cannot open the file"),
+            std::string::npos);
+  const std::string late =
+      error("[epoch]\ntime = \"2010-01-01T00:00:00\"\n[third_body]\nephemeris = \"" + name + "\"\n");
+  EXPECT_NE(late.find("fm.toml:4: [third_body] ephemeris: the epoch 2010-01-01T00:01:06.18"),
+            std::string::npos)
+      << late;
+  EXPECT_NE(late.find("coverage 1996-10-31T02:13:20.000 TDB"), std::string::npos) << late;
+  EXPECT_NE(error("[third_body]\nephemeris = \"\"\n").find("must be \"erfa\" or the path"),
+            std::string::npos);
+  EXPECT_NE(error("[third_body]\nephemerides = \"x\"\n").find("unknown key"), std::string::npos);
 }

@@ -56,26 +56,26 @@ def test_file_descriptors_match_jplephem(kernel, de):
 
 @pytest.mark.parametrize("target, center", [(10, 0), (3, 0), (301, 3), (399, 3)])
 def test_segments_match_jplephem(kernel, de, target, center):
-    """Each DE421 segment against jplephem on the same file, 400 seeded epochs: positions to 1e-9 km
-    (the SSB->EMB segment, |r| ~ 1.5e8 km, to 2 ulp of |r|: 6e-8 km; a double cannot hold 1e-9 km of
-    1.5e8 km), velocities to 1e-12 km/s."""
+    """Each DE421 segment against jplephem on the same file, 400 seeded epochs: positions to 1e-9 km,
+    except SSB->EMB (|r| ~ 1.5e8 km, whose ulp is 3e-8 km: a double cannot hold 1e-9 km there), to 4 ulp
+    of |r| (measured 3 ulp: the two readers sum the series in another order); velocities to 1e-12 km/s."""
     seg = kernel[center, target]
     worst_r = worst_v = 0.0
     for d in _days(target * 1000 + center):
         r, v = de.state(target, center, d * DAY)
         rj, vj = seg.compute_and_differentiate(T0, d)
         scale = np.linalg.norm(rj)
-        err = np.linalg.norm(r - rj)
-        worst_r = max(worst_r, err if scale < 1e7 else err / (2 * np.spacing(scale) / 1e-9))
+        bound = 1e-9 if scale < 1e7 else 4 * np.spacing(scale)  # km
+        worst_r = max(worst_r, np.linalg.norm(r - rj) / bound)
         worst_v = max(worst_v, np.linalg.norm(v - vj / DAY))
-    assert worst_r < 1e-9, worst_r  # km (or, for SSB->EMB, in units of 2 ulp of |r| per 1e-9)
+    assert worst_r < 1.0, worst_r  # fraction of the bound above
     assert worst_v < 1e-12, worst_v  # km/s
 
 
 def test_chains_match_jplephem(kernel, de):
     """Geocentric Sun and Moon and the barycentric Earth, chained, against jplephem's sums of the same
-    segments: Moon to 1e-9 km; Sun from the Earth and SSB->Earth (|r| ~ 1.5e8 km, ulp 3e-8 km) to 1e-7 km
-    (3 ulp: the three-term sums are added in another order)."""
+    segments: Moon to 1e-9 km (measured 1.8e-10); Sun from the Earth and SSB->Earth (|r| ~ 1.5e8 km,
+    ulp 3e-8 km) to 1.5e-7 km = 5 ulp (measured 1.19e-7 = 4 ulp: SSB->EMB alone differs by 3 ulp)."""
     worst = {"moon": 0.0, "sun": 0.0, "earth": 0.0}
     for d in _days(7):
         et = d * DAY
@@ -87,22 +87,21 @@ def test_chains_match_jplephem(kernel, de):
         worst["sun"] = max(worst["sun"], np.linalg.norm(de.position(10, 399, et) - (sun - emb - earth)))
         worst["earth"] = max(worst["earth"], np.linalg.norm(de.position(399, 0, et) - (emb + earth)))
     assert worst["moon"] < 1e-9, worst
-    assert worst["sun"] < 1e-7, worst
-    assert worst["earth"] < 1e-7, worst
+    assert worst["sun"] < 1.5e-7, worst
+    assert worst["earth"] < 1.5e-7, worst
 
 
 def test_geocentric_moon_matches_de421_coefficient_arrays(de):
     """The de421 package's arrays (JPL's record layout, read by jplephem.ephem, not a DAF): the
-    geocentric Moon to 1e-6 km (that reader forms the time in Julian days: 1e-16 of 2.45e6 d = 2e-5 s, at
-    1 km/s 2e-5 km; the tolerance is 20x below that only because the epochs are exact in binary)."""
+    geocentric Moon to 1e-9 km (measured ~1e-10 km; the epochs are exact in binary on both sides)."""
     eph = jplephem.ephem.Ephemeris(de421)
     worst = 0.0
     for d in _days(11, 100):
         if not (-36500 < d < 18200):  # the arrays cover 1900-2050
             continue
-        ref = eph.position("moon", T0, d)
+        ref = np.ravel(eph.position("moon", T0, d))
         worst = max(worst, np.linalg.norm(de.position(301, 399, d * DAY) - ref))
-    assert worst < 1e-6, worst
+    assert worst < 1e-9, worst
 
 
 def test_erfa_sun_and_moon_within_their_stated_accuracy(de):
@@ -197,15 +196,15 @@ def test_bad_files_and_arguments(tmp_path):
     text.write_text("x" * 2000)
     with pytest.raises(ValueError, match=r"x\.bsp: not a DAF file"):
         load_spk(text)
-    with pytest.raises(ValueError, match="no chain of segments links target 499 \\(Mars\\)|target 499"):
+    with pytest.raises(ValueError, match="no chain of segments links target 498 to center 399 \\(Earth\\)"):
         load_spk(DE421, [(498, 399)])
     with pytest.raises(TypeError, match="path: must be a str or os.PathLike"):
         load_spk(3)  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="pairs: must be a list of"):
         load_spk(DE421, [(10.0, 399)])  # type: ignore[list-item]
     de = load_spk(DE421)
-    with pytest.raises(ValueError, match=r"epoch 2060-01-01T00:00:00.000 TDB .* outside the coverage"):
-        de.position(301, 399, (2472729.5 - T0) * DAY)  # 2060-01-01T00:00 TDB
+    with pytest.raises(ValueError, match=r"epoch 2058-01-01T00:00:00.000 TDB .* outside the coverage"):
+        de.position(301, 399, (2472729.5 - T0) * DAY)  # 2058-01-01T00:00 TDB
     with pytest.raises(ValueError, match="et: "):
         de.position(301, 399, float("nan"))
     with pytest.raises(ValueError, match="was not requested"):
@@ -214,8 +213,9 @@ def test_bad_files_and_arguments(tmp_path):
 
 def test_leo_day_de_against_erfa():
     """A LEO day (400 km, 51.6 deg) with point mass + Sun + Moon: DE421 against ERFA's Sun and Moon
-    (DOP853 rtol 1e-12). The difference is the ephemerides' (ERFA within ~5 km / 10 km of DE421):
-    asserted in (1 mm, 1 m); measured value in docs/force_models.md."""
+    (DOP853 rtol 1e-12). ERFA's Sun and Moon are 4-8 km / 6-16 km off DE421 (test above): a relative
+    change of ~4e-5 in a tidal acceleration of ~1e-9 km/s^2, i.e. sub-millimetre in a day. Asserted in
+    (1e-6 m, 1e-3 m); measured 4.0e-5 m (docs/force_models.md)."""
     x0 = satgnc.elements_to_state(6778.0, 0.001, 51.6, 30.0, 40.0, 0.0)
     out = []
     for eph in (None, DE421):
@@ -224,7 +224,7 @@ def test_leo_day_de_against_erfa():
         out.append(np.asarray(tr.states)[-1])
     diff_m = np.linalg.norm(out[0][:3] - out[1][:3]) * 1e3
     print(f"LEO day, DE421 vs ERFA Sun/Moon: {diff_m:.4f} m")
-    assert 1e-3 < diff_m < 1.0, diff_m
+    assert 1e-6 < diff_m < 1e-3, diff_m
 
 
 def test_propagation_past_coverage_names_the_epoch(de):
@@ -233,5 +233,6 @@ def test_propagation_past_coverage_names_the_epoch(de):
     x0 = satgnc.elements_to_state(6778.0, 0.001, 51.6, 30.0, 40.0, 0.0)
     with pytest.raises(Exception, match=r"epoch 2053-10-09T.* outside the coverage of body"):
         satgnc.propagate(x0, [0.0, DAY], forces=fm, method="dop853")
-    with pytest.raises(ValueError, match=r"epoch_jd1 \+ epoch_jd2: the epoch 2053-10-10T.* is outside"):
+    late = r"epoch_jd1 \+ epoch_jd2: the epoch 2053-10-09T11:59:59.998 TDB .* is outside .*de421.bsp's"
+    with pytest.raises(ValueError, match=late):
         force_model(third_body=ThirdBodies(), epoch_jd=(T0, end_days + 0.5), ephemeris=de)

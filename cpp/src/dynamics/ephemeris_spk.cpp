@@ -124,7 +124,8 @@ SpkEphemeris::SpkEphemeris(const std::string& path, const std::vector<std::pair<
   in.seekg(0, std::ios::end);
   const auto size = static_cast<std::uint64_t>(in.tellg());
   in.seekg(0);
-  if (size < kRecord) fail("not a DAF file: " + std::to_string(size) + " bytes, shorter than one 1024-byte record");
+  if (size < kRecord)
+    fail("not a DAF file: " + std::to_string(size) + " bytes, shorter than one 1024-byte record");
   char rec[kRecord];
   in.read(rec, kRecord);
 
@@ -141,12 +142,13 @@ SpkEphemeris::SpkEphemeris(const std::string& path, const std::vector<std::pair<
   std::int32_t nd = read_i32(rec + 8), ni = read_i32(rec + 12);
   if (locfmt == "LTL-IEEE" || locfmt == "BIG-IEEE") {
     if (locfmt != host) {
-      fail("wrong endianness: the file is " + locfmt + " (" +
-           (locfmt == "BIG-IEEE" ? "big" : "little") + "-endian), this machine reads " + host +
+      fail("wrong endianness: the file is " + locfmt + " (" + (locfmt == "BIG-IEEE" ? "big" : "little") +
+           "-endian), this machine reads " + host +
            " only (convert it with NAIF's toxfr and tobin, or spkmerge)");
     }
   } else if (locfmt.empty()) {  // pre-1999 files: infer the byte order from ND
-    if (nd != 2 && swap_i32(nd) == 2) fail("wrong endianness: ND reads 2 only byte-swapped (a non-native binary file)");
+    if (nd != 2 && swap_i32(nd) == 2)
+      fail("wrong endianness: ND reads 2 only byte-swapped (a non-native binary file)");
   } else {
     fail("unknown binary format '" + printable(locfmt) + "' (expected LTL-IEEE or BIG-IEEE)");
   }
@@ -170,7 +172,8 @@ SpkEphemeris::SpkEphemeris(const std::string& path, const std::vector<std::pair<
   char names[kRecord];
   while (next != 0) {
     if (next < 2 || next + 1 > nrecords) {
-      fail("summary record " + std::to_string(next) + " outside the file's " + std::to_string(nrecords) + " records");
+      fail("summary record " + std::to_string(next) + " outside the file's " + std::to_string(nrecords) +
+           " records");
     }
     if (++visited > nrecords) fail("the summary records form a cycle");
     in.seekg(static_cast<std::streamoff>((next - 1) * kRecord));
@@ -193,7 +196,8 @@ SpkEphemeris::SpkEphemeris(const std::string& path, const std::vector<std::pair<
       info.begin_address = read_i32(s + 32);
       info.end_address = read_i32(s + 36);
       info.name = trim(names + kNameChars * k, kNameChars);
-      const std::string which = "segment " + std::to_string(segments_.size() + 1) + " ('" + printable(info.name) + "')";
+      const std::string which =
+          "segment " + std::to_string(segments_.size() + 1) + " ('" + printable(info.name) + "')";
       if (!(std::isfinite(info.start_et) && std::isfinite(info.end_et) && info.start_et <= info.end_et)) {
         fail(which + ": invalid coverage [" + fmt(info.start_et) + ", " + fmt(info.end_et) + "] s");
       }
@@ -228,7 +232,8 @@ SpkEphemeris::SpkEphemeris(const std::string& path, const std::vector<std::pair<
     std::vector<int> p{b};
     int parent = 0;
     while (parent_of(p.back(), parent)) {
-      if (std::find(p.begin(), p.end(), parent) != p.end()) fail("segment centers form a cycle at body " + body(parent));
+      if (std::find(p.begin(), p.end(), parent) != p.end())
+        fail("segment centers form a cycle at body " + body(parent));
       p.push_back(parent);
     }
     return p;
@@ -243,10 +248,11 @@ SpkEphemeris::SpkEphemeris(const std::string& path, const std::vector<std::pair<
       const SpkSegmentInfo& s = segments_[i];
       if (s.target != b) continue;
       e.parent = s.center;
-      const std::string which = "segment '" + printable(s.name) + "' (target " + body(s.target) + ", center " +
-                                body(s.center) + ")";
+      const std::string which = "segment '" + printable(s.name) + "' (target " + body(s.target) +
+                                ", center " + body(s.center) + ")";
       if (s.type != 2 && s.type != 3) {
-        fail(which + ": unsupported SPK type " + std::to_string(s.type) + " (this reader reads types 2 and 3)");
+        fail(which + ": unsupported SPK type " + std::to_string(s.type) +
+             " (this reader reads types 2 and 3)");
       }
       if (s.frame != kJ2000Frame) {
         fail(which + ": frame code " + std::to_string(s.frame) + " (this reader takes J2000 = 1 only)");
@@ -265,11 +271,10 @@ SpkEphemeris::SpkEphemeris(const std::string& path, const std::vector<std::pair<
       const double init = seg.data[count - 4], intlen = seg.data[count - 3];
       const double rsize = seg.data[count - 2], n = seg.data[count - 1];
       const int comps = s.type == 2 ? 3 : 6;
-      const bool integral = rsize == std::floor(rsize) && n == std::floor(n) && rsize >= 2 + comps && n >= 1 &&
-                            rsize < 1e6 && n < 1e9;
+      const bool integral = rsize == std::floor(rsize) && n == std::floor(n) && rsize >= 2 + comps &&
+                            n >= 1 && rsize < 1e6 && n < 1e9;
       if (!(std::isfinite(init) && std::isfinite(intlen) && intlen > 0 && integral) ||
-          static_cast<double>(count - 4) != rsize * n ||
-          (static_cast<int>(rsize) - 2) % comps != 0) {
+          static_cast<double>(count - 4) != rsize * n || (static_cast<int>(rsize) - 2) % comps != 0) {
         fail(which + ": inconsistent type " + std::to_string(s.type) + " directory (INIT " + fmt(init) +
              ", INTLEN " + fmt(intlen) + ", RSIZE " + fmt(rsize) + ", N " + fmt(n) + " for " +
              std::to_string(count) + " words)");
@@ -340,7 +345,8 @@ void SpkEphemeris::throw_outside(const Edge& e, double et) const {
   std::string spans;
   for (const int si : e.segments) {
     const Segment& s = loaded_[static_cast<std::size_t>(si)];
-    spans += (spans.empty() ? "" : ", ") + format_tdb_seconds(s.start_et) + " to " + format_tdb_seconds(s.end_et);
+    spans +=
+        (spans.empty() ? "" : ", ") + format_tdb_seconds(s.start_et) + " to " + format_tdb_seconds(s.end_et);
   }
   throw std::out_of_range(path_ + ": epoch " + format_tdb_seconds(et) + " outside the coverage of body " +
                           body(e.body) + " relative to " + body(e.parent) + ": " + spans);

@@ -302,7 +302,8 @@ ForceModelConfig parse_force_model_config(std::string_view text, const std::stri
     const auto eph = tb.text("ephemeris");
     if (eph && *eph != "erfa") {
       const int line = tb.line_of_key("ephemeris");
-      if (eph->empty()) tb.fail(line, "ephemeris", "must be \"erfa\" or the path of a JPL DE .bsp file, got \"\"");
+      if (eph->empty())
+        tb.fail(line, "ephemeris", "must be \"erfa\" or the path of a JPL DE .bsp file, got \"\"");
       cfg.ephemeris_file = resolve(base_dir, *eph);
       try {
         fm.ephemeris = EphemerisInterpolator(std::make_shared<const SpkEphemeris>(cfg.ephemeris_file));

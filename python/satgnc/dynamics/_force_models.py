@@ -64,7 +64,8 @@ def load_spk(
     for p in pairs:
         if (not isinstance(p, tuple) or len(p) != 2
                 or not all(isinstance(b, int) and not isinstance(b, bool) for b in p)):
-            raise TypeError(f"pairs: must be a list of (target, center) tuples of NAIF integer codes, got {p!r}")
+            raise TypeError(
+                f"pairs: must be a list of (target, center) tuples of NAIF integer codes, got {p!r}")
         checked.append((int(p[0]), int(p[1])))
     if not checked:
         raise ValueError("pairs: must name at least one (target, center) pair")

@@ -27,24 +27,24 @@ namespace satgnc::dynamics {
 
 /// NAIF body codes used by the force model.
 namespace naif {
-inline constexpr int ssb = 0;     ///< solar-system barycentre
-inline constexpr int emb = 3;     ///< Earth-Moon barycentre
-inline constexpr int sun = 10;    ///< Sun
-inline constexpr int moon = 301;  ///< Moon
-inline constexpr int earth = 399; ///< Earth
+inline constexpr int ssb = 0;      ///< solar-system barycentre
+inline constexpr int emb = 3;      ///< Earth-Moon barycentre
+inline constexpr int sun = 10;     ///< Sun
+inline constexpr int moon = 301;   ///< Moon
+inline constexpr int earth = 399;  ///< Earth
 }  // namespace naif
 
 /// One segment descriptor of an SPK file (as stored; nothing evaluated).
 struct SpkSegmentInfo {
-  int target = 0;          ///< NAIF code of the body whose position the segment gives
-  int center = 0;          ///< NAIF code of the body it is relative to
-  int frame = 0;           ///< NAIF frame code (1: J2000)
-  int type = 0;            ///< SPK data type (2, 3 supported)
-  double start_et = 0.0;   ///< coverage start, TDB s past J2000
-  double end_et = 0.0;     ///< coverage end, TDB s past J2000
-  int begin_address = 0;   ///< first double-precision word (1-based DAF address)
-  int end_address = 0;     ///< last double-precision word
-  std::string name;        ///< segment name from the name record (trailing blanks removed)
+  int target = 0;         ///< NAIF code of the body whose position the segment gives
+  int center = 0;         ///< NAIF code of the body it is relative to
+  int frame = 0;          ///< NAIF frame code (1: J2000)
+  int type = 0;           ///< SPK data type (2, 3 supported)
+  double start_et = 0.0;  ///< coverage start, TDB s past J2000
+  double end_et = 0.0;    ///< coverage end, TDB s past J2000
+  int begin_address = 0;  ///< first double-precision word (1-based DAF address)
+  int end_address = 0;    ///< last double-precision word
+  std::string name;       ///< segment name from the name record (trailing blanks removed)
 };
 
 /// A JPL DE (or any SPK type 2 / 3) ephemeris opened for a set of (target, center) pairs.
@@ -86,10 +86,10 @@ class SpkEphemeris {
   static double tdb_seconds_from_tt(double jd1, double jd2);
 
  private:
-  struct Segment {             // the loaded data of one type 2 / 3 segment
-    int info = 0;              // index into segments_
-    int type = 2;              // 2 or 3
-    double start_et = 0.0;     // coverage, TDB s past J2000
+  struct Segment {          // the loaded data of one type 2 / 3 segment
+    int info = 0;           // index into segments_
+    int type = 2;           // 2 or 3
+    double start_et = 0.0;  // coverage, TDB s past J2000
     double end_et = 0.0;
     double init = 0.0;         // start of the first record's interval, TDB s
     double intlen = 0.0;       // record interval length, s
@@ -98,7 +98,7 @@ class SpkEphemeris {
     int ncoef = 0;             // Chebyshev coefficients per component (degree + 1)
     std::vector<double> data;  // n * rsize doubles: MID, RADIUS, coefficients
   };
-  struct Edge {    // one link body -> parent: a list of segments (later ones take precedence)
+  struct Edge {  // one link body -> parent: a list of segments (later ones take precedence)
     int body = 0;
     int parent = 0;
     std::vector<int> segments;  // indices into loaded_

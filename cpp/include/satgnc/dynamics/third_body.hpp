@@ -70,7 +70,7 @@ class EphemerisInterpolator {
     Vec3 p0, v0, p1, v1;   // km and km/day at both nodes
   };
   struct TdbNodes {
-    double node = -1e300;    // index k of [k step, (k + 1) step] after J2000 TT
+    double node = -1e300;       // index k of [k step, (k + 1) step] after J2000 TT
     double d0 = 0.0, d1 = 0.0;  // TDB - TT at both nodes, s
   };
   double step_;
