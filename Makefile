@@ -76,7 +76,7 @@ $(VENV)/.bench-stamp: requirements-bench.txt $(VENV)/.stamp
 	@touch $@
 
 bench: install $(VENV)/.bench-stamp
-	@for b in propagation propagation_defaults propagation_ensemble od guidance guidance_nonlinear analysis observation force_models_scipy filter filter_update; do \
+	@for b in propagation propagation_defaults propagation_ensemble od guidance guidance_nonlinear analysis observation force_models_scipy ephemeris_spk filter filter_update; do \
 	  echo "== bench/$$b.py"; $(PY) bench/$$b.py || exit 1; done
 
 CXX_SOURCES = $$(find cpp tests/cpp examples/cpp bench/cpp -name '*.hpp' -o -name '*.cpp')

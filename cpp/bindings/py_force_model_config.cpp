@@ -35,6 +35,7 @@ void init_force_model_config(py::module_& m) {
       .def_readonly("atmosphere", &dy::ForceModelConfig::atmosphere)
       .def_readonly("earth_orientation", &dy::ForceModelConfig::earth_orientation)
       .def_readonly("eop_file", &dy::ForceModelConfig::eop_file)
+      .def_readonly("ephemeris_file", &dy::ForceModelConfig::ephemeris_file)
       .def_readonly("source", &dy::ForceModelConfig::source)
       .def_readonly("radius", &dy::ForceModelConfig::radius);
   m.def("two_satellite_params_from_config", &dy::two_satellite_params, py::arg("config"),

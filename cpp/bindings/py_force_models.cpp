@@ -13,6 +13,7 @@
 #include <typeinfo>
 
 #include "checks.hpp"
+#include "satgnc/dynamics/ephemeris_spk.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/dynamics/gravity_field.hpp"
 #include "satgnc/dynamics/srp.hpp"
@@ -270,6 +271,97 @@ void init_third_body_srp(py::module_& m) {
       });
 }
 
+void init_spk_ephemeris(py::module_& m) {
+  py::class_<dy::SpkEphemeris, std::shared_ptr<dy::SpkEphemeris>>(
+      m, "SpkEphemeris",
+      "A JPL DE ephemeris (NAIF SPK .bsp, Chebyshev types 2 and 3) opened for (target, center) pairs of "
+      "NAIF codes (10 Sun, 301 Moon, 399 Earth, 3 Earth-Moon barycentre, 0 solar-system barycentre); "
+      "epochs TDB s past J2000; km, km/s; J2000 (ICRF) axes.")
+      .def(py::init([](const std::string& path, const std::vector<std::pair<int, int>>& pairs) {
+             return std::make_shared<dy::SpkEphemeris>(path, pairs);
+           }),
+           py::arg("path"), py::arg("pairs") = dy::SpkEphemeris::geocentric_sun_moon(),
+           py::call_guard<py::gil_scoped_release>())
+      .def_property_readonly("path", &dy::SpkEphemeris::path)
+      .def_property_readonly("internal_name", &dy::SpkEphemeris::internal_name)
+      .def_property_readonly("pairs", &dy::SpkEphemeris::pairs)
+      .def_property_readonly("start_et", &dy::SpkEphemeris::start_et, "TDB s past J2000")
+      .def_property_readonly("end_et", &dy::SpkEphemeris::end_et, "TDB s past J2000")
+      .def_property_readonly(
+          "segments",
+          [](const dy::SpkEphemeris& e) {
+            py::list out;
+            for (const dy::SpkSegmentInfo& s : e.segments()) {
+              py::dict d;
+              d["target"] = s.target;
+              d["center"] = s.center;
+              d["frame"] = s.frame;
+              d["type"] = s.type;
+              d["start_et"] = s.start_et;
+              d["end_et"] = s.end_et;
+              d["name"] = s.name;
+              out.append(d);
+            }
+            return out;
+          },
+          "Every segment descriptor: dicts with target, center, frame, type, start_et, end_et (TDB s), name.")
+      .def(
+          "covers",
+          [](const dy::SpkEphemeris& e, py::handle et) { return e.covers(checks::real_arg(et, "et")); },
+          py::arg("et"))
+      .def(
+          "position",
+          [](const dy::SpkEphemeris& e, int target, int center, py::handle et) {
+            try {
+              return e.position(target, center, checks::real_arg(et, "et"));
+            } catch (const std::out_of_range& ex) {
+              throw py::value_error(ex.what());
+            }
+          },
+          py::arg("target"), py::arg("center"), py::arg("et"),
+          "Position (km) of target from center at et (TDB s past J2000); ValueError outside the coverage.")
+      .def(
+          "positions",
+          [](const dy::SpkEphemeris& e, int target, int center, py::handle ets) {
+            const std::vector<double> t = checks::vector_arg(ets, "ets");
+            Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> out(static_cast<Eigen::Index>(t.size()),
+                                                                          3);
+            std::string error;
+            {
+              py::gil_scoped_release release;
+              try {
+                for (std::size_t i = 0; i < t.size(); ++i)
+                  out.row(static_cast<Eigen::Index>(i)) = e.position(target, center, t[i]).transpose();
+              } catch (const std::exception& ex) {
+                error = ex.what();
+              }
+            }
+            if (!error.empty()) throw py::value_error(error);
+            return out;
+          },
+          py::arg("target"), py::arg("center"), py::arg("ets"),
+          "Positions (n, 3) km of target from center at the epochs ets (n,) TDB s past J2000 (one C++ loop).")
+      .def(
+          "state",
+          [](const dy::SpkEphemeris& e, int target, int center, py::handle et) {
+            Vec3 r, v;
+            try {
+              e.state(target, center, checks::real_arg(et, "et"), r, v);
+            } catch (const std::out_of_range& ex) {
+              throw py::value_error(ex.what());
+            }
+            return py::make_tuple(r, v);
+          },
+          py::arg("target"), py::arg("center"), py::arg("et"),
+          "(position km, velocity km/s) of target from center at et (TDB s past J2000).")
+      .def_static("tdb_seconds_from_tt", &dy::SpkEphemeris::tdb_seconds_from_tt, py::arg("jd1"),
+                  py::arg("jd2") = 0.0,
+                  "TDB s past J2000 of the TT Julian date jd1 + jd2 (ERFA eraDtdb, geocentre).")
+      .def("__repr__", [](const dy::SpkEphemeris& e) {
+        return "SpkEphemeris('" + e.path() + "', " + std::to_string(e.segments().size()) + " segments)";
+      });
+}
+
 void init_force_model_fields(py::module_& m) {
   auto fm = py::reinterpret_borrow<py::class_<dy::ForceModel>>(m.attr("ForceModel"));
   fm.def_readwrite("gravity", &dy::ForceModel::gravity, "GravityField or None (excludes j2)")
@@ -283,6 +375,17 @@ void init_force_model_fields(py::module_& m) {
           "ephemeris_step_days", [](const dy::ForceModel& f) { return f.ephemeris.step_days(); },
           [](dy::ForceModel& f, double step) { f.ephemeris = dy::EphemerisInterpolator(step); },
           "Node spacing (days) of the interpolated ERFA Sun and Moon; 0: ERFA at every evaluation.")
+      .def_property(
+          "spk_ephemeris",
+          [](const dy::ForceModel& f) {
+            return std::const_pointer_cast<dy::SpkEphemeris>(f.ephemeris.spk());
+          },
+          [](dy::ForceModel& f, std::shared_ptr<dy::SpkEphemeris> e) {
+            f.ephemeris = e ? dy::EphemerisInterpolator(std::shared_ptr<const dy::SpkEphemeris>(e))
+                            : dy::EphemerisInterpolator();
+          },
+          "SpkEphemeris (a JPL DE file) whose Sun and Moon serve third_body, srp and the drag's Sun, or None "
+          "(ERFA, interpolated on 1/8-day nodes).")
       .def(
           "potential_at",
           [](const dy::ForceModel& f, py::handle r, double t) {
@@ -309,6 +412,7 @@ void init_force_models(py::module_& m) {
   init_earth_rotation_models(m);
   init_gravity(m);
   init_third_body_srp(m);
+  init_spk_ephemeris(m);
   init_force_model_fields(m);
 }
 

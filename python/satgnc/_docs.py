@@ -227,6 +227,7 @@ _PROPS: dict[str, dict[str, str]] = {
         "atmosphere": "Density model chosen: '', 'harris_priester', 'exponential' or 'nrlmsise00'.",
         "earth_orientation": "Earth rotation chosen: 'uniform' or 'iau2006' (IAU 2006/2000A CIO with EOP).",
         "eop_file": "Path of the EOP file read (iau2006), else ''.",
+        "ephemeris_file": "Path of the JPL DE .bsp file of [third_body] ephemeris, else '' (ERFA).",
         "source": "The TOML file the configuration was read from (or the source name given).",
         "radius": "[central_body] radius (km).",
     },
@@ -262,6 +263,11 @@ _PROPS: dict[str, dict[str, str]] = {
     "SolarRadiationPressure": {
         "cr": "Radiation pressure coefficient (unit-free, 1 absorbing .. 2 reflecting).",
         "shadow": "Earth shadow model: 'none', 'cylindrical' or 'conical'.",
+    },
+    "SpkEphemeris": {
+        "path": "The .bsp file opened.",
+        "internal_name": "The DAF file record's internal file name.",
+        "pairs": "The (target, center) pairs of NAIF codes prepared at open.",
     },
     "ThirdBodies": {
         "sun": "True when the Sun's point mass is included (ERFA ephemeris, GCRF).",

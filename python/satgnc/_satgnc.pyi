@@ -99,6 +99,7 @@ __all__: list[str] = [
     "ShortArcStmPropagator",
     "SolarRadiationPressure",
     "SpaceWeather",
+    "SpkEphemeris",
     "StateConstrainedAdmm",
     "Station",
     "StationEphemeris",
@@ -1038,6 +1039,14 @@ class ForceModel:
     @mu.setter
     def mu(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
     @property
+    def spk_ephemeris(self) -> SpkEphemeris:
+        """
+        SpkEphemeris (a JPL DE file) whose Sun and Moon serve third_body, srp and the drag's Sun, or None
+        (ERFA, interpolated on 1/8-day nodes).
+        """
+    @spk_ephemeris.setter
+    def spk_ephemeris(self, arg1: SpkEphemeris) -> None: ...
+    @property
     def srp(self) -> SolarRadiationPressure | None:
         """
         SolarRadiationPressure or None
@@ -1593,6 +1602,81 @@ class SolarRadiationPressure:
     @sun_radius.setter
     def sun_radius(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None: ...
 
+class SpkEphemeris:
+    """
+    A JPL DE ephemeris (NAIF SPK .bsp, Chebyshev types 2 and 3) opened for (target, center) pairs of NAIF
+    codes (10 Sun, 301 Moon, 399 Earth, 3 Earth-Moon barycentre, 0 solar-system barycentre); epochs TDB s past
+    J2000; km, km/s; J2000 (ICRF) axes.
+    """
+    @staticmethod
+    def tdb_seconds_from_tt(
+        jd1: typing.SupportsFloat | typing.SupportsIndex,
+        jd2: typing.SupportsFloat | typing.SupportsIndex = 0.0,
+    ) -> float:
+        """
+        TDB s past J2000 of the TT Julian date jd1 + jd2 (ERFA eraDtdb, geocentre).
+        """
+    def __init__(
+        self,
+        path: str,
+        pairs: collections.abc.Sequence[
+            tuple[typing.SupportsInt | typing.SupportsIndex, typing.SupportsInt | typing.SupportsIndex]
+        ] = [(10, 399), (301, 399)],
+    ) -> None: ...
+    def __repr__(self) -> str: ...
+    def covers(self, et: typing.Any) -> bool: ...
+    def position(
+        self,
+        target: typing.SupportsInt | typing.SupportsIndex,
+        center: typing.SupportsInt | typing.SupportsIndex,
+        et: typing.Any,
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
+        """
+        Position (km) of target from center at et (TDB s past J2000); ValueError outside the coverage.
+        """
+    def positions(
+        self,
+        target: typing.SupportsInt | typing.SupportsIndex,
+        center: typing.SupportsInt | typing.SupportsIndex,
+        ets: typing.Any,
+    ) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 3]"]:
+        """
+        Positions (n, 3) km of target from center at the epochs ets (n,) TDB s past J2000 (one C++ loop).
+        """
+    def state(
+        self,
+        target: typing.SupportsInt | typing.SupportsIndex,
+        center: typing.SupportsInt | typing.SupportsIndex,
+        et: typing.Any,
+    ) -> tuple[
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+        typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"],
+    ]:
+        """
+        (position km, velocity km/s) of target from center at et (TDB s past J2000).
+        """
+    @property
+    def end_et(self) -> float:
+        """
+        TDB s past J2000
+        """
+    @property
+    def internal_name(self) -> str: ...
+    @property
+    def pairs(self) -> list[tuple[int, int]]: ...
+    @property
+    def path(self) -> str: ...
+    @property
+    def segments(self) -> list[typing.Any]:
+        """
+        Every segment descriptor: dicts with target, center, frame, type, start_et, end_et (TDB s), name.
+        """
+    @property
+    def start_et(self) -> float:
+        """
+        TDB s past J2000
+        """
+
 class ForceModelConfig:
     """
     A force-model TOML as read: the ForceModel and what it was built from.
@@ -1603,6 +1687,8 @@ class ForceModelConfig:
     def earth_orientation(self) -> str: ...
     @property
     def eop_file(self) -> str: ...
+    @property
+    def ephemeris_file(self) -> str: ...
     @property
     def epoch(self) -> Epoch | None: ...
     @property

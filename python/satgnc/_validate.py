@@ -606,6 +606,8 @@ def _kind(annot: str) -> str:
     if "NDArray" in a or "numpy" in a or a.startswith(("list[float", "list[Supports", "Sequence[Supports",
                                                         "collections.abc.Sequence[Supports")):
         return "array"
+    if a.startswith(("list[", "tuple[", "Sequence[", "collections.abc.Sequence[", "dict[")):
+        return "other"  # a container of ints (e.g. SpkEphemeris pairs) is not an int
     if a in ("bool",):
         return "bool"
     if "SupportsFloat" in a or a == "float":

@@ -35,7 +35,8 @@ def _path(path: Any, name: str = "path") -> str:
 def load_force_model_config(path: str | os.PathLike[str]) -> Any:
     """Read a force-model TOML: ``.model`` (the :class:`satgnc.ForceModel`), ``.epoch`` (a
     :class:`satgnc.time.Epoch` or None), ``.space_weather``, ``.gravity_model``, ``.gravity_file``,
-    ``.atmosphere``, ``.earth_orientation``, ``.eop_file``, ``.radius`` (km), ``.source``.
+    ``.atmosphere``, ``.earth_orientation``, ``.eop_file``, ``.ephemeris_file`` (the JPL DE .bsp of
+    ``[third_body] ephemeris``, or empty), ``.radius`` (km), ``.source``.
     ``[gravity] model = "egm2008"`` reads the shipped coefficients (``satgnc.dynamics.EGM2008_PATH``)."""
     return _satgnc.load_force_model_config(_path(path), str(EGM2008_PATH))
 

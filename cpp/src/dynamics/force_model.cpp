@@ -229,6 +229,12 @@ void ForceModel::validate_precise_terms() const {
     core::require_finite(epoch_jd1, "epoch_jd1");
     core::require_finite(epoch_jd2, "epoch_jd2");
   }
+  if (const auto& spk = ephemeris.spk()) {  // a DE file must cover t = 0 at least
+    const double et = ephemeris.tdb_seconds(epoch_jd1, epoch_jd2);
+    require(spk->covers(et), "epoch_jd1 + epoch_jd2",
+            "the epoch " + format_tdb_seconds(et) + " is outside " + spk->path() + "'s coverage " +
+                format_tdb_seconds(spk->start_et()) + " to " + format_tdb_seconds(spk->end_et()));
+  }
 }
 
 void ForceModel::add_precise_terms(double t, const Vec3& r, Vec3& a, Mat3* da_dr) const {

@@ -292,12 +292,33 @@ ForceModelConfig parse_force_model_config(std::string_view text, const std::stri
 
   // [third_body]
   const Section tb = section("third_body");
-  tb.only({"sun", "moon"});
+  tb.only({"sun", "moon", "ephemeris"});
   if (tb.present()) {
     ThirdBodies t;
     t.sun = tb.flag("sun").value_or(true);
     t.moon = tb.flag("moon").value_or(true);
     if (t.sun || t.moon) fm.third_body = t;
+    // A JPL DE file (SPK .bsp) replaces ERFA's Sun and Moon for the third bodies, SRP and drag.
+    const auto eph = tb.text("ephemeris");
+    if (eph && *eph != "erfa") {
+      const int line = tb.line_of_key("ephemeris");
+      if (eph->empty())
+        tb.fail(line, "ephemeris", "must be \"erfa\" or the path of a JPL DE .bsp file, got \"\"");
+      cfg.ephemeris_file = resolve(base_dir, *eph);
+      try {
+        fm.ephemeris = EphemerisInterpolator(std::make_shared<const SpkEphemeris>(cfg.ephemeris_file));
+      } catch (const std::invalid_argument& e) {
+        tb.fail(line, "ephemeris", e.what());
+      }
+      const core::JulianDate jd =
+          cfg.epoch ? cfg.epoch->jd(core::TimeScale::tt) : core::JulianDate{2451545.0, 0.0};
+      const double et = fm.ephemeris.tdb_seconds(jd.jd1, jd.jd2);
+      const SpkEphemeris& spk = *fm.ephemeris.spk();
+      if (!spk.covers(et))
+        tb.fail(line, "ephemeris",
+                "the epoch " + format_tdb_seconds(et) + " is outside " + cfg.ephemeris_file + "'s coverage " +
+                    format_tdb_seconds(spk.start_et()) + " to " + format_tdb_seconds(spk.end_et()));
+    }
   }
 
   // [srp]

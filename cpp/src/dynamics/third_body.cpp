@@ -3,7 +3,9 @@
 
 #include <erfa.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "satgnc/core/validate.hpp"
 
@@ -63,12 +65,39 @@ EphemerisInterpolator::EphemerisInterpolator(double step_days) : step_(step_days
   core::require_nonnegative(step_days, "step_days");
 }
 
+EphemerisInterpolator::EphemerisInterpolator(std::shared_ptr<const SpkEphemeris> spk)
+    : step_(0.125), spk_(std::move(spk)) {
+  core::require(spk_ != nullptr, "spk", "must be an opened SpkEphemeris, got null");
+  for (const auto& [target, center] : SpkEphemeris::geocentric_sun_moon()) {
+    const auto& p = spk_->pairs();
+    core::require(std::find(p.begin(), p.end(), std::make_pair(target, center)) != p.end(), "spk",
+                  spk_->path() + " was opened without the geocentric Sun (10, 399) and Moon (301, 399)");
+  }
+}
+
+double EphemerisInterpolator::tdb_seconds(double jd1, double jd2) const {
+  const double days = (jd1 - kJ2000) + jd2;
+  const double u = days / step_;
+  const double k = std::floor(u);
+  if (k != tdb_.node) {
+    const double t0 = SpkEphemeris::tdb_seconds_from_tt(kJ2000, k * step_);
+    const double t1 = SpkEphemeris::tdb_seconds_from_tt(kJ2000, (k + 1.0) * step_);
+    tdb_.d0 = t0 - k * step_ * 86400.0;
+    tdb_.d1 = t1 - (k + 1.0) * step_ * 86400.0;
+    tdb_.node = k;
+  }
+  const double s = u - k;
+  return days * 86400.0 + ((1.0 - s) * tdb_.d0 + s * tdb_.d1);
+}
+
 Vec3 EphemerisInterpolator::sun(double jd1, double jd2) const {
+  if (spk_) return spk_->position(naif::sun, naif::earth, tdb_seconds(jd1, jd2));
   if (step_ == 0.0) return sun_position(jd1, jd2);
   return hermite(step_, jd1, jd2, sun_pv, sun_.node, sun_.p0, sun_.v0, sun_.p1, sun_.v1);
 }
 
 Vec3 EphemerisInterpolator::moon(double jd1, double jd2) const {
+  if (spk_) return spk_->position(naif::moon, naif::earth, tdb_seconds(jd1, jd2));
   if (step_ == 0.0) return moon_position(jd1, jd2);
   return hermite(step_, jd1, jd2, moon_pv, moon_.node, moon_.p0, moon_.v0, moon_.p1, moon_.v1);
 }

@@ -231,10 +231,11 @@ struct LanesOf<true> {
 #endif
 
 // ForceModel as of this file: mu, optional J2, optional exponential drag, gravity field, third
-// bodies, SRP, atmosphere drag, the epoch and the ephemeris cache. A new term changes the
+// bodies, SRP, atmosphere drag, the epoch and the ephemeris (ERFA node cache, or a JPL DE file with its
+// TDB nodes: only third bodies / SRP / drag read it, all refused below). A new term changes the
 // size and stops the build here: the point-mass / J2 lane kernel below must then learn to refuse a model
 // holding it (detail::point_mass_j2_only).
-static_assert(sizeof(dynamics::ForceModel) == 728,
+static_assert(sizeof(dynamics::ForceModel) == 768,
               "ForceModel gained a member: update the lane fast paths in ensemble.cpp and "
               "force_model_accel.hpp, then this size");
 

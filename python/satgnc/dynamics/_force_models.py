@@ -5,6 +5,7 @@ Units: km, km/s, s; accelerations km/s^2; SRP area m^2, mass kg, pressure N/m^2 
 
 from __future__ import annotations
 
+import os
 import pathlib
 
 from .. import _satgnc as _c
@@ -16,6 +17,7 @@ GravityCoefficients = _c.GravityCoefficients
 GravityField = _c.GravityField
 ThirdBodies = _c.ThirdBodies
 SolarRadiationPressure = _c.SolarRadiationPressure
+SpkEphemeris = _c.SpkEphemeris
 sun_position = _c.sun_position
 moon_position = _c.moon_position
 
@@ -36,6 +38,40 @@ def egm2008(max_degree: int = 70) -> GravityCoefficients:
     return load_gfc(EGM2008_PATH, max_degree)
 
 
+def load_spk(
+    path: str | os.PathLike[str], pairs: list[tuple[int, int]] | None = None
+) -> SpkEphemeris:
+    """Open a JPL DE ephemeris (NAIF SPK ``.bsp``: Chebyshev segment types 2 and 3) for the
+    ``(target, center)`` pairs of NAIF codes ``pairs`` (default the geocentric Sun ``(10, 399)`` and
+    Moon ``(301, 399)``), chained through the file's segments (Moon = EMB->Moon - EMB->Earth).
+
+    Epochs are TDB seconds past J2000, positions km, velocities km/s, J2000 (ICRF) axes. ``ValueError``
+    names the file and what is wrong (not a DAF, wrong endianness, an unsupported segment type on a
+    chain, no chain linking a pair); evaluating outside the coverage names the epoch and the coverage.
+    The data of the chains are read once; evaluations allocate nothing.
+
+    Examples
+    --------
+    >>> from satgnc.dynamics import load_spk
+    >>> eph = load_spk("de421.bsp")  # doctest: +SKIP
+    >>> eph.position(301, 399, 0.0)  # the Moon from the Earth at J2000 TDB, km  # doctest: +SKIP
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: must be a str or os.PathLike, got {type(path).__name__}")
+    if pairs is None:
+        return _c.SpkEphemeris(os.fspath(path))
+    checked: list[tuple[int, int]] = []
+    for p in pairs:
+        if (not isinstance(p, tuple) or len(p) != 2
+                or not all(isinstance(b, int) and not isinstance(b, bool) for b in p)):
+            raise TypeError(
+                f"pairs: must be a list of (target, center) tuples of NAIF integer codes, got {p!r}")
+        checked.append((int(p[0]), int(p[1])))
+    if not checked:
+        raise ValueError("pairs: must name at least one (target, center) pair")
+    return _c.SpkEphemeris(os.fspath(path), checked)
+
+
 def force_model(
     *,
     mu: float | None = None,
@@ -47,14 +83,16 @@ def force_model(
     atmosphere_drag: _c.AtmosphereDrag | None = None,
     epoch_jd: tuple[float, float] | float = (2451545.0, 0.0),
     epoch: _c.Epoch | None = None,
+    ephemeris: str | os.PathLike[str] | SpkEphemeris | None = None,
 ) -> _c.ForceModel:
     """A :class:`satgnc.ForceModel` with the precise terms set.
 
     mu (km^3/s^2) defaults to the gravity field's GM when a field is given (else Earth's EGM-96
     value); ``epoch_jd`` is the TT Julian date of t = 0 (one number or two parts, days), used by the
     Sun, the Moon, SRP and the atmosphere drag's Sun (one epoch); ``epoch`` (a
-    :class:`satgnc.time.Epoch`), when given, replaces it. The result is validated (``ValueError``
-    names the field)."""
+    :class:`satgnc.time.Epoch`), when given, replaces it. ``ephemeris`` (a JPL DE ``.bsp`` path or an
+    opened :class:`SpkEphemeris`) replaces ERFA's Sun and Moon (third bodies, SRP, the drag's Sun);
+    the epoch must lie in its coverage. The result is validated (``ValueError`` names the field)."""
     if mu is None:
         mu = gravity.mu if gravity is not None else _c.EARTH_MU
     jd = as_real_array(epoch_jd, "epoch_jd", ndim=(0, 1))
@@ -67,6 +105,8 @@ def force_model(
     fm.srp = srp
     if epoch is not None:
         fm.set_epoch(epoch)
+    if ephemeris is not None:
+        fm.spk_ephemeris = ephemeris if isinstance(ephemeris, SpkEphemeris) else load_spk(ephemeris)
     fm.atmosphere_drag = atmosphere_drag  # after the epoch: an ErfaSun must carry the model's epoch
     fm.validate()
     return fm

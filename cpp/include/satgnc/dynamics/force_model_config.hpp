@@ -19,7 +19,9 @@
 ///   file (ICGEM .gfc path for model = "file"), degree (2..file's max, default 20), order
 ///   (0..degree, default = degree), j2 (model "j2", default core::earth::j2); the field turns with
 ///   [earth_orientation]
-/// - [third_body] sun, moon (booleans, default true once the section is present)
+/// - [third_body] sun, moon (booleans, default true once the section is present), ephemeris ("erfa"
+///   default, or the path of a JPL DE SPK .bsp file, relative to the TOML's folder: its Sun and Moon
+///   then serve the third bodies, SRP and the drag's Sun; the [epoch] must lie in its coverage)
 /// - [srp] area (m^2, >= 0, required), mass (kg, > 0, required), cr ([0, 3], default 1.3), shadow ("conical"
 /// default,
 ///   "cylindrical", "none")
@@ -71,6 +73,7 @@ struct ForceModelConfig {
   std::string atmosphere;               ///< "", "harris_priester", "exponential" or "nrlmsise00"
   std::string earth_orientation;        ///< "uniform" or "iau2006"
   std::string eop_file;                 ///< the EOP path read (iau2006), else empty
+  std::string ephemeris_file;           ///< the JPL DE file of [third_body] ephemeris, else empty (ERFA)
   std::string source;                   ///< the TOML file (or source name)
   double radius = core::earth::radius;  ///< [central_body] radius, km
 };

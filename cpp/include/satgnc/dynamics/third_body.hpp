@@ -7,7 +7,10 @@
 /// rotation is applied. Positions are geometric (no light time, no aberration: what gravity needs).
 /// The time argument is a two-part TT Julian date; ERFA wants TDB, and TDB - TT < 1.7 ms is neglected
 /// (the Moon moves 1.7 m in that time). Units: km, km/s^2, km^3/s^2.
+#include <memory>
+
 #include "satgnc/core/types.hpp"
+#include "satgnc/dynamics/ephemeris_spk.hpp"
 
 namespace satgnc::dynamics {
 
@@ -36,23 +39,44 @@ Vec3 moon_position(double jd1, double jd2);
 /// error at the default step of 1/8 day: < 1 m for the Sun and < 5 m for the Moon (test_third_body),
 /// i.e. < 1e-8 of the tidal acceleration. step_days = 0 calls ERFA at every evaluation. The nodes are
 /// a mutable cache: one instance per thread (ForceModel holds one; copies are independent).
+///
+/// Built on a JPL DE file (an SpkEphemeris with the geocentric Sun and Moon), it evaluates the file's
+/// Chebyshev segments at every call instead (no interpolation of its own): the TT date becomes TDB
+/// seconds past J2000 through ERFA's eraDtdb at the geocentre, linearly interpolated between 1/8-day
+/// nodes (error < 1e-9 s: TDB - TT has a second derivative below 1e-19 s/s^2 at the geocentre). The
+/// SpkEphemeris is shared (immutable) between copies; an epoch outside its coverage throws
+/// std::out_of_range naming the epoch and the coverage.
 class EphemerisInterpolator {
  public:
   /// step_days: node spacing, days (>= 0; 0: no interpolation). Throws std::invalid_argument naming it.
   explicit EphemerisInterpolator(double step_days = 0.125);
-  double step_days() const { return step_; }  ///< days
+  /// The Sun and Moon of a JPL DE file (must hold the pairs (10, 399) and (301, 399); throws
+  /// std::invalid_argument naming the file otherwise, or when spk is null).
+  explicit EphemerisInterpolator(std::shared_ptr<const SpkEphemeris> spk);
+  double step_days() const { return step_; }  ///< days (the TDB node spacing with a DE file)
+  /// The DE file in use, or null for ERFA.
+  const std::shared_ptr<const SpkEphemeris>& spk() const { return spk_; }
   /// Geocentric Sun (km, GCRF) at the TT Julian date jd1 + jd2.
   Vec3 sun(double jd1, double jd2) const;
   /// Geocentric Moon (km, GCRF) at the TT Julian date jd1 + jd2.
   Vec3 moon(double jd1, double jd2) const;
+  /// TDB seconds past J2000 of the TT Julian date jd1 + jd2 as used with a DE file (interpolated
+  /// eraDtdb, see the class note).
+  double tdb_seconds(double jd1, double jd2) const;
 
  private:
   struct Segment {
     double node = -1e300;  // index k of the segment [k step, (k + 1) step] after J2000
     Vec3 p0, v0, p1, v1;   // km and km/day at both nodes
   };
+  struct TdbNodes {
+    double node = -1e300;       // index k of [k step, (k + 1) step] after J2000 TT
+    double d0 = 0.0, d1 = 0.0;  // TDB - TT at both nodes, s
+  };
   double step_;
   mutable Segment sun_, moon_;
+  std::shared_ptr<const SpkEphemeris> spk_;
+  mutable TdbNodes tdb_;
 };
 
 /// Third-body acceleration on a satellite at r (km) from a body of parameter mu (km^3/s^2) at s (km),
