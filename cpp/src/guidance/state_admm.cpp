@@ -1071,12 +1071,14 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
   // interior-point method first: O(N) per step (Riccati), ~20-40 steps; accepted only by the
   // violation and Fenchel-gap tests below (the same as ADMM's); otherwise ADMM runs as before
   bool ipm_solved = false;
+  double D_best = -detail::kInf;
+  bool ipm_exported = false;  // Ypol holds an IPM plan of this solve
   if (w.ipm_ok && st.method != AdmmMethod::kAdmm) {
-    double D_best = -detail::kInf;
     w.ipm.init(w.ipd);
     for (int t = 0; t < st.ipm_max_iterations; ++t) {
       if (!w.ipm.step(w.ipd)) break;
       w.ipm.export_solution(w.ipd, w.Ypol, w.mu_pol);
+      ipm_exported = true;
       w.rollout(w.Ypol, w.Xf, false);
       const double P = w.objective(w.Xf, w.Ypol);
       if (w.ipm.complementarity() > 1e-3 * std::max(std::abs(P), st.gap_floor)) continue;
@@ -1109,6 +1111,14 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
     }
     info.ipm_iterations = w.ipm.iterations;
     info.ipm_solved = ipm_solved;
+    // method = ipm alone and not certified: return the IPM's last plan (with the best dual bound
+    // seen) as the best iterate, evaluated below on the problem as given, never the starting plan
+    if (!ipm_solved && st.method == AdmmMethod::kIpm && ipm_exported && w.Ypol.allFinite()) {
+      w.Y = w.Ypol;
+      w.mu = D_best > -detail::kInf ? w.mu_best : w.mu_pol;
+      prim = w.ipm.primal_residual();
+      dual = w.ipm.complementarity();
+    }
   }
   const bool run_admm = !ipm_solved && st.method != AdmmMethod::kIpm;
   if (run_admm && (w.rho != w.rho_factored || w.rho_x != w.rho_x_factored) && !w.factor()) {
