@@ -62,7 +62,7 @@ def figure(run, path) -> pathlib.Path:
         a.set_xlabel("index")
         a.set_ylabel("sigma_i / sigma_1")
         a.set_title("6 singular values of the models used")
-        a.legend(fontsize=8)
+        a.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1, frameon=False)
     fig.tight_layout()
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -82,7 +82,7 @@ def _od_panels(ax, tr, est) -> None:
     a.set_xlabel("t from the epoch (s)")
     a.set_ylabel("residual / sigma (-)")
     a.set_title(f"1-2 OD residuals ({tr.t.size} observations, {est.status})")
-    a.legend(fontsize=8)
+    a.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
 
     a = ax[0, 1]
     names = ["x", "y", "z", "vx", "vy", "vz"]
@@ -97,7 +97,7 @@ def _od_panels(ax, tr, est) -> None:
     a.set_ylim(-4, 4)
     a.set_ylabel("error / sigma (-)")
     a.set_title("2 OD estimate error vs 3 sigma (ECI, epoch)")
-    a.legend(fontsize=8)
+    a.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=2, frameon=False)
 
 
 def markdown(run, figure_rel: str | None = None) -> str:
