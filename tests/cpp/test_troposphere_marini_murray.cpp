@@ -16,6 +16,7 @@
 #include "satgnc/observation/light_time.hpp"
 #include "satgnc/observation/measurement_model.hpp"
 #include "satgnc/observation/modifiers.hpp"
+#include "troposphere_checks.hpp"
 
 namespace {
 
@@ -101,12 +102,7 @@ TEST(MariniMurray, ElevationDerivativeMatchesCentralDifferences) {
 }
 
 MeasurementModel model(ObservableType type, TroposphereModel tm, bool tropo = true) {
-  MeasurementSettings s;
-  s.type = type;
-  s.troposphere = tropo;
-  s.troposphere_model = tm;
-  s.light_time.tolerance = 1e-16;  // converged to rounding: the differences see no iteration noise
-  return MeasurementModel(s);
+  return obs_fixture::troposphere_model(type, tm, tropo);
 }
 
 // In a run the delay is the closed form at the down-leg elevation with the station's standard
@@ -132,51 +128,10 @@ TEST(MariniMurray, RangeDelayInARun) {
   EXPECT_NE(mm.troposphere, mp.troposphere);
 }
 
-// Range and range-rate partials with Marini-Murray against central differences (h = 1e-2 km, km/s;
-// the tolerance of test_observation_models: 1e-7 relative + 4 eps |value| / h); the range-rate's
-// modifier equals d/dt of the range delay along the motion to 1e-4 (the light time's own rate left
-// out, as for the other models).
+// Range and range-rate partials vs central differences, and the range-rate's modifier = d/dt of
+// the range delay (obs_fixture::expect_troposphere_partials_and_rate, shared with the other model).
 TEST(MariniMurray, PartialsAndRangeRateCounterpart) {
-  const obs::RotatingStationEphemeris st(obs_fixture::station());
-  for (double offset : {0.05, 0.2}) {
-    const Vec6 x = obs_fixture::pass_state(7000.0, offset);
-    for (ObservableType type : {ObservableType::one_way_range, ObservableType::two_way_range,
-                                ObservableType::one_way_range_rate, ObservableType::two_way_range_rate}) {
-      const MeasurementModel m = model(type, TroposphereModel::marini_murray);
-      const Biases b{0.0, 2e-3};
-      Prediction p;
-      m.predict(st, 30.0, x, b, p);
-      ASSERT_EQ(p.status, ObservationStatus::success);
-      EXPECT_NE(p.troposphere, 0.0);
-      for (int k = 0; k < 6; ++k) {
-        const double h = 1e-2;
-        Vec6 xp = x, xm = x;
-        xp(k) += h;
-        xm(k) -= h;
-        Prediction pp, pm;
-        m.predict(st, 30.0, xp, b, pp);
-        m.predict(st, 30.0, xm, b, pm);
-        const double fd = (pp.value(0) - pm.value(0)) / (2.0 * h);
-        EXPECT_LT(std::abs(p.dx(0, k) - fd),
-                  1e-7 * std::abs(fd) + 4.0 * 2.2e-16 * std::max(std::abs(p.value(0)), 1.0) / h)
-            << obs::observable_name(type) << " offset " << offset << " col " << k;
-      }
-    }
-    Prediction rr;
-    model(ObservableType::two_way_range_rate, TroposphereModel::marini_murray)
-        .predict(st, 0.0, x, Biases{}, rr);
-    const MeasurementModel range = model(ObservableType::one_way_range, TroposphereModel::marini_murray);
-    const double d = 0.5;
-    Vec6 xp, xm;
-    obs::shift_state(x, d, obs_fixture::kMu, xp);
-    obs::shift_state(x, -d, obs_fixture::kMu, xm);
-    Prediction rp, rm;
-    range.predict(st, d, xp, Biases{}, rp);
-    range.predict(st, -d, xm, Biases{}, rm);
-    const double rate = (rp.troposphere - rm.troposphere) / (2.0 * d);
-    EXPECT_NEAR(rr.troposphere, rate, 1e-4 * std::abs(rate) + 1e-12) << offset;
-    EXPECT_GT(std::abs(rr.troposphere), 1e-7);  // km/s
-  }
+  obs_fixture::expect_troposphere_partials_and_rate(TroposphereModel::marini_murray);
 }
 
 // predict() with Marini-Murray on a range and a range-rate allocates nothing (the counter of

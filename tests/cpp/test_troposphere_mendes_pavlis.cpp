@@ -14,6 +14,7 @@
 #include "satgnc/observation/light_time.hpp"
 #include "satgnc/observation/measurement_model.hpp"
 #include "satgnc/observation/modifiers.hpp"
+#include "troposphere_checks.hpp"
 
 namespace {
 
@@ -80,12 +81,7 @@ TEST(MendesPavlis, MappingDerivativeMatchesCentralDifferences) {
 }
 
 MeasurementModel model(ObservableType type, TroposphereModel tm, bool tropo = true) {
-  MeasurementSettings s;
-  s.type = type;
-  s.troposphere = tropo;
-  s.troposphere_model = tm;
-  s.light_time.tolerance = 1e-16;  // converged to rounding: the differences see no iteration noise
-  return MeasurementModel(s);
+  return obs_fixture::troposphere_model(type, tm, tropo);
 }
 
 // The range delay is the zenith delay of the station's standard atmosphere times FCULa at the down-leg
@@ -112,51 +108,10 @@ TEST(MendesPavlis, RangeDelayIsZenithTimesMapping) {
   EXPECT_NE(mp.troposphere, sa.troposphere);
 }
 
-// Range and range-rate partials with Mendes-Pavlis against central differences (h = 1e-2 km, km/s),
-// the tolerance of test_observation_models (1e-7 relative + 4 eps |value| / h); the range-rate's
-// modifier equals d/dt of the range delay along the motion to 1e-4 (the rate of the light time left
-// out, as for Saastamoinen: test_range_rate_modifiers).
+// Range and range-rate partials vs central differences, and the range-rate's modifier = d/dt of
+// the range delay (obs_fixture::expect_troposphere_partials_and_rate, shared with the other model).
 TEST(MendesPavlis, PartialsAndRangeRateCounterpart) {
-  const obs::RotatingStationEphemeris st(obs_fixture::station());
-  for (double offset : {0.05, 0.2}) {
-    const Vec6 x = obs_fixture::pass_state(7000.0, offset);
-    for (ObservableType type : {ObservableType::one_way_range, ObservableType::two_way_range,
-                                ObservableType::one_way_range_rate, ObservableType::two_way_range_rate}) {
-      const MeasurementModel m = model(type, TroposphereModel::mendes_pavlis);
-      const Biases b{0.0, 2e-3};
-      Prediction p;
-      m.predict(st, 30.0, x, b, p);
-      ASSERT_EQ(p.status, ObservationStatus::success);
-      EXPECT_NE(p.troposphere, 0.0);
-      for (int k = 0; k < 6; ++k) {
-        const double h = 1e-2;
-        Vec6 xp = x, xm = x;
-        xp(k) += h;
-        xm(k) -= h;
-        Prediction pp, pm;
-        m.predict(st, 30.0, xp, b, pp);
-        m.predict(st, 30.0, xm, b, pm);
-        const double fd = (pp.value(0) - pm.value(0)) / (2.0 * h);
-        EXPECT_LT(std::abs(p.dx(0, k) - fd),
-                  1e-7 * std::abs(fd) + 4.0 * 2.2e-16 * std::max(std::abs(p.value(0)), 1.0) / h)
-            << obs::observable_name(type) << " offset " << offset << " col " << k;
-      }
-    }
-    Prediction rr;
-    model(ObservableType::two_way_range_rate, TroposphereModel::mendes_pavlis)
-        .predict(st, 0.0, x, Biases{}, rr);
-    const MeasurementModel range = model(ObservableType::one_way_range, TroposphereModel::mendes_pavlis);
-    const double d = 0.5;
-    Vec6 xp, xm;
-    obs::shift_state(x, d, obs_fixture::kMu, xp);
-    obs::shift_state(x, -d, obs_fixture::kMu, xm);
-    Prediction rp, rm;
-    range.predict(st, d, xp, Biases{}, rp);
-    range.predict(st, -d, xm, Biases{}, rm);
-    const double rate = (rp.troposphere - rm.troposphere) / (2.0 * d);
-    EXPECT_NEAR(rr.troposphere, rate, 1e-4 * std::abs(rate) + 1e-12) << offset;
-    EXPECT_GT(std::abs(rr.troposphere), 1e-7);  // km/s
-  }
+  obs_fixture::expect_troposphere_partials_and_rate(TroposphereModel::mendes_pavlis);
 }
 
 void throws_naming(const MeasurementSettings& s, const std::string& field) {
