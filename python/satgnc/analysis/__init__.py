@@ -418,15 +418,14 @@ def staircase(A, BC, property: str = "controllability", *, rtol: float | None = 
     return adopt(StaircaseReport, **d)
 
 
-def controllability(A, B, **kw) -> StaircaseReport:
-    """Staircase controllability test of (A, B).
+_RANK_DOC = """Staircase {kind} test of (A, {M}){by}.
 
     Parameters
     ----------
     A : array_like
         (n, n) system matrix (continuous or discrete time, any consistent units).
-    B : array_like
-        (n, m) input matrix (a vector is one column).
+    {M} : array_like
+        {shape} {what} matrix (a vector is one {vector}).
     **kw
         Options of :func:`staircase`: ``rtol``, ``fuzz``, ``stair``, ``cluster_rtol``, ``units``
         (a :class:`Units` to nondimensionalize first).
@@ -435,41 +434,33 @@ def controllability(A, B, **kw) -> StaircaseReport:
     -------
     StaircaseReport
         ``rank``, ``verdict`` ("full rank", "rank deficient" or "not robustly decidable"), ``margin``,
-        the staircase form and the uncontrollable modes.
+        the staircase form and the un{kind_adj} modes.
 
     Raises
     ------
     ValueError
         Non-finite or mis-shaped matrices, naming the argument.
     """
+# The two tests and the two Gramians differ only in the second matrix: B (n, m), a vector a column, or
+# C (p, n), a vector a row. One docstring template per pair, filled below each function.
+_SECOND = {
+    "controllability": {"M": "B", "shape": "(n, m)", "what": "input", "vector": "column",
+                        "kind_adj": "controllable"},
+    "observability": {"M": "C", "shape": "(p, n)", "what": "output", "vector": "row",
+                      "kind_adj": "observable"},
+}
+
+
+def controllability(A, B, **kw) -> StaircaseReport:
     return staircase(A, B, "controllability", **kw)
 
 
 def observability(A, C, **kw) -> StaircaseReport:
-    """Staircase observability test of (A, C) by duality.
-
-    Parameters
-    ----------
-    A : array_like
-        (n, n) system matrix (continuous or discrete time, any consistent units).
-    C : array_like
-        (p, n) output matrix (a vector is one row).
-    **kw
-        Options of :func:`staircase`: ``rtol``, ``fuzz``, ``stair``, ``cluster_rtol``, ``units``
-        (a :class:`Units` to nondimensionalize first).
-
-    Returns
-    -------
-    StaircaseReport
-        ``rank``, ``verdict`` ("full rank", "rank deficient" or "not robustly decidable"), ``margin``,
-        the staircase form and the unobservable modes.
-
-    Raises
-    ------
-    ValueError
-        Non-finite or mis-shaped matrices, naming the argument.
-    """
     return staircase(A, C, "observability", **kw)
+
+
+controllability.__doc__ = _RANK_DOC.format(kind="controllability", by="", **_SECOND["controllability"])
+observability.__doc__ = _RANK_DOC.format(kind="observability", by=" by duality", **_SECOND["observability"])
 
 
 def pbh(A, BC, property: str = "controllability", *, rtol: float | None = None, fuzz: float = 100.0,
@@ -624,15 +615,14 @@ def _squarable(M: np.ndarray, name: str) -> np.ndarray:
                            limit_text=f"{_MAX_FACTOR:.0e}")
 
 
-def controllability_gramian(A, B, T: float) -> GramianReport:
-    """W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt by the Van Loan block exponential.
+_GRAMIAN_DOC = """{formula} by the Van Loan block exponential.
 
     Parameters
     ----------
     A : array_like
         (n, n) continuous-time system matrix (1/s).
-    B : array_like
-        (n, m) input matrix.
+    {M} : array_like
+        {shape} {what} matrix.
     T : float
         Horizon (s, > 0).
 
@@ -647,39 +637,29 @@ def controllability_gramian(A, B, T: float) -> GramianReport:
     ValueError
         Non-finite or mis-shaped matrices, or T <= 0.
     """
+
+
+def _lti_gramian(kind: str, A, M, T: float) -> GramianReport:
+    name, vector = _SECOND[kind]["M"], _SECOND[kind]["vector"]
     T = as_real(T, "T", positive=True)
     A = as_matrix(A, "A")
-    B = _squarable(as_matrix(B, "B", vector_as="column"), "B")
-    return _gramian(_s._controllability_gramian(A, B, _horizon(A, T)))
+    M = _squarable(as_matrix(M, name, vector_as=vector), name)
+    fn = _s._controllability_gramian if kind == "controllability" else _s._observability_gramian
+    return _gramian(fn(A, M, _horizon(A, T)))
+
+
+def controllability_gramian(A, B, T: float) -> GramianReport:
+    return _lti_gramian("controllability", A, B, T)
 
 
 def observability_gramian(A, C, T: float) -> GramianReport:
-    """W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt by the Van Loan block exponential.
+    return _lti_gramian("observability", A, C, T)
 
-    Parameters
-    ----------
-    A : array_like
-        (n, n) continuous-time system matrix (1/s).
-    C : array_like
-        (p, n) output matrix.
-    T : float
-        Horizon (s, > 0).
 
-    Returns
-    -------
-    GramianReport
-        ``W`` (n, n) symmetric PSD, ascending ``eigenvalues``, ``condition``, ``weakest`` / ``strongest``
-        directions.
-
-    Raises
-    ------
-    ValueError
-        Non-finite or mis-shaped matrices, or T <= 0.
-    """
-    T = as_real(T, "T", positive=True)
-    A = as_matrix(A, "A")
-    C = _squarable(as_matrix(C, "C", vector_as="row"), "C")
-    return _gramian(_s._observability_gramian(A, C, _horizon(A, T)))
+controllability_gramian.__doc__ = _GRAMIAN_DOC.format(
+    formula="W_c(T) = int_0^T e^{At} B B^T e^{A^T t} dt", **_SECOND["controllability"])
+observability_gramian.__doc__ = _GRAMIAN_DOC.format(
+    formula="W_o(T) = int_0^T e^{A^T t} C^T C e^{At} dt", **_SECOND["observability"])
 
 
 def ltv_observability_gramian(stms, H, weights=None) -> GramianReport:
