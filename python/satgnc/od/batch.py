@@ -25,20 +25,12 @@ import numpy as np
 from .. import _satgnc
 from .._results import Result, adopt
 from .._validate import as_bool, as_int, as_real, as_real_array, one_of
+from ..observation import OBSERVABLES  # names in the order of their integer codes (ObservableType)
+from ..observation import STATUS_NAMES as _OBS_STATUS
 
 TrackingData = _satgnc.TrackingData
 
-#: Observable names, in the order of their integer codes (observation::ObservableType).
-OBSERVABLES: tuple[str, ...] = (
-    "one_way_range",
-    "two_way_range",
-    "one_way_range_rate",
-    "two_way_range_rate",
-    "azimuth_elevation",
-    "right_ascension_declination",
-)
 _PAIRS = (4, 5)
-_OBS_STATUS: dict[int, str] = {int(v): k for k, v in _satgnc.ObservationStatus.__members__.items()}
 
 __all__ = [
     "OBSERVABLES",

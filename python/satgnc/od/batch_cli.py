@@ -227,6 +227,24 @@ def _run(args: Any) -> int:
     return 0 if r.converged else 1
 
 
+def add_troposphere_arguments(p: Any) -> None:
+    """``--troposphere`` and ``--wavelength``, the same in ``od batch`` and ``od filter``."""
+    from ..cli import positive_float
+
+    p.add_argument(
+        "--troposphere",
+        default="none",
+        choices=["none", "saastamoinen", "mendes_pavlis", "marini_murray"],
+        help="troposphere model (default none: data already corrected)",
+    )
+    p.add_argument(
+        "--wavelength",
+        type=positive_float,
+        default=0.532,
+        help="laser wavelength, um (mendes_pavlis, marini_murray)",
+    )
+
+
 def register(sub: Any) -> None:
     """Add ``batch`` to the ``satgnc od`` subcommands."""
     from ..cli import int_at_least, positive_float
@@ -258,18 +276,7 @@ def register(sub: Any) -> None:
     b.add_argument(
         "--estimate-time-bias", action="append", metavar="NAME", help="station whose time bias is estimated"
     )
-    b.add_argument(
-        "--troposphere",
-        default="none",
-        choices=["none", "saastamoinen", "mendes_pavlis", "marini_murray"],
-        help="troposphere model (default none: data already corrected)",
-    )
-    b.add_argument(
-        "--wavelength",
-        type=positive_float,
-        default=0.532,
-        help="laser wavelength, um (mendes_pavlis, marini_murray)",
-    )
+    add_troposphere_arguments(b)
     b.add_argument("--shapiro", action="store_true", help="add the Shapiro delay")
     b.add_argument(
         "--no-light-time", action="store_true", help="instantaneous geometry (for comparison only)"

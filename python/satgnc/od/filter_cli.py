@@ -245,6 +245,7 @@ def _run(args: Any) -> int:
 def register(sub: Any) -> None:
     """Add ``filter`` to the ``satgnc od`` subcommands."""
     from ..cli import finite_float, positive_float
+    from .batch_cli import add_troposphere_arguments
 
     f = sub.add_parser(
         "filter", help="sequential OD (EKF/UKF, optional RTS smoother) over a TDM; writes an OEM"
@@ -273,18 +274,7 @@ def register(sub: Any) -> None:
     f.add_argument("--sigma-range-rate", type=positive_float, default=1e-6, help="km/s (default 1e-6)")
     f.add_argument("--sigma-angle", type=positive_float, default=0.005, help="deg (default 0.005)")
     f.add_argument("--estimate-range-bias", action="store_true", help="one range-bias state per station (km)")
-    f.add_argument(
-        "--troposphere",
-        default="none",
-        choices=["none", "saastamoinen", "mendes_pavlis", "marini_murray"],
-        help="troposphere model (default none: data already corrected)",
-    )
-    f.add_argument(
-        "--wavelength",
-        type=positive_float,
-        default=0.532,
-        help="laser wavelength, um (mendes_pavlis, marini_murray)",
-    )
+    add_troposphere_arguments(f)
     f.add_argument("--sigma-position", type=positive_float, default=1.0, help="a priori, km (default 1)")
     f.add_argument(
         "--sigma-velocity", type=positive_float, default=1e-3, help="a priori, km/s (default 1e-3)"

@@ -33,19 +33,13 @@ import numpy as np
 from .. import _satgnc as _c
 from .._results import Result
 from .._validate import as_bool, as_int, as_real, as_real_array, one_of
-from ..observation import measurement_model
+from ..observation import (
+    OBSERVABLES,  # the names the filter accepts: km, km, km/s, km/s, rad pairs
+    measurement_model,
+)
 
 __all__ = ["FilterResult", "OBSERVABLES", "filter", "smooth", "process_noise"]
 
-#: The observables the filter accepts (names of :mod:`satgnc.observation`), with their units.
-OBSERVABLES = (
-    "one_way_range",  # km
-    "two_way_range",  # km
-    "one_way_range_rate",  # km/s
-    "two_way_range_rate",  # km/s
-    "azimuth_elevation",  # rad, rad
-    "right_ascension_declination",  # rad, rad
-)
 STEP_STATUS = tuple(str(s) for s in _c.FILTER_STEP_STATUS)
 
 
