@@ -39,6 +39,65 @@ def ric(x):
     return np.vstack([rh, np.cross(ch, rh), ch])
 
 
+def records(sim):
+    """(t, station, observable, value) of a simulate_tracking result: the filter's positional data."""
+    return sim["t"], sim["station"], sim["observable"], sim["value"]
+
+
+def ric_errors(truth, xs, ps):
+    """Position error and 1-sigma (km) in the RIC frame of the truth, per tag: (K, 3) each."""
+    err = np.empty((xs.shape[0], 3))
+    sig = np.empty((xs.shape[0], 3))
+    for k in range(xs.shape[0]):
+        m = ric(truth[k])
+        err[k] = m @ (xs[k, :3] - truth[k, :3])
+        sig[k] = np.sqrt(np.diag(m @ ps[k, :3, :3] @ m.T))
+    return err, sig
+
+
+def plot_ric_column(col, t_h, err, sig, name, first, **title_kw):
+    """One estimate's radial / in-track / cross-track errors (m) and +-3 sigma on the axes ``col``."""
+    for i, lab in enumerate(("radial", "in-track", "cross-track")):
+        ax = col[i]
+        ax.plot(t_h, err[:, i] * 1e3, ".", ms=3, label="error")
+        ax.plot(t_h, 3e3 * sig[:, i], "r-", lw=0.8, label="+-3 sigma")
+        ax.plot(t_h, -3e3 * sig[:, i], "r-", lw=0.8)
+        lim = max(5 * np.median(3e3 * sig[:, i]), 1.0)
+        ax.set_ylim(-lim, lim)
+        if first:
+            ax.set_ylabel(f"{lab} error, m")
+        if i == 0:
+            ax.set_title(name, **title_kw)
+        if i == 2:
+            ax.set_xlabel("time, h (measurement tags)")
+
+
+def ric_columns(axes, t_h, truth, runs, row, **title_kw):
+    """One column of ``axes`` per estimate of ``runs`` ({name: (states (K, n), covariances (K, n, n))}),
+    and its table row ``row(name, xs, ps, err, sig, inside)`` (inside: fraction of tags within 3 sigma)."""
+    rows = []
+    for j, (name, (xs, ps)) in enumerate(runs.items()):
+        err, sig = ric_errors(truth, xs, ps)
+        inside = np.mean(np.all(np.abs(err) <= 3 * sig, axis=1))
+        rows.append(row(name, xs, ps, err, sig, inside))
+        plot_ric_column(axes[:, j], t_h, err, sig, name, j == 0, **title_kw)
+    return rows
+
+
+def plot_residuals(axes, t_h, observable, series):
+    """Range (m) and range-rate (mm/s) residuals of ``series`` = [(label, marker, (K, 2) km or km/s)]
+    with the +-3 sigma lines of the simulated noise (5 m, 1 mm/s)."""
+    for i, (lab, unit, s) in enumerate((("two-way range", "m", 5.0), ("two-way range-rate", "mm/s", 1.0))):
+        sel = observable == i
+        scale = 1e3 if i == 0 else 1e6
+        for label, marker, res in series:
+            axes[i].plot(t_h[sel], res[sel, 0] * scale, marker, ms=3, label=label)
+        axes[i].axhline(3 * s, color="r", lw=0.8)
+        axes[i].axhline(-3 * s, color="r", lw=0.8, label="+-3 sigma")
+        axes[i].set_ylim(-10 * s, 10 * s)
+        axes[i].set_ylabel(f"{lab}, {unit}")
+
+
 def campaign(out: pathlib.Path, runs: int, executor: str) -> None:
     """Multi-pass consistency campaign: ``runs`` seeded runs of the whole 6 h arc (220 records, six
     visibility periods of the two stations), no process noise (the model is the truth), for the EKF
@@ -121,10 +180,7 @@ def drag_scenario(out: pathlib.Path) -> None:
     p0 = np.diag([1.0] * 3 + [1e-6] * 3)
     common = dict(stations=st, x0=x0 + dx0, force_model=model(2.2))
     ra = satgnc.od.smooth(
-        sim["t"],
-        sim["station"],
-        sim["observable"],
-        sim["value"],
+        *records(sim),
         P0=p0,
         estimate_cd=True,
         cd_sigma=0.5,
@@ -132,10 +188,7 @@ def drag_scenario(out: pathlib.Path) -> None:
         **common,
     )
     rb = satgnc.od.smooth(
-        sim["t"],
-        sim["station"],
-        sim["observable"],
-        sim["value"],
+        *records(sim),
         P0=p0,
         snc_psd_ric=[1e-14, 1e-12, 1e-14],
         **common,
@@ -148,39 +201,19 @@ def drag_scenario(out: pathlib.Path) -> None:
     }
     t_h = sim["t"] / 3600.0
     fig, axes = plt.subplots(3, 4, figsize=(16, 8), sharex=True)
-    rows = []
-    for j, (name, (xs, ps)) in enumerate(runs.items()):
-        err = np.empty((xs.shape[0], 3))
-        sig = np.empty((xs.shape[0], 3))
-        for k in range(xs.shape[0]):
-            m = ric(sim["truth"][k])
-            err[k] = m @ (xs[k, :3] - sim["truth"][k, :3])
-            sig[k] = np.sqrt(np.diag(m @ ps[k, :3, :3] @ m.T))
-        inside = np.mean(np.all(np.abs(err) <= 3 * sig, axis=1))
-        rows.append(
-            (
-                name,
-                np.linalg.norm(err[0]) * 1e3,
-                np.sqrt(np.sum(sig[0] ** 2)) * 1e3,
-                np.linalg.norm(err[-1]) * 1e3,
-                np.sqrt(np.sum(sig[-1] ** 2)) * 1e3,
-                np.max(np.abs(err[:, 1])) * 1e3,
-                inside,
-            )
+
+    def row(name, xs, ps, err, sig, inside):
+        return (
+            name,
+            np.linalg.norm(err[0]) * 1e3,
+            np.sqrt(np.sum(sig[0] ** 2)) * 1e3,
+            np.linalg.norm(err[-1]) * 1e3,
+            np.sqrt(np.sum(sig[-1] ** 2)) * 1e3,
+            np.max(np.abs(err[:, 1])) * 1e3,
+            inside,
         )
-        for i, lab in enumerate(("radial", "in-track", "cross-track")):
-            ax = axes[i, j]
-            ax.plot(t_h, err[:, i] * 1e3, ".", ms=3, label="error")
-            ax.plot(t_h, 3e3 * sig[:, i], "r-", lw=0.8, label="+-3 sigma")
-            ax.plot(t_h, -3e3 * sig[:, i], "r-", lw=0.8)
-            lim = max(5 * np.median(3e3 * sig[:, i]), 1.0)
-            ax.set_ylim(-lim, lim)
-            if j == 0:
-                ax.set_ylabel(f"{lab} error, m")
-            if i == 0:
-                ax.set_title(name, fontsize=10)
-            if i == 2:
-                ax.set_xlabel("time, h (measurement tags)")
+
+    rows = ric_columns(axes, t_h, sim["truth"], runs, row, fontsize=10)
     axes[0, 0].legend(loc="upper right", fontsize=8)
     fig.suptitle("Drag-dominated 300 km LEO (true Cd 2.6, model 2.2): estimation error (RIC) and 3-sigma")
     fig.tight_layout()
@@ -188,15 +221,12 @@ def drag_scenario(out: pathlib.Path) -> None:
     plt.close(fig)
 
     fig, axes = plt.subplots(3, 1, figsize=(11, 8), sharex=True)
-    for i, (lab, unit, s_) in enumerate((("two-way range", "m", 5.0), ("two-way range-rate", "mm/s", 1.0))):
-        sel = sim["observable"] == i
-        scale = 1e3 if i == 0 else 1e6
-        axes[i].plot(t_h[sel], ra.prefit[sel, 0] * scale, ".", ms=3, label="Cd estimated: pre-fit")
-        axes[i].plot(t_h[sel], rb.prefit[sel, 0] * scale, "x", ms=3, label="Cd fixed + SNC: pre-fit")
-        axes[i].axhline(3 * s_, color="r", lw=0.8)
-        axes[i].axhline(-3 * s_, color="r", lw=0.8, label="+-3 sigma")
-        axes[i].set_ylim(-10 * s_, 10 * s_)
-        axes[i].set_ylabel(f"{lab}, {unit}")
+    plot_residuals(
+        axes,
+        t_h,
+        sim["observable"],
+        [("Cd estimated: pre-fit", ".", ra.prefit), ("Cd fixed + SNC: pre-fit", "x", rb.prefit)],
+    )
     axes[0].legend(loc="upper right", fontsize=8, ncol=3)
     ci = ra.state_names.index("cd")
     cs = np.sqrt(ra.covariance[:, ci, ci])
@@ -259,10 +289,7 @@ def main() -> int:
     )
     st = list(sc.stations)
     r = satgnc.od.smooth(
-        sim["t"],
-        sim["station"],
-        sim["observable"],
-        sim["value"],
+        *records(sim),
         stations=st,
         x0=sc.x0 + DX0,
         P0=P0,
@@ -295,10 +322,7 @@ def main() -> int:
     # the EKF's linearization there makes it overconfident: 47 rejections, 9.9 m error vs 0.46 m sigma)
     p0b = np.diag([0.01**2] * 3 + [1e-5**2] * 3)
     r2 = satgnc.od.smooth(
-        sim["t"],
-        sim["station"],
-        sim["observable"],
-        sim["value"],
+        *records(sim),
         stations=st,
         x0=r.smoothed_initial_state,
         P0=p0b,
@@ -314,38 +338,18 @@ def main() -> int:
     }
     t_h = sim["t"] / 3600.0
     fig, axes = plt.subplots(3, 5, figsize=(19, 8), sharex=True)
-    rows = []
-    for j, (name, (xs, ps)) in enumerate(runs.items()):
-        err = np.empty((xs.shape[0], 3))
-        sig = np.empty((xs.shape[0], 3))
-        for k in range(xs.shape[0]):
-            m = ric(sim["truth"][k])
-            err[k] = m @ (xs[k, :3] - sim["truth"][k, :3])
-            sig[k] = np.sqrt(np.diag(m @ ps[k, :3, :3] @ m.T))
-        inside = np.mean(np.all(np.abs(err) <= 3 * sig, axis=1))
-        rows.append(
-            (
-                name,
-                np.linalg.norm(xs[0, :3] - sim["truth"][0, :3]) * 1e3,
-                np.sqrt(np.trace(ps[0, :3, :3])) * 1e3,
-                np.linalg.norm(xs[-1, :3] - sim["truth"][-1, :3]) * 1e3,
-                np.sqrt(np.trace(ps[-1, :3, :3])) * 1e3,
-                inside,
-            )
+
+    def row(name, xs, ps, err, sig, inside):
+        return (
+            name,
+            np.linalg.norm(xs[0, :3] - sim["truth"][0, :3]) * 1e3,
+            np.sqrt(np.trace(ps[0, :3, :3])) * 1e3,
+            np.linalg.norm(xs[-1, :3] - sim["truth"][-1, :3]) * 1e3,
+            np.sqrt(np.trace(ps[-1, :3, :3])) * 1e3,
+            inside,
         )
-        for i, lab in enumerate(("radial", "in-track", "cross-track")):
-            ax = axes[i, j]
-            ax.plot(t_h, err[:, i] * 1e3, ".", ms=3, label="error")
-            ax.plot(t_h, 3e3 * sig[:, i], "r-", lw=0.8, label="+-3 sigma")
-            ax.plot(t_h, -3e3 * sig[:, i], "r-", lw=0.8)
-            lim = max(5 * np.median(3e3 * sig[:, i]), 1.0)
-            ax.set_ylim(-lim, lim)
-            if j == 0:
-                ax.set_ylabel(f"{lab} error, m")
-            if i == 0:
-                ax.set_title(name)
-            if i == 2:
-                ax.set_xlabel("time, h (measurement tags)")
+
+    rows = ric_columns(axes, t_h, sim["truth"], runs, row)
     axes[0, 0].legend(loc="upper right", fontsize=8)
     fig.suptitle(
         "Estimation error (RIC) and 3-sigma envelopes: filter, smoother, batch; 2 stations, 2 passes each"
@@ -357,18 +361,11 @@ def main() -> int:
     # Residuals: filter pre-fit, smoother post-fit (at the smoothed states: predicted by the filter's
     # measurement model), batch post-fit, normalized by sigma.
     fig, axes = plt.subplots(2, 1, figsize=(11, 6), sharex=True)
-    for i, (lab, unit, s) in enumerate((("two-way range", "m", 5.0), ("two-way range-rate", "mm/s", 1.0))):
-        sel = sim["observable"] == i
-        scale = 1e3 if i == 0 else 1e6
-        axes[i].plot(t_h[sel], r.prefit[sel, 0] * scale, ".", ms=3, label="filter pre-fit")
-        axes[i].plot(t_h[sel], r.postfit[sel, 0] * scale, ".", ms=3, label="filter post-fit")
-        bsel = np.asarray(b.residuals)
-        if bsel.shape[0] == sim["t"].size:
-            axes[i].plot(t_h[sel], bsel[sel, 0] * scale, ".", ms=3, label="batch post-fit")
-        axes[i].axhline(3 * s, color="r", lw=0.8)
-        axes[i].axhline(-3 * s, color="r", lw=0.8, label="+-3 sigma")
-        axes[i].set_ylim(-10 * s, 10 * s)
-        axes[i].set_ylabel(f"{lab}, {unit}")
+    series = [("filter pre-fit", ".", r.prefit), ("filter post-fit", ".", r.postfit)]
+    bres = np.asarray(b.residuals)
+    if bres.shape[0] == sim["t"].size:
+        series.append(("batch post-fit", ".", bres))
+    plot_residuals(axes, t_h, sim["observable"], series)
     axes[0].legend(loc="upper right", fontsize=8, ncol=4)
     axes[1].set_xlabel("time, h")
     fig.suptitle(
