@@ -35,14 +35,17 @@ def truth() -> np.ndarray:
     )
 
 
-def main() -> None:
-    span, dt = 24 * 3600.0, 60.0
+def simulate_tdm(eop, span: float, dt: float, seed: int, *, rounded: bool = True, comments=()):
+    """Simulated two-way tracking of :func:`truth` over ``span`` s every ``dt`` s, one TDM segment per
+    station in SITES; returns (Tdm, truth). ``eop``: a satgnc EOP table; ``rounded``: values to
+    1e-9 km (1e-12 km/s for range-rate), as in the shipped file; tests/python/test_od_batch_cli.py
+    calls this with its own span, seed and EOP sample."""
     epoch = Epoch.parse(EPOCH, "UTC")
-    rot = frames.IauEarthRotation(epoch, frames.default_eop(), -3600.0, span + 3600.0)
+    rot = frames.IauEarthRotation(epoch, eop, -3600.0, span + 3600.0)
     x0 = truth()
     t = np.arange(0.0, span, dt)
     xs = propagation.propagate(x0, t, forces=_satgnc.J2Gravity(), with_stm=False).states
-    rng = np.random.default_rng(7)
+    rng = np.random.default_rng(seed)
     kinds = ("two_way_range", "two_way_range_rate", "azimuth_elevation")
     models = {k: observation.measurement_model(k) for k in kinds}
     segments = []
@@ -67,7 +70,7 @@ def main() -> None:
             ):
                 kw.append(k)
                 ep.append(tag)
-                val.append(round(float(v), 9 if k != "DOPPLER_INSTANTANEOUS" else 12))
+                val.append(round(float(v), 9 if k != "DOPPLER_INSTANTANEOUS" else 12) if rounded else v)
         md = io.TdmMetadata(
             time_system="UTC",
             participants=(name, "SAT"),
@@ -75,16 +78,17 @@ def main() -> None:
             path=(1, 2, 1),
             range_units="km",
             angle_type="AZEL",
-            comments=(
-                "simulated by examples/data/make_leo_tracking.py: two-way, light time, "
-                "IAU 2006/2000A + EOP, noise 1 m / 1 mm/s / 0.005 deg",
-            ),
+            comments=tuple(comments),
         )
         segments.append(
             io.TdmSegment(metadata=md, keywords=tuple(kw), epochs=tuple(ep), values=np.array(val))
         )
     header = io.Header(creation_date="2026-12-03T00:00:00", originator="SATGNC")
-    io.write_tdm(HERE / "leo_tracking.tdm", io.Tdm(header=header, segments=tuple(segments)))
+    return io.Tdm(header=header, segments=tuple(segments)), x0
+
+
+def stations_toml() -> str:
+    """The stations file of SITES (``satgnc od batch --stations``)."""
     lines = ["# Ground stations of leo_tracking.tdm (WGS-84 geodetic; satgnc od batch --stations)"]
     for name, (lat, lon, h) in SITES.items():
         lines += [
@@ -94,7 +98,22 @@ def main() -> None:
             f"longitude = {lon}  # deg east",
             f"height = {h}       # km above the ellipsoid",
         ]
-    (HERE / "stations.toml").write_text("\n".join(lines) + "\n")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    tdm, x0 = simulate_tdm(
+        frames.default_eop(),
+        24 * 3600.0,
+        60.0,
+        7,
+        comments=(
+            "simulated by examples/data/make_leo_tracking.py: two-way, light time, "
+            "IAU 2006/2000A + EOP, noise 1 m / 1 mm/s / 0.005 deg",
+        ),
+    )
+    io.write_tdm(HERE / "leo_tracking.tdm", tdm)
+    (HERE / "stations.toml").write_text(stations_toml())
     print("truth (GCRF km, km/s):", ",".join(f"{v:.6f}" for v in x0))
 
 

@@ -1,8 +1,9 @@
 """``satgnc od batch``: batch OD on a CCSDS TDM end to end from the command line (issue 13).
 
-A TDM is generated here with the truth known: an SSO at 600 km propagated with J2 (satgnc's DOP853),
-two-way light-time range, range-rate and az/el of two stations fixed in ITRF (Kiruna, Weilheim) on
-IAU 2006/2000A with the shipped EOP sample (tests/data/eop), noise 1 m / 1 mm/s / 0.005 deg, a 5 m
+A TDM is generated here (``simulate_tdm`` of examples/data/make_leo_tracking.py) with the truth known:
+an SSO at 600 km propagated with J2 (satgnc's DOP853), two-way light-time range, range-rate and az/el
+of two stations fixed in ITRF (Kiruna, Weilheim) on IAU 2006/2000A with the shipped EOP sample
+(tests/data/eop), noise 1 m / 1 mm/s / 0.005 deg, a 5 m
 range bias at Weilheim. The command must converge to the noise level (RMS of the normalized residuals
 within [0.8, 1.2]) and to the truth within 3 formal sigmas (position, velocity and the bias), and write
 JSON and OEM (KVN, XML) results that agree. Bad input: one line ``satgnc: error: ...`` on stderr, exit 2.
@@ -10,21 +11,17 @@ JSON and OEM (KVN, XML) results that agree. Bad input: one line ``satgnc: error:
 
 from __future__ import annotations
 
+import importlib.util
 import json
-import math
 import pathlib
 
 import numpy as np
 import pytest
-from satgnc import _satgnc, frames, io, observation, propagation
+from satgnc import frames, io
 from satgnc.cli import main
-from satgnc.time import Epoch
 
 EOP = pathlib.Path(__file__).resolve().parents[1] / "data" / "eop" / "finals2000A_2016-12.txt"
-EPOCH = "2016-12-10T00:00:00"
-SITES = {"KIRUNA": (67.8571, 20.9641, 0.402), "WEILHEIM": (47.8813, 11.0785, 0.664)}
-RANGE_BIAS = {"KIRUNA": 0.0, "WEILHEIM": 5e-3}  # km
-SIG_RANGE, SIG_RR, SIG_ANG_DEG = 1e-3, 1e-6, 0.005  # km, km/s, deg (the CLI's defaults)
+# The stations of the generator's SITES, written here: the bad-input tests name lines of this text.
 STATIONS_TOML = """# WGS-84 geodetic
 [KIRUNA]
 latitude = 67.8571   # deg
@@ -38,65 +35,25 @@ height = 0.664
 """
 
 
-def _truth() -> np.ndarray:
-    a, inc, raan, u = 6378.137 + 600.0, math.radians(97.8), 1.0, 2.5
-    v = math.sqrt(float(_satgnc.EARTH_MU) / a)
-    ci, si, co, so = math.cos(inc), math.sin(inc), math.cos(raan), math.sin(raan)
-    rot = np.array([[co, -so * ci, so * si], [so, co * ci, -co * si], [0.0, si, ci]])
-    return np.concatenate(
-        [rot @ [a * math.cos(u), a * math.sin(u), 0.0], rot @ [-v * math.sin(u), v * math.cos(u), 0.0]]
-    )
+def _load_generator():
+    # The example data generator (examples/data/make_leo_tracking.py) simulates the tracking; the test
+    # runs it with its own span, seed and EOP sample and unrounded values.
+    path = pathlib.Path(__file__).resolve().parents[2] / "examples" / "data" / "make_leo_tracking.py"
+    spec = importlib.util.spec_from_file_location("make_leo_tracking", path)
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+GEN = _load_generator()
+EPOCH = GEN.EPOCH
+RANGE_BIAS = GEN.RANGE_BIAS  # km
 
 
 def _write_tdm(path: pathlib.Path, span: float = 43200.0, dt: float = 30.0, seed: int = 4) -> np.ndarray:
     """Simulated two-way tracking of the truth: one TDM segment per station; returns the truth."""
-    epoch = Epoch.parse(EPOCH, "UTC")
-    rot = frames.IauEarthRotation(epoch, frames.load_eop(EOP), -3600.0, span + 3600.0)
-    x0 = _truth()
-    t = np.arange(0.0, span, dt)
-    xs = propagation.propagate(x0, t, forces=_satgnc.J2Gravity(), with_stm=False).states
-    rng = np.random.default_rng(seed)
-    models = {
-        k: observation.measurement_model(k)
-        for k in ("two_way_range", "two_way_range_rate", "azimuth_elevation")
-    }
-    segments = []
-    for name, (lat, lon, h) in SITES.items():
-        st = observation.EarthFixedStationEphemeris.from_ground_station(
-            frames.GroundStation(lat, lon, h, 0.0, name), rot
-        )
-        ang = observation.predict(models["azimuth_elevation"], st, t, xs).value
-        vis = np.degrees(ang[:, 1]) > 10.0
-        tv, xv = t[vis], xs[vis]
-        rng_km = observation.predict(models["two_way_range"], st, tv, xv, range_bias=RANGE_BIAS[name]).value
-        rr = observation.predict(models["two_way_range_rate"], st, tv, xv).value
-        az_el = np.degrees(ang[vis])
-        kw, ep, val = [], [], []
-        for i, ti in enumerate(tv):
-            tag = (epoch + float(ti)).to_iso("UTC", 3)
-            for k, v in (
-                ("RANGE", rng_km[i] + SIG_RANGE * rng.normal()),
-                ("DOPPLER_INSTANTANEOUS", rr[i] + SIG_RR * rng.normal()),
-                ("ANGLE_1", (az_el[i, 0] + SIG_ANG_DEG * rng.normal()) % 360.0),
-                ("ANGLE_2", az_el[i, 1] + SIG_ANG_DEG * rng.normal()),
-            ):
-                kw.append(k)
-                ep.append(tag)
-                val.append(v)
-        md = io.TdmMetadata(
-            time_system="UTC",
-            participants=(name, "SAT"),
-            mode="SEQUENTIAL",
-            path=(1, 2, 1),
-            range_units="km",
-            angle_type="AZEL",
-        )
-        segments.append(
-            io.TdmSegment(metadata=md, keywords=tuple(kw), epochs=tuple(ep), values=np.array(val))
-        )
-    tdm = io.Tdm(
-        header=io.Header(creation_date="2026-12-03T00:00:00", originator="SATGNC"), segments=tuple(segments)
-    )
+    tdm, x0 = GEN.simulate_tdm(frames.load_eop(EOP), span, dt, seed, rounded=False)
     io.write_tdm(path, tdm)
     return x0
 
