@@ -12,6 +12,7 @@ from __future__ import annotations
 import cvxpy as cp
 import numpy as np
 import pytest
+from _l1_reference import clarabel_l1_value
 from satgnc.guidance import L1Solver, cw_discretize
 from test_l1_random import clarabel, draw
 
@@ -28,17 +29,7 @@ def _box_case(seed):
 
 
 def _clarabel_box(Ad, Bd, x0, terminal_equality):
-    U = cp.Variable((N, 3))
-    X = cp.Variable((N + 1, 6))
-    cons = [X[0] == x0] + [X[k + 1] == Ad @ X[k] + Bd @ U[k] for k in range(N)] + [cp.abs(U) <= UMAX]
-    obj = cp.sum(cp.abs(U))
-    if terminal_equality:
-        cons.append(X[N] == 0)
-    else:
-        obj = obj + 0.5 * cp.quad_form(X[N], 10.0 * np.eye(6))
-    p = cp.Problem(cp.Minimize(obj), cons)
-    p.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
-    return p.value
+    return clarabel_l1_value(Ad, Bd, x0, N, lambda U: [cp.abs(U) <= UMAX], terminal_equality)
 
 
 @pytest.mark.parametrize("max_it", [60, 200])

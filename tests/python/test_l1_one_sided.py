@@ -8,9 +8,9 @@ Reference: cvxpy + Clarabel on the same problem.
 
 from __future__ import annotations
 
-import cvxpy as cp
 import numpy as np
 import pytest
+from _l1_reference import clarabel_l1_value
 from satgnc.guidance import L1Solver, cw_discretize
 
 N = 40
@@ -19,17 +19,7 @@ T = np.hstack([np.eye(3), -np.eye(3)])  # six one-sided thrusters +-x, +-y, +-z
 
 
 def _clarabel(Ad, Bd, x0, terminal_equality):
-    U = cp.Variable((N, 6))
-    X = cp.Variable((N + 1, 6))
-    cons = [X[0] == x0] + [X[k + 1] == Ad @ X[k] + Bd @ U[k] for k in range(N)] + [U >= 0.0, U <= UMAX]
-    obj = cp.sum(cp.abs(U))
-    if terminal_equality:
-        cons.append(X[N] == 0)
-    else:
-        obj = obj + 0.5 * cp.quad_form(X[N], 10.0 * np.eye(6))
-    p = cp.Problem(cp.Minimize(obj), cons)
-    p.solve(solver=cp.CLARABEL, tol_gap_abs=1e-10, tol_gap_rel=1e-10, tol_feas=1e-10)
-    return p.value
+    return clarabel_l1_value(Ad, Bd, x0, N, lambda U: [U >= 0.0, U <= UMAX], terminal_equality)
 
 
 def _case(seed):

@@ -10,6 +10,7 @@ import pathlib
 
 import numpy as np
 import pytest
+from _helpers import write
 from satgnc import FileFormatError, cli
 from satgnc.guidance.constrained import constrained_plan, constraint_violation
 from satgnc.scenarios import rendezvous
@@ -34,12 +35,6 @@ a = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]
 b = 0.0
 from_node = 30
 """
-
-
-def write(tmp_path, text, name="s.toml"):
-    p = tmp_path / name
-    p.write_text(text)
-    return p
 
 
 def test_every_key_reads_with_units_and_defaults(tmp_path):

@@ -7,6 +7,7 @@ import json
 
 import numpy as np
 import pytest
+from _helpers import write
 from satgnc import FileFormatError, cli
 from satgnc.scenarios import rendezvous
 
@@ -64,12 +65,6 @@ samples = 60
 [failures]
 pairs = false
 """
-
-
-def write(tmp_path, text, name="s.toml"):
-    p = tmp_path / name
-    p.write_text(text)
-    return p
 
 
 def test_sections_read_with_units_and_defaults(tmp_path):
@@ -150,11 +145,16 @@ def test_cli_passive_safety_and_min_time(tmp_path, capsys):
     assert (out / "fuel_time_hard.png").stat().st_size > 10_000
 
 
-def test_cli_keep_out_with_clarabel_subproblems(tmp_path, capsys):
+def _hold_point_scenario(tmp_path):
+    # The keep-out scenario with a hold point at -40 m on the V-bar, approached along it.
     text = (BASE + THRUSTERS).replace("semi_axes = [20.0, 20.0, 20.0]   # m",
                                       "semi_axes = [20.0, 20.0, 20.0]   # m\nhold_point = [-40.0, 0.0, 0.0]")
     text = text.replace("position = [120.0, -60.0, 30.0]", "position = [120.0, 0.0, 0.0]")
-    p = write(tmp_path, text.replace("velocity = [0.0, 0.0, 0.001]", "velocity = [-0.001, 0.0, 0.0]"))
+    return write(tmp_path, text.replace("velocity = [0.0, 0.0, 0.001]", "velocity = [-0.001, 0.0, 0.0]"))
+
+
+def test_cli_keep_out_with_clarabel_subproblems(tmp_path, capsys):
+    p = _hold_point_scenario(tmp_path)
     out = tmp_path / "out"
     argv = ["rendezvous", "--scenario", str(p), "--keep-out", "--subproblem", "cvxpy", "--out", str(out)]
     assert cli.main(argv) == 0
@@ -165,10 +165,7 @@ def test_cli_keep_out_with_clarabel_subproblems(tmp_path, capsys):
 def test_cli_keep_out_with_passive_safety_imposed(tmp_path, capsys):
     # --keep-out --passive-safety: the scenario's [passive_safety] drift imposed in the keep-out SCP
     # (engine subproblems) and checked on the [truth]; the json carries the verdict, the figure is drawn
-    text = (BASE + THRUSTERS).replace("semi_axes = [20.0, 20.0, 20.0]   # m",
-                                      "semi_axes = [20.0, 20.0, 20.0]   # m\nhold_point = [-40.0, 0.0, 0.0]")
-    text = text.replace("position = [120.0, -60.0, 30.0]", "position = [120.0, 0.0, 0.0]")
-    p = write(tmp_path, text.replace("velocity = [0.0, 0.0, 0.001]", "velocity = [-0.001, 0.0, 0.0]"))
+    p = _hold_point_scenario(tmp_path)
     out = tmp_path / "out"
     argv = ["rendezvous", "--scenario", str(p), "--keep-out", "--passive-safety", "--out", str(out)]
     assert cli.main(argv) == 0
