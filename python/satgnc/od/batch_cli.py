@@ -73,31 +73,36 @@ def _result_json(r: Any, epoch: Any, names: list[str], args: Any) -> dict[str, A
     }
 
 
-def _write_oem(path: pathlib.Path, r: Any, epoch: Any, args: Any, xml: bool) -> None:
+def estimate_oem(epochs: Any, states: Any, covariances: Any, comment: str) -> Any:
+    """The OEM (object SAT, GCRF, UTC) of estimated states (K, 6) in km, km/s at the ISO ``epochs`` with
+    their symmetrized 6 x 6 covariances; ``od batch`` and ``od filter`` write it."""
     from .. import io as _io
 
-    ep = epoch.to_iso("UTC", 6)
     md = _io.OemMetadata(
         object_name="SAT",
         object_id="UNKNOWN",
         center_name="EARTH",
         ref_frame="GCRF",
         time_system="UTC",
-        start_time=ep,
-        stop_time=ep,
-        comments=(
-            f"satgnc od batch over {args.tdm}: {r.status}, {r.iterations} iterations, RMS {r.rms:.4g}",
-        ),
+        start_time=epochs[0],
+        stop_time=epochs[-1],
+        comments=(comment,),
     )
-    c = r.covariance[:6, :6]
-    seg = _io.OemSegment(
-        metadata=md,
-        epochs=(ep,),
-        states=r.state.reshape(1, 6),
-        covariances=(_io.OemCovariance(epoch=ep, matrix=0.5 * (c + c.T)),),
+    cv = tuple(
+        _io.OemCovariance(epoch=e, matrix=0.5 * (c[:6, :6] + c[:6, :6].T))
+        for e, c in zip(epochs, covariances)
     )
+    seg = _io.OemSegment(metadata=md, epochs=tuple(epochs), states=states, covariances=cv)
     now = _dt.datetime.now(_dt.timezone.utc).replace(tzinfo=None).isoformat(timespec="seconds")
-    oem = _io.Oem(header=_io.Header(creation_date=now, originator="SATGNC"), segments=(seg,))
+    return _io.Oem(header=_io.Header(creation_date=now, originator="SATGNC"), segments=(seg,))
+
+
+def _write_oem(path: pathlib.Path, r: Any, epoch: Any, args: Any, xml: bool) -> None:
+    from .. import io as _io
+
+    ep = epoch.to_iso("UTC", 6)
+    comment = f"satgnc od batch over {args.tdm}: {r.status}, {r.iterations} iterations, RMS {r.rms:.4g}"
+    oem = estimate_oem((ep,), r.state.reshape(1, 6), (r.covariance,), comment)
     (_io.write_oem_xml if xml else _io.write_oem)(path, oem)
 
 

@@ -131,6 +131,7 @@ def _run(args: Any) -> int:
     from ..time import Epoch
     from . import filtering
     from .batch import OBSERVABLES, read_tracking_tdm
+    from .batch_cli import estimate_oem
 
     tdm_path = str(args.tdm)
     if not pathlib.Path(tdm_path).is_file():
@@ -204,29 +205,16 @@ def _run(args: Any) -> int:
     covs = r.smoothed_covariance if args.smooth else r.covariance
     keep = np.r_[np.diff(r.t) > 0, True]  # one OEM line per distinct tag: the last step at it
     eps = [(epoch + float(tk)).to_iso("UTC", 3) for tk in r.t[keep]]
-    md = _io.OemMetadata(
-        object_name="SAT",
-        object_id="UNKNOWN",
-        center_name="EARTH",
-        ref_frame="GCRF",
-        time_system="UTC",
-        start_time=eps[0],
-        stop_time=eps[-1],
-        comments=(
-            "satgnc od filter: "
-            + ("RTS smoother" if args.smooth else f"{args.method.upper()}")
-            + f" over {args.tdm}; stations {args.station_model}; {r.message}",
-        ),
+    comment = (
+        "satgnc od filter: "
+        + ("RTS smoother" if args.smooth else f"{args.method.upper()}")
+        + f" over {args.tdm}; stations {args.station_model}; {r.message}"
     )
-    cv = tuple(
-        _io.OemCovariance(epoch=e, matrix=0.5 * (c[:6, :6] + c[:6, :6].T)) for e, c in zip(eps, covs[keep])
-    )
-    seg = _io.OemSegment(metadata=md, epochs=tuple(eps), states=states[keep, :6], covariances=cv)
-    now = _dt.datetime.now(_dt.timezone.utc).replace(tzinfo=None).isoformat(timespec="seconds")
+    oem = estimate_oem(eps, states[keep, :6], covs[keep], comment)
     out = pathlib.Path(args.out)
     if out.is_dir():
         raise ValueError(f"--out: {out} is a directory (hint: a file name ending in .oem)")
-    _io.write_oem(out, _io.Oem(header=_io.Header(creation_date=now, originator="SATGNC"), segments=(seg,)))
+    _io.write_oem(out, oem)
     print(f"{r.message}; status {r.status}")
     print(
         f"final 1-sigma position {np.sqrt(np.trace(covs[-1][:3, :3])) * 1e3:.3f} m; "
