@@ -13,6 +13,7 @@
 #include "satgnc/filter/orbit_filter.hpp"
 #include "satgnc/filter/orbit_measurement.hpp"
 #include "satgnc/filter/orbit_process_model.hpp"
+#include "satgnc/filter/status.hpp"
 
 namespace py = pybind11;
 
@@ -161,8 +162,10 @@ void init_orbit_filter(py::module_& m) {
   m.def("filter_orbit_propagate", &propagate_process, py::arg("force_model"), py::arg("process"),
         py::arg("t0"), py::arg("t1"), py::arg("x"),
         "Private: OrbitProcessModel.propagate -> (x, Phi, Q, status, steps) (use satgnc.od.filter).");
-  py::list names;
-  for (int k = 0; k <= 5; ++k) names.append(filter::status_name(static_cast<filter::OrbitStepStatus>(k)));
+  // Step status names by value, from the table (filter/status.hpp): an appended status is listed too.
+  const auto table = core::status_table<filter::OrbitStepStatus>();
+  py::list names(table.size());
+  for (const core::StatusEntry& row : table) names[static_cast<std::size_t>(row.value)] = row.name;
   m.attr("FILTER_STEP_STATUS") = names;
 }
 

@@ -10,6 +10,8 @@
 #include "satgnc/analysis/rank.hpp"
 #include "satgnc/core/solver.hpp"
 #include "satgnc/core/status.hpp"
+#include "satgnc/filter/orbit_filter.hpp"
+#include "satgnc/filter/status.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "satgnc/guidance/ilqr_admm.hpp"
 #include "satgnc/guidance/riccati.hpp"
@@ -70,6 +72,24 @@ TEST(Status, EveryTableIsUniqueSnakeCaseUnsolvedFirst) {
   check_table<core::Dop853Status>("Dop853Status", true, 8);
   check_table<core::KeplerStatus>("KeplerStatus", true, 5);
   check_table<core::Verdict>("Verdict", false, 3);
+}
+
+TEST(Status, FilterTablesComeFromTheSameGenerator) {
+  // filter/status.hpp declares its four enums with core's SATGNC_DEFINE_STATUS_ (no second copy of
+  // the name / message switches); OrbitStepStatus's `not_run` plays the part of `unsolved`.
+  check_table<core::FilterStatus>("FilterStatus", true, 10);
+  check_table<core::ModelStatus>("ModelStatus", true, 3);
+  check_table<core::EditFlag>("EditFlag", true, 5);
+  check_table<core::OrbitStepStatus>("OrbitStepStatus", false, 6);
+  static_assert(std::is_same_v<satgnc::filter::FilterStatus, core::FilterStatus>);
+  static_assert(std::is_same_v<satgnc::filter::OrbitStepStatus, core::OrbitStepStatus>);
+  // the names Python reads (satgnc._satgnc.FILTER_STEP_STATUS, by value) and the values are the old ones
+  using S = satgnc::filter::OrbitStepStatus;
+  const char* old_names[] = {
+      "updated", "rejected", "propagation_failed", "measurement_failed", "not_positive_definite", "not_run"};
+  for (int k = 0; k < 6; ++k) EXPECT_STREQ(satgnc::filter::status_name(static_cast<S>(k)), old_names[k]);
+  EXPECT_STREQ(satgnc::filter::status_name(satgnc::filter::EditFlag::warm_up), "warm_up");
+  EXPECT_STREQ(satgnc::filter::status_name(static_cast<S>(-1)), "unknown");
 }
 
 TEST(Status, NumericValuesAreTheOldOnes) {

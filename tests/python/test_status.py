@@ -63,6 +63,9 @@ def test_strings_users_read_are_unchanged():
         _satgnc.status_message("nope")
     assert _satgnc.IlqrAdmmStatus.not_run == _satgnc.IlqrAdmmStatus.unsolved
     assert _satgnc.ScpStatus.not_run == _satgnc.ScpStatus.unsolved
+    # the orbit filter's step statuses by value (read from filter/status.hpp's table since session 8)
+    assert list(_satgnc.FILTER_STEP_STATUS) == ["updated", "rejected", "propagation_failed",
+                                                "measurement_failed", "not_positive_definite", "not_run"]
 
 
 def test_earth_constants_are_the_extension_s():

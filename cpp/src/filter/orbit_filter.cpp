@@ -17,24 +17,6 @@ namespace satgnc::filter {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-const char* status_name(OrbitStepStatus s) noexcept {
-  switch (s) {
-    case OrbitStepStatus::updated:
-      return "updated";
-    case OrbitStepStatus::rejected:
-      return "rejected";
-    case OrbitStepStatus::propagation_failed:
-      return "propagation_failed";
-    case OrbitStepStatus::measurement_failed:
-      return "measurement_failed";
-    case OrbitStepStatus::not_positive_definite:
-      return "not_positive_definite";
-    case OrbitStepStatus::not_run:
-      return "not_run";
-  }
-  return "unknown";
-}
-
 namespace {
 template <class M>
 void put(std::vector<double>& dst, std::size_t k, const M& m) {

@@ -243,10 +243,6 @@ SATGNC_DEFINE_STATUS_(Verdict, SATGNC_VERDICT, SATGNC_NO_ALIASES_)
 
 }  // namespace satgnc::core
 
-#undef SATGNC_DEFINE_STATUS_
-#undef SATGNC_NO_ALIASES_
-#undef SATGNC_STATUS_MESSAGE_CASE_
-#undef SATGNC_STATUS_NAME_CASE_
-#undef SATGNC_STATUS_ROW_
-#undef SATGNC_STATUS_ALIAS_
-#undef SATGNC_STATUS_ENUMERATOR_
+// SATGNC_DEFINE_STATUS_(Enum, LIST, ALIASES) and its helper macros stay defined: a room that keeps
+// its status lists in its own header (filter/status.hpp) declares them with the same generator, inside
+// namespace satgnc::core, and re-exports them into its namespace like the enums above.

@@ -31,22 +31,11 @@
 
 #include "satgnc/filter/orbit_measurement.hpp"
 #include "satgnc/filter/orbit_process_model.hpp"
+#include "satgnc/filter/status.hpp"
 
 namespace satgnc::filter {
 
-/// Outcome of one filter step.
-enum class OrbitStepStatus : int {
-  updated = 0,             ///< measurement used
-  rejected = 1,            ///< measurement edited out by the gate (state unchanged), listed with its residual
-  propagation_failed = 2,  ///< the process model failed: the filter stops here (later steps keep this status)
-  measurement_failed = 3,  ///< the measurement model failed (light time, geometry): skipped, state unchanged
-  not_positive_definite =
-      4,        ///< the covariance lost positive definiteness after the update: the filter stops
-  not_run = 5,  ///< step after a stop
-};
-
-/// "updated", "rejected", ... (the enumerator's name).
-const char* status_name(OrbitStepStatus s) noexcept;
+// OrbitStepStatus and its status_name / status_message: filter/status.hpp.
 
 /// Settings of OrbitFilter.
 /// Filter kind.

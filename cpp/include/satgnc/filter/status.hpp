@@ -1,15 +1,16 @@
 #pragma once
 /// @file status.hpp
-/// Statuses of the filter room, in the style of core/status.hpp: one X-macro list
-/// `X(name, value, "message")` per enum gives the enum (values stable: Python keys results by them;
-/// new rows are appended), `status_name`, `status_message` and `core::status_table<E>()`.
+/// Statuses of the filter room, declared with core/status.hpp's generator (`SATGNC_DEFINE_STATUS_`):
+/// one X-macro list `X(name, value, "message")` per enum gives the enum (values stable: Python keys
+/// results by them; new rows are appended), `status_name`, `status_message` and
+/// `core::status_table<E>()`. Like every status enum they live in satgnc::core and are re-exported
+/// into satgnc::filter.
 ///
 /// - `FilterStatus`: the outcome of one filter step (predict and/or update) and of a whole run.
 /// - `ModelStatus`: what a ProcessModel or MeasurementFunction reports for one call.
 /// - `EditFlag`: the editing decision for one measurement record (never dropped silently).
+/// - `OrbitStepStatus`: the outcome of one step of filter::OrbitFilter (filter/orbit_filter.hpp).
 #include "satgnc/core/status.hpp"
-
-namespace satgnc::filter {
 
 // clang-format off
 /// FilterStatus rows: name, stable value, message.
@@ -41,89 +42,35 @@ namespace satgnc::filter {
   X(rejected, 1, "rejected by the chi-square gate (Mahalanobis distance above the quantile)")         \
   X(warm_up, 2, "used without gating: inside the warm-up period (or gating off)")                     \
   X(failed, 3, "not used: the measurement function failed, the type is unknown or S is not PD")
+/// OrbitStepStatus rows (`not_run`, a step after the filter stopped, plays the part of `unsolved`).
+#define SATGNC_FILTER_ORBIT_STEP_STATUS(X)                                                               \
+  X(not_run, 5, "not run: a step after the filter stopped")                                               \
+  X(updated, 0, "updated: the measurement was used")                                                      \
+  X(rejected, 1, "rejected: edited out by the gate (state unchanged), listed with its residual")          \
+  X(propagation_failed, 2, "the process model failed: the filter stops here (later steps keep this "      \
+                           "status)")                                                                     \
+  X(measurement_failed, 3, "the measurement model failed (light time, geometry): skipped, state "         \
+                           "unchanged")                                                                   \
+  X(not_positive_definite, 4, "the covariance lost positive definiteness after the update: the filter "    \
+                              "stops")
 // clang-format on
 
-#define SATGNC_FILTER_ENUMERATOR_(name, value, message) name = value,
-#define SATGNC_FILTER_NAME_CASE_(name, value, message) \
-  case E_::name:                                       \
-    return #name;
-#define SATGNC_FILTER_MESSAGE_CASE_(name, value, message) \
-  case E_::name:                                          \
-    return message;
-
-/// Outcome of one filter step and of a run (see SATGNC_FILTER_STATUS for the messages).
-enum class FilterStatus : int { SATGNC_FILTER_STATUS(SATGNC_FILTER_ENUMERATOR_) };
-/// Outcome of one call of a ProcessModel or MeasurementFunction.
-enum class ModelStatus : int { SATGNC_FILTER_MODEL_STATUS(SATGNC_FILTER_ENUMERATOR_) };
-/// Editing decision for one measurement record.
-enum class EditFlag : int { SATGNC_FILTER_EDIT_FLAG(SATGNC_FILTER_ENUMERATOR_) };
-
-/// Enumerator name of a FilterStatus ("unknown" outside the table).
-constexpr const char* status_name(FilterStatus s) noexcept {
-  using E_ = FilterStatus;
-  switch (s) { SATGNC_FILTER_STATUS(SATGNC_FILTER_NAME_CASE_) }
-  return "unknown";
-}
-/// One-sentence message of a FilterStatus.
-constexpr const char* status_message(FilterStatus s) noexcept {
-  using E_ = FilterStatus;
-  switch (s) { SATGNC_FILTER_STATUS(SATGNC_FILTER_MESSAGE_CASE_) }
-  return "unknown status";
-}
-/// Enumerator name of a ModelStatus.
-constexpr const char* status_name(ModelStatus s) noexcept {
-  using E_ = ModelStatus;
-  switch (s) { SATGNC_FILTER_MODEL_STATUS(SATGNC_FILTER_NAME_CASE_) }
-  return "unknown";
-}
-/// One-sentence message of a ModelStatus.
-constexpr const char* status_message(ModelStatus s) noexcept {
-  using E_ = ModelStatus;
-  switch (s) { SATGNC_FILTER_MODEL_STATUS(SATGNC_FILTER_MESSAGE_CASE_) }
-  return "unknown status";
-}
-/// Enumerator name of an EditFlag.
-constexpr const char* status_name(EditFlag s) noexcept {
-  using E_ = EditFlag;
-  switch (s) { SATGNC_FILTER_EDIT_FLAG(SATGNC_FILTER_NAME_CASE_) }
-  return "unknown";
-}
-/// One-sentence message of an EditFlag.
-constexpr const char* status_message(EditFlag s) noexcept {
-  using E_ = EditFlag;
-  switch (s) { SATGNC_FILTER_EDIT_FLAG(SATGNC_FILTER_MESSAGE_CASE_) }
-  return "unknown status";
-}
-
-}  // namespace satgnc::filter
-
-#define SATGNC_FILTER_ROW_(name, value, message) StatusEntry{value, #name, message},
 namespace satgnc::core {
-// The filter enums' name / message functions, visible as core::status_name / core::status_message
-// like every other status (the bindings call them qualified).
-using filter::status_message;
-using filter::status_name;
-/// Status table of filter::FilterStatus.
-template <>
-struct StatusTraits<filter::FilterStatus> {
-  static constexpr bool is_status = true;                                       ///< a status enum
-  static constexpr std::array table{SATGNC_FILTER_STATUS(SATGNC_FILTER_ROW_)};  ///< rows
-};
-/// Status table of filter::ModelStatus.
-template <>
-struct StatusTraits<filter::ModelStatus> {
-  static constexpr bool is_status = true;                                             ///< a status enum
-  static constexpr std::array table{SATGNC_FILTER_MODEL_STATUS(SATGNC_FILTER_ROW_)};  ///< rows
-};
-/// Status table of filter::EditFlag.
-template <>
-struct StatusTraits<filter::EditFlag> {
-  static constexpr bool is_status = true;                                          ///< a status enum
-  static constexpr std::array table{SATGNC_FILTER_EDIT_FLAG(SATGNC_FILTER_ROW_)};  ///< rows
-};
+// Outcome of one filter step and of a run.
+SATGNC_DEFINE_STATUS_(FilterStatus, SATGNC_FILTER_STATUS, SATGNC_NO_ALIASES_)
+// Outcome of one call of a ProcessModel or MeasurementFunction.
+SATGNC_DEFINE_STATUS_(ModelStatus, SATGNC_FILTER_MODEL_STATUS, SATGNC_NO_ALIASES_)
+// Editing decision for one measurement record.
+SATGNC_DEFINE_STATUS_(EditFlag, SATGNC_FILTER_EDIT_FLAG, SATGNC_NO_ALIASES_)
+// Outcome of one step of filter::OrbitFilter.
+SATGNC_DEFINE_STATUS_(OrbitStepStatus, SATGNC_FILTER_ORBIT_STEP_STATUS, SATGNC_NO_ALIASES_)
 }  // namespace satgnc::core
 
-#undef SATGNC_FILTER_ROW_
-#undef SATGNC_FILTER_ENUMERATOR_
-#undef SATGNC_FILTER_NAME_CASE_
-#undef SATGNC_FILTER_MESSAGE_CASE_
+namespace satgnc::filter {
+using core::EditFlag;
+using core::FilterStatus;
+using core::ModelStatus;
+using core::OrbitStepStatus;
+using core::status_message;
+using core::status_name;
+}  // namespace satgnc::filter
