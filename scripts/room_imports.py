@@ -1,7 +1,7 @@
 """Count which room includes which, and prove the room graph has no cycle.
 
-A room is a folder under ``cpp/include/satgnc/`` and ``cpp/src/`` (core, frames, dynamics, propagation, io, od,
-guidance, analysis). For every file of a room the script counts the lines
+A room is a folder under ``cpp/include/satgnc/`` and ``cpp/src/`` (core, frames, dynamics, propagation,
+io, od, guidance, analysis). For every file of a room the script counts the lines
 ``#include "satgnc/<other room>/...`` and prints the matrix (rows: the including room) as Markdown,
 then a topological order of the rooms. The Python package is checked the same way on
 ``from satgnc.<pkg>`` / ``from ..<pkg>`` imports of ``python/satgnc/<pkg>/`` (library packages only:
@@ -17,7 +17,18 @@ import pathlib
 import re
 import sys
 
-ROOMS = ["core", "frames", "dynamics", "propagation", "observation", "io", "filter", "od", "guidance", "analysis"]
+ROOMS = [
+    "core",
+    "frames",
+    "dynamics",
+    "propagation",
+    "observation",
+    "io",
+    "filter",
+    "od",
+    "guidance",
+    "analysis",
+]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"satgnc/([a-z_]+)/', re.M)
 
 

@@ -13,7 +13,7 @@ int main() {
   satgnc::propagation::KeplerInfo info;
   const auto st = satgnc::propagation::kepler_step(x0, 2400.0, 398600.4418, x, &stm, &info);
   if (st != satgnc::propagation::KeplerStatus::success) {
-    std::printf("kepler_step failed: %s\n", satgnc::propagation::kepler_status_message(st));
+    std::printf("kepler_step failed: %s\n", satgnc::core::status_message(st));
     return 1;
   }
   std::printf("r = [%.4f, %.4f, %.4f] km\nv = [%.6f, %.6f, %.6f] km/s\n", x(0), x(1), x(2), x(3), x(4), x(5));

@@ -39,7 +39,7 @@ int main() {
   Vec6 guess = truth;
   guess(0) += 10.0;
   const OdResult& r = solver.solve(guess);
-  std::printf("status: %s, iterations: %d, rank %d, cond %.2e\n", od_status_message(r.status), r.iterations,
+  std::printf("status: %s, iterations: %d, rank %d, cond %.2e\n", status_message(r.status), r.iterations,
               r.rank, r.condition_number);
   std::printf("x0 = [%.6f %.6f %.6f] km [%.8f %.8f %.8f] km/s\n", r.x0(0), r.x0(1), r.x0(2), r.x0(3), r.x0(4),
               r.x0(5));

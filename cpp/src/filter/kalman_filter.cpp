@@ -146,6 +146,10 @@ FilterStatus FilterWorkspace::innovation(const MeasurementRecord& rec, int m, St
     S.noalias() = H.topRows(m) * PHt.leftCols(m);
   }
   for (int i = 0; i < m; ++i) S(i, i) += r(i);
+  return innovation_statistics(m, out);
+}
+
+FilterStatus FilterWorkspace::innovation_statistics(int m, StepRecord& out) noexcept {
   sllt.compute(S);
   if (sllt.info() != Eigen::Success || !S.allFinite()) return FilterStatus::innovation_not_pd;
   SmallVec sy = sllt.solve(y);

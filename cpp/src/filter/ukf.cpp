@@ -97,17 +97,8 @@ FilterStatus FilterWorkspace::ukf_update(const MeasurementRecord& rec, int m, St
     S(i, i) += r(i);
     y(i) = rec.value[iu] - zbar(i);
   }
-  sllt.compute(S);
-  if (sllt.info() != Eigen::Success || !S.allFinite()) return FilterStatus::innovation_not_pd;
-  SmallVec sy = sllt.solve(y);
-  out.nis = y.dot(sy);
-  for (int i = 0; i < m; ++i) {
-    const auto iu = static_cast<std::size_t>(i);
-    out.prefit[iu] = y(i);
-    out.postfit[iu] = y(i);
-    out.innovation_sigma[iu] = std::sqrt(S(i, i));
-    out.normalized[iu] = y(i) / std::sqrt(S(i, i));
-  }
+  const FilterStatus is = innovation_statistics(m, out);
+  if (is != FilterStatus::success) return is;
   out.flag = gate_decision(rec, m, out);
   if (out.flag == EditFlag::rejected) return FilterStatus::rejected;
   // K = Pxz S^-1; x += K y; P -= K S K'

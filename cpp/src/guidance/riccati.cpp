@@ -364,7 +364,6 @@ void RiccatiSolver::affine_sweep_63(const Eigen::Ref<const VectorXd>& x0, const 
   const double* GB0 = ws_.QuuInvBt.data();
   const double* e0 = ws_.e.data();
   double* H0 = ws_.Hbuf.data();  // h_k, then f_k
-  double* W0 = ws_.Wbuf.data();  // w_k
   double* D0 = ws_.D.data();
   const double* c0 = has_c ? dyn_.c[0].data() : nullptr;
   V6 p = terminal_ ? V6::Zero() : V6(Map<const V6>(qd + N * qs));

@@ -206,8 +206,8 @@ ScpSolver::ScpSolver(const DiscreteModel& model, const NonlinearL1Problem& probl
     el.terminal_equality = false;
     el.l1_weights.resize(0);
     el.group_l2_weight = 0.0;
-    const int nxi = static_cast<int>(el.x0.size());
-    el.Qf = MatrixXd::Identity(nxi, nxi);
+    const int nel = static_cast<int>(el.x0.size());
+    el.Qf = MatrixXd::Identity(nel, nel);
     if (!reduced_)
       for (int i = 0; i < nx_; ++i)
         if (is_exo_[i]) el.Qf(i, i) = 0.0;

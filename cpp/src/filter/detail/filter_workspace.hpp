@@ -77,6 +77,8 @@ struct FilterWorkspace {
   FilterStatus ukf_predict(double t1) noexcept;
   FilterStatus ukf_update(const MeasurementRecord& rec, int m, StepRecord& out) noexcept;
   FilterStatus innovation(const MeasurementRecord& rec, int m, StepRecord& out) noexcept;  // S, y, nis
+  // From S (R on its diagonal) and y: the LLT of S, the NIS and the per-component statistics (EKF, UKF).
+  FilterStatus innovation_statistics(int m, StepRecord& out) noexcept;
   EditFlag gate_decision(const MeasurementRecord& rec, int m, StepRecord& out) noexcept;
   void postfit(const MeasurementRecord& rec, int m, StepRecord& out) noexcept;
 };
