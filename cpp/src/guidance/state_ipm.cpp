@@ -46,6 +46,16 @@ void jordan(const double* x, const double* y, double* o) noexcept {
   o[2] = x[0] * y[2] + y[0] * x[2];
 }
 
+// column j of M as an NX-vector view (NX = Eigen::Dynamic: M.rows())
+template <int NX>
+Eigen::Map<const Eigen::Matrix<double, NX, 1>> col(const Eigen::MatrixXd& M, int j) noexcept {
+  return {M.data() + static_cast<Eigen::Index>(j) * M.rows(), M.rows()};
+}
+template <int NX>
+Eigen::Map<Eigen::Matrix<double, NX, 1>> col(Eigen::MatrixXd& M, int j) noexcept {
+  return {M.data() + static_cast<Eigen::Index>(j) * M.rows(), M.rows()};
+}
+
 bool is_eq(const StateIpmProblem& p, int j) noexcept { return (*p.lo)(j) == (*p.hi)(j); }
 bool has_upper(const StateIpmProblem& p, int j) noexcept {
   return (*p.cone_start)(j) == 0 && !is_eq(p, j) && std::isfinite((*p.hi)(j));
@@ -77,32 +87,34 @@ void StateIpm::setup(int nx, int nu, int N, int m) {
   for (auto* M : {&huu_, &hut_, &htt_, &gu_, &gt_, &Rd_, &rr_, &du_, &dt_}) M->setZero(nu, N);
   dX_.setZero(nx, N + 1);
   P_.setZero(nx, nx * (N + 1));
-  PB_.setZero(nx, nu * N);
   K_.setZero(nu, nx * N);
   Qi_.setZero(nu, nu * N);
-  Acl_.setZero(nx, nx * N);
   d_.setZero(nu, N);
-  // equality rows: at most nx (applicable()), so the Schur blocks are sized nx, not m
+  // equality rows: at most nx (applicable()), so the Schur blocks are sized nx, not m; the sweep's
+  // blocks T, G, D are nx wide whatever ne (zero columns past ne): fixed-size stage products
   const int me = std::min(m, nx);
-  Dall_.setZero(nu, me * N);
-  T_.setZero(nx, me);
-  T2_.setZero(nx, me);
-  Z_.setZero(nx, me);
-  Z2_.setZero(nx, me);
+  Dall_.setZero(nu, nx * N);
+  T_.setZero(nx, nx);
+  T2_.setZero(nx, nx);
+  Sf_.setZero(nx, nx);
+  G_.setZero(nu, nx);
+  CW_.setZero(nx, 3);
   Se_.setZero(me, me);
   tmp_nx_nx_.setZero(nx, nx);
   tmp_nx_nx2_.setZero(nx, nx);
   tmp_nu_nx_.setZero(nu, nx);
   Quu_.setZero(nu, nu);
-  Inu_ = Eigen::MatrixXd::Identity(nu, nu);
   p_.setZero(nx);
   wv_.setZero(nx);
+  ex_.setZero(nx);
+  dnu_pad_.setZero(nx);
   g_nu_.setZero(nu);
   tmp_nx_.setZero(nx);
   rhs_e_.setZero(me);
   has_lo_.setZero(nu);
   has_hi_.setZero(nu);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(Eigen::MatrixXd::Identity(nu, nu));  // computed once: info() set
+  llt3_.compute(Eigen::Matrix3d::Identity());
   llt_e_ = Eigen::LLT<Eigen::MatrixXd>(Eigen::MatrixXd::Identity(me, me));
 }
 
@@ -120,12 +132,27 @@ bool StateIpm::applicable(const StateIpmProblem& p) noexcept {
 
 void StateIpm::rollout(const StateIpmProblem& p, const Eigen::MatrixXd& U,
                        Eigen::MatrixXd& X) const noexcept {
+  if (nx_ == 6 && nu_ == 3)
+    rollout_t<6, 3>(p, U, X);
+  else
+    rollout_t<Eigen::Dynamic, Eigen::Dynamic>(p, U, X);
+}
+
+template <int NX, int NU>
+void StateIpm::rollout_t(const StateIpmProblem& p, const Eigen::MatrixXd& U,
+                         Eigen::MatrixXd& X) const noexcept {
   const auto& dyn = p.prob->dynamics;
+  const int nx = nx_, nu = nu_;
   X.col(0) = p.prob->x0;
   for (int k = 0; k < N_; ++k) {
-    X.col(k + 1).noalias() = dyn.A_at(k) * X.col(k);
-    X.col(k + 1).noalias() += dyn.B_at(k) * U.col(k);
-    if (!dyn.c.empty()) X.col(k + 1) += dyn.c.size() == 1 ? dyn.c[0] : dyn.c[k];
+    auto xn = col<NX>(X, k + 1);
+    xn.noalias() =
+        Eigen::Map<const Eigen::Matrix<double, NX, NX>>(dyn.A_at(k).data(), nx, nx) * col<NX>(X, k);
+    xn.noalias() += Eigen::Map<const Eigen::Matrix<double, NX, NU>>(dyn.B_at(k).data(), nx, nu) *
+                    Eigen::Map<const Eigen::Matrix<double, NU, 1>>(U.col(k).data(), nu);
+    if (!dyn.c.empty())
+      xn += Eigen::Map<const Eigen::Matrix<double, NX, 1>>((dyn.c.size() == 1 ? dyn.c[0] : dyn.c[k]).data(),
+                                                           nx);
   }
 }
 
@@ -213,6 +240,14 @@ void StateIpm::init(const StateIpmProblem& p) noexcept {
 
 // r_z = G x + s - h for every inequality, the equality residuals, the complementarity
 void StateIpm::residuals(const StateIpmProblem& p) noexcept {
+  if (nx_ == 6)
+    residuals_t<6>(p);
+  else
+    residuals_t<Eigen::Dynamic>(p);
+}
+
+template <int NX>
+void StateIpm::residuals_t(const StateIpmProblem& p) noexcept {
   rp_ = 0.0;
   sz_ = 0.0;
   for (int v = 0; v < N_ * nu_; ++v) {
@@ -232,7 +267,7 @@ void StateIpm::residuals(const StateIpmProblem& p) noexcept {
     const int nd = (*p.node)(j);
     if ((*p.cone_start)(j) == 1) {
       for (int q = 0; q < 3; ++q) {
-        const double cx = p.Crow->col(j + q).dot(X_.col(nd)) - (q == 0 ? (*p.off)(j) : 0.0);
+        const double cx = col<NX>(*p.Crow, j + q).dot(col<NX>(X_, nd)) - (q == 0 ? (*p.off)(j) : 0.0);
         rcn_(j + q) = -e * cx + scn_(j + q);
         rp_ = std::max(rp_, std::abs(rcn_(j + q)));
         sz_ += scn_(j + q) * zcn_(j + q);
@@ -240,7 +275,7 @@ void StateIpm::residuals(const StateIpmProblem& p) noexcept {
       j += 2;
       continue;
     }
-    const double cx = p.Crow->col(j).dot(X_.col(nd));
+    const double cx = col<NX>(*p.Crow, j).dot(col<NX>(X_, nd));
     rs_(0, j) = has_upper(p, j) ? e * (cx - (*p.hi)(j)) + ss_(0, j) : 0.0;
     rs_(1, j) = has_lower(p, j) ? e * ((*p.lo)(j)-cx) + ss_(1, j) : 0.0;
     rp_ = std::max({rp_, std::abs(rs_(0, j)), std::abs(rs_(1, j))});
@@ -248,7 +283,7 @@ void StateIpm::residuals(const StateIpmProblem& p) noexcept {
   }
   for (int a = 0; a < ne_; ++a) {
     const int j = eqrow_(a);
-    req_(a) = p.Crow->col(j).dot(X_.col(N_)) - (*p.lo)(j);
+    req_(a) = col<NX>(*p.Crow, j).dot(col<NX>(X_, N_)) - (*p.lo)(j);
     rp_ = std::max(rp_, (*p.escale)(j)*std::abs(req_(a)));
   }
 }
@@ -304,7 +339,6 @@ void StateIpm::scaling(const StateIpmProblem& p) noexcept {
 
 // Hessian of the Newton system and the Riccati factorization (with the equality Schur complement)
 bool StateIpm::factor(const StateIpmProblem& p) noexcept {
-  const auto& dyn = p.prob->dynamics;
   for (int v = 0; v < N_ * nu_; ++v) {
     const int i = v % nu_, k = v / nu_;
     double dq[4];
@@ -314,21 +348,105 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
     htt_(i, k) = dq[0] + dq[1];
     Rd_(i, k) = (*p.rdiag)(i) + 4.0 * dq[0] * dq[1] / (dq[0] + dq[1]) + dq[2] + dq[3];
   }
+  // (6, 3) (the CW case): fixed-size stage blocks, the products unroll; any other size: dynamic
+  if (nx_ == 6 && nu_ == 3) return factor_stages<6, 3>(p);
+  return factor_stages<Eigen::Dynamic, Eigen::Dynamic>(p);
+}
+
+// The backward recursion of factor_stages for (nx, nu) = (6, 3) on column-major arrays (ipm::mm): per
+// stage PA = P A, Qux = B'PA, Quu = B'PB + Rd, K = Quu^-1 Qux, P_k = A'PA - Qux'K + Q_k (symmetrized);
+// with equality rows G = B'T, D = Quu^-1 G, S += G'D, T_k = A'T - K'G. A', B' are transposed once per
+// distinct stage matrix (time-invariant dynamics: once).
+bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
+  const auto& dyn = p.prob->dynamics;
+  const bool eq = ne_ > 0;
+  double At[36], Bt[18], PA[36], PB[18], Quu[9], Qux[18], Quxt[18], Kt[18], G[18], Gt[18], APA[36];
+  double* T = T_.data();
+  double* T2 = T2_.data();
+  double* S = Sf_.data();
+  const double* Aprev = nullptr;
+  const double* Bprev = nullptr;
+  for (int k = N_ - 1; k >= 0; --k) {
+    const double* A = dyn.A_at(k).data();
+    const double* B = dyn.B_at(k).data();
+    if (A != Aprev) ipm::transpose<6, 6>(A, At);
+    if (B != Bprev) ipm::transpose<6, 3>(B, Bt);
+    Aprev = A;
+    Bprev = B;
+    const double* Pn = P_.data() + (k + 1) * 36;
+    double* Qi = Qi_.data() + k * 9;
+    double* K = K_.data() + k * 18;
+    ipm::mm<6, 6, 6>(Pn, A, PA);
+    ipm::mm<3, 6, 6>(Bt, PA, Qux);
+    ipm::mm<6, 6, 3>(Pn, B, PB);
+    ipm::mm<3, 6, 3>(Bt, PB, Quu);
+    Eigen::Map<Eigen::Matrix3d> QuuM(Quu), QiM(Qi);
+    QuuM.diagonal() += Rd_.col(k);
+    // near the end the barrier weights span ~1e12 and P loses definiteness to rounding: a tiny
+    // diagonal shift (the direction is only proposed; the certificate is independent)
+    if (!ipm::llt_with_shift(llt3_, QuuM, 1e-12, 1e-5, 1e-300)) return false;
+    QiM.setIdentity();
+    llt3_.solveInPlace(QiM);
+    ipm::mm<3, 3, 6>(Qi, Qux, K);
+    if (eq) {
+      double* D = Dall_.data() + k * 18;
+      ipm::mm<3, 6, 6>(Bt, T, G);
+      ipm::mm<3, 3, 6>(Qi, G, D);
+      ipm::transpose<3, 6>(G, Gt);
+      ipm::mm<6, 3, 6, 1>(Gt, D, S);
+    }
+    if (k == 0) break;  // P_0 and T_0 are never used (x_0 is given)
+    ipm::transpose<3, 6>(K, Kt);
+    if (eq) {
+      ipm::mm<6, 6, 6>(At, T, T2);
+      ipm::mm<6, 3, 6, -1>(Kt, G, T2);
+      std::copy(T2, T2 + 36, T);
+    }
+    ipm::mm<6, 6, 6>(At, PA, APA);
+    ipm::transpose<3, 6>(Qux, Quxt);
+    ipm::mm<6, 3, 6, -1>(Quxt, K, APA);
+    const double* Qk = Qx_.data() + k * 36;
+    double* Pk = P_.data() + k * 36;
+    for (int j = 0; j < 6; ++j)
+      for (int i = 0; i < 6; ++i) Pk[i + 6 * j] = 0.5 * (APA[i + 6 * j] + APA[j + 6 * i]) + Qk[i + 6 * j];
+    for (int j = 0; j < 36; ++j)
+      if (!std::isfinite(Pk[j])) return false;
+  }
+  return true;
+}
+
+// The state Hessians Q_k (cost + rows), the backward Riccati recursion and, with equality rows, in the
+// same sweep their Schur complement S = sum_k G_k' Quu_k^-1 G_k, G_k = B_k' T_{k+1}, T_N = E',
+// T_k = (A_k - B_k K_k)' T_{k+1} (E dx_N = -S dnu + E dx_N(dnu = 0)). T is kept nx wide (columns past ne
+// zero) so that every block has the stage's fixed size. Views on storage sized at setup: no allocation.
+template <int NX, int NU>
+bool StateIpm::factor_stages(const StateIpmProblem& p) noexcept {
+  static_assert(NU == 3 || NU == Eigen::Dynamic, "llt3_ serves nu = 3");
+  using MXX = Eigen::Matrix<double, NX, NX>;
+  using MXU = Eigen::Matrix<double, NX, NU>;
+  using MUX = Eigen::Matrix<double, NU, NX>;
+  using MUU = Eigen::Matrix<double, NU, NU>;
+  using MX3 = Eigen::Matrix<double, NX, 3>;
+  const auto& dyn = p.prob->dynamics;
+  const int nx = nx_, nu = nu_;
+  const auto stage = [nx](Eigen::MatrixXd& M, int k) {
+    return Eigen::Map<MXX>(M.data() + k * nx * nx, nx, nx);
+  };
   Qx_.setZero();
   for (int k = 1; k < N_; ++k)
-    if (p.has_Q) Qx_.middleCols(k * nx_, nx_) = p.prob->Q;
-  Qx_.middleCols(N_ * nx_, nx_) += p.prob->Qf;
+    if (p.has_Q) stage(Qx_, k) = p.prob->Q;
+  stage(Qx_, N_) += p.prob->Qf;
+  Eigen::Map<MX3> CW(CW_.data(), nx, 3);
   for (int j = 0; j < m_; ++j) {
     const double e = (*p.escale)(j);
-    auto Qk = Qx_.middleCols((*p.node)(j)*nx_, nx_);
+    auto Qk = stage(Qx_, (*p.node)(j));
+    const double* c = p.Crow->data() + static_cast<Eigen::Index>(j) * nx;  // unit row j (contiguous)
     if ((*p.cone_start)(j) == 1) {
       const Eigen::Map<const Eigen::Matrix3d> W2(W2cn_.col(j).data());
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-          const double f = e * e * W2(a, b);
-          for (int c2 = 0; c2 < nx_; ++c2)
-            for (int r2 = 0; r2 < nx_; ++r2) Qk(r2, c2) += f * (*p.Crow)(r2, j + a) * (*p.Crow)(c2, j + b);
-        }
+      const Eigen::Map<const MX3> Cb(c, nx, 3);  // the block's three rows, side by side
+      CW.noalias() = Cb * W2;
+      CW *= e * e;
+      Qk.noalias() += CW * Cb.transpose();
       j += 2;
       continue;
     }
@@ -337,71 +455,71 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
     if (has_lower(p, j)) dsum += zs_(1, j) / ss_(1, j);
     if (dsum == 0.0) continue;
     const double f = e * e * dsum;
-    for (int c2 = 0; c2 < nx_; ++c2)
-      for (int r2 = 0; r2 < nx_; ++r2) Qk(r2, c2) += f * (*p.Crow)(r2, j) * (*p.Crow)(c2, j);
+    for (int c2 = 0; c2 < nx; ++c2)
+      for (int r2 = 0; r2 < nx; ++r2) Qk(r2, c2) += f * c[r2] * c[c2];
   }
-  P_.middleCols(N_ * nx_, nx_) = Qx_.middleCols(N_ * nx_, nx_);
-  for (int k = N_ - 1; k >= 0; --k) {
-    const auto& A = dyn.A_at(k);
-    const auto& B = dyn.B_at(k);
-    auto Pn = P_.middleCols((k + 1) * nx_, nx_);
-    PB_.middleCols(k * nu_, nu_).noalias() = Pn * B;
-    Quu_.noalias() = B.transpose() * PB_.middleCols(k * nu_, nu_);
-    Quu_.diagonal() += Rd_.col(k);
-    // near the end the barrier weights span ~1e12 and P loses definiteness to rounding: a tiny
-    // diagonal shift (the direction is only proposed; the certificate is independent)
-    if (!ipm::llt_with_shift(llt_, Quu_, 1e-12, 1e-5, 1e-300)) return false;
-    auto Qi = Qi_.middleCols(k * nu_, nu_);
-    Qi = Inu_;
-    llt_.solveInPlace(Qi);
-    tmp_nu_nx_.noalias() = PB_.middleCols(k * nu_, nu_).transpose() * A;
-    K_.middleCols(k * nx_, nx_).noalias() = Qi * tmp_nu_nx_;
-    Acl_.middleCols(k * nx_, nx_) = A;
-    Acl_.middleCols(k * nx_, nx_).noalias() -= B * K_.middleCols(k * nx_, nx_);
-    tmp_nx_nx2_.noalias() = Pn * A;
-    tmp_nx_nx_.noalias() = A.transpose() * tmp_nx_nx2_;
-    tmp_nx_nx_.noalias() -= tmp_nu_nx_.transpose() * K_.middleCols(k * nx_, nx_);
-    tmp_nx_nx_ += Qx_.middleCols(k * nx_, nx_);
-    P_.middleCols(k * nx_, nx_) = 0.5 * (tmp_nx_nx_ + tmp_nx_nx_.transpose());
-    if (!P_.middleCols(k * nx_, nx_).allFinite()) return false;
+  const bool eq = ne_ > 0;
+  if (eq) {
+    Eigen::Map<MXX> T(T_.data(), nx, nx);
+    T.setZero();
+    for (int a = 0; a < ne_; ++a) T.col(a) = p.Crow->col(eqrow_(a));
+    Sf_.setZero();
   }
-  if (ne_ == 0) return true;
-  // response of the equality rows to their multipliers: S_E = E dx_N / d nu (negative definite)
-  auto T = T_.leftCols(ne_);
-  auto T2 = T2_.leftCols(ne_);
-  for (int a = 0; a < ne_; ++a) T.col(a) = p.Crow->col(eqrow_(a));
-  for (int k = N_ - 1; k >= 0; --k) {
-    auto D = Dall_.middleCols(k * ne_, ne_);
-    for (int a = 0; a < ne_; ++a) {
-      g_nu_.noalias() = dyn.B_at(k).transpose() * T.col(a);
-      D.col(a).noalias() = Qi_.middleCols(k * nu_, nu_) * g_nu_;
+  stage(P_, N_) = stage(Qx_, N_);
+  if constexpr (NX == 6 && NU == 3) {
+    if (!riccati_63(p)) return false;
+  } else {
+    Eigen::Map<MXX> T(T_.data(), nx, nx), T2(T2_.data(), nx, nx), S(Sf_.data(), nx, nx);
+    Eigen::Map<MXX> PA(tmp_nx_nx2_.data(), nx, nx), APA(tmp_nx_nx_.data(), nx, nx);
+    Eigen::Map<MUX> Qux(tmp_nu_nx_.data(), nu, nx), G(G_.data(), nu, nx);
+    Eigen::Map<MUU> Quu(Quu_.data(), nu, nu);
+    for (int k = N_ - 1; k >= 0; --k) {
+      const Eigen::Map<const MXX> A(dyn.A_at(k).data(), nx, nx);
+      const Eigen::Map<const MXU> B(dyn.B_at(k).data(), nx, nu);
+      const auto Pn = stage(P_, k + 1);
+      Eigen::Map<MUU> Qi(Qi_.data() + static_cast<Eigen::Index>(k) * nu * nu, nu, nu);
+      Eigen::Map<MUX> K(K_.data() + static_cast<Eigen::Index>(k) * nu * nx, nu, nx);
+      PA.noalias() = Pn * A;
+      Qux.noalias() = B.transpose() * PA;  // B'PA (P symmetric)
+      G.noalias() = B.transpose() * Pn;    // scratch here (a product of three would allocate a temporary)
+      Quu.noalias() = G * B;
+      Quu.diagonal() += Rd_.col(k);
+      // near the end the barrier weights span ~1e12 and P loses definiteness to rounding: a tiny
+      // diagonal shift (the direction is only proposed; the certificate is independent)
+      if (!ipm::llt_with_shift(llt_, Quu, 1e-12, 1e-5, 1e-300)) return false;
+      Qi.setIdentity();
+      llt_.solveInPlace(Qi);
+      K.noalias() = Qi * Qux;
+      if (eq) {
+        Eigen::Map<MUX> D(Dall_.data() + static_cast<Eigen::Index>(k) * nu * nx, nu, nx);
+        G.noalias() = B.transpose() * T;
+        D.noalias() = Qi * G;
+        S.noalias() += G.transpose() * D;
+      }
+      if (k == 0) break;  // P_0 and T_0 are never used (x_0 is given)
+      if (eq) {
+        T2.noalias() = A.transpose() * T;  // (A - B K)' T
+        T2.noalias() -= K.transpose() * G;
+        T = T2;
+      }
+      APA.noalias() = A.transpose() * PA;
+      APA.noalias() -= Qux.transpose() * K;
+      APA += stage(Qx_, k);
+      auto Pk = stage(P_, k);
+      Pk = 0.5 * (APA + APA.transpose());
+      if (!Pk.allFinite()) return false;
     }
-    T2.noalias() = Acl_.middleCols(k * nx_, nx_).transpose() * T;
-    T = T2;
   }
-  auto Z = Z_.leftCols(ne_);
-  auto Z2 = Z2_.leftCols(ne_);
-  Z.setZero();
-  for (int k = 0; k < N_; ++k) {
-    Z2.noalias() = Acl_.middleCols(k * nx_, nx_) * Z;
-    Z2.noalias() -= dyn.B_at(k) * Dall_.middleCols(k * ne_, ne_);
-    Z = Z2;
-  }
-  auto S = Se_.topLeftCorner(ne_, ne_);
+  if (!eq) return true;
+  // response of the equality rows to their multipliers, S (ne x ne, positive definite): padded to the
+  // factor's setup size with an identity tail so that the LLT never resizes (a resize allocates)
+  Se_.setIdentity();
   for (int a = 0; a < ne_; ++a)
-    for (int b = 0; b < ne_; ++b) S(a, b) = -p.Crow->col(eqrow_(a)).dot(Z.col(b));
-  // Symmetrize in place: an .eval() here would allocate inside solve().
-  for (int a = 0; a < ne_; ++a)
-    for (int b = a + 1; b < ne_; ++b) S(a, b) = S(b, a) = 0.5 * (S(a, b) + S(b, a));
-  // llt_e_ is sized min(m, nx) at setup; factor the whole block with an identity tail so that it
-  // never resizes (a resize allocates) when this problem has fewer equality rows.
-  const int m = static_cast<int>(Se_.rows());
-  Se_.topRightCorner(ne_, m - ne_).setZero();
-  Se_.bottomLeftCorner(m - ne_, ne_).setZero();
-  Se_.bottomRightCorner(m - ne_, m - ne_).setIdentity();
+    for (int b = 0; b < ne_; ++b) Se_(a, b) = 0.5 * (Sf_(a, b) + Sf_(b, a));
+  auto Sh = Se_.topLeftCorner(ne_, ne_);
   llt_e_.compute(Se_);
   for (double shift = 1e-12; llt_e_.info() != Eigen::Success && shift < 1e-5; shift *= 100.0) {
-    S.diagonal().array() += shift * (S.diagonal().cwiseAbs().maxCoeff() + 1e-300);
+    Sh.diagonal().array() += shift * (Sh.diagonal().cwiseAbs().maxCoeff() + 1e-300);
     llt_e_.compute(Se_);
   }
   return llt_e_.info() == Eigen::Success;
@@ -410,15 +528,27 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
 // Newton direction for the complementarity right-hand side d_s = -lambda o lambda - cor + sigma_mu e
 // (cor = 0 for the affine step). Stores du, dt, dX, ds, dz, dnu.
 void StateIpm::solve_newton(const StateIpmProblem& p, bool affine, double sigma_mu) noexcept {
-  const auto& dyn = p.prob->dynamics;
+  if (nx_ == 6 && nu_ == 3)
+    solve_newton_t<6, 3>(p, affine, sigma_mu);
+  else
+    solve_newton_t<Eigen::Dynamic, Eigen::Dynamic>(p, affine, sigma_mu);
+}
+
+template <int NX, int NU>
+void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigma_mu) noexcept {
+  using MXX = Eigen::Matrix<double, NX, NX>;
+  using VX = Eigen::Matrix<double, NX, 1>;
+  const int nx = nx_;
   // gradient of the Lagrangian (r_x) plus G'(W^2 r_z + W (lambda \ d_s)); then dz needs the same v
   gx_.setZero();
   for (int k = 1; k <= N_; ++k) {
     if (k < N_ && !p.has_Q) continue;
-    tmp_nx_ = X_.col(k) - p.prob->xf;
-    gx_.col(k).noalias() += (k < N_ ? p.prob->Q : p.prob->Qf) * tmp_nx_;
+    Eigen::Map<VX> dxk(tmp_nx_.data(), nx);
+    dxk = col<NX>(X_, k) - Eigen::Map<const VX>(p.prob->xf.data(), nx);
+    col<NX>(gx_, k).noalias() +=
+        Eigen::Map<const MXX>((k < N_ ? p.prob->Q : p.prob->Qf).data(), nx, nx) * dxk;
   }
-  for (int a = 0; a < ne_; ++a) gx_.col(N_) += nu_eq_(a) * p.Crow->col(eqrow_(a));
+  for (int a = 0; a < ne_; ++a) col<NX>(gx_, N_) += nu_eq_(a) * col<NX>(*p.Crow, eqrow_(a));
   for (int v = 0; v < N_ * nu_; ++v) {
     const int i = v % nu_, k = v / nu_;
     double vq[4];
@@ -454,7 +584,7 @@ void StateIpm::solve_newton(const StateIpmProblem& p, bool affine, double sigma_
       for (int q = 0; q < 3; ++q) {
         rhscn_(j + q) = wds(q);
         // G = -e C: G'(z + v)
-        gx_.col(nd) -= e * (zcn_(j + q) + vv(q)) * p.Crow->col(j + q);
+        col<NX>(gx_, nd) -= e * (zcn_(j + q) + vv(q)) * col<NX>(*p.Crow, j + q);
       }
       j += 2;
       continue;
@@ -472,45 +602,9 @@ void StateIpm::solve_newton(const StateIpmProblem& p, bool affine, double sigma_
       rhss_(1, j) = ds / s;
       coef -= z + z / s * rs_(1, j) + rhss_(1, j);
     }
-    if (coef != 0.0) gx_.col(nd) += e * coef * p.Crow->col(j);
+    if (coef != 0.0) col<NX>(gx_, nd) += e * coef * col<NX>(*p.Crow, j);
   }
-  // backward sweep (linear terms gx, rr), forward pass from dx_0 = 0
-  p_ = gx_.col(N_);
-  for (int k = N_ - 1; k >= 0; --k) {
-    const auto& A = dyn.A_at(k);
-    const auto& B = dyn.B_at(k);
-    g_nu_ = rr_.col(k);
-    g_nu_.noalias() += B.transpose() * p_;
-    d_.col(k).noalias() = Qi_.middleCols(k * nu_, nu_) * g_nu_;
-    // p_k = g_k + A' p - Qux' d, Qux' d = Qux' Quu^-1 (r + B' p) = K' (r + B' p)
-    wv_.noalias() = A.transpose() * p_;
-    wv_.noalias() -= K_.middleCols(k * nx_, nx_).transpose() * g_nu_;
-    p_ = gx_.col(k) + wv_;
-  }
-  dX_.col(0).setZero();
-  for (int k = 0; k < N_; ++k) {
-    du_.col(k).noalias() = -K_.middleCols(k * nx_, nx_) * dX_.col(k);
-    du_.col(k) -= d_.col(k);
-    dX_.col(k + 1).noalias() = dyn.A_at(k) * dX_.col(k);
-    dX_.col(k + 1).noalias() += dyn.B_at(k) * du_.col(k);
-  }
-  if (ne_ > 0) {
-    // E (dx_N0 + Z dnu) = -r_eq, Z = dx_N / dnu = -S^-1... S = -E Z
-    auto rhs = rhs_e_.head(ne_);
-    for (int a = 0; a < ne_; ++a) rhs(a) = req_(a) + p.Crow->col(eqrow_(a)).dot(dX_.col(N_));
-    rhs_e_.tail(rhs_e_.size() - ne_).setZero();  // identity tail of the padded factor
-    llt_e_.solveInPlace(rhs_e_);                 // -E Z dnu = r_eq + E dx_N0  ->  dnu = S^-1 (r_eq + E dx_N0)
-    dnu_.head(ne_) = rhs;
-    for (int k = 0; k < N_; ++k) {
-      du_.col(k).noalias() -= Dall_.middleCols(k * ne_, ne_) * dnu_.head(ne_);
-      dX_.col(k + 1).noalias() = dyn.A_at(k) * dX_.col(k);
-      dX_.col(k + 1).noalias() += dyn.B_at(k) * du_.col(k);
-      if (k + 1 < N_) {
-        du_.col(k + 1).noalias() = -K_.middleCols((k + 1) * nx_, nx_) * dX_.col(k + 1);
-        du_.col(k + 1) -= d_.col(k + 1);
-      }
-    }
-  }
+  sweep_stages<NX, NU>(p);
   // recover dt, ds, dz
   for (int v = 0; v < N_ * nu_; ++v) {
     const int i = v % nu_, k = v / nu_;
@@ -531,7 +625,7 @@ void StateIpm::solve_newton(const StateIpmProblem& p, bool affine, double sigma_
     if ((*p.cone_start)(j) == 1) {
       const Eigen::Map<const Eigen::Matrix3d> W2(W2cn_.col(j).data());
       Eigen::Vector3d g;
-      for (int q = 0; q < 3; ++q) g(q) = -e * p.Crow->col(j + q).dot(dX_.col(nd)) + rcn_(j + q);
+      for (int q = 0; q < 3; ++q) g(q) = -e * col<NX>(*p.Crow, j + q).dot(col<NX>(dX_, nd)) + rcn_(j + q);
       const Eigen::Vector3d dz = W2 * g;
       for (int q = 0; q < 3; ++q) {
         dscn_(j + q) = -g(q);
@@ -540,7 +634,7 @@ void StateIpm::solve_newton(const StateIpmProblem& p, bool affine, double sigma_
       j += 2;
       continue;
     }
-    const double cdx = e * p.Crow->col(j).dot(dX_.col(nd));
+    const double cdx = e * col<NX>(*p.Crow, j).dot(col<NX>(dX_, nd));
     if (has_upper(p, j)) {
       dss_(0, j) = -rs_(0, j) - cdx;
       dzs_(0, j) = zs_(0, j) / ss_(0, j) * (cdx + rs_(0, j)) + rhss_(0, j);
@@ -549,6 +643,68 @@ void StateIpm::solve_newton(const StateIpmProblem& p, bool affine, double sigma_
       dss_(1, j) = -rs_(1, j) + cdx;
       dzs_(1, j) = zs_(1, j) / ss_(1, j) * (-cdx + rs_(1, j)) + rhss_(1, j);
     }
+  }
+}
+
+// The LQR of one Newton step with the factor's gains: backward sweep of the linear terms (gx, rr),
+// with equality rows E dx_N(dnu = 0) = -sum_k D_k' g_k accumulated on the way and dnu = S^-1 (r_eq +
+// E dx_N(0)); then one forward pass from dx_0 = 0 with du_k = -K_k dx_k - d_k - D_k dnu.
+template <int NX, int NU>
+void StateIpm::sweep_stages(const StateIpmProblem& p) noexcept {
+  using MXX = Eigen::Matrix<double, NX, NX>;
+  using MXU = Eigen::Matrix<double, NX, NU>;
+  using MUX = Eigen::Matrix<double, NU, NX>;
+  using MUU = Eigen::Matrix<double, NU, NU>;
+  using VX = Eigen::Matrix<double, NX, 1>;
+  using VU = Eigen::Matrix<double, NU, 1>;
+  const auto& dyn = p.prob->dynamics;
+  const int nx = nx_, nu = nu_;
+  const bool eq = ne_ > 0;
+  Eigen::Map<VX> pk(p_.data(), nx), wv(wv_.data(), nx), ex(ex_.data(), nx), dnu(dnu_pad_.data(), nx);
+  Eigen::Map<VU> g(g_nu_.data(), nu);
+  pk = gx_.col(N_);
+  ex.setZero();
+  for (int k = N_ - 1; k >= 0; --k) {
+    const Eigen::Map<const MXX> A(dyn.A_at(k).data(), nx, nx);
+    const Eigen::Map<const MXU> B(dyn.B_at(k).data(), nx, nu);
+    const Eigen::Map<const MUU> Qi(Qi_.data() + static_cast<Eigen::Index>(k) * nu * nu, nu, nu);
+    const Eigen::Map<const MUX> K(K_.data() + static_cast<Eigen::Index>(k) * nu * nx, nu, nx);
+    g = rr_.col(k);
+    g.noalias() += B.transpose() * pk;
+    Eigen::Map<VU>(d_.col(k).data(), nu).noalias() = Qi * g;
+    if (eq)
+      ex.noalias() -=
+          Eigen::Map<const MUX>(Dall_.data() + static_cast<Eigen::Index>(k) * nu * nx, nu, nx).transpose() *
+          g;
+    if (k == 0) break;
+    // p_k = g_k + A' p - Qux' d, Qux' d = Qux' Quu^-1 (r + B' p) = K' (r + B' p)
+    wv.noalias() = A.transpose() * pk;
+    wv.noalias() -= K.transpose() * g;
+    pk = gx_.col(k) + wv;
+  }
+  dnu.setZero();
+  if (eq) {
+    // -E Z dnu = r_eq + E dx_N(0), S = -E Z  ->  dnu = S^-1 (r_eq + E dx_N(0))
+    rhs_e_.setZero();  // identity tail of the padded factor
+    for (int a = 0; a < ne_; ++a) rhs_e_(a) = req_(a) + ex(a);
+    llt_e_.solveInPlace(rhs_e_);
+    for (int a = 0; a < ne_; ++a) dnu(a) = dnu_(a) = rhs_e_(a);
+  }
+  dX_.col(0).setZero();
+  for (int k = 0; k < N_; ++k) {
+    const Eigen::Map<const MXX> A(dyn.A_at(k).data(), nx, nx);
+    const Eigen::Map<const MXU> B(dyn.B_at(k).data(), nx, nu);
+    const Eigen::Map<const MUX> K(K_.data() + static_cast<Eigen::Index>(k) * nu * nx, nu, nx);
+    const Eigen::Map<const VX> x(dX_.col(k).data(), nx);
+    Eigen::Map<VU> du(du_.col(k).data(), nu);
+    du.noalias() = -K * x;
+    du -= Eigen::Map<const VU>(d_.col(k).data(), nu);
+    if (eq)
+      du.noalias() -=
+          Eigen::Map<const MUX>(Dall_.data() + static_cast<Eigen::Index>(k) * nu * nx, nu, nx) * dnu;
+    Eigen::Map<VX> xn(dX_.col(k + 1).data(), nx);
+    xn.noalias() = A * x;
+    xn.noalias() += B * du;
   }
 }
 

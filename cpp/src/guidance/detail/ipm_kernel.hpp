@@ -33,6 +33,32 @@ bool llt_with_shift(Llt& llt, Matrix& H, double shift0, double shift_max, double
   return true;
 }
 
+/// out (R x C) = X (R x K) Y (K x C) on column-major arrays (mode 0), out += (mode 1), out -= (mode -1):
+/// each column of out as axpys over the columns of X, compile-time sizes (the loops unroll and vectorize
+/// without reordering a sum; Eigen's fixed-size products of Maps were not inlined at these sizes).
+template <int R, int K, int C, int Mode = 0>
+inline void mm(const double* X, const double* Y, double* out) noexcept {
+  for (int j = 0; j < C; ++j) {
+    double acc[R] = {};
+    for (int l = 0; l < K; ++l) {
+      const double y = Y[l + K * j];
+      for (int i = 0; i < R; ++i) acc[i] += X[i + R * l] * y;
+    }
+    for (int i = 0; i < R; ++i) {
+      if constexpr (Mode == 0) out[i + R * j] = acc[i];
+      if constexpr (Mode == 1) out[i + R * j] += acc[i];
+      if constexpr (Mode == -1) out[i + R * j] -= acc[i];
+    }
+  }
+}
+
+/// out (C x R) = X' for X (R x C), column-major arrays.
+template <int R, int C>
+inline void transpose(const double* X, double* out) noexcept {
+  for (int j = 0; j < C; ++j)
+    for (int i = 0; i < R; ++i) out[j + C * i] = X[i + R * j];
+}
+
 /// The step x += a dx for each (x, dx) pair of the primal-dual iterate.
 template <class X, class DX, class... Rest>
 void take_step(double a, X&& x, const DX& dx, Rest&&... rest) noexcept {

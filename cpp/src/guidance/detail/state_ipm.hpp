@@ -44,10 +44,21 @@ class StateIpm {
 
  private:
   void rollout(const StateIpmProblem& p, const Eigen::MatrixXd& U, Eigen::MatrixXd& X) const noexcept;
+  template <int NX, int NU>
+  void rollout_t(const StateIpmProblem& p, const Eigen::MatrixXd& U, Eigen::MatrixXd& X) const noexcept;
   void residuals(const StateIpmProblem& p) noexcept;
+  template <int NX>
+  void residuals_t(const StateIpmProblem& p) noexcept;
   void scaling(const StateIpmProblem& p) noexcept;
   bool factor(const StateIpmProblem& p) noexcept;
+  template <int NX, int NU>
+  bool factor_stages(const StateIpmProblem& p) noexcept;
+  bool riccati_63(const StateIpmProblem& p) noexcept;
   void solve_newton(const StateIpmProblem& p, bool affine, double sigma_mu) noexcept;
+  template <int NX, int NU>
+  void solve_newton_t(const StateIpmProblem& p, bool affine, double sigma_mu) noexcept;
+  template <int NX, int NU>
+  void sweep_stages(const StateIpmProblem& p) noexcept;
   double max_step() const noexcept;
 
   int nx_ = 0, nu_ = 0, N_ = 0, m_ = 0, ne_ = 0, nlp_ = 0, ncone_ = 0;
@@ -67,11 +78,12 @@ class StateIpm {
   // Newton system: per-node state Hessian and gradients, per-entry (u, t) blocks
   Eigen::MatrixXd Qx_, gx_, huu_, hut_, htt_, gu_, gt_, Rd_, rr_;
   Eigen::MatrixXd du_, dt_, dX_;
-  // Riccati
-  Eigen::MatrixXd P_, PB_, K_, Qi_, Acl_, d_, Dall_, T_, T2_, Z_, Z2_, Se_, tmp_nx_nx_, tmp_nx_nx2_,
-      tmp_nu_nx_, Quu_, Inu_;
-  Eigen::VectorXd p_, wv_, g_nu_, tmp_nx_, rhs_e_;
+  // Riccati (per-stage blocks side by side, column-major: fixed-size views in the (6, 3) case)
+  Eigen::MatrixXd P_, K_, Qi_, d_, Dall_, T_, T2_, Sf_, G_, CW_, Se_, tmp_nx_nx_, tmp_nx_nx2_, tmp_nu_nx_,
+      Quu_;
+  Eigen::VectorXd p_, wv_, ex_, dnu_pad_, g_nu_, tmp_nx_, rhs_e_;
   Eigen::LLT<Eigen::MatrixXd> llt_, llt_e_;
+  Eigen::LLT<Eigen::Matrix3d> llt3_;  // nu = 3
   Eigen::VectorXi has_lo_, has_hi_;
 };
 
