@@ -524,11 +524,23 @@ struct StateAdmmWorkspace {
   }
 
   void rollout(const Eigen::MatrixXd& Uc, Eigen::MatrixXd& Xo, bool zero) noexcept {
+    if (nx == 6 && nu == 3)  // the CW case: fixed-size products (the IPM's loop rolls out every step)
+      rollout_t<6, 3>(Uc, Xo, zero);
+    else
+      rollout_t<Eigen::Dynamic, Eigen::Dynamic>(Uc, Xo, zero);
+  }
+  template <int NX, int NU>
+  void rollout_t(const Eigen::MatrixXd& Uc, Eigen::MatrixXd& Xo, bool zero) noexcept {
+    using VX = Eigen::Matrix<double, NX, 1>;
     Xo.col(0) = prob.x0;
     for (int k = 0; k < N; ++k) {
-      Xo.col(k + 1).noalias() = A(k) * Xo.col(k);
-      if (!zero) Xo.col(k + 1).noalias() += B(k) * Uc.col(k);
-      if (has_c()) Xo.col(k + 1) += c(k);
+      Eigen::Map<VX> xn(Xo.col(k + 1).data(), nx);
+      xn.noalias() = Eigen::Map<const Eigen::Matrix<double, NX, NX>>(A(k).data(), nx, nx) *
+                     Eigen::Map<const VX>(Xo.col(k).data(), nx);
+      if (!zero)
+        xn.noalias() += Eigen::Map<const Eigen::Matrix<double, NX, NU>>(B(k).data(), nx, nu) *
+                        Eigen::Map<const Eigen::Matrix<double, NU, 1>>(Uc.col(k).data(), nu);
+      if (has_c()) xn += Eigen::Map<const VX>(c(k).data(), nx);
     }
   }
 

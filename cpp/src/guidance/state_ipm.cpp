@@ -158,6 +158,7 @@ void StateIpm::rollout_t(const StateIpmProblem& p, const Eigen::MatrixXd& U,
 
 void StateIpm::init(const StateIpmProblem& p) noexcept {
   iterations = 0;
+  residuals_current_ = false;
   u_.setZero();
   t_.setOnes();
   nu_eq_.setZero();
@@ -731,7 +732,7 @@ double StateIpm::max_step() const noexcept {
 
 bool StateIpm::step(const StateIpmProblem& p) noexcept {
   ++iterations;
-  residuals(p);
+  if (!residuals_current_) residuals(p);  // else computed at the end of the previous step
   scaling(p);
   if (!scaling_ok_ || !factor(p)) return false;
   const double mu = sz_ / std::max(1, nlp_ + ncone_);
@@ -774,6 +775,7 @@ bool StateIpm::step(const StateIpmProblem& p) noexcept {
   nu_eq_.head(ne_) += a * dnu_.head(ne_);
   rollout(p, u_, X_);
   residuals(p);
+  residuals_current_ = true;
   return u_.allFinite() && zc_.allFinite() && zs_.allFinite() && zcn_.allFinite() && std::isfinite(sz_);
 }
 

@@ -64,7 +64,8 @@ class StateIpm {
   int nx_ = 0, nu_ = 0, N_ = 0, m_ = 0, ne_ = 0, nlp_ = 0, ncone_ = 0;
   double sz_ = 0.0, rp_ = 0.0;
   bool scaling_ok_ = true;
-  Eigen::VectorXi eqrow_;  // the equality rows (all at node N)
+  bool residuals_current_ = false;  // residuals() of the current iterate done (end of step())
+  Eigen::VectorXi eqrow_;           // the equality rows (all at node N)
   // primal / dual iterates: controls and epigraph, equality multipliers
   Eigen::MatrixXd u_, t_, X_;
   Eigen::VectorXd nu_eq_;
