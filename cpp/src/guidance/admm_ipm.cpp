@@ -23,47 +23,6 @@ using Eigen::VectorXd;
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Inverse of a symmetric 3 x 3 matrix by its LDL' factorization (lower triangle read; false where a
-// pivot is <= 0 or NaN, where Eigen's LLT fails). No square roots and one division per pivot: the
-// Riccati recursion is latency-bound, and this chain is on its critical path (Cholesky with three
-// square roots and six divisions was ~130 cycles of dependent latency per stage).
-template <typename M, typename Out>
-bool ldl_inverse3(const M& a, Out& inv) noexcept {
-  const double d0 = a(0, 0);
-  if (!(d0 > 0.0)) return false;
-  const double i0 = 1.0 / d0;
-  const double l10 = a(1, 0) * i0, l20 = a(2, 0) * i0;
-  const double d1 = a(1, 1) - l10 * a(1, 0);
-  if (!(d1 > 0.0)) return false;
-  const double i1 = 1.0 / d1;
-  const double c21 = a(2, 1) - l20 * a(1, 0);
-  const double l21 = c21 * i1;
-  const double d2 = a(2, 2) - l20 * a(2, 0) - l21 * c21;
-  if (!(d2 > 0.0)) return false;
-  const double i2 = 1.0 / d2;
-  // M = L^-1 (unit lower), inverse = M' D^-1 M
-  const double m10 = -l10, m21 = -l21, m20 = -l20 - l21 * m10;
-  inv(2, 2) = i2;
-  inv(1, 2) = inv(2, 1) = m21 * i2;
-  inv(0, 2) = inv(2, 0) = m20 * i2;
-  inv(1, 1) = i1 + m21 * m21 * i2;
-  inv(0, 1) = inv(1, 0) = m10 * i1 + m20 * m21 * i2;
-  inv(0, 0) = i0 + m10 * m10 * i1 + m20 * m20 * i2;
-  return true;
-}
-
-// ldl_inverse3 of the stage Hessian a, shifted on failure as ipm::llt_with_shift does (relative
-// shifts 1e-14, 1e-12, ..., 1e-6; a keeps the shift): near the end D spans many decades and P_{k+1}
-// may lose definiteness to rounding (the step stays a descent direction). False past 1e-6.
-template <typename M, typename Out>
-bool ldl_inverse3_shifted(M& a, Out& inv) noexcept {
-  for (double shift = 1e-14; !ldl_inverse3(a, inv); shift *= 100.0) {
-    if (shift > 1e-6) return false;
-    a.diagonal().array() += shift * a.diagonal().cwiseAbs().maxCoeff();
-  }
-  return true;
-}
 }  // namespace
 
 void AdmmWorkspace::ipm_setup() {
@@ -150,7 +109,7 @@ bool AdmmWorkspace::ipm_riccati_factor() noexcept {
     for (int i = 0; i < nu_; ++i) Quu(i, i) += id_(static_cast<Index>(k) * nu_ + i);
     // a relative shift of the stage Hessian where it lost definiteness to rounding
     if constexpr (NU == 3) {
-      if (!ldl_inverse3_shifted(Quu, Qi)) return false;
+      if (!ipm::ldl_inverse3_shifted(Quu, Qi, 1e-14, 1e-6, 0.0)) return false;
     } else {
       std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<MatrixXd>&, Eigen::LLT<MUU>> llt = llt_ref<NU>();
       if (!ipm::llt_with_shift(llt, Quu, 1e-14, 1e-6, 0.0)) return false;
@@ -271,7 +230,7 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
     QuuM = (0.5 * (QuuM + QuuM.transpose())).eval();
     if (has_r) QuuM += prob_.R;
     for (int i = 0; i < 3; ++i) QuuM(i, i) += id_(static_cast<Index>(k) * 3 + i);
-    if (!ldl_inverse3_shifted(QuuM, QiM)) return false;
+    if (!ipm::ldl_inverse3_shifted(QuuM, QiM, 1e-14, 1e-6, 0.0)) return false;
     mm<3, 3, 6>(Qi, Qux, K);  // K = -Qi Qux
     for (int j = 0; j < 18; ++j) K[j] = -K[j];
     if (term) terminal_stage<6, 3>(At, Bt, Qi, K, L, Z, Ln, iKnu_.data() + k * 18);
@@ -380,7 +339,7 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
     QuuM = (0.5 * (QuuM + QuuM.transpose())).eval();  // fixed-size: no allocation
     if (has_r) QuuM += prob_.R;
     for (int i = 0; i < 3; ++i) QuuM(i, i) += id_(static_cast<Index>(k) * 3 + i);
-    if (!ldl_inverse3_shifted(QuuM, QiM)) return false;
+    if (!ipm::ldl_inverse3_shifted(QuuM, QiM, 1e-14, 1e-6, 0.0)) return false;
     // K = -Qi Qux on the blocks; Qux and K scattered into the stage's 3 x 6 arrays
     const double Qi4[4] = {Qi[0], Qi[1], Qi[3], Qi[4]}, Qi2 = Qi[8];
     double K4[8], K2[2];

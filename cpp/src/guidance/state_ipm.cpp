@@ -114,7 +114,6 @@ void StateIpm::setup(int nx, int nu, int N, int m) {
   has_lo_.setZero(nu);
   has_hi_.setZero(nu);
   llt_ = Eigen::LLT<Eigen::MatrixXd>(Eigen::MatrixXd::Identity(nu, nu));  // computed once: info() set
-  llt3_.compute(Eigen::Matrix3d::Identity());
   llt_e_ = Eigen::LLT<Eigen::MatrixXd>(Eigen::MatrixXd::Identity(me, me));
 }
 
@@ -385,9 +384,7 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
     QuuM.diagonal() += Rd_.col(k);
     // near the end the barrier weights span ~1e12 and P loses definiteness to rounding: a tiny
     // diagonal shift (the direction is only proposed; the certificate is independent)
-    if (!ipm::llt_with_shift(llt3_, QuuM, 1e-12, 1e-5, 1e-300)) return false;
-    QiM.setIdentity();
-    llt3_.solveInPlace(QiM);
+    if (!ipm::ldl_inverse3_shifted(QuuM, QiM, 1e-12, 1e-5, 1e-300)) return false;
     ipm::mm<3, 3, 6>(Qi, Qux, K);
     if (eq) {
       double* D = Dall_.data() + k * 18;
@@ -422,7 +419,6 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
 // zero) so that every block has the stage's fixed size. Views on storage sized at setup: no allocation.
 template <int NX, int NU>
 bool StateIpm::factor_stages(const StateIpmProblem& p) noexcept {
-  static_assert(NU == 3 || NU == Eigen::Dynamic, "llt3_ serves nu = 3");
   using MXX = Eigen::Matrix<double, NX, NX>;
   using MXU = Eigen::Matrix<double, NX, NU>;
   using MUX = Eigen::Matrix<double, NU, NX>;

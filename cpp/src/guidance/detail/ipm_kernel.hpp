@@ -33,6 +33,48 @@ bool llt_with_shift(Llt& llt, Matrix& H, double shift0, double shift_max, double
   return true;
 }
 
+/// Inverse of a symmetric 3 x 3 matrix by its LDL' factorization (lower triangle read; false where a
+/// pivot is <= 0 or NaN, where Eigen's LLT fails). No square roots and one division per pivot: the
+/// Riccati recursion is latency-bound, and this chain is on its critical path (Cholesky with three
+/// square roots and six divisions was ~130 cycles of dependent latency per stage).
+template <typename M, typename Out>
+bool ldl_inverse3(const M& a, Out& inv) noexcept {
+  const double d0 = a(0, 0);
+  if (!(d0 > 0.0)) return false;
+  const double i0 = 1.0 / d0;
+  const double l10 = a(1, 0) * i0, l20 = a(2, 0) * i0;
+  const double d1 = a(1, 1) - l10 * a(1, 0);
+  if (!(d1 > 0.0)) return false;
+  const double i1 = 1.0 / d1;
+  const double c21 = a(2, 1) - l20 * a(1, 0);
+  const double l21 = c21 * i1;
+  const double d2 = a(2, 2) - l20 * a(2, 0) - l21 * c21;
+  if (!(d2 > 0.0)) return false;
+  const double i2 = 1.0 / d2;
+  // M = L^-1 (unit lower), inverse = M' D^-1 M
+  const double m10 = -l10, m21 = -l21, m20 = -l20 - l21 * m10;
+  inv(2, 2) = i2;
+  inv(1, 2) = inv(2, 1) = m21 * i2;
+  inv(0, 2) = inv(2, 0) = m20 * i2;
+  inv(1, 1) = i1 + m21 * m21 * i2;
+  inv(0, 1) = inv(1, 0) = m10 * i1 + m20 * m21 * i2;
+  inv(0, 0) = i0 + m10 * m10 * i1 + m20 * m20 * i2;
+  return true;
+}
+
+/// ldl_inverse3 of the stage Hessian a, shifted on failure as llt_with_shift does (the diagonal by
+/// shift x (max |a_ii| + floor), shift = shift0, 100 shift0, ... while shift <= shift_max; a keeps the
+/// shift): near the end of an interior-point run the barrier terms span many decades and the stage
+/// Hessian may lose definiteness to rounding. False past shift_max.
+template <typename M, typename Out>
+bool ldl_inverse3_shifted(M& a, Out& inv, double shift0, double shift_max, double floor) noexcept {
+  for (double shift = shift0; !ldl_inverse3(a, inv); shift *= 100.0) {
+    if (shift > shift_max) return false;
+    a.diagonal().array() += shift * (a.diagonal().cwiseAbs().maxCoeff() + floor);
+  }
+  return true;
+}
+
 /// out (R x C) = X (R x K) Y (K x C) on column-major arrays (mode 0), out += (mode 1), out -= (mode -1):
 /// each column of out as axpys over the columns of X, compile-time sizes (the loops unroll and vectorize
 /// without reordering a sum; Eigen's fixed-size products of Maps were not inlined at these sizes).

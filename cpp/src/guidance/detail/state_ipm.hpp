@@ -84,7 +84,6 @@ class StateIpm {
       Quu_;
   Eigen::VectorXd p_, wv_, ex_, dnu_pad_, g_nu_, tmp_nx_, rhs_e_;
   Eigen::LLT<Eigen::MatrixXd> llt_, llt_e_;
-  Eigen::LLT<Eigen::Matrix3d> llt3_;  // nu = 3
   Eigen::VectorXi has_lo_, has_hi_;
 };
 
