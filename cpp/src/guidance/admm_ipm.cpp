@@ -150,18 +150,7 @@ bool AdmmWorkspace::ipm_riccati_factor() noexcept {
 // symmetric results are formed once per pair (i <= j) and mirrored: B'PB, A'PA + Qux'K (+ Q), the
 // terminal W += (B'L)' Knu; L_k = A'L + K'(B'L) (= (A + BK)' L).
 namespace {
-// out (r x c) = X (r x n) Y (n x c), column-major, as axpys over the columns of X
-template <int R, int N, int C>
-inline void mm(const double* X, const double* Y, double* out) noexcept {
-  for (int j = 0; j < C; ++j) {
-    double acc[R] = {};
-    for (int l = 0; l < N; ++l) {
-      const double y = Y[l + N * j];
-      for (int i = 0; i < R; ++i) acc[i] += X[i + R * l] * y;
-    }
-    for (int i = 0; i < R; ++i) out[i + R * j] = acc[i];
-  }
-}
+using ipm::mm;  // out (r x c) = X (r x n) Y (n x c), column-major (detail/ipm_kernel.hpp)
 // One stage of the terminal-constraint recursion (written out, the operations of the Eigen form) on an
 // NX x NU block, column-major: Knu = -Qi B'L; W_k = W_{k+1} + (B'L)' Knu; L_k = A'L + K'(B'L). At, Bt:
 // A', B' of the block; Qi, K: its Quu^-1 and gain; L, Z (W) updated in place; Ln scratch.
