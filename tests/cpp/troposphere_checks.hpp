@@ -21,6 +21,24 @@ inline satgnc::observation::MeasurementModel troposphere_model(satgnc::observati
   return converged_model(type, tropo, false, tm);
 }
 
+// On the shared pass (offset 0.15 rad, t = 0): the one-way range predictions with troposphere models
+// `a` and `b`, and the azimuth / elevation without troposphere.
+struct PassDelays {
+  satgnc::observation::Prediction a, b, look;
+};
+inline PassDelays pass_delays(const satgnc::observation::StationEphemeris& st,
+                              satgnc::observation::TroposphereModel a,
+                              satgnc::observation::TroposphereModel b) {
+  namespace obs = satgnc::observation;
+  const satgnc::Vec6 x = pass_state(7000.0, 0.15);
+  PassDelays p;
+  troposphere_model(obs::ObservableType::one_way_range, a).predict(st, 0.0, x, obs::Biases{}, p.a);
+  troposphere_model(obs::ObservableType::one_way_range, b).predict(st, 0.0, x, obs::Biases{}, p.b);
+  troposphere_model(obs::ObservableType::azimuth_elevation, obs::TroposphereModel::saastamoinen, false)
+      .predict(st, 0.0, x, obs::Biases{}, p.look);
+  return p;
+}
+
 // Range and range-rate partials with `tm` against central differences (h = 1e-2 km, km/s; the
 // tolerance of test_observation_models: 1e-7 relative + 4 eps |value| / h), at two points of the pass;
 // and the range-rate's modifier equals d/dt of the one-way range delay along the motion to 1e-4 (the
