@@ -1,5 +1,6 @@
 #pragma once
-// Shared by test_tdm / test_oem / test_opm: the data folder and an assertion on FormatError's parts.
+// Shared by the CCSDS file tests (TDM, OEM, OPM; KVN and XML): the data folder and an assertion on
+// FormatError's parts.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "satgnc/io/ccsds.hpp"
+#include "satgnc/io/oem.hpp"
 
 namespace satgnc::testing {
 
@@ -98,6 +100,54 @@ inline void expect_same_header(const io::Header& a, const io::Header& b, bool sa
   EXPECT_EQ(a.creation_date, b.creation_date);
   EXPECT_EQ(a.originator, b.originator);
   EXPECT_EQ(a.message_id, b.message_id);
+}
+
+/// Exact comparison (tolerance 0) of two OEMs, field by field: from_chars and the compiler round the same
+/// decimal text the same way, and the writers print the shortest decimal that reads back to the double.
+inline void expect_same_oem(const io::Oem& a, const io::Oem& b) {
+  expect_same_header(a.header, b.header);
+  ASSERT_EQ(a.segments.size(), b.segments.size());
+  for (std::size_t s = 0; s < a.segments.size(); ++s) {
+    const auto& sa = a.segments[s];
+    const auto& sb = b.segments[s];
+    EXPECT_EQ(sa.metadata.comments, sb.metadata.comments);
+    EXPECT_EQ(sa.metadata.object_name, sb.metadata.object_name);
+    EXPECT_EQ(sa.metadata.object_id, sb.metadata.object_id);
+    EXPECT_EQ(sa.metadata.center_name, sb.metadata.center_name);
+    EXPECT_EQ(sa.metadata.ref_frame, sb.metadata.ref_frame);
+    EXPECT_EQ(sa.metadata.ref_frame_epoch, sb.metadata.ref_frame_epoch);
+    EXPECT_EQ(sa.metadata.time_system, sb.metadata.time_system);
+    EXPECT_EQ(sa.metadata.start_time, sb.metadata.start_time);
+    EXPECT_EQ(sa.metadata.useable_start_time, sb.metadata.useable_start_time);
+    EXPECT_EQ(sa.metadata.useable_stop_time, sb.metadata.useable_stop_time);
+    EXPECT_EQ(sa.metadata.stop_time, sb.metadata.stop_time);
+    EXPECT_EQ(sa.metadata.interpolation, sb.metadata.interpolation);
+    EXPECT_EQ(sa.metadata.interpolation_degree, sb.metadata.interpolation_degree);
+    EXPECT_EQ(sa.data_comments, sb.data_comments);
+    ASSERT_EQ(sa.states.size(), sb.states.size());
+    for (std::size_t i = 0; i < sa.states.size(); ++i) {
+      EXPECT_EQ(sa.states[i].epoch, sb.states[i].epoch);
+      EXPECT_EQ(sa.states[i].time, sb.states[i].time);
+      EXPECT_EQ(sa.states[i].state, sb.states[i].state);
+      ASSERT_EQ(sa.states[i].acceleration.has_value(), sb.states[i].acceleration.has_value());
+      if (sa.states[i].acceleration) EXPECT_EQ(*sa.states[i].acceleration, *sb.states[i].acceleration);
+    }
+    ASSERT_EQ(sa.covariances.size(), sb.covariances.size());
+    for (std::size_t i = 0; i < sa.covariances.size(); ++i) {
+      EXPECT_EQ(sa.covariances[i].comments, sb.covariances[i].comments);
+      EXPECT_EQ(sa.covariances[i].epoch, sb.covariances[i].epoch);
+      EXPECT_EQ(sa.covariances[i].time, sb.covariances[i].time);
+      EXPECT_EQ(sa.covariances[i].cov_ref_frame, sb.covariances[i].cov_ref_frame);
+      EXPECT_EQ(sa.covariances[i].matrix, sb.covariances[i].matrix);
+    }
+  }
+}
+
+/// `s` with the first `a` replaced by `b` (a test failure when `a` is absent).
+inline std::string replace_first(std::string s, const std::string& a, const std::string& b) {
+  const std::size_t i = s.find(a);
+  EXPECT_NE(i, std::string::npos) << a;
+  return i == std::string::npos ? s : s.replace(i, a.size(), b);
 }
 
 /// One bad-input case: line `line` of a valid base text replaced by `with` ("" removes it).

@@ -14,47 +14,15 @@ using satgnc::io::Oem;
 using satgnc::io::parse_oem;
 using satgnc::testing::ccsds_data;
 using satgnc::testing::expect_format_error;
-
-// Exact comparison (tolerance 0): the writers print the shortest decimal that reads back to the double.
-void expect_same(const Oem& a, const Oem& b) {
-  satgnc::testing::expect_same_header(a.header, b.header);
-  ASSERT_EQ(a.segments.size(), b.segments.size());
-  for (std::size_t s = 0; s < a.segments.size(); ++s) {
-    const auto& sa = a.segments[s];
-    const auto& sb = b.segments[s];
-    EXPECT_EQ(sa.metadata.comments, sb.metadata.comments);
-    EXPECT_EQ(sa.metadata.object_name, sb.metadata.object_name);
-    EXPECT_EQ(sa.metadata.ref_frame, sb.metadata.ref_frame);
-    EXPECT_EQ(sa.metadata.time_system, sb.metadata.time_system);
-    EXPECT_EQ(sa.metadata.start_time, sb.metadata.start_time);
-    EXPECT_EQ(sa.metadata.stop_time, sb.metadata.stop_time);
-    EXPECT_EQ(sa.metadata.interpolation, sb.metadata.interpolation);
-    EXPECT_EQ(sa.metadata.interpolation_degree, sb.metadata.interpolation_degree);
-    EXPECT_EQ(sa.data_comments, sb.data_comments);
-    ASSERT_EQ(sa.states.size(), sb.states.size());
-    for (std::size_t i = 0; i < sa.states.size(); ++i) {
-      EXPECT_EQ(sa.states[i].epoch, sb.states[i].epoch);
-      EXPECT_EQ(sa.states[i].time, sb.states[i].time);
-      EXPECT_EQ(sa.states[i].state, sb.states[i].state);
-      ASSERT_EQ(sa.states[i].acceleration.has_value(), sb.states[i].acceleration.has_value());
-      if (sa.states[i].acceleration) EXPECT_EQ(*sa.states[i].acceleration, *sb.states[i].acceleration);
-    }
-    ASSERT_EQ(sa.covariances.size(), sb.covariances.size());
-    for (std::size_t i = 0; i < sa.covariances.size(); ++i) {
-      EXPECT_EQ(sa.covariances[i].comments, sb.covariances[i].comments);
-      EXPECT_EQ(sa.covariances[i].epoch, sb.covariances[i].epoch);
-      EXPECT_EQ(sa.covariances[i].cov_ref_frame, sb.covariances[i].cov_ref_frame);
-      EXPECT_EQ(sa.covariances[i].matrix, sb.covariances[i].matrix);
-    }
-  }
-}
+using satgnc::testing::expect_same_oem;
+using satgnc::testing::replace_first;
 
 TEST(OemXml, StandardExampleRoundTripsThroughXml) {
   const Oem a = satgnc::io::read_oem(ccsds_data("oem_mgs.kvn"));
   const std::string xml = satgnc::io::format_oem_xml(a);
   EXPECT_EQ(xml.rfind("<?xml", 0), 0u);
   EXPECT_NE(xml.find("<stateVector>"), std::string::npos);
-  expect_same(parse_oem(xml), a);
+  expect_same_oem(parse_oem(xml), a);
   // XML -> KVN gives the text KVN -> KVN gives.
   EXPECT_EQ(satgnc::io::format_oem(parse_oem(xml)), satgnc::io::format_oem(a));
 }
@@ -94,7 +62,7 @@ TEST(OemXml, EstimatedTrajectoryWithCovarianceFileRoundTrip) {
   t.segments[1].covariances.clear();
   const std::string path = ::testing::TempDir() + "satgnc_oem_roundtrip.xml";
   satgnc::io::write_oem(path, t, true);
-  expect_same(satgnc::io::read_oem(path), t);
+  expect_same_oem(satgnc::io::read_oem(path), t);
   std::remove(path.c_str());
 }
 
@@ -114,32 +82,27 @@ const std::string kXml =
     "      <X_DOT>0</X_DOT><Y_DOT>7.5</Y_DOT><Z_DOT>0</Z_DOT>\n"            // 13
     "    </stateVector></data></segment></body></oem>\n";                   // 14
 
-std::string replace(std::string s, const std::string& a, const std::string& b) {
-  const std::size_t i = s.find(a);
-  EXPECT_NE(i, std::string::npos) << a;
-  return s.replace(i, a.size(), b);
-}
-
 TEST(OemXml, BadInputNamesFileXmlLineAndKeyword) {
   ASSERT_EQ(parse_oem(kXml, "a.xml").segments[0].states.size(), 1u);
   auto bad = [](const std::string& text, int line, const std::string& key, const std::string& fragment) {
     expect_format_error([&] { parse_oem(text, "a.xml"); }, "a.xml", line, key, fragment);
   };
-  bad(replace(kXml, "<Y_DOT>7.5</Y_DOT>", "<V_Y>7.5</V_Y>"), 13, "V_Y", "unexpected in <stateVector>");
-  bad(replace(kXml, "<Y>0</Y>", "<Y>zero</Y>"), 11, "EPHEMERIS", "");  // the number rule of the KVN reader
-  bad(replace(kXml, "<TIME_SYSTEM>UTC</TIME_SYSTEM>", "<TIME_SYSTEM>UT2</TIME_SYSTEM>"), 8, "TIME_SYSTEM",
-      "");
-  bad(replace(kXml, "    <TIME_SYSTEM>UTC</TIME_SYSTEM>\n", "\n"), 5, "TIME_SYSTEM",
+  bad(replace_first(kXml, "<Y_DOT>7.5</Y_DOT>", "<V_Y>7.5</V_Y>"), 13, "V_Y", "unexpected in <stateVector>");
+  bad(replace_first(kXml, "<Y>0</Y>", "<Y>zero</Y>"), 11, "EPHEMERIS",
+      "");  // the number rule of the KVN reader
+  bad(replace_first(kXml, "<TIME_SYSTEM>UTC</TIME_SYSTEM>", "<TIME_SYSTEM>UT2</TIME_SYSTEM>"), 8,
+      "TIME_SYSTEM", "");
+  bad(replace_first(kXml, "    <TIME_SYSTEM>UTC</TIME_SYSTEM>\n", "\n"), 5, "TIME_SYSTEM",
       "missing mandatory keyword");
-  bad(replace(kXml, "<ORIGINATOR>SATGNC</ORIGINATOR>", "<AUTHOR>X</AUTHOR>"), 4, "AUTHOR",
+  bad(replace_first(kXml, "<ORIGINATOR>SATGNC</ORIGINATOR>", "<AUTHOR>X</AUTHOR>"), 4, "AUTHOR",
       "unknown header keyword");
-  bad(replace(kXml, "</stateVector>", "</stateVector><ephemeris/>"), 14, "ephemeris",
+  bad(replace_first(kXml, "</stateVector>", "</stateVector><ephemeris/>"), 14, "ephemeris",
       "unexpected element in <data>");
-  bad(replace(kXml, "</stateVector>",
-              "</stateVector><covarianceMatrix><EPOCH>2026-01-01T00:00:00</EPOCH></covarianceMatrix>"),
+  bad(replace_first(kXml, "</stateVector>",
+                    "</stateVector><covarianceMatrix><EPOCH>2026-01-01T00:00:00</EPOCH></covarianceMatrix>"),
       14, "CX_X", "missing in <covarianceMatrix>");
-  bad(replace(kXml, "</metadata>", "</metadat>"), 10, "XML", "not well-formed XML");
-  bad(replace(kXml, "version=\"2.0\"", "version=\"9.0\""), 2, "CCSDS_OEM_VERS", "");
+  bad(replace_first(kXml, "</metadata>", "</metadat>"), 10, "XML", "not well-formed XML");
+  bad(replace_first(kXml, "version=\"2.0\"", "version=\"9.0\""), 2, "CCSDS_OEM_VERS", "");
 }
 
 }  // namespace

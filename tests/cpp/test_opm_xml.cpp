@@ -14,6 +14,7 @@ using satgnc::io::Opm;
 using satgnc::io::parse_opm;
 using satgnc::testing::ccsds_data;
 using satgnc::testing::expect_format_error;
+using satgnc::testing::replace_first;
 
 TEST(OpmXml, StandardExamplesRoundTripThroughXml) {
   for (const char* f : {"opm_godzilla.kvn", "opm_eutelsat.kvn", "opm_osprey_cov.kvn"}) {
@@ -53,12 +54,6 @@ const std::string kXml =
     "      <userDefinedParameters><USER_DEFINED parameter=\"EARTH_MODEL\">WGS-84</USER_DEFINED>\n"  // 12
     "      </userDefinedParameters></data></segment></body></opm>\n";                               // 13
 
-std::string replace(std::string s, const std::string& a, const std::string& b) {
-  const std::size_t i = s.find(a);
-  EXPECT_NE(i, std::string::npos) << a;
-  return s.replace(i, a.size(), b);
-}
-
 TEST(OpmXml, BadInputNamesFileXmlLineAndKeyword) {
   const Opm ok = parse_opm(kXml, "a.xml");
   ASSERT_EQ(ok.user_defined.size(), 1u);
@@ -67,15 +62,17 @@ TEST(OpmXml, BadInputNamesFileXmlLineAndKeyword) {
   auto bad = [](const std::string& text, int line, const std::string& key, const std::string& fragment) {
     expect_format_error([&] { parse_opm(text, "a.xml"); }, "a.xml", line, key, fragment);
   };
-  bad(replace(kXml, "<Y_DOT>7.5</Y_DOT>", "<MASS>7.5</MASS>"), 11, "MASS", "unexpected in <stateVector>");
-  bad(replace(kXml, "<Y>0</Y>", "<Y>zero</Y>"), 10, "Y", "");
-  bad(replace(kXml, "    <TIME_SYSTEM>UTC</TIME_SYSTEM></metadata>\n", "    </metadata>\n"), 12,
+  bad(replace_first(kXml, "<Y_DOT>7.5</Y_DOT>", "<MASS>7.5</MASS>"), 11, "MASS",
+      "unexpected in <stateVector>");
+  bad(replace_first(kXml, "<Y>0</Y>", "<Y>zero</Y>"), 10, "Y", "");
+  bad(replace_first(kXml, "    <TIME_SYSTEM>UTC</TIME_SYSTEM></metadata>\n", "    </metadata>\n"), 12,
       "TIME_SYSTEM", "missing mandatory keyword");
-  bad(replace(kXml, "<ORIGINATOR>SATGNC</ORIGINATOR>", "<AUTHOR>X</AUTHOR>"), 4, "AUTHOR", "");
-  bad(replace(kXml, "<stateVector>", "<orbit/><stateVector>"), 9, "orbit", "unexpected element in <data>");
-  bad(replace(kXml, "<USER_DEFINED parameter=\"EARTH_MODEL\">", "<USER_DEFINED>"), 12, "USER_DEFINED",
+  bad(replace_first(kXml, "<ORIGINATOR>SATGNC</ORIGINATOR>", "<AUTHOR>X</AUTHOR>"), 4, "AUTHOR", "");
+  bad(replace_first(kXml, "<stateVector>", "<orbit/><stateVector>"), 9, "orbit",
+      "unexpected element in <data>");
+  bad(replace_first(kXml, "<USER_DEFINED parameter=\"EARTH_MODEL\">", "<USER_DEFINED>"), 12, "USER_DEFINED",
       "expected <USER_DEFINED parameter=\"NAME\">");
-  bad(replace(kXml, "</metadata>", "</metadat>"), 8, "XML", "not well-formed XML");
+  bad(replace_first(kXml, "</metadata>", "</metadat>"), 8, "XML", "not well-formed XML");
 }
 
 }  // namespace

@@ -110,12 +110,8 @@ MeasurementModel model(ObservableType type, TroposphereModel tm, bool tropo = tr
 // Mendes-Pavlis on the same pass (both at 532 nm): printed, asserted within 5 % and different.
 TEST(MariniMurray, RangeDelayInARun) {
   const obs::RotatingStationEphemeris st(obs_fixture::station());
-  const Vec6 x = obs_fixture::pass_state(7000.0, 0.15);
-  Prediction mm, mp, el;
-  model(ObservableType::one_way_range, TroposphereModel::marini_murray).predict(st, 0.0, x, Biases{}, mm);
-  model(ObservableType::one_way_range, TroposphereModel::mendes_pavlis).predict(st, 0.0, x, Biases{}, mp);
-  model(ObservableType::azimuth_elevation, TroposphereModel::saastamoinen, false)
-      .predict(st, 0.0, x, Biases{}, el);
+  const auto [mm, mp, el] =
+      obs_fixture::pass_delays(st, TroposphereModel::marini_murray, TroposphereModel::mendes_pavlis);
   ASSERT_EQ(mm.status, ObservationStatus::success);
   obs::Weather w = obs::standard_atmosphere(st.height(), 0.5);
   w.water_vapour = obs::marini_murray_water_vapour(w.temperature, 0.5);

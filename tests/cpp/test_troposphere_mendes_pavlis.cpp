@@ -90,12 +90,8 @@ MeasurementModel model(ObservableType type, TroposphereModel tm, bool tropo = tr
 // within 5 % and different).
 TEST(MendesPavlis, RangeDelayIsZenithTimesMapping) {
   const obs::RotatingStationEphemeris st(obs_fixture::station());
-  const Vec6 x = obs_fixture::pass_state(7000.0, 0.15);
-  Prediction mp, sa, el;
-  model(ObservableType::one_way_range, TroposphereModel::mendes_pavlis).predict(st, 0.0, x, Biases{}, mp);
-  model(ObservableType::one_way_range, TroposphereModel::saastamoinen).predict(st, 0.0, x, Biases{}, sa);
-  model(ObservableType::azimuth_elevation, TroposphereModel::saastamoinen, false)
-      .predict(st, 0.0, x, Biases{}, el);
+  const auto [mp, sa, el] =
+      obs_fixture::pass_delays(st, TroposphereModel::mendes_pavlis, TroposphereModel::saastamoinen);
   ASSERT_EQ(mp.status, ObservationStatus::success);
   const obs::Weather w = obs::standard_atmosphere(st.height(), 0.5);
   const double zenith = obs::mendes_pavlis_zenith_delay(w, st.latitude(), st.height(), 0.532).total();

@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 import satgnc
 import satgnc.time
+from _ccsds import DATA, estimated_oem, leo_metadata, two_way_tdm
+from _ccsds import assert_same as _assert_same
 from satgnc import io
-
-DATA = pathlib.Path(__file__).resolve().parents[1] / "data" / "ccsds"
 
 
 def _kvn_data_lines(path: pathlib.Path) -> list[tuple[str, str, float]]:
@@ -34,22 +34,6 @@ def _kvn_data_lines(path: pathlib.Path) -> list[tuple[str, str, float]]:
         if inside and m:
             out.append((m.group(1), m.group(2), float(m.group(3))))
     return out
-
-
-def _assert_same(a: object, b: object, where: str = "") -> None:
-    """Field-by-field equality of two models (arrays: exact, NaN == NaN)."""
-    assert type(a) is type(b), where
-    if dataclasses.is_dataclass(a):
-        for f in dataclasses.fields(a):
-            _assert_same(getattr(a, f.name), getattr(b, f.name), f"{where}.{f.name}")
-    elif isinstance(a, np.ndarray):
-        np.testing.assert_array_equal(a, b, err_msg=where)  # exact (tolerance 0)
-    elif isinstance(a, tuple):
-        assert len(a) == len(b), where
-        for i, (x, y) in enumerate(zip(a, b)):
-            _assert_same(x, y, f"{where}[{i}]")
-    else:
-        assert a == b, f"{where}: {a!r} != {b!r}"
 
 
 def test_tdm_standard_example_matches_an_independent_reading() -> None:
@@ -90,38 +74,9 @@ def test_tdm_one_way_example() -> None:
     )
 
 
-def _two_way_tdm() -> io.Tdm:
-    """Two-way range + Doppler + RADEC angles written from Python, values needing 17 digits."""
-    meta = io.TdmMetadata(
-        time_system="UTC",
-        participants=("DSS-65", "SAT"),
-        mode="SEQUENTIAL",
-        path=(1, 2, 1),
-        range_units="km",
-        angle_type="RADEC",
-        integration_interval=10.0,
-        integration_ref="MIDDLE",
-        other=(("CORRECTION_RANGE", "0.0"),),
-        comments=("written by test_io",),
-    )
-    rng = np.random.default_rng(13)
-    n = 12
-    keywords = ("RANGE", "DOPPLER_INTEGRATED", "ANGLE_1", "ANGLE_2") * (n // 4)
-    # two epochs before the leap second of 2016-12-31, then one inside it (23:59:60.5)
-    epochs = tuple(
-        f"2016-12-31T23:59:{58 + i // 4:02d}.25" if i < 8 else "2016-12-31T23:59:60.5" for i in range(n)
-    )
-    values = rng.normal(size=n) * np.array([1e4, 5.0, 100.0, 40.0] * (n // 4))
-    seg = io.TdmSegment(metadata=meta, keywords=keywords, epochs=epochs, values=values)
-    return io.Tdm(
-        header=io.Header(creation_date="2026-12-02T00:00:00", originator="SATGNC", message_id="T-1"),
-        segments=(seg,),
-    )
-
-
 @pytest.mark.parametrize("fmt", ["kvn", "xml"])
 def test_tdm_round_trip_keeps_every_value(tmp_path: pathlib.Path, fmt: str) -> None:
-    for name, t in [("example", io.read_tdm(DATA / "tdm_jaxa.kvn")), ("two_way", _two_way_tdm())]:
+    for name, t in [("example", io.read_tdm(DATA / "tdm_jaxa.kvn")), ("two_way", two_way_tdm())]:
         path = io.write_tdm(tmp_path / f"{name}.{fmt}", t, format=fmt)
         back = io.read_tdm(path)
         if name == "two_way":  # units are filled in by the reader
@@ -144,40 +99,7 @@ def test_oem_standard_example_and_round_trip(tmp_path: pathlib.Path) -> None:
     )
     _assert_same(io.read_oem(io.write_oem(tmp_path / "mgs.oem", o)), o, "mgs")
     # An estimated trajectory with accelerations on some lines and a covariance per point.
-    rng = np.random.default_rng(5)
-    states = rng.normal(size=(4, 6)) * [7000, 7000, 7000, 7.5, 7.5, 7.5]
-    acc = rng.normal(size=(4, 3)) * 1e-3
-    acc[2] = np.nan  # no acceleration on that line
-    covs = []
-    for i in range(2):
-        a = rng.normal(size=(6, 6))
-        c = a @ a.T * 1e-6
-        covs.append(
-            io.OemCovariance(epoch=f"2026-12-02T00:0{i}:00", matrix=(c + c.T) / 2, cov_ref_frame="RTN")
-        )
-    meta = io.OemMetadata(
-        object_name="LEO-1",
-        object_id="2026-001A",
-        center_name="EARTH",
-        ref_frame="GCRF",
-        time_system="UTC",
-        start_time="2026-12-02T00:00:00",
-        stop_time="2026-12-02T00:03:00",
-        interpolation="LAGRANGE",
-        interpolation_degree=5,
-    )
-    est = io.Oem(
-        header=io.Header(creation_date="2026-12-02T12:00:00", originator="SATGNC"),
-        segments=(
-            io.OemSegment(
-                metadata=meta,
-                epochs=tuple(f"2026-12-02T00:0{i}:00" for i in range(4)),
-                states=states,
-                accelerations=acc,
-                covariances=tuple(covs),
-            ),
-        ),
-    )
+    est = estimated_oem(seed=5, day="02", n_cov=2, no_acceleration_row=2)
     _assert_same(io.read_oem(io.write_oem(tmp_path / "est.oem", est)), est, "est")
 
 
@@ -347,15 +269,7 @@ def test_propagated_trajectory_written_as_oem(tmp_path: pathlib.Path) -> None:
     origin = "2016-12-31T23:55:00.125"
     epochs = io.epochs_at(origin, times)
     assert epochs[5] == "2016-12-31T23:59:60.125"  # 300 s later, inside the leap second
-    meta = io.OemMetadata(
-        object_name="LEO-1",
-        object_id="2026-001A",
-        center_name="EARTH",
-        ref_frame="GCRF",
-        time_system="UTC",
-        start_time=epochs[0],
-        stop_time=epochs[-1],
-    )
+    meta = leo_metadata(epochs[0], epochs[-1])
     seg = io.OemSegment(metadata=meta, epochs=epochs, states=traj.states)
     oem = io.Oem(header=io.Header(creation_date="2026-12-02T00:00:00", originator="SATGNC"), segments=(seg,))
     back = io.read_oem(io.write_oem(tmp_path / "traj.oem", oem))

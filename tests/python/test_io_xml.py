@@ -9,66 +9,17 @@ gives the same text again; the XML and KVN forms read to the same model."""
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import pathlib
 
-import numpy as np
 import pytest
+from _ccsds import DATA, estimated_oem, two_way_tdm
+from _ccsds import assert_same as _assert_same
 from satgnc import io
-
-DATA = pathlib.Path(__file__).resolve().parents[1] / "data" / "ccsds"
-
-
-def _assert_same(a: object, b: object, where: str = "") -> None:
-    """Field-by-field equality of two models (arrays: exact, NaN == NaN)."""
-    assert type(a) is type(b), where
-    if dataclasses.is_dataclass(a):
-        for f in dataclasses.fields(a):
-            _assert_same(getattr(a, f.name), getattr(b, f.name), f"{where}.{f.name}")
-    elif isinstance(a, np.ndarray):
-        np.testing.assert_array_equal(a, b, err_msg=where)  # exact (tolerance 0)
-    elif isinstance(a, tuple):
-        assert len(a) == len(b), where
-        for i, (x, y) in enumerate(zip(a, b)):
-            _assert_same(x, y, f"{where}[{i}]")
-    else:
-        assert a == b, f"{where}: {a!r} != {b!r}"
 
 
 def _estimated_oem() -> io.Oem:
-    rng = np.random.default_rng(11)
-    states = rng.normal(size=(4, 6)) * [7000, 7000, 7000, 7.5, 7.5, 7.5]
-    acc = rng.normal(size=(4, 3)) * 1e-3
-    acc[1] = np.nan  # no acceleration on that line
-    covs = []
-    for i in range(3):
-        a = rng.normal(size=(6, 6))
-        c = a @ a.T * 1e-6
-        covs.append(
-            io.OemCovariance(epoch=f"2026-12-03T00:0{i}:00", matrix=(c + c.T) / 2, cov_ref_frame="RTN")
-        )
-    meta = io.OemMetadata(
-        object_name="LEO-1",
-        object_id="2026-001A",
-        center_name="EARTH",
-        ref_frame="GCRF",
-        time_system="UTC",
-        start_time="2026-12-03T00:00:00",
-        stop_time="2026-12-03T00:03:00",
-        interpolation="LAGRANGE",
-        interpolation_degree=5,
-    )
-    return io.Oem(
-        header=io.Header(creation_date="2026-12-03T12:00:00", originator="SATGNC"),
-        segments=(
-            io.OemSegment(
-                metadata=meta,
-                epochs=tuple(f"2026-12-03T00:0{i}:00" for i in range(4)),
-                states=states,
-                accelerations=acc,
-                covariances=tuple(covs),
-            ),
-        ),
-    )
+    return estimated_oem(seed=11, day="03", n_cov=3, no_acceleration_row=1)
 
 
 def test_oem_xml_round_trip_bit_for_bit(tmp_path: pathlib.Path) -> None:
@@ -118,3 +69,46 @@ def test_xml_writers_refuse_other_objects() -> None:
         io.format_oem_xml("not an oem")  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="opm"):
         io.format_opm_xml(io.read_oem(DATA / "oem_mgs.kvn"))  # type: ignore[arg-type]
+
+
+# SHA-256 (first 16 hex digits) of every writer's text on the example files and the test models, taken
+# on 2026-12-03 before the writers' shared header/metadata code was factored out (cpp/src/io/xml.cpp,
+# put_object_metadata): the refactor keeps every output byte-identical.
+WRITER_TEXT_SHA256 = {
+    "oem_mgs.kvn": "b0b1e2777d1c7b28",
+    "oem_mgs.xml": "a2ccc8a0371e53cc",
+    "oem_est.kvn": "0d28ec3ff52e7e75",
+    "oem_est.xml": "7308b604c3d52146",
+    "opm_godzilla.kvn": "efcdd49ee9366414",
+    "opm_godzilla.xml": "2ba6b485a2f2a8c3",
+    "opm_eutelsat.kvn": "1719fc8c1f991390",
+    "opm_eutelsat.xml": "89c0f78e5b12346f",
+    "opm_osprey_cov.kvn": "feca5169b2d8e79b",
+    "opm_osprey_cov.xml": "58ab9f3276c54300",
+    "tdm_dsn_oneway.kvn": "f2a6828ad035a1f3",
+    "tdm_dsn_oneway.xml": "32ad8c667e4f87b7",
+    "tdm_jaxa.kvn": "6c3ee34361e2ca4b",
+    "tdm_jaxa.xml": "7e9236751bf75b42",
+    "tdm_two_way.kvn": "b84c6639e457fae2",
+    "tdm_two_way.xml": "a1198680cd79dafd",
+}
+
+
+def _writer_texts() -> dict[str, str]:
+    out = {}
+    for name, oem in (("oem_mgs", io.read_oem(DATA / "oem_mgs.kvn")), ("oem_est", _estimated_oem())):
+        out[f"{name}.kvn"], out[f"{name}.xml"] = io.format_oem(oem), io.format_oem_xml(oem)
+    for name in ("opm_godzilla", "opm_eutelsat", "opm_osprey_cov"):
+        opm = io.read_opm(DATA / f"{name}.kvn")
+        out[f"{name}.kvn"], out[f"{name}.xml"] = io.format_opm(opm), io.format_opm_xml(opm)
+    tdms = [(n, io.read_tdm(DATA / f"{n}.kvn")) for n in ("tdm_dsn_oneway", "tdm_jaxa")]
+    for name, tdm in [*tdms, ("tdm_two_way", two_way_tdm())]:
+        out[f"{name}.kvn"], out[f"{name}.xml"] = io.format_tdm(tdm), io.format_tdm(tdm, format="xml")
+    return out
+
+
+def test_writers_output_is_byte_identical_to_the_reference() -> None:
+    texts = _writer_texts()
+    assert sorted(texts) == sorted(WRITER_TEXT_SHA256)
+    for name, text in texts.items():
+        assert hashlib.sha256(text.encode()).hexdigest()[:16] == WRITER_TEXT_SHA256[name], name

@@ -277,5 +277,19 @@ void put_header(std::ostream& out, const std::string& version_keyword, const Hea
   put_opt(out, "MESSAGE_ID", h.message_id);
 }
 
+void put_object(std::ostream& out, const ObjectMetadata& o) {
+  put(out, "OBJECT_NAME", o.object_name);
+  put(out, "OBJECT_ID", o.object_id);
+  put(out, "CENTER_NAME", o.center_name);
+  put(out, "REF_FRAME", o.ref_frame);
+  put_opt(out, "REF_FRAME_EPOCH", o.ref_frame_epoch);
+  put(out, "TIME_SYSTEM", time_system_name(o.time_system));
+}
+
+bool is_xml(const std::string& text) {
+  const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+  return first != std::string::npos && text[first] == '<';
+}
+
 }  // namespace detail
 }  // namespace satgnc::io

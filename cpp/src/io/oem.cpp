@@ -212,8 +212,7 @@ Oem parse_oem_lines(const std::vector<KvnLine>& lines, const std::string& source
 }  // namespace detail
 
 Oem parse_oem(const std::string& text, const std::string& source) {
-  const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
-  if (first != std::string::npos && text[first] == '<') return detail::parse_oem_xml(text, source);
+  if (detail::is_xml(text)) return detail::parse_oem_xml(text, source);
   return detail::parse_oem_lines(detail::tokenize_kvn(text, source), source);
 }
 
@@ -232,12 +231,8 @@ std::string format_oem(const Oem& oem) {
     const std::string at = "segments[" + std::to_string(s) + "]";
     out << "\nMETA_START\n";
     put_comments(out, m.comments);
-    put(out, "OBJECT_NAME", m.object_name);
-    put(out, "OBJECT_ID", m.object_id);
-    put(out, "CENTER_NAME", m.center_name);
-    put(out, "REF_FRAME", m.ref_frame);
-    put_opt(out, "REF_FRAME_EPOCH", m.ref_frame_epoch);
-    put(out, "TIME_SYSTEM", time_system_name(m.time_system));
+    detail::put_object(
+        out, {m.object_name, m.object_id, m.center_name, m.ref_frame, m.ref_frame_epoch, m.time_system});
     put(out, "START_TIME", m.start_time);
     put_opt(out, "USEABLE_START_TIME", m.useable_start_time);
     put_opt(out, "USEABLE_STOP_TIME", m.useable_stop_time);

@@ -9,6 +9,7 @@
 
 #include "detail/kvn.hpp"
 #include "detail/oem_lines.hpp"
+#include "detail/xml.hpp"
 #include "satgnc/io/oem.hpp"
 
 namespace satgnc::io {
@@ -22,72 +23,20 @@ constexpr std::array<const char*, 6> kCovAxis = {"X", "Y", "Z", "X_DOT", "Y_DOT"
 
 std::string cov_name(int r, int c) { return std::string("C") + kCovAxis[r] + "_" + kCovAxis[c]; }
 
-struct Lines {
-  const std::string& text;
-  int of(const pugi::xml_node& n) const {
-    const std::ptrdiff_t off = n.offset_debug();
-    if (off < 0) return 0;
-    const auto end = text.begin() + std::min<std::ptrdiff_t>(off, static_cast<std::ptrdiff_t>(text.size()));
-    return 1 + static_cast<int>(std::count(text.begin(), end, '\n'));
-  }
-};
-
-std::string value_of(const pugi::xml_node& n) { return trim(n.child_value()); }
-
+using K = KvnLine::Kind;
 KvnLine kv(const std::string& key, const std::string& value, int line) {
-  KvnLine l;
-  l.kind = KvnLine::Kind::key_value;
-  l.key = key;
-  l.value = value;
-  l.line = line;
-  return l;
+  return kvn_line(K::key_value, key, value, line);
 }
-KvnLine marker(const std::string& key, int line) {
-  KvnLine l;
-  l.kind = KvnLine::Kind::marker;
-  l.key = key;
-  l.line = line;
-  return l;
-}
-KvnLine raw(const std::string& value, int line) {
-  KvnLine l;
-  l.kind = KvnLine::Kind::raw;
-  l.value = value;
-  l.line = line;
-  return l;
-}
-KvnLine comment(const std::string& value, int line) {
-  KvnLine l;
-  l.kind = KvnLine::Kind::comment;
-  l.value = value;
-  l.line = line;
-  return l;
-}
-
-bool is(const pugi::xml_node& n, const char* name) { return std::strcmp(n.name(), name) == 0; }
-
-// The child elements of n in order (COMMENTs included).
-std::vector<pugi::xml_node> elements(const pugi::xml_node& n) {
-  std::vector<pugi::xml_node> out;
-  for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
-    if (c.type() == pugi::node_element) out.push_back(c);
-  return out;
-}
+KvnLine marker(const std::string& key, int line) { return kvn_line(K::marker, key, "", line); }
+KvnLine raw(const std::string& value, int line) { return kvn_line(K::raw, "", value, line); }
+KvnLine comment(const std::string& value, int line) { return kvn_line(K::comment, "", value, line); }
 
 }  // namespace
 
 Oem parse_oem_xml(const std::string& text, const std::string& source) {
   pugi::xml_document doc;
-  const pugi::xml_parse_result r = doc.load_buffer(text.data(), text.size(), pugi::parse_default);
-  const Lines lm{text};
-  if (!r) {
-    const auto end =
-        text.begin() + std::min<std::ptrdiff_t>(r.offset, static_cast<std::ptrdiff_t>(text.size()));
-    fail(source, 1 + static_cast<int>(std::count(text.begin(), end, '\n')), "XML",
-         std::string("not well-formed XML: ") + r.description());
-  }
-  const pugi::xml_node root = doc.document_element();
-  if (!is(root, "oem")) fail(source, lm.of(root), root.name(), "the root element must be <oem>");
+  const pugi::xml_node root = load_ndm(doc, text, source, "oem");
+  const XmlLines lm{text};
   std::vector<KvnLine> lines;
   lines.push_back(kv("CCSDS_OEM_VERS", root.attribute("version").as_string(), lm.of(root)));
   const pugi::xml_node header = root.child("header");
@@ -177,32 +126,12 @@ Oem parse_oem_xml(const std::string& text, const std::string& source) {
 
 }  // namespace detail
 
-namespace {
-void leaf(pugi::xml_node parent, const char* name, const std::string& value) {
-  parent.append_child(name).append_child(pugi::node_pcdata).set_value(value.c_str());
-}
-void leaf_opt(pugi::xml_node parent, const char* name, const std::string& value) {
-  if (!value.empty()) leaf(parent, name, value);
-}
-}  // namespace
+using detail::leaf;
+using detail::leaf_opt;
 
 std::string format_oem_xml(const Oem& oem) {
   pugi::xml_document doc;
-  pugi::xml_node decl = doc.append_child(pugi::node_declaration);
-  decl.append_attribute("version") = "1.0";
-  decl.append_attribute("encoding") = "UTF-8";
-  pugi::xml_node root = doc.append_child("oem");
-  root.append_attribute("xmlns:xsi") = "http://www.w3.org/2001/XMLSchema-instance";
-  root.append_attribute("xsi:noNamespaceSchemaLocation") =
-      "https://sanaregistry.org/r/ndmxml_unqualified/ndmxml-2.0.0-master-2.0.xsd";
-  root.append_attribute("id") = "CCSDS_OEM_VERS";
-  root.append_attribute("version") = oem.header.version.c_str();
-  pugi::xml_node h = root.append_child("header");
-  for (const auto& c : oem.header.comments) leaf(h, "COMMENT", c);
-  leaf_opt(h, "CLASSIFICATION", oem.header.classification);
-  leaf(h, "CREATION_DATE", oem.header.creation_date);
-  leaf(h, "ORIGINATOR", oem.header.originator);
-  leaf_opt(h, "MESSAGE_ID", oem.header.message_id);
+  pugi::xml_node root = detail::put_ndm_root(doc, "oem", "CCSDS_OEM_VERS", oem.header);
   pugi::xml_node body = root.append_child("body");
   for (std::size_t s = 0; s < oem.segments.size(); ++s) {
     const OemSegment& seg = oem.segments[s];
@@ -211,12 +140,8 @@ std::string format_oem_xml(const Oem& oem) {
     pugi::xml_node sx = body.append_child("segment");
     pugi::xml_node mx = sx.append_child("metadata");
     for (const auto& c : m.comments) leaf(mx, "COMMENT", c);
-    leaf(mx, "OBJECT_NAME", m.object_name);
-    leaf(mx, "OBJECT_ID", m.object_id);
-    leaf(mx, "CENTER_NAME", m.center_name);
-    leaf(mx, "REF_FRAME", m.ref_frame);
-    leaf_opt(mx, "REF_FRAME_EPOCH", m.ref_frame_epoch);
-    leaf(mx, "TIME_SYSTEM", time_system_name(m.time_system));
+    detail::leaf_object(
+        mx, {m.object_name, m.object_id, m.center_name, m.ref_frame, m.ref_frame_epoch, m.time_system});
     leaf(mx, "START_TIME", m.start_time);
     leaf_opt(mx, "USEABLE_START_TIME", m.useable_start_time);
     leaf_opt(mx, "USEABLE_STOP_TIME", m.useable_stop_time);
@@ -251,11 +176,9 @@ std::string format_oem_xml(const Oem& oem) {
           leaf(cx, detail::cov_name(a, b).c_str(), detail::format_number(cv.matrix(a, b), name));
     }
   }
-  std::ostringstream out;
-  doc.save(out, "  ", pugi::format_default, pugi::encoding_utf8);
-  return detail::read_back_checked(out.str(), "oem", "OEM", [](const std::string& t, const std::string& src) {
-    return detail::parse_oem_xml(t, src);
-  });
+  return detail::read_back_checked(
+      detail::ndm_text(doc), "oem", "OEM",
+      [](const std::string& t, const std::string& src) { return detail::parse_oem_xml(t, src); });
 }
 
 }  // namespace satgnc::io

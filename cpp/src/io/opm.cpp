@@ -210,8 +210,7 @@ Opm parse_opm_lines(const std::vector<KvnLine>& lines, const std::string& source
 }  // namespace detail
 
 Opm parse_opm(const std::string& text, const std::string& source) {
-  const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
-  if (first != std::string::npos && text[first] == '<') return detail::parse_opm_xml(text, source);
+  if (detail::is_xml(text)) return detail::parse_opm_xml(text, source);
   return detail::parse_opm_lines(detail::tokenize_kvn(text, source), source);
 }
 
@@ -226,12 +225,8 @@ std::string format_opm(const Opm& opm) {
   detail::put_header(out, "CCSDS_OPM_VERS", opm.header);
   out << "\n";
   detail::put_comments(out, opm.metadata_comments);
-  put(out, "OBJECT_NAME", opm.object_name);
-  put(out, "OBJECT_ID", opm.object_id);
-  put(out, "CENTER_NAME", opm.center_name);
-  put(out, "REF_FRAME", opm.ref_frame);
-  put_opt(out, "REF_FRAME_EPOCH", opm.ref_frame_epoch);
-  put(out, "TIME_SYSTEM", time_system_name(opm.time_system));
+  detail::put_object(out, {opm.object_name, opm.object_id, opm.center_name, opm.ref_frame,
+                           opm.ref_frame_epoch, opm.time_system});
   out << "\n";
   detail::put_comments(out, opm.data_comments);
   put(out, "EPOCH", detail::epoch_or_time(opm.epoch, opm.time, opm.time_system));

@@ -9,6 +9,7 @@
 
 #include "detail/kvn.hpp"
 #include "detail/opm_lines.hpp"
+#include "detail/xml.hpp"
 #include "satgnc/io/opm.hpp"
 
 namespace satgnc::io {
@@ -45,56 +46,19 @@ const std::vector<Group>& groups() {
   return g;
 }
 
-struct Lines {
-  const std::string& text;
-  int of(const pugi::xml_node& n) const {
-    const std::ptrdiff_t off = n.offset_debug();
-    if (off < 0) return 0;
-    const auto end = text.begin() + std::min<std::ptrdiff_t>(off, static_cast<std::ptrdiff_t>(text.size()));
-    return 1 + static_cast<int>(std::count(text.begin(), end, '\n'));
-  }
-};
-
-std::string value_of(const pugi::xml_node& n) { return trim(n.child_value()); }
-bool is(const pugi::xml_node& n, const char* name) { return std::strcmp(n.name(), name) == 0; }
-
-KvnLine line_of(KvnLine::Kind kind, const std::string& key, const std::string& value, int line) {
-  KvnLine l;
-  l.kind = kind;
-  l.key = key;
-  l.value = value;
-  l.line = line;
-  return l;
-}
-
-std::vector<pugi::xml_node> elements(const pugi::xml_node& n) {
-  std::vector<pugi::xml_node> out;
-  for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling())
-    if (c.type() == pugi::node_element) out.push_back(c);
-  return out;
-}
-
 }  // namespace
 
 Opm parse_opm_xml(const std::string& text, const std::string& source) {
   using K = KvnLine::Kind;
   pugi::xml_document doc;
-  const pugi::xml_parse_result r = doc.load_buffer(text.data(), text.size(), pugi::parse_default);
-  const Lines lm{text};
-  if (!r) {
-    const auto end =
-        text.begin() + std::min<std::ptrdiff_t>(r.offset, static_cast<std::ptrdiff_t>(text.size()));
-    fail(source, 1 + static_cast<int>(std::count(text.begin(), end, '\n')), "XML",
-         std::string("not well-formed XML: ") + r.description());
-  }
-  const pugi::xml_node root = doc.document_element();
-  if (!is(root, "opm")) fail(source, lm.of(root), root.name(), "the root element must be <opm>");
+  const pugi::xml_node root = load_ndm(doc, text, source, "opm");
+  const XmlLines lm{text};
   std::vector<KvnLine> lines;
   lines.push_back(
-      line_of(K::key_value, "CCSDS_OPM_VERS", root.attribute("version").as_string(), lm.of(root)));
+      kvn_line(K::key_value, "CCSDS_OPM_VERS", root.attribute("version").as_string(), lm.of(root)));
   auto leaf = [&](const pugi::xml_node& n) {
-    lines.push_back(is(n, "COMMENT") ? line_of(K::comment, "", value_of(n), lm.of(n))
-                                     : line_of(K::key_value, n.name(), value_of(n), lm.of(n)));
+    lines.push_back(is(n, "COMMENT") ? kvn_line(K::comment, "", value_of(n), lm.of(n))
+                                     : kvn_line(K::key_value, n.name(), value_of(n), lm.of(n)));
   };
   const pugi::xml_node header = root.child("header");
   if (!header) fail(source, lm.of(root), "header", "missing <header>");
@@ -120,7 +84,7 @@ Opm parse_opm_xml(const std::string& text, const std::string& source) {
         const std::string p = u.attribute("parameter").as_string();
         if (!is(u, "USER_DEFINED") || p.empty())
           fail(source, lm.of(u), u.name(), "expected <USER_DEFINED parameter=\"NAME\">");
-        lines.push_back(line_of(K::key_value, "USER_DEFINED_" + p, value_of(u), lm.of(u)));
+        lines.push_back(kvn_line(K::key_value, "USER_DEFINED_" + p, value_of(u), lm.of(u)));
       }
       continue;
     }
@@ -155,30 +119,12 @@ std::string format_opm_xml(const Opm& opm) {
   (void)format_opm(opm);
   auto num = [](double v, const std::string& name) { return detail::format_number(v, name); };
   pugi::xml_document doc;
-  pugi::xml_node decl = doc.append_child(pugi::node_declaration);
-  decl.append_attribute("version") = "1.0";
-  decl.append_attribute("encoding") = "UTF-8";
-  pugi::xml_node root = doc.append_child("opm");
-  root.append_attribute("xmlns:xsi") = "http://www.w3.org/2001/XMLSchema-instance";
-  root.append_attribute("xsi:noNamespaceSchemaLocation") =
-      "https://sanaregistry.org/r/ndmxml_unqualified/ndmxml-2.0.0-master-2.0.xsd";
-  root.append_attribute("id") = "CCSDS_OPM_VERS";
-  root.append_attribute("version") = opm.header.version.c_str();
-  pugi::xml_node h = root.append_child("header");
-  for (const auto& c : opm.header.comments) leaf(h, "COMMENT", c);
-  if (!opm.header.classification.empty()) leaf(h, "CLASSIFICATION", opm.header.classification);
-  leaf(h, "CREATION_DATE", opm.header.creation_date);
-  leaf(h, "ORIGINATOR", opm.header.originator);
-  if (!opm.header.message_id.empty()) leaf(h, "MESSAGE_ID", opm.header.message_id);
+  pugi::xml_node root = detail::put_ndm_root(doc, "opm", "CCSDS_OPM_VERS", opm.header);
   pugi::xml_node seg = root.append_child("body").append_child("segment");
   pugi::xml_node m = seg.append_child("metadata");
   for (const auto& c : opm.metadata_comments) leaf(m, "COMMENT", c);
-  leaf(m, "OBJECT_NAME", opm.object_name);
-  leaf(m, "OBJECT_ID", opm.object_id);
-  leaf(m, "CENTER_NAME", opm.center_name);
-  leaf(m, "REF_FRAME", opm.ref_frame);
-  if (!opm.ref_frame_epoch.empty()) leaf(m, "REF_FRAME_EPOCH", opm.ref_frame_epoch);
-  leaf(m, "TIME_SYSTEM", time_system_name(opm.time_system));
+  detail::leaf_object(m, {opm.object_name, opm.object_id, opm.center_name, opm.ref_frame, opm.ref_frame_epoch,
+                          opm.time_system});
   pugi::xml_node d = seg.append_child("data");
   for (const auto& c : opm.data_comments) leaf(d, "COMMENT", c);
   pugi::xml_node sv = d.append_child("stateVector");
@@ -234,11 +180,9 @@ std::string format_opm_xml(const Opm& opm) {
       n.append_child(pugi::node_pcdata).set_value(v.c_str());
     }
   }
-  std::ostringstream out;
-  doc.save(out, "  ", pugi::format_default, pugi::encoding_utf8);
-  return detail::read_back_checked(out.str(), "opm", "OPM", [](const std::string& t, const std::string& src) {
-    return detail::parse_opm_xml(t, src);
-  });
+  return detail::read_back_checked(
+      detail::ndm_text(doc), "opm", "OPM",
+      [](const std::string& t, const std::string& src) { return detail::parse_opm_xml(t, src); });
 }
 
 }  // namespace satgnc::io

@@ -367,8 +367,7 @@ Tdm parse_tdm_kvn(const std::string& text, const std::string& source) {
 }  // namespace detail
 
 Tdm parse_tdm(const std::string& text, const std::string& source) {
-  const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
-  if (first != std::string::npos && text[first] == '<') return detail::parse_tdm_xml(text, source);
+  if (detail::is_xml(text)) return detail::parse_tdm_xml(text, source);
   return detail::parse_tdm_kvn(text, source);
 }
 

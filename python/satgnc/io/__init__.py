@@ -764,17 +764,15 @@ def write_opm(path: str | os.PathLike[str], opm: Opm) -> pathlib.Path:
     return _write_text(path, format_opm(opm))
 
 
-def format_oem_xml(oem: Oem) -> str:
-    """The OEM text of ``oem`` in XML (CCSDS NDM/XML 2.0: ``<stateVector>``, ``<covarianceMatrix>``).
+_FORMAT_XML_DOC = """The {kind} text of ``{arg}`` in XML (CCSDS NDM/XML 2.0{elements}).
 
-    :func:`parse_oem` and :func:`read_oem` read it back (they tell XML by its first character), to the
+    :func:`parse_{arg}` and :func:`read_{arg}` read it back (they tell XML by its first character), to the
     same model bit for bit.
 
     Parameters
     ----------
-    oem : Oem
-        The message to write (numbers in the shortest form that reads back to the same double; km, km/s,
-        km/s**2, km**2....).
+    {arg} : {cls}
+        The message to write (numbers in the shortest form that reads back to the same double; {units}).
 
     Returns
     -------
@@ -784,83 +782,51 @@ def format_oem_xml(oem: Oem) -> str:
     Raises
     ------
     TypeError
-        ``oem`` is not a :class:`Oem`.
+        ``{arg}`` is not a :class:`{cls}`.
     ValueError
         A model that would not read back.
     """
+
+_WRITE_XML_DOC = """Write ``{arg}`` to ``path`` in XML (:func:`format_{arg}_xml`'s text).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write (replaced if it exists).
+    {arg} : {cls}
+        The message.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`format_{arg}_xml`.
+    """
+
+
+@_doc(_FORMAT_XML_DOC, kind="OEM", arg="oem", cls="Oem",
+      elements=": ``<stateVector>``, ``<covarianceMatrix>``", units="km, km/s,\n        km/s**2, km**2....")
+def format_oem_xml(oem: Oem) -> str:
     return str(_c.io_format_oem_xml(_oem_dict(oem)))
 
 
+@_doc(_WRITE_XML_DOC, arg="oem", cls="Oem")
 def write_oem_xml(path: str | os.PathLike[str], oem: Oem) -> pathlib.Path:
-    """Write ``oem`` to ``path`` in XML (:func:`format_oem_xml`'s text).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to write (replaced if it exists).
-    oem : Oem
-        The message.
-
-    Returns
-    -------
-    pathlib.Path
-        The path written.
-
-    Raises
-    ------
-    TypeError, ValueError
-        As :func:`format_oem_xml`.
-    """
     return _write_text(path, format_oem_xml(oem))
 
 
+@_doc(_FORMAT_XML_DOC, kind="OPM", arg="opm", cls="Opm", elements=", ``<opm>``",
+      units="km, km/s,\n        kg, m**2, km**2....")
 def format_opm_xml(opm: Opm) -> str:
-    """The OPM text of ``opm`` in XML (CCSDS NDM/XML 2.0, ``<opm>``).
-
-    :func:`parse_opm` and :func:`read_opm` read it back (they tell XML by its first character), to the
-    same model bit for bit.
-
-    Parameters
-    ----------
-    opm : Opm
-        The message to write (numbers in the shortest form that reads back to the same double; km, km/s,
-        kg, m**2, km**2....).
-
-    Returns
-    -------
-    str
-        The XML text.
-
-    Raises
-    ------
-    TypeError
-        ``opm`` is not a :class:`Opm`.
-    ValueError
-        A model that would not read back.
-    """
     return str(_c.io_format_opm_xml(_opm_dict(opm)))
 
 
+@_doc(_WRITE_XML_DOC, arg="opm", cls="Opm")
 def write_opm_xml(path: str | os.PathLike[str], opm: Opm) -> pathlib.Path:
-    """Write ``opm`` to ``path`` in XML (:func:`format_opm_xml`'s text).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to write (replaced if it exists).
-    opm : Opm
-        The message.
-
-    Returns
-    -------
-    pathlib.Path
-        The path written.
-
-    Raises
-    ------
-    TypeError, ValueError
-        As :func:`format_opm_xml`.
-    """
     return _write_text(path, format_opm_xml(opm))
 
 

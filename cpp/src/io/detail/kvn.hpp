@@ -85,4 +85,19 @@ void put_comments(std::ostream& out, const std::vector<std::string>& comments);
 /// (when set), CREATION_DATE, ORIGINATOR and MESSAGE_ID (when set).
 void put_header(std::ostream& out, const std::string& version_keyword, const Header& h);
 
+/// The object metadata OEM and OPM share (references into the model being written).
+struct ObjectMetadata {
+  const std::string& object_name;
+  const std::string& object_id;
+  const std::string& center_name;
+  const std::string& ref_frame;
+  const std::string& ref_frame_epoch;
+  TimeSystem time_system;
+};
+/// Writer: OBJECT_NAME, OBJECT_ID, CENTER_NAME, REF_FRAME, REF_FRAME_EPOCH (when set), TIME_SYSTEM.
+void put_object(std::ostream& out, const ObjectMetadata& o);
+
+/// Whether a message text is XML: its first character after blanks and a UTF-8 byte-order mark is '<'.
+bool is_xml(const std::string& text);
+
 }  // namespace satgnc::io::detail
