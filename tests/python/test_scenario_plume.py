@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 
 import pytest
+from _helpers import write
 from satgnc import FileFormatError, cli
 from satgnc.guidance.thrusters import cube_layout
 from satgnc.scenarios import rendezvous
@@ -49,12 +50,6 @@ def thrusters() -> str:
     lay = cube_layout(0.5)
     return "".join(f'[[thrusters]]\nname = "{n}"\ndirection = [{", ".join(repr(float(c)) for c in d)}]\n'
                    "max_thrust = 0.5\n" for n, d in zip(lay.names, lay.directions))
-
-
-def write(tmp_path, text, name="s.toml"):
-    p = tmp_path / name
-    p.write_text(text)
-    return p
 
 
 def test_plume_section_read_with_units(tmp_path):
