@@ -64,7 +64,8 @@ def test_plume_section_read_with_units(tmp_path):
 @pytest.mark.parametrize(
     "old, new, msg",
     [
-        ("range = 200.0           # m", "range = 200.0\nangle = 3.0", "unknown key 'angle' in section [plume]"),
+        ("range = 200.0           # m", "range = 200.0\nangle = 3.0",
+         "unknown key 'angle' in section [plume]"),
         ("half_angle_deg = 45.0   # deg", "half_angle_deg = 95.0",
          "key 'half_angle_deg' in section [plume] (deg): must be <= 90"),
         ("range = 200.0           # m", "range = 0.0", "key 'range' in section [plume] (m): must be > 0"),

@@ -1447,7 +1447,9 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
       const double vtol = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
       if (viol > vtol) continue;
       const double eps_gap = st.eps_gap > 0.0 ? st.eps_gap : 1e-9;
-      const auto rel_gap = [&](double D) { return (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor}); };
+      const auto rel_gap = [&](double D) {
+        return (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
+      };
       // the plan has converged but the IPM's multipliers do not certify it (they run off along an
       // unbounded dual face): least-squares multipliers on the plan's active set, certified by the
       // same Fenchel bound (valid for any multipliers)
