@@ -65,6 +65,7 @@ py::dict admm_result_to_dict(const guidance::AdmmResult& r) {
   d["workspace_bytes"] = i.workspace_bytes;
   d["ipm_iterations"] = i.ipm_iterations;
   d["ipm_solved"] = i.ipm_solved;
+  d["dual_recoveries"] = i.dual_recoveries;
   d["infeasibility_certificate"] = fresh_array(r.infeasibility_certificate);
   return d;
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -238,4 +239,176 @@ TEST(StateAdmm, HalfSpaceUpdateRefactorsOnlyWhenAdmmRuns) {
   const auto& r2 = s2.solve();
   EXPECT_EQ(r2.info.ipm_iterations, 0);
   EXPECT_EQ(r2.info.factorizations, 1);
+}
+
+namespace {
+// Two problems of the box + closing-velocity family of tests/python/test_l1_state_constraints.py (seed
+// 2, cases 0 and 4; generated there, copied here with 17 digits): the IPM's plan converges but its
+// multipliers do not certify it (degenerate active rows: a wedge pinned by box rows); the least-squares
+// dual / the active-set polish of the IPM's plan then certify it (Clarabel: 12.210361083 for case 4)
+struct BoxCase {
+  double n, dt;
+  int N;
+  std::vector<double> x0;
+  double qf;
+  std::vector<double> w;
+  double umax;
+  std::vector<int> nodes;
+  std::vector<double> lower, upper, axis, intercept, slope;
+};
+constexpr double kInf = std::numeric_limits<double>::infinity();
+const BoxCase kBoxCases[] = {
+    // box family seed 2, case 0
+    BoxCase{
+        0.0003092950149333078,
+        49.84911434141233,
+        17,
+        {63.414354203114854, 37.61325732609805, -16.77444097731593, -0.04886106011758275,
+         -0.029090618503532784, 0.012263266066504696},
+        0.6335512148748423,
+        {2.9120770717329267, 2.1442750202359884, 1.3573870493160707},
+        0.001716079543950025,
+        {1, 4, 6, 9, 10, 12, 14},
+        {-kInf,
+         29.456074462651923,
+         -18.46766747068402,
+         -0.05084192270004655,
+         -0.03190165172954954,
+         -kInf,
+         -kInf,
+         26.53571013365529,
+         -16.346958628052498,
+         -0.05310440817949979,
+         -0.024627157163012482,
+         -kInf,
+         -kInf,
+         25.00868188564678,
+         -14.913519427654572,
+         -0.05428743839375431,
+         -0.019747352224447706,
+         -kInf,
+         -kInf,
+         23.351590890863037,
+         -12.737317648145183,
+         -0.05557123174672921,
+         -0.012394030230175022,
+         -kInf,
+         -kInf,
+         22.968692907162577,
+         -12.005661206977354,
+         -0.05586787320328742,
+         -0.00993628866259014,
+         -kInf,
+         -kInf,
+         22.457671785429678,
+         -10.534006960080239,
+         -0.056263775131048535,
+         -0.0050143583370780885,
+         -kInf,
+         -kInf,
+         22.28672170142677,
+         -9.052398009911386,
+         -0.05639621479925279,
+         -8.7732331178488e-05,
+         -kInf},
+        {kInf, 42.9722009516514,   -13.854649523235336, -0.04861116042886097,  -0.0221832504780531,   kInf,
+         kInf, 38.72740399791512,  -12.250738301327427, -0.05078097228129259,  -0.01709551073223941,  kInf,
+         kInf, 36.50784365366081,  -11.166615307532561, -0.05191554441622382,  -0.01368260316723003,  kInf,
+         kInf, 34.09923499587098,  -9.520734277037164,  -0.05314675233276305,  -0.008539731970910396, kInf,
+         kInf, 33.542686561600135, -8.967375912616848,  -0.05343124306395578,  -0.006820801625445502, kInf,
+         kInf, 32.799909066583965, -7.854350534537241,  -0.053810928459976176, -0.003378431806595792, kInf,
+         kInf, 32.55143034473017,  -6.733796324603239,  -0.05393794326931371,  6.722214416478196e-05, kInf},
+        {0.8342389657617681, 0.5303683048214033, -0.15084697294147595},
+        {-0.0023357443981592576, -0.016628737646266427},
+        {0.001520910304483643, 0.0020042513701460994}},
+    // box family seed 2, case 4
+    BoxCase{8.177925496189832e-05,
+            87.09043150358274,
+            18,
+            {-14.494094822438958, 4.9807431434483815, -86.82320374632623, 0.007595050730337501,
+             -0.003543401385841011, 0.03986217402081568},
+            0.5889023128864037,
+            {1.9914844869966435, 2.1705477802632207, 2.7067297071027165},
+            0.0012236778442549312,
+            {3, 4, 5, 7, 8, 11, 13, 16, 17},
+            {-kInf, -kInf, -kInf, -kInf, -0.004132041547663753, 0.03754943048036024,
+             -kInf, -kInf, -kInf, -kInf, -0.004235993322870671, 0.03759033940842535,
+             -kInf, -kInf, -kInf, -kInf, -0.004339734877253572, 0.037629336900502054,
+             -kInf, -kInf, -kInf, -kInf, -0.004546566285156829, 0.0377015897610978,
+             -kInf, -kInf, -kInf, -kInf, -0.00464964564707448,  0.0377348414645627,
+             -kInf, -kInf, -kInf, -kInf, -0.004957475655786998, 0.03782307771940235,
+             -kInf, -kInf, -kInf, -kInf, -0.005161470245427832, 0.03787228816733012,
+             -kInf, -kInf, -kInf, -kInf, -0.005465520531747068, 0.037931658294844586,
+             -kInf, -kInf, -kInf, -kInf, -0.005566332290303364, 0.03794759207901779},
+            {kInf, kInf, kInf, kInf, -0.0035500006063068227, 0.042460116590666085,
+             kInf, kInf, kInf, kInf, -0.003643696009857529,  0.042506163199821353,
+             kInf, kInf, kInf, kInf, -0.003737201933960657,  0.04255005831906853,
+             kInf, kInf, kInf, kInf, -0.003923626381180359,  0.04263138529069946,
+             kInf, kInf, kInf, kInf, -0.004016535447845157,  0.04266881301774131,
+             kInf, kInf, kInf, kInf, -0.004293993498310633,  0.04276813071028656,
+             kInf, kInf, kInf, kInf, -0.004477861021116409,  0.042823521412738604,
+             kInf, kInf, kInf, kInf, -0.004751912274398832,  0.042890347731257786,
+             kInf, kInf, kInf, kInf, -0.004842777470128168,  0.04290828261165896},
+            {-0.23322739993548205, 0.21454400480362132, -0.9484597249868644},
+            {0.02228045976121695, 0.013346148733758056},
+            {0.0008306862112396915, 0.001214209062654839}},
+};
+
+StateConstrainedAdmm box_case(const BoxCase& c, const AdmmSettings& st) {
+  const satgnc::dynamics::CwModel model(c.n, 1.0);
+  const auto d = satgnc::dynamics::cw_discretize_zoh(model, c.dt);
+  LtvProblem p;
+  p.dynamics.A = {Eigen::MatrixXd(d.Ad)};
+  p.dynamics.B = {Eigen::MatrixXd(d.Bd)};
+  p.dynamics.horizon = c.N;
+  p.x0 = Eigen::Map<const Eigen::VectorXd>(c.x0.data(), 6);
+  p.Qf = c.qf * Eigen::MatrixXd::Identity(6, 6);
+  p.l1_weights = Eigen::Map<const Eigen::VectorXd>(c.w.data(), 3);
+  p.u_lower = Eigen::VectorXd::Constant(3, -c.umax);
+  p.u_upper = Eigen::VectorXd::Constant(3, c.umax);
+  StateConstraints sc;
+  for (std::size_t i = 0; i < c.nodes.size(); ++i)
+    sc.boxes.push_back({{c.nodes[i]},
+                        Eigen::Map<const Eigen::VectorXd>(c.lower.data() + 6 * i, 6),
+                        Eigen::Map<const Eigen::VectorXd>(c.upper.data() + 6 * i, 6)});
+  satgnc::guidance::ClosingVelocityLimit cv;
+  for (int k = 1; k <= c.N; ++k) cv.nodes.push_back(k);
+  cv.axis = Eigen::Map<const Eigen::Vector3d>(c.axis.data());
+  cv.intercept = Eigen::Map<const Eigen::VectorXd>(c.intercept.data(), 2);
+  cv.slope = Eigen::Map<const Eigen::VectorXd>(c.slope.data(), 2);
+  sc.closing_velocity.push_back(cv);
+  return StateConstrainedAdmm(p, sc, st);
+}
+}  // namespace
+
+TEST(StateAdmm, DegenerateRowsCertifiedByTheIpmDualRecoveryWithoutAllocation) {
+  // tight tolerances of the Python family test; method ipm alone (no ADMM fallback): both solved by
+  // the interior-point method's plan, certified by the Fenchel gap, and nothing allocated in solve()
+  // (the least-squares dual and the polish work in buffers sized at setup)
+  for (const auto& c : kBoxCases) {
+    AdmmSettings st;
+    st.method = satgnc::guidance::AdmmMethod::kIpm;
+    st.eps_abs = 1e-10;
+    st.eps_rel = 1e-8;
+    st.eps_gap = 1e-8;
+    auto s = box_case(c, st);
+    g_mallocs = 0;
+    g_count = true;
+    const auto& r = s.solve();
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0);
+    EXPECT_EQ(r.info.status, AdmmStatus::solved);
+    EXPECT_TRUE(r.info.ipm_solved);
+    EXPECT_LE(std::abs(r.info.duality_gap), 1e-8);
+    EXPECT_LE(r.max_violation, r.violation_tolerance);
+    EXPECT_TRUE(r.info.dual_recoveries > 0 || r.info.polished);
+  }
+  // case 4 against Clarabel's optimum 12.210361083170412 (run at 1e-10 tolerances): 1e-8 relative
+  AdmmSettings st;
+  st.method = satgnc::guidance::AdmmMethod::kIpm;
+  st.eps_abs = 1e-10;
+  st.eps_rel = 1e-8;
+  st.eps_gap = 1e-8;
+  auto s = box_case(kBoxCases[1], st);
+  EXPECT_NEAR(s.solve().info.objective, 12.210361083170412, 1e-8 * 12.210361083170412);
 }

@@ -70,6 +70,14 @@ struct StateAdmmWorkspace {
   Eigen::VectorXd kkt_rhs, kkt_sol, kkt_res, mu_pol, mu_best, nrm, unit_nx, sgn;
   Eigen::VectorXi piv, free_idx, act_idx, act_kind;
   int polish_attempts = 0;
+  bool polish_sign_failed = false;  // the last polish() failed only on a free entry's sign or box
+  bool polish_balanced = false;     // polish() shifts its KKT blocks each on its own scale (ipm_polish)
+  // ---- dual recovery (recover_dual; sized at setup)
+  Eigen::MatrixXd dr_G, dr_hq;
+  Eigen::VectorXd dr_hmin, dr_hmax, dr_tgt, dr_lam, dr_rhs, dr_x, dr_y, mu_rec;
+  Eigen::VectorXi dr_eq, dr_on, dr_pos;
+  Eigen::MatrixXd U_ipm, X_ipm;  // the IPM's last plan while it is polished
+  Eigen::VectorXd mu_ipm;
   // ---- interior-point method (tried first; its plan is accepted only by the same tests)
   StateIpm ipm;
   StateIpmProblem ipd;
@@ -156,6 +164,7 @@ struct StateAdmmWorkspace {
   }
 
   bool polish(int mode, int want) noexcept {
+    polish_sign_failed = false;
     if (has_Q) return false;
     ++polish_attempts;
     // controls: mode 0 from Y's pattern (zero / at a bound / free with Y's sign); mode 1 from the
@@ -326,9 +335,17 @@ struct StateAdmmWorkspace {
       for (int e1 = 0; e1 < nE; ++e1)
         for (int f = 0; f < nF; ++f) smax = std::max(smax, std::abs(Kkt(nF + e1, f)));
       const double delta = 1e-11 * std::max(dmax, smax);
+      // balanced (ipm_polish): the constraint block's shift on its own scale (its Schur complement is
+      // ~smax^2 / dmax; one shift for both blocks, with dmax >> smax, left the rows nearly unimposed)
+      const double delta_e = polish_balanced ? 1e-11 * smax * smax / dmax : delta;
+      // and a proximal term kept in the refined system: the L1 optimum is often not unique (impulse
+      // traded between entries at no cost), its KKT then singular; the prox picks the optimal point
+      // nearest the IPM's plan instead of refining towards an arbitrary far one
+      if (polish_balanced)
+        for (int f = 0; f < nF; ++f) Kkt(f, f) += 1e-9 * dmax;
       Kkt0.topLeftCorner(n, n) = Kkt.topLeftCorner(n, n);
       for (int f = 0; f < nF; ++f) Kkt0(f, f) += delta;
-      for (int e1 = 0; e1 < nE; ++e1) Kkt0(nF + e1, nF + e1) -= delta;
+      for (int e1 = 0; e1 < nE; ++e1) Kkt0(nF + e1, nF + e1) -= delta_e;
       if (!lu(n)) return false;
       kkt_sol.head(n) = kkt_rhs.head(n);
       lu_solve(n, kkt_sol);
@@ -352,6 +369,7 @@ struct StateAdmmWorkspace {
       const int v = free_idx(f), i = v % nu, k = v / nu;
       const double y1 = Ypol(i, k);
       if ((w(i) > 0.0 && y1 * sgn(v) <= 0.0) || y1 < ulo(i) || y1 > uhi(i)) {
+        polish_sign_failed = true;  // Ypol keeps the KKT candidate (ipm_polish fixes those entries)
         return false;
       }
     }
@@ -370,6 +388,330 @@ struct StateAdmmWorkspace {
       }
     }
     return true;
+  }
+
+  // ---- dual recovery on a converged plan (Up, Xp): least-squares row multipliers on its active set.
+  // Where the active rows are degenerate (a closing-velocity wedge pinned by box rows) the dual optimal
+  // face is unbounded and the IPM's multipliers run off along it while its plan converges; the
+  // near-minimum-norm multipliers solving the stationarity of the free controls are then a bounded
+  // point of that face. Active set: rows whose slack, in control units (e_j x slack), is <= 1e-6 of the
+  // plan's largest control; rows of the wrong sign leave it, controls whose allowed interval for
+  // h = grad of the smooth part + S' mu is violated join the equations at the violated end (an
+  // active-set loop of at most kDualPasses passes). Only proposes mu: the caller certifies with the
+  // Fenchel bound, which holds for any mu (weak duality), so a poor recovery costs only the attempt.
+  bool recover_dual(const Eigen::MatrixXd& Up, const Eigen::MatrixXd& Xp, Eigen::VectorXd& out) noexcept {
+    constexpr int kDualPasses = 8;
+    const int nv = N * nu;
+    double umag = 0.0;
+    for (int k = 0; k < N; ++k)
+      for (int i = 0; i < nu; ++i) umag = std::max(umag, std::abs(Up(i, k)));
+    if (!(umag > 0.0) || !std::isfinite(umag)) return false;
+    const double tz = 1e-7 * umag;
+    // allowed interval [dr_hmin, dr_hmax] of h_v (-h_v in the subdifferential of the control part)
+    for (int k = 0; k < N; ++k)
+      for (int i = 0; i < nu; ++i) {
+        const int v = k * nu + i;
+        const double u = Up(i, k);
+        double a, b;
+        if (std::abs(u) <= tz) {
+          a = -w(i);
+          b = w(i);
+          if (ulo(i) >= -tz) a = -kInf;  // lower bound at 0: one-sided
+          if (uhi(i) <= tz) b = kInf;
+        } else {
+          const double g = (u > 0.0 ? w(i) : -w(i)) + rdiag(i) * u;
+          a = b = -g;
+          if (u > 0.0 && uhi(i) - u <= tz) a = -kInf;  // at the upper bound: h <= -(w + r u)
+          if (u < 0.0 && u - ulo(i) <= tz) b = kInf;
+        }
+        dr_hmin(v) = a;
+        dr_hmax(v) = b;
+        dr_eq(v) = a == b ? 1 : 0;
+      }
+    // gradient of the smooth part through the costates
+    Cmu.setZero();
+    for (int k = 1; k <= N; ++k) {
+      if (k < N && !has_Q) continue;
+      tmp_nx = Xp.col(k) - prob.xf;
+      Cmu.col(k).noalias() = (k < N ? prob.Q : prob.Qf) * tmp_nx;
+    }
+    costate_sweep();
+    dr_hq = H;
+    // active rows: kind 1 upper, -1 lower, 0 equality (free sign), 2 cone boundary (scalar >= 0)
+    int nA = 0;
+    for (int j = 0; j < m; ++j) {
+      const double e = escale(j);
+      const int nd = node(j);
+      if (cone_start(j) == 1) {
+        const double t = Crow.col(j).dot(Xp.col(nd)) - off(j);
+        const double s1 = Crow.col(j + 1).dot(Xp.col(nd)), s2 = Crow.col(j + 2).dot(Xp.col(nd));
+        const double rr = std::hypot(s1, s2);
+        if (rr > 0.0 && e * (t - rr) <= 1e-6 * umag) {
+          nrm(j) = -1.0;
+          nrm(j + 1) = s1 / rr;
+          nrm(j + 2) = s2 / rr;
+          tmp_nx = -Crow.col(j) + nrm(j + 1) * Crow.col(j + 1) + nrm(j + 2) * Crow.col(j + 2);
+          sensitivity_row(nA, tmp_nx, nd);
+          act_idx(nA) = j;
+          act_kind(nA++) = 2;
+        }
+        j += 2;
+        continue;
+      }
+      const double r = Crow.col(j).dot(Xp.col(nd));
+      int kind = -2;
+      if (lo(j) == hi(j))
+        kind = 0;
+      else if (std::isfinite(hi(j)) && e * (hi(j) - r) <= 1e-6 * umag)
+        kind = 1;
+      else if (std::isfinite(lo(j)) && e * (r - lo(j)) <= 1e-6 * umag)
+        kind = -1;
+      if (kind == -2) continue;
+      sensitivity_row(nA, Crow.col(j), nd);
+      act_idx(nA) = j;
+      act_kind(nA++) = kind;
+    }
+    if (nA == 0) return false;
+    for (int a = 0; a < nA; ++a) dr_on(a) = 1;
+    dr_lam.head(nA).setZero();
+    for (int pass = 0; pass < kDualPasses; ++pass) {
+      // normal equations of min sum_eq (S_v' lam - (target_v - hq_v))^2 over the enabled rows
+      int nE = 0;
+      for (int a = 0; a < nA; ++a)
+        if (dr_on(a)) dr_pos(nE++) = a;
+      if (nE == 0) return false;
+      auto G = dr_G.topLeftCorner(nE, nE);
+      G.setZero();
+      auto rhs = dr_rhs.head(nE);
+      rhs.setZero();
+      for (int v = 0; v < nv; ++v) {
+        if (!dr_eq(v)) continue;
+        const double tgt = dr_hmin(v) == dr_hmax(v) ? dr_hmin(v) : dr_tgt(v);
+        const double bv = tgt - dr_hq(v % nu, v / nu);
+        for (int a = 0; a < nE; ++a) {
+          const double sa = Srow(dr_pos(a), v);
+          if (sa == 0.0) continue;
+          rhs(a) += sa * bv;
+          for (int b = 0; b <= a; ++b) G(a, b) += sa * Srow(dr_pos(b), v);
+        }
+      }
+      double gmax = 0.0;
+      for (int a = 0; a < nE; ++a) gmax = std::max(gmax, G(a, a));
+      if (!(gmax > 0.0) || !std::isfinite(gmax)) return false;
+      // Tikhonov eps, iterated (proximal) so that the solution tends to the minimum-norm least squares
+      const double eps = 1e-12 * gmax;
+      for (int a = 0; a < nE; ++a) G(a, a) += eps;
+      if (!cholesky_lower(nE)) return false;
+      auto x = dr_x.head(nE);
+      x.setZero();
+      for (int ref = 0; ref < 4; ++ref) {
+        auto y = dr_y.head(nE);
+        y = rhs + eps * x;
+        cholesky_solve(nE, y);
+        x = y;
+      }
+      if (!x.allFinite()) return false;
+      dr_lam.head(nA).setZero();
+      for (int a = 0; a < nE; ++a) dr_lam(dr_pos(a)) = x(a);
+      bool changed = false;
+      for (int a = 0; a < nA; ++a) {  // wrong signs leave the active set
+        if (!dr_on(a)) continue;
+        const int kd = act_kind(a);
+        const double l = dr_lam(a);
+        if ((kd == 1 || kd == 2) && l < 0.0) {
+          dr_on(a) = 0;
+          changed = true;
+        } else if (kd == -1 && l > 0.0) {
+          dr_on(a) = 0;
+          changed = true;
+        }
+      }
+      if (changed) continue;
+      // h = hq + S' lam; controls outside their interval join the equations at the violated end
+      for (int v = 0; v < nv; ++v) {
+        if (dr_eq(v)) continue;
+        double h = dr_hq(v % nu, v / nu);
+        for (int a = 0; a < nA; ++a) h += dr_lam(a) * Srow(a, v);
+        const double slack = 1e-12 * (std::abs(w(v % nu)) + std::abs(h));
+        if (h < dr_hmin(v) - slack) {
+          dr_eq(v) = 1;
+          dr_tgt(v) = dr_hmin(v);
+          changed = true;
+        } else if (h > dr_hmax(v) + slack) {
+          dr_eq(v) = 1;
+          dr_tgt(v) = dr_hmax(v);
+          changed = true;
+        }
+      }
+      if (!changed) break;
+    }
+    out.setZero();
+    for (int a = 0; a < nA; ++a) {
+      const int j = act_idx(a);
+      if (act_kind(a) == 2) {
+        for (int q3 = 0; q3 < 3; ++q3) out(j + q3) = dr_lam(a) * nrm(j + q3);
+      } else {
+        out(j) = dr_lam(a);
+      }
+    }
+    return out.allFinite();
+  }
+
+  // Active-set polish of a converged interior-point plan Up (flown Xp): its near-zero and near-bound
+  // controls (tzr of the largest control) and its rows within ta of their bounds (e_j x slack, control
+  // units, relative to the largest control) are snapped onto them, and polish(0) solves the
+  // equality-constrained KKT on that active set (rank-deficient active rows regularized) into Ypol /
+  // mu_pol. The IPM's plan sits a little inside rows whose multipliers are small (seen: slack 6e-6
+  // relative, Clarabel's multiplier 7e-3 against ~1e2 for the others), so no multiplier computed at
+  // that plan certifies it; the polished plan lies on them. Y and z (the ADMM's iterate) are kept in
+  // Yprev / zprev (the ADMM's per-iteration scratch) and restored. The caller certifies.
+  bool ipm_polish(const Eigen::MatrixXd& Up, const Eigen::MatrixXd& Xp, double ta, double tzr) noexcept {
+    const double umag = Up.cwiseAbs().maxCoeff();
+    if (!(umag > 0.0) || !std::isfinite(umag)) return false;
+    const double tz = tzr * umag;
+    Yprev = Y;
+    zprev = z;
+    for (int k = 0; k < N; ++k)
+      for (int i = 0; i < nu; ++i) {
+        double u = Up(i, k);
+        if (std::abs(u) <= tz)
+          u = 0.0;
+        else if (uhi(i) - u <= tz)
+          u = uhi(i);
+        else if (u - ulo(i) <= tz)
+          u = ulo(i);
+        Y(i, k) = u;
+      }
+    rows_of(Xp, z);
+    // candidates: rows within ta of a bound (cones: of their surface), with that distance in nrm
+    int nc = 0;
+    for (int j = 0; j < m; ++j) {
+      const double e = escale(j);
+      double d = kInf;
+      if (cone_start(j) == 1) {
+        const double t = z(j) - off(j), rr = std::hypot(z(j + 1), z(j + 2));
+        if (t > 0.0 && rr > 0.0) d = e * std::abs(t - rr);
+      } else if (std::isfinite(hi(j)) && std::abs(hi(j) - z(j)) <= std::abs(z(j) - lo(j))) {
+        d = e * std::abs(hi(j) - z(j));
+      } else if (std::isfinite(lo(j))) {
+        d = e * std::abs(z(j) - lo(j));
+      }
+      if (d <= ta * umag) {
+        act_idx(nc) = j;
+        nrm(nc++) = d;
+      }
+      if (cone_start(j) == 1) j += 2;
+    }
+    // nearest first, each kept only when its sensitivity on the free controls is independent of the
+    // rows kept before it (Gram-Schmidt, 1e-9 relative): degenerate active rows (a wedge pinned by box
+    // rows) make the KKT singular with slightly inconsistent right-hand sides otherwise
+    int nk = 0;
+    for (int c = 0; c < nc; ++c) {
+      int best = c;
+      for (int c2 = c + 1; c2 < nc; ++c2)
+        if (nrm(c2) < nrm(best)) best = c2;
+      std::swap(act_idx(c), act_idx(best));
+      std::swap(nrm(c), nrm(best));
+      const int j = act_idx(c);
+      if (cone_start(j) == 1) {
+        const double rr = std::hypot(z(j + 1), z(j + 2));
+        tmp_nx = -Crow.col(j) + (z(j + 1) / rr) * Crow.col(j + 1) + (z(j + 2) / rr) * Crow.col(j + 2);
+      } else {
+        tmp_nx = Crow.col(j);
+      }
+      sensitivity_row(nk, tmp_nx, node(j));
+      for (int k = 0; k < N; ++k)  // only the free controls move in the KKT
+        for (int i = 0; i < nu; ++i) {
+          const double y = Y(i, k);
+          if (y == 0.0 || y == ulo(i) || y == uhi(i)) Srow(nk, k * nu + i) = 0.0;
+        }
+      const double n0 = Srow.row(nk).norm();
+      if (!(n0 > 0.0)) continue;
+      for (int b = 0; b < nk; ++b) {
+        const double dot = Srow.row(nk).dot(Srow.row(b));
+        Srow.row(nk) -= dot * Srow.row(b);
+      }
+      const double n1 = Srow.row(nk).norm();
+      if (!(n1 > 1e-9 * n0)) continue;
+      Srow.row(nk) /= n1;
+      act_kind(nk++) = j;  // kept
+    }
+    for (int b = 0; b < nk; ++b) {
+      const int j = act_kind(b);
+      if (cone_start(j) == 1) {
+        const double t = z(j) - off(j), rr = std::hypot(z(j + 1), z(j + 2));
+        z(j + 1) *= t / rr;
+        z(j + 2) *= t / rr;
+      } else if (std::isfinite(hi(j)) && std::abs(hi(j) - z(j)) <= std::abs(z(j) - lo(j))) {
+        z(j) = hi(j);
+      } else {
+        z(j) = lo(j);
+      }
+    }
+    // the others just off their bounds: polish() takes a row as active only when z sits on it exactly
+    for (int j = 0; j < m; ++j) {
+      if (cone_start(j) == 1) {
+        j += 2;
+        continue;
+      }
+      bool kept = false;
+      for (int b = 0; b < nk && !kept; ++b) kept = act_kind(b) == j;
+      if (kept) continue;
+      if (z(j) == hi(j)) z(j) = std::nextafter(hi(j), -kInf);
+      if (z(j) == lo(j)) z(j) = std::nextafter(lo(j), kInf);
+    }
+    // a free entry the KKT step takes through zero (or out of the box) is fixed there and the KKT
+    // solved again (an active-set step; at most 4 rounds)
+    bool ok = false;
+    polish_balanced = true;
+    for (int round = 0; round < 4 && !ok; ++round) {
+      ok = polish(0, 0);
+      if (ok || !polish_sign_failed || !Ypol.allFinite()) break;
+      for (int k = 0; k < N; ++k)
+        for (int i = 0; i < nu; ++i) {
+          const double y = Y(i, k), y1 = Ypol(i, k);
+          if (y == 0.0 || y == ulo(i) || y == uhi(i)) continue;
+          if (w(i) > 0.0 && y1 * y <= 0.0)
+            Y(i, k) = 0.0;
+          else if (y1 > uhi(i))
+            Y(i, k) = uhi(i);
+          else if (y1 < ulo(i))
+            Y(i, k) = ulo(i);
+        }
+    }
+    polish_balanced = false;
+    Y = Yprev;
+    z = zprev;
+    return ok;
+  }
+
+  // in-place Cholesky G = L L' of dr_G's leading n x n block (lower triangle read and written)
+  bool cholesky_lower(int n) noexcept {
+    for (int c = 0; c < n; ++c) {
+      double d = dr_G(c, c);
+      for (int k = 0; k < c; ++k) d -= dr_G(c, k) * dr_G(c, k);
+      if (!(d > 0.0)) return false;
+      d = std::sqrt(d);
+      dr_G(c, c) = d;
+      for (int r = c + 1; r < n; ++r) {
+        double acc = dr_G(r, c);
+        for (int k = 0; k < c; ++k) acc -= dr_G(r, k) * dr_G(c, k);
+        dr_G(r, c) = acc / d;
+      }
+    }
+    return true;
+  }
+  void cholesky_solve(int n, Eigen::Ref<Eigen::VectorXd> y) const noexcept {
+    for (int r = 0; r < n; ++r) {
+      double acc = y(r);
+      for (int k = 0; k < r; ++k) acc -= dr_G(r, k) * y(k);
+      y(r) = acc / dr_G(r, r);
+    }
+    for (int r = n - 1; r >= 0; --r) {
+      double acc = y(r);
+      for (int k = r + 1; k < n; ++k) acc -= dr_G(k, r) * y(k);
+      y(r) = acc / dr_G(r, r);
+    }
   }
 
   const Eigen::MatrixXd& A(int k) const { return prob.dynamics.A_at(k); }
@@ -988,6 +1330,16 @@ StateConstrainedAdmm::StateConstrainedAdmm(const LtvProblem& problem, const Stat
   w.Ypol.setZero(nu, N);
   w.mu_pol.setZero(m);
   w.mu_best.setZero(m);
+  w.dr_G.setZero(m, m);
+  w.U_ipm.setZero(nu, N);
+  w.X_ipm.setZero(nx, N + 1);
+  w.mu_ipm.setZero(m);
+  w.dr_hq.setZero(nu, N);
+  for (auto* v : {&w.dr_hmin, &w.dr_hmax, &w.dr_tgt}) v->setZero(nv);
+  for (auto* v : {&w.dr_lam, &w.dr_rhs, &w.dr_x, &w.dr_y, &w.mu_rec}) v->setZero(m);
+  w.dr_eq.setZero(nv);
+  w.dr_on.setZero(m);
+  w.dr_pos.setZero(m);
   w.nrm.setZero(m);
   w.unit_nx.setZero(nx);
   w.sgn.setZero(nv);
@@ -1106,9 +1458,25 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
       const double viol = w.violation_of(w.shat);
       const double vtol = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
       if (viol > vtol) continue;
-      const double D = D_best;
-      const double gap = (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
-      if (std::abs(gap) <= (st.eps_gap > 0.0 ? st.eps_gap : 1e-9)) {
+      const double eps_gap = st.eps_gap > 0.0 ? st.eps_gap : 1e-9;
+      const auto rel_gap = [&](double D) {
+        return (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
+      };
+      // the plan has converged but the IPM's multipliers do not certify it (they run off along an
+      // unbounded dual face): least-squares multipliers on the plan's active set, certified by the
+      // same Fenchel bound (valid for any multipliers)
+      if (std::abs(rel_gap(D_best)) > eps_gap &&
+          w.ipm.complementarity() <= 1e-6 * std::max(std::abs(P), st.gap_floor) &&
+          w.recover_dual(w.Ypol, w.Xf, w.mu_rec)) {
+        ++info.dual_recoveries;
+        const double Dr = w.dual_bound(w.mu_rec);
+        if (Dr > D_best) {
+          D_best = Dr;
+          w.mu_best = w.mu_rec;
+        }
+      }
+      const double gap = rel_gap(D_best);
+      if (std::abs(gap) <= eps_gap) {
         w.Y = w.Ypol;
         w.mu = w.mu_best;
         w.z = w.shat;
@@ -1119,6 +1487,45 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
         prim = w.ipm.primal_residual();
         dual = w.ipm.complementarity();
         break;
+      }
+    }
+    // the IPM's plan converged without a certificate: polish it on its active set
+    if (!ipm_solved && ipm_exported && w.Ypol.allFinite()) {
+      w.U_ipm = w.Ypol;
+      w.mu_ipm = w.mu_pol;
+      w.rollout(w.U_ipm, w.X_ipm, false);
+      const double P0 = w.objective(w.X_ipm, w.U_ipm);
+      if (w.ipm.complementarity() <= 1e-6 * std::max(std::abs(P0), st.gap_floor)) {
+        // (row tolerance, control tolerance): the IPM's zero controls and inactive rows approach their
+        // kinks and bounds slowly (seen: 1e-7..1e-6 of the largest control), so a few cuts are tried
+        constexpr double kCuts[4][2] = {{1e-6, 1e-7}, {1e-4, 1e-7}, {1e-4, 1e-5}, {1e-3, 1e-4}};
+        for (const auto& cut : kCuts) {
+          if (!w.ipm_polish(w.U_ipm, w.X_ipm, cut[0], cut[1])) continue;
+          w.rollout(w.Ypol, w.Xf, false);
+          w.rows_of(w.Xf, w.shat);
+          const double viol = w.violation_of(w.shat);
+          const double vtol = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
+          const double P = w.objective(w.Xf, w.Ypol);
+          const double D = w.dual_bound(w.mu_pol);
+          const double gap = (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
+          if (viol <= vtol && std::abs(gap) <= (st.eps_gap > 0.0 ? st.eps_gap : 1e-9)) {
+            w.Y = w.Ypol;
+            w.mu = w.mu_pol;
+            w.z = w.shat;
+            w.project(w.z);
+            w.Lam.setZero();
+            ipm_solved = true;
+            info.polished = info.certified = true;
+            status = AdmmStatus::solved;
+            prim = viol;
+            dual = w.ipm.complementarity();
+            break;
+          }
+        }
+      }
+      if (!ipm_solved) {
+        w.Ypol = w.U_ipm;
+        w.mu_pol = w.mu_ipm;
       }
     }
     info.ipm_iterations = w.ipm.iterations;

@@ -239,7 +239,7 @@ _INFO_FIELDS = (
     "status", "message", "iterations", "primal_residual", "dual_residual", "solve_time", "eps_primal",
     "eps_dual", "paper_criterion", "objective", "objective_u", "terminal_miss", "rho", "factorizations",
     "rho_updates", "polished", "polish_attempts", "condensed", "primal_objective", "dual_objective",
-    "duality_gap", "certified", "ipm_iterations", "ipm_solved",
+    "duality_gap", "certified", "ipm_iterations", "ipm_solved", "dual_recoveries",
 )
 
 
@@ -253,7 +253,7 @@ class AdmmInfo(Result):
     returned iterate and ``eps_primal`` / ``eps_dual`` their tolerances (the problem's units),
     ``solve_time`` the wall time of the solve (s); then the ADMM extras (``rho``, ``factorizations``,
     ``polished``, the objectives and ``duality_gap``, ...) and the interior-point fields
-    ``ipm_iterations`` (0: the IPM did not run) and ``ipm_solved``."""
+    ``ipm_iterations`` (0: the IPM did not run), ``ipm_solved`` and ``dual_recoveries``."""
 
     status: str
     message: str
@@ -279,6 +279,8 @@ class AdmmInfo(Result):
     certified: bool
     ipm_iterations: int
     ipm_solved: bool
+    #: state constraints: least-squares multiplier recoveries on the IPM's converged plan (0: none)
+    dual_recoveries: int = 0
     #: linear guidance.Plan only: the extension's result dict (scaled units, arrays nu x N), what
     #: ``Plan.info`` was before it became this object; None otherwise
     raw: Mapping[str, Any] | None = dataclasses.field(default=None, repr=False, compare=False)
@@ -356,6 +358,9 @@ class L1Result(Result):
     ipm_iterations: int = 0
     #: the plan is the interior-point method's, "solved" by the same gap test as ADMM's
     ipm_solved: bool = False
+    #: state constraints: least-squares multiplier recoveries tried on the IPM's converged plan (its
+    #: active set), each checked by the same Fenchel bound; 0 when the IPM's own multipliers sufficed
+    dual_recoveries: int = 0
     #: state constraints only (issue 16): largest violation of a constraint row by X_flown (state
     #: units; cones: distance to the surface) and its tolerance eps_abs + eps_rel ||X_flown||_inf
     max_violation: float = float("nan")

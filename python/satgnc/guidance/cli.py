@@ -451,13 +451,18 @@ def run_keep_out(sc, case: str, out: pathlib.Path, subproblem: str = "admm", pas
         raise ValueError(f"--passive-safety: the scenario {sc.path} needs [passive_safety]")
     drift = {} if ps_cfg is None else {"drift_time": ps_cfg["drift_time"],
                                        "drift_check_samples": ps_cfg["samples"]}
+    plume = rendezvous.plume(sc)
     r = keep_out_plan(pb, ko, xf=np.r_[k["hold_point"], 0.0, 0.0, 0.0], layout=rendezvous.thruster_layout(sc),
-                      margin=k["margin"], solver=subproblem, truth=rendezvous.truth_params(sc), **drift)
+                      margin=k["margin"], solver=subproblem, truth=rendezvous.truth_params(sc), plume=plume,
+                      **drift)
     d = {"status": r.status, "converged": r.converged, "iterations": r.iterations, "fuel_Ns": r.fuel,
          "fuel_history": r.fuel_history.tolist(), "min_node_rho": float(r.node_rho[1:].min()),
          "flown_rho_nodes": r.flown_rho_nodes, "flown_rho_min": r.flown_rho_min,
          "satisfied_nodes": r.satisfied_nodes, "satisfied_flown": r.satisfied_flown,
          "wall_time_s": r.wall_time}
+    if plume is not None:
+        d.update(plume_half_angle_deg=plume["half_angle_deg"], plume_range_m=plume["range"],
+                 plume_inhibited=int(r.plume_inhibited.sum()), plume_violations=r.plume_violations)
     if r.passive is not None:
         from .safety import cw_positions, safety_figure
 
@@ -473,6 +478,10 @@ def run_keep_out(sc, case: str, out: pathlib.Path, subproblem: str = "admm", pas
     print(f"{case}: keep-out plan {r.status} after {r.iterations} SCP iterations (converged: {r.converged}), "
           f"fuel {r.fuel:.4g} N s; outside the zone at every node: {r.satisfied_nodes}; on the truth "
           f"between nodes: {r.satisfied_flown} (smallest radius {r.flown_rho_min:.3f})")
+    if plume is not None:
+        print(f"{case}: plume cone {plume['half_angle_deg']:g} deg within {plume['range']:g} m: "
+              f"{int(r.plume_inhibited.sum())} thruster-intervals inhibited, {r.plume_violations} impinging "
+              "firings on the returned plan")
     if r.passive is not None:
         print(f"{case}: passive safety imposed over {r.passive.drift_time:.0f} s: "
               f"{int(r.passive.safe.sum())}/{r.passive.safe.size} drift nodes safe on the truth, smallest "

@@ -41,6 +41,10 @@ Issue 16 (all optional; a file without them reads as before):
   ``margin`` (relative, default 0.05): the zone's inflation for the planning;
 * ``[passive_safety]`` ``drift_time`` (s, > 0), ``samples`` (default 100): the free drift checked from
   each node (:func:`satgnc.guidance.safety.passive_safety`);
+* ``[plume]`` ``half_angle_deg`` (deg, in (0, 90]), ``range`` (m, > 0): the plume-impingement cone of
+  the keep-out plan (``satgnc rendezvous --keep-out``; needs ``[[thrusters]]``): a thruster whose
+  exhaust points within the half-angle of the target while the chaser is within the range is
+  inhibited (:func:`satgnc.guidance.keep_out.keep_out_plan`, ``plume``);
 * ``[failures]`` ``pairs`` (default false): the thruster-loss table also loses every pair
   (``satgnc rendezvous --failures``; needs ``[[thrusters]]``);
 * state constraints (:func:`state_constraints`, ``satgnc rendezvous --constrained``), each with
@@ -70,7 +74,7 @@ from .._validate import (
 
 __all__ = [
     "RendezvousScenario", "load", "problem", "truth_params", "truth_force_model", "thruster_layout",
-    "keep_out", "state_constraints", "DEFAULT",
+    "keep_out", "plume", "state_constraints", "DEFAULT",
 ]
 
 DEFAULT = pathlib.Path(__file__).with_name("l1_rendezvous.toml")
@@ -129,14 +133,18 @@ SECTIONS = {
         "samples": Key("integer", required=False, default=100, low=1, high=10**6, unit="samples per drift"),
     },
     "failures": {"pairs": Key("bool", required=False, default=False)},
+    "plume": {
+        "half_angle_deg": Key("number", positive=True, high=90.0, unit="deg"),
+        "range": Key("number", positive=True, high=1e9, unit="m"),
+    },
 }
-#: sections a file may leave out (all their keys have defaults; [release], [keep_out] and
-#: [passive_safety] absent mean none).
+#: sections a file may leave out (all their keys have defaults; [release], [keep_out],
+#: [passive_safety] and [plume] absent mean none).
 OPTIONAL_SECTIONS = (
-    "release", "discretization", "planner", "truth", "keep_out", "passive_safety", "failures"
+    "release", "discretization", "planner", "truth", "keep_out", "passive_safety", "failures", "plume"
 )
 #: sections whose absence reads as None (no defaults to fill in).
-ABSENT_IS_NONE = ("release", "keep_out", "passive_safety")
+ABSENT_IS_NONE = ("release", "keep_out", "passive_safety", "plume")
 #: one ``[[thrusters]]`` table (issue 16).
 THRUSTER = {
     "direction": Key("vector", length=3, nonzero=True, unit="unit vector, CW frame"),
@@ -213,6 +221,9 @@ def read(path, name: str = "path"):
             continue
         secs[sec] = check_toml_table(d[sec], schema, sec, p, text)
     secs["thrusters"] = read_thrusters(d.get("thrusters"), p, text)
+    if secs["plume"] is not None and secs["thrusters"] is None:
+        raise FileFormatError(p, toml_line(text, "plume"), "[plume]: needs [[thrusters]] (the plume cone "
+                              "inhibits thrusters; the per-axis box has none)", key="plume")
     secs["truth"]["force_model"] = read_truth_force_model(d.get("truth"), secs, p, text)
     secs.update(read_state_constraints(d, p, text, secs["horizon"]["knots"] - 1))
     cases_raw = d.get("cases")
@@ -486,6 +497,13 @@ def keep_out(sc: RendezvousScenario):
 
     k = sc.sections.get("keep_out")
     return None if k is None else KeepOut(np.array(k["center"]), np.array(k["semi_axes"]))
+
+
+def plume(sc: RendezvousScenario) -> dict | None:
+    """The scenario's ``[plume]`` as the ``plume`` argument of :func:`satgnc.guidance.keep_out.keep_out_plan`
+    (``half_angle_deg`` deg, ``range`` m), or None."""
+    k = sc.sections.get("plume")
+    return None if k is None else {"half_angle_deg": k["half_angle_deg"], "range": k["range"]}
 
 
 def _constraint_nodes(t: dict, section: str, p, text: str, horizon: int, line) -> tuple[dict, list[int]]:

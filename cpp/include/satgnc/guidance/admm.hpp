@@ -183,6 +183,9 @@ struct AdmmInfo : core::InfoBase<AdmmStatus> {
   double workspace_bytes = 0.0;  ///< setup's estimate of the workspace (size check)
   int ipm_iterations = 0;        ///< interior-point iterations in this solve (0: the IPM did not run)
   bool ipm_solved = false;       ///< the returned plan is the interior-point method's (kSolved by its gap)
+  /// State constraints: least-squares multiplier recoveries on the IPM's converged plan's active set
+  /// (tried when its own multipliers do not certify it; each is checked by the same Fenchel bound)
+  int dual_recoveries = 0;
 };
 
 /// Result (all arrays allocated at setup).
