@@ -354,6 +354,8 @@ struct AdmmWorkspace : AdmmProblemData,
   void ipm_riccati_sweep() noexcept;
   void ipm_riccati_sweep_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   void ipm_forward_63() noexcept;        ///< its forward pass
+  void ipm_riccati_sweep_cw() noexcept;  ///< the same on the decoupled CW blocks (ipm_cw_)
+  void ipm_forward_cw() noexcept;        ///< its forward pass
   template <int NU>
   auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
                                                 Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
