@@ -250,7 +250,7 @@ namespace {
 constexpr int kIn[4] = {0, 1, 3, 4}, kOut[2] = {2, 5};
 }  // namespace
 
-void AdmmWorkspace::ipm_setup_cw() {
+void AdmmWorkspace::ipm_setup_cw() noexcept {
   ipm_cw_ = false;
   if (!(nx_ == 6 && nu_ == 3)) return;
   const LtvDynamics& d = prob_.dynamics;

@@ -349,7 +349,7 @@ struct AdmmWorkspace : AdmmProblemData,
   bool ipm_riccati_factor() noexcept;
   bool ipm_riccati_factor_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   bool ipm_riccati_factor_cw() noexcept;  ///< the same on the decoupled CW blocks (ipm_cw_)
-  void ipm_setup_cw();                    ///< decides ipm_cw_ and gathers the blocks
+  void ipm_setup_cw() noexcept;           ///< decides ipm_cw_ and gathers the blocks
   template <int NX, int NU>
   void ipm_riccati_sweep() noexcept;
   void ipm_riccati_sweep_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
