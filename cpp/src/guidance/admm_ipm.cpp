@@ -32,7 +32,7 @@ void AdmmWorkspace::ipm_setup() {
   for (ArrayXd* a : {&is1_,  &is2_,  &is3_,  &is4_,  &iz1_,  &iz2_,  &iz3_,  &iz4_,  &id_,   &ilin_, &irt_,
                      &idu_,  &idt_,  &ids1_, &ids2_, &ids3_, &ids4_, &idz1_, &idz2_, &idz3_, &idz4_, &ia1_,
                      &ia2_,  &ia3_,  &ia4_,  &ib1_,  &ib2_,  &ib3_,  &ib4_,  &itv_,  &irp1_, &irp2_, &irp3_,
-                     &irp4_, &isi1_, &isi2_, &isi3_, &isi4_, &izs1_, &izs2_, &izs3_, &izs4_, &ihut_, &ihtt_})
+                     &irp4_, &isi1_, &isi2_, &isi3_, &isi4_, &izs1_, &izs2_, &izs3_, &izs4_, &ihut_, &ihtt_, &izi1_, &izi2_, &izi3_, &izi4_})
     a->setZero(n);
   im1_ = (wrep_ > 0.0).cast<double>();
   im3_ = (lorep_ > -kInf).cast<double>();
@@ -700,6 +700,13 @@ bool AdmmWorkspace::ipm_factor() noexcept {
   izs2_ = iz2_ * isi2_;
   izs3_ = iz3_ * isi3_;
   izs4_ = iz4_ * isi4_;
+  // 1 / z for ipm_max_step (0 where the constraint is absent: z = 0 there)
+  izi1_ = im1_ / (iz1_ + (1.0 - im1_));
+  izi2_ = im1_ / (iz2_ + (1.0 - im1_));
+  if (has_box_) {
+    izi3_ = im3_ / (iz3_ + (1.0 - im3_));
+    izi4_ = im4_ / (iz4_ + (1.0 - im4_));
+  }
   const Index n = id_.size();
   for (Index j = 0; j < n; ++j) {
     double dp = 0.0, hut = 0.0, htt = 0.0;
@@ -772,21 +779,23 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
 }
 
 double AdmmWorkspace::ipm_max_step() const noexcept {
-  double a = kInf;
-  const auto lim = [&](const ArrayXd& v, const ArrayXd& dv) {
-    a = std::min(a, (dv < 0.0).select(-v / dv, kInf).minCoeff());  // branch-free: vectorized
-  };
-  lim(is1_, ids1_);
-  lim(is2_, ids2_);
-  lim(iz1_, idz1_);
-  lim(iz2_, idz2_);
+  // the largest a with v + a dv >= 0: 1 / max(-dv / v) over all entries (the entries with dv >= 0
+  // give <= 0), by the reciprocals of ipm_factor (1 / s, and 1 / z, 0 where the constraint is
+  // absent) instead of a division per entry and call (8 of them per entry and step were 5-8 % of the
+  // solve's samples); the steps taken are 0.99 of it
+  double m = 0.0;
+  const auto lim = [&](const ArrayXd& inv, const ArrayXd& dv) { m = std::max(m, (-dv * inv).maxCoeff()); };
+  lim(isi1_, ids1_);
+  lim(isi2_, ids2_);
+  lim(izi1_, idz1_);
+  lim(izi2_, idz2_);
   if (has_box_) {  // without a box the box steps are exactly 0
-    lim(is3_, ids3_);
-    lim(is4_, ids4_);
-    lim(iz3_, idz3_);
-    lim(iz4_, idz4_);
+    lim(isi3_, ids3_);
+    lim(isi4_, ids4_);
+    lim(izi3_, idz3_);
+    lim(izi4_, idz4_);
   }
-  return a;
+  return m > 0.0 ? 1.0 / m : kInf;
 }
 
 // The independent acceptance test (the same as ADMM's): |relative duality gap| of the plan <= eps_gap

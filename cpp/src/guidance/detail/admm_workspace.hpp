@@ -141,6 +141,7 @@ struct AdmmIpmData {
   /// of the eliminated epigraph pair H_ut / H_tt = (r1 - r2) / (r1 + r2), 1 / H_tt = r1 r2 / (r1 + r2)
   /// (r = s / z, 0 where the pair is absent)
   Eigen::ArrayXd isi1_, isi2_, isi3_, isi4_, izs1_, izs2_, izs3_, izs4_, ihut_, ihtt_;
+  Eigen::ArrayXd izi1_, izi2_, izi3_, izi4_;  ///< 1 / z (0 where absent), for ipm_max_step
   Eigen::VectorXd ie2_;                    ///< the multiplier of the flown plan (certification)
   Eigen::MatrixXd iU_, iX_, idX_;          ///< IPM plan nu x N, its states and state step nx x (N+1)
   Eigen::VectorXd ie_, inu_, inun_, iep_;  ///< terminal error, multiplier, solved multiplier / error
