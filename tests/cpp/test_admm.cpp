@@ -60,7 +60,7 @@ TEST(Admm, SolveDoesNotAllocate) {
     AdmmSettings st;
     st.max_iterations = 300;  // includes adaptive-rho refactorizations
     st.adaptive_rho_interval = 10;
-    st.rho = 50.0;  // far from where adaptation takes it: refactorizations certainly happen
+    st.rho = 50.0;      // far from where adaptation takes it: refactorizations certainly happen
     st.ipm_after = 35;  // ADMM long enough for rho updates and polishes before the endgame
     AdmmSolver s(admm_scenario_problem(true, terminal), st);
     s.solve();                                                            // warm-up (first-touch)

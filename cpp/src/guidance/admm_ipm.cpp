@@ -29,10 +29,11 @@ void AdmmWorkspace::ipm_setup() {
   ipm_ok_ = flat_ok_;  // L1 + box (no group-L2 or ball: second-order cones stay ADMM-only)
   if (!ipm_ok_) return;
   const Index n = static_cast<Index>(N_) * nu_;
-  for (ArrayXd* a : {&is1_,  &is2_,  &is3_,  &is4_,  &iz1_,  &iz2_,  &iz3_,  &iz4_,  &id_,   &ilin_, &irt_,
-                     &idu_,  &idt_,  &ids1_, &ids2_, &ids3_, &ids4_, &idz1_, &idz2_, &idz3_, &idz4_, &ia1_,
-                     &ia2_,  &ia3_,  &ia4_,  &ib1_,  &ib2_,  &ib3_,  &ib4_,  &itv_,  &irp1_, &irp2_, &irp3_,
-                     &irp4_, &isi1_, &isi2_, &isi3_, &isi4_, &izs1_, &izs2_, &izs3_, &izs4_, &ihut_, &ihtt_, &izi1_, &izi2_, &izi3_, &izi4_})
+  for (ArrayXd* a :
+       {&is1_,  &is2_,  &is3_,  &is4_,  &iz1_,  &iz2_,  &iz3_,  &iz4_,  &id_,   &ilin_, &irt_,  &idu_,
+        &idt_,  &ids1_, &ids2_, &ids3_, &ids4_, &idz1_, &idz2_, &idz3_, &idz4_, &ia1_,  &ia2_,  &ia3_,
+        &ia4_,  &ib1_,  &ib2_,  &ib3_,  &ib4_,  &itv_,  &irp1_, &irp2_, &irp3_, &irp4_, &isi1_, &isi2_,
+        &isi3_, &isi4_, &izs1_, &izs2_, &izs3_, &izs4_, &ihut_, &ihtt_, &izi1_, &izi2_, &izi3_, &izi4_})
     a->setZero(n);
   im1_ = (wrep_ > 0.0).cast<double>();
   im3_ = (lorep_ > -kInf).cast<double>();

@@ -142,9 +142,9 @@ struct AdmmIpmData {
   /// (r = s / z, 0 where the pair is absent)
   Eigen::ArrayXd isi1_, isi2_, isi3_, isi4_, izs1_, izs2_, izs3_, izs4_, ihut_, ihtt_;
   Eigen::ArrayXd izi1_, izi2_, izi3_, izi4_;  ///< 1 / z (0 where absent), for ipm_max_step
-  Eigen::VectorXd ie2_;                    ///< the multiplier of the flown plan (certification)
-  Eigen::MatrixXd iU_, iX_, idX_;          ///< IPM plan nu x N, its states and state step nx x (N+1)
-  Eigen::VectorXd ie_, inu_, inun_, iep_;  ///< terminal error, multiplier, solved multiplier / error
+  Eigen::VectorXd ie2_;                       ///< the multiplier of the flown plan (certification)
+  Eigen::MatrixXd iU_, iX_, idX_;             ///< IPM plan nu x N, its states and state step nx x (N+1)
+  Eigen::VectorXd ie_, inu_, inun_, iep_;     ///< terminal error, multiplier, solved multiplier / error
   Eigen::MatrixXd iS_;  ///< terminal sensitivity dx_N / dnu of the IPM's Riccati factorization
   Eigen::PartialPivLU<Eigen::MatrixXd> ilu_;
   // Riccati path: per stage K_k, Quu_k^-1, Qux_k, Knu_k (nu x nx N or nu x nu N), scratch
