@@ -143,7 +143,7 @@ _PROPS: dict[str, dict[str, str]] = {
         "equilibrate": "Equilibrate the problem at setup (off under the paper rule); default True.",
         "method": "'admm_ipm' (ADMM then an interior-point endgame; default) or plain ADMM (residual rule "
                   "only; the paper rule always runs plain ADMM).",
-        "ipm_after": "ADMM iterations before the interior-point endgame (>= 0); default 35.",
+        "ipm_after": "ADMM iterations before the interior-point endgame (>= 0); default 8.",
         "ipm_max_iterations": "Interior-point iterations per run (>= 1); default 60.",
         "ipm_tolerance": "Interior-point stopping tolerance (relative complementarity and stationarity); "
                          "default 1e-7.",

@@ -60,7 +60,8 @@ TEST(Admm, SolveDoesNotAllocate) {
     AdmmSettings st;
     st.max_iterations = 300;  // includes adaptive-rho refactorizations
     st.adaptive_rho_interval = 10;
-    st.rho = 50.0;  // far from where adaptation takes it: refactorizations certainly happen
+    st.rho = 50.0;      // far from where adaptation takes it: refactorizations certainly happen
+    st.ipm_after = 35;  // ADMM long enough for rho updates and polishes before the endgame
     AdmmSolver s(admm_scenario_problem(true, terminal), st);
     s.solve();                                                            // warm-up (first-touch)
     AdmmSolver s2(random_ltv_problem(5, 2, 30, 3u, true, terminal), st);  // dynamic-size path
@@ -283,7 +284,9 @@ TEST(Admm, UnreachableTerminalStateIsAStatus) {
 }
 
 TEST(Admm, WarmStartFromSolutionConvergesQuickly) {
-  AdmmSolver s(random_ltv_problem(4, 2, 30, 5u, true, false));
+  AdmmSettings st;
+  st.ipm_after = 35;  // the ADMM warm start (the default endgame at 8 ends both runs early)
+  AdmmSolver s(random_ltv_problem(4, 2, 30, 5u, true, false), st);
   const AdmmResult& r = s.solve();
   ASSERT_EQ(r.info.status, AdmmStatus::solved);
   const int cold = r.info.iterations;

@@ -22,7 +22,7 @@ double AdmmWorkspace::estimate_workspace_bytes(int nx, int nu, int N) noexcept {
   const double n = nx, m = nu;
   const double per_stage =
       6.0 * n * n + 5.0 * n * m + m * m + 8.0 * n + 30.0 * m +
-      (3.0 * n * m + m * m + 2.0 * n + 37.0 * m);  // + the interior-point arrays (and checkpoint)
+      (3.0 * n * m + m * m + 2.0 * n + 41.0 * m);  // + the interior-point arrays (and checkpoint)
   return 8.0 * (per_stage * (static_cast<double>(N) + 1.0) + 64.0 * (n + m) * (n + m) + 512.0 * n * n);
 }
 

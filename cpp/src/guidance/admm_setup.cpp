@@ -363,6 +363,8 @@ bool AdmmWorkspace::update_dynamics(const std::vector<MatrixXd>& A, const std::v
       Psi_.middleCols((k - 1) * nx_, nx_).noalias() = Psi_.middleCols(k * nx_, nx_) * d.A_at(k);
     update_psib();
   }
+  // the IPM's CW blocks are copies of A and B (an LTI problem with N = 1 can be updated)
+  if (ipm_ok_) ipm_setup_cw();
   return ric_->factor(set_.rho);
 }
 

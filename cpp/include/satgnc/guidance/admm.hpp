@@ -136,9 +136,10 @@ struct AdmmSettings {
   AdmmMethod method = AdmmMethod::kAdmmIpm;
   /// ADMM iterations before the endgame (>= 0). Measured on the seeded random suite (docs/guidance.md):
   /// with the IPM's warm start floored at 0.3 of the multipliers' scale, 50 / 35 / 20 / 15 / 10 gave
-  /// a median C++ solve time of 0.39 / 0.37 / 0.35 / 0.34 / 0.33 ms at 11-12 median IPM iterations;
-  /// 35 because test_guidance.py pins `max_iterations` = 30 on the paper's case to end unsolved.
-  int ipm_after = 35;
+  /// a median C++ solve time of 0.39 / 0.37 / 0.35 / 0.34 / 0.33 ms at 11-12 median IPM iterations.
+  /// 2026-12-03 (after the block sweeps): 35 / 15 / 12 / 10 / 8 -> median thread CPU time 0.329 /
+  /// 0.293 / 0.285 / 0.279 / 0.280 ms, solved 391 / 391 / 390 / 390 / 391 of 391; hence 8.
+  int ipm_after = 8;
   int ipm_max_iterations = 60;  ///< interior-point iterations per run (>= 1)
   /// Interior-point stopping: complementarity sum s'z and the stationarity residuals below this
   /// (relative to the objective and the gradient scale) trigger the independent gap test (which

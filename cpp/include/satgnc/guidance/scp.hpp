@@ -75,12 +75,16 @@ struct ScpSettings {
   /// eps_gap = 1e-8: the interior-point endgame's plan is accepted at the inner gap test; 1e-5 left
   /// 2 of 25 reachable hard-terminal rendezvous (tests/python/test_scp_terminal.py) at
   /// solved_inaccurate, 1e-7 and 1e-8 solve all, 1e-10 sends the hard-terminal paper case to the
-  /// endgame in every outer iteration (200 instead of 55 inner iterations).
+  /// endgame in every outer iteration (200 instead of 55 inner iterations). ipm_after = 35 (the
+  /// AdmmSettings default was 35 until 2026-12-03, now 8): with 8 the subproblems' plans come from the
+  /// endgame more often and test_scp_matches_independent_slsqp_on_small_horizon[True] ended
+  /// solved_inaccurate (predicted decrease above tol = 1e-10 after 3 outer iterations).
   AdmmSettings inner = default_inner();
   static AdmmSettings default_inner() {
     AdmmSettings s;
     s.terminal_tolerance = 1e-10;
     s.eps_gap = 1e-8;
+    s.ipm_after = 35;
     return s;
   }
   ScpGlobalization globalization = ScpGlobalization::trust_region;

@@ -141,9 +141,10 @@ struct AdmmIpmData {
   /// of the eliminated epigraph pair H_ut / H_tt = (r1 - r2) / (r1 + r2), 1 / H_tt = r1 r2 / (r1 + r2)
   /// (r = s / z, 0 where the pair is absent)
   Eigen::ArrayXd isi1_, isi2_, isi3_, isi4_, izs1_, izs2_, izs3_, izs4_, ihut_, ihtt_;
-  Eigen::VectorXd ie2_;                    ///< the multiplier of the flown plan (certification)
-  Eigen::MatrixXd iU_, iX_, idX_;          ///< IPM plan nu x N, its states and state step nx x (N+1)
-  Eigen::VectorXd ie_, inu_, inun_, iep_;  ///< terminal error, multiplier, solved multiplier / error
+  Eigen::ArrayXd izi1_, izi2_, izi3_, izi4_;  ///< 1 / z (0 where absent), for ipm_max_step
+  Eigen::VectorXd ie2_;                       ///< the multiplier of the flown plan (certification)
+  Eigen::MatrixXd iU_, iX_, idX_;             ///< IPM plan nu x N, its states and state step nx x (N+1)
+  Eigen::VectorXd ie_, inu_, inun_, iep_;     ///< terminal error, multiplier, solved multiplier / error
   Eigen::MatrixXd iS_;  ///< terminal sensitivity dx_N / dnu of the IPM's Riccati factorization
   Eigen::PartialPivLU<Eigen::MatrixXd> ilu_;
   // Riccati path: per stage K_k, Quu_k^-1, Qux_k, Knu_k (nu x nx N or nu x nu N), scratch
@@ -349,11 +350,13 @@ struct AdmmWorkspace : AdmmProblemData,
   bool ipm_riccati_factor() noexcept;
   bool ipm_riccati_factor_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   bool ipm_riccati_factor_cw() noexcept;  ///< the same on the decoupled CW blocks (ipm_cw_)
-  void ipm_setup_cw();                    ///< decides ipm_cw_ and gathers the blocks
+  void ipm_setup_cw() noexcept;           ///< decides ipm_cw_ and gathers the blocks
   template <int NX, int NU>
   void ipm_riccati_sweep() noexcept;
   void ipm_riccati_sweep_63() noexcept;  ///< the same for (nx, nu) = (6, 3), written out
   void ipm_forward_63() noexcept;        ///< its forward pass
+  void ipm_riccati_sweep_cw() noexcept;  ///< the same on the decoupled CW blocks (ipm_cw_)
+  void ipm_forward_cw() noexcept;        ///< its forward pass
   template <int NU>
   auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
                                                 Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
