@@ -106,3 +106,32 @@ TEST(AdmmUpdateDynamics, RejectsMismatchedData) {
   AdmmSolver s2(ti);
   EXPECT_FALSE(s2.update_dynamics({A[1]}, {B[1]}, {}));
 }
+
+TEST(AdmmUpdateDynamics, CwBlocksOfTheInteriorPointFollowTheUpdate) {
+  // A CW problem (one A, one B) takes the IPM's in-plane / out-of-plane block path; update_dynamics
+  // accepts an LTI problem only at N = 1 (one step: the step is its own time-varying sequence). The
+  // update to another mean motion must reach the block copies too, or the endgame solves the old one.
+  const satgnc_test::AdmmScenario s = satgnc_test::admm_scenario();
+  LtvProblem p1 = satgnc_test::admm_scenario_problem(true, false);
+  p1.dynamics.horizon = 1;
+  const auto d2 = satgnc::dynamics::cw_discretize_midpoint(satgnc::dynamics::CwModel(1.5 * s.n, 1.0), s.dt);
+  LtvProblem p2 = p1;
+  p2.dynamics.A = {MatrixXd(d2.Ad)};
+  p2.dynamics.B = {MatrixXd(d2.Bd)};
+  AdmmSettings st;
+  st.method = AdmmMethod::kIpm;  // the IPM alone, on its block copies
+  st.equilibrate = false;
+  AdmmSolver updated(p1, st);
+  const double obj1 = updated.solve().info.objective;
+  ASSERT_TRUE(updated.update_dynamics(p2.dynamics.A, p2.dynamics.B, p2.dynamics.c));
+  const AdmmResult r1 = updated.solve();
+  AdmmSolver fresh(p2, st);
+  const AdmmResult& r2 = fresh.solve();
+  ASSERT_EQ(r2.info.status, AdmmStatus::solved);
+  EXPECT_EQ(r1.info.status, AdmmStatus::solved);
+  EXPECT_GT(r1.info.ipm_iterations, 0);
+  EXPECT_GT(std::abs(obj1 - r2.info.objective), 1e-3 * std::abs(r2.info.objective));  // a real change
+  // both certified to the default tolerances (eps_gap 1e-4 relative): the same optimum
+  EXPECT_LE(std::abs(r1.info.objective - r2.info.objective), 1e-6 * std::abs(r2.info.objective));
+  EXPECT_LE((r1.X - r2.X).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, r2.X.cwiseAbs().maxCoeff()));
+}
