@@ -458,13 +458,13 @@ struct StateAdmmWorkspace {
         j += 2;
         continue;
       }
-      const double r = Crow.col(j).dot(Xp.col(nd));
+      const double rv = Crow.col(j).dot(Xp.col(nd));
       int kind = -2;
       if (lo(j) == hi(j))
         kind = 0;
-      else if (std::isfinite(hi(j)) && e * (hi(j) - r) <= 1e-6 * umag)
+      else if (std::isfinite(hi(j)) && e * (hi(j) - rv) <= 1e-6 * umag)
         kind = 1;
-      else if (std::isfinite(lo(j)) && e * (r - lo(j)) <= 1e-6 * umag)
+      else if (std::isfinite(lo(j)) && e * (rv - lo(j)) <= 1e-6 * umag)
         kind = -1;
       if (kind == -2) continue;
       sensitivity_row(nA, Crow.col(j), nd);
@@ -587,18 +587,18 @@ struct StateAdmmWorkspace {
     int nc = 0;
     for (int j = 0; j < m; ++j) {
       const double e = escale(j);
-      double d = kInf;
+      double dist = kInf;
       if (cone_start(j) == 1) {
         const double t = z(j) - off(j), rr = std::hypot(z(j + 1), z(j + 2));
-        if (t > 0.0 && rr > 0.0) d = e * std::abs(t - rr);
+        if (t > 0.0 && rr > 0.0) dist = e * std::abs(t - rr);
       } else if (std::isfinite(hi(j)) && std::abs(hi(j) - z(j)) <= std::abs(z(j) - lo(j))) {
-        d = e * std::abs(hi(j) - z(j));
+        dist = e * std::abs(hi(j) - z(j));
       } else if (std::isfinite(lo(j))) {
-        d = e * std::abs(z(j) - lo(j));
+        dist = e * std::abs(z(j) - lo(j));
       }
-      if (d <= ta * umag) {
+      if (dist <= ta * umag) {
         act_idx(nc) = j;
-        nrm(nc++) = d;
+        nrm(nc++) = dist;
       }
       if (cone_start(j) == 1) j += 2;
     }
@@ -688,29 +688,29 @@ struct StateAdmmWorkspace {
   // in-place Cholesky G = L L' of dr_G's leading n x n block (lower triangle read and written)
   bool cholesky_lower(int n) noexcept {
     for (int c = 0; c < n; ++c) {
-      double d = dr_G(c, c);
-      for (int k = 0; k < c; ++k) d -= dr_G(c, k) * dr_G(c, k);
-      if (!(d > 0.0)) return false;
-      d = std::sqrt(d);
-      dr_G(c, c) = d;
-      for (int r = c + 1; r < n; ++r) {
-        double acc = dr_G(r, c);
-        for (int k = 0; k < c; ++k) acc -= dr_G(r, k) * dr_G(c, k);
-        dr_G(r, c) = acc / d;
+      double diag = dr_G(c, c);
+      for (int k = 0; k < c; ++k) diag -= dr_G(c, k) * dr_G(c, k);
+      if (!(diag > 0.0)) return false;
+      diag = std::sqrt(diag);
+      dr_G(c, c) = diag;
+      for (int row = c + 1; row < n; ++row) {
+        double acc = dr_G(row, c);
+        for (int k = 0; k < c; ++k) acc -= dr_G(row, k) * dr_G(c, k);
+        dr_G(row, c) = acc / diag;
       }
     }
     return true;
   }
   void cholesky_solve(int n, Eigen::Ref<Eigen::VectorXd> y) const noexcept {
-    for (int r = 0; r < n; ++r) {
-      double acc = y(r);
-      for (int k = 0; k < r; ++k) acc -= dr_G(r, k) * y(k);
-      y(r) = acc / dr_G(r, r);
+    for (int row = 0; row < n; ++row) {
+      double acc = y(row);
+      for (int k = 0; k < row; ++k) acc -= dr_G(row, k) * y(k);
+      y(row) = acc / dr_G(row, row);
     }
-    for (int r = n - 1; r >= 0; --r) {
-      double acc = y(r);
-      for (int k = r + 1; k < n; ++k) acc -= dr_G(k, r) * y(k);
-      y(r) = acc / dr_G(r, r);
+    for (int row = n - 1; row >= 0; --row) {
+      double acc = y(row);
+      for (int k = row + 1; k < n; ++k) acc -= dr_G(k, row) * y(k);
+      y(row) = acc / dr_G(row, row);
     }
   }
 

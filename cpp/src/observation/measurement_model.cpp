@@ -134,13 +134,7 @@ void MeasurementSettings::validate() const {
   core::require(!(shapiro && !delayed), "shapiro",
                 "applies to range observables only (range: the delay; range-rate: its rate), not " +
                     std::string(observable_name(type)));
-  core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
-                "relative_humidity", "must be in [0, 1]");
-  const int tm = static_cast<int>(troposphere_model);
-  core::require(tm >= 0 && tm <= 2, "troposphere_model",
-                "unknown model (hint: saastamoinen, mendes_pavlis or marini_murray)");
-  core::require(std::isfinite(wavelength_um) && wavelength_um >= 0.3 && wavelength_um <= 1.7, "wavelength_um",
-                "must be in [0.3, 1.7] micrometres (the range of Ciddor's dispersion formula)");
+  validate_troposphere_options(relative_humidity, troposphere_model, wavelength_um);
   core::require_positive(mu, "mu");
   core::require_positive(min_range, "min_range");
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "satgnc/core/validate.hpp"
 #include "satgnc/observation/light_time.hpp"
 
 namespace satgnc::observation {
@@ -31,6 +32,16 @@ double tropo_mapping(double el, double* dm_del) noexcept {
   const double m = 1.001 / std::sqrt(q);
   if (dm_del) *dm_del = -m * s * std::cos(el) / q;
   return m;
+}
+
+void validate_troposphere_options(double relative_humidity, TroposphereModel model, double wavelength_um) {
+  core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
+                "relative_humidity", "must be in [0, 1]");
+  const int tm = static_cast<int>(model);
+  core::require(tm >= 0 && tm <= 2, "troposphere_model",
+                "unknown model (hint: saastamoinen, mendes_pavlis or marini_murray)");
+  core::require(std::isfinite(wavelength_um) && wavelength_um >= 0.3 && wavelength_um <= 1.7, "wavelength_um",
+                "must be in [0.3, 1.7] micrometres (the range of Ciddor's dispersion formula)");
 }
 
 const char* troposphere_model_name(TroposphereModel model) noexcept {

@@ -92,13 +92,7 @@ void BatchSettings::validate() const {
   core::require(lm_max_rejections >= 1, "lm_max_rejections", "must be >= 1");
   core::require(std::isfinite(rank_tol) && rank_tol > 0.0 && rank_tol < 1.0, "rank_tol", "must be in (0, 1)");
   core::require_nonnegative(min_radius, "min_radius");
-  core::require(std::isfinite(relative_humidity) && relative_humidity >= 0.0 && relative_humidity <= 1.0,
-                "relative_humidity", "must be in [0, 1]");
-  const int tm = static_cast<int>(troposphere_model);
-  core::require(tm >= 0 && tm <= 2, "troposphere_model",
-                "unknown model (hint: saastamoinen, mendes_pavlis or marini_murray)");
-  core::require(std::isfinite(wavelength_um) && wavelength_um >= 0.3 && wavelength_um <= 1.7, "wavelength_um",
-                "must be in [0.3, 1.7] micrometres");
+  observation::validate_troposphere_options(relative_humidity, troposphere_model, wavelength_um);
   core::require_positive(mu, "mu");
 }
 

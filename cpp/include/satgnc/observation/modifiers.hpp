@@ -46,6 +46,11 @@ enum class TroposphereModel {
 /// "saastamoinen", "mendes_pavlis" or "marini_murray".
 const char* troposphere_model_name(TroposphereModel model) noexcept;
 
+/// Checks the troposphere options that MeasurementSettings and od::BatchSettings share, at setup:
+/// relative_humidity in [0, 1], a known model, wavelength_um in [0.3, 1.7] micrometres (the range of
+/// Ciddor's dispersion formula). Throws std::invalid_argument naming the field and the rule.
+void validate_troposphere_options(double relative_humidity, TroposphereModel model, double wavelength_um);
+
 /// Zenith delays of one model, km.
 struct ZenithDelay {
   double hydrostatic = 0.0;  ///< km
