@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "detail/cholesky.hpp"
 #include "detail/state_ipm.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
@@ -501,13 +502,13 @@ struct StateAdmmWorkspace {
       // Tikhonov eps, iterated (proximal) so that the solution tends to the minimum-norm least squares
       const double eps = 1e-12 * gmax;
       for (int a = 0; a < nE; ++a) G(a, a) += eps;
-      if (!cholesky_lower(nE)) return false;
+      if (!detail::cholesky_factor_inplace<Eigen::Dynamic>(G)) return false;
       auto x = dr_x.head(nE);
       x.setZero();
       for (int ref = 0; ref < 4; ++ref) {
         auto y = dr_y.head(nE);
         y = rhs + eps * x;
-        cholesky_solve(nE, y);
+        detail::cholesky_solve_inplace<Eigen::Dynamic>(G, y);
         x = y;
       }
       if (!x.allFinite()) return false;
@@ -683,35 +684,6 @@ struct StateAdmmWorkspace {
     Y = Yprev;
     z = zprev;
     return ok;
-  }
-
-  // in-place Cholesky G = L L' of dr_G's leading n x n block (lower triangle read and written)
-  bool cholesky_lower(int n) noexcept {
-    for (int c = 0; c < n; ++c) {
-      double diag = dr_G(c, c);
-      for (int k = 0; k < c; ++k) diag -= dr_G(c, k) * dr_G(c, k);
-      if (!(diag > 0.0)) return false;
-      diag = std::sqrt(diag);
-      dr_G(c, c) = diag;
-      for (int row = c + 1; row < n; ++row) {
-        double acc = dr_G(row, c);
-        for (int k = 0; k < c; ++k) acc -= dr_G(row, k) * dr_G(c, k);
-        dr_G(row, c) = acc / diag;
-      }
-    }
-    return true;
-  }
-  void cholesky_solve(int n, Eigen::Ref<Eigen::VectorXd> y) const noexcept {
-    for (int row = 0; row < n; ++row) {
-      double acc = y(row);
-      for (int k = 0; k < row; ++k) acc -= dr_G(row, k) * y(k);
-      y(row) = acc / dr_G(row, row);
-    }
-    for (int row = n - 1; row >= 0; --row) {
-      double acc = y(row);
-      for (int k = row + 1; k < n; ++k) acc -= dr_G(k, row) * y(k);
-      y(row) = acc / dr_G(row, row);
-    }
   }
 
   const Eigen::MatrixXd& A(int k) const { return prob.dynamics.A_at(k); }
@@ -1417,6 +1389,18 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
   const auto t0 = std::chrono::steady_clock::now();
   info = AdmmInfo();
   const int N = w.N, m = w.m;
+  // A polished candidate (Ypol, mu_pol) is accepted only by the violation and gap tests; |gap|: a plan
+  // below the dual bound is infeasible beyond rounding (a missed active row).
+  const auto polish_certified = [&w, &st](double& viol) noexcept {
+    w.rollout(w.Ypol, w.Xf, false);
+    w.rows_of(w.Xf, w.shat);
+    viol = w.violation_of(w.shat);
+    const double vtol = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
+    const double P = w.objective(w.Xf, w.Ypol);
+    const double D = w.dual_bound(w.mu_pol);
+    const double gap = (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
+    return viol <= vtol && std::abs(gap) <= (st.eps_gap > 0.0 ? st.eps_gap : 1e-9);
+  };
   if (!w.warm) {
     w.Y.setZero();
     w.Lam.setZero();
@@ -1501,14 +1485,8 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
         constexpr double kCuts[4][2] = {{1e-6, 1e-7}, {1e-4, 1e-7}, {1e-4, 1e-5}, {1e-3, 1e-4}};
         for (const auto& cut : kCuts) {
           if (!w.ipm_polish(w.U_ipm, w.X_ipm, cut[0], cut[1])) continue;
-          w.rollout(w.Ypol, w.Xf, false);
-          w.rows_of(w.Xf, w.shat);
-          const double viol = w.violation_of(w.shat);
-          const double vtol = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
-          const double P = w.objective(w.Xf, w.Ypol);
-          const double D = w.dual_bound(w.mu_pol);
-          const double gap = (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
-          if (viol <= vtol && std::abs(gap) <= (st.eps_gap > 0.0 ? st.eps_gap : 1e-9)) {
+          double viol = 0.0;
+          if (polish_certified(viol)) {
             w.Y = w.Ypol;
             w.mu = w.mu_pol;
             w.z = w.shat;
@@ -1613,15 +1591,8 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
       // t = 0: Y's pattern; then the dual-estimate guess with want0, want0 - 1, ... free entries
       // (at most kPolishSizes sizes per attempt: each is a dense KKT solve)
       if (!(t == 0 ? w.polish(0, 0) : w.polish(1, want0 + 1 - t))) continue;
-      w.rollout(w.Ypol, w.Xf, false);
-      w.rows_of(w.Xf, w.shat);
-      const double viol = w.violation_of(w.shat);
-      const double vtol = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
-      const double P = w.objective(w.Xf, w.Ypol);
-      const double D = w.dual_bound(w.mu_pol);
-      const double gap = (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
-      // |gap|: a plan below the dual bound is infeasible beyond rounding (a missed active row)
-      if (viol <= vtol && std::abs(gap) <= (st.eps_gap > 0.0 ? st.eps_gap : 1e-9)) {
+      double viol = 0.0;
+      if (polish_certified(viol)) {
         w.Y = w.Ypol;
         w.mu = w.mu_pol;
         info.polished = info.certified = true;
