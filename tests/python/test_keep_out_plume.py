@@ -4,8 +4,6 @@ on the truth flight's samples."""
 
 from __future__ import annotations
 
-import importlib.util
-
 import numpy as np
 import pytest
 from satgnc.guidance import RendezvousProblem
@@ -14,7 +12,6 @@ from satgnc.guidance.safety import KeepOut
 from satgnc.guidance.thrusters import axis_layout, cube_layout
 
 MU, R = 3.986004418e14, 7231.0e3
-HAS_CVXPY = importlib.util.find_spec("cvxpy") is not None
 PLUME = {"half_angle_deg": 45.0, "range": 200.0}
 
 
@@ -38,7 +35,6 @@ def test_plume_geometry_by_hand():
         assert plume_inhibited(np.array([p, p]), lay.directions, 45.0, 200.0)[0, 0] == inside
 
 
-@pytest.mark.skipif(not HAS_CVXPY, reason="cvxpy not installed")
 def test_plume_cone_on_the_cube_layout():
     pb, lay, ko = braking_problem(), cube_layout(0.5), KeepOut.sphere(20.0)
     kw = dict(xf=[40.0, 0, 0, 0, 0, 0], layout=lay)
@@ -60,7 +56,6 @@ def test_plume_cone_on_the_cube_layout():
     assert np.array_equal(ref.plume_inhibited, r.plume_inhibited)
 
 
-@pytest.mark.skipif(not HAS_CVXPY, reason="cvxpy not installed")
 def test_plume_cone_infeasible_on_the_axis_layout_is_reported():
     # with one thruster per axis direction only +x can brake, and it is inhibited: the subproblem is
     # primal infeasible (the engine's checked certificate; Clarabel agrees); the SCP stops unconverged,
@@ -85,7 +80,6 @@ def test_bad_plume_input(kw, msg):
         keep_out_plan(braking_problem(), KeepOut.sphere(20.0), xf=[40.0, 0, 0, 0, 0, 0], truth=False, **kw)
 
 
-@pytest.mark.skipif(not HAS_CVXPY, reason="cvxpy not installed")
 def test_seeded_plume_problems_match_clarabel():
     # seeded braking problems (start 120-180 m within +-20 deg closing at 0.1-0.25 m/s, hold point 30-50 m
     # out, 15-25 m sphere, cone 30-60 deg within 100-200 m, cube layout): engine SCP = Clarabel SCP in
@@ -109,7 +103,6 @@ def test_seeded_plume_problems_match_clarabel():
             assert r.converged and r.plume_violations == 0
 
 
-@pytest.mark.skipif(not HAS_CVXPY, reason="cvxpy not installed")
 def test_plume_cone_with_passive_safety():
     # both options in one SCP (slack state + time-varying B): solved, no impinging firing, every drift
     # safe on the truth (measured smallest radius 1.026, fuel 57.875 N s). The Clarabel SCP converged one
