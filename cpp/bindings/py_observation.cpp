@@ -105,6 +105,18 @@ py::dict predict_many(const MeasurementModel& model, const StationEphemeris& sta
   d["iterations"] = iterations;
   return d;
 }
+// Surface weather from Python numbers (hPa, K, hPa), each checked and named.
+observation::Weather weather_arg(py::handle p_, py::handle t_, py::handle e_) {
+  observation::Weather w;
+  w.pressure = checks::real_arg(p_, "pressure");
+  w.temperature = checks::real_arg(t_, "temperature");
+  w.water_vapour = checks::real_arg(e_, "water_vapour");
+  if (!(w.pressure >= 0.0)) throw py::value_error("pressure: must be >= 0 hPa");
+  if (!(w.temperature > 0.0)) throw py::value_error("temperature: must be > 0 K");
+  if (!(w.water_vapour >= 0.0)) throw py::value_error("water_vapour: must be >= 0 hPa");
+  return w;
+}
+
 }  // namespace
 
 void init_observation(py::module_& m) {
@@ -255,13 +267,7 @@ void init_observation(py::module_& m) {
   m.def(
       "saastamoinen_zenith_delay",
       [](py::handle p_, py::handle t_, py::handle e_, py::handle lat_, py::handle h_) {
-        observation::Weather w;
-        w.pressure = checks::real_arg(p_, "pressure");
-        w.temperature = checks::real_arg(t_, "temperature");
-        w.water_vapour = checks::real_arg(e_, "water_vapour");
-        if (!(w.pressure >= 0.0)) throw py::value_error("pressure: must be >= 0 hPa");
-        if (!(w.temperature > 0.0)) throw py::value_error("temperature: must be > 0 K");
-        if (!(w.water_vapour >= 0.0)) throw py::value_error("water_vapour: must be >= 0 hPa");
+        const observation::Weather w = weather_arg(p_, t_, e_);
         return observation::saastamoinen_zenith_delay(w, checks::real_arg(lat_, "latitude"),
                                                       checks::real_arg(h_, "height"));
       },
@@ -271,13 +277,7 @@ void init_observation(py::module_& m) {
       "marini_murray_delay",
       [](py::handle p_, py::handle t_, py::handle e_, py::handle lat_, py::handle h_, py::handle wl_,
          py::handle el_) {
-        observation::Weather w;
-        w.pressure = checks::real_arg(p_, "pressure");
-        w.temperature = checks::real_arg(t_, "temperature");
-        w.water_vapour = checks::real_arg(e_, "water_vapour");
-        if (!(w.pressure >= 0.0)) throw py::value_error("pressure: must be >= 0 hPa");
-        if (!(w.temperature > 0.0)) throw py::value_error("temperature: must be > 0 K");
-        if (!(w.water_vapour >= 0.0)) throw py::value_error("water_vapour: must be >= 0 hPa");
+        const observation::Weather w = weather_arg(p_, t_, e_);
         const double wl = checks::real_arg(wl_, "wavelength_um");
         if (!(wl >= 0.3 && wl <= 1.7))
           throw py::value_error("wavelength_um: must be in [0.3, 1.7] micrometres");

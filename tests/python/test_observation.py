@@ -309,3 +309,15 @@ def test_ground_station_with_eop_predicts_at_epochs():
         obs.predict(obs.measurement_model("two_way_range"), eph, tags, np.vstack([x, x]))
     with pytest.raises(TypeError, match="^epoch: give it only with tags"):
         obs.predict(obs.measurement_model("two_way_range"), eph, t, np.vstack([x, x]), epoch=epoch)
+
+
+@pytest.mark.parametrize("bad, msg", [((-1.0, 288.15, 10.0), "pressure: must be >= 0 hPa"),
+                                      ((1013.25, 0.0, 10.0), "temperature: must be > 0 K"),
+                                      ((1013.25, 288.15, -1.0), "water_vapour: must be >= 0 hPa")])
+def test_tropospheric_weather_errors_name_the_argument(bad, msg):
+    # the two tropospheric functions read the weather through one binding helper
+    with pytest.raises(ValueError, match=msg):
+        obs.saastamoinen_zenith_delay(*bad, 0.7, 0.1)
+    with pytest.raises(ValueError, match=msg):
+        obs.marini_murray_delay(*bad, 0.7, 0.1, 0.532, 0.5)
+    assert obs.saastamoinen_zenith_delay(1013.25, 288.15, 10.0, 0.7, 0.0) == pytest.approx(0.0024, abs=2e-4)
