@@ -74,15 +74,23 @@ TEST(StateAdmm, SolveAndHalfSpaceUpdateDoNotAllocate) {
   }
 }
 
-TEST(StateAdmm, InteriorPointCertifiesWithTerminalState) {
-  // hard terminal state (equality rows at node N through their multipliers), a cone and
-  // half-spaces: the IPM alone ends `solved` by the independent violation and gap tests
-  const int N = 30;
+namespace {
+// the CW problem with x_N = 0 and |u| <= 0.05 per axis
+LtvProblem boxed_terminal_problem(int N) {
   auto p = cw_problem(N);
   p.terminal_equality = true;
   p.xf = Eigen::VectorXd::Zero(6);
   p.u_lower = Eigen::VectorXd::Constant(3, -0.05);
   p.u_upper = Eigen::VectorXd::Constant(3, 0.05);
+  return p;
+}
+}  // namespace
+
+TEST(StateAdmm, InteriorPointCertifiesWithTerminalState) {
+  // hard terminal state (equality rows at node N through their multipliers), a cone and
+  // half-spaces: the IPM alone ends `solved` by the independent violation and gap tests
+  const int N = 30;
+  const auto p = boxed_terminal_problem(N);
   AdmmSettings st;
   st.method = satgnc::guidance::AdmmMethod::kIpm;
   st.eps_gap = 1e-8;
@@ -101,11 +109,7 @@ TEST(StateAdmm, HardTerminalInteriorPointDoesNotAllocate) {
   // the equality rows' Schur complement (ne = 6 <= nx) in a factor sized min(m, nx) at setup: two
   // solves (the second after a half-space update) allocate nothing and both are IPM-certified
   const int N = 30;
-  auto p = cw_problem(N);
-  p.terminal_equality = true;
-  p.xf = Eigen::VectorXd::Zero(6);
-  p.u_lower = Eigen::VectorXd::Constant(3, -0.05);
-  p.u_upper = Eigen::VectorXd::Constant(3, 0.05);
+  const auto p = boxed_terminal_problem(N);
   AdmmSettings st;
   st.eps_gap = 1e-8;
   StateConstrainedAdmm s(p, half_spaces(N, 2.0), st);
