@@ -14,10 +14,10 @@
 #include <tuple>
 #include <vector>
 
+#include "derivative_checks.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/propagation/dop853.hpp"
 #include "satgnc/propagation/kepler.hpp"
-#include "testing.hpp"
 
 namespace {
 
@@ -33,6 +33,7 @@ using satgnc::propagation::kepler_step;
 using satgnc::propagation::KeplerStatus;
 using satgnc::propagation::propagate_dop853_with;
 using satgnc::propagation::PropagationStatus;
+using satgnc::testing::block_rel_err;
 using satgnc::testing::rel_err;
 
 constexpr double kMu = 398600.4418;
@@ -90,14 +91,6 @@ std::vector<Vec6> run6(const Vec6& x0, const std::vector<double>& times, const D
   EXPECT_EQ(integ.workspace().nfev, info.rhs_evals);  // the named workspace holds the run's count
   if (info_out) *info_out = info;
   return out;
-}
-
-double block_rel_err(const Mat6& a, const Mat6& b) {
-  double e = 0.0;
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j)
-      e = std::max(e, rel_err(a.block<3, 3>(3 * i, 3 * j), b.block<3, 3>(3 * i, 3 * j)));
-  return e;
 }
 
 // Fixed steps of h0 s: controller frozen (fac_min = fac_max = 1) and a tolerance loose enough that

@@ -7,18 +7,19 @@
 #include <string>
 #include <vector>
 
+#include "derivative_checks.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/dynamics/atmosphere.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/frames/earth_rotation.hpp"
 #include "satgnc/propagation/cvodes.hpp"
 #include "satgnc/propagation/dop853.hpp"
-#include "testing.hpp"
 
 using satgnc::Mat3;
 using satgnc::Mat6;
 using satgnc::Vec3;
 using satgnc::Vec6;
+using satgnc::testing::fd4;
 namespace dyn = satgnc::dynamics;
 namespace prop = satgnc::propagation;
 
@@ -39,17 +40,6 @@ dyn::AtmosphereDrag make_drag(double theta0 = 0.7) {
 // velocity of ~7.2 km/s.
 const Vec3 kR = Vec3(-4502.0, 3870.0, 3420.0).normalized() * (6378.137 + 400.0);
 const Vec3 kV(-2.1, -5.3, 4.4);
-
-template <typename F>
-Mat3 fd4(F f, const Vec3& x, double h) {
-  Mat3 j;
-  for (int k = 0; k < 3; ++k) {
-    Vec3 e = Vec3::Zero();
-    e[k] = h;
-    j.col(k) = (-f(x + 2 * e) + 8 * f(x + e) - 8 * f(x - e) + f(x - 2 * e)) / (12 * h);
-  }
-  return j;
-}
 
 }  // namespace
 

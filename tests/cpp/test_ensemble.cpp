@@ -5,11 +5,11 @@
 
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "error_checks.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/propagation/dop853.hpp"
 #include "satgnc/propagation/ensemble.hpp"
@@ -25,6 +25,7 @@ using satgnc::propagation::EnsemblePropagator;
 using satgnc::propagation::EnsembleResult;
 using satgnc::propagation::EnsembleSettings;
 using satgnc::propagation::PropagationStatus;
+using satgnc::testing::message_of;
 
 constexpr double kRe = 6378.1363;
 
@@ -216,15 +217,6 @@ TEST(Ensemble, BadMemberGetsItsOwnStatus) {
     EXPECT_EQ(w.status[0], PropagationStatus::too_much_work);
     EXPECT_NE(w.messages[0].find("step budget"), std::string::npos) << w.messages[0];
   }
-}
-
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "no exception";
 }
 
 TEST(Ensemble, BadInputNamesTheArgument) {

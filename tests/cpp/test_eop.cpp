@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "error_checks.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/frames/eop.hpp"
@@ -22,6 +23,7 @@ using satgnc::frames::EopSource;
 using satgnc::frames::EopTable;
 using satgnc::frames::EopValues;
 using satgnc::frames::OutOfRangePolicy;
+using satgnc::testing::message_of;
 
 const std::string kDir = SATGNC_TEST_EOP_DIR;
 const std::string kFinals = kDir + "/finals2000A_2016-12.txt";
@@ -33,16 +35,6 @@ std::string write_temp(const std::string& name, const std::string& text) {
   const std::string path = ::testing::TempDir() + name;
   std::ofstream(path) << text;
   return path;
-}
-
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "no exception";
 }
 
 TEST(EopTable, ReadsFinals2000aSampleWithBulletinBValues) {
@@ -145,7 +137,7 @@ TEST(EopTable, Ut1MinusUtcUsesTheEpochsTaiMinusUtc) {
 TEST(EopTable, OutOfRangePolicies) {
   const EopTable eop = EopTable::read(kFinals);
   const Epoch late = utc("2017-02-15T00:00:00");
-  const std::string m = error_of([&] { eop.at(late); });
+  const std::string m = message_of([&] { eop.at(late); });
   EXPECT_NE(m.find("epoch: 2017-02-15T00:00:00.000 UTC is outside the EOP table"), std::string::npos) << m;
   EXPECT_NE(m.find("MJD 57723 .. 57784 = 2016-12-01 .. 2017-01-31 UTC"), std::string::npos) << m;
   EXPECT_FALSE(eop.covers(late));
@@ -158,7 +150,7 @@ TEST(EopTable, OutOfRangePolicies) {
   EXPECT_EQ(z.ut1_utc, 0.0);
   EXPECT_EQ(z.ut1_tai, -37.0);
   EXPECT_EQ(satgnc::frames::out_of_range_policy_from_name("hold_last"), OutOfRangePolicy::hold_last);
-  EXPECT_EQ(error_of([] { satgnc::frames::out_of_range_policy_from_name("clamp"); }),
+  EXPECT_EQ(message_of([] { satgnc::frames::out_of_range_policy_from_name("clamp"); }),
             "policy: unknown out-of-range policy 'clamp' (choices: error, hold_last, zero)");
 }
 
@@ -171,20 +163,22 @@ TEST(EopTable, MalformedFilesNameTheFileAndLine) {
   std::string bad = l2;
   bad.replace(7, 8, "57724.x0");
   const std::string p1 = write_temp("bad_finals.txt", header + "\n" + l1 + "\n" + bad + "\n");
-  EXPECT_EQ(error_of([&] { EopTable::read_finals2000a(p1); }),
+  EXPECT_EQ(message_of([&] { EopTable::read_finals2000a(p1); }),
             p1 + ":3: columns 8-15 (MJD): '57724.x0' is not a number");
   const std::string p2 = write_temp("unordered_finals.txt", l2 + "\n" + l1 + "\n");
-  EXPECT_NE(error_of([&] { EopTable::read_finals2000a(p2); }).find(p2 + ":2: MJD 57723"), std::string::npos);
+  EXPECT_NE(message_of([&] { EopTable::read_finals2000a(p2); }).find(p2 + ":2: MJD 57723"),
+            std::string::npos);
   const std::string p3 = write_temp("short_c04.txt", "# c\n2016  12   1   0  57723.00    0.129928\n");
-  EXPECT_EQ(error_of([&] { EopTable::read_c04(p3); }),
+  EXPECT_EQ(message_of([&] { EopTable::read_c04(p3); }),
             p3 + ":2: expected at least 13 columns (YR MM DD HH MJD x y UT1-UTC dX dY xrt yrt LOD), got 6");
   const std::string p4 =
       write_temp("c04_14.txt",
                  "1962   1   1  37665  -0.012700   0.213000   0.0326338   0.0017230   0.000000   "
                  "0.000000   0.030000   0.030000  0.0020000  0.0014000    0.004774    0.002000\n");
-  EXPECT_NE(error_of([&] { EopTable::read_c04(p4); }).find(p4 + ":1: column HH: 37665.000000 is not an hour"),
-            std::string::npos);
-  EXPECT_NE(error_of([] { EopTable::read("/nonexistent/finals.all"); }).find("path: cannot open EOP file"),
+  EXPECT_NE(
+      message_of([&] { EopTable::read_c04(p4); }).find(p4 + ":1: column HH: 37665.000000 is not an hour"),
+      std::string::npos);
+  EXPECT_NE(message_of([] { EopTable::read("/nonexistent/finals.all"); }).find("path: cannot open EOP file"),
             std::string::npos);
   EXPECT_THROW(EopTable(std::vector<EopRow>(1)), std::invalid_argument);
 }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "error_checks.hpp"
 #include "satgnc/core/epoch.hpp"
 
 namespace {
@@ -14,15 +15,7 @@ using satgnc::core::Epoch;
 using satgnc::core::JulianDate;
 using satgnc::core::time_scale_from_name;
 using satgnc::core::TimeScale;
-
-std::string error_of(void (*f)()) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "no exception";
-}
+using satgnc::testing::message_of;
 
 // t_erfa_c.c t_dat: eraDat(2003,6,1) = 32, (2008,1,17) = 33, (2017,9,1) = 37 (exact).
 TEST(Epoch, TaiMinusUtcMatchesErfaDatCases) {
@@ -142,16 +135,16 @@ TEST(Epoch, DifferencesExactOverDecades) {
 }
 
 TEST(Epoch, BadInputNamesTheArgument) {
-  EXPECT_EQ(error_of([] { time_scale_from_name("GMT"); }),
+  EXPECT_EQ(message_of([] { time_scale_from_name("GMT"); }),
             "time_scale: unknown time system 'GMT' (choices: TAI, TT, UTC, GPS, TDB)");
-  EXPECT_NE(error_of([] { time_scale_from_name("UT1"); }).find("EopTable"), std::string::npos);
+  EXPECT_NE(message_of([] { time_scale_from_name("UT1"); }).find("EopTable"), std::string::npos);
   EXPECT_EQ(time_scale_from_name("utc"), TimeScale::utc);
-  const std::string m = error_of([] { Epoch::parse("2016-13-01T00:00:00", TimeScale::utc); });
+  const std::string m = message_of([] { Epoch::parse("2016-13-01T00:00:00", TimeScale::utc); });
   EXPECT_NE(m.find("'2016-13-01T00:00:00'"), std::string::npos) << m;
   EXPECT_NE(m.find("month: 13 not in 1..12"), std::string::npos) << m;
-  const std::string m2 = error_of([] { Epoch::parse("2016-01-01T1:00:00", TimeScale::utc); });
+  const std::string m2 = message_of([] { Epoch::parse("2016-01-01T1:00:00", TimeScale::utc); });
   EXPECT_NE(m2.find("hour must have 2 digits"), std::string::npos) << m2;
-  const std::string m3 = error_of([] { Epoch::parse("2016-01-01T10:00:00Z", TimeScale::tai); });
+  const std::string m3 = message_of([] { Epoch::parse("2016-01-01T10:00:00Z", TimeScale::tai); });
   EXPECT_NE(m3.find("'Z' means UTC"), std::string::npos) << m3;
   EXPECT_THROW(Epoch::parse("2016-02-30T00:00:00", TimeScale::utc), std::invalid_argument);
   EXPECT_THROW(Epoch::parse("2016-01-01T00:00:00 junk", TimeScale::utc), std::invalid_argument);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "error_checks.hpp"
 #include "filter_fixture.hpp"
 #include "satgnc/filter/kalman_filter.hpp"
 #include "satgnc/filter/linear_models.hpp"
@@ -17,15 +18,7 @@ namespace f = satgnc::filter;
 
 namespace {
 
-template <class Fn>
-std::string message_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "no exception";
-}
+using satgnc::testing::message_of;
 
 // Reverse the state order of a linear case: state i becomes n - 1 - i.
 satgnc::testing::LinearCase reversed(const satgnc::testing::LinearCase& c) {

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "error_checks.hpp"
 #include "filter_fixture.hpp"
 #include "satgnc/filter/gating.hpp"
 #include "satgnc/filter/kalman_filter.hpp"
@@ -12,17 +13,7 @@
 
 namespace f = satgnc::filter;
 
-namespace {
-template <class Fn>
-std::string message_of(Fn&& fn) {
-  try {
-    fn();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "no exception";
-}
-}  // namespace
+using satgnc::testing::message_of;
 
 TEST(FilterGating, ChiSquareQuantilesMatchTables) {
   // Abramowitz & Stegun table 26.8 / NIST handbook 1.3.6.7.4 (6 decimals): tolerance 6e-7, the

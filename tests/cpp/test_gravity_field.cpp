@@ -10,15 +10,16 @@
 #include <stdexcept>
 #include <string>
 
+#include "derivative_checks.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/dynamics/gravity_field.hpp"
 #include "satgnc/frames/earth_rotation.hpp"
-#include "testing.hpp"
 
 namespace {
 using satgnc::Mat3;
 using satgnc::Vec3;
+using satgnc::testing::fd4;
 namespace dy = satgnc::dynamics;
 using satgnc::frames::UniformRotation;
 
@@ -50,18 +51,6 @@ std::shared_ptr<const dy::GravityCoefficients> random_field(int nmax, unsigned s
     }
   g.c[static_cast<std::size_t>(dy::GravityCoefficients::index(2, 0))] = -4.84e-4;
   return std::make_shared<const dy::GravityCoefficients>(g);
-}
-
-// 4th-order central difference of f: R^3 -> R^3 (columns d f / d x_j).
-template <typename F>
-Mat3 fd4(const F& f, const Vec3& r, double h) {
-  Mat3 J;
-  for (int j = 0; j < 3; ++j) {
-    Vec3 e = Vec3::Zero();
-    e[j] = h;
-    J.col(j) = (-f(r + 2 * e) + 8 * f(r + e) - 8 * f(r - e) + f(r - 2 * e)) / (12 * h);
-  }
-  return J;
 }
 
 // Points: LEO at several latitudes, one 1e-4 rad from the pole, one on the equator, one at GEO.

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "derivative_checks.hpp"
 #include "satgnc/propagation/kepler.hpp"
-#include "testing.hpp"
 
 namespace {
 
@@ -21,6 +21,7 @@ using satgnc::propagation::kepler_step;
 using satgnc::propagation::KeplerInfo;
 using satgnc::propagation::KeplerStatus;
 using satgnc::propagation::propagate_kepler;
+using satgnc::testing::block_rel_err;
 using satgnc::testing::rel_err;
 
 constexpr double kMu = 398600.4418;  // km^3/s^2
@@ -61,16 +62,6 @@ Mat6 fd_stm(const Vec6& x0, double dt, double rel_step = 1e-6) {
     J.col(k) = (step(xp, dt) - step(xm, dt)) / (2.0 * h);
   }
   return J;
-}
-
-// Largest relative error over the four 3x3 blocks (the blocks differ by orders of magnitude in their
-// units, so each is compared on its own scale).
-double block_rel_err(const Mat6& a, const Mat6& b) {
-  double e = 0.0;
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j)
-      e = std::max(e, rel_err(a.block<3, 3>(3 * i, 3 * j), b.block<3, 3>(3 * i, 3 * j)));
-  return e;
 }
 
 Mat6 symplectic_J() {

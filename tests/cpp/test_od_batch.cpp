@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "error_checks.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/dynamics/gravity_field.hpp"
@@ -314,15 +315,7 @@ TEST(OdBatch, MaxIterationsReturnsBestIterate) {
   EXPECT_EQ(r.residuals.rows(), sc.problem.data.size());
 }
 
-template <class F>
-void expect_error(F&& f, const std::string& text) {
-  try {
-    f();
-    ADD_FAILURE() << "no exception, expected one containing: " << text;
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-  }
-}
+using satgnc::testing::expect_error;
 
 TEST(OdBatch, BadInputNamesTheArgument) {
   const Vec6 x0 = circular(6378.137 + 600.0, 97.8 * 3.14159265358979 / 180.0, 2.0, 0.5);

@@ -60,6 +60,29 @@ std::vector<BoundaryCondition> doppler_conditions() {
   for (int i = 0; i < 6; ++i) c.push_back({t[i], ConditionType::doppler, rho[i], rhodot[i], 1e-3, 1e-6, 0});
   return c;
 }
+
+// The batch tests' data: the paper's station and a second one, exact range (sigma 1 m) and range-rate
+// (1 mm/s) of the paper's truth from each every 10 s over 300 s.
+struct TwoStationData {
+  std::vector<Station> stations;
+  std::vector<Measurement> measurements;
+};
+
+TwoStationData two_station_data() {
+  TwoStationData d;
+  d.stations = {paper_station(), Station::from_inertial(Vec3(5200.0, 3000.0, 1900.0))};
+  std::vector<double> t;
+  for (int i = 0; i <= 30; ++i) t.push_back(10.0 * i);
+  for (int s = 0; s < 2; ++s) {
+    std::vector<double> rho, rhodot;
+    observe(paper_truth(), d.stations, t, s, rho, rhodot);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      d.measurements.push_back({t[i], MeasurementType::range, rho[i], 1e-3, s});
+      d.measurements.push_back({t[i], MeasurementType::range_rate, rhodot[i], 1e-6, s});
+    }
+  }
+  return d;
+}
 }  // namespace
 
 TEST(OdSolver, PaperDopplerNewtonConvergesForAllOffsets) {
@@ -124,18 +147,9 @@ TEST(OdSolver, JacobianMatchesFiniteDifferences) {
 }
 
 TEST(OdSolver, BatchTwoStationsCovarianceAndLm) {
-  std::vector<Station> st{paper_station(), Station::from_inertial(Vec3(5200.0, 3000.0, 1900.0))};
-  std::vector<double> t;
-  for (int i = 0; i <= 30; ++i) t.push_back(10.0 * i);
-  std::vector<Measurement> m;
-  for (int s = 0; s < 2; ++s) {
-    std::vector<double> rho, rhodot;
-    observe(paper_truth(), st, t, s, rho, rhodot);
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      m.push_back({t[i], MeasurementType::range, rho[i], 1e-3, s});
-      m.push_back({t[i], MeasurementType::range_rate, rhodot[i], 1e-6, s});
-    }
-  }
+  const TwoStationData data = two_station_data();
+  const std::vector<Station>& st = data.stations;
+  const std::vector<Measurement>& m = data.measurements;
   for (auto method : {OdMethod::gauss_newton, OdMethod::levenberg_marquardt}) {
     OdSettings set;
     set.method = method;
@@ -480,18 +494,9 @@ TEST(OdSolver, FailedNewtonReturnsTheBestIterateWithFiniteHistory) {
 
 TEST(OdSolver, LineSearchAndGeodesicPathsDoNotAllocate) {
   // Two stations, far guess: GN halves steps and uses the geodesic probe, LM rejects trials.
-  std::vector<Station> st{paper_station(), Station::from_inertial(Vec3(5200.0, 3000.0, 1900.0))};
-  std::vector<double> t;
-  for (int i = 0; i <= 30; ++i) t.push_back(10.0 * i);
-  std::vector<Measurement> m;
-  for (int s = 0; s < 2; ++s) {
-    std::vector<double> rho, rhodot;
-    observe(paper_truth(), st, t, s, rho, rhodot);
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      m.push_back({t[i], MeasurementType::range, rho[i], 1e-3, s});
-      m.push_back({t[i], MeasurementType::range_rate, rhodot[i], 1e-6, s});
-    }
-  }
+  const TwoStationData data = two_station_data();
+  const std::vector<Station>& st = data.stations;
+  const std::vector<Measurement>& m = data.measurements;
   Vec6 guess = paper_truth();
   guess.head<3>() += Vec3(50.0, -40.0, 30.0);
   guess.tail<3>() += Vec3(0.02, -0.01, 0.03);

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "error_checks.hpp"
 #include "satgnc/core/constants.hpp"
 #include "satgnc/propagation/cvodes.hpp"
 #include "satgnc/propagation/dop853.hpp"
@@ -90,12 +92,7 @@ std::vector<Row> rows() {
 // "" when accepted, else the message.
 template <class F>
 std::string outcome(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
+  return satgnc::testing::message_of(std::forward<F>(f), "");
 }
 
 void expect(const Row& r, const char* entry, const std::string& got, const char* want) {

@@ -7,27 +7,17 @@
 #include <stdexcept>
 #include <string>
 
+#include "derivative_checks.hpp"
 #include "satgnc/dynamics/force_model.hpp"
 #include "satgnc/dynamics/srp.hpp"
-#include "testing.hpp"
 
 namespace {
 using satgnc::Mat3;
 using satgnc::Vec3;
+using satgnc::testing::fd4;
 namespace dy = satgnc::dynamics;
 
 const Vec3 kSun(dy::kAstronomicalUnitKm, 0.0, 0.0);
-
-template <typename F>
-Mat3 fd4(const F& f, const Vec3& r, double h) {
-  Mat3 J;
-  for (int j = 0; j < 3; ++j) {
-    Vec3 e = Vec3::Zero();
-    e[j] = h;
-    J.col(j) = (-f(r + 2 * e) + 8 * f(r + e) - 8 * f(r - e) + f(r - 2 * e)) / (12 * h);
-  }
-  return J;
-}
 
 TEST(Srp, MagnitudeAtOneAuIsPressureTimesCrAreaOverMass) {
   dy::SolarRadiationPressure p;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "error_checks.hpp"
 #include "satgnc/io/tdm.hpp"
 #include "satgnc/od/tracking_data.hpp"
 
@@ -16,6 +17,7 @@ using satgnc::observation::ObservableType;
 using satgnc::od::TrackingData;
 using satgnc::od::TrackingMeasurement;
 using satgnc::od::TrackingOrder;
+using satgnc::testing::expect_error;
 
 const Epoch kT0 = Epoch::from_calendar(2016, 12, 10, 0, 0, 0.0, TimeScale::utc);
 
@@ -27,17 +29,6 @@ TrackingMeasurement meas(double dt, ObservableType type, int station, double v0,
   m.value = Eigen::Vector2d(v0, v1);
   m.sigma = Eigen::Vector2d(1e-3, 1e-3);
   return m;
-}
-
-// Expect std::invalid_argument whose message contains `text`.
-template <class F>
-void expect_error(F&& f, const std::string& text) {
-  try {
-    f();
-    ADD_FAILURE() << "no exception, expected one containing: " << text;
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-  }
 }
 
 TEST(TrackingData, StableSortKeepsInputOrderOfEqualEpochs) {
