@@ -1,4 +1,4 @@
-"""Timing helper shared by the benchmarks (the machine may be shared: the best block is the robust figure)."""
+"""Timing helpers shared by the benchmarks (the machine may be shared: the best block is the robust figure)."""
 
 from __future__ import annotations
 
@@ -17,10 +17,18 @@ def timeit(fn, min_time: float = 0.3, max_runs: int = 2000, blocks: int = 5) -> 
     fn()
     one = max(time.perf_counter() - t0, 1e-7)
     n = int(max(1, min(max_runs, min_time / blocks / one)))
+    return best_per_call(fn, n, blocks)
+
+
+def best_per_call(fn, calls: int = 1, reps: int = 3) -> float:
+    """Best over ``reps`` blocks of the mean wall time per call of ``fn()``, ``calls`` calls a block, s.
+
+    No warm-up call: the first block includes any first-call cost.
+    """
     best = math.inf
-    for _ in range(blocks):
+    for _ in range(reps):
         t0 = time.perf_counter()
-        for _ in range(n):
+        for _ in range(calls):
             fn()
-        best = min(best, (time.perf_counter() - t0) / n)
+        best = min(best, (time.perf_counter() - t0) / calls)
     return best

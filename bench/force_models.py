@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import sys
 import time
+from functools import partial
 
 import numpy as np
 import satgnc
+from _timing import best_per_call
 from satgnc.dynamics import (
     GravityField,
     SolarRadiationPressure,
@@ -69,11 +71,7 @@ def main() -> int:
     print(f"{'EGM2008 20x20 vs J2':42s}" + "".join(f"{v:22.4f}" for v in row))
     print("\ncost of one LEO day, DOP853 rtol 1e-12 with the STM (best of 3, wall s; machine shared)")
     for name in ("point mass", "J2 (paper)", "EGM2008 20x20", "Sun + Moon", "all (20x20 + Sun + Moon + SRP)"):
-        best = float("inf")
-        for _ in range(3):
-            t0 = time.perf_counter()
-            _final(orbits["LEO 400 km 51.6 deg"], models[name], with_stm=True)
-            best = min(best, time.perf_counter() - t0)
+        best = best_per_call(partial(_final, orbits["LEO 400 km 51.6 deg"], models[name], with_stm=True))
         print(f"{name:42s}{best:10.4f}")
     _nrlmsise00_rows(orbits["LEO 400 km 51.6 deg"])
     return 0
@@ -95,18 +93,8 @@ def _nrlmsise00_rows(x0) -> None:
     r = np.array([6778.0, 100.0, 200.0])
     sun = np.array([0.3, 0.9, 0.1])
     for name, a in atmos.items():
-        best = float("inf")
-        for _ in range(3):
-            t0 = time.perf_counter()
-            for _ in range(20000):
-                a.density(r, sun, 0.0)
-            best = min(best, (time.perf_counter() - t0) / 20000)
-        best_g = float("inf")
-        for _ in range(3):
-            t0 = time.perf_counter()
-            for _ in range(2000):
-                a.density_gradient(r, sun, 0.0)
-            best_g = min(best_g, (time.perf_counter() - t0) / 2000)
+        best = best_per_call(partial(a.density, r, sun, 0.0), 20000)
+        best_g = best_per_call(partial(a.density_gradient, r, sun, 0.0), 2000)
         print(f"{name:42s} density {best * 1e6:8.2f} us/call, with gradient {best_g * 1e6:8.2f} us/call "
               f"(Python call included)")
     finals = {}

@@ -20,6 +20,7 @@ import time
 
 import numpy as np
 import satgnc
+from _heyoka import j2_variational_system
 from _timing import timeit
 from satgnc import _satgnc
 
@@ -78,22 +79,7 @@ def run_scipy(rtol):
 def make_heyoka(tol):
     import heyoka as hy
 
-    xs = hy.make_vars("x", "y", "z", "vx", "vy", "vz")
-    x, y, z = xs[:3]
-    r2 = x * x + y * y + z * z
-    r = hy.sqrt(r2)
-    kp = MU / (r2 * r)
-    kj = -1.5 * J2 * MU * RE * RE / (r2 * r2 * r)
-    s = 5.0 * z * z / r2
-    acc = [-kp * x + kj * x * (1.0 - s), -kp * y + kj * y * (1.0 - s), -kp * z + kj * z * (3.0 - s)]
-    G = [[hy.diff(acc[i], xs[j]) for j in range(3)] for i in range(3)]
-    ps = hy.make_vars(*[f"p{i}{j}" for i in range(6) for j in range(6)])
-    P = [[ps[6 * i + j] for j in range(6)] for i in range(6)]
-    sys = [(xs[i], xs[i + 3]) for i in range(3)] + [(xs[3 + i], acc[i]) for i in range(3)]
-    for i in range(6):
-        for j in range(6):
-            rhs = P[i + 3][j] if i < 3 else hy.sum([G[i - 3][k] * P[k][j] for k in range(3)])
-            sys.append((P[i][j], rhs))
+    sys = j2_variational_system()
     ic = np.concatenate([X0, np.eye(6).ravel()])
     ta = hy.taylor_adaptive(sys, ic, tol=tol, compact_mode=False)
 

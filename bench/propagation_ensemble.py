@@ -26,12 +26,11 @@ import time
 
 import numpy as np
 import satgnc
+from _heyoka import j2_variational_system
 from satgnc import _satgnc
 from satgnc.propagation import propagate_ensemble
 
-MU = satgnc.EARTH_MU
 RE = satgnc.EARTH_RADIUS
-J2 = satgnc.EARTH_J2
 T_ARC = 7200.0
 X0 = np.array([6778.137, 0.0, 0.0, 0.0, 4.7302, 6.0354])  # 400 km, e ~ 0.001, i = 51.6 deg
 TARGET = 1e-6  # km
@@ -58,22 +57,7 @@ def best_of(fn, reps: int = 3) -> tuple[float, float]:
 def make_heyoka_batch(tol: float, lanes: int):
     import heyoka as hy
 
-    xs = hy.make_vars("x", "y", "z", "vx", "vy", "vz")
-    x, y, z = xs[:3]
-    r2 = x * x + y * y + z * z
-    r = hy.sqrt(r2)
-    kp = MU / (r2 * r)
-    kj = -1.5 * J2 * MU * RE * RE / (r2 * r2 * r)
-    s = 5.0 * z * z / r2
-    acc = [-kp * x + kj * x * (1.0 - s), -kp * y + kj * y * (1.0 - s), -kp * z + kj * z * (3.0 - s)]
-    G = [[hy.diff(acc[i], xs[j]) for j in range(3)] for i in range(3)]
-    ps = hy.make_vars(*[f"p{i}{j}" for i in range(6) for j in range(6)])
-    P = [[ps[6 * i + j] for j in range(6)] for i in range(6)]
-    sys = [(xs[i], xs[i + 3]) for i in range(3)] + [(xs[3 + i], acc[i]) for i in range(3)]
-    for i in range(6):
-        for j in range(6):
-            rhs = P[i + 3][j] if i < 3 else hy.sum([G[i - 3][k] * P[k][j] for k in range(3)])
-            sys.append((P[i][j], rhs))
+    sys = j2_variational_system()
     ic = np.zeros((42, lanes))
     ta = hy.taylor_adaptive_batch(sys, ic, tol=tol, compact_mode=False)
     eye = np.eye(6).ravel()
