@@ -19,6 +19,25 @@ namespace {
 using od::TrackingData;
 using od::TrackingMeasurement;
 
+// The batch problem of od_batch_estimate / od_batch_evaluate: the data and one BatchStation per station
+// ephemeris, biases at zero. The Python objects outlive the call (they are its arguments): the
+// ephemerides are held by non-owning pointers.
+od::BatchProblem batch_problem(const TrackingData& data, const core::Epoch& epoch, const py::list& stations,
+                               const std::vector<bool>& est_range, const std::vector<bool>& est_time) {
+  od::BatchProblem p;
+  p.epoch = epoch;
+  p.data = data;
+  for (std::size_t k = 0; k < stations.size(); ++k) {
+    const auto& eph = stations[k].cast<const observation::StationEphemeris&>();
+    od::BatchStation s;
+    s.ephemeris = std::shared_ptr<const observation::StationEphemeris>(&eph, [](const auto*) {});
+    s.estimate_range_bias = est_range.at(k);
+    s.estimate_time_bias = est_time.at(k);
+    p.stations.push_back(std::move(s));
+  }
+  return p;
+}
+
 // TrackingData from arrays: t (s after epoch), types (ints of ObservableType), stations, values (n, 2),
 // sigmas (n, 2), corrections (n,).
 TrackingData data_from_arrays(const core::Epoch& epoch, const Eigen::VectorXd& t,
@@ -148,20 +167,11 @@ void init_od_batch(py::module_& m) {
                     bool light_time, bool troposphere, bool shapiro, double relative_humidity, double rtol,
                     double atol, const std::string& method, const std::string& troposphere_model,
                     double wavelength_um) {
-        od::BatchProblem p;
-        p.epoch = epoch;
-        p.data = data;
-        for (std::size_t k = 0; k < stations.size(); ++k) {
-          // The Python objects outlive this call (they are its arguments): a non-owning pointer.
-          const auto& eph = stations[k].cast<const observation::StationEphemeris&>();
-          od::BatchStation s;
-          s.ephemeris = std::shared_ptr<const observation::StationEphemeris>(&eph, [](const auto*) {});
-          s.estimate_range_bias = est_range.at(k);
-          s.estimate_time_bias = est_time.at(k);
-          s.range_bias = range_bias.at(k);
-          s.time_bias = time_bias.at(k);
-          s.name = names.at(k);
-          p.stations.push_back(std::move(s));
+        od::BatchProblem p = batch_problem(data, epoch, stations, est_range, est_time);
+        for (std::size_t k = 0; k < p.stations.size(); ++k) {
+          p.stations[k].range_bias = range_bias.at(k);
+          p.stations[k].time_bias = time_bias.at(k);
+          p.stations[k].name = names.at(k);
         }
         od::BatchSettings s;
         s.max_iterations = max_iterations;
@@ -204,17 +214,7 @@ void init_od_batch(py::module_& m) {
                     const std::vector<bool>& est_range, const std::vector<bool>& est_time, bool light_time,
                     bool troposphere, bool shapiro, double rtol, double atol,
                     const std::string& troposphere_model, double wavelength_um) {
-        od::BatchProblem p;
-        p.epoch = epoch;
-        p.data = data;
-        for (std::size_t k = 0; k < stations.size(); ++k) {
-          const auto& eph = stations[k].cast<const observation::StationEphemeris&>();
-          od::BatchStation s;
-          s.ephemeris = std::shared_ptr<const observation::StationEphemeris>(&eph, [](const auto*) {});
-          s.estimate_range_bias = est_range.at(k);
-          s.estimate_time_bias = est_time.at(k);
-          p.stations.push_back(std::move(s));
-        }
+        od::BatchProblem p = batch_problem(data, epoch, stations, est_range, est_time);
         od::BatchSettings s;
         s.light_time = light_time;
         s.troposphere = troposphere;

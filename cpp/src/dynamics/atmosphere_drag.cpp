@@ -113,6 +113,21 @@ AtmospherePoint drag_point(const AtmosphereDrag& d, double t, const Vec3& r, con
   rotation(d, t, gcrf_to_itrf, omega_gcrf);
   return atmosphere_point(t, gcrf_to_itrf * r, gcrf_to_itrf * sun);
 }
+
+/// Density at the drag point and the velocity relative to the co-rotating atmosphere: what the
+/// acceleration and its Cd partial share.
+struct DragFlow {
+  double rho;
+  Vec3 w;
+};
+
+DragFlow drag_flow(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
+                   const Vec3& sun) noexcept {
+  Mat3 rot;
+  Vec3 omega;
+  const double rho = d.atmosphere->density(drag_point(d, t, r, sun, rot, omega));
+  return {rho, v - omega.cross(r)};
+}
 }  // namespace
 
 Vec3 atmosphere_drag_sun(const AtmosphereDrag& d, double t) noexcept {
@@ -140,11 +155,8 @@ Vec3 atmosphere_drag_acceleration(const AtmosphereDrag& d, double t, const Vec3&
 
 Vec3 atmosphere_drag_acceleration(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
                                   const Vec3& sun_gcrf) noexcept {
-  Mat3 rot;
-  Vec3 omega;
-  const double rho = d.atmosphere->density(drag_point(d, t, r, sun_gcrf, rot, omega));
-  const Vec3 w = v - omega.cross(r);
-  return (-beta(d) * rho * w.norm()) * w;
+  const DragFlow f = drag_flow(d, t, r, v, sun_gcrf);
+  return (-beta(d) * f.rho * f.w.norm()) * f.w;
 }
 
 void atmosphere_drag_jacobians(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v, Vec3& a,
@@ -180,11 +192,8 @@ Vec3 atmosphere_drag_cd_partial(const AtmosphereDrag& d, double t, const Vec3& r
 
 Vec3 atmosphere_drag_cd_partial(const AtmosphereDrag& d, double t, const Vec3& r, const Vec3& v,
                                 const Vec3& sun_gcrf) noexcept {
-  Mat3 rot;
-  Vec3 omega;
-  const double rho = d.atmosphere->density(drag_point(d, t, r, sun_gcrf, rot, omega));
-  const Vec3 w = v - omega.cross(r);
-  return (-0.5 * d.area / d.mass * kPerMeterToPerKm * rho * w.norm()) * w;  // a / Cd
+  const DragFlow f = drag_flow(d, t, r, v, sun_gcrf);
+  return (-0.5 * d.area / d.mass * kPerMeterToPerKm * f.rho * f.w.norm()) * f.w;  // a / Cd
 }
 
 }  // namespace satgnc::dynamics
