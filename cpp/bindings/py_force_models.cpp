@@ -28,6 +28,12 @@ namespace {
 namespace dy = satgnc::dynamics;
 namespace fr = satgnc::frames;
 
+// ValueError unless 0 <= m <= n <= max_degree (the index range of cnm / snm).
+void check_degree_order(const dy::GravityCoefficients& g, int n, int m) {
+  if (n < 0 || n > g.max_degree || m < 0 || m > n)
+    throw py::value_error("n, m: need 0 <= m <= n <= max_degree = " + std::to_string(g.max_degree));
+}
+
 dy::ShadowModel shadow_of(const std::string& s) {
   if (s == "none") return dy::ShadowModel::none;
   if (s == "cylindrical") return dy::ShadowModel::cylindrical;
@@ -98,16 +104,14 @@ void init_gravity(py::module_& m) {
       .def(
           "cnm",
           [](const dy::GravityCoefficients& g, int n, int mm) {
-            if (n < 0 || n > g.max_degree || mm < 0 || mm > n)
-              throw py::value_error("n, m: need 0 <= m <= n <= max_degree = " + std::to_string(g.max_degree));
+            check_degree_order(g, n, mm);
             return g.cnm(n, mm);
           },
           py::arg("n"), py::arg("m"), "Fully normalized C_nm.")
       .def(
           "snm",
           [](const dy::GravityCoefficients& g, int n, int mm) {
-            if (n < 0 || n > g.max_degree || mm < 0 || mm > n)
-              throw py::value_error("n, m: need 0 <= m <= n <= max_degree = " + std::to_string(g.max_degree));
+            check_degree_order(g, n, mm);
             return g.snm(n, mm);
           },
           py::arg("n"), py::arg("m"), "Fully normalized S_nm.")

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "error_checks.hpp"
 #include "kepler_reference.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/propagation/cvodes.hpp"
@@ -121,14 +122,8 @@ Mat6 symplectic_j() {
   return j;
 }
 
-std::string invalid_message(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
+// "" when accepted, else the message.
+std::string invalid_message(const std::function<void()>& f) { return satgnc::testing::message_of(f, ""); }
 
 }  // namespace
 
