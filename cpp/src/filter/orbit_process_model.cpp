@@ -166,6 +166,29 @@ struct OrbitProcessWorkspace {
   void point_at(const dynamics::ForceModel& fm) { rhs6.fm = rhs9.fm = rhs6p.fm = rhs9p.fm = &fm; }
 };
 
+// One sub-interval of the variational integration from (a, xa[, wa]) for one fixed-size system: the
+// state, the STM [, the DMC sensitivity][, the Cd / Cr sensitivity] at the output times into w.
+template <bool Dmc, bool Par, int N>
+propagation::Dop853Info integrate_segment(OrbitProcessWorkspace& w,
+                                          propagation::Dop853<N, ProcessRhs<Dmc, Par>>& integ,
+                                          ProcessRhs<Dmc, Par>& rhs, double a, const Vec6& xa, const Vec3& wa,
+                                          std::size_t n_out) {
+  using VecN = Eigen::Matrix<double, N, 1>;
+  if constexpr (Dmc) {
+    rhs.t_a = a;
+    rhs.w_a = wa;
+  }
+  VecN y0 = VecN::Zero();
+  y0.template head<6>() = xa;
+  Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
+  return integ.solve(a, y0, w.t_out.data(), n_out, [&w](std::size_t i, double, const VecN& y) {
+    w.x[i] = y.template head<6>();
+    w.phi[i] = Eigen::Map<const Mat6>(y.data() + 6);
+    if constexpr (Dmc) w.sens[i] = Eigen::Map<const Mat63>(y.data() + 42);
+    if constexpr (Par) w.sensp[i] = Eigen::Map<const Eigen::Matrix<double, 6, 2>>(y.data() + (Dmc ? 60 : 42));
+  });
+}
+
 }  // namespace detail
 
 OrbitProcessModel::OrbitProcessModel(const dynamics::ForceModel& force_model,
@@ -265,49 +288,13 @@ OrbitProcessInfo OrbitProcessModel::propagate(double t0, double t1, Eigen::Ref<E
     const std::size_t n_out = static_cast<std::size_t>(nn + 1);
     propagation::Dop853Info di;
     if (par && dmc) {
-      w.rhs9p.t_a = a;
-      w.rhs9p.w_a = wa;
-      Eigen::Matrix<double, 72, 1> y0 = Eigen::Matrix<double, 72, 1>::Zero();
-      y0.head<6>() = xa;
-      Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
-      di = w.integ9p.solve(a, y0, w.t_out.data(), n_out,
-                           [&w](std::size_t i, double, const Eigen::Matrix<double, 72, 1>& y) {
-                             w.x[i] = y.head<6>();
-                             w.phi[i] = Eigen::Map<const Mat6>(y.data() + 6);
-                             w.sens[i] = Eigen::Map<const Mat63>(y.data() + 42);
-                             w.sensp[i] = Eigen::Map<const Eigen::Matrix<double, 6, 2>>(y.data() + 60);
-                           });
+      di = detail::integrate_segment(w, w.integ9p, w.rhs9p, a, xa, wa, n_out);
     } else if (par) {
-      Eigen::Matrix<double, 54, 1> y0 = Eigen::Matrix<double, 54, 1>::Zero();
-      y0.head<6>() = xa;
-      Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
-      di = w.integ6p.solve(a, y0, w.t_out.data(), n_out,
-                           [&w](std::size_t i, double, const Eigen::Matrix<double, 54, 1>& y) {
-                             w.x[i] = y.head<6>();
-                             w.phi[i] = Eigen::Map<const Mat6>(y.data() + 6);
-                             w.sensp[i] = Eigen::Map<const Eigen::Matrix<double, 6, 2>>(y.data() + 42);
-                           });
+      di = detail::integrate_segment(w, w.integ6p, w.rhs6p, a, xa, wa, n_out);
     } else if (dmc) {
-      w.rhs9.t_a = a;
-      w.rhs9.w_a = wa;
-      Eigen::Matrix<double, 60, 1> y0 = Eigen::Matrix<double, 60, 1>::Zero();
-      y0.head<6>() = xa;
-      Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
-      di = w.integ9.solve(a, y0, w.t_out.data(), n_out,
-                          [&w](std::size_t i, double, const Eigen::Matrix<double, 60, 1>& y) {
-                            w.x[i] = y.head<6>();
-                            w.phi[i] = Eigen::Map<const Mat6>(y.data() + 6);
-                            w.sens[i] = Eigen::Map<const Mat63>(y.data() + 42);
-                          });
+      di = detail::integrate_segment(w, w.integ9, w.rhs9, a, xa, wa, n_out);
     } else {
-      Eigen::Matrix<double, 42, 1> y0;
-      y0.head<6>() = xa;
-      Eigen::Map<Mat6>(y0.data() + 6).setIdentity();
-      di = w.integ6.solve(a, y0, w.t_out.data(), n_out,
-                          [&w](std::size_t i, double, const Eigen::Matrix<double, 42, 1>& y) {
-                            w.x[i] = y.head<6>();
-                            w.phi[i] = Eigen::Map<const Mat6>(y.data() + 6);
-                          });
+      di = detail::integrate_segment(w, w.integ6, w.rhs6, a, xa, wa, n_out);
     }
     info.steps += di.steps;
     info.rhs_evals += di.rhs_evals;
