@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "derivative_checks.hpp"
+#include "error_checks.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/dynamics/atmosphere.hpp"
 #include "satgnc/dynamics/force_model.hpp"
@@ -131,14 +132,7 @@ TEST(AtmosphereDrag, SunFromErfaAgainstTheAlmanac) {
   // Outside the table: ERFA directly (half a year later the Sun is on the other side, > 170 deg).
   EXPECT_LT(s.dot(sun.direction(182.6 * 86400.0)), std::cos(170.0 * M_PI / 180.0));
   // Bad input names the argument.
-  auto message = [](auto make) {
-    try {
-      make();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no throw");
-  };
+  auto message = [](auto make) { return satgnc::testing::message_of(make, "no throw"); };
   EXPECT_EQ(message([] { dyn::ErfaSun(NAN); }).rfind("epoch_jd1: ", 0), 0u);
   EXPECT_EQ(message([] { dyn::ErfaSun(2451545.0, 0.0, 10.0, 5.0); }).rfind("t_end: must be > t_begin", 0),
             0u);

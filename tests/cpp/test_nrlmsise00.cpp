@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../../cpp/src/dynamics/detail/nrlmsise00_reference.hpp"  // private: the direct form, tested here
+#include "error_checks.hpp"
 #include "malloc_counter.hpp"
 #include "satgnc/dynamics/atmosphere.hpp"
 #include "satgnc/dynamics/nrlmsise00.hpp"
@@ -345,14 +346,7 @@ TEST(Nrlmsise00, EvaluationIsAllocationFreeAndStateless) {
 }
 
 TEST(Nrlmsise00, BadInputNamesTheArgument) {
-  auto message = [](auto f) {
-    try {
-      f();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no throw");
-  };
+  auto message = [](auto f) { return satgnc::testing::message_of(f, "no throw"); };
   dyn::Nrlmsise00Input in;
   in.altitude = -1.0;
   EXPECT_NE(message([&] { in.validate(); }).find("nrlmsise00.altitude: must be in [0, 1000] km"),

@@ -7,6 +7,7 @@
 #include <complex>
 #include <random>
 
+#include "error_checks.hpp"
 #include "satgnc/analysis/linearize.hpp"
 #include "satgnc/analysis/rank.hpp"
 #include "satgnc/dynamics/polar.hpp"
@@ -369,14 +370,7 @@ TEST(Rank, DistanceToUncontrollability) {
 
 TEST(Rank, BadInputThrowsNamingTheArgument) {
   const MatrixXd A = MatrixXd::Identity(3, 3), B = MatrixXd::Ones(3, 1), C = MatrixXd::Ones(1, 3);
-  auto msg = [](auto fn) {
-    try {
-      fn();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no throw");
-  };
+  auto msg = [](auto fn) { return satgnc::testing::message_of(fn, "no throw"); };
   EXPECT_EQ(msg([&] { staircase(MatrixXd::Ones(3, 2), B, Property::controllability); }).rfind("A:", 0), 0u);
   EXPECT_EQ(msg([&] { staircase(A, MatrixXd::Ones(2, 1), Property::controllability); }).rfind("B:", 0), 0u);
   EXPECT_EQ(msg([&] { staircase(A, MatrixXd::Ones(1, 2), Property::observability); }).rfind("C:", 0), 0u);
