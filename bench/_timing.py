@@ -1,4 +1,4 @@
-"""Timing helpers shared by the benchmarks (the machine may be shared: the best block is the robust figure)."""
+"""Timing helpers shared by the benchmarks (the machine may be shared: the best block is the robust one)."""
 
 from __future__ import annotations
 
