@@ -10,6 +10,7 @@
 #include <string>
 
 #include "detail/cholesky.hpp"
+#include "detail/dual_line.hpp"
 #include "detail/state_ipm.hpp"
 #include "satgnc/core/no_malloc.hpp"
 #include "satgnc/core/validate.hpp"
@@ -79,20 +80,31 @@ struct StateAdmmWorkspace {
   Eigen::VectorXi dr_eq, dr_on, dr_pos;
   Eigen::MatrixXd U_ipm, X_ipm;  // the IPM's last plan while it is polished
   Eigen::VectorXd mu_ipm;
+  std::vector<DualKink> kinks;  // dual_bound's line maximization (2 N nu, sized at setup)
   // ---- interior-point method (tried first; its plan is accepted only by the same tests)
   StateIpm ipm;
   StateIpmProblem ipd;
   bool ipm_ok = false;  // applicable (every L1 weight > 0, equality rows only at node N)
 
-  // row vector c' dx_node/dU (length N nu, zero beyond node) into Srow.row(i)
+  // row vector c' dx_node/dU (length N nu, zero beyond node) into Srow.row(i); the CW case (6, 3) with
+  // fixed-size products (a dual recovery on the N = 100 cone takes ~100 rows of ~50 stages each)
   void sensitivity_row(int i, const Eigen::Ref<const Eigen::VectorXd>& cvec, int nd) noexcept {
-    Srow.row(i).setZero();
+    if (nx == 6 && nu == 3)
+      sensitivity_row_t<6, 3>(i, cvec, nd);
+    else
+      sensitivity_row_t<Eigen::Dynamic, Eigen::Dynamic>(i, cvec, nd);
+  }
+  template <int NX, int NU>
+  void sensitivity_row_t(int i, const Eigen::Ref<const Eigen::VectorXd>& cvec, int nd) noexcept {
+    Srow.row(i).tail((N - nd) * nu).setZero();
     tmp_nx = cvec;
+    Eigen::Map<Eigen::Matrix<double, NX, 1>> v(tmp_nx.data(), nx), v2(tmp_nx2.data(), nx);
+    Eigen::Map<Eigen::Matrix<double, NU, 1>> g(g_nu.data(), nu);
     for (int k = nd - 1; k >= 0; --k) {
-      g_nu.noalias() = B(k).transpose() * tmp_nx;
-      Srow.block(i, k * nu, 1, nu) = g_nu.transpose();
-      tmp_nx2.noalias() = A(k).transpose() * tmp_nx;
-      tmp_nx = tmp_nx2;
+      g.noalias() = Eigen::Map<const Eigen::Matrix<double, NX, NU>>(B(k).data(), nx, nu).transpose() * v;
+      Srow.block(i, k * nu, 1, nu) = g.transpose();
+      v2.noalias() = Eigen::Map<const Eigen::Matrix<double, NX, NX>>(A(k).data(), nx, nx).transpose() * v;
+      v = v2;
     }
   }
 
@@ -944,11 +956,21 @@ struct StateAdmmWorkspace {
   // H (nu x N) = sum_k M_k' mu_k for per-node state multipliers Cmu (nx x N+1): h_k = B_k' pi_{k+1},
   // pi_k = Cmu_k + A_k' pi_{k+1}, pi_N = Cmu_N.
   void costate_sweep() noexcept {
-    tmp_nx = Cmu.col(N);
+    if (nx == 6 && nu == 3)
+      costate_sweep_t<6, 3>();
+    else
+      costate_sweep_t<Eigen::Dynamic, Eigen::Dynamic>();
+  }
+  template <int NX, int NU>
+  void costate_sweep_t() noexcept {
+    using VX = Eigen::Matrix<double, NX, 1>;
+    Eigen::Map<VX> pi(tmp_nx.data(), nx), pi2(tmp_nx2.data(), nx);
+    pi = Eigen::Map<const VX>(Cmu.col(N).data(), nx);
     for (int k = N - 1; k >= 0; --k) {
-      H.col(k).noalias() = B(k).transpose() * tmp_nx;
-      tmp_nx2.noalias() = A(k).transpose() * tmp_nx;
-      tmp_nx = tmp_nx2 + Cmu.col(k);
+      Eigen::Map<Eigen::Matrix<double, NU, 1>>(H.col(k).data(), nu).noalias() =
+          Eigen::Map<const Eigen::Matrix<double, NX, NU>>(B(k).data(), nx, nu).transpose() * pi;
+      pi2.noalias() = Eigen::Map<const Eigen::Matrix<double, NX, NX>>(A(k).data(), nx, nx).transpose() * pi;
+      pi = pi2 + Eigen::Map<const VX>(Cmu.col(k).data(), nx);
     }
   }
 
@@ -999,29 +1021,10 @@ struct StateAdmmWorkspace {
         for (int i = 0; i < nu; ++i) gsum += gconj(-sc * H(i, k), i);
       return sc * L - sc * sc * F2 - gsum;
     };
-    // golden section on [0, smax] (D concave in s)
-    double a = 0.0, b = smax;
-    const double gr = 0.5 * (std::sqrt(5.0) - 1.0);
-    double x1 = b - gr * (b - a), x2 = a + gr * (b - a);
-    double f1 = D(x1), f2 = D(x2);
-    for (int it = 0; it < 60; ++it) {
-      if (f1 < f2) {
-        a = x1;
-        x1 = x2;
-        f1 = f2;
-        x2 = a + gr * (b - a);
-        f2 = D(x2);
-      } else {
-        b = x2;
-        x2 = x1;
-        f2 = f1;
-        x1 = b - gr * (b - a);
-        f1 = D(x1);
-      }
-    }
-    double best = std::max({f1, f2, D(0.0), D(smax)});
-    const double d1 = D(1.0 <= smax ? 1.0 : smax);
-    best = std::max(best, d1);
+    // D is concave and piecewise quadratic in s: its maximizer from the sorted kinks (dual_line.hpp),
+    // evaluated here; D(1) (the multipliers as given) and D(0) = 0 kept as candidates
+    const double s_star = concave_dual_argmax(H, w, rdiag, ulo, uhi, L, F2, smax, kinks);
+    const double best = std::max({D(s_star), D(std::min(1.0, smax)), D(0.0)});
     return std::isfinite(best) ? best : -kInf;
   }
 
@@ -1286,8 +1289,13 @@ StateConstrainedAdmm::StateConstrainedAdmm(const LtvProblem& problem, const Stat
   for (int k = 1; k < N; ++k)
     if (w.has_Q) w.qbase.col(k).noalias() = -w.prob.Q * w.prob.xf;
   w.qbase.col(N).noalias() = -w.prob.Qf * w.prob.xf;
-  // polish workspace (dense, sized once): sensitivities of the rows and of x_N to every control
-  const int nv = N * nu, kmax = nv + m + 3 * m + nx;
+  // polish workspace (dense, sized once): sensitivities of the rows and of x_N to every control, and
+  // the KKT on the free controls and active rows, n = nF + nE: nE <= m (one equation per interval row,
+  // per cone block on its surface, three at its apex) and nF <= min(N nu, nx + m) (polish() takes at
+  // most nx + nE free entries from Y's pattern and nx + count_active() <= nx + m from the dual estimate).
+  // That bound, not N nu + 4 m + nx, sizes the two dense n x n matrices (N = 100 cone: 606 instead of
+  // 1530, 5.9 MB instead of 37.5 MB); polish() rejects a larger system, which cannot occur
+  const int nv = N * nu, kmax = std::min(nv, nx + m) + m;
   w.Srow.setZero(m + nx, nv);
   w.Kkt.setZero(kmax, kmax);
   w.kkt_rhs.setZero(kmax);
@@ -1310,6 +1318,7 @@ StateConstrainedAdmm::StateConstrainedAdmm(const LtvProblem& problem, const Stat
   for (auto* v : {&w.dr_hmin, &w.dr_hmax, &w.dr_tgt}) v->setZero(nv);
   for (auto* v : {&w.dr_lam, &w.dr_rhs, &w.dr_x, &w.dr_y, &w.mu_rec}) v->setZero(m);
   w.dr_eq.setZero(nv);
+  w.kinks.resize(2 * static_cast<std::size_t>(nv));
   w.dr_on.setZero(m);
   w.dr_pos.setZero(m);
   w.nrm.setZero(m);
@@ -1388,6 +1397,7 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
   const auto& st = w.st;
   const auto t0 = std::chrono::steady_clock::now();
   info = AdmmInfo();
+  R.ipm_plan = false;
   const int N = w.N, m = w.m;
   // A polished candidate (Ypol, mu_pol) is accepted only by the violation and gap tests; |gap|: a plan
   // below the dual bound is infeasible beyond rounding (a missed active row).
@@ -1420,7 +1430,8 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
   // violation and Fenchel-gap tests below (the same as ADMM's); otherwise ADMM runs as before
   bool ipm_solved = false;
   double D_best = -detail::kInf;
-  bool ipm_exported = false;  // Ypol holds an IPM plan of this solve
+  bool ipm_exported = false;   // Ypol holds an IPM plan of this solve
+  bool ipm_candidate = false;  // U_ipm / X_ipm hold the IPM's last plan (finite, not certified)
   if (w.ipm_ok && st.method != AdmmMethod::kAdmm) {
     w.ipm.init(w.ipd);
     for (int t = 0; t < st.ipm_max_iterations; ++t) {
@@ -1475,6 +1486,7 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
     }
     // the IPM's plan converged without a certificate: polish it on its active set
     if (!ipm_solved && ipm_exported && w.Ypol.allFinite()) {
+      ipm_candidate = true;
       w.U_ipm = w.Ypol;
       w.mu_ipm = w.mu_pol;
       w.rollout(w.U_ipm, w.X_ipm, false);
@@ -1644,18 +1656,50 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
   }
   if (it > st.max_iterations) it = st.max_iterations;
   if (!run_admm) it = 0;
+  // neither method certified (admm_ipm): return the better of ADMM's plan and the IPM's last one, by
+  // the honest rule: the lower true objective among the plans within the violation tolerance, else the
+  // smaller violation relative to its tolerance (ties keep ADMM's); the status stays ADMM's
+  if (ipm_candidate && run_admm && status != AdmmStatus::solved && status != AdmmStatus::primal_infeasible) {
+    const auto judge = [&w, &st](const Eigen::MatrixXd& Us, const Eigen::MatrixXd& Xs, double& P,
+                                 double& rv) {
+      w.rows_of(Xs, w.shat);
+      const double vtol = st.eps_abs + st.eps_rel * Xs.cwiseAbs().maxCoeff();
+      const double viol = w.violation_of(w.shat);
+      P = w.objective(Xs, Us);
+      rv = vtol > 0.0 ? viol / vtol : viol;
+      if (!std::isfinite(P) || std::isnan(rv)) rv = detail::kInf;
+      return std::isfinite(P) && viol <= vtol;
+    };
+    double Pa = 0.0, ra = 0.0, Pb = 0.0, rb = 0.0;
+    w.rollout(w.Y, w.Xf, false);
+    const bool ok_a = judge(w.Y, w.Xf, Pa, ra);
+    const bool ok_b = judge(w.U_ipm, w.X_ipm, Pb, rb);
+    if (ok_b ? (!ok_a || Pb < Pa) : (!ok_a && rb < ra)) {
+      w.Y = w.U_ipm;
+      w.mu = D_best > -detail::kInf ? w.mu_best : w.mu_ipm;
+      w.rows_of(w.X_ipm, w.z);
+      w.project(w.z);
+      w.Lam.setZero();
+      prim = w.ipm.primal_residual();
+      dual = w.ipm.complementarity();
+      R.ipm_plan = true;
+    }
+  }
   // final evaluation on the problem as given
   w.rollout(w.Y, w.Xf, false);
   w.rows_of(w.Xf, w.shat);
   R.max_violation = w.violation_of(w.shat);
   R.violation_tolerance = st.eps_abs + st.eps_rel * w.Xf.cwiseAbs().maxCoeff();
   const double P = w.objective(w.Xf, w.Y);
-  const double D = status == AdmmStatus::primal_infeasible ? -detail::kInf : w.dual_bound(w.mu);
+  double D = status == AdmmStatus::primal_infeasible ? -detail::kInf : w.dual_bound(w.mu);
+  if (R.ipm_plan) D = std::max(D, D_best);  // every IPM iterate's bound is valid (weak duality)
   const double gap = (P - D) / std::max({std::abs(P), std::abs(D), st.gap_floor});
   if (status == AdmmStatus::max_iterations || status == AdmmStatus::time_limit) {
+    // the IPM's plan is a rollout (no consensus residual): its primal and dual tests are the
+    // violation and the gap themselves
     const double f = st.inaccurate_factor;
-    if (prim <= f * eps_p && dual <= f * eps_d && R.max_violation <= f * R.violation_tolerance &&
-        std::abs(gap) <= f * st.eps_gap)
+    if ((R.ipm_plan || (prim <= f * eps_p && dual <= f * eps_d)) &&
+        R.max_violation <= f * R.violation_tolerance && std::abs(gap) <= f * st.eps_gap)
       status = AdmmStatus::solved_inaccurate;
   }
   info.status = status;

@@ -96,6 +96,10 @@ struct StateAdmmResult : AdmmResult {
   Eigen::VectorXd state_consensus;    ///< Z, one per row (normalized-row units)
   double max_violation = 0.0;         ///< largest violation of a row by X_flown (state units)
   double violation_tolerance = 0.0;   ///< eps_abs + eps_rel ||X_flown||_inf (state units)
+  /// Method admm_ipm, neither method certified: true when the returned plan is the interior-point
+  /// method's last one, not ADMM's (lower true objective within the violation tolerance, or the
+  /// smaller scaled violation when neither plan is within it); the status stays unsolved-type.
+  bool ipm_plan = false;
 };
 
 /// L1 ADMM with state constraints. The constructor validates (std::invalid_argument
