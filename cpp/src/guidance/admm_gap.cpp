@@ -40,15 +40,28 @@ double AdmmWorkspace::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
   }
   const bool stage_q = with_cost && prob_.Q.size() != 0;
   const bool stage_r = with_cost && rf_on_;
+  const bool cw63 = nx_ == 6 && nu_ == 3;
   for (int k = N_ - 1; k >= 0; --k) {
-    Hg_.col(k).noalias() = d.B_at(k).transpose() * lam_;
+    if (cw63) {
+      // fixed-size products (the dynamic ones were a library call each, 2 N per sweep)
+      Hg_.col(k).noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 3>>(d.B_at(k).data()).transpose() *
+                             Eigen::Map<const Eigen::Matrix<double, 6, 1>>(lam_.data());
+    } else {
+      Hg_.col(k).noalias() = d.B_at(k).transpose() * lam_;
+    }
     if (stage_r) {
       utmp_.noalias() = Rf_ * U.col(k);
       f += 0.5 * U.col(k).dot(utmp_);
       Hg_.col(k) += utmp_;
     }
     if (k == 0) break;
-    lam2_.noalias() = d.A_at(k).transpose() * lam_;
+    if (cw63) {
+      Eigen::Map<Eigen::Matrix<double, 6, 1>>(lam2_.data()).noalias() =
+          Eigen::Map<const Eigen::Matrix<double, 6, 6>>(d.A_at(k).data()).transpose() *
+          Eigen::Map<const Eigen::Matrix<double, 6, 1>>(lam_.data());
+    } else {
+      lam2_.noalias() = d.A_at(k).transpose() * lam_;
+    }
     lam_ = lam2_;
     if (stage_q) {
       xtmp_ = X.col(k) - prob_.xf;
