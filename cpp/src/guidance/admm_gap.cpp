@@ -40,15 +40,28 @@ double AdmmWorkspace::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
   }
   const bool stage_q = with_cost && prob_.Q.size() != 0;
   const bool stage_r = with_cost && rf_on_;
+  const bool cw63 = nx_ == 6 && nu_ == 3;
   for (int k = N_ - 1; k >= 0; --k) {
-    Hg_.col(k).noalias() = d.B_at(k).transpose() * lam_;
+    if (cw63) {
+      // fixed-size products (the dynamic ones were a library call each, 2 N per sweep)
+      Hg_.col(k).noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 3>>(d.B_at(k).data()).transpose() *
+                             Eigen::Map<const Eigen::Matrix<double, 6, 1>>(lam_.data());
+    } else {
+      Hg_.col(k).noalias() = d.B_at(k).transpose() * lam_;
+    }
     if (stage_r) {
       utmp_.noalias() = Rf_ * U.col(k);
       f += 0.5 * U.col(k).dot(utmp_);
       Hg_.col(k) += utmp_;
     }
     if (k == 0) break;
-    lam2_.noalias() = d.A_at(k).transpose() * lam_;
+    if (cw63) {
+      Eigen::Map<Eigen::Matrix<double, 6, 1>>(lam2_.data()).noalias() =
+          Eigen::Map<const Eigen::Matrix<double, 6, 6>>(d.A_at(k).data()).transpose() *
+          Eigen::Map<const Eigen::Matrix<double, 6, 1>>(lam_.data());
+    } else {
+      lam2_.noalias() = d.A_at(k).transpose() * lam_;
+    }
     lam_ = lam2_;
     if (stage_q) {
       xtmp_ = X.col(k) - prob_.xf;
@@ -131,7 +144,7 @@ double AdmmWorkspace::evaluate_gap(const Eigen::Ref<const MatrixXd>& X, const Ei
 }
 
 double AdmmWorkspace::dual_bound(const Eigen::Ref<const MatrixXd>& X, const Eigen::Ref<const MatrixXd>& U,
-                                 const Eigen::Ref<const VectorXd>& p) noexcept {
+                                 const Eigen::Ref<const VectorXd>& p, bool golden) noexcept {
   const double f = lagrangian_gradient(X, U, p, true);
   double c1 = 2.0 * f;
   for (int k = 0; k < N_; ++k) c1 -= Hg_.col(k).dot(U.col(k));
@@ -163,34 +176,74 @@ double AdmmWorkspace::dual_bound(const Eigen::Ref<const MatrixXd>& X, const Eige
     }
     smax = a;
   }
-  // D is concave in s: golden-section search on [0, smax], keeping the best value seen
   double best = D(0.0);
-  if (smax > 0.0) {
-    constexpr double g = 0.6180339887498949;
-    double a = 0.0, b = smax;
-    double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    double f1 = D(x1), f2 = D(x2);
-    best = std::max({best, D(smax), f1, f2});
-    for (int t = 0; t < 50 && b - a > 1e-12 * smax; ++t) {
-      if (f1 < f2) {
-        a = x1;
-        x1 = x2;
-        f1 = f2;
-        x2 = a + g * (b - a);
-        f2 = D(x2);
-        best = std::max(best, f2);
-      } else {
-        b = x2;
-        x2 = x1;
-        f2 = f1;
-        x1 = b - g * (b - a);
-        f1 = D(x1);
-        best = std::max(best, f1);
-      }
-    }
+  if (smax > 0.0 && flat && !golden) {
+    // piecewise quadratic: its maximizer exactly (was a golden-section search: 52 evaluations of D)
+    best = std::max(best, D(dual_argmax_pwq(f, c1, smax)));
+  } else if (smax > 0.0) {
+    best = std::max(best, dual_max_golden(f, c1, smax));
   }
   if (!std::isfinite(best)) best = D(0.0);  // D(0) = -g*(0) = 0 for g >= 0 with g(0) = 0
   return best;
+}
+
+double AdmmWorkspace::dual_max_golden(double f, double c1, double smax) const noexcept {
+  const auto D = [&](double s) { return -s * s * f + s * c1 - conj_g(s); };
+  constexpr double g = 0.6180339887498949;
+  double a = 0.0, b = smax;
+  double x1 = b - g * (b - a), x2 = a + g * (b - a);
+  double f1 = D(x1), f2 = D(x2);
+  double best = std::max({D(smax), f1, f2});
+  for (int t = 0; t < 50 && b - a > 1e-12 * smax; ++t) {
+    if (f1 < f2) {
+      a = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = a + g * (b - a);
+      f2 = D(x2);
+      best = std::max(best, f2);
+    } else {
+      b = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = b - g * (b - a);
+      f1 = D(x1);
+      best = std::max(best, f1);
+    }
+  }
+  return best;
+}
+
+// D'(s) = -2 f s + c1 - G'(s), G(s) = sum_j g_j*(-s h_j) for L1 + box without R in g. Per entry, z =
+// -s h moves away from 0 in the direction sigma = -sign h; the maximizer of z u - w |u| over the box
+// is u = clamp(0, lo, hi) while |z| < w and the bound on the side of sigma beyond, so G_j'(s) = -h u
+// is a step: |h| psi0 from s = 0 (psi0 = clamp(0, L, H), [L, H] the box seen along sigma: [lo, hi]
+// or [-hi, -lo]), up by |h| (H - psi0) >= 0 at s = w / |h| (an open side there ends [0, smax]).
+// The jumps are nonnegative, so their running sums lose no digits. With R in g the derivative has
+// ramps, whose ends subtract what their starts added: in the running sums that cancellation lost
+// the bound's digits when the ramps' slopes h^2 / r spanned many decades (measured on the QPs of
+// test_admm_dual), so that case keeps the golden-section search.
+double AdmmWorkspace::dual_argmax_pwq(double f, double c1, double smax) noexcept {
+  double a = 0.0;  // G'(0+)
+  int nb = 0;
+  for (int k = 0; k < N_; ++k) {
+    for (int i = 0; i < nu_; ++i) {
+      const double h = Hg_(i, k);
+      if (h == 0.0) continue;
+      const double ah = std::abs(h), w = w_(i);
+      const double L = h < 0.0 ? lo_(i) : -hi_(i), H = h < 0.0 ? hi_(i) : -lo_(i);
+      const double psi0 = std::clamp(0.0, L, H);
+      a += ah * psi0;
+      if (!(H < kInf && H > psi0)) continue;
+      const double t = w / ah, jump = ah * (H - psi0);
+      if (t <= 0.0) {
+        a += jump;
+      } else if (t < smax) {
+        brk_[static_cast<std::size_t>(nb++)] = PwlBreak{t, jump, 0.0};
+      }
+    }
+  }
+  return concave_pwq_argmax(c1, 2.0 * f, a, 0.0, brk_.data(), nb, smax);
 }
 
 bool AdmmWorkspace::check_infeasible(const Eigen::Ref<const VectorXd>& y) noexcept {

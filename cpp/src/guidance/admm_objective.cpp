@@ -52,9 +52,20 @@ double AdmmWorkspace::trajectory_objective(const Eigen::Ref<const MatrixXd>& X,
 void AdmmWorkspace::rollout(const Eigen::Ref<const MatrixXd>& U, Eigen::Ref<MatrixXd> X) const noexcept {
   const LtvDynamics& d = prob_.dynamics;
   X.col(0) = prob_.x0;
+  const bool cw63 = nx_ == 6 && nu_ == 3;
   for (int k = 0; k < N_; ++k) {
-    X.col(k + 1).noalias() = d.A_at(k) * X.col(k);
-    X.col(k + 1).noalias() += d.B_at(k) * U.col(k);
+    if (cw63) {
+      // fixed-size products (the dynamic ones were a library call each, 2 N per rollout)
+      using V6 = Eigen::Matrix<double, 6, 1>;
+      Eigen::Map<V6> xn(X.col(k + 1).data());
+      xn.noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 6>>(d.A_at(k).data()) *
+                     Eigen::Map<const V6>(X.col(k).data());
+      xn.noalias() += Eigen::Map<const Eigen::Matrix<double, 6, 3>>(d.B_at(k).data()) *
+                      Eigen::Map<const Eigen::Matrix<double, 3, 1>>(U.col(k).data());
+    } else {
+      X.col(k + 1).noalias() = d.A_at(k) * X.col(k);
+      X.col(k + 1).noalias() += d.B_at(k) * U.col(k);
+    }
     if (!d.c.empty()) X.col(k + 1) += d.c.size() == 1 ? d.c[0] : d.c[k];
   }
 }

@@ -145,6 +145,7 @@ void AdmmWorkspace::setup_buffers() {
   res_.terminal_multiplier.setZero(nx_);
   Gd_.setZero(nu_, N_);
   Hg_.setZero(nu_, N_);
+  brk_.assign(static_cast<std::size_t>(N_) * static_cast<std::size_t>(nu_), PwlBreak{});
   lam_.setZero(nx_);
   lam2_.setZero(nx_);
   xN0all_.setZero(nx_);

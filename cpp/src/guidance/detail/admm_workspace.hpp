@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "quadratic.hpp"
 #include "satgnc/guidance/admm.hpp"
 #include "satgnc/guidance/riccati.hpp"
 
@@ -126,6 +127,7 @@ struct AdmmGapData {
   Eigen::VectorXd rg_;          ///< diagonal part of R moved into g for the dual bound (nu; zeros if none)
   Eigen::MatrixXd Rf_;          ///< R - diag(rg_), kept in the smooth part f
   Eigen::VectorXd pz_;          ///< the terminal multiplier used by the gap (zeros if soft terminal)
+  std::vector<PwlBreak> brk_;   ///< breakpoints of the dual bound's derivative (N nu: one per entry)
 };
 
 /// Interior-point method (admm_ipm.cpp): per-entry arrays over the N nu entries of U.
@@ -318,13 +320,21 @@ struct AdmmWorkspace : AdmmProblemData,
   /// (s in [0, smax]): the per-entry terms as array expressions, summed in conj_g's order (the same
   /// value to the bit).
   double conj_g_flat(double s) noexcept;
+  /// Largest value of the concave D(s) = -f s^2 + c1 s - g*(-s Hg_) seen by a golden-section search
+  /// on [0, smax] (group-L2 / ball: not piecewise quadratic in s; R in g: see dual_argmax_pwq).
+  double dual_max_golden(double f, double c1, double smax) const noexcept;
+  /// The maximizer of the same D for L1 + box without R in g, exactly: D is concave piecewise
+  /// quadratic, its derivative piecewise linear with one jump per entry at most (admm_gap.cpp).
+  double dual_argmax_pwq(double f, double c1, double smax) noexcept;
   /// Fenchel dual bound D at the plan (X, U) with terminal multiplier p (see AdmmInfo); sets
   /// info primal/dual objective and duality_gap, returns the relative gap.
   double evaluate_gap(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
                       const Eigen::Ref<const Eigen::VectorXd>& p, double P) noexcept;
-  /// The Fenchel dual bound D built from the residuals at (X, U) (any control sequence).
+  /// The Fenchel dual bound D built from the residuals at (X, U) (any control sequence), maximized
+  /// over s exactly (L1 + box) or by golden section (R in g, group-L2 / ball, or `golden`: the
+  /// tests compare the two).
   double dual_bound(const Eigen::Ref<const Eigen::MatrixXd>& X, const Eigen::Ref<const Eigen::MatrixXd>& U,
-                    const Eigen::Ref<const Eigen::VectorXd>& p) noexcept;
+                    const Eigen::Ref<const Eigen::VectorXd>& p, bool golden = false) noexcept;
   /// Farkas test of candidate y for x_f unreachable within the box; true and stores it if it holds.
   bool check_infeasible(const Eigen::Ref<const Eigen::VectorXd>& y) noexcept;
   static double estimate_workspace_bytes(int nx, int nu, int N) noexcept;

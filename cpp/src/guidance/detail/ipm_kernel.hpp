@@ -41,6 +41,23 @@ template <typename M, typename Out>
 bool ldl_inverse3(const M& a, Out& inv) noexcept {
   const double d0 = a(0, 0);
   if (!(d0 > 0.0)) return false;
+  if (a(2, 0) == 0.0 && a(2, 1) == 0.0) {
+    // third axis decoupled (the Clohessy-Wiltshire out-of-plane control): the same numbers without
+    // the terms that are exact zeros (up to the sign of a zero), and its pivot's division no longer
+    // waits for the other two (two dependent divisions instead of three)
+    const double d2 = a(2, 2);
+    if (!(d2 > 0.0)) return false;
+    const double i2 = 1.0 / d2, i0 = 1.0 / d0;
+    const double l10 = a(1, 0) * i0, d1 = a(1, 1) - l10 * a(1, 0);
+    if (!(d1 > 0.0)) return false;
+    const double i1 = 1.0 / d1, m10 = -l10;
+    inv(2, 2) = i2;
+    inv(1, 2) = inv(2, 1) = inv(0, 2) = inv(2, 0) = 0.0;
+    inv(1, 1) = i1;
+    inv(0, 1) = inv(1, 0) = m10 * i1;
+    inv(0, 0) = i0 + m10 * m10 * i1;
+    return true;
+  }
   const double i0 = 1.0 / d0;
   const double l10 = a(1, 0) * i0, l20 = a(2, 0) * i0;
   const double d1 = a(1, 1) - l10 * a(1, 0);
