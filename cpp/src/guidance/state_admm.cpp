@@ -80,7 +80,7 @@ struct StateAdmmWorkspace {
   Eigen::VectorXi dr_eq, dr_on, dr_pos;
   Eigen::MatrixXd U_ipm, X_ipm;  // the IPM's last plan while it is polished
   Eigen::VectorXd mu_ipm;
-  std::vector<DualKink> kinks;  // dual_bound's line maximization (2 N nu, sized at setup)
+  std::vector<PwlBreak> kinks;  // dual_bound's line maximization (2 N nu, sized at setup)
   // ---- interior-point method (tried first; its plan is accepted only by the same tests)
   StateIpm ipm;
   StateIpmProblem ipd;
@@ -1021,7 +1021,7 @@ struct StateAdmmWorkspace {
         for (int i = 0; i < nu; ++i) gsum += gconj(-sc * H(i, k), i);
       return sc * L - sc * sc * F2 - gsum;
     };
-    // D is concave and piecewise quadratic in s: its maximizer from the sorted kinks (dual_line.hpp),
+    // D is concave and piecewise quadratic in s: its maximizer from its kinks (dual_line.hpp),
     // evaluated here; D(1) (the multipliers as given) and D(0) = 0 kept as candidates
     const double s_star = concave_dual_argmax(H, w, rdiag, ulo, uhi, L, F2, smax, kinks);
     const double best = std::max({D(s_star), D(std::min(1.0, smax)), D(0.0)});
