@@ -77,6 +77,7 @@ class StateIpm {
   int nx_ = 0, nu_ = 0, N_ = 0, m_ = 0, ne_ = 0, nlp_ = 0, ncone_ = 0;
   double sz_ = 0.0, rp_ = 0.0;
   bool scaling_ok_ = true;
+  bool has_interval_rows_ = false;  // some state row has a finite upper or lower side (init())
   bool residuals_current_ = false;  // residuals() of the current iterate done (end of step())
   Eigen::VectorXi eqrow_;           // the equality rows (all at node N)
   // primal / dual iterates: controls and epigraph, equality multipliers
