@@ -166,21 +166,19 @@ def violation(kw, X):
 
 # Solved share measured on these seeds (2026-12-03): the Riccati-structured interior-point method runs
 # first (state_ipm.cpp) and its plan is accepted only by the same violation and Fenchel-gap tests;
-# otherwise ADMM + polish go on (5000 iterations). Third session (this floor): when the IPM's plan has
-# converged but its multipliers do not certify it, least-squares multipliers on the plan's active set
-# (StateAdmmWorkspace::recover_dual) and an active-set polish of the IPM's plan (ipm_polish: rows and
-# controls snapped at a few cuts, degenerate rows dropped by Gram-Schmidt, balanced KKT shifts, a
-# proximal term for non-unique L1 optima) are tried, each certified by the same Fenchel bound:
-# half-spaces 29/30 (29 by the IPM), cones 30/30 (30), boxes + closing velocity 12/30 (12), mixed 9/30
-# (9). Second session: 27 (21) / 30 (30) / 7 (6) / 5 (5); first 26 (20) / 30 (29) / 6 (5) / 2 (2);
-# before the IPM 21+/21+/2/0. Boxes and mixed stay low (goal 95 %): on the failures the IPM's plan is
-# within 1e-9..1e-6 of Clarabel's optimum but its zero controls and inactive rows sit 1e-7..1e-4 (of
-# the largest control) from their kinks and bounds, and no cut identifies the active set; box case 4
-# of seed 2 was such a case (a row 6e-6 inside its bound with Clarabel multiplier 7e-3 against ~1e2
-# for the others). The floors are the measured shares minus a margin; the hard requirement is that no
+# otherwise ADMM + polish go on (5000 iterations). Session 9 (this floor): the IPM's interval rows are
+# dual-regularized (barrier weight 1 / (s/z + 1e-6)) and each Newton solve is iteratively refined: on
+# the box and mixed failures the IPM had stopped on a failed factorization mid-way (barrier weights of
+# the degenerate active rows ~1e12, the Riccati recursion lost its digits). Now half-spaces 30/30 (30
+# by the IPM), cones 30/30 (30), boxes + closing velocity 28/30 (28), mixed 25/30 (25). Third session:
+# 29 (29) / 30 (30) / 12 (12) / 9 (9) with least-squares multipliers on the plan's active set
+# (recover_dual) and an active-set polish of the IPM's plan (ipm_polish); second 27 (21) / 30 (30) /
+# 7 (6) / 5 (5); first 26 (20) / 30 (29) / 6 (5) / 2 (2); before the IPM 21+/21+/2/0. Goal 95 %: not met
+# for boxes (93 %) and mixed (83 %); the remaining failures end uncertified (gap 1e-7..1e-3), never a
+# false "solved". The floors are the measured shares minus a margin; the hard requirement is that no
 # "solved" is false.
-MIN_SOLVED = {"half_space": 0.9, "box": 0.35, "cone": 0.95, "mixed": 0.25}
-MIN_IPM = {"half_space": 0.9, "box": 0.35, "cone": 0.9, "mixed": 0.25}  # share certified by the IPM
+MIN_SOLVED = {"half_space": 0.95, "box": 0.9, "cone": 0.95, "mixed": 0.8}
+MIN_IPM = {"half_space": 0.95, "box": 0.9, "cone": 0.95, "mixed": 0.8}  # share certified by the IPM
 MAX_ITER = 5000
 FAMILY_ITER = {"mixed": 1500}  # bounds the test's run time (mixed problems carry the most rows)
 
@@ -371,26 +369,27 @@ def test_bad_arguments_name_the_argument(kwargs, match):
 
 
 def test_ipm_alone_uncertified_returns_its_last_plan_not_the_start():
-    """method="ipm" without ADMM on the box + closing-velocity family, where the IPM's plan converges
-    but its multipliers do not certify it (see MIN_SOLVED): the result is the IPM's last plan with its
-    true cost, never the starting (zero) plan with cost of the drift. Measured on seed 2 (2026-12-03):
-    5 of the first 5 end max_iterations with objectives 4.2e-6 .. 6e-10 relative above Clarabel's (the
-    zero plan was 0 thrust at a cost set by the terminal miss alone); asserted 1e-4. Since the third
-    session cases 0 and 4 are certified (least-squares dual / polish of the IPM's plan: within 1e-8 of
-    Clarabel, asserted); cases 1-3 stay uncertified and are the ones checked here."""
+    """method="ipm" without ADMM on the box + closing-velocity family: a plan the IPM does not certify
+    is returned as its last plan with its true cost, never the starting (zero) plan with the cost of
+    the drift. Measured on seed 2 (2026-12-03): before the IPM's dual regularization 18 of 30 ended
+    max_iterations (the IPM stopped on a failed factorization mid-way); since session 9 (row weights
+    1 / (s/z + 1e-6), refined Newton solves) 28 of 30 are certified within 1e-8 of Clarabel, and
+    cases 10 and 23 stay uncertified (objectives 7e-6 and 4e-5 relative above Clarabel's; asserted
+    1e-4). Every certified one is asserted within 1e-6 of Clarabel, with its bound below it."""
     rng = np.random.default_rng(2)
-    uncertified = 0
-    for case in range(5):
+    uncertified = []
+    for case in range(24):
         kw = draw(rng, "box")
         st, ref = clarabel(kw)
         assert st == "optimal", st
         r = g.solve_l1(**kw, settings=dict(TIGHT, method="ipm"))
         assert r.iterations == 0 and r.ipm_iterations > 0, r.status
+        assert r.dual_objective <= ref + 1e-8 * abs(ref)  # weak duality of the reported bound
         if r.status == "solved":
-            assert case in (0, 4) and r.ipm_solved and (r.dual_recoveries > 0 or r.polished)
-            assert abs(r.objective - ref) <= 1e-8 * abs(ref) and r.dual_objective <= ref + 1e-8 * abs(ref)
+            assert r.ipm_solved
+            assert abs(r.objective - ref) <= 1e-6 * abs(ref), (case, r.objective, ref)
             continue
-        uncertified += 1
+        uncertified.append(case)
         assert np.abs(r.Y).max() > 0.0
         X = _drift(kw["A"], kw["x0"], kw["horizon"])
         for k in range(kw["horizon"]):
@@ -398,5 +397,4 @@ def test_ipm_alone_uncertified_returns_its_last_plan_not_the_start():
         scale = np.max(np.abs(X))
         assert np.allclose(X, r.X_flown, rtol=0, atol=1e-9 * scale)
         assert np.isfinite(r.objective) and abs(r.objective - ref) <= 1e-4 * abs(ref), (r.objective, ref)
-        assert r.dual_objective <= ref + 1e-8 * abs(ref)  # weak duality of the reported bound
-    assert uncertified == 3
+    assert uncertified == [10, 23], uncertified
