@@ -228,7 +228,12 @@ def test_converged_estimates_match_independent_scipy_least_squares(passes):
             # one: scipy started there stays there.
             back = least_squares(fun, x, **opts)
             assert back.status > 0
-            assert sigma > 10 * SAME_MINIMUM  # distinct minima, not a loose stop
+            # Either distinct minima, or scipy's own first stop was the loose one: on an AMD EPYC
+            # (2026-12-03, another BLAS kernel) scipy from the offset start stopped in pass 15's flat
+            # valley 1.39e-4 sigma from satgnc's estimate at a cost 1.9e-10 relative higher; restarted
+            # at satgnc's estimate it stays there (0 sigma) and its first stop is 1.6e-4 sigma off.
+            loose_ref = _formal_sigma(sv, ref.x, ref.x - back.x) > SAME_MINIMUM and r.cost <= ref.cost
+            assert sigma > 10 * SAME_MINIMUM or loose_ref, (p["seed"], sigma)
             sigma = _formal_sigma(sv, x, x - back.x)
             two_minima.append(p["seed"])
         worst_sigma = max(worst_sigma, sigma)
