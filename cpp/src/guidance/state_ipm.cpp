@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "detail/ipm_kernel.hpp"
 
@@ -371,9 +372,12 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
 bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
   const auto& dyn = p.prob->dynamics;
   const bool eq = ne_ > 0;
-  double At[36], Bt[18], PA[36], PB[18], Quu[9], Qux[18], Quxt[18], Kt[18], G[18], Gt[18], APA[36];
-  double* T = T_.data();
-  double* T2 = T2_.data();
+  double At[36], Bt[18], PA[36], PB[18], Quu[9], Qux[18], Quxt[18], G[18], Gt[18], APA[36];
+  // T is kept transposed (T' A - G' K needs no transpose of K) in two buffers swapped per stage (no copy)
+  double Tbuf[72];
+  double* Tt = Tbuf;
+  double* Tt2 = Tbuf + 36;
+  if (eq) ipm::transpose<6, 6>(T_.data(), Tt);
   double* S = Sf_.data();
   const double* Aprev = nullptr;
   const double* Bprev = nullptr;
@@ -399,27 +403,29 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
     ipm::mm<3, 3, 6>(Qi, Qux, K);
     if (eq) {
       double* D = Dall_.data() + k * 18;
-      ipm::mm<3, 6, 6>(Bt, T, G);
+      ipm::mm<6, 6, 3>(Tt, B, Gt);  // G' = T'B: the same sums as B'T, in the same order
+      ipm::transpose<6, 3>(Gt, G);
       ipm::mm<3, 3, 6>(Qi, G, D);
-      ipm::transpose<3, 6>(G, Gt);
       ipm::mm<6, 3, 6, 1>(Gt, D, S);
     }
     if (k == 0) break;  // P_0 and T_0 are never used (x_0 is given)
-    ipm::transpose<3, 6>(K, Kt);
     if (eq) {
-      ipm::mm<6, 6, 6>(At, T, T2);
-      ipm::mm<6, 3, 6, -1>(Kt, G, T2);
-      std::copy(T2, T2 + 36, T);
+      ipm::mm<6, 6, 6>(Tt, A, Tt2);  // T_k' = T'A - G'K
+      ipm::mm<6, 3, 6, -1>(Gt, K, Tt2);
+      std::swap(Tt, Tt2);
     }
     ipm::mm<6, 6, 6>(At, PA, APA);
     ipm::transpose<3, 6>(Qux, Quxt);
     ipm::mm<6, 3, 6, -1>(Quxt, K, APA);
     const double* Qk = Qx_.data() + k * 36;
     double* Pk = P_.data() + k * 36;
+    double probe = 0.0;  // 0 * x is NaN exactly where x is not finite: one test instead of 36
     for (int j = 0; j < 6; ++j)
-      for (int i = 0; i < 6; ++i) Pk[i + 6 * j] = 0.5 * (APA[i + 6 * j] + APA[j + 6 * i]) + Qk[i + 6 * j];
-    for (int j = 0; j < 36; ++j)
-      if (!std::isfinite(Pk[j])) return false;
+      for (int i = 0; i < 6; ++i) {
+        Pk[i + 6 * j] = 0.5 * (APA[i + 6 * j] + APA[j + 6 * i]) + Qk[i + 6 * j];
+        probe += 0.0 * Pk[i + 6 * j];
+      }
+    if (!(probe == 0.0)) return false;
   }
   return true;
 }
