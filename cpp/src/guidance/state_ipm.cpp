@@ -366,9 +366,9 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
 }
 
 // The backward recursion of factor_stages for (nx, nu) = (6, 3) on column-major arrays (ipm::mm): per
-// stage PA = P A, Qux = B'PA, Quu = B'PB + Rd, K = Quu^-1 Qux, P_k = A'PA - Qux'K + Q_k (symmetrized);
-// with equality rows G = B'T, D = Quu^-1 G, S += G'D, T_k = A'T - K'G. A', B' are transposed once per
-// distinct stage matrix (time-invariant dynamics: once).
+// stage PA = P A, Qux = (A'PB)' = B'PA, Quu = B'PB + Rd, K = Quu^-1 Qux, P_k = A'PA - Qux'K + Q_k
+// (symmetrized); with equality rows G = B'T, D = Quu^-1 G, S += G'D, T_k = A'T - K'G. A', B' are
+// transposed once per distinct stage matrix (time-invariant dynamics: once).
 bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
   const auto& dyn = p.prob->dynamics;
   const bool eq = ne_ > 0;
@@ -392,8 +392,10 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
     double* Qi = Qi_.data() + k * 9;
     double* K = K_.data() + k * 18;
     ipm::mm<6, 6, 6>(Pn, A, PA);
-    ipm::mm<3, 6, 6>(Bt, PA, Qux);
     ipm::mm<6, 6, 3>(Pn, B, PB);
+    // Qux' = A'PB (P symmetric): six-row products vectorize fully, three-row ones by halves
+    ipm::mm<6, 6, 3>(At, PB, Quxt);
+    ipm::transpose<6, 3>(Quxt, Qux);
     ipm::mm<3, 6, 3>(Bt, PB, Quu);
     Eigen::Map<Eigen::Matrix3d> QuuM(Quu), QiM(Qi);
     QuuM.diagonal() += Rd_.col(k);
@@ -415,7 +417,6 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
       std::swap(Tt, Tt2);
     }
     ipm::mm<6, 6, 6>(At, PA, APA);
-    ipm::transpose<3, 6>(Qux, Quxt);
     ipm::mm<6, 3, 6, -1>(Quxt, K, APA);
     const double* Qk = Qx_.data() + k * 36;
     double* Pk = P_.data() + k * 36;
