@@ -366,13 +366,13 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
 }
 
 // The backward recursion of factor_stages for (nx, nu) = (6, 3) on column-major arrays (ipm::mm): per
-// stage PA = P A, Qux = (A'PB)' = B'PA, Quu = B'PB + Rd, K = Quu^-1 Qux, P_k = A'PA - Qux'K + Q_k
+// stage Qux = (A'PB)' = B'PA, Quu = B'PB + Rd, K = Quu^-1 Qux, P_k = (A - BK)'P(A - BK) + K'Rd K + Q_k
 // (symmetrized); with equality rows G = B'T, D = Quu^-1 G, S += G'D, T_k = A'T - K'G. A', B' are
 // transposed once per distinct stage matrix (time-invariant dynamics: once).
 bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
   const auto& dyn = p.prob->dynamics;
   const bool eq = ne_ > 0;
-  double At[36], Bt[18], PA[36], PB[18], Quu[9], Qux[18], Quxt[18], G[18], Gt[18], APA[36];
+  double At[36], Bt[18], PB[18], Quu[9], Qux[18], Quxt[18], G[18], Gt[18], APA[36];
   // T is kept transposed (T' A - G' K needs no transpose of K) in two buffers swapped per stage (no copy)
   double Tbuf[72];
   double* Tt = Tbuf;
@@ -391,7 +391,6 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
     const double* Pn = P_.data() + (k + 1) * 36;
     double* Qi = Qi_.data() + k * 9;
     double* K = K_.data() + k * 18;
-    ipm::mm<6, 6, 6>(Pn, A, PA);
     ipm::mm<6, 6, 3>(Pn, B, PB);
     // Qux' = A'PB (P symmetric): six-row products vectorize fully, three-row ones by halves
     ipm::mm<6, 6, 3>(At, PB, Quxt);
@@ -416,8 +415,20 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
       ipm::mm<6, 3, 6, -1>(Gt, K, Tt2);
       std::swap(Tt, Tt2);
     }
-    ipm::mm<6, 6, 6>(At, PA, APA);
-    ipm::mm<6, 3, 6, -1>(Quxt, K, APA);
+    // P_k = (A - BK)' P (A - BK) + K' Rd K + Q: a sum of PSD terms, definite by construction. The
+    // form A'PA - Qux'K is a difference of terms ~ the barrier weights (1e6..1e12 on degenerate rows):
+    // on 5 of the 7 uncertified box / mixed seeds it made Quu grossly indefinite (diagonal -13..-45)
+    // and the run stopped on a failed factorization (IPM alone, box 28 -> 29, mixed 25 -> 27 of 30)
+    double Acl[36], PAc[36], Aclt[36], Kt[18], RK[18];
+    std::copy(A, A + 36, Acl);
+    ipm::mm<6, 3, 6, -1>(B, K, Acl);
+    ipm::mm<6, 6, 6>(Pn, Acl, PAc);
+    ipm::transpose<6, 6>(Acl, Aclt);
+    ipm::mm<6, 6, 6>(Aclt, PAc, APA);
+    ipm::transpose<3, 6>(K, Kt);
+    for (int c = 0; c < 6; ++c)
+      for (int i = 0; i < 3; ++i) RK[i + 3 * c] = Rd_(i, k) * K[i + 3 * c];
+    ipm::mm<6, 3, 6, 1>(Kt, RK, APA);
     const double* Qk = Qx_.data() + k * 36;
     double* Pk = P_.data() + k * 36;
     double probe = 0.0;  // 0 * x is NaN exactly where x is not finite: one test instead of 36
