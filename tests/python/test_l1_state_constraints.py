@@ -164,21 +164,24 @@ def violation(kw, X):
     return max(v, 0.0)
 
 
-# Solved share measured on these seeds (2026-12-03): the Riccati-structured interior-point method runs
-# first (state_ipm.cpp) and its plan is accepted only by the same violation and Fenchel-gap tests;
-# otherwise ADMM + polish go on (5000 iterations). Session 9 (this floor): the IPM's interval rows are
-# dual-regularized (barrier weight 1 / (s/z + 1e-6)) and each Newton solve is iteratively refined: on
-# the box and mixed failures the IPM had stopped on a failed factorization mid-way (barrier weights of
-# the degenerate active rows ~1e12, the Riccati recursion lost its digits). Now half-spaces 30/30 (30
-# by the IPM), cones 30/30 (30), boxes + closing velocity 28/30 (28), mixed 25/30 (25). Third session:
-# 29 (29) / 30 (30) / 12 (12) / 9 (9) with least-squares multipliers on the plan's active set
-# (recover_dual) and an active-set polish of the IPM's plan (ipm_polish); second 27 (21) / 30 (30) /
-# 7 (6) / 5 (5); first 26 (20) / 30 (29) / 6 (5) / 2 (2); before the IPM 21+/21+/2/0. Goal 95 %: not met
-# for boxes (93 %) and mixed (83 %); the remaining failures end uncertified (gap 1e-7..1e-3), never a
-# false "solved". The floors are the measured shares minus a margin; the hard requirement is that no
-# "solved" is false.
-MIN_SOLVED = {"half_space": 0.95, "box": 0.9, "cone": 0.95, "mixed": 0.8}
-MIN_IPM = {"half_space": 0.95, "box": 0.9, "cone": 0.95, "mixed": 0.8}  # share certified by the IPM
+# Solved share measured on these seeds (2026-12-03): the Riccati-structured interior-point method runs first
+# (state_ipm.cpp) and its plan is accepted only by the same violation and Fenchel-gap tests; otherwise ADMM
+# + polish go on (5000 iterations). Session 9, second round (this floor): the IPM's Riccati update in the
+# PSD form (A - BK)'P(A - BK) + K'Rd K + Q (the difference form made Quu indefinite and stopped 5 runs on a
+# failed factorization): half-spaces 30/30 (30 by the IPM), cones 30/30 (30), boxes + closing velocity 29/30
+# (29), mixed 27/30 (27). Session 9, first round: the IPM's interval rows are dual-regularized (barrier
+# weight 1 / (s/z + 1e-6)) and each Newton solve is iteratively refined: on the box and mixed failures the
+# IPM had stopped on a failed factorization mid-way (barrier weights of the degenerate active rows ~1e12,
+# the Riccati recursion lost its digits). Now half-spaces 30/30 (30 by the IPM), cones 30/30 (30), boxes +
+# closing velocity 28/30 (28), mixed 25/30 (25). Third session: 29 (29) / 30 (30) / 12 (12) / 9 (9) with
+# least-squares multipliers on the plan's active set (recover_dual) and an active-set polish of the IPM's
+# plan (ipm_polish); second 27 (21) / 30 (30) / 7 (6) / 5 (5); first 26 (20) / 30 (29) / 6 (5) / 2 (2);
+# before the IPM 21+/21+/2/0. Goal 95 %: not met for boxes (93 %) and mixed (83 %) then; now met for boxes
+# (97 %), not for mixed (90 %); the remaining failures end uncertified (gap 1e-7..1e-3), never a false
+# "solved". The floors are the measured shares minus a margin; the hard requirement is that no "solved" is
+# false.
+MIN_SOLVED = {"half_space": 0.95, "box": 0.95, "cone": 0.95, "mixed": 0.85}
+MIN_IPM = {"half_space": 0.95, "box": 0.95, "cone": 0.95, "mixed": 0.85}  # share certified by the IPM
 MAX_ITER = 5000
 FAMILY_ITER = {"mixed": 1500}  # bounds the test's run time (mixed problems carry the most rows)
 
@@ -374,8 +377,10 @@ def test_ipm_alone_uncertified_returns_its_last_plan_not_the_start():
     the drift. Measured on seed 2 (2026-12-03): before the IPM's dual regularization 18 of 30 ended
     max_iterations (the IPM stopped on a failed factorization mid-way); since session 9 (row weights
     1 / (s/z + 1e-6), refined Newton solves) 28 of 30 are certified within 1e-8 of Clarabel, and
-    cases 10 and 23 stay uncertified (objectives 7e-6 and 4e-5 relative above Clarabel's; asserted
-    1e-4). Every certified one is asserted within 1e-6 of Clarabel, with its bound below it."""
+    cases 10 and 23 stayed uncertified; since the PSD form of the Riccati update (session 9, second
+    round) case 10 is certified too and case 23 stays uncertified at 60 IPM iterations (objective 4e-5
+    relative above Clarabel's; asserted 1e-4; it is certified at iteration 101 with a limit of 200).
+    Every certified one is asserted within 1e-6 of Clarabel, with its bound below it."""
     rng = np.random.default_rng(2)
     uncertified = []
     for case in range(24):
@@ -397,4 +402,4 @@ def test_ipm_alone_uncertified_returns_its_last_plan_not_the_start():
         scale = np.max(np.abs(X))
         assert np.allclose(X, r.X_flown, rtol=0, atol=1e-9 * scale)
         assert np.isfinite(r.objective) and abs(r.objective - ref) <= 1e-4 * abs(ref), (r.objective, ref)
-    assert uncertified == [10, 23], uncertified
+    assert uncertified == [23], uncertified
