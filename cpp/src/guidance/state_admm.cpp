@@ -1429,6 +1429,16 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
   // interior-point method first: O(N) per step (Riccati), ~20-40 steps; accepted only by the
   // violation and Fenchel-gap tests below (the same as ADMM's); otherwise ADMM runs as before
   bool ipm_solved = false;
+  // a certified IPM plan (Ypol, its row values shat) with the multipliers that certify it
+  const auto accept_ipm_plan = [&](const Eigen::VectorXd& mu) {
+    w.Y = w.Ypol;
+    w.mu = mu;
+    w.z = w.shat;
+    w.project(w.z);
+    w.Lam.setZero();
+    ipm_solved = true;
+    status = AdmmStatus::solved;
+  };
   double D_best = -detail::kInf;
   bool ipm_exported = false;   // Ypol holds an IPM plan of this solve
   bool ipm_candidate = false;  // U_ipm / X_ipm hold the IPM's last plan (finite, not certified)
@@ -1472,13 +1482,7 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
       }
       const double gap = rel_gap(D_best);
       if (std::abs(gap) <= eps_gap) {
-        w.Y = w.Ypol;
-        w.mu = w.mu_best;
-        w.z = w.shat;
-        w.project(w.z);
-        w.Lam.setZero();
-        ipm_solved = true;
-        status = AdmmStatus::solved;
+        accept_ipm_plan(w.mu_best);
         prim = w.ipm.primal_residual();
         dual = w.ipm.complementarity();
         break;
@@ -1499,14 +1503,8 @@ const StateAdmmResult& StateConstrainedAdmm::solve() noexcept {
           if (!w.ipm_polish(w.U_ipm, w.X_ipm, cut[0], cut[1])) continue;
           double viol = 0.0;
           if (polish_certified(viol)) {
-            w.Y = w.Ypol;
-            w.mu = w.mu_pol;
-            w.z = w.shat;
-            w.project(w.z);
-            w.Lam.setZero();
-            ipm_solved = true;
+            accept_ipm_plan(w.mu_pol);
             info.polished = info.certified = true;
-            status = AdmmStatus::solved;
             prim = viol;
             dual = w.ipm.complementarity();
             break;
