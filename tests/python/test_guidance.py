@@ -214,7 +214,9 @@ def test_warm_start_receding_horizon():
     r = s.solve()
     s.warm_start(r.Y, r.Lambda)
     r2 = s.solve()
-    assert r2.status == "solved" and r2.iterations < r.iterations / 5
+    # the work of both solves, ADMM and interior-point iterations (the cold one: 8 + ~10; the warm one
+    # re-certifies the IPM's plan in 1-2 ADMM iterations, by the gap or a polish)
+    assert r2.status == "solved" and r2.iterations + r2.ipm_iterations < (r.iterations + r.ipm_iterations) / 5
 
 
 def test_unreachable_terminal_state_is_a_status():
