@@ -23,16 +23,6 @@ using Eigen::VectorXd;
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Per-stage record of icw_ (ipm_riccati_factor_cw -> ipm_riccati_sweep_cw, ipm_forward_cw), column-
-// major blocks: K4 (2 x 4), K2 (1 x 2), Acl4 = A4 + B4 K4 (4 x 4), Acl2 (2 x 2), Knu4 (2 x 4), Knu2.
-constexpr int kCwStage = 40;
-template <typename T>
-struct CwGainsT {
-  T *K4, *K2, *Acl4, *Acl2, *Knu4, *Knu2;
-  explicit CwGainsT(T* s) noexcept
-      : K4(s), K2(s + 8), Acl4(s + 10), Acl2(s + 26), Knu4(s + 30), Knu2(s + 38) {}
-};
-using CwGains = CwGainsT<const double>;
 }  // namespace
 
 void AdmmWorkspace::ipm_setup() {
@@ -69,7 +59,6 @@ void AdmmWorkspace::ipm_setup() {
   iQux_.setZero(nu_, nx_ * N_);
   iKnu_.setZero(nu_, nx_ * N_);
   ikff_.setZero(nu_, N_);
-  icw_.setZero(kCwStage * static_cast<Index>(N_));
   for (MatrixXd* m : {&iP_, &iPn_, &iL_, &iLn_, &iAcl_, &iZ_}) m->setZero(nx_, nx_);
   iBtP_.setZero(nu_, nx_);
   iBtL_.setZero(nu_, nx_);
@@ -323,8 +312,8 @@ void AdmmWorkspace::ipm_setup_cw() noexcept {
 // so the chain from one Quu^-1 to the next is two NU x NU products instead of K, Qux'K, the
 // symmetrization, P_k B and B'(P_k B). P_k (for Qux and the next (AB)'P(AB)) follows off that chain.
 // Symmetric results are formed on the upper triangle and mirrored. The same quantities as
-// ipm_riccati_factor_63 up to rounding; the gains go to icw_ per block (kCwStage), with the closed-loop
-// maps A + B K that the sweep and the forward pass use (ipm_riccati_sweep_cw).
+// ipm_riccati_factor_63 up to rounding (ipm_setup zeroed the off-block entries of the stored K, Qux,
+// Knu, which are never written).
 namespace {
 /// The products of one CW block (NX states, NU controls) that need P = P_{k+1} only.
 template <int NX, int NU>
@@ -413,23 +402,34 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
     cw_products<2, 1>(P2, cwA2_, cwB2t_, cwAB2_, cwAB2_, s2);
     double Quu[9] = {W4[0], W4[1], 0.0, W4[2], W4[3], 0.0, 0.0, 0.0, W2[0]};
     double* Qi = iQi_.data() + k * 9;
-    const CwGainsT<double> g(icw_.data() + k * kCwStage);
+    double* Qux = iQux_.data() + k * 18;
+    double* K = iK_.data() + k * 18;
     Eigen::Map<Eigen::Matrix3d> QuuM(Quu), QiM(Qi);
     if (has_r) QuuM += prob_.R;
     for (int i = 0; i < 3; ++i) QuuM(i, i) += id_(static_cast<Index>(k) * 3 + i);
     if (!ipm::ldl_inverse3_shifted(QuuM, QiM, 1e-14, 1e-6, 0.0)) return false;
     const double Qi4[4] = {Qi[0], Qi[1], Qi[3], Qi[4]}, Qi2 = Qi[8];
-    cw_gain_and_next<4, 2>(Qi4, s4, cwA4t_, cwQ4_, cwBQB4_, k > 0, g.K4, P4, W4);
-    cw_gain_and_next<2, 1>(&Qi2, s2, cwA2t_, cwQ2_, &cwBQB2_, k > 0, g.K2, P2, W2);
-    // the closed-loop maps of the sweep and the forward pass
-    mm<4, 2, 4>(cwB4_, g.K4, g.Acl4);
-    for (int j = 0; j < 16; ++j) g.Acl4[j] += cwA4_[j];
-    mm<2, 1, 2>(cwB2_, g.K2, g.Acl2);
-    for (int j = 0; j < 4; ++j) g.Acl2[j] += cwA2_[j];
+    double K4[8], K2[2];
+    cw_gain_and_next<4, 2>(Qi4, s4, cwA4t_, cwQ4_, cwBQB4_, k > 0, K4, P4, W4);
+    cw_gain_and_next<2, 1>(&Qi2, s2, cwA2t_, cwQ2_, &cwBQB2_, k > 0, K2, P2, W2);
+    // Qux and K scattered into the stage's 3 x 6 arrays
+    for (int j = 0; j < 4; ++j)
+      for (int c = 0; c < 2; ++c) {
+        Qux[c + 3 * kIn[j]] = s4.Qux[c + 2 * j];
+        K[c + 3 * kIn[j]] = K4[c + 2 * j];
+      }
+    for (int j = 0; j < 2; ++j) {
+      Qux[2 + 3 * kOut[j]] = s2.Qux[j];
+      K[2 + 3 * kOut[j]] = K2[j];
+    }
     if (term) {  // terminal_stage on each block
-      double Ln4[16], Ln2[4];
-      terminal_stage<4, 2>(cwA4t_, cwB4t_, Qi4, g.K4, L4, Z4, Ln4, g.Knu4);
-      terminal_stage<2, 1>(cwA2t_, cwB2t_, &Qi2, g.K2, L2, Z2, Ln2, g.Knu2);
+      double Knu4[8], Knu2[2], Ln4[16], Ln2[4];
+      terminal_stage<4, 2>(cwA4t_, cwB4t_, Qi4, K4, L4, Z4, Ln4, Knu4);
+      terminal_stage<2, 1>(cwA2t_, cwB2t_, &Qi2, K2, L2, Z2, Ln2, Knu2);
+      double* Knu = iKnu_.data() + k * 18;
+      for (int j = 0; j < 4; ++j)
+        for (int c = 0; c < 2; ++c) Knu[c + 3 * kIn[j]] = Knu4[c + 2 * j];
+      for (int j = 0; j < 2; ++j) Knu[2 + 3 * kOut[j]] = Knu2[j];
     }
   }
   for (double v : P4)
@@ -543,12 +543,9 @@ void AdmmWorkspace::ipm_forward_63() noexcept {
   iep_ = ie_ + idX_.col(N_);
 }
 
-// ipm_riccati_sweep_63 and ipm_forward_63 on the decoupled CW blocks (ipm_cw_), through the
-// closed-loop maps Acl = A + B K of ipm_riccati_factor_cw: both recursions are latency-bound, and
-//   p_k = A'p + Qux'kff = Acl'p + K'r,  kff = -Quu^-1 (r + B'p),  r = lin + R u (+ the stage Q term),
-//   x_{k+1} = A x + B (kff + K x) = Acl x + B kff,
-// so the loop-carried chain is one product per stage (kff and du follow off it); the same quantities
-// as ipm_riccati_sweep_63 up to rounding.
+// ipm_riccati_sweep_63 and ipm_forward_63 on the decoupled CW blocks (ipm_cw_): every skipped term
+// is an exact zero of the off-block entries (of A, B, Qf, Q, R and of the stored Quu^-1, Qux, K, Knu),
+// and the kept terms are summed in the same ascending order, so the numbers are the same.
 void AdmmWorkspace::ipm_riccati_sweep_cw() noexcept {
   const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
   const double* Qf = prob_.Qf.data();
@@ -565,42 +562,53 @@ void AdmmWorkspace::ipm_riccati_sweep_cw() noexcept {
     p2[a] = acc;
   }
   const double* R = has_r ? prob_.R.data() : nullptr;
+  const double* Q = has_q ? prob_.Q.data() : nullptr;
   for (int k = N_ - 1; k >= 0; --k) {
     const double* Qi = iQi_.data() + k * 9;
-    const CwGains g(icw_.data() + k * kCwStage);
+    const double* Qux = iQux_.data() + k * 18;
     double* kff = ikff_.data() + k * 3;
     const double* lin = ilin_.data() + k * 3;
     const double* u = iU_.data() + k * 3;
-    double r[3] = {lin[0], lin[1], lin[2]};
-    if (has_r) {
-      r[0] += R[0] * u[0] + R[3] * u[1];
-      r[1] += R[1] * u[0] + R[4] * u[1];
-      r[2] += R[8] * u[2];
-    }
     double qu[3];
     for (int i = 0; i < 2; ++i) {
+      double acc = lin[i];
+      if (has_r) acc += R[i] * u[0] + R[i + 3] * u[1];
       double bp = 0.0;
       for (int b = 0; b < 4; ++b) bp += cwB4_[b + 4 * i] * p4[b];
-      qu[i] = r[i] + bp;
+      qu[i] = acc + bp;
     }
-    qu[2] = r[2] + (cwB2_[0] * p2[0] + cwB2_[1] * p2[1]);
+    {
+      double acc = lin[2];
+      if (has_r) acc += R[8] * u[2];
+      qu[2] = acc + (cwB2_[0] * p2[0] + cwB2_[1] * p2[1]);
+    }
     kff[0] = -(Qi[0] * qu[0] + Qi[3] * qu[1]);
     kff[1] = -(Qi[1] * qu[0] + Qi[4] * qu[1]);
     kff[2] = -(Qi[8] * qu[2]);
     if (k == 0) break;
     double pn4[4], pn2[2];
     for (int a = 0; a < 4; ++a) {
-      const double* Ac = g.Acl4 + 4 * a;  // column a of Acl4, summed as a tree
-      pn4[a] = ((Ac[0] * p4[0] + Ac[1] * p4[1]) + (Ac[2] * p4[2] + Ac[3] * p4[3])) +
-               (g.K4[2 * a] * r[0] + g.K4[1 + 2 * a] * r[1]);
+      double acc = 0.0;
+      for (int b = 0; b < 4; ++b) acc += cwA4_[b + 4 * a] * p4[b];
+      const int i = kIn[a];
+      acc += Qux[3 * i] * kff[0] + Qux[1 + 3 * i] * kff[1];
+      if (has_q) {
+        double qa = 0.0;
+        for (int b = 0; b < 4; ++b) qa += Q[i + 6 * kIn[b]] * (iX_(kIn[b], k) - prob_.xf(kIn[b]));
+        acc += qa;
+      }
+      pn4[a] = acc;
     }
-    for (int a = 0; a < 2; ++a) pn2[a] = (g.Acl2[2 * a] * p2[0] + g.Acl2[1 + 2 * a] * p2[1]) + g.K2[a] * r[2];
-    if (has_q) {
-      double dx4[4], dx2[2];
-      for (int b = 0; b < 4; ++b) dx4[b] = iX_(kIn[b], k) - prob_.xf(kIn[b]);
-      for (int b = 0; b < 2; ++b) dx2[b] = iX_(kOut[b], k) - prob_.xf(kOut[b]);
-      mm<4, 4, 1, 1>(cwQ4_, dx4, pn4);
-      mm<2, 2, 1, 1>(cwQ2_, dx2, pn2);
+    for (int a = 0; a < 2; ++a) {
+      const int i = kOut[a];
+      double acc = cwA2_[2 * a] * p2[0] + cwA2_[1 + 2 * a] * p2[1];
+      acc += Qux[2 + 3 * i] * kff[2];
+      if (has_q) {
+        double qa = 0.0;
+        for (int b = 0; b < 2; ++b) qa += Q[i + 6 * kOut[b]] * (iX_(kOut[b], k) - prob_.xf(kOut[b]));
+        acc += qa;
+      }
+      pn2[a] = acc;
     }
     for (int a = 0; a < 4; ++a) p4[a] = pn4[a];
     for (int a = 0; a < 2; ++a) p2[a] = pn2[a];
@@ -615,30 +623,39 @@ void AdmmWorkspace::ipm_forward_cw() noexcept {
     double* X = idX_.data();
     for (int i = 0; i < 6; ++i) X[i] = 0.0;
     const double* nun = inun_.data();
-    const double nun4[4] = {nun[kIn[0]], nun[kIn[1]], nun[kIn[2]], nun[kIn[3]]};
-    const double nun2[2] = {nun[kOut[0]], nun[kOut[1]]};
     for (int k = 0; k < N_; ++k) {
-      const CwGains g(icw_.data() + k * kCwStage);
+      const double* K = iK_.data() + k * 18;
       const double* kff = ikff_.data() + k * 3;
       double* du = idu_.data() + k * 3;
-      // the open-loop part c = kff (+ Knu nu): x_{k+1} = Acl x + B c, du = c + K x (off the chain)
-      double c[3] = {kff[0], kff[1], kff[2]};
+      double u0 = kff[0], u1 = kff[1], u2 = kff[2];
+      for (int b = 0; b < 4; ++b) {
+        u0 += K[3 * kIn[b]] * x4[b];
+        u1 += K[1 + 3 * kIn[b]] * x4[b];
+      }
+      u2 += K[2 + 3 * kOut[0]] * x2[0];
+      u2 += K[2 + 3 * kOut[1]] * x2[1];
       if (pass == 1) {
-        mm<2, 4, 1, 1>(g.Knu4, nun4, c);
-        mm<1, 2, 1, 1>(g.Knu2, nun2, c + 2);
+        const double* Knu = iKnu_.data() + k * 18;
+        for (int b = 0; b < 4; ++b) {
+          u0 += Knu[3 * kIn[b]] * nun[kIn[b]];
+          u1 += Knu[1 + 3 * kIn[b]] * nun[kIn[b]];
+        }
+        u2 += Knu[2 + 3 * kOut[0]] * nun[kOut[0]];
+        u2 += Knu[2 + 3 * kOut[1]] * nun[kOut[1]];
       }
-      double y4[4], y2[2];
+      du[0] = u0;
+      du[1] = u1;
+      du[2] = u2;
+      double y4[4] = {}, y2[2] = {};
+      for (int b = 0; b < 4; ++b)
+        for (int a = 0; a < 4; ++a) y4[a] += cwA4_[a + 4 * b] * x4[b];
       for (int a = 0; a < 4; ++a) {
-        const double* Ar = g.Acl4 + a;  // row a of Acl4 (stride 4), summed as a tree
-        y4[a] = ((Ar[0] * x4[0] + Ar[4] * x4[1]) + (Ar[8] * x4[2] + Ar[12] * x4[3])) +
-                (cwB4_[a] * c[0] + cwB4_[a + 4] * c[1]);
+        y4[a] += cwB4_[a] * u0;
+        y4[a] += cwB4_[a + 4] * u1;
       }
-      for (int a = 0; a < 2; ++a) y2[a] = (g.Acl2[a] * x2[0] + g.Acl2[a + 2] * x2[1]) + cwB2_[a] * c[2];
-      mm<2, 4, 1, 1>(g.K4, x4, c);  // du = c + K x
-      mm<1, 2, 1, 1>(g.K2, x2, c + 2);
-      du[0] = c[0];
-      du[1] = c[1];
-      du[2] = c[2];
+      for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) y2[a] += cwA2_[a + 2 * b] * x2[b];
+      for (int a = 0; a < 2; ++a) y2[a] += cwB2_[a] * u2;
       double* xn = X + 6 * (k + 1);
       for (int a = 0; a < 4; ++a) xn[kIn[a]] = x4[a] = y4[a];
       for (int a = 0; a < 2; ++a) xn[kOut[a]] = x2[a] = y2[a];

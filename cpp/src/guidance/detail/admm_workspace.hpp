@@ -163,8 +163,6 @@ struct AdmmIpmData {
   /// B'QB: the factorization forms B'P_k B from P_{k+1} (ipm_riccati_factor_cw)
   double cwAB4_[8] = {}, cwAB4t_[8] = {}, cwAB2_[2] = {}, cwQ4_[16] = {}, cwQ2_[4] = {};
   double cwBQB4_[4] = {}, cwBQB2_ = 0.0;
-  /// per stage: the blocks' gains and closed-loop maps (kCwStage doubles, admm_ipm.cpp)
-  Eigen::VectorXd icw_;
   Eigen::VectorXd ip_, ipn_, iqu_, idx_, idxn_;
   Eigen::LLT<Eigen::MatrixXd> illt_;
   Eigen::MatrixXd iInu_;
