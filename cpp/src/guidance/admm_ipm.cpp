@@ -289,98 +289,16 @@ void AdmmWorkspace::ipm_setup_cw() noexcept {
     cwB2_[j] = B(kOut[j], 2);
     cwB2t_[j] = B(kOut[j], 2);
   }
-  mm<4, 4, 2>(cwA4_, cwB4_, cwAB4_);
-  ipm::transpose<4, 2>(cwAB4_, cwAB4t_);
-  mm<2, 2, 1>(cwA2_, cwB2_, cwAB2_);
-  const bool has_q = prob_.Q.size() != 0;
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) cwQ4_[i + 4 * j] = has_q ? prob_.Q(kIn[i], kIn[j]) : 0.0;
-  for (int j = 0; j < 2; ++j)
-    for (int i = 0; i < 2; ++i) cwQ2_[i + 2 * j] = has_q ? prob_.Q(kOut[i], kOut[j]) : 0.0;
-  double QB4[8], QB2[2];
-  mm<4, 4, 2>(cwQ4_, cwB4_, QB4);
-  mm<2, 4, 2>(cwB4t_, QB4, cwBQB4_);
-  mm<2, 2, 1>(cwQ2_, cwB2_, QB2);
-  mm<1, 2, 1>(cwB2t_, QB2, &cwBQB2_);
   ipm_cw_ = true;
 }
 
-// ipm_riccati_factor_63 on the decoupled blocks, with a shorter loop-carried chain: the recursion is
-// latency-bound (each stage waits for the previous one), and B'P_k B, which the next stage's
-// Quu^-1 needs, is formed from P_{k+1} and this stage's Quu^-1 without waiting for P_k:
-//   B'P_k B = (AB)'P_{k+1}(AB) - V' Quu^-1 V + B'QB,  V = B'P_{k+1}(AB) = Qux_k B,
-// so the chain from one Quu^-1 to the next is two NU x NU products instead of K, Qux'K, the
-// symmetrization, P_k B and B'(P_k B). P_k (for Qux and the next (AB)'P(AB)) follows off that chain.
-// Symmetric results are formed on the upper triangle and mirrored. The same quantities as
-// ipm_riccati_factor_63 up to rounding (ipm_setup zeroed the off-block entries of the stored K, Qux,
-// Knu, which are never written).
-namespace {
-/// The products of one CW block (NX states, NU controls) that need P = P_{k+1} only.
-template <int NX, int NU>
-struct CwStage {
-  double PA[NX * NX], Qux[NU * NX], V[NU * NU], Y[NU * NU];
-};
-
-/// PA = P A, Qux = B'PA, V = B'P(AB), Y = (AB)'P(AB) (upper triangle used).
-template <int NX, int NU>
-void cw_products(const double* P, const double* A, const double* Bt, const double* AB, const double* ABt,
-                 CwStage<NX, NU>& s) noexcept {
-  double PAB[NX * NU];
-  mm<NX, NX, NX>(P, A, s.PA);
-  mm<NU, NX, NX>(Bt, s.PA, s.Qux);
-  mm<NX, NX, NU>(P, AB, PAB);
-  mm<NU, NX, NU>(Bt, PAB, s.V);
-  mm<NU, NX, NU>(ABt, PAB, s.Y);
-}
-
-/// The upper triangle of a symmetric N x N column-major array copied into its lower triangle.
-template <int N>
-void upper_mirrored(double* out) noexcept {
-  for (int j = 0; j < N; ++j)
-    for (int i = 0; i < j; ++i) out[j + N * i] = out[i + N * j];
-}
-
-/// After the stage's Quu^-1 (Qi): K = -Qi Qux; with next, B'P_k B for the next stage into W and
-/// P_k = A'PA + Qux'K + Q into P (At = A', Q and BQB the block's Q and B'QB, zero without Q).
-template <int NX, int NU>
-void cw_gain_and_next(const double* Qi, const CwStage<NX, NU>& s, const double* At, const double* Q,
-                      const double* BQB, bool next, double* K, double* P, double* W) noexcept {
-  mm<NU, NU, NX>(Qi, s.Qux, K);
-  for (int j = 0; j < NU * NX; ++j) K[j] = -K[j];
-  if (!next) return;
-  double T[NU * NU];
-  mm<NU, NU, NU>(Qi, s.V, T);  // Quu^-1 V
-  for (int j = 0; j < NU; ++j)
-    for (int i = 0; i <= j; ++i) {
-      double vt = 0.0;
-      for (int c = 0; c < NU; ++c) vt += s.V[c + NU * i] * T[c + NU * j];
-      W[i + NU * j] = (s.Y[i + NU * j] - vt) + BQB[i + NU * j];
-    }
-  upper_mirrored<NU>(W);
-  for (int j = 0; j < NX; ++j)
-    for (int i = 0; i <= j; ++i) {
-      double apa = 0.0, qk = 0.0;
-      for (int l = 0; l < NX; ++l) apa += At[i + NX * l] * s.PA[l + NX * j];
-      for (int c = 0; c < NU; ++c) qk += s.Qux[c + NU * i] * K[c + NU * j];
-      P[i + NX * j] = (apa + qk) + Q[i + NX * j];
-    }
-  upper_mirrored<NX>(P);
-}
-
-/// W = B'P B of the last stage (P = Qf's block), upper triangle mirrored.
-template <int NX, int NU>
-void cw_btpb(const double* P, const double* B, const double* Bt, double* W) noexcept {
-  double PB[NX * NU];
-  mm<NX, NX, NU>(P, B, PB);
-  mm<NU, NX, NU>(Bt, PB, W);
-  upper_mirrored<NU>(W);
-}
-}  // namespace
-
+// ipm_riccati_factor_63 on the blocks: every sum over the skipped indices adds exact zeros there, so
+// Quu, its inverse, K, Qux and P are the same numbers (the same ascending order of the nonzero terms;
+// ipm_setup zeroed the off-block entries of the stored K, Qux, Knu, which are never written).
 bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
   const bool term = prob_.terminal_equality;
-  const bool has_r = prob_.R.size() != 0;
-  double P4[16], P2[4], W4[4], W2[1];
+  const bool has_r = prob_.R.size() != 0, has_q = prob_.Q.size() != 0;
+  double P4[16], P2[4];
   // hard terminal state: L_k = (A + B K)' L_{k+1} from L_N = I and W from 0, block-diagonal as well
   double L4[16] = {1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0};
   double L2[4] = {1.0, 0.0, 0.0, 1.0}, Z4[16] = {}, Z2[4] = {};
@@ -388,38 +306,43 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
     for (int i = 0; i < 4; ++i) P4[i + 4 * j] = prob_.Qf(kIn[i], kIn[j]);
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) P2[i + 2 * j] = prob_.Qf(kOut[i], kOut[j]);
-  cw_btpb<4, 2>(P4, cwB4_, cwB4t_, W4);
-  cw_btpb<2, 1>(P2, cwB2_, cwB2t_, W2);
   // A' for ipm_riccati_sweep_63 (LTI: read from iAcl_ there)
   const double* A = prob_.dynamics.A[0].data();
   double* At = iAcl_.data();
   for (int i = 0; i < 6; ++i)
     for (int l = 0; l < 6; ++l) At[i + 6 * l] = A[l + 6 * i];
   for (int k = N_ - 1; k >= 0; --k) {
-    CwStage<4, 2> s4;
-    CwStage<2, 1> s2;
-    cw_products<4, 2>(P4, cwA4_, cwB4t_, cwAB4_, cwAB4t_, s4);
-    cw_products<2, 1>(P2, cwA2_, cwB2t_, cwAB2_, cwAB2_, s2);
-    double Quu[9] = {W4[0], W4[1], 0.0, W4[2], W4[3], 0.0, 0.0, 0.0, W2[0]};
+    double PB4[8], Quu4[4], PA4[16], Qux4[8], PB2[2], Quu2[1], PA2[4], Qux2[2];
+    mm<4, 4, 2>(P4, cwB4_, PB4);
+    mm<2, 4, 2>(cwB4t_, PB4, Quu4);
+    mm<4, 4, 4>(P4, cwA4_, PA4);
+    mm<2, 4, 4>(cwB4t_, PA4, Qux4);
+    mm<2, 2, 1>(P2, cwB2_, PB2);
+    mm<1, 2, 1>(cwB2t_, PB2, Quu2);
+    mm<2, 2, 2>(P2, cwA2_, PA2);
+    mm<1, 2, 2>(cwB2t_, PA2, Qux2);
+    double Quu[9] = {Quu4[0], Quu4[1], 0.0, Quu4[2], Quu4[3], 0.0, 0.0, 0.0, Quu2[0]};
     double* Qi = iQi_.data() + k * 9;
     double* Qux = iQux_.data() + k * 18;
     double* K = iK_.data() + k * 18;
     Eigen::Map<Eigen::Matrix3d> QuuM(Quu), QiM(Qi);
+    QuuM = (0.5 * (QuuM + QuuM.transpose())).eval();  // fixed-size: no allocation
     if (has_r) QuuM += prob_.R;
     for (int i = 0; i < 3; ++i) QuuM(i, i) += id_(static_cast<Index>(k) * 3 + i);
     if (!ipm::ldl_inverse3_shifted(QuuM, QiM, 1e-14, 1e-6, 0.0)) return false;
+    // K = -Qi Qux on the blocks; Qux and K scattered into the stage's 3 x 6 arrays
     const double Qi4[4] = {Qi[0], Qi[1], Qi[3], Qi[4]}, Qi2 = Qi[8];
     double K4[8], K2[2];
-    cw_gain_and_next<4, 2>(Qi4, s4, cwA4t_, cwQ4_, cwBQB4_, k > 0, K4, P4, W4);
-    cw_gain_and_next<2, 1>(&Qi2, s2, cwA2t_, cwQ2_, &cwBQB2_, k > 0, K2, P2, W2);
-    // Qux and K scattered into the stage's 3 x 6 arrays
+    mm<2, 2, 4>(Qi4, Qux4, K4);
+    for (int j = 0; j < 8; ++j) K4[j] = -K4[j];
+    for (int j = 0; j < 2; ++j) K2[j] = -(Qi2 * Qux2[j]);
     for (int j = 0; j < 4; ++j)
       for (int c = 0; c < 2; ++c) {
-        Qux[c + 3 * kIn[j]] = s4.Qux[c + 2 * j];
+        Qux[c + 3 * kIn[j]] = Qux4[c + 2 * j];
         K[c + 3 * kIn[j]] = K4[c + 2 * j];
       }
     for (int j = 0; j < 2; ++j) {
-      Qux[2 + 3 * kOut[j]] = s2.Qux[j];
+      Qux[2 + 3 * kOut[j]] = Qux2[j];
       K[2 + 3 * kOut[j]] = K2[j];
     }
     if (term) {  // terminal_stage on each block
@@ -431,6 +354,27 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
         for (int c = 0; c < 2; ++c) Knu[c + 3 * kIn[j]] = Knu4[c + 2 * j];
       for (int j = 0; j < 2; ++j) Knu[2 + 3 * kOut[j]] = Knu2[j];
     }
+    if (k == 0) break;
+    // P_k = A'PA + Qux'K (+ Q), symmetrized, per block
+    double APA4[16], QK4[16], Qux4t[8], APA2[4], QK2[4];
+    for (int c = 0; c < 2; ++c)
+      for (int j = 0; j < 4; ++j) Qux4t[j + 4 * c] = Qux4[c + 2 * j];
+    mm<4, 4, 4>(cwA4t_, PA4, APA4);
+    mm<4, 2, 4>(Qux4t, K4, QK4);
+    for (int j = 0; j < 16; ++j) APA4[j] += QK4[j];
+    mm<2, 2, 2>(cwA2t_, PA2, APA2);
+    mm<2, 1, 2>(Qux2, K2, QK2);  // Qux2' (2 x 1) K2 (1 x 2): Qux2 read as a column
+    for (int j = 0; j < 4; ++j) APA2[j] += QK2[j];
+    if (has_q) {
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) APA4[i + 4 * j] += prob_.Q(kIn[i], kIn[j]);
+      for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) APA2[i + 2 * j] += prob_.Q(kOut[i], kOut[j]);
+    }
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) P4[i + 4 * j] = 0.5 * (APA4[i + 4 * j] + APA4[j + 4 * i]);
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) P2[i + 2 * j] = 0.5 * (APA2[i + 2 * j] + APA2[j + 2 * i]);
   }
   for (double v : P4)
     if (!std::isfinite(v)) return false;

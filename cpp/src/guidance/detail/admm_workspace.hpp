@@ -159,10 +159,6 @@ struct AdmmIpmData {
   bool ipm_cw_ = false;
   double cwA4_[16] = {}, cwB4_[8] = {}, cwA2_[4] = {}, cwB2_[2] = {};
   double cwA4t_[16] = {}, cwB4t_[8] = {}, cwA2t_[4] = {}, cwB2t_[2] = {};
-  /// A B per block and its transpose (AB4 4 x 2, AB2 2 x 1), the blocks of Q (zero without Q) and
-  /// B'QB: the factorization forms B'P_k B from P_{k+1} (ipm_riccati_factor_cw)
-  double cwAB4_[8] = {}, cwAB4t_[8] = {}, cwAB2_[2] = {}, cwQ4_[16] = {}, cwQ2_[4] = {};
-  double cwBQB4_[4] = {}, cwBQB2_ = 0.0;
   Eigen::VectorXd ip_, ipn_, iqu_, idx_, idxn_;
   Eigen::LLT<Eigen::MatrixXd> illt_;
   Eigen::MatrixXd iInu_;
