@@ -693,18 +693,20 @@ bool AdmmWorkspace::ipm_factor() noexcept {
   // pair block in the inverse ratios r_m = s_m / z_m (bounded where d_m = z_m / s_m overflows):
   // D = 4 d1 d2 / (d1 + d2) = 4 / (r1 + r2)
   // the ratios are computed once here (the divisions were a tenth of the IPM's time)
+  // Without a box its arrays stay exactly zero (s3 = s4 = 1, z3 = z4 = 0, masks 0: every box term of
+  // the step is a zero), so they are neither formed here nor in ipm_newton and ipm_residuals.
   isi1_ = 1.0 / is1_;
   isi2_ = 1.0 / is2_;
-  isi3_ = 1.0 / is3_;
-  isi4_ = 1.0 / is4_;
   izs1_ = iz1_ * isi1_;
   izs2_ = iz2_ * isi2_;
-  izs3_ = iz3_ * isi3_;
-  izs4_ = iz4_ * isi4_;
   // 1 / z for ipm_max_step (0 where the constraint is absent: z = 0 there)
   izi1_ = im1_ / (iz1_ + (1.0 - im1_));
   izi2_ = im1_ / (iz2_ + (1.0 - im1_));
   if (has_box_) {
+    isi3_ = 1.0 / is3_;
+    isi4_ = 1.0 / is4_;
+    izs3_ = iz3_ * isi3_;
+    izs4_ = iz4_ * isi4_;
     izi3_ = im3_ / (iz3_ + (1.0 - im3_));
     izi4_ = im4_ / (iz4_ + (1.0 - im4_));
   }
@@ -718,7 +720,7 @@ bool AdmmWorkspace::ipm_factor() noexcept {
   id_ = pair.select(4.0 * ib1_, 0.0);
   ihut_ = pair.select((ia1_ - ia2_) * ib1_, 0.0);
   ihtt_ = pair.select(ia1_ * ia2_ * ib1_, 0.0);
-  id_ += im3_ * izs3_ + im4_ * izs4_;
+  if (has_box_) id_ += im3_ * izs3_ + im4_ * izs4_;
   if (!(ipm_cw_                ? ipm_riccati_factor_cw()
         : nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63()
                                : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
@@ -737,18 +739,27 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   if (!corrector) {
     idz1_ = iz1_ + izs1_ * irp1_;
     idz2_ = iz2_ + izs2_ * irp2_;
-    idz3_ = iz3_ + izs3_ * irp3_;
-    idz4_ = iz4_ + izs4_ * irp4_;
+    if (has_box_) {
+      idz3_ = iz3_ + izs3_ * irp3_;
+      idz4_ = iz4_ + izs4_ * irp4_;
+    }
   } else {
     idz1_ = im1_ * (iz1_ + (ia1_ * ib1_ - smu) * isi1_ + izs1_ * irp1_);
     idz2_ = im1_ * (iz2_ + (ia2_ * ib2_ - smu) * isi2_ + izs2_ * irp2_);
-    idz3_ = im3_ * (iz3_ + (ia3_ * ib3_ - smu) * isi3_ + izs3_ * irp3_);
-    idz4_ = im4_ * (iz4_ + (ia4_ * ib4_ - smu) * isi4_ + izs4_ * irp4_);
+    if (has_box_) {
+      idz3_ = im3_ * (iz3_ + (ia3_ * ib3_ - smu) * isi3_ + izs3_ * irp3_);
+      idz4_ = im4_ * (iz4_ + (ia4_ * ib4_ - smu) * isi4_ + izs4_ * irp4_);
+    }
   }
   irt_ = im1_ * (wrep_ - iz1_ - iz2_);
   idt_ = idz1_ + idz2_;  // g_t
-  // linear term of the reduced step: -sum z a + g_u - H_ut (r_t + g_t) / H_tt
-  ilin_ = iz1_ - iz2_ - iz3_ + iz4_ - idz1_ + idz2_ + idz3_ - idz4_ - ihut_ * (irt_ + idt_);
+  // linear term of the reduced step: -sum z a + g_u - H_ut (r_t + g_t) / H_tt (the box terms are
+  // exact zeros without a box: the same numbers up to the sign of a zero)
+  if (has_box_) {
+    ilin_ = iz1_ - iz2_ - iz3_ + iz4_ - idz1_ + idz2_ + idz3_ - idz4_ - ihut_ * (irt_ + idt_);
+  } else {
+    ilin_ = iz1_ - iz2_ - idz1_ + idz2_ - ihut_ * (irt_ + idt_);
+  }
   if (ipm_cw_) {
     ipm_riccati_sweep_cw();
   } else if (nx_ == 6 && nu_ == 3) {
@@ -763,16 +774,18 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   idt_ = -(irt_ + idt_) * ihtt_ - ihut_ * idu_;
   ids1_ = im1_ * (idt_ - idu_);
   ids2_ = im1_ * (idt_ + idu_);
-  ids3_ = im3_ * idu_;
-  ids4_ = -im4_ * idu_;
   idz1_ = -idz1_ - izs1_ * ids1_;
   idz2_ = -idz2_ - izs2_ * ids2_;
-  idz3_ = -idz3_ - izs3_ * ids3_;
-  idz4_ = -idz4_ - izs4_ * ids4_;
   ids1_ += irp1_;
   ids2_ += irp2_;
-  ids3_ += irp3_;
-  ids4_ += irp4_;
+  if (has_box_) {  // else ids3, ids4, idz3, idz4 stay zero (ipm_setup; their swaps exchange zeros)
+    ids3_ = im3_ * idu_;
+    ids4_ = -im4_ * idu_;
+    idz3_ = -idz3_ - izs3_ * ids3_;
+    idz4_ = -idz4_ - izs4_ * ids4_;
+    ids3_ += irp3_;
+    ids4_ += irp4_;
+  }
   return true;
 }
 
@@ -1015,26 +1028,34 @@ AdmmWorkspace::IpmResiduals AdmmWorkspace::ipm_residuals(double wmax) noexcept {
       iX_.col(N_) = prob_.xf + ie_;
       P = lagrangian_gradient(iX_, iU_, term ? inu_ : pz_, true);
       gpart = grad.abs().maxCoeff();
-      for (Index j = 0; j < n; ++j) {
-        const double r = rg_(j % nu_);
-        gpart = std::max(gpart, std::abs(r * u(j)));
-        grad(j) += r * u(j);
-        P += 0.5 * r * u(j) * u(j);
-      }
+      for (Index k = 0, j = 0; k < N_; ++k)
+        for (Index i = 0; i < nu_; ++i, ++j) {
+          const double r = rg_(i);
+          gpart = std::max(gpart, std::abs(r * u(j)));
+          grad(j) += r * u(j);
+          P += 0.5 * r * u(j) * u(j);
+        }
     }
     P += (wrep_ * u.abs()).sum();
     const double gscale = std::max({gpart, wmax, 1e-300});
     const double ru = (grad + iz1_ - iz2_ - iz3_ + iz4_).abs().maxCoeff();
     const double rt = (im1_ * (wrep_ - iz1_ - iz2_)).abs().maxCoeff();
-    const double sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
     irp1_ = im1_ * (itv_ - u - is1_);
     irp2_ = im1_ * (itv_ + u - is2_);
-    irp3_ = im3_ * (u - lofin_ - is3_);
-    irp4_ = im4_ * (hifin_ - u - is4_);
-    const double rp = std::max(
-        {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
-    const double uscale = std::max(
-        {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
+    double sz, rp, uscale;
+    if (has_box_) {
+      sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
+      irp3_ = im3_ * (u - lofin_ - is3_);
+      irp4_ = im4_ * (hifin_ - u - is4_);
+      rp = std::max(
+          {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
+      uscale = std::max(
+          {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
+    } else {  // the box terms are exact zeros (ipm_factor)
+      sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_)).sum();
+      rp = std::max(irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff());
+      uscale = std::max(u.abs().maxCoeff(), 1e-300);
+    }
     res.P = P;
     res.gscale = gscale;
     res.ru = ru;
