@@ -413,6 +413,16 @@ StateConstrainedAdmm box_case(const BoxCase& c, const AdmmSettings& st, int nu =
   sc.closing_velocity.push_back(cv);
   return StateConstrainedAdmm(p, sc, st);
 }
+
+// the tight tolerances of the Python family test, the IPM alone (no ADMM fallback)
+AdmmSettings tight_ipm() {
+  AdmmSettings st;
+  st.method = satgnc::guidance::AdmmMethod::kIpm;
+  st.eps_abs = 1e-10;
+  st.eps_rel = 1e-8;
+  st.eps_gap = 1e-8;
+  return st;
+}
 }  // namespace
 
 TEST(StateAdmm, DegenerateRowsCertifiedByTheIpmDualRecoveryWithoutAllocation) {
@@ -420,11 +430,7 @@ TEST(StateAdmm, DegenerateRowsCertifiedByTheIpmDualRecoveryWithoutAllocation) {
   // the interior-point method's plan, certified by the Fenchel gap, and nothing allocated in solve()
   // (the least-squares dual and the polish work in buffers sized at setup)
   for (const auto& c : kBoxCases) {
-    AdmmSettings st;
-    st.method = satgnc::guidance::AdmmMethod::kIpm;
-    st.eps_abs = 1e-10;
-    st.eps_rel = 1e-8;
-    st.eps_gap = 1e-8;
+    const AdmmSettings st = tight_ipm();
     auto s = box_case(c, st);
     g_mallocs = 0;
     g_count = true;
@@ -438,11 +444,7 @@ TEST(StateAdmm, DegenerateRowsCertifiedByTheIpmDualRecoveryWithoutAllocation) {
     EXPECT_TRUE(r.info.dual_recoveries > 0 || r.info.polished);
   }
   // case 4 against Clarabel's optimum 12.210361083170412 (run at 1e-10 tolerances): 1e-8 relative
-  AdmmSettings st;
-  st.method = satgnc::guidance::AdmmMethod::kIpm;
-  st.eps_abs = 1e-10;
-  st.eps_rel = 1e-8;
-  st.eps_gap = 1e-8;
+  const AdmmSettings st = tight_ipm();
   auto s = box_case(kBoxCases[1], st);
   EXPECT_NEAR(s.solve().info.objective, 12.210361083170412, 1e-8 * 12.210361083170412);
 }
@@ -452,11 +454,7 @@ TEST(StateAdmm, DegenerateRowsDynamicSizePathEqualsFixedSize) {
   // zero-column thruster): PSD Riccati form and the debiased row directions there too; certified by
   // the IPM alone, the objective of the (6, 3) path to 1e-8 relative, nothing allocated in solve()
   for (const auto& c : kBoxCases) {
-    AdmmSettings st;
-    st.method = satgnc::guidance::AdmmMethod::kIpm;
-    st.eps_abs = 1e-10;
-    st.eps_rel = 1e-8;
-    st.eps_gap = 1e-8;
+    const AdmmSettings st = tight_ipm();
     auto s3 = box_case(c, st);
     auto s4 = box_case(c, st, 4);
     const double obj3 = s3.solve().info.objective;
