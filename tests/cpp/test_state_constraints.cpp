@@ -383,18 +383,23 @@ const BoxCase kBoxCases[] = {
             {0.0008306862112396915, 0.001214209062654839}},
 };
 
-StateConstrainedAdmm box_case(const BoxCase& c, const AdmmSettings& st) {
+// nu = 4: a fourth thruster with a zero column of B (its control stays 0, the optimum is the same) runs
+// the IPM's dynamic-size path (factor_stages) instead of the (6, 3) kernels
+StateConstrainedAdmm box_case(const BoxCase& c, const AdmmSettings& st, int nu = 3) {
   const satgnc::dynamics::CwModel model(c.n, 1.0);
   const auto d = satgnc::dynamics::cw_discretize_zoh(model, c.dt);
   LtvProblem p;
   p.dynamics.A = {Eigen::MatrixXd(d.Ad)};
-  p.dynamics.B = {Eigen::MatrixXd(d.Bd)};
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(6, nu);
+  B.leftCols(3) = d.Bd;
+  p.dynamics.B = {B};
   p.dynamics.horizon = c.N;
   p.x0 = Eigen::Map<const Eigen::VectorXd>(c.x0.data(), 6);
   p.Qf = c.qf * Eigen::MatrixXd::Identity(6, 6);
-  p.l1_weights = Eigen::Map<const Eigen::VectorXd>(c.w.data(), 3);
-  p.u_lower = Eigen::VectorXd::Constant(3, -c.umax);
-  p.u_upper = Eigen::VectorXd::Constant(3, c.umax);
+  p.l1_weights = Eigen::VectorXd::Ones(nu);
+  p.l1_weights.head(3) = Eigen::Map<const Eigen::VectorXd>(c.w.data(), 3);
+  p.u_lower = Eigen::VectorXd::Constant(nu, -c.umax);
+  p.u_upper = Eigen::VectorXd::Constant(nu, c.umax);
   StateConstraints sc;
   for (std::size_t i = 0; i < c.nodes.size(); ++i)
     sc.boxes.push_back({{c.nodes[i]},
@@ -408,6 +413,16 @@ StateConstrainedAdmm box_case(const BoxCase& c, const AdmmSettings& st) {
   sc.closing_velocity.push_back(cv);
   return StateConstrainedAdmm(p, sc, st);
 }
+
+// the tight tolerances of the Python family test, the IPM alone (no ADMM fallback)
+AdmmSettings tight_ipm() {
+  AdmmSettings st;
+  st.method = satgnc::guidance::AdmmMethod::kIpm;
+  st.eps_abs = 1e-10;
+  st.eps_rel = 1e-8;
+  st.eps_gap = 1e-8;
+  return st;
+}
 }  // namespace
 
 TEST(StateAdmm, DegenerateRowsCertifiedByTheIpmDualRecoveryWithoutAllocation) {
@@ -415,11 +430,7 @@ TEST(StateAdmm, DegenerateRowsCertifiedByTheIpmDualRecoveryWithoutAllocation) {
   // the interior-point method's plan, certified by the Fenchel gap, and nothing allocated in solve()
   // (the least-squares dual and the polish work in buffers sized at setup)
   for (const auto& c : kBoxCases) {
-    AdmmSettings st;
-    st.method = satgnc::guidance::AdmmMethod::kIpm;
-    st.eps_abs = 1e-10;
-    st.eps_rel = 1e-8;
-    st.eps_gap = 1e-8;
+    const AdmmSettings st = tight_ipm();
     auto s = box_case(c, st);
     g_mallocs = 0;
     g_count = true;
@@ -433,11 +444,28 @@ TEST(StateAdmm, DegenerateRowsCertifiedByTheIpmDualRecoveryWithoutAllocation) {
     EXPECT_TRUE(r.info.dual_recoveries > 0 || r.info.polished);
   }
   // case 4 against Clarabel's optimum 12.210361083170412 (run at 1e-10 tolerances): 1e-8 relative
-  AdmmSettings st;
-  st.method = satgnc::guidance::AdmmMethod::kIpm;
-  st.eps_abs = 1e-10;
-  st.eps_rel = 1e-8;
-  st.eps_gap = 1e-8;
+  const AdmmSettings st = tight_ipm();
   auto s = box_case(kBoxCases[1], st);
   EXPECT_NEAR(s.solve().info.objective, 12.210361083170412, 1e-8 * 12.210361083170412);
+}
+
+TEST(StateAdmm, DegenerateRowsDynamicSizePathEqualsFixedSize) {
+  // the same two degenerate box + closing-velocity cases through the dynamic-size IPM path (a fourth,
+  // zero-column thruster): PSD Riccati form and the debiased row directions there too; certified by
+  // the IPM alone, the objective of the (6, 3) path to 1e-8 relative, nothing allocated in solve()
+  for (const auto& c : kBoxCases) {
+    const AdmmSettings st = tight_ipm();
+    auto s3 = box_case(c, st);
+    auto s4 = box_case(c, st, 4);
+    const double obj3 = s3.solve().info.objective;
+    g_mallocs = 0;
+    g_count = true;
+    const auto& r = s4.solve();
+    g_count = false;
+    EXPECT_EQ(g_mallocs.load(), 0);
+    EXPECT_EQ(r.info.status, AdmmStatus::solved);
+    EXPECT_TRUE(r.info.ipm_solved);
+    EXPECT_LE(std::abs(r.info.objective - obj3), 1e-8 * std::abs(obj3));
+    EXPECT_EQ(r.Y.row(3).cwiseAbs().maxCoeff(), 0.0);
+  }
 }

@@ -63,6 +63,8 @@ class StateIpm {
   double newton_residual(const StateIpmProblem& p) noexcept;
   template <int NX, int NU>
   void refine(const StateIpmProblem& p) noexcept;
+  template <int NX, int NU>
+  void debias(const StateIpmProblem& p) noexcept;
   double max_step() const noexcept;
   // Barrier weight of side q of interval row j in the reduced Newton system, 1 / (s/z + delta): the
   // dual regularization delta (a proximal term on the row multipliers, Clarabel / proxsuite style;
@@ -97,9 +99,12 @@ class StateIpm {
   // residual of the unshifted reduced system (sized at setup)
   Eigen::MatrixXd gx0_, rr0_, du_acc_, dX_acc_, res_u_;
   Eigen::VectorXd req0_, dnu_acc_, res_e_;
+  // debias(): offsets of the row equations (delta dz per side), their change, the direction so far
+  Eigen::MatrixXd ofs_, dofs_, du_tot_, dX_tot_;
+  Eigen::VectorXd dnu_tot_, req_keep_;
   // Riccati (per-stage blocks side by side, column-major: fixed-size views in the (6, 3) case)
   Eigen::MatrixXd P_, K_, Qi_, d_, Dall_, T_, T2_, Sf_, G_, CW_, Se_, tmp_nx_nx_, tmp_nx_nx2_, tmp_nu_nx_,
-      Quu_;
+      Quu_, Acl_, RK_;
   Eigen::VectorXd p_, wv_, ex_, dnu_pad_, g_nu_, tmp_nx_, rhs_e_;
   Eigen::LLT<Eigen::MatrixXd> llt_, llt_e_;
   Eigen::VectorXi has_lo_, has_hi_;
