@@ -26,6 +26,7 @@ py::dict state_result_to_dict(const StateAdmmResult& r) {
   d["state_consensus"] = r.state_consensus;
   d["max_violation"] = r.max_violation;
   d["violation_tolerance"] = r.violation_tolerance;
+  d["ipm_plan"] = r.ipm_plan;
   return d;
 }
 }  // namespace

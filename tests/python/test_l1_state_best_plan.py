@@ -64,6 +64,7 @@ def test_better_uncertified_plan_is_returned():
         assert abs(both.max_violation - violation(kw, X)) <= 1e-9 * np.max(np.abs(X))
         # honest: never below the optimum by more than the violation allows, and a valid dual bound
         assert both.dual_objective <= ref + 1e-8 * abs(ref)
+        assert both.ipm_plan == want_ipm  # the flag names the plan that was returned
         if want_ipm:
             picked_ipm += 1
             assert both.objective < admm.objective or not ok_a

@@ -367,6 +367,9 @@ class L1Result(Result):
     violation_tolerance: float = float("nan")
     #: state constraints only: multipliers of the constraint rows (unit-norm rows; see docs/guidance.md)
     state_multipliers: np.ndarray | None = None
+    #: state constraints, method admm_ipm, neither method certified: True when the returned plan is the
+    #: interior-point method's last one (the better plan by the honest rule), False when it is ADMM's
+    ipm_plan: bool = False
 
     @property
     def converged(self) -> bool:
