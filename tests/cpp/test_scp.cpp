@@ -707,7 +707,9 @@ TEST(ScpTerminal, TimeLimitReachesIntoTheInnerSolver) {
       p.terminal_equality = hard;
       ScpSettings set;
       set.inner_solver = inner;
-      set.time_limit = 0.5;  // leaves the inner started even in a -O0 sanitizer build
+      // leaves the inner started even in a -O0 sanitizer build on a loaded machine (at 0.5 s, ASan at
+      // load 10 spent the whole limit in the first linearization: inner status `unsolved`)
+      set.time_limit = 2.0;
       set.inner.eps_abs = set.inner.eps_rel = 1e-300;  // unreachable tolerances
       set.inner.eps_gap = 1e-300;
       set.inner.polish = false;
@@ -725,7 +727,7 @@ TEST(ScpTerminal, TimeLimitReachesIntoTheInnerSolver) {
       else
         EXPECT_EQ(info.inner_ilqr_status, IlqrAdmmStatus::time_limit) << tag;
       // a bound that shows the inner stopped (minutes otherwise), not a speed assertion
-      EXPECT_LT(info.solve_time, 5.0) << tag;
+      EXPECT_LT(info.solve_time, 20.0) << tag;
       EXPECT_TRUE(std::isfinite(info.objective)) << tag;
       EXPECT_NEAR(info.objective, true_cost(model, p, s.result().U), 1e-9 * std::max(1.0, info.objective))
           << tag;
