@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -60,6 +61,57 @@ Eigen::Map<const Eigen::Matrix<double, NX, 1>> col(const Eigen::MatrixXd& M, int
 template <int NX>
 Eigen::Map<Eigen::Matrix<double, NX, 1>> col(Eigen::MatrixXd& M, int j) noexcept {
   return {M.data() + static_cast<Eigen::Index>(j) * M.rows(), M.rows()};
+}
+
+// The CW pattern (x, y, z, vx, vy, vz; u = (ux, uy, uz)): the in-plane motion (x, y, vx, vy; ux, uy) and
+// the out-of-plane one (z, vz; uz) decouple, so A and B are zero across the two (20 of 36, 10 of 18
+// entries nonzero). cw_in_plane(n, i): entry i of a state (n = 6) or control (n = 3) vector is in-plane.
+constexpr bool cw_in_plane(int n, int i) noexcept { return n == 6 ? i != 2 && i != 5 : i != 2; }
+// bit l + K c: entry (l, c) of a K x C matrix of the pattern (A, B or their transposes) may be nonzero
+template <int K, int C>
+constexpr std::uint64_t cw_mask() noexcept {
+  std::uint64_t m = 0;
+  for (int c = 0; c < C; ++c)
+    for (int l = 0; l < K; ++l)
+      if (cw_in_plane(K, l) == cw_in_plane(C, c)) m |= std::uint64_t{1} << (l + K * c);
+  return m;
+}
+// true where M (K x C) is exactly zero off cw_mask<K, C>()
+template <int K, int C>
+bool has_cw_pattern(const double* M) noexcept {
+  for (int e = 0; e < K * C; ++e)
+    if (!((cw_mask<K, C>() >> e) & 1U) && M[e] != 0.0) return false;
+  return true;
+}
+
+// ipm::mm with the terms of Y's entries outside Mask (exactly zero) left out: each column's axpys
+// are those of ipm::mm in the same order minus additions of exact zeros, so the result is bitwise
+// ipm::mm's for finite X (the loops are unrolled so that the mask tests fold at compile time)
+template <int R, int K, int C, int Mode, std::uint64_t Mask>
+inline void mm_masked(const double* X, const double* Y, double* out) noexcept {
+  static_assert(Mode == 0 || Mode == 1);
+#pragma GCC unroll 8
+  for (int j = 0; j < C; ++j) {
+    double acc[R] = {};
+#pragma GCC unroll 8
+    for (int l = 0; l < K; ++l) {
+      if (!((Mask >> (l + K * j)) & 1U)) continue;
+      const double y = Y[l + K * j];
+      for (int i = 0; i < R; ++i) acc[i] += X[i + R * l] * y;
+    }
+    for (int i = 0; i < R; ++i) {
+      if constexpr (Mode == 0) out[i + R * j] = acc[i];
+      if constexpr (Mode == 1) out[i + R * j] += acc[i];
+    }
+  }
+}
+// ipm::mm<R, K, C, Mode> (Mode 0 or 1) for Y one of A, B, A', B' (K x C): masked on the CW pattern when cw
+template <int R, int K, int C, int Mode = 0>
+inline void mm_cw(bool cw, const double* X, const double* Y, double* out) noexcept {
+  if (cw)
+    mm_masked<R, K, C, Mode, cw_mask<K, C>()>(X, Y, out);
+  else
+    ipm::mm<R, K, C, Mode>(X, Y, out);
 }
 
 bool is_eq(const StateIpmProblem& p, int j) noexcept { return (*p.lo)(j) == (*p.hi)(j); }
@@ -381,17 +433,21 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
   double* S = Sf_.data();
   const double* Aprev = nullptr;
   const double* Bprev = nullptr;
+  bool cw = false;  // A and B of the CW pattern: their zero terms are skipped (bitwise the same products)
   for (int k = N_ - 1; k >= 0; --k) {
     const double* A = dyn.A_at(k).data();
     const double* B = dyn.B_at(k).data();
-    if (A != Aprev) ipm::transpose<6, 6>(A, At);
-    if (B != Bprev) ipm::transpose<6, 3>(B, Bt);
+    if (A != Aprev || B != Bprev) {
+      ipm::transpose<6, 6>(A, At);
+      ipm::transpose<6, 3>(B, Bt);
+      cw = has_cw_pattern<6, 6>(A) && has_cw_pattern<6, 3>(B);
+    }
     Aprev = A;
     Bprev = B;
     const double* Pn = P_.data() + (k + 1) * 36;
     double* Qi = Qi_.data() + k * 9;
     double* K = K_.data() + k * 18;
-    ipm::mm<6, 6, 3>(Pn, B, PB);
+    mm_cw<6, 6, 3>(cw, Pn, B, PB);
     // Qux' = A'PB (P symmetric): six-row products vectorize fully, three-row ones by halves
     ipm::mm<6, 6, 3>(At, PB, Quxt);
     ipm::transpose<6, 3>(Quxt, Qux);
@@ -404,14 +460,14 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
     ipm::mm<3, 3, 6>(Qi, Qux, K);
     if (eq) {
       double* D = Dall_.data() + k * 18;
-      ipm::mm<6, 6, 3>(Tt, B, Gt);  // G' = T'B: the same sums as B'T, in the same order
+      mm_cw<6, 6, 3>(cw, Tt, B, Gt);  // G' = T'B: the same sums as B'T, in the same order
       ipm::transpose<6, 3>(Gt, G);
       ipm::mm<3, 3, 6>(Qi, G, D);
       ipm::mm<6, 3, 6, 1>(Gt, D, S);
     }
     if (k == 0) break;  // P_0 and T_0 are never used (x_0 is given)
     if (eq) {
-      ipm::mm<6, 6, 6>(Tt, A, Tt2);  // T_k' = T'A - G'K
+      mm_cw<6, 6, 6>(cw, Tt, A, Tt2);  // T_k' = T'A - G'K
       ipm::mm<6, 3, 6, -1>(Gt, K, Tt2);
       std::swap(Tt, Tt2);
     }
