@@ -114,6 +114,13 @@ inline void mm_cw(bool cw, const double* X, const double* Y, double* out) noexce
     ipm::mm<R, K, C, Mode>(X, Y, out);
 }
 
+// every entry finite: 0 * x is NaN exactly where x is not, and the sum vectorizes (allFinite tests
+// entry by entry)
+template <class Derived>
+bool all_finite(const Eigen::DenseBase<Derived>& x) noexcept {
+  return (x.derived().array() * 0.0).sum() == 0.0;
+}
+
 bool is_eq(const StateIpmProblem& p, int j) noexcept { return (*p.lo)(j) == (*p.hi)(j); }
 bool has_upper(const StateIpmProblem& p, int j) noexcept {
   return (*p.cone_start)(j) == 0 && !is_eq(p, j) && std::isfinite((*p.hi)(j));
@@ -893,12 +900,12 @@ double StateIpm::max_step() const noexcept {
   const auto ratio = [&a](double x, double dx) {
     if (dx < 0.0) a = std::min(a, -x / dx);
   };
-  for (int v = 0; v < N_ * nu_; ++v)
-    for (int q = 0; q < 4; ++q)
-      if (sc_(q, v) > 0.0) {
-        ratio(sc_(q, v), dsc_(q, v));
-        ratio(zc_(q, v), dzc_(q, v));
-      }
+  // control rows absent (an infinite bound) have s = z = 0 and ds = dz = 0 (set so by every Newton
+  // solve): never a ratio, so one pass over the arrays without a presence test
+  for (Eigen::Index e = 0; e < sc_.size(); ++e) {
+    ratio(sc_.data()[e], dsc_.data()[e]);
+    ratio(zc_.data()[e], dzc_.data()[e]);
+  }
   for (int j = 0; j < m_; ++j)
     for (int q = 0; q < 2; ++q)
       if (ss_(q, j) > 0.0) {
@@ -955,7 +962,7 @@ bool StateIpm::step(const StateIpmProblem& p) noexcept {
   rollout(p, u_, X_);
   residuals(p);
   residuals_current_ = true;
-  return u_.allFinite() && zc_.allFinite() && zs_.allFinite() && zcn_.allFinite() && std::isfinite(sz_);
+  return all_finite(u_) && all_finite(zc_) && all_finite(zs_) && all_finite(zcn_) && std::isfinite(sz_);
 }
 
 void StateIpm::export_solution(const StateIpmProblem& p, Eigen::MatrixXd& Y,
