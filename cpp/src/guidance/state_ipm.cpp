@@ -645,24 +645,32 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
     col<NX>(gx_, k).noalias() = Eigen::Map<const MXX>((k < N_ ? p.prob->Q : p.prob->Qf).data(), nx, nx) * dxk;
   }
   for (int a = 0; a < ne_; ++a) col<NX>(gx_, N_) += nu_eq_(a) * col<NX>(*p.Crow, eqrow_(a));
+  // control entry v = (i, k): its four rows are contiguous (column v of the 4-row arrays) and its
+  // entries of the nu x N arrays are entry v: raw pointers (the (q, v) index arithmetic was ~1/4 of
+  // these loops)
   for (int v = 0; v < N_ * nu_; ++v) {
-    const int i = v % nu_, k = v / nu_;
+    const int i = v % nu_;
+    const double *sc = sc_.data() + 4 * v, *zc = zc_.data() + 4 * v, *rc = rc_.data() + 4 * v;
+    const double* cor = corc_.data() + 4 * v;
+    double* rh = rhsc_.data() + 4 * v;
     double vq[4];
     for (int q = 0; q < 4; ++q) {
-      if (!(sc_(q, v) > 0.0)) {
+      if (!(sc[q] > 0.0)) {
         vq[q] = 0.0;
-        rhsc_(q, v) = 0.0;
+        rh[q] = 0.0;
         continue;
       }
-      const double s = sc_(q, v), z = zc_(q, v);
-      const double ds = -s * z - (affine ? 0.0 : corc_(q, v)) + (affine ? 0.0 : sigma_mu);
-      rhsc_(q, v) = ds / s;  // W (lambda \ d_s)
-      vq[q] = z / s * rc_(q, v) + rhsc_(q, v);
+      const double s = sc[q], z = zc[q];
+      const double ds = -s * z - (affine ? 0.0 : cor[q]) + (affine ? 0.0 : sigma_mu);
+      rh[q] = ds / s;  // W (lambda \ d_s)
+      vq[q] = z / s * rc[q] + rh[q];
     }
-    const double zu = zc_(0, v) - zc_(1, v) - zc_(2, v) + zc_(3, v);
-    gu_(i, k) = (*p.rdiag)(i)*u_(i, k) + zu + (vq[0] - vq[1] - vq[2] + vq[3]);
-    gt_(i, k) = (*p.w)(i)-zc_(0, v) - zc_(1, v) + (-vq[0] - vq[1]);
-    rr_(i, k) = gu_(i, k) - hut_(i, k) * gt_(i, k) / htt_(i, k);
+    const double zu = zc[0] - zc[1] - zc[2] + zc[3];
+    const double gu = (*p.rdiag)(i)*u_.data()[v] + zu + (vq[0] - vq[1] - vq[2] + vq[3]);
+    const double gt = (*p.w)(i)-zc[0] - zc[1] + (-vq[0] - vq[1]);
+    gu_.data()[v] = gu;
+    gt_.data()[v] = gt;
+    rr_.data()[v] = gu - hut_.data()[v] * gt / htt_.data()[v];
   }
   for (int j = 0; j < m_; ++j) {
     const double e = (*p.escale)(j);
@@ -702,17 +710,21 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
   }
   refine<NX, NU>(p);
   // recover dt, ds, dz
-  for (int v = 0; v < N_ * nu_; ++v) {
-    const int i = v % nu_, k = v / nu_;
-    dt_(i, k) = -(gt_(i, k) + hut_(i, k) * du_(i, k)) / htt_(i, k);
-    const double Gdx[4] = {du_(i, k) - dt_(i, k), -du_(i, k) - dt_(i, k), -du_(i, k), du_(i, k)};
+  for (int v = 0; v < N_ * nu_; ++v) {  // raw pointers as above
+    const double *sc = sc_.data() + 4 * v, *zc = zc_.data() + 4 * v, *rc = rc_.data() + 4 * v;
+    const double* rh = rhsc_.data() + 4 * v;
+    double *ds = dsc_.data() + 4 * v, *dz = dzc_.data() + 4 * v;
+    const double du = du_.data()[v];
+    const double dt = -(gt_.data()[v] + hut_.data()[v] * du) / htt_.data()[v];
+    dt_.data()[v] = dt;
+    const double Gdx[4] = {du - dt, -du - dt, -du, du};
     for (int q = 0; q < 4; ++q) {
-      if (!(sc_(q, v) > 0.0)) {
-        dsc_(q, v) = dzc_(q, v) = 0.0;
+      if (!(sc[q] > 0.0)) {
+        ds[q] = dz[q] = 0.0;
         continue;
       }
-      dsc_(q, v) = -rc_(q, v) - Gdx[q];
-      dzc_(q, v) = zc_(q, v) / sc_(q, v) * (Gdx[q] + rc_(q, v)) + rhsc_(q, v);
+      ds[q] = -rc[q] - Gdx[q];
+      dz[q] = zc[q] / sc[q] * (Gdx[q] + rc[q]) + rh[q];
     }
   }
   for (int j = 0; j < m_; ++j) {
@@ -936,8 +948,8 @@ bool StateIpm::step(const StateIpmProblem& p) noexcept {
   const double aa = std::min(1.0, full_step());
   // predicted complementarity and Mehrotra's sigma
   double sz_a = 0.0;
-  for (int v = 0; v < N_ * nu_; ++v)
-    for (int q = 0; q < 4; ++q) sz_a += (sc_(q, v) + aa * dsc_(q, v)) * (zc_(q, v) + aa * dzc_(q, v));
+  for (Eigen::Index e = 0; e < sc_.size(); ++e)  // (q, v) in storage order, raw: no index arithmetic
+    sz_a += (sc_.data()[e] + aa * dsc_.data()[e]) * (zc_.data()[e] + aa * dzc_.data()[e]);
   for (int j = 0; j < m_; ++j) {
     for (int q = 0; q < 2; ++q) sz_a += (ss_(q, j) + aa * dss_(q, j)) * (zs_(q, j) + aa * dzs_(q, j));
     sz_a += (scn_(j) + aa * dscn_(j)) * (zcn_(j) + aa * dzcn_(j));
