@@ -143,7 +143,7 @@ void StateIpm::setup(int nx, int nu, int N, int m) {
   nu_eq_.setZero(m);
   req_.setZero(m);
   dnu_.setZero(m);
-  for (auto* M : {&sc_, &zc_, &rc_, &dsc_, &dzc_, &corc_, &rhsc_}) M->setZero(4, nv);
+  for (auto* M : {&sc_, &zc_, &rc_, &dsc_, &dzc_, &corc_, &rhsc_, &dqc_}) M->setZero(4, nv);
   for (auto* M : {&ss_, &zs_, &rs_, &dss_, &dzs_, &cors_, &rhss_}) M->setZero(2, m);
   for (auto* v : {&scn_, &zcn_, &rcn_, &dscn_, &dzcn_, &corcn_, &rhscn_, &lamcn_}) v->setZero(m);
   for (auto* M : {&Wcn_, &Wicn_, &W2cn_}) M->setZero(9, m);
@@ -413,7 +413,7 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
   for (int v = 0; v < N_ * nu_; ++v) {
     const int i = v % nu_, k = v / nu_;
     double dq[4];
-    for (int q = 0; q < 4; ++q) dq[q] = sc_(q, v) > 0.0 ? zc_(q, v) / sc_(q, v) : 0.0;
+    for (int q = 0; q < 4; ++q) dq[q] = dqc_(q, v) = sc_(q, v) > 0.0 ? zc_(q, v) / sc_(q, v) : 0.0;
     huu_(i, k) = (*p.rdiag)(i) + dq[0] + dq[1] + dq[2] + dq[3];
     hut_(i, k) = dq[1] - dq[0];
     htt_(i, k) = dq[0] + dq[1];
@@ -651,7 +651,7 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
   for (int v = 0; v < N_ * nu_; ++v) {
     const int i = v % nu_;
     const double *sc = sc_.data() + 4 * v, *zc = zc_.data() + 4 * v, *rc = rc_.data() + 4 * v;
-    const double* cor = corc_.data() + 4 * v;
+    const double *cor = corc_.data() + 4 * v, *dq = dqc_.data() + 4 * v;
     double* rh = rhsc_.data() + 4 * v;
     double vq[4];
     for (int q = 0; q < 4; ++q) {
@@ -662,8 +662,8 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
       }
       const double s = sc[q], z = zc[q];
       const double ds = -s * z - (affine ? 0.0 : cor[q]) + (affine ? 0.0 : sigma_mu);
-      rh[q] = ds / s;  // W (lambda \ d_s)
-      vq[q] = z / s * rc[q] + rh[q];
+      rh[q] = ds / s;                 // W (lambda \ d_s)
+      vq[q] = dq[q] * rc[q] + rh[q];  // dq = z / s: the division of factor(), bitwise
     }
     const double zu = zc[0] - zc[1] - zc[2] + zc[3];
     const double gu = (*p.rdiag)(i)*u_.data()[v] + zu + (vq[0] - vq[1] - vq[2] + vq[3]);
@@ -712,7 +712,7 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
   // recover dt, ds, dz
   for (int v = 0; v < N_ * nu_; ++v) {  // raw pointers as above
     const double *sc = sc_.data() + 4 * v, *zc = zc_.data() + 4 * v, *rc = rc_.data() + 4 * v;
-    const double* rh = rhsc_.data() + 4 * v;
+    const double *rh = rhsc_.data() + 4 * v, *dq = dqc_.data() + 4 * v;
     double *ds = dsc_.data() + 4 * v, *dz = dzc_.data() + 4 * v;
     const double du = du_.data()[v];
     const double dt = -(gt_.data()[v] + hut_.data()[v] * du) / htt_.data()[v];
@@ -724,7 +724,7 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
         continue;
       }
       ds[q] = -rc[q] - Gdx[q];
-      dz[q] = zc[q] / sc[q] * (Gdx[q] + rc[q]) + rh[q];
+      dz[q] = dq[q] * (Gdx[q] + rc[q]) + rh[q];
     }
   }
   for (int j = 0; j < m_; ++j) {
