@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -62,6 +63,64 @@ Eigen::Map<Eigen::Matrix<double, NX, 1>> col(Eigen::MatrixXd& M, int j) noexcept
   return {M.data() + static_cast<Eigen::Index>(j) * M.rows(), M.rows()};
 }
 
+// The CW pattern (x, y, z, vx, vy, vz; u = (ux, uy, uz)): the in-plane motion (x, y, vx, vy; ux, uy) and
+// the out-of-plane one (z, vz; uz) decouple, so A and B are zero across the two (20 of 36, 10 of 18
+// entries nonzero). cw_in_plane(n, i): entry i of a state (n = 6) or control (n = 3) vector is in-plane.
+constexpr bool cw_in_plane(int n, int i) noexcept { return n == 6 ? i != 2 && i != 5 : i != 2; }
+// bit l + K c: entry (l, c) of a K x C matrix of the pattern (A, B or their transposes) may be nonzero
+template <int K, int C>
+constexpr std::uint64_t cw_mask() noexcept {
+  std::uint64_t m = 0;
+  for (int c = 0; c < C; ++c)
+    for (int l = 0; l < K; ++l)
+      if (cw_in_plane(K, l) == cw_in_plane(C, c)) m |= std::uint64_t{1} << (l + K * c);
+  return m;
+}
+// true where M (K x C) is exactly zero off cw_mask<K, C>()
+template <int K, int C>
+bool has_cw_pattern(const double* M) noexcept {
+  for (int e = 0; e < K * C; ++e)
+    if (!((cw_mask<K, C>() >> e) & 1U) && M[e] != 0.0) return false;
+  return true;
+}
+
+// ipm::mm with the terms of Y's entries outside Mask (exactly zero) left out: each column's axpys
+// are those of ipm::mm in the same order minus additions of exact zeros, so the result is bitwise
+// ipm::mm's for finite X (the loops are unrolled so that the mask tests fold at compile time)
+template <int R, int K, int C, int Mode, std::uint64_t Mask>
+inline void mm_masked(const double* X, const double* Y, double* out) noexcept {
+  static_assert(Mode == 0 || Mode == 1);
+#pragma GCC unroll 8
+  for (int j = 0; j < C; ++j) {
+    double acc[R] = {};
+#pragma GCC unroll 8
+    for (int l = 0; l < K; ++l) {
+      if (!((Mask >> (l + K * j)) & 1U)) continue;
+      const double y = Y[l + K * j];
+      for (int i = 0; i < R; ++i) acc[i] += X[i + R * l] * y;
+    }
+    for (int i = 0; i < R; ++i) {
+      if constexpr (Mode == 0) out[i + R * j] = acc[i];
+      if constexpr (Mode == 1) out[i + R * j] += acc[i];
+    }
+  }
+}
+// ipm::mm<R, K, C, Mode> (Mode 0 or 1) for Y one of A, B, A', B' (K x C): masked on the CW pattern when cw
+template <int R, int K, int C, int Mode = 0>
+inline void mm_cw(bool cw, const double* X, const double* Y, double* out) noexcept {
+  if (cw)
+    mm_masked<R, K, C, Mode, cw_mask<K, C>()>(X, Y, out);
+  else
+    ipm::mm<R, K, C, Mode>(X, Y, out);
+}
+
+// every entry finite: 0 * x is NaN exactly where x is not, and the sum vectorizes (allFinite tests
+// entry by entry)
+template <class Derived>
+bool all_finite(const Eigen::DenseBase<Derived>& x) noexcept {
+  return (x.derived().array() * 0.0).sum() == 0.0;
+}
+
 bool is_eq(const StateIpmProblem& p, int j) noexcept { return (*p.lo)(j) == (*p.hi)(j); }
 bool has_upper(const StateIpmProblem& p, int j) noexcept {
   return (*p.cone_start)(j) == 0 && !is_eq(p, j) && std::isfinite((*p.hi)(j));
@@ -84,7 +143,7 @@ void StateIpm::setup(int nx, int nu, int N, int m) {
   nu_eq_.setZero(m);
   req_.setZero(m);
   dnu_.setZero(m);
-  for (auto* M : {&sc_, &zc_, &rc_, &dsc_, &dzc_, &corc_, &rhsc_}) M->setZero(4, nv);
+  for (auto* M : {&sc_, &zc_, &rc_, &dsc_, &dzc_, &corc_, &rhsc_, &dqc_}) M->setZero(4, nv);
   for (auto* M : {&ss_, &zs_, &rs_, &dss_, &dzs_, &cors_, &rhss_}) M->setZero(2, m);
   for (auto* v : {&scn_, &zcn_, &rcn_, &dscn_, &dzcn_, &corcn_, &rhscn_, &lamcn_}) v->setZero(m);
   for (auto* M : {&Wcn_, &Wicn_, &W2cn_}) M->setZero(9, m);
@@ -359,7 +418,7 @@ bool StateIpm::factor(const StateIpmProblem& p) noexcept {
   for (int v = 0; v < N_ * nu_; ++v) {
     const int i = v % nu_, k = v / nu_;
     double dq[4];
-    for (int q = 0; q < 4; ++q) dq[q] = sc_(q, v) > 0.0 ? zc_(q, v) / sc_(q, v) : 0.0;
+    for (int q = 0; q < 4; ++q) dq[q] = dqc_(q, v) = sc_(q, v) > 0.0 ? zc_(q, v) / sc_(q, v) : 0.0;
     huu_(i, k) = (*p.rdiag)(i) + dq[0] + dq[1] + dq[2] + dq[3];
     hut_(i, k) = dq[1] - dq[0];
     htt_(i, k) = dq[0] + dq[1];
@@ -386,17 +445,21 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
   double* S = Sf_.data();
   const double* Aprev = nullptr;
   const double* Bprev = nullptr;
+  bool cw = false;  // A and B of the CW pattern: their zero terms are skipped (bitwise the same products)
   for (int k = N_ - 1; k >= 0; --k) {
     const double* A = dyn.A_at(k).data();
     const double* B = dyn.B_at(k).data();
-    if (A != Aprev) ipm::transpose<6, 6>(A, At);
-    if (B != Bprev) ipm::transpose<6, 3>(B, Bt);
+    if (A != Aprev || B != Bprev) {
+      ipm::transpose<6, 6>(A, At);
+      ipm::transpose<6, 3>(B, Bt);
+      cw = has_cw_pattern<6, 6>(A) && has_cw_pattern<6, 3>(B);
+    }
     Aprev = A;
     Bprev = B;
     const double* Pn = P_.data() + (k + 1) * 36;
     double* Qi = Qi_.data() + k * 9;
     double* K = K_.data() + k * 18;
-    ipm::mm<6, 6, 3>(Pn, B, PB);
+    mm_cw<6, 6, 3>(cw, Pn, B, PB);
     // Qux' = A'PB (P symmetric): six-row products vectorize fully, three-row ones by halves
     ipm::mm<6, 6, 3>(At, PB, Quxt);
     ipm::transpose<6, 3>(Quxt, Qux);
@@ -409,14 +472,14 @@ bool StateIpm::riccati_63(const StateIpmProblem& p) noexcept {
     ipm::mm<3, 3, 6>(Qi, Qux, K);
     if (eq) {
       double* D = Dall_.data() + k * 18;
-      ipm::mm<6, 6, 3>(Tt, B, Gt);  // G' = T'B: the same sums as B'T, in the same order
+      mm_cw<6, 6, 3>(cw, Tt, B, Gt);  // G' = T'B: the same sums as B'T, in the same order
       ipm::transpose<6, 3>(Gt, G);
       ipm::mm<3, 3, 6>(Qi, G, D);
       ipm::mm<6, 3, 6, 1>(Gt, D, S);
     }
     if (k == 0) break;  // P_0 and T_0 are never used (x_0 is given)
     if (eq) {
-      ipm::mm<6, 6, 6>(Tt, A, Tt2);  // T_k' = T'A - G'K
+      mm_cw<6, 6, 6>(cw, Tt, A, Tt2);  // T_k' = T'A - G'K
       ipm::mm<6, 3, 6, -1>(Gt, K, Tt2);
       std::swap(Tt, Tt2);
     }
@@ -594,24 +657,32 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
     col<NX>(gx_, k).noalias() = Eigen::Map<const MXX>((k < N_ ? p.prob->Q : p.prob->Qf).data(), nx, nx) * dxk;
   }
   for (int a = 0; a < ne_; ++a) col<NX>(gx_, N_) += nu_eq_(a) * col<NX>(*p.Crow, eqrow_(a));
+  // control entry v = (i, k): its four rows are contiguous (column v of the 4-row arrays) and its
+  // entries of the nu x N arrays are entry v: raw pointers (the (q, v) index arithmetic was ~1/4 of
+  // these loops)
   for (int v = 0; v < N_ * nu_; ++v) {
-    const int i = v % nu_, k = v / nu_;
+    const int i = v % nu_;
+    const double *sc = sc_.data() + 4 * v, *zc = zc_.data() + 4 * v, *rc = rc_.data() + 4 * v;
+    const double *cor = corc_.data() + 4 * v, *dq = dqc_.data() + 4 * v;
+    double* rh = rhsc_.data() + 4 * v;
     double vq[4];
     for (int q = 0; q < 4; ++q) {
-      if (!(sc_(q, v) > 0.0)) {
+      if (!(sc[q] > 0.0)) {
         vq[q] = 0.0;
-        rhsc_(q, v) = 0.0;
+        rh[q] = 0.0;
         continue;
       }
-      const double s = sc_(q, v), z = zc_(q, v);
-      const double ds = -s * z - (affine ? 0.0 : corc_(q, v)) + (affine ? 0.0 : sigma_mu);
-      rhsc_(q, v) = ds / s;  // W (lambda \ d_s)
-      vq[q] = z / s * rc_(q, v) + rhsc_(q, v);
+      const double s = sc[q], z = zc[q];
+      const double ds = -s * z - (affine ? 0.0 : cor[q]) + (affine ? 0.0 : sigma_mu);
+      rh[q] = ds / s;                 // W (lambda \ d_s)
+      vq[q] = dq[q] * rc[q] + rh[q];  // dq = z / s: the division of factor(), bitwise
     }
-    const double zu = zc_(0, v) - zc_(1, v) - zc_(2, v) + zc_(3, v);
-    gu_(i, k) = (*p.rdiag)(i)*u_(i, k) + zu + (vq[0] - vq[1] - vq[2] + vq[3]);
-    gt_(i, k) = (*p.w)(i)-zc_(0, v) - zc_(1, v) + (-vq[0] - vq[1]);
-    rr_(i, k) = gu_(i, k) - hut_(i, k) * gt_(i, k) / htt_(i, k);
+    const double zu = zc[0] - zc[1] - zc[2] + zc[3];
+    const double gu = (*p.rdiag)(i)*u_.data()[v] + zu + (vq[0] - vq[1] - vq[2] + vq[3]);
+    const double gt = (*p.w)(i)-zc[0] - zc[1] + (-vq[0] - vq[1]);
+    gu_.data()[v] = gu;
+    gt_.data()[v] = gt;
+    rr_.data()[v] = gu - hut_.data()[v] * gt / htt_.data()[v];
   }
   for (int j = 0; j < m_; ++j) {
     const double e = (*p.escale)(j);
@@ -654,17 +725,21 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
   ofs_.setZero();
   if (!affine) debias<NX, NU>(p);
   // recover dt, ds, dz
-  for (int v = 0; v < N_ * nu_; ++v) {
-    const int i = v % nu_, k = v / nu_;
-    dt_(i, k) = -(gt_(i, k) + hut_(i, k) * du_(i, k)) / htt_(i, k);
-    const double Gdx[4] = {du_(i, k) - dt_(i, k), -du_(i, k) - dt_(i, k), -du_(i, k), du_(i, k)};
+  for (int v = 0; v < N_ * nu_; ++v) {  // raw pointers as above
+    const double *sc = sc_.data() + 4 * v, *zc = zc_.data() + 4 * v, *rc = rc_.data() + 4 * v;
+    const double *rh = rhsc_.data() + 4 * v, *dq = dqc_.data() + 4 * v;
+    double *ds = dsc_.data() + 4 * v, *dz = dzc_.data() + 4 * v;
+    const double du = du_.data()[v];
+    const double dt = -(gt_.data()[v] + hut_.data()[v] * du) / htt_.data()[v];
+    dt_.data()[v] = dt;
+    const double Gdx[4] = {du - dt, -du - dt, -du, du};
     for (int q = 0; q < 4; ++q) {
-      if (!(sc_(q, v) > 0.0)) {
-        dsc_(q, v) = dzc_(q, v) = 0.0;
+      if (!(sc[q] > 0.0)) {
+        ds[q] = dz[q] = 0.0;
         continue;
       }
-      dsc_(q, v) = -rc_(q, v) - Gdx[q];
-      dzc_(q, v) = zc_(q, v) / sc_(q, v) * (Gdx[q] + rc_(q, v)) + rhsc_(q, v);
+      ds[q] = -rc[q] - Gdx[q];
+      dz[q] = dq[q] * (Gdx[q] + rc[q]) + rh[q];
     }
   }
   for (int j = 0; j < m_; ++j) {
@@ -911,15 +986,22 @@ void StateIpm::debias(const StateIpmProblem& p) noexcept {
 
 double StateIpm::max_step() const noexcept {
   double a = kInf;
+  // -x / dx (dx < 0) divided only where it can be below a: x > a |dx| (1 + 4 eps), with a |dx| a normal
+  // number, gives x / |dx| > a exactly, and its rounded quotient >= a: the same minimum as dividing
+  // everywhere, at a fraction of the divisions (latency-bound)
+  constexpr double kScreen = 1.0 + 4.0 * std::numeric_limits<double>::epsilon();
   const auto ratio = [&a](double x, double dx) {
-    if (dx < 0.0) a = std::min(a, -x / dx);
+    if (!(dx < 0.0)) return;
+    const double b = a * -dx;
+    if (b >= std::numeric_limits<double>::min() && x > b * kScreen) return;
+    a = std::min(a, -x / dx);
   };
-  for (int v = 0; v < N_ * nu_; ++v)
-    for (int q = 0; q < 4; ++q)
-      if (sc_(q, v) > 0.0) {
-        ratio(sc_(q, v), dsc_(q, v));
-        ratio(zc_(q, v), dzc_(q, v));
-      }
+  // control rows absent (an infinite bound) have s = z = 0 and ds = dz = 0 (set so by every Newton
+  // solve): never a ratio, so one pass over the arrays without a presence test
+  for (Eigen::Index e = 0; e < sc_.size(); ++e) {
+    ratio(sc_.data()[e], dsc_.data()[e]);
+    ratio(zc_.data()[e], dzc_.data()[e]);
+  }
   for (int j = 0; j < m_; ++j)
     for (int q = 0; q < 2; ++q)
       if (ss_(q, j) > 0.0) {
@@ -950,8 +1032,8 @@ bool StateIpm::step(const StateIpmProblem& p) noexcept {
   const double aa = std::min(1.0, full_step());
   // predicted complementarity and Mehrotra's sigma
   double sz_a = 0.0;
-  for (int v = 0; v < N_ * nu_; ++v)
-    for (int q = 0; q < 4; ++q) sz_a += (sc_(q, v) + aa * dsc_(q, v)) * (zc_(q, v) + aa * dzc_(q, v));
+  for (Eigen::Index e = 0; e < sc_.size(); ++e)  // (q, v) in storage order, raw: no index arithmetic
+    sz_a += (sc_.data()[e] + aa * dsc_.data()[e]) * (zc_.data()[e] + aa * dzc_.data()[e]);
   for (int j = 0; j < m_; ++j) {
     for (int q = 0; q < 2; ++q) sz_a += (ss_(q, j) + aa * dss_(q, j)) * (zs_(q, j) + aa * dzs_(q, j));
     sz_a += (scn_(j) + aa * dscn_(j)) * (zcn_(j) + aa * dzcn_(j));
@@ -976,7 +1058,7 @@ bool StateIpm::step(const StateIpmProblem& p) noexcept {
   rollout(p, u_, X_);
   residuals(p);
   residuals_current_ = true;
-  return u_.allFinite() && zc_.allFinite() && zs_.allFinite() && zcn_.allFinite() && std::isfinite(sz_);
+  return all_finite(u_) && all_finite(zc_) && all_finite(zs_) && all_finite(zcn_) && std::isfinite(sz_);
 }
 
 void StateIpm::export_solution(const StateIpmProblem& p, Eigen::MatrixXd& Y,

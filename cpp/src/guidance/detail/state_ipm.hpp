@@ -88,6 +88,7 @@ class StateIpm {
   // control inequalities (4 per entry: t - u, t + u, u - lo, hi - u), state rows (upper, lower),
   // cone blocks (3 entries at the block's rows)
   Eigen::MatrixXd sc_, zc_, rc_, dsc_, dzc_, corc_, rhsc_;
+  Eigen::MatrixXd dqc_;  // z / s of each control row (0 where absent), from factor(): both Newton solves
   Eigen::MatrixXd ss_, zs_, rs_, dss_, dzs_, cors_, rhss_;
   Eigen::VectorXd scn_, zcn_, rcn_, dscn_, dzcn_, corcn_, rhscn_, lamcn_;
   Eigen::MatrixXd Wcn_, Wicn_, W2cn_;  // 9 x m: NT scaling of each cone block (column-major 3 x 3)
