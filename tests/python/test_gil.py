@@ -68,7 +68,9 @@ def _big_system(n=90, m=2, seed=1):
     ("staircase", lambda: an.controllability(*_big_system(160))),
     ("gramian", lambda: an.controllability_gramian(-np.eye(150) + 0.01 * _big_system(150)[0],
                                                   _big_system(150)[1], 1.0)),
-    ("propagate", lambda: satgnc.propagate([7000.0, 0, 0, 0, 7.5, 0], np.linspace(0, 86400.0 * 5, 50),
+    # 60 days (~90 ms): with 5 days (7.5 ms) a counter thread still waiting for a core on a loaded
+    # 2-core machine missed the whole call once (count 0, fresh clone at load 4)
+    ("propagate", lambda: satgnc.propagate([7000.0, 0, 0, 0, 7.5, 0], np.linspace(0, 86400.0 * 60, 50),
                                            forces=satgnc.J2Gravity(), rtol=1e-12, atol=1e-14)),
     ("propagate_ensemble", lambda: satgnc.propagation.propagate_ensemble(
         np.tile([7000.0, 0, 0, 0, 7.5, 0], (400, 1)), np.linspace(0, 86400.0, 10), satgnc.J2Gravity())),
