@@ -42,7 +42,18 @@ double AdmmWorkspace::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
   const bool stage_r = with_cost && rf_on_;
   const bool cw63 = nx_ == 6 && nu_ == 3;
   for (int k = N_ - 1; k >= 0; --k) {
-    if (cw63) {
+    if (ipm_cw_) {
+      // on the CW blocks (ipm_setup_cw): the fixed-size products below without their exact zeros,
+      // the kept terms in Eigen's order for a 6-long SSE2 dot (lanes {0,2,4}, {1,3,5}, each
+      // first + (second + third), then lane 0 + lane 1), so the sums are bitwise the same
+      const double* l = lam_.data();
+      double* h = Hg_.col(k).data();
+      for (int c = 0; c < 2; ++c) {
+        const double* b = cwB4_ + 4 * c;
+        h[c] = (b[0] * l[0] + b[3] * l[4]) + (b[1] * l[1] + b[2] * l[3]);
+      }
+      h[2] = cwB2_[0] * l[2] + cwB2_[1] * l[5];
+    } else if (cw63) {
       // fixed-size products (the dynamic ones were a library call each, 2 N per sweep)
       Hg_.col(k).noalias() = Eigen::Map<const Eigen::Matrix<double, 6, 3>>(d.B_at(k).data()).transpose() *
                              Eigen::Map<const Eigen::Matrix<double, 6, 1>>(lam_.data());
@@ -55,7 +66,15 @@ double AdmmWorkspace::lagrangian_gradient(const Eigen::Ref<const MatrixXd>& X,
       Hg_.col(k) += utmp_;
     }
     if (k == 0) break;
-    if (cw63) {
+    if (ipm_cw_) {
+      const double* l = lam_.data();
+      double* o = lam2_.data();
+      for (int a = 0; a < 4; ++a) {
+        const double* c = cwA4_ + 4 * a;
+        o[kCwIn[a]] = (c[0] * l[0] + c[3] * l[4]) + (c[1] * l[1] + c[2] * l[3]);
+      }
+      for (int a = 0; a < 2; ++a) o[kCwOut[a]] = cwA2_[2 * a] * l[2] + cwA2_[1 + 2 * a] * l[5];
+    } else if (cw63) {
       Eigen::Map<Eigen::Matrix<double, 6, 1>>(lam2_.data()).noalias() =
           Eigen::Map<const Eigen::Matrix<double, 6, 6>>(d.A_at(k).data()).transpose() *
           Eigen::Map<const Eigen::Matrix<double, 6, 1>>(lam_.data());

@@ -246,11 +246,8 @@ bool AdmmWorkspace::ipm_riccati_factor_63() noexcept {
 // In-plane / out-of-plane split of the (6, 3) case: the state indices {0, 1, 3, 4} with controls
 // {0, 1}, and {2, 5} with control 2. Taken when every coupling entry of A, B, Qf, Q and R is exactly
 // zero (the Clohessy-Wiltshire maps are, and the diagonal equilibration keeps them so); then P_k, Quu_k
-// and K_k stay block-diagonal, and ipm_riccati_factor_cw does the products on the blocks only.
-namespace {
-constexpr int kIn[4] = {0, 1, 3, 4}, kOut[2] = {2, 5};
-}  // namespace
-
+// and K_k stay block-diagonal, and ipm_riccati_factor_cw does the products on the blocks only
+// (kCwIn, kCwOut).
 void AdmmWorkspace::ipm_setup_cw() noexcept {
   ipm_cw_ = false;
   if (!(nx_ == 6 && nu_ == 3)) return;
@@ -273,21 +270,21 @@ void AdmmWorkspace::ipm_setup_cw() noexcept {
       if (prob_.R(c, 2) != 0.0 || prob_.R(2, c) != 0.0) return;
   for (int j = 0; j < 4; ++j) {
     for (int i = 0; i < 4; ++i) {
-      cwA4_[i + 4 * j] = A(kIn[i], kIn[j]);
-      cwA4t_[j + 4 * i] = A(kIn[i], kIn[j]);
+      cwA4_[i + 4 * j] = A(kCwIn[i], kCwIn[j]);
+      cwA4t_[j + 4 * i] = A(kCwIn[i], kCwIn[j]);
     }
     for (int c = 0; c < 2; ++c) {
-      cwB4_[j + 4 * c] = B(kIn[j], c);
-      cwB4t_[c + 2 * j] = B(kIn[j], c);
+      cwB4_[j + 4 * c] = B(kCwIn[j], c);
+      cwB4t_[c + 2 * j] = B(kCwIn[j], c);
     }
   }
   for (int j = 0; j < 2; ++j) {
     for (int i = 0; i < 2; ++i) {
-      cwA2_[i + 2 * j] = A(kOut[i], kOut[j]);
-      cwA2t_[j + 2 * i] = A(kOut[i], kOut[j]);
+      cwA2_[i + 2 * j] = A(kCwOut[i], kCwOut[j]);
+      cwA2t_[j + 2 * i] = A(kCwOut[i], kCwOut[j]);
     }
-    cwB2_[j] = B(kOut[j], 2);
-    cwB2t_[j] = B(kOut[j], 2);
+    cwB2_[j] = B(kCwOut[j], 2);
+    cwB2t_[j] = B(kCwOut[j], 2);
   }
   ipm_cw_ = true;
 }
@@ -303,9 +300,9 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
   double L4[16] = {1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0};
   double L2[4] = {1.0, 0.0, 0.0, 1.0}, Z4[16] = {}, Z2[4] = {};
   for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) P4[i + 4 * j] = prob_.Qf(kIn[i], kIn[j]);
+    for (int i = 0; i < 4; ++i) P4[i + 4 * j] = prob_.Qf(kCwIn[i], kCwIn[j]);
   for (int j = 0; j < 2; ++j)
-    for (int i = 0; i < 2; ++i) P2[i + 2 * j] = prob_.Qf(kOut[i], kOut[j]);
+    for (int i = 0; i < 2; ++i) P2[i + 2 * j] = prob_.Qf(kCwOut[i], kCwOut[j]);
   // A' for ipm_riccati_sweep_63 (LTI: read from iAcl_ there)
   const double* A = prob_.dynamics.A[0].data();
   double* At = iAcl_.data();
@@ -338,12 +335,12 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
     for (int j = 0; j < 2; ++j) K2[j] = -(Qi2 * Qux2[j]);
     for (int j = 0; j < 4; ++j)
       for (int c = 0; c < 2; ++c) {
-        Qux[c + 3 * kIn[j]] = Qux4[c + 2 * j];
-        K[c + 3 * kIn[j]] = K4[c + 2 * j];
+        Qux[c + 3 * kCwIn[j]] = Qux4[c + 2 * j];
+        K[c + 3 * kCwIn[j]] = K4[c + 2 * j];
       }
     for (int j = 0; j < 2; ++j) {
-      Qux[2 + 3 * kOut[j]] = Qux2[j];
-      K[2 + 3 * kOut[j]] = K2[j];
+      Qux[2 + 3 * kCwOut[j]] = Qux2[j];
+      K[2 + 3 * kCwOut[j]] = K2[j];
     }
     if (term) {  // terminal_stage on each block
       double Knu4[8], Knu2[2], Ln4[16], Ln2[4];
@@ -351,8 +348,8 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
       terminal_stage<2, 1>(cwA2t_, cwB2t_, &Qi2, K2, L2, Z2, Ln2, Knu2);
       double* Knu = iKnu_.data() + k * 18;
       for (int j = 0; j < 4; ++j)
-        for (int c = 0; c < 2; ++c) Knu[c + 3 * kIn[j]] = Knu4[c + 2 * j];
-      for (int j = 0; j < 2; ++j) Knu[2 + 3 * kOut[j]] = Knu2[j];
+        for (int c = 0; c < 2; ++c) Knu[c + 3 * kCwIn[j]] = Knu4[c + 2 * j];
+      for (int j = 0; j < 2; ++j) Knu[2 + 3 * kCwOut[j]] = Knu2[j];
     }
     if (k == 0) break;
     // P_k = A'PA + Qux'K (+ Q), symmetrized, per block
@@ -367,9 +364,9 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
     for (int j = 0; j < 4; ++j) APA2[j] += QK2[j];
     if (has_q) {
       for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) APA4[i + 4 * j] += prob_.Q(kIn[i], kIn[j]);
+        for (int i = 0; i < 4; ++i) APA4[i + 4 * j] += prob_.Q(kCwIn[i], kCwIn[j]);
       for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) APA2[i + 2 * j] += prob_.Q(kOut[i], kOut[j]);
+        for (int i = 0; i < 2; ++i) APA2[i + 2 * j] += prob_.Q(kCwOut[i], kCwOut[j]);
     }
     for (int j = 0; j < 4; ++j)
       for (int i = 0; i < 4; ++i) P4[i + 4 * j] = 0.5 * (APA4[i + 4 * j] + APA4[j + 4 * i]);
@@ -383,9 +380,9 @@ bool AdmmWorkspace::ipm_riccati_factor_cw() noexcept {
   if (term) {  // S = dx_N / dnu = W_0 (ipm_riccati_factor_63), its off-block entries zero
     iS_.setZero();
     for (int j = 0; j < 4; ++j)
-      for (int i = 0; i < 4; ++i) iS_(kIn[i], kIn[j]) = Z4[i + 4 * j];
+      for (int i = 0; i < 4; ++i) iS_(kCwIn[i], kCwIn[j]) = Z4[i + 4 * j];
     for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i) iS_(kOut[i], kOut[j]) = Z2[i + 2 * j];
+      for (int i = 0; i < 2; ++i) iS_(kCwOut[i], kCwOut[j]) = Z2[i + 2 * j];
   }
   return true;
 }
@@ -497,12 +494,12 @@ void AdmmWorkspace::ipm_riccati_sweep_cw() noexcept {
   double p4[4], p2[2];
   for (int a = 0; a < 4; ++a) {
     double acc = 0.0;
-    for (int b = 0; b < 4; ++b) acc += Qf[kIn[a] + 6 * kIn[b]] * e[kIn[b]];
+    for (int b = 0; b < 4; ++b) acc += Qf[kCwIn[a] + 6 * kCwIn[b]] * e[kCwIn[b]];
     p4[a] = acc;
   }
   for (int a = 0; a < 2; ++a) {
     double acc = 0.0;
-    for (int b = 0; b < 2; ++b) acc += Qf[kOut[a] + 6 * kOut[b]] * e[kOut[b]];
+    for (int b = 0; b < 2; ++b) acc += Qf[kCwOut[a] + 6 * kCwOut[b]] * e[kCwOut[b]];
     p2[a] = acc;
   }
   const double* R = has_r ? prob_.R.data() : nullptr;
@@ -534,22 +531,22 @@ void AdmmWorkspace::ipm_riccati_sweep_cw() noexcept {
     for (int a = 0; a < 4; ++a) {
       double acc = 0.0;
       for (int b = 0; b < 4; ++b) acc += cwA4_[b + 4 * a] * p4[b];
-      const int i = kIn[a];
+      const int i = kCwIn[a];
       acc += Qux[3 * i] * kff[0] + Qux[1 + 3 * i] * kff[1];
       if (has_q) {
         double qa = 0.0;
-        for (int b = 0; b < 4; ++b) qa += Q[i + 6 * kIn[b]] * (iX_(kIn[b], k) - prob_.xf(kIn[b]));
+        for (int b = 0; b < 4; ++b) qa += Q[i + 6 * kCwIn[b]] * (iX_(kCwIn[b], k) - prob_.xf(kCwIn[b]));
         acc += qa;
       }
       pn4[a] = acc;
     }
     for (int a = 0; a < 2; ++a) {
-      const int i = kOut[a];
+      const int i = kCwOut[a];
       double acc = cwA2_[2 * a] * p2[0] + cwA2_[1 + 2 * a] * p2[1];
       acc += Qux[2 + 3 * i] * kff[2];
       if (has_q) {
         double qa = 0.0;
-        for (int b = 0; b < 2; ++b) qa += Q[i + 6 * kOut[b]] * (iX_(kOut[b], k) - prob_.xf(kOut[b]));
+        for (int b = 0; b < 2; ++b) qa += Q[i + 6 * kCwOut[b]] * (iX_(kCwOut[b], k) - prob_.xf(kCwOut[b]));
         acc += qa;
       }
       pn2[a] = acc;
@@ -573,19 +570,19 @@ void AdmmWorkspace::ipm_forward_cw() noexcept {
       double* du = idu_.data() + k * 3;
       double u0 = kff[0], u1 = kff[1], u2 = kff[2];
       for (int b = 0; b < 4; ++b) {
-        u0 += K[3 * kIn[b]] * x4[b];
-        u1 += K[1 + 3 * kIn[b]] * x4[b];
+        u0 += K[3 * kCwIn[b]] * x4[b];
+        u1 += K[1 + 3 * kCwIn[b]] * x4[b];
       }
-      u2 += K[2 + 3 * kOut[0]] * x2[0];
-      u2 += K[2 + 3 * kOut[1]] * x2[1];
+      u2 += K[2 + 3 * kCwOut[0]] * x2[0];
+      u2 += K[2 + 3 * kCwOut[1]] * x2[1];
       if (pass == 1) {
         const double* Knu = iKnu_.data() + k * 18;
         for (int b = 0; b < 4; ++b) {
-          u0 += Knu[3 * kIn[b]] * nun[kIn[b]];
-          u1 += Knu[1 + 3 * kIn[b]] * nun[kIn[b]];
+          u0 += Knu[3 * kCwIn[b]] * nun[kCwIn[b]];
+          u1 += Knu[1 + 3 * kCwIn[b]] * nun[kCwIn[b]];
         }
-        u2 += Knu[2 + 3 * kOut[0]] * nun[kOut[0]];
-        u2 += Knu[2 + 3 * kOut[1]] * nun[kOut[1]];
+        u2 += Knu[2 + 3 * kCwOut[0]] * nun[kCwOut[0]];
+        u2 += Knu[2 + 3 * kCwOut[1]] * nun[kCwOut[1]];
       }
       du[0] = u0;
       du[1] = u1;
@@ -601,8 +598,8 @@ void AdmmWorkspace::ipm_forward_cw() noexcept {
         for (int a = 0; a < 2; ++a) y2[a] += cwA2_[a + 2 * b] * x2[b];
       for (int a = 0; a < 2; ++a) y2[a] += cwB2_[a] * u2;
       double* xn = X + 6 * (k + 1);
-      for (int a = 0; a < 4; ++a) xn[kIn[a]] = x4[a] = y4[a];
-      for (int a = 0; a < 2; ++a) xn[kOut[a]] = x2[a] = y2[a];
+      for (int a = 0; a < 4; ++a) xn[kCwIn[a]] = x4[a] = y4[a];
+      for (int a = 0; a < 2; ++a) xn[kCwOut[a]] = x2[a] = y2[a];
     }
     if (term && pass == 0) {
       idx_ = -ie_ - idX_.col(N_);

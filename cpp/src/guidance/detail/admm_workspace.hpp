@@ -23,6 +23,10 @@
 
 namespace satgnc::guidance::detail {
 
+/// State indices of the Clohessy-Wiltshire in-plane (x, y, vx, vy) and out-of-plane (z, vz) blocks of
+/// a (6, 3) problem (AdmmWorkspace::ipm_cw_); the controls are {0, 1} and {2}.
+inline constexpr int kCwIn[4] = {0, 1, 3, 4}, kCwOut[2] = {2, 5};
+
 /// The problem as given, the solver's equilibrated copy, the settings, sizes and the Riccati kernel.
 struct AdmmProblemData {
   AdmmProblemData(const LtvProblem& problem, const AdmmSettings& settings) : prob_(problem), set_(settings) {}
