@@ -726,7 +726,7 @@ void StateIpm::solve_newton_t(const StateIpmProblem& p, bool affine, double sigm
   if (!affine) debias<NX, NU>(p);
   // recover dt, ds, dz
   for (int v = 0; v < N_ * nu_; ++v) {  // raw pointers as above
-    const double *sc = sc_.data() + 4 * v, *zc = zc_.data() + 4 * v, *rc = rc_.data() + 4 * v;
+    const double *sc = sc_.data() + 4 * v, *rc = rc_.data() + 4 * v;
     const double *rh = rhsc_.data() + 4 * v, *dq = dqc_.data() + 4 * v;
     double *ds = dsc_.data() + 4 * v, *dz = dzc_.data() + 4 * v;
     const double du = du_.data()[v];
