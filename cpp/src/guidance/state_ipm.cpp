@@ -282,7 +282,13 @@ void StateIpm::init(const StateIpmProblem& p) noexcept {
       const double s1 = e * p.Crow->col(j + 1).dot(X_.col((*p.node)(j)));
       const double s2 = e * p.Crow->col(j + 2).dot(X_.col((*p.node)(j)));
       const double r = std::hypot(s1, s2);
-      if (s0 - r < 1.0) s0 = r + 1.0;
+      // at least 0.3 r inside the cone (and 1): started at distance 1 from the boundary with r ~ 1e4
+      // (equilibrated units) the NT scaling is ill-conditioned and the first ~5 steps are 4e-4..0.1 of
+      // the direction (N = 100 cone, x_N = 0). Seeded suites, IPM alone: docs/guidance_safety.md
+      // "Session 11 (a16)"
+      constexpr double kConeDepth = 0.3;
+      const double depth = std::max(1.0, kConeDepth * r);
+      if (s0 - r < depth) s0 = r + depth;
       scn_(j) = s0;
       scn_(j + 1) = s1;
       scn_(j + 2) = s2;
@@ -1051,7 +1057,12 @@ bool StateIpm::step(const StateIpmProblem& p) noexcept {
     j += 2;
   }
   solve_newton(p, false, sig * mu);
-  const double a = std::min(1.0, 0.99 * full_step());
+  // the adaptive fraction to the boundary (up to 1 - 1e-6 as sigma -> 0) without interval rows only:
+  // their dual regularization leaves each direction inexact (debias() contracts the bias, it does not
+  // remove it), and stepping that close to the boundary stalled the gap test at 4e-8 on the seeded
+  // mixed / coupled problems (one lost in each); there the fixed 0.99
+  const double tau = has_interval_rows_ ? 0.99 : ipm::fraction_to_boundary(sig);
+  const double a = std::min(1.0, tau * full_step());
   if (!(a > 0.0)) return false;
   ipm::take_step(a, u_, du_, t_, dt_, sc_, dsc_, zc_, dzc_, ss_, dss_, zs_, dzs_, scn_, dscn_, zcn_, dzcn_);
   nu_eq_.head(ne_) += a * dnu_.head(ne_);

@@ -18,6 +18,14 @@ inline double mehrotra_sigma(double aff, double cur) noexcept {
   return std::pow(std::clamp(aff / std::max(cur, 1e-300), 0.0, 1.0), 3.0);
 }
 
+/// Fraction of the step to the boundary taken, from Mehrotra's sigma: 1 - clamp(sigma / 10, 1e-6, 1e-2).
+/// 0.99 while the corrector centres; up to 1 - 1e-6 once the affine step predicts the end (sigma -> 0),
+/// where a fixed 0.99 cuts every residual by exactly 100 per step and the stopping test waits a step or
+/// two more (docs/guidance.md, session 10 (q11b); docs/guidance_safety.md, session 11 (a16)).
+inline double fraction_to_boundary(double sigma) noexcept {
+  return 1.0 - std::clamp(0.1 * sigma, 1e-6, 1e-2);
+}
+
 /// Cholesky factorization of a stage Hessian H (in place in `llt`). Near the end of an interior-point
 /// run the barrier terms span many decades and H may lose definiteness to rounding: on failure the
 /// diagonal is shifted by shift x (max |H_ii| + floor), shift = shift0, 100 shift0, ... while shift <=
