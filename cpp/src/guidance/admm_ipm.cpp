@@ -1176,11 +1176,8 @@ bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
         m;
     const double sigma = ipm::mehrotra_sigma(mu_aff, mu);
     if (!ipm_newton(true, sigma * mu)) return false;
-    // fraction to the boundary 1 - clamp(sigma / 10, 1e-6, 1e-2): 0.99 while the corrector centres,
-    // up to 1 - 1e-6 once the affine step predicts the end (sigma -> 0). With 0.99 throughout the
-    // last steps cut every residual by exactly 100; the gap test then waited a step or two more
-    // (suite: 5324 -> 4832 IPM iterations, docs/guidance.md)
-    const double tau = 1.0 - std::clamp(0.1 * sigma, 1e-6, 1e-2);
+    // adaptive fraction to the boundary (suite: 5324 -> 4832 IPM iterations, docs/guidance.md)
+    const double tau = ipm::fraction_to_boundary(sigma);
     const double a = std::min(1.0, tau * ipm_max_step());
     if (!(a > 1e-12)) return false;
     if (has_box_) {
