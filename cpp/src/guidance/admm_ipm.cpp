@@ -776,9 +776,9 @@ void newton_l1_post(Index n, const double* __restrict m1, const double* __restri
     ds2[j] = s2 + rp2[j];
   }
 }
-// u, t and the L1 pair's slacks and multipliers stepped by a in one pass (take_step and the masks of
-// absent pairs, s = 1: the same operations in the same order)
-void step_l1(Index n, double a, const double* __restrict m1, const double* __restrict du,
+// u, t and the L1 pair's slacks stepped by a, its multipliers by ad, in one pass (take_step and the
+// masks of absent pairs, s = 1: the same operations in the same order)
+void step_l1(Index n, double a, double ad, const double* __restrict m1, const double* __restrict du,
              const double* __restrict dt, const double* __restrict ds1, const double* __restrict ds2,
              const double* __restrict dz1, const double* __restrict dz2, double* __restrict u,
              double* __restrict t, double* __restrict s1, double* __restrict s2, double* __restrict z1,
@@ -789,8 +789,8 @@ void step_l1(Index n, double a, const double* __restrict m1, const double* __res
     const double v1 = s1[j] + a * ds1[j], v2 = s2[j] + a * ds2[j];
     s1[j] = m1[j] * v1 + (1.0 - m1[j]);
     s2[j] = m1[j] * v2 + (1.0 - m1[j]);
-    z1[j] += a * dz1[j];
-    z2[j] += a * dz2[j];
+    z1[j] += ad * dz1[j];
+    z2[j] += ad * dz2[j];
   }
 }
 }  // namespace
@@ -854,12 +854,12 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   return true;
 }
 
-double AdmmWorkspace::ipm_max_step() const noexcept {
+auto AdmmWorkspace::ipm_max_step() const noexcept -> IpmMaxStep {
   // the largest a with v + a dv >= 0: 1 / max(-dv / v) over all entries (the entries with dv >= 0
   // give <= 0), by the reciprocals of ipm_factor (1 / s, and 1 / z, 0 where the constraint is
   // absent) instead of a division per entry and call (8 of them per entry and step were 5-8 % of the
-  // solve's samples); the steps taken are 0.99 of it
-  double m = 0.0;
+  // solve's samples); the slacks' and the multipliers' apart (ipm_predictor_corrector)
+  double ms = 0.0, mz = 0.0;
   {  // the L1 pair in one pass (a maximum: the order of the entries does not matter)
     const Index n = is1_.size();
     const double *__restrict si1 = isi1_.data(), *__restrict si2 = isi2_.data(), *__restrict zi1 = izi1_.data(),
@@ -871,16 +871,19 @@ double AdmmWorkspace::ipm_max_step() const noexcept {
       m1 = std::max({m1, -ds1[j] * si1[j], -ds2[j] * si2[j]});
       m2 = std::max({m2, -dz1[j] * zi1[j], -dz2[j] * zi2[j]});
     }
-    m = std::max(m1, m2);
+    ms = m1;
+    mz = m2;
   }
-  const auto lim = [&](const ArrayXd& inv, const ArrayXd& dv) { m = std::max(m, (-dv * inv).maxCoeff()); };
+  const auto lim = [](double& m, const ArrayXd& inv, const ArrayXd& dv) {
+    m = std::max(m, (-dv * inv).maxCoeff());
+  };
   if (has_box_) {  // without a box the box steps are exactly 0
-    lim(isi3_, ids3_);
-    lim(isi4_, ids4_);
-    lim(izi3_, idz3_);
-    lim(izi4_, idz4_);
+    lim(ms, isi3_, ids3_);
+    lim(ms, isi4_, ids4_);
+    lim(mz, izi3_, idz3_);
+    lim(mz, izi4_, idz4_);
   }
-  return m > 0.0 ? 1.0 / m : kInf;
+  return {ms > 0.0 ? 1.0 / ms : kInf, mz > 0.0 ? 1.0 / mz : kInf};
 }
 
 // The independent acceptance test (the same as ADMM's): |relative duality gap| of the plan <= eps_gap
@@ -1159,7 +1162,20 @@ bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
     if (!ipm_factor() || !ipm_newton(false, 0.0)) return false;
     // predictor: affine step length and the centering parameter sigma = (mu_aff / mu)^3
     const double mu = sz / m;
-    const double aa = std::min(1.0, ipm_max_step());
+    // Primal (u, t, s, e) and dual (z, nu) steps of their own lengths, as in LP interior-point codes:
+    // the slacks' limit no longer cuts the multipliers' step and the other way round. Stationarity
+    // then falls by (1 - a_dual) plus (a_primal - a_dual) H du, H the quadratic part of the cost: with
+    // a stage Q that term is large and the fragile stage-Q problems lose their certificate (suite
+    // #337), so with a stage Q both take the smaller length (the single step as before). Suite (400
+    // problems): 4576 -> 4158 IPM iterations over the certified ones, median 10 -> 9 (docs/guidance.md,
+    // session 12 (b12)).
+    const bool split = prob_.Q.size() == 0;
+    const auto common = [split](IpmMaxStep st) {
+      if (!split) st.primal = st.dual = std::min(st.primal, st.dual);
+      return st;
+    };
+    const IpmMaxStep aff = common(ipm_max_step());
+    const double ap_aff = std::min(1.0, aff.primal), ad_aff = std::min(1.0, aff.dual);
     // the affine step moves to ia / ib (swapped, no copy: ipm_newton overwrites ids / idz whole)
     ia1_.swap(ids1_);
     ia2_.swap(ids2_);
@@ -1169,30 +1185,32 @@ bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
     ib2_.swap(idz2_);
     ib3_.swap(idz3_);
     ib4_.swap(idz4_);
-    const double mu_aff =
-        (im1_ * ((is1_ + aa * ia1_) * (iz1_ + aa * ib1_) + (is2_ + aa * ia2_) * (iz2_ + aa * ib2_)) +
-         im3_ * (is3_ + aa * ia3_) * (iz3_ + aa * ib3_) + im4_ * (is4_ + aa * ia4_) * (iz4_ + aa * ib4_))
-            .sum() /
-        m;
+    const double mu_aff = (im1_ * ((is1_ + ap_aff * ia1_) * (iz1_ + ad_aff * ib1_) +
+                                   (is2_ + ap_aff * ia2_) * (iz2_ + ad_aff * ib2_)) +
+                           im3_ * (is3_ + ap_aff * ia3_) * (iz3_ + ad_aff * ib3_) +
+                           im4_ * (is4_ + ap_aff * ia4_) * (iz4_ + ad_aff * ib4_))
+                              .sum() /
+                          m;
     const double sigma = ipm::mehrotra_sigma(mu_aff, mu);
     if (!ipm_newton(true, sigma * mu)) return false;
     // adaptive fraction to the boundary (suite: 5324 -> 4832 IPM iterations, docs/guidance.md)
     const double tau = ipm::fraction_to_boundary(sigma);
-    const double a = std::min(1.0, tau * ipm_max_step());
-    if (!(a > 1e-12)) return false;
+    const IpmMaxStep st = common(ipm_max_step());
+    const double a = std::min(1.0, tau * st.primal), ad = std::min(1.0, tau * st.dual);
+    if (!(std::min(a, ad) > 1e-12)) return false;
     if (has_box_) {
-      ipm::take_step(a, u, idu_, itv_, idt_, is1_, ids1_, is2_, ids2_, is3_, ids3_, is4_, ids4_, iz1_, idz1_,
-                     iz2_, idz2_, iz3_, idz3_, iz4_, idz4_);
+      ipm::take_step(a, u, idu_, itv_, idt_, is1_, ids1_, is2_, ids2_, is3_, ids3_, is4_, ids4_);
+      ipm::take_step(ad, iz1_, idz1_, iz2_, idz2_, iz3_, idz3_, iz4_, idz4_);
       // absent constraints keep s = 1, z = 0
       is1_ = im1_ * is1_ + (1.0 - im1_);
       is2_ = im1_ * is2_ + (1.0 - im1_);
       is3_ = im3_ * is3_ + (1.0 - im3_);
       is4_ = im4_ * is4_ + (1.0 - im4_);
     } else {  // the box's s = 1, z = 0 and steps 0 stay exactly so: the L1 part in one pass
-      step_l1(n, a, im1_.data(), idu_.data(), idt_.data(), ids1_.data(), ids2_.data(), idz1_.data(),
+      step_l1(n, a, ad, im1_.data(), idu_.data(), idt_.data(), ids1_.data(), ids2_.data(), idz1_.data(),
               idz2_.data(), u.data(), itv_.data(), is1_.data(), is2_.data(), iz1_.data(), iz2_.data());
     }
-    if (term) inu_ += a * (inun_ - inu_);
+    if (term) inu_ += ad * (inun_ - inu_);
     ie_ += a * (iep_ - ie_);
   }
   return true;

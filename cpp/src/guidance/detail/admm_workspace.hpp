@@ -374,7 +374,11 @@ struct AdmmWorkspace : AdmmProblemData,
   template <int NU>
   auto llt_ref() noexcept -> std::conditional_t<NU == Eigen::Dynamic, Eigen::LLT<Eigen::MatrixXd>&,
                                                 Eigen::LLT<Eigen::Matrix<double, NU, NU>>>;
-  double ipm_max_step() const noexcept;
+  /// The largest steps to the boundary: of the slacks (primal) and of the multipliers (dual).
+  struct IpmMaxStep {
+    double primal = 0.0, dual = 0.0;
+  };
+  IpmMaxStep ipm_max_step() const noexcept;
   bool ipm_newton(bool corrector, double sigma_mu) noexcept;
   bool ipm_certify() noexcept;
   void ipm_start_warm() noexcept;
