@@ -8,6 +8,7 @@
 // only through the solver's own gap test (admm_gap.cpp).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -29,11 +30,11 @@ void AdmmWorkspace::ipm_setup() {
   ipm_ok_ = flat_ok_;  // L1 + box (no group-L2 or ball: second-order cones stay ADMM-only)
   if (!ipm_ok_) return;
   const Index n = static_cast<Index>(N_) * nu_;
-  for (ArrayXd* a :
-       {&is1_,  &is2_,  &is3_,  &is4_,  &iz1_,  &iz2_,  &iz3_,  &iz4_,  &id_,   &ilin_, &irt_,  &idu_,
-        &idt_,  &ids1_, &ids2_, &ids3_, &ids4_, &idz1_, &idz2_, &idz3_, &idz4_, &ia1_,  &ia2_,  &ia3_,
-        &ia4_,  &ib1_,  &ib2_,  &ib3_,  &ib4_,  &itv_,  &irp1_, &irp2_, &irp3_, &irp4_, &isi1_, &isi2_,
-        &isi3_, &isi4_, &izs1_, &izs2_, &izs3_, &izs4_, &ihut_, &ihtt_, &izi1_, &izi2_, &izi3_, &izi4_})
+  for (ArrayXd* a : {&is1_,  &is2_,  &is3_,  &is4_,  &iz1_,  &iz2_,  &iz3_,  &iz4_,  &id_,   &ilin_,
+                     &irt_,  &idu_,  &idt_,  &ids1_, &ids2_, &ids3_, &ids4_, &idz1_, &idz2_, &idz3_,
+                     &idz4_, &ia1_,  &ia2_,  &ia3_,  &ia4_,  &ib1_,  &ib2_,  &ib3_,  &ib4_,  &itv_,
+                     &irp1_, &irp2_, &irp3_, &irp4_, &isi1_, &isi2_, &isi3_, &isi4_, &izs1_, &izs2_,
+                     &izs3_, &izs4_, &ihut_, &ihtt_, &izi1_, &izi2_, &izi3_, &izi4_, &iszv_, &ipwv_})
     a->setZero(n);
   im1_ = (wrep_ > 0.0).cast<double>();
   im3_ = (lorep_ > -kInf).cast<double>();
@@ -692,32 +693,35 @@ bool AdmmWorkspace::ipm_factor() noexcept {
   // the ratios are computed once here (the divisions were a tenth of the IPM's time)
   // Without a box its arrays stay exactly zero (s3 = s4 = 1, z3 = z4 = 0, masks 0: every box term of
   // the step is a zero), so they are neither formed here nor in ipm_newton and ipm_residuals.
-  isi1_ = 1.0 / is1_;
-  isi2_ = 1.0 / is2_;
-  izs1_ = iz1_ * isi1_;
-  izs2_ = iz2_ * isi2_;
-  // 1 / z for ipm_max_step (0 where the constraint is absent: z = 0 there)
-  izi1_ = im1_ / (iz1_ + (1.0 - im1_));
-  izi2_ = im1_ / (iz2_ + (1.0 - im1_));
-  if (has_box_) {
-    isi3_ = 1.0 / is3_;
-    isi4_ = 1.0 / is4_;
-    izs3_ = iz3_ * isi3_;
-    izs4_ = iz4_ * isi4_;
-    izi3_ = im3_ / (iz3_ + (1.0 - im3_));
-    izi4_ = im4_ / (iz4_ + (1.0 - im4_));
+  // After step_l1 the per-entry arrays below (and the box's) are already those of the current point.
+  // 1 / s, z / s and 1 / z for ipm_max_step (0 where the constraint is absent: z = 0 there)
+  const auto ratios = [](const ArrayXd& m, const ArrayXd& s, const ArrayXd& z, ArrayXd& si, ArrayXd& zs,
+                         ArrayXd& zi) {
+    si = 1.0 / s;
+    zs = z * si;
+    zi = m / (z + (1.0 - m));
+  };
+  if (!ipm_next_) {
+    ratios(im1_, is1_, iz1_, isi1_, izs1_, izi1_);
+    ratios(im1_, is2_, iz2_, isi2_, izs2_, izi2_);
+    if (has_box_) {
+      ratios(im3_, is3_, iz3_, isi3_, izs3_, izi3_);
+      ratios(im4_, is4_, iz4_, isi4_, izs4_, izi4_);
+    }
   }
   // as array expressions (vectorized divisions: the same quotients as a loop per entry, which was
   // three scalar divisions per entry); ia1_, ia2_ are scratch until the predictor's affine step.
   // Absent pairs (s = 1, z = 0) give inf / NaN there, replaced by 0 through the mask.
-  ia1_ = is1_ / iz1_;
-  ia2_ = is2_ / iz2_;
-  ib1_ = 1.0 / (ia1_ + ia2_);
-  const auto pair = im1_ > 0.5;
-  id_ = pair.select(4.0 * ib1_, 0.0);
-  ihut_ = pair.select((ia1_ - ia2_) * ib1_, 0.0);
-  ihtt_ = pair.select(ia1_ * ia2_ * ib1_, 0.0);
-  if (has_box_) id_ += im3_ * izs3_ + im4_ * izs4_;
+  if (!ipm_next_) {
+    ia1_ = is1_ / iz1_;
+    ia2_ = is2_ / iz2_;
+    ib1_ = 1.0 / (ia1_ + ia2_);
+    const auto pair = im1_ > 0.5;
+    id_ = pair.select(4.0 * ib1_, 0.0);
+    ihut_ = pair.select((ia1_ - ia2_) * ib1_, 0.0);
+    ihtt_ = pair.select(ia1_ * ia2_ * ib1_, 0.0);
+  }
+  if (has_box_ && !ipm_next_) id_ += im3_ * izs3_ + im4_ * izs4_;
   if (!(ipm_cw_                ? ipm_riccati_factor_cw()
         : nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63()
                                : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
@@ -759,38 +763,178 @@ void newton_l1_pre(Index n, double smu, const L1Pre& a, double* __restrict dz1, 
     if constexpr (Lin) lin[j] = (((z1[j] - z2[j]) - d1) + d2) - hut[j] * (r + g);
   }
 }
-// back-substitution: dt = -(r_t + g_t) / H_tt - (H_ut / H_tt) du, ds = +-(dt -+ du) + rp, dz = -q - (z / s)
-// ds
-void newton_l1_post(Index n, const double* __restrict m1, const double* __restrict rt,
-                    const double* __restrict htt, const double* __restrict hut, const double* __restrict du,
-                    const double* __restrict zs1, const double* __restrict zs2, const double* __restrict rp1,
-                    const double* __restrict rp2, double* __restrict dt, double* __restrict ds1,
-                    double* __restrict ds2, double* __restrict dz1, double* __restrict dz2) noexcept {
-  for (Index j = 0; j < n; ++j) {
-    const double t = -(rt[j] + dt[j]) * htt[j] - hut[j] * du[j];
-    const double s1 = m1[j] * (t - du[j]), s2 = m1[j] * (t + du[j]);
-    dt[j] = t;
-    dz1[j] = -dz1[j] - zs1[j] * s1;
-    dz2[j] = -dz2[j] - zs2[j] * s2;
-    ds1[j] = s1 + rp1[j];
-    ds2[j] = s2 + rp2[j];
-  }
+// Two entries per vector (GCC extension, as propagation/detail/dop853_lanes.inc) where a loop carries a
+// floating-point maximum, which GCC does not vectorize; the same code on double for an odd last entry.
+using V2 = double __attribute__((vector_size(16)));
+template <class T>
+T ld(const double* p) noexcept {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
 }
-// u, t and the L1 pair's slacks stepped by a, its multipliers by ad, in one pass (take_step and the
-// masks of absent pairs, s = 1: the same operations in the same order)
-void step_l1(Index n, double a, double ad, const double* __restrict m1, const double* __restrict du,
-             const double* __restrict dt, const double* __restrict ds1, const double* __restrict ds2,
-             const double* __restrict dz1, const double* __restrict dz2, double* __restrict u,
-             double* __restrict t, double* __restrict s1, double* __restrict s2, double* __restrict z1,
-             double* __restrict z2) noexcept {
+template <class T>
+void st(double* p, const T& v) noexcept {
+  std::memcpy(p, &v, sizeof v);
+}
+// std::max(acc, v) per lane (a NaN v is skipped, as std::max skips it); a maximum is the same value in
+// any order of the entries
+template <class T>
+T vmax(const T& acc, const T& v) noexcept {
+  return v > acc ? v : acc;
+}
+// one constraint pair's arrays in the back-substitution (the L1 pair's, or the box's lower / upper)
+struct PostPair {
+  const double *zs1, *zs2, *rp1, *rp2, *si1, *si2, *zi1, *zi2;
+  double *ds1, *ds2, *dz1, *dz2;
+};
+struct L1Post {
+  const double *m1, *rt, *htt, *hut, *du, *m3, *m4;
+  double* dt;
+  PostPair l1, box;  // box: with Box only
+};
+// dz = -q - (z / s) ds, ds += rp from the pair's ds before rp (c1, c2), and the step-length maxima
+// max(-ds / s) (ms), max(-dz / z) (mz) by the reciprocals
+template <class T>
+[[gnu::always_inline]] inline void newton_post_pair(const PostPair& p, Index j, const T& c1, const T& c2,
+                                                    T& ms, T& mz) noexcept {
+  const T z1 = -ld<T>(p.dz1 + j) - ld<T>(p.zs1 + j) * c1, z2 = -ld<T>(p.dz2 + j) - ld<T>(p.zs2 + j) * c2;
+  const T v1 = c1 + ld<T>(p.rp1 + j), v2 = c2 + ld<T>(p.rp2 + j);
+  ms = vmax(vmax(ms, -v1 * ld<T>(p.si1 + j)), -v2 * ld<T>(p.si2 + j));
+  mz = vmax(vmax(mz, -z1 * ld<T>(p.zi1 + j)), -z2 * ld<T>(p.zi2 + j));
+  st(p.dz1 + j, z1);
+  st(p.dz2 + j, z2);
+  st(p.ds1 + j, v1);
+  st(p.ds2 + j, v2);
+}
+// back-substitution: dt = -(r_t + g_t) / H_tt - (H_ut / H_tt) du, ds = +-(dt -+ du) + rp, dz = -q - (z / s)
+// ds; with a box ds3 = du + rp3, ds4 = -du + rp4 where present (the order of the box's array
+// expressions), dz likewise; and ipm_max_step's maximum over the constraints (ms, mz)
+template <bool Box, class T>
+[[gnu::always_inline]] inline void newton_l1_post_at(const L1Post& a, Index j, T& ms, T& mz) noexcept {
+  const T m = ld<T>(a.m1 + j), du = ld<T>(a.du + j);
+  const T t = -(ld<T>(a.rt + j) + ld<T>(a.dt + j)) * ld<T>(a.htt + j) - ld<T>(a.hut + j) * du;
+  st(a.dt + j, t);
+  newton_post_pair(a.l1, j, m * (t - du), m * (t + du), ms, mz);
+  if constexpr (Box) newton_post_pair(a.box, j, ld<T>(a.m3 + j) * du, -ld<T>(a.m4 + j) * du, ms, mz);
+}
+template <bool Box>
+void newton_l1_post(Index n, const L1Post& a, double& ms_out, double& mz_out) noexcept {
+  V2 ms = {0.0, 0.0}, mz = {0.0, 0.0};
+  Index j = 0;
+  for (; j + 2 <= n; j += 2) newton_l1_post_at<Box>(a, j, ms, mz);
+  double m1 = std::max(ms[0], ms[1]), m2 = std::max(mz[0], mz[1]);
+  for (; j < n; ++j) newton_l1_post_at<Box>(a, j, m1, m2);
+  ms_out = m1;
+  mz_out = m2;
+}
+// the step's direction and the iterate it updates; dt, dz1, dz2 are overwritten with the next
+// predictor's targets
+struct L1Step {
+  const double* __restrict m1, * __restrict w, * __restrict du, * __restrict ds1, * __restrict ds2;
+  double* __restrict dt, * __restrict dz1, * __restrict dz2;
+  double* __restrict u, * __restrict t, * __restrict s1, * __restrict s2, * __restrict z1, * __restrict z2;
+  // the box (Box): masks, finite bounds, steps (dz3, dz4 overwritten as dz1, dz2), slacks, multipliers
+  const double* __restrict m3, * __restrict m4, * __restrict lo, * __restrict hi, * __restrict ds3, * __restrict ds4;
+  double* __restrict dz3, * __restrict dz4, * __restrict s3, * __restrict s4, * __restrict z3, * __restrict z4;
+};
+// what the step's pass forms for the next iteration (AdmmIpmData::ipm_next_)
+struct L1Next {
+  double* __restrict rp1, * __restrict rp2, * __restrict rt, * __restrict szv, * __restrict pwv;
+  double* __restrict si1, * __restrict si2, * __restrict zs1, * __restrict zs2, * __restrict zi1, * __restrict zi2;
+  double* __restrict d, * __restrict hut, * __restrict htt, * __restrict lin;
+  double* __restrict rp3, * __restrict rp4, * __restrict si3, * __restrict si4, * __restrict zs3, * __restrict zs4;
+  double* __restrict zi3, * __restrict zi4;  // the box (Box)
+};
+// u, t and the slacks stepped by a, the multipliers by ad, in one pass (take_step and the masks of
+// absent pairs, s = 1), and from the new point the per-entry pieces of the next iteration: ipm_residuals'
+// r_p, r_t and the terms of its sums (summed by Eigen in the order of the expressions they replace),
+// ipm_factor's ratios and the predictor's newton_l1_pre; each the same operations in the same order as
+// the code it replaces. No reductions here: GCC does not vectorize a floating-point maximum; the
+// restrict-qualified members of the structs passed by value let it vectorize without alias checks.
+template <bool Box>
+void step_l1(Index n, double a, double ad, const L1Step p, const L1Next o) noexcept {
   for (Index j = 0; j < n; ++j) {
-    u[j] += a * du[j];
-    t[j] += a * dt[j];
-    const double v1 = s1[j] + a * ds1[j], v2 = s2[j] + a * ds2[j];
-    s1[j] = m1[j] * v1 + (1.0 - m1[j]);
-    s2[j] = m1[j] * v2 + (1.0 - m1[j]);
-    z1[j] += ad * dz1[j];
-    z2[j] += ad * dz2[j];
+    const double m = p.m1[j];
+    const double uj = p.u[j] + a * p.du[j], tj = p.t[j] + a * p.dt[j];
+    const double v1 = p.s1[j] + a * p.ds1[j], v2 = p.s2[j] + a * p.ds2[j];
+    const double sa = m * v1 + (1.0 - m), sb = m * v2 + (1.0 - m);
+    const double za = p.z1[j] + ad * p.dz1[j], zb = p.z2[j] + ad * p.dz2[j];
+    p.u[j] = uj;
+    p.t[j] = tj;
+    p.s1[j] = sa;
+    p.s2[j] = sb;
+    p.z1[j] = za;
+    p.z2[j] = zb;
+    // ipm_residuals
+    const double ra = m * ((tj - uj) - sa), rb = m * ((tj + uj) - sb), r = m * ((p.w[j] - za) - zb);
+    o.rp1[j] = ra;
+    o.rp2[j] = rb;
+    o.rt[j] = r;
+    o.pwv[j] = p.w[j] * std::abs(uj);
+    double szj = m * (sa * za + sb * zb);
+    // the box's step, residuals and ratios (the same order of operations as the box's array expressions)
+    double m3 = 0.0, m4 = 0.0, sc = 0.0, sd = 0.0, zc = 0.0, zd = 0.0, rc = 0.0, rd = 0.0, cc = 0.0, cd = 0.0;
+    if constexpr (Box) {
+      m3 = p.m3[j];
+      m4 = p.m4[j];
+      const double v3 = p.s3[j] + a * p.ds3[j], v4 = p.s4[j] + a * p.ds4[j];
+      sc = m3 * v3 + (1.0 - m3);
+      sd = m4 * v4 + (1.0 - m4);
+      zc = p.z3[j] + ad * p.dz3[j];
+      zd = p.z4[j] + ad * p.dz4[j];
+      p.s3[j] = sc;
+      p.s4[j] = sd;
+      p.z3[j] = zc;
+      p.z4[j] = zd;
+      rc = m3 * ((uj - p.lo[j]) - sc);
+      rd = m4 * ((p.hi[j] - uj) - sd);
+      o.rp3[j] = rc;
+      o.rp4[j] = rd;
+      szj = (szj + m3 * sc * zc) + m4 * sd * zd;
+      const double ic = 1.0 / sc, id = 1.0 / sd;
+      cc = zc * ic;
+      cd = zd * id;
+      o.si3[j] = ic;
+      o.si4[j] = id;
+      o.zs3[j] = cc;
+      o.zs4[j] = cd;
+      o.zi3[j] = m3 / (zc + (1.0 - m3));
+      o.zi4[j] = m4 / (zd + (1.0 - m4));
+    }
+    o.szv[j] = szj;
+    // ipm_factor. Absent pairs (m = 0: s = 1, z = 0, where s / z is inf and ipm_factor selects 0) divide
+    // by z + 1 and are multiplied by m = 0, giving its +0; present ones by z + 0 = z (z > 0) and by m = 1:
+    // the same numbers without a select (GCC does not if-convert the selected products, which might trap)
+    const double ia = 1.0 / sa, ib = 1.0 / sb, ca = za * ia, cb = zb * ib;
+    const double ga = za + (1.0 - m), gb = zb + (1.0 - m);
+    o.si1[j] = ia;
+    o.si2[j] = ib;
+    o.zs1[j] = ca;
+    o.zs2[j] = cb;
+    o.zi1[j] = m / ga;
+    o.zi2[j] = m / gb;
+    const double qa = sa / ga, qb = sb / gb, q = 1.0 / (qa + qb);
+    const double h = m * ((qa - qb) * q);
+    if constexpr (Box) {
+      o.d[j] = m * (4.0 * q) + (m3 * cc + m4 * cd);
+    } else {
+      o.d[j] = m * (4.0 * q);
+    }
+    o.hut[j] = h;
+    o.htt[j] = m * (qa * qb * q);
+    // the predictor's newton_l1_pre and, with a box, ipm_newton's box targets and linear term
+    const double ea = za + ca * ra, eb = zb + cb * rb, g = ea + eb;
+    p.dz1[j] = ea;
+    p.dz2[j] = eb;
+    p.dt[j] = g;
+    if constexpr (Box) {
+      const double ec = zc + cc * rc, ed = zd + cd * rd;
+      p.dz3[j] = ec;
+      p.dz4[j] = ed;
+      o.lin[j] = (((((((za - zb) - zc) + zd) - ea) + eb) + ec) - ed) - h * (r + g);
+    } else {
+      o.lin[j] = (((za - zb) - ea) + eb) - h * (r + g);
+    }
   }
 }
 }  // namespace
@@ -806,7 +950,9 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   const L1Pre a{im1_.data(),  wrep_.data(), iz1_.data(),  iz2_.data(),  izs1_.data(),
                 izs2_.data(), irp1_.data(), irp2_.data(), ia1_.data(),  ib1_.data(),
                 ia2_.data(),  ib2_.data(),  isi1_.data(), isi2_.data(), ihut_.data()};
-  if (corrector) {
+  if (!corrector && ipm_next_) {
+    // formed by step_l1
+  } else if (corrector) {
     lin ? newton_l1_pre<true, true>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(),
                                     ilin_.data())
         : newton_l1_pre<true, false>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(),
@@ -817,7 +963,7 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
         : newton_l1_pre<false, false>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(),
                                       ilin_.data());
   }
-  if (has_box_) {
+  if (has_box_ && (corrector || !ipm_next_)) {  // else formed by step_l1
     if (!corrector) {
       idz3_ = iz3_ + izs3_ * irp3_;
       idz4_ = iz4_ + izs4_ * irp4_;
@@ -840,16 +986,23 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   // back-substitution: dt, ds, dz
   // dt = -(r_t + g_t) / H_tt - (H_ut / H_tt) du with 1 / H_tt = r1 r2 / (r1 + r2), H_ut / H_tt =
   // (r1 - r2) / (r1 + r2)
-  newton_l1_post(n, im1_.data(), irt_.data(), ihtt_.data(), ihut_.data(), idu_.data(), izs1_.data(),
-                 izs2_.data(), irp1_.data(), irp2_.data(), idt_.data(), ids1_.data(), ids2_.data(),
-                 idz1_.data(), idz2_.data());
-  if (has_box_) {  // else ids3, ids4, idz3, idz4 stay zero (ipm_setup; their swaps exchange zeros)
-    ids3_ = im3_ * idu_;
-    ids4_ = -im4_ * idu_;
-    idz3_ = -idz3_ - izs3_ * ids3_;
-    idz4_ = -idz4_ - izs4_ * ids4_;
-    ids3_ += irp3_;
-    ids4_ += irp4_;
+  const L1Post b{im1_.data(),
+                 irt_.data(),
+                 ihtt_.data(),
+                 ihut_.data(),
+                 idu_.data(),
+                 im3_.data(),
+                 im4_.data(),
+                 idt_.data(),
+                 {izs1_.data(), izs2_.data(), irp1_.data(), irp2_.data(), isi1_.data(), isi2_.data(),
+                  izi1_.data(), izi2_.data(), ids1_.data(), ids2_.data(), idz1_.data(), idz2_.data()},
+                 {izs3_.data(), izs4_.data(), irp3_.data(), irp4_.data(), isi3_.data(), isi4_.data(),
+                  izi3_.data(), izi4_.data(), ids3_.data(), ids4_.data(), idz3_.data(), idz4_.data()}};
+  // without a box ids3, ids4, idz3, idz4 stay zero (ipm_setup; their swaps exchange zeros)
+  if (has_box_) {
+    newton_l1_post<true>(n, b, imaxs_, imaxz_);
+  } else {
+    newton_l1_post<false>(n, b, imaxs_, imaxz_);
   }
   return true;
 }
@@ -858,32 +1011,9 @@ auto AdmmWorkspace::ipm_max_step() const noexcept -> IpmMaxStep {
   // the largest a with v + a dv >= 0: 1 / max(-dv / v) over all entries (the entries with dv >= 0
   // give <= 0), by the reciprocals of ipm_factor (1 / s, and 1 / z, 0 where the constraint is
   // absent) instead of a division per entry and call (8 of them per entry and step were 5-8 % of the
-  // solve's samples); the slacks' and the multipliers' apart (ipm_predictor_corrector)
-  double ms = 0.0, mz = 0.0;
-  {  // the L1 pair in one pass (a maximum: the order of the entries does not matter)
-    const Index n = is1_.size();
-    const double *__restrict si1 = isi1_.data(), *__restrict si2 = isi2_.data(), *__restrict zi1 = izi1_.data(),
-                             *__restrict zi2 = izi2_.data(), *__restrict ds1 = ids1_.data(),
-                             *__restrict ds2 = ids2_.data(), *__restrict dz1 = idz1_.data(),
-                             *__restrict dz2 = idz2_.data();
-    double m1 = 0.0, m2 = 0.0;
-    for (Index j = 0; j < n; ++j) {
-      m1 = std::max({m1, -ds1[j] * si1[j], -ds2[j] * si2[j]});
-      m2 = std::max({m2, -dz1[j] * zi1[j], -dz2[j] * zi2[j]});
-    }
-    ms = m1;
-    mz = m2;
-  }
-  const auto lim = [](double& m, const ArrayXd& inv, const ArrayXd& dv) {
-    m = std::max(m, (-dv * inv).maxCoeff());
-  };
-  if (has_box_) {  // without a box the box steps are exactly 0
-    lim(ms, isi3_, ids3_);
-    lim(ms, isi4_, ids4_);
-    lim(mz, izi3_, idz3_);
-    lim(mz, izi4_, idz4_);
-  }
-  return {ms > 0.0 ? 1.0 / ms : kInf, mz > 0.0 ? 1.0 / mz : kInf};
+  // solve's samples); the slacks' and the multipliers' apart (ipm_predictor_corrector). The maxima
+  // are formed by ipm_newton's back-substitution (newton_l1_post; without a box the box steps are 0).
+  return {imaxs_ > 0.0 ? 1.0 / imaxs_ : kInf, imaxz_ > 0.0 ? 1.0 / imaxz_ : kInf};
 }
 
 // The independent acceptance test (the same as ADMM's): |relative duality gap| of the plan <= eps_gap
@@ -926,6 +1056,7 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
   const double e_ref = 1e-2 * set_.terminal_tolerance * xtmp2_.norm();
   const double m = std::max(ipm_m_, 1);
   const double wmax = w_.maxCoeff();
+  ipm_next_ = false;  // the start's point: ipm_residuals and ipm_factor form its pieces
   int it = 0, cert_failures = 0;
   double fail_gap = kInf;  // the smallest |gap| of a failed certification
   double ru_prev = kInf;
@@ -1114,33 +1245,53 @@ AdmmWorkspace::IpmResiduals AdmmWorkspace::ipm_residuals(double wmax) noexcept {
       iX_.col(N_) = prob_.xf + ie_;
       P = lagrangian_gradient(iX_, iU_, term ? inu_ : pz_, true);
       gpart = grad.abs().maxCoeff();
-      for (Index k = 0, j = 0; k < N_; ++k)
-        for (Index i = 0; i < nu_; ++i, ++j) {
-          const double r = rg_(i);
-          gpart = std::max(gpart, std::abs(r * u(j)));
-          grad(j) += r * u(j);
-          P += 0.5 * r * u(j) * u(j);
-        }
+      // the diagonal of R moved into g (rg_; zeros without R: then the loop would add +-0 to the
+      // gradient, P and gpart, which changes only the sign of a zero that abs drops)
+      if ((rg_.array() != 0.0).any())
+        for (Index k = 0, j = 0; k < N_; ++k)
+          for (Index i = 0; i < nu_; ++i, ++j) {
+            const double r = rg_(i);
+            gpart = std::max(gpart, std::abs(r * u(j)));
+            grad(j) += r * u(j);
+            P += 0.5 * r * u(j) * u(j);
+          }
     }
-    P += (wrep_ * u.abs()).sum();
+    const bool next = ipm_next_;  // step_l1 formed the per-entry pieces
+    P += next ? ipwv_.sum() : (wrep_ * u.abs()).sum();
     const double gscale = std::max({gpart, wmax, 1e-300});
-    const double ru = (grad + iz1_ - iz2_ - iz3_ + iz4_).abs().maxCoeff();
-    const double rt = (im1_ * (wrep_ - iz1_ - iz2_)).abs().maxCoeff();
-    irp1_ = im1_ * (itv_ - u - is1_);
-    irp2_ = im1_ * (itv_ + u - is2_);
-    double sz, rp, uscale;
-    if (has_box_) {
-      sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
-      irp3_ = im3_ * (u - lofin_ - is3_);
-      irp4_ = im4_ * (hifin_ - u - is4_);
-      rp = std::max(
-          {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
-      uscale = std::max(
-          {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
-    } else {  // the box terms are exact zeros (ipm_factor)
-      sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_)).sum();
-      rp = std::max(irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff());
-      uscale = std::max(u.abs().maxCoeff(), 1e-300);
+    // without a box z3 = z4 = +0: x - 0 + 0 differs from x only in the sign of a zero, which abs drops
+    const double ru = has_box_ ? (grad + iz1_ - iz2_ - iz3_ + iz4_).abs().maxCoeff()
+                               : (grad + iz1_ - iz2_).abs().maxCoeff();
+    double sz, rp, uscale, rt;
+    if (next) {  // the same elements in the same order (Eigen's maxima and sums on the arrays)
+      sz = iszv_.sum();
+      rt = irt_.abs().maxCoeff();
+      if (has_box_) {
+        rp = std::max(
+            {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
+        uscale = std::max(
+            {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
+      } else {
+        rp = std::max(irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff());
+        uscale = std::max(u.abs().maxCoeff(), 1e-300);
+      }
+    } else {
+      rt = (im1_ * (wrep_ - iz1_ - iz2_)).abs().maxCoeff();
+      irp1_ = im1_ * (itv_ - u - is1_);
+      irp2_ = im1_ * (itv_ + u - is2_);
+      if (has_box_) {
+        sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
+        irp3_ = im3_ * (u - lofin_ - is3_);
+        irp4_ = im4_ * (hifin_ - u - is4_);
+        rp = std::max(
+            {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
+        uscale = std::max(
+            {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
+      } else {  // the box terms are exact zeros (ipm_factor)
+        sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_)).sum();
+        rp = std::max(irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff());
+        uscale = std::max(u.abs().maxCoeff(), 1e-300);
+      }
     }
     res.P = P;
     res.gscale = gscale;
@@ -1185,12 +1336,18 @@ bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
     ib2_.swap(idz2_);
     ib3_.swap(idz3_);
     ib4_.swap(idz4_);
-    const double mu_aff = (im1_ * ((is1_ + ap_aff * ia1_) * (iz1_ + ad_aff * ib1_) +
-                                   (is2_ + ap_aff * ia2_) * (iz2_ + ad_aff * ib2_)) +
-                           im3_ * (is3_ + ap_aff * ia3_) * (iz3_ + ad_aff * ib3_) +
-                           im4_ * (is4_ + ap_aff * ia4_) * (iz4_ + ad_aff * ib4_))
-                              .sum() /
-                          m;
+    const auto l1_aff = im1_ * ((is1_ + ap_aff * ia1_) * (iz1_ + ad_aff * ib1_) +
+                                (is2_ + ap_aff * ia2_) * (iz2_ + ad_aff * ib2_));
+    double sz_aff;
+    if (has_box_) {
+      sz_aff = (l1_aff + im3_ * (is3_ + ap_aff * ia3_) * (iz3_ + ad_aff * ib3_) +
+                im4_ * (is4_ + ap_aff * ia4_) * (iz4_ + ad_aff * ib4_))
+                   .sum();
+    } else {  // the box's terms are exact +0 (s = 1, z = 0, steps +0): the first addition of one turns a
+              // -0 into +0, the second is the identity
+      sz_aff = (l1_aff + 0.0).sum();
+    }
+    const double mu_aff = sz_aff / m;
     const double sigma = ipm::mehrotra_sigma(mu_aff, mu);
     if (!ipm_newton(true, sigma * mu)) return false;
     // adaptive fraction to the boundary (suite: 5324 -> 4832 IPM iterations, docs/guidance.md)
@@ -1198,18 +1355,22 @@ bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
     const IpmMaxStep st = common(ipm_max_step());
     const double a = std::min(1.0, tau * st.primal), ad = std::min(1.0, tau * st.dual);
     if (!(std::min(a, ad) > 1e-12)) return false;
+    // the step and, from the new point, the next iteration's per-entry pieces in one pass
+    const L1Step p{im1_.data(),  wrep_.data(), idu_.data(),  ids1_.data(), ids2_.data(),  idt_.data(),
+                   idz1_.data(), idz2_.data(), u.data(),     itv_.data(),  is1_.data(),   is2_.data(),
+                   iz1_.data(),  iz2_.data(),  im3_.data(),  im4_.data(),  lofin_.data(), hifin_.data(),
+                   ids3_.data(), ids4_.data(), idz3_.data(), idz4_.data(), is3_.data(),   is4_.data(),
+                   iz3_.data(),  iz4_.data()};
+    const L1Next o{irp1_.data(), irp2_.data(), irt_.data(),  iszv_.data(), ipwv_.data(), isi1_.data(),
+                   isi2_.data(), izs1_.data(), izs2_.data(), izi1_.data(), izi2_.data(), id_.data(),
+                   ihut_.data(), ihtt_.data(), ilin_.data(), irp3_.data(), irp4_.data(), isi3_.data(),
+                   isi4_.data(), izs3_.data(), izs4_.data(), izi3_.data(), izi4_.data()};
     if (has_box_) {
-      ipm::take_step(a, u, idu_, itv_, idt_, is1_, ids1_, is2_, ids2_, is3_, ids3_, is4_, ids4_);
-      ipm::take_step(ad, iz1_, idz1_, iz2_, idz2_, iz3_, idz3_, iz4_, idz4_);
-      // absent constraints keep s = 1, z = 0
-      is1_ = im1_ * is1_ + (1.0 - im1_);
-      is2_ = im1_ * is2_ + (1.0 - im1_);
-      is3_ = im3_ * is3_ + (1.0 - im3_);
-      is4_ = im4_ * is4_ + (1.0 - im4_);
-    } else {  // the box's s = 1, z = 0 and steps 0 stay exactly so: the L1 part in one pass
-      step_l1(n, a, ad, im1_.data(), idu_.data(), idt_.data(), ids1_.data(), ids2_.data(), idz1_.data(),
-              idz2_.data(), u.data(), itv_.data(), is1_.data(), is2_.data(), iz1_.data(), iz2_.data());
+      step_l1<true>(n, a, ad, p, o);
+    } else {  // the box's s = 1, z = 0 and steps 0 stay exactly so
+      step_l1<false>(n, a, ad, p, o);
     }
+    ipm_next_ = true;
     if (term) inu_ += ad * (inun_ - inu_);
     ie_ += a * (iep_ - ie_);
   }

@@ -148,9 +148,15 @@ struct AdmmIpmData {
   /// (r = s / z, 0 where the pair is absent)
   Eigen::ArrayXd isi1_, isi2_, isi3_, isi4_, izs1_, izs2_, izs3_, izs4_, ihut_, ihtt_;
   Eigen::ArrayXd izi1_, izi2_, izi3_, izi4_;  ///< 1 / z (0 where absent), for ipm_max_step
-  Eigen::VectorXd ie2_;                       ///< the multiplier of the flown plan (certification)
-  Eigen::MatrixXd iU_, iX_, idX_;             ///< IPM plan nu x N, its states and state step nx x (N+1)
-  Eigen::VectorXd ie_, inu_, inun_, iep_;     ///< terminal error, multiplier, solved multiplier / error
+  /// The step's pass (step_l1) also forms the next iteration's per-entry pieces (r_p, r_t,
+  /// ipm_factor's ratios, the predictor's targets) and these terms of the complementarity s'z and of
+  /// sum w |u|, summed by Eigen in ipm_residuals in the order of the expressions they replace
+  Eigen::ArrayXd iszv_, ipwv_;
+  bool ipm_next_ = false;             ///< the pieces above are those of the current point (set by step_l1)
+  double imaxs_ = 0.0, imaxz_ = 0.0;  ///< max(-ds / s), max(-dz / z) after the last ipm_newton (ipm_max_step)
+  Eigen::VectorXd ie2_;               ///< the multiplier of the flown plan (certification)
+  Eigen::MatrixXd iU_, iX_, idX_;     ///< IPM plan nu x N, its states and state step nx x (N+1)
+  Eigen::VectorXd ie_, inu_, inun_, iep_;  ///< terminal error, multiplier, solved multiplier / error
   Eigen::MatrixXd iS_;  ///< terminal sensitivity dx_N / dnu of the IPM's Riccati factorization
   Eigen::PartialPivLU<Eigen::MatrixXd> ilu_;
   // Riccati path: per stage K_k, Quu_k^-1, Qux_k, Knu_k (nu x nx N or nu x nu N), scratch
