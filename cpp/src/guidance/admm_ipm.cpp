@@ -688,40 +688,9 @@ template void AdmmWorkspace::ipm_riccati_sweep<Eigen::Dynamic, Eigen::Dynamic>()
 // factorization of the structured LQR step with R + diag(D).
 bool AdmmWorkspace::ipm_factor() noexcept {
   const bool term = prob_.terminal_equality;
-  // pair block in the inverse ratios r_m = s_m / z_m (bounded where d_m = z_m / s_m overflows):
-  // D = 4 d1 d2 / (d1 + d2) = 4 / (r1 + r2)
-  // the ratios are computed once here (the divisions were a tenth of the IPM's time)
-  // Without a box its arrays stay exactly zero (s3 = s4 = 1, z3 = z4 = 0, masks 0: every box term of
-  // the step is a zero), so they are neither formed here nor in ipm_newton and ipm_residuals.
-  // After step_l1 the per-entry arrays below (and the box's) are already those of the current point.
-  // 1 / s, z / s and 1 / z for ipm_max_step (0 where the constraint is absent: z = 0 there)
-  const auto ratios = [](const ArrayXd& m, const ArrayXd& s, const ArrayXd& z, ArrayXd& si, ArrayXd& zs,
-                         ArrayXd& zi) {
-    si = 1.0 / s;
-    zs = z * si;
-    zi = m / (z + (1.0 - m));
-  };
-  if (!ipm_next_) {
-    ratios(im1_, is1_, iz1_, isi1_, izs1_, izi1_);
-    ratios(im1_, is2_, iz2_, isi2_, izs2_, izi2_);
-    if (has_box_) {
-      ratios(im3_, is3_, iz3_, isi3_, izs3_, izi3_);
-      ratios(im4_, is4_, iz4_, isi4_, izs4_, izi4_);
-    }
-  }
-  // as array expressions (vectorized divisions: the same quotients as a loop per entry, which was
-  // three scalar divisions per entry); ia1_, ia2_ are scratch until the predictor's affine step.
-  // Absent pairs (s = 1, z = 0) give inf / NaN there, replaced by 0 through the mask.
-  if (!ipm_next_) {
-    ia1_ = is1_ / iz1_;
-    ia2_ = is2_ / iz2_;
-    ib1_ = 1.0 / (ia1_ + ia2_);
-    const auto pair = im1_ > 0.5;
-    id_ = pair.select(4.0 * ib1_, 0.0);
-    ihut_ = pair.select((ia1_ - ia2_) * ib1_, 0.0);
-    ihtt_ = pair.select(ia1_ * ia2_ * ib1_, 0.0);
-  }
-  if (has_box_ && !ipm_next_) id_ += im3_ * izs3_ + im4_ * izs4_;
+  // The per-entry ratios, D = 4 / (r1 + r2) of the pair (r_m = s_m / z_m, bounded where z_m / s_m
+  // overflows), H_ut and H_tt are formed by step_l1 (ipm_step_and_pieces). Without a box its arrays
+  // stay exactly zero (s3 = s4 = 1, z3 = z4 = 0, masks 0), so they are not formed.
   if (!(ipm_cw_                ? ipm_riccati_factor_cw()
         : nx_ == 6 && nu_ == 3 ? ipm_riccati_factor_63()
                                : ipm_riccati_factor<Eigen::Dynamic, Eigen::Dynamic>()))
@@ -740,21 +709,15 @@ namespace {
 struct L1Pre {
   const double *m1, *w, *z1, *z2, *zs1, *zs2, *rp1, *rp2, *a1, *b1, *a2, *b2, *si1, *si2, *hut;
 };
-// targets dz (predictor: z + (z / s) rp; corrector: the Mehrotra term as well), r_t, g_t and, without
-// a box, the sweep's linear term
-template <bool Corrector, bool Lin>
+// the corrector's targets dz (z + (z / s) rp and the Mehrotra term; the predictor's are formed by
+// step_l1), r_t, g_t and, without a box, the sweep's linear term
+template <bool Lin>
 void newton_l1_pre(Index n, double smu, const L1Pre& a, double* __restrict dz1, double* __restrict dz2,
                    double* __restrict rt, double* __restrict dt, double* __restrict lin) noexcept {
   const double* __restrict m1 = a.m1, * __restrict w = a.w, * __restrict z1 = a.z1, * __restrict z2 = a.z2, * __restrict zs1 = a.zs1, * __restrict zs2 = a.zs2, * __restrict rp1 = a.rp1, * __restrict rp2 = a.rp2, * __restrict a1 = a.a1, * __restrict b1 = a.b1, * __restrict a2 = a.a2, * __restrict b2 = a.b2, * __restrict si1 = a.si1, * __restrict si2 = a.si2, * __restrict hut = a.hut;
   for (Index j = 0; j < n; ++j) {
-    double d1, d2;
-    if constexpr (Corrector) {
-      d1 = m1[j] * ((z1[j] + (a1[j] * b1[j] - smu) * si1[j]) + zs1[j] * rp1[j]);
-      d2 = m1[j] * ((z2[j] + (a2[j] * b2[j] - smu) * si2[j]) + zs2[j] * rp2[j]);
-    } else {
-      d1 = z1[j] + zs1[j] * rp1[j];
-      d2 = z2[j] + zs2[j] * rp2[j];
-    }
+    const double d1 = m1[j] * ((z1[j] + (a1[j] * b1[j] - smu) * si1[j]) + zs1[j] * rp1[j]);
+    const double d2 = m1[j] * ((z2[j] + (a2[j] * b2[j] - smu) * si2[j]) + zs2[j] * rp2[j]);
     const double r = m1[j] * ((w[j] - z1[j]) - z2[j]), g = d1 + d2;
     dz1[j] = d1;
     dz2[j] = d2;
@@ -837,7 +800,7 @@ struct L1Step {
   const double* __restrict m3, * __restrict m4, * __restrict lo, * __restrict hi, * __restrict ds3, * __restrict ds4;
   double* __restrict dz3, * __restrict dz4, * __restrict s3, * __restrict s4, * __restrict z3, * __restrict z4;
 };
-// what the step's pass forms for the next iteration (AdmmIpmData::ipm_next_)
+// what the step's pass forms for the next iteration (and ipm_step_and_pieces<false> for the start)
 struct L1Next {
   double* __restrict rp1, * __restrict rp2, * __restrict rt, * __restrict szv, * __restrict pwv;
   double* __restrict si1, * __restrict si2, * __restrict zs1, * __restrict zs2, * __restrict zi1, * __restrict zi2;
@@ -851,20 +814,27 @@ struct L1Next {
 // ipm_factor's ratios and the predictor's newton_l1_pre; each the same operations in the same order as
 // the code it replaces. No reductions here: GCC does not vectorize a floating-point maximum; the
 // restrict-qualified members of the structs passed by value let it vectorize without alias checks.
-template <bool Box>
+// Step = false: no step, only the pieces of the current point (the IPM's start).
+template <bool Box, bool Step = true>
 void step_l1(Index n, double a, double ad, const L1Step p, const L1Next o) noexcept {
   for (Index j = 0; j < n; ++j) {
     const double m = p.m1[j];
-    const double uj = p.u[j] + a * p.du[j], tj = p.t[j] + a * p.dt[j];
-    const double v1 = p.s1[j] + a * p.ds1[j], v2 = p.s2[j] + a * p.ds2[j];
-    const double sa = m * v1 + (1.0 - m), sb = m * v2 + (1.0 - m);
-    const double za = p.z1[j] + ad * p.dz1[j], zb = p.z2[j] + ad * p.dz2[j];
-    p.u[j] = uj;
-    p.t[j] = tj;
-    p.s1[j] = sa;
-    p.s2[j] = sb;
-    p.z1[j] = za;
-    p.z2[j] = zb;
+    double uj = p.u[j], tj = p.t[j], sa = p.s1[j], sb = p.s2[j], za = p.z1[j], zb = p.z2[j];
+    if constexpr (Step) {
+      uj = p.u[j] + a * p.du[j];
+      tj = p.t[j] + a * p.dt[j];
+      const double v1 = p.s1[j] + a * p.ds1[j], v2 = p.s2[j] + a * p.ds2[j];
+      sa = m * v1 + (1.0 - m);
+      sb = m * v2 + (1.0 - m);
+      za = p.z1[j] + ad * p.dz1[j];
+      zb = p.z2[j] + ad * p.dz2[j];
+      p.u[j] = uj;
+      p.t[j] = tj;
+      p.s1[j] = sa;
+      p.s2[j] = sb;
+      p.z1[j] = za;
+      p.z2[j] = zb;
+    }
     // ipm_residuals
     const double ra = m * ((tj - uj) - sa), rb = m * ((tj + uj) - sb), r = m * ((p.w[j] - za) - zb);
     o.rp1[j] = ra;
@@ -877,15 +847,21 @@ void step_l1(Index n, double a, double ad, const L1Step p, const L1Next o) noexc
     if constexpr (Box) {
       m3 = p.m3[j];
       m4 = p.m4[j];
-      const double v3 = p.s3[j] + a * p.ds3[j], v4 = p.s4[j] + a * p.ds4[j];
-      sc = m3 * v3 + (1.0 - m3);
-      sd = m4 * v4 + (1.0 - m4);
-      zc = p.z3[j] + ad * p.dz3[j];
-      zd = p.z4[j] + ad * p.dz4[j];
-      p.s3[j] = sc;
-      p.s4[j] = sd;
-      p.z3[j] = zc;
-      p.z4[j] = zd;
+      sc = p.s3[j];
+      sd = p.s4[j];
+      zc = p.z3[j];
+      zd = p.z4[j];
+      if constexpr (Step) {
+        const double v3 = p.s3[j] + a * p.ds3[j], v4 = p.s4[j] + a * p.ds4[j];
+        sc = m3 * v3 + (1.0 - m3);
+        sd = m4 * v4 + (1.0 - m4);
+        zc = p.z3[j] + ad * p.dz3[j];
+        zd = p.z4[j] + ad * p.dz4[j];
+        p.s3[j] = sc;
+        p.s4[j] = sd;
+        p.z3[j] = zc;
+        p.z4[j] = zd;
+      }
       rc = m3 * ((uj - p.lo[j]) - sc);
       rd = m4 * ((p.hi[j] - uj) - sd);
       o.rp3[j] = rc;
@@ -950,27 +926,13 @@ bool AdmmWorkspace::ipm_newton(bool corrector, double smu) noexcept {
   const L1Pre a{im1_.data(),  wrep_.data(), iz1_.data(),  iz2_.data(),  izs1_.data(),
                 izs2_.data(), irp1_.data(), irp2_.data(), ia1_.data(),  ib1_.data(),
                 ia2_.data(),  ib2_.data(),  isi1_.data(), isi2_.data(), ihut_.data()};
-  if (!corrector && ipm_next_) {
-    // formed by step_l1
-  } else if (corrector) {
-    lin ? newton_l1_pre<true, true>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(),
-                                    ilin_.data())
-        : newton_l1_pre<true, false>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(),
-                                     ilin_.data());
-  } else {
-    lin ? newton_l1_pre<false, true>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(),
-                                     ilin_.data())
-        : newton_l1_pre<false, false>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(),
-                                      ilin_.data());
+  if (corrector) {  // the predictor's targets and linear term are formed by step_l1
+    lin ? newton_l1_pre<true>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(), ilin_.data())
+        : newton_l1_pre<false>(n, smu, a, idz1_.data(), idz2_.data(), irt_.data(), idt_.data(), ilin_.data());
   }
-  if (has_box_ && (corrector || !ipm_next_)) {  // else formed by step_l1
-    if (!corrector) {
-      idz3_ = iz3_ + izs3_ * irp3_;
-      idz4_ = iz4_ + izs4_ * irp4_;
-    } else {
-      idz3_ = im3_ * (iz3_ + (ia3_ * ib3_ - smu) * isi3_ + izs3_ * irp3_);
-      idz4_ = im4_ * (iz4_ + (ia4_ * ib4_ - smu) * isi4_ + izs4_ * irp4_);
-    }
+  if (has_box_ && corrector) {
+    idz3_ = im3_ * (iz3_ + (ia3_ * ib3_ - smu) * isi3_ + izs3_ * irp3_);
+    idz4_ = im4_ * (iz4_ + (ia4_ * ib4_ - smu) * isi4_ + izs4_ * irp4_);
     // linear term of the reduced step: -sum z a + g_u - H_ut (r_t + g_t) / H_tt (without a box
     // newton_l1_pre forms it: the box terms are exact zeros there)
     ilin_ = iz1_ - iz2_ - iz3_ + iz4_ - idz1_ + idz2_ + idz3_ - idz4_ - ihut_ * (irt_ + idt_);
@@ -1056,7 +1018,7 @@ bool AdmmWorkspace::ipm_solve(bool warm) noexcept {
   const double e_ref = 1e-2 * set_.terminal_tolerance * xtmp2_.norm();
   const double m = std::max(ipm_m_, 1);
   const double wmax = w_.maxCoeff();
-  ipm_next_ = false;  // the start's point: ipm_residuals and ipm_factor form its pieces
+  ipm_step_and_pieces<false>(0.0, 0.0);  // the start's per-entry pieces
   int it = 0, cert_failures = 0;
   double fail_gap = kInf;  // the smallest |gap| of a failed certification
   double ru_prev = kInf;
@@ -1256,42 +1218,23 @@ AdmmWorkspace::IpmResiduals AdmmWorkspace::ipm_residuals(double wmax) noexcept {
             P += 0.5 * r * u(j) * u(j);
           }
     }
-    const bool next = ipm_next_;  // step_l1 formed the per-entry pieces
-    P += next ? ipwv_.sum() : (wrep_ * u.abs()).sum();
+    P += ipwv_.sum();  // the per-entry pieces formed by step_l1 (ipm_step_and_pieces)
     const double gscale = std::max({gpart, wmax, 1e-300});
     // without a box z3 = z4 = +0: x - 0 + 0 differs from x only in the sign of a zero, which abs drops
     const double ru = has_box_ ? (grad + iz1_ - iz2_ - iz3_ + iz4_).abs().maxCoeff()
                                : (grad + iz1_ - iz2_).abs().maxCoeff();
-    double sz, rp, uscale, rt;
-    if (next) {  // the same elements in the same order (Eigen's maxima and sums on the arrays)
-      sz = iszv_.sum();
-      rt = irt_.abs().maxCoeff();
-      if (has_box_) {
-        rp = std::max(
-            {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
-        uscale = std::max(
-            {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
-      } else {
-        rp = std::max(irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff());
-        uscale = std::max(u.abs().maxCoeff(), 1e-300);
-      }
+    double rp, uscale;
+    // Eigen's maxima and sums on the stored arrays: the same elements in the same order as the
+    // expressions they replace
+    const double sz = iszv_.sum(), rt = irt_.abs().maxCoeff();
+    if (has_box_) {
+      rp = std::max(
+          {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
+      uscale = std::max(
+          {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
     } else {
-      rt = (im1_ * (wrep_ - iz1_ - iz2_)).abs().maxCoeff();
-      irp1_ = im1_ * (itv_ - u - is1_);
-      irp2_ = im1_ * (itv_ + u - is2_);
-      if (has_box_) {
-        sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_) + im3_ * is3_ * iz3_ + im4_ * is4_ * iz4_).sum();
-        irp3_ = im3_ * (u - lofin_ - is3_);
-        irp4_ = im4_ * (hifin_ - u - is4_);
-        rp = std::max(
-            {irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff(), irp3_.abs().maxCoeff(), irp4_.abs().maxCoeff()});
-        uscale = std::max(
-            {u.abs().maxCoeff(), (im3_ * lofin_).abs().maxCoeff(), (im4_ * hifin_).abs().maxCoeff(), 1e-300});
-      } else {  // the box terms are exact zeros (ipm_factor)
-        sz = (im1_ * (is1_ * iz1_ + is2_ * iz2_)).sum();
-        rp = std::max(irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff());
-        uscale = std::max(u.abs().maxCoeff(), 1e-300);
-      }
+      rp = std::max(irp1_.abs().maxCoeff(), irp2_.abs().maxCoeff());
+      uscale = std::max(u.abs().maxCoeff(), 1e-300);
     }
     res.P = P;
     res.gscale = gscale;
@@ -1302,6 +1245,29 @@ AdmmWorkspace::IpmResiduals AdmmWorkspace::ipm_residuals(double wmax) noexcept {
     res.uscale = uscale;
   }
   return res;
+}
+
+// step_l1 on the workspace's arrays: the step by (a, ad) and the next iteration's per-entry pieces
+// (Step), or the pieces of the current point alone (the start: ipm_residuals, ipm_factor and the
+// predictor's ipm_newton read them, so each per-entry formula exists once)
+template <bool Step>
+void AdmmWorkspace::ipm_step_and_pieces(double a, double ad) noexcept {
+  const Index n = static_cast<Index>(N_) * nu_;
+  Eigen::Map<ArrayXd> u(iU_.data(), n);
+  const L1Step p{im1_.data(),  wrep_.data(), idu_.data(),  ids1_.data(), ids2_.data(),  idt_.data(),
+                 idz1_.data(), idz2_.data(), u.data(),     itv_.data(),  is1_.data(),   is2_.data(),
+                 iz1_.data(),  iz2_.data(),  im3_.data(),  im4_.data(),  lofin_.data(), hifin_.data(),
+                 ids3_.data(), ids4_.data(), idz3_.data(), idz4_.data(), is3_.data(),   is4_.data(),
+                 iz3_.data(),  iz4_.data()};
+  const L1Next o{irp1_.data(), irp2_.data(), irt_.data(),  iszv_.data(), ipwv_.data(), isi1_.data(),
+                 isi2_.data(), izs1_.data(), izs2_.data(), izi1_.data(), izi2_.data(), id_.data(),
+                 ihut_.data(), ihtt_.data(), ilin_.data(), irp3_.data(), irp4_.data(), isi3_.data(),
+                 isi4_.data(), izs3_.data(), izs4_.data(), izi3_.data(), izi4_.data()};
+  if (has_box_) {
+    step_l1<true, Step>(n, a, ad, p, o);
+  } else {  // the box's s = 1, z = 0 and steps 0 stay exactly so
+    step_l1<false, Step>(n, a, ad, p, o);
+  }
 }
 
 // One Mehrotra predictor-corrector step from complementarity sz over m constraints; false stops.
@@ -1356,21 +1322,7 @@ bool AdmmWorkspace::ipm_predictor_corrector(double sz, double m) noexcept {
     const double a = std::min(1.0, tau * st.primal), ad = std::min(1.0, tau * st.dual);
     if (!(std::min(a, ad) > 1e-12)) return false;
     // the step and, from the new point, the next iteration's per-entry pieces in one pass
-    const L1Step p{im1_.data(),  wrep_.data(), idu_.data(),  ids1_.data(), ids2_.data(),  idt_.data(),
-                   idz1_.data(), idz2_.data(), u.data(),     itv_.data(),  is1_.data(),   is2_.data(),
-                   iz1_.data(),  iz2_.data(),  im3_.data(),  im4_.data(),  lofin_.data(), hifin_.data(),
-                   ids3_.data(), ids4_.data(), idz3_.data(), idz4_.data(), is3_.data(),   is4_.data(),
-                   iz3_.data(),  iz4_.data()};
-    const L1Next o{irp1_.data(), irp2_.data(), irt_.data(),  iszv_.data(), ipwv_.data(), isi1_.data(),
-                   isi2_.data(), izs1_.data(), izs2_.data(), izi1_.data(), izi2_.data(), id_.data(),
-                   ihut_.data(), ihtt_.data(), ilin_.data(), irp3_.data(), irp4_.data(), isi3_.data(),
-                   isi4_.data(), izs3_.data(), izs4_.data(), izi3_.data(), izi4_.data()};
-    if (has_box_) {
-      step_l1<true>(n, a, ad, p, o);
-    } else {  // the box's s = 1, z = 0 and steps 0 stay exactly so
-      step_l1<false>(n, a, ad, p, o);
-    }
-    ipm_next_ = true;
+    ipm_step_and_pieces<true>(a, ad);
     if (term) inu_ += ad * (inun_ - inu_);
     ie_ += a * (iep_ - ie_);
   }

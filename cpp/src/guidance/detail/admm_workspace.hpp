@@ -152,7 +152,6 @@ struct AdmmIpmData {
   /// ipm_factor's ratios, the predictor's targets) and these terms of the complementarity s'z and of
   /// sum w |u|, summed by Eigen in ipm_residuals in the order of the expressions they replace
   Eigen::ArrayXd iszv_, ipwv_;
-  bool ipm_next_ = false;             ///< the pieces above are those of the current point (set by step_l1)
   double imaxs_ = 0.0, imaxz_ = 0.0;  ///< max(-ds / s), max(-dz / z) after the last ipm_newton (ipm_max_step)
   Eigen::VectorXd ie2_;               ///< the multiplier of the flown plan (certification)
   Eigen::MatrixXd iU_, iX_, idX_;     ///< IPM plan nu x N, its states and state step nx x (N+1)
@@ -396,6 +395,8 @@ struct AdmmWorkspace : AdmmProblemData,
   };
   IpmResiduals ipm_residuals(double wmax) noexcept;
   bool ipm_predictor_corrector(double sz, double m) noexcept;
+  template <bool Step>
+  void ipm_step_and_pieces(double a, double ad) noexcept;
   void ipm_accept() noexcept;
 };
 
